@@ -1,0 +1,61 @@
+"""The ``gridfield`` command line.
+
+Each sub-command lives in its own module ``gridfield/cli/<name>.py`` exposing
+``add_parser(subparsers)`` and ``run(args) -> int``; heavy imports happen inside ``run`` so
+that ``gridfield --help`` stays fast. Bad input (any :class:`~gridfield.errors.GridfieldError`,
+a missing file) becomes one line on stderr and exit code 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+
+from .._version import __version__
+
+__all__ = ["COMMANDS", "main"]
+
+#: Sub-command modules, in the order ``--help`` lists them.
+COMMANDS = ("demo", "info", "brushfire", "field", "plan", "compare", "explore", "sweep")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="gridfield",
+        description="Grid-based path planning with brushfire distance maps and potential fields.",
+    )
+    parser.add_argument("--version", action="version", version=f"gridfield {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMANDS:
+        try:
+            module = importlib.import_module(f"{__name__}.{name}")
+        except ModuleNotFoundError as e:
+            if e.name == f"{__name__}.{name}":
+                continue  # command not built yet
+            raise
+        p = module.add_parser(sub)
+        p.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    from ..errors import GridfieldError
+
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "_run", None):
+        parser.print_help()
+        return 2
+    try:
+        return int(args._run(args) or 0)
+    except GridfieldError as e:
+        print(f"gridfield {args.command}: error: {e}", file=sys.stderr)
+        return 2
+    except (FileNotFoundError, IsADirectoryError, PermissionError) as e:
+        print(f"gridfield {args.command}: error: {e.strerror}: {e.filename}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"gridfield {args.command}: interrupted", file=sys.stderr)
+        return 130

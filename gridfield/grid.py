@@ -1,0 +1,261 @@
+"""Grid geometry and occupancy maps.
+
+Conventions (written once, used everywhere in gridfield):
+
+- World frame: x to the right, y up.
+- Arrays are indexed ``[row, col] == [iy, ix]`` and **row 0 is the lowest y**.
+- Cell ``(iy, ix)`` covers ``x in [x0 + ix*res, x0 + (ix+1)*res)`` and
+  ``y in [y0 + iy*res, y0 + (iy+1)*res)``; its centre is ``origin + (ix + 0.5, iy + 0.5) * res``.
+- Points cross public boundaries as world coordinates ``(x, y)`` in arrays of shape ``(N, 2)``;
+  cells as integer arrays of shape ``(N, 2)`` holding ``(row, col)``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .errors import GridfieldError, ParameterError, check_finite, check_positive
+
+__all__ = ["BORDERS", "Grid", "GridMap"]
+
+BORDERS = ("open", "wall")
+Border = Literal["open", "wall"]
+
+
+def _as_points(points: ArrayLike, name: str = "points") -> NDArray[np.float64]:
+    p = np.asarray(points, dtype=np.float64)
+    if p.ndim == 1 and p.shape[0] == 2:
+        p = p[None, :]
+    if p.ndim != 2 or p.shape[1] != 2:
+        raise ParameterError(f"{name} must have shape (N, 2) or (2,), got shape {np.shape(points)}")
+    return p
+
+
+@dataclass(frozen=True)
+class Grid:
+    """Geometry of a 2-D grid: shape, cell size, world position of the lower-left corner, border.
+
+    Parameters
+    ----------
+    shape : (int, int)
+        ``(rows, cols)``; rows grow with y.
+    resolution : float
+        Cell edge length in world units (> 0).
+    origin : (float, float)
+        World coordinates of the lower-left corner of cell ``(0, 0)``.
+    border : {"open", "wall"}
+        What lies outside the grid: free space or an obstacle.
+
+    Examples
+    --------
+    >>> g = Grid((2, 3), 0.5, origin=(1.0, 2.0))
+    >>> g.cell_to_world([[0, 0], [1, 2]])
+    array([[1.25, 2.25],
+           [2.25, 2.75]])
+    >>> cells, inside = g.world_to_cell([[1.3, 2.9], [9.0, 9.0]])
+    >>> cells.tolist(), inside.tolist()
+    ([[1, 0], [14, 16]], [True, False])
+    """
+
+    shape: tuple[int, int]
+    resolution: float
+    origin: tuple[float, float] = (0.0, 0.0)
+    border: Border = "open"
+
+    def __post_init__(self) -> None:
+        try:
+            rows, cols = (int(s) for s in self.shape)
+        except (TypeError, ValueError):
+            raise ParameterError(f"grid shape must be two integers (rows, cols), got {self.shape!r}") from None
+        if rows <= 0 or cols <= 0:
+            raise ParameterError(f"grid shape must be positive, got {self.shape!r}")
+        object.__setattr__(self, "shape", (rows, cols))
+        object.__setattr__(self, "resolution", check_positive("resolution", self.resolution))
+        if len(tuple(self.origin)) != 2:
+            raise ParameterError(f"origin must be (x, y), got {self.origin!r}")
+        check_finite("origin", self.origin)
+        object.__setattr__(self, "origin", (float(self.origin[0]), float(self.origin[1])))
+        if self.border not in BORDERS:
+            raise ParameterError(f"border must be one of {BORDERS}, got {self.border!r}")
+
+    # -- derived geometry ---------------------------------------------------------------
+    @property
+    def rows(self) -> int:
+        return self.shape[0]
+
+    @property
+    def cols(self) -> int:
+        return self.shape[1]
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """``(xmin, ymin, xmax, ymax)`` of the area the grid covers."""
+        x0, y0 = self.origin
+        return (x0, y0, x0 + self.cols * self.resolution, y0 + self.rows * self.resolution)
+
+    @property
+    def extent(self) -> tuple[float, float, float, float]:
+        """``(xmin, xmax, ymin, ymax)`` for ``imshow(..., origin="lower", extent=...)``."""
+        xmin, ymin, xmax, ymax = self.bounds
+        return (xmin, xmax, ymin, ymax)
+
+    def with_border(self, border: Border) -> Grid:
+        """Return the same geometry with another ``border``."""
+        return Grid(self.shape, self.resolution, self.origin, border)
+
+    @classmethod
+    def covering(
+        cls, bounds: tuple[float, float, float, float], resolution: float, *, border: Border = "open"
+    ) -> Grid:
+        """The grid with cells of size ``resolution`` whose lower-left corner is at ``bounds[:2]``
+        and which covers ``bounds`` (the last row/column may stick out when the size is not a
+        multiple of ``resolution``).
+
+        Examples
+        --------
+        >>> Grid.covering((0, 0, 25, 20), 0.5).shape
+        (40, 50)
+        """
+        res = check_positive("resolution", resolution)
+        check_finite("bounds", bounds)
+        xmin, ymin, xmax, ymax = (float(b) for b in bounds)
+        if not (xmax > xmin and ymax > ymin):
+            raise ParameterError(f"bounds must be [xmin, ymin, xmax, ymax] with max > min, got {list(bounds)}")
+        # Tolerate floating noise: 25 / 0.1 = 250.00000000000003 must give 250 columns.
+        cols = max(1, math.ceil((xmax - xmin) / res - 1e-9))
+        rows = max(1, math.ceil((ymax - ymin) / res - 1e-9))
+        return cls((rows, cols), res, (xmin, ymin), border)
+
+    # -- conversions --------------------------------------------------------------------
+    def world_to_cell(self, points: ArrayLike) -> tuple[NDArray[np.intp], NDArray[np.bool_]]:
+        """Cells ``(row, col)`` containing world points, and a mask of the points inside the grid.
+
+        Points outside the grid get the cell index they would have on an unbounded grid
+        (possibly negative or past the last row/column), never a wrapped one; use the mask.
+        """
+        p = _as_points(points)
+        x0, y0 = self.origin
+        col = np.floor((p[:, 0] - x0) / self.resolution)
+        row = np.floor((p[:, 1] - y0) / self.resolution)
+        finite = np.isfinite(col) & np.isfinite(row)
+        col = np.where(finite, col, -1).astype(np.intp)
+        row = np.where(finite, row, -1).astype(np.intp)
+        inside = finite & (row >= 0) & (row < self.rows) & (col >= 0) & (col < self.cols)
+        return np.stack([row, col], axis=1), inside
+
+    def cell_to_world(self, cells: ArrayLike) -> NDArray[np.float64]:
+        """World coordinates ``(x, y)`` of the centres of cells given as ``(row, col)``."""
+        c = np.asarray(cells)
+        if c.ndim == 1 and c.shape[0] == 2:
+            c = c[None, :]
+        if c.ndim != 2 or c.shape[1] != 2:
+            raise ParameterError(f"cells must have shape (N, 2) holding (row, col), got shape {np.shape(cells)}")
+        x0, y0 = self.origin
+        x = x0 + (c[:, 1] + 0.5) * self.resolution
+        y = y0 + (c[:, 0] + 0.5) * self.resolution
+        return np.stack([x, y], axis=1)
+
+    def contains(self, points: ArrayLike) -> NDArray[np.bool_]:
+        """Whether each world point lies inside the area the grid covers."""
+        return self.world_to_cell(points)[1]
+
+    def cell_centers(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """1-D arrays of the x coordinates of the column centres and y of the row centres."""
+        x0, y0 = self.origin
+        xs = x0 + (np.arange(self.cols) + 0.5) * self.resolution
+        ys = y0 + (np.arange(self.rows) + 0.5) * self.resolution
+        return xs, ys
+
+
+@dataclass(frozen=True, eq=False)
+class GridMap:
+    """An occupancy grid: a boolean array (``True`` = obstacle) with its :class:`Grid`.
+
+    Parameters
+    ----------
+    grid : Grid
+    occupied : ndarray of bool, shape ``grid.shape``
+    obstacle_id : ndarray of int32, optional
+        For grids rasterized from a vector world: the (1-based) id of the world obstacle that
+        occupies each cell, 0 for free cells.
+    world : World, optional
+        The vector world this grid was rasterized from.
+    source : str
+        Where the map came from (a file name), for messages and figures.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = GridMap(Grid((2, 2), 1.0), np.array([[True, False], [False, False]]))
+    >>> m.occupied_fraction
+    0.25
+    >>> m.is_free([[1.5, 0.5], [0.5, 0.5]]).tolist()
+    [True, False]
+    """
+
+    grid: Grid
+    occupied: NDArray[np.bool_]
+    obstacle_id: NDArray[np.int32] | None = None
+    world: object | None = None
+    source: str = ""
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        occ = np.asarray(self.occupied)
+        if occ.shape != self.grid.shape:
+            raise GridfieldError(f"occupancy array has shape {occ.shape}, but the grid has shape {self.grid.shape}")
+        object.__setattr__(self, "occupied", occ.astype(bool, copy=False))
+        if self.obstacle_id is not None:
+            ids = np.asarray(self.obstacle_id)
+            if ids.shape != self.grid.shape:
+                raise GridfieldError(f"obstacle_id has shape {ids.shape}, but the grid has shape {self.grid.shape}")
+            object.__setattr__(self, "obstacle_id", ids.astype(np.int32, copy=False))
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.grid.shape
+
+    @property
+    def occupied_fraction(self) -> float:
+        return float(self.occupied.mean())
+
+    def is_free(self, points: ArrayLike) -> NDArray[np.bool_]:
+        """Whether each world point lies in a free cell. Outside the grid: free iff the border is open."""
+        cells, inside = self.grid.world_to_cell(points)
+        free = np.full(len(cells), self.grid.border == "open")
+        r, c = cells[inside].T
+        free[inside] = ~self.occupied[r, c]
+        p = _as_points(points)
+        free &= np.isfinite(p).all(axis=1)
+        return free
+
+    def check_point(self, name: str, point: ArrayLike) -> NDArray[np.float64]:
+        """Validate a start/goal point: finite, inside the map, in a free cell. Returns it as ``(2,)``.
+
+        Raises :class:`GridfieldError` naming the point and what is wrong.
+        """
+        p = np.asarray(point, dtype=np.float64).reshape(-1)
+        if p.shape != (2,):
+            raise ParameterError(f"{name} must be two numbers X Y, got {point!r}")
+        check_finite(name, p)
+        if not self.grid.contains(p)[0]:
+            xmin, ymin, xmax, ymax = self.grid.bounds
+            raise GridfieldError(
+                f"{name} ({p[0]:g}, {p[1]:g}) lies outside the map, which covers "
+                f"x in [{xmin:g}, {xmax:g}), y in [{ymin:g}, {ymax:g})"
+            )
+        if not self.is_free(p)[0]:
+            raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}) lies inside an obstacle")
+        return p
+
+    def with_occupied(self, occupied: NDArray[np.bool_], **changes: object) -> GridMap:
+        """A copy with another occupancy array (same grid), e.g. after inflation."""
+        kw = {"grid": self.grid, "occupied": occupied, "obstacle_id": self.obstacle_id,
+              "world": self.world, "source": self.source, "meta": dict(self.meta)}
+        kw.update(changes)
+        return GridMap(**kw)  # type: ignore[arg-type]

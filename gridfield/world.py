@@ -1,0 +1,347 @@
+"""Vector worlds: bounds, a border rule, and obstacles as exact shapely geometries.
+
+A world is what the exact planners work on and what the rasterizer turns into a grid.
+Obstacles may be polygons (convex or not, any orientation), circles, segments, rectangles
+or degenerate polygons (two vertices: a segment; one vertex: a point). Each carries a
+1-based ``id`` that survives rasterization (``GridMap.obstacle_id``), so that potentials
+can be summed per obstacle.
+
+Parsing of the world *file* format lives in :mod:`gridfield.io`; this module turns plain
+Python data (as read from YAML) into validated objects: :func:`world_from_dict`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import shapely
+from numpy.typing import ArrayLike, NDArray
+from shapely.geometry import LineString, Point, Polygon
+from shapely.geometry.base import BaseGeometry
+
+from .errors import GridfieldError, MapFormatError
+from .grid import BORDERS
+
+__all__ = ["CIRCLE_SEGMENTS", "Obstacle", "World", "world_from_dict"]
+
+#: Segments per quarter circle used for the polygonal outline of a circle (display, visibility
+#: graph). The outline is inscribed; its largest gap to the true circle is r * (1 - cos(pi / (4*16))),
+#: i.e. 0.12 % of the radius. Distances and rasterization use the exact circle.
+CIRCLE_SEGMENTS = 16
+
+
+@dataclass(frozen=True, eq=False)
+class Obstacle:
+    """One obstacle of a world.
+
+    Attributes
+    ----------
+    id : int
+        1-based obstacle id (the seed 000 "B matrix" tag when the world came from one).
+    kind : str
+        ``"polygon"``, ``"circle"``, ``"segment"``, ``"point"``.
+    geometry : shapely geometry
+        Exact for polygons, segments and points; for circles a fine inscribed polygon outline
+        (see :data:`CIRCLE_SEGMENTS`); use ``center`` and ``radius`` for exact circle geometry.
+    center, radius : circle parameters (``None`` for other kinds)
+    """
+
+    id: int
+    kind: str
+    geometry: BaseGeometry
+    center: tuple[float, float] | None = None
+    radius: float | None = None
+
+    @property
+    def vertices(self) -> NDArray[np.float64]:
+        """Vertices of the outline, shape ``(N, 2)`` (closed rings are not repeated)."""
+        g = self.geometry
+        coords = np.asarray(g.exterior.coords if isinstance(g, Polygon) else g.coords, dtype=float)
+        if isinstance(g, Polygon):
+            coords = coords[:-1]
+        return coords
+
+    def distance(self, points: ArrayLike) -> NDArray[np.float64]:
+        """Exact Euclidean distance from world points ``(N, 2)`` to this obstacle (0 inside)."""
+        p = np.atleast_2d(np.asarray(points, dtype=float))
+        if self.kind == "circle":
+            assert self.center is not None and self.radius is not None
+            d = np.hypot(p[:, 0] - self.center[0], p[:, 1] - self.center[1]) - self.radius
+            return np.maximum(d, 0.0)
+        return shapely.distance(self.geometry, shapely.points(p))
+
+    def bounds(self) -> tuple[float, float, float, float]:
+        if self.kind == "circle":
+            assert self.center is not None and self.radius is not None
+            (cx, cy), r = self.center, self.radius
+            return (cx - r, cy - r, cx + r, cy + r)
+        return tuple(self.geometry.bounds)  # type: ignore[return-value]
+
+
+@dataclass(frozen=True, eq=False)
+class World:
+    """A 2-D world of vector obstacles.
+
+    Examples
+    --------
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10],
+    ...                      "obstacles": [{"circle": {"center": [5, 5], "radius": 1}}]})
+    >>> len(w.obstacles), w.border
+    (1, 'open')
+    >>> round(float(w.distance([[8, 5]])[0]), 6)
+    2.0
+    """
+
+    bounds: tuple[float, float, float, float]
+    obstacles: tuple[Obstacle, ...]
+    border: str = "open"
+    start: tuple[float, float] | None = None
+    goal: tuple[float, float] | None = None
+    params: Mapping[str, Any] = field(default_factory=dict)
+    resolution: float | None = None
+    source: str = ""
+
+    def distance(self, points: ArrayLike) -> NDArray[np.float64]:
+        """Exact distance from each point to the nearest obstacle (the border counts when it is a wall)."""
+        p = np.atleast_2d(np.asarray(points, dtype=float))
+        d = np.full(len(p), np.inf)
+        for ob in self.obstacles:
+            d = np.minimum(d, ob.distance(p))
+        if self.border == "wall":
+            xmin, ymin, xmax, ymax = self.bounds
+            dw = np.minimum.reduce([p[:, 0] - xmin, xmax - p[:, 0], p[:, 1] - ymin, ymax - p[:, 1]])
+            d = np.minimum(d, np.maximum(dw, 0.0))
+        return d
+
+    def union(self) -> BaseGeometry:
+        """All obstacles as one shapely geometry."""
+        return shapely.union_all([ob.geometry for ob in self.obstacles])
+
+    def contains_free(self, point: ArrayLike) -> bool:
+        """True if the point is inside the bounds and not inside or on any obstacle."""
+        x, y = (float(v) for v in np.asarray(point, dtype=float).reshape(2))
+        xmin, ymin, xmax, ymax = self.bounds
+        if not (xmin <= x <= xmax and ymin <= y <= ymax):
+            return False
+        return bool(np.all(np.asarray([ob.distance([[x, y]])[0] for ob in self.obstacles]) > 0))
+
+    def check_point(self, name: str, point: ArrayLike) -> NDArray[np.float64]:
+        """Validate a start/goal point against the world; return it as ``(2,)`` or raise."""
+        p = np.asarray(point, dtype=float).reshape(-1)
+        if p.shape != (2,) or not np.all(np.isfinite(p)):
+            raise GridfieldError(f"{name} must be two finite numbers X Y, got {point!r}")
+        xmin, ymin, xmax, ymax = self.bounds
+        if not (xmin <= p[0] <= xmax and ymin <= p[1] <= ymax):
+            raise GridfieldError(
+                f"{name} ({p[0]:g}, {p[1]:g}) lies outside the world bounds [{xmin:g}, {ymin:g}, {xmax:g}, {ymax:g}]"
+            )
+        for ob in self.obstacles:
+            if ob.distance(p[None, :])[0] <= 0.0:
+                raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}) lies inside obstacle {ob.id} ({ob.kind})")
+        return p
+
+
+# ----------------------------------------------------------------------------------------
+# Parsing plain data (as read from YAML) into a World
+# ----------------------------------------------------------------------------------------
+def _where(source: str, key: str) -> str:
+    return f"{source}: {key}" if source else key
+
+
+def _point(value: Any, what: str) -> tuple[float, float]:
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise MapFormatError(f"{what} must be a point [x, y], got {value!r}") from None
+    if arr.shape != (2,):
+        raise MapFormatError(f"{what} must be a point [x, y], got {value!r}")
+    if not np.all(np.isfinite(arr)):
+        raise MapFormatError(f"{what} must be finite numbers, got {value!r}")
+    return (float(arr[0]), float(arr[1]))
+
+
+def _points(value: Any, what: str) -> NDArray[np.float64]:
+    if not isinstance(value, Sequence) or isinstance(value, str) or len(value) == 0:
+        raise MapFormatError(f"{what} must be a list of points [[x, y], ...], got {value!r}")
+    return np.array([_point(v, f"{what}[{i}]") for i, v in enumerate(value)])
+
+
+def _shape_from_vertices(pts: NDArray[np.float64], oid: int, what: str) -> Obstacle:
+    # drop a repeated closing vertex
+    if len(pts) > 1 and np.array_equal(pts[0], pts[-1]):
+        pts = pts[:-1]
+    if len(pts) == 1:
+        return Obstacle(oid, "point", Point(pts[0]))
+    if len(pts) == 2:
+        if np.array_equal(pts[0], pts[1]):
+            return Obstacle(oid, "point", Point(pts[0]))
+        return Obstacle(oid, "segment", LineString(pts))
+    poly = Polygon(pts)
+    if poly.area == 0.0:
+        # all vertices collinear: the obstacle is the line through them (a segment)
+        return Obstacle(oid, "segment", LineString(pts))
+    if not poly.is_valid:
+        reason = shapely.is_valid_reason(poly)
+        raise MapFormatError(f"{what} is not a simple polygon ({reason}); list the vertices in order around it")
+    return Obstacle(oid, "polygon", poly)
+
+
+def _obstacle(entry: Any, oid: int, what: str) -> Obstacle:
+    if not isinstance(entry, Mapping) or len(entry) != 1:
+        raise MapFormatError(
+            f"{what} must be a mapping with one key: polygon, circle, segment or rectangle; got {entry!r}"
+        )
+    (kind, value), = entry.items()
+    if kind == "polygon":
+        return _shape_from_vertices(_points(value, f"{what}.polygon"), oid, f"{what}.polygon")
+    if kind == "segment":
+        pts = _points(value, f"{what}.segment")
+        if len(pts) != 2:
+            raise MapFormatError(f"{what}.segment must have exactly two points, got {len(pts)}")
+        return _shape_from_vertices(pts, oid, f"{what}.segment")
+    if kind == "circle":
+        if not isinstance(value, Mapping) or "center" not in value or "radius" not in value:
+            raise MapFormatError(f"{what}.circle must be {{center: [x, y], radius: r}}, got {value!r}")
+        c = _point(value["center"], f"{what}.circle.center")
+        try:
+            r = float(value["radius"])
+        except (TypeError, ValueError):
+            r = math.nan
+        if not (math.isfinite(r) and r > 0):
+            raise MapFormatError(f"{what}.circle.radius must be a positive number, got {value['radius']!r}")
+        geom = Point(c).buffer(r, quad_segs=CIRCLE_SEGMENTS)
+        return Obstacle(oid, "circle", geom, center=c, radius=r)
+    if kind == "rectangle":
+        if isinstance(value, Mapping):
+            if "min" in value and "max" in value:
+                lo, hi = _point(value["min"], f"{what}.rectangle.min"), _point(value["max"], f"{what}.rectangle.max")
+            elif "center" in value and "size" in value:
+                c = _point(value["center"], f"{what}.rectangle.center")
+                s = _point(value["size"], f"{what}.rectangle.size")
+                lo, hi = (c[0] - s[0] / 2, c[1] - s[1] / 2), (c[0] + s[0] / 2, c[1] + s[1] / 2)
+            else:
+                raise MapFormatError(
+                    f"{what}.rectangle must be [xmin, ymin, xmax, ymax], {{min: [x, y], max: [x, y]}} "
+                    f"or {{center: [x, y], size: [w, h]}}; got {value!r}"
+                )
+        else:
+            try:
+                xmin, ymin, xmax, ymax = (float(v) for v in value)
+            except (TypeError, ValueError):
+                raise MapFormatError(f"{what}.rectangle must be [xmin, ymin, xmax, ymax], got {value!r}") from None
+            lo, hi = (xmin, ymin), (xmax, ymax)
+        if not all(math.isfinite(v) for v in (*lo, *hi)) or hi[0] < lo[0] or hi[1] < lo[1]:
+            raise MapFormatError(f"{what}.rectangle needs finite min <= max, got {value!r}")
+        pts = np.array([lo, (hi[0], lo[1]), hi, (lo[0], hi[1])])
+        return _shape_from_vertices(np.unique(pts, axis=0) if (hi[0] == lo[0] or hi[1] == lo[1]) else pts,
+                                    oid, f"{what}.rectangle")
+    raise MapFormatError(f"{what}: unknown obstacle kind {kind!r}; expected polygon, circle, segment or rectangle")
+
+
+def _b_matrix(value: Any, first_id: int, what: str) -> list[Obstacle]:
+    try:
+        b = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise MapFormatError(f"{what} must be three rows of numbers (x, y, obstacle id)") from None
+    if b.ndim != 2 or b.shape[0] != 3 or b.shape[1] == 0:
+        raise MapFormatError(f"{what} must be three rows (x, y, obstacle id), got shape {b.shape}")
+    if not np.all(np.isfinite(b)):
+        raise MapFormatError(f"{what} must hold finite numbers")
+    tags = b[2]
+    if not np.all(tags == np.round(tags)):
+        raise MapFormatError(f"{what}: the third row holds obstacle ids and must be integers, got {tags.tolist()}")
+    obstacles = []
+    for tag in dict.fromkeys(tags.astype(int).tolist()):  # order of first appearance
+        pts = b[:2, tags == tag].T
+        oid = tag if tag >= first_id else first_id + len(obstacles)
+        obstacles.append(_shape_from_vertices(pts, int(oid), f"{what} obstacle {tag}"))
+    return obstacles
+
+
+def world_from_dict(data: Any, *, source: str = "") -> World:
+    """Build a validated :class:`World` from the data of a world file.
+
+    Keys: ``bounds`` (required), ``border`` (``open`` default, or ``wall``), ``obstacles``
+    (list), ``b_matrix`` (seed 000's three-row vertex matrix), ``start``, ``goal``, ``params``,
+    ``resolution`` (default cell size when the world is rasterized).
+
+    Raises
+    ------
+    MapFormatError
+        naming ``source`` and the key at fault.
+    """
+    if not isinstance(data, Mapping):
+        raise MapFormatError(f"{source or 'world'}: a world file must be a YAML mapping with at least 'bounds'")
+    known = {"bounds", "border", "obstacles", "b_matrix", "start", "goal", "params", "resolution", "name",
+             "description"}
+    unknown = sorted(set(data) - known)
+    if unknown:
+        raise MapFormatError(f"{_where(source, unknown[0])}: unknown key; expected one of {sorted(known)}")
+    if "bounds" not in data:
+        raise MapFormatError(f"{_where(source, 'bounds')}: missing; a world needs bounds: [xmin, ymin, xmax, ymax]")
+    try:
+        bounds = tuple(float(v) for v in data["bounds"])
+    except (TypeError, ValueError):
+        bounds = ()
+    if len(bounds) != 4 or not all(math.isfinite(v) for v in bounds) or not (
+        bounds[2] > bounds[0] and bounds[3] > bounds[1]
+    ):
+        raise MapFormatError(
+            f"{_where(source, 'bounds')}: expected [xmin, ymin, xmax, ymax] with finite max > min, got {data['bounds']!r}"
+        )
+    border = data.get("border", "open")
+    if border not in BORDERS:
+        raise MapFormatError(f"{_where(source, 'border')}: expected one of {list(BORDERS)}, got {border!r}")
+
+    obstacles: list[Obstacle] = []
+    if "b_matrix" in data:
+        obstacles += _b_matrix(data["b_matrix"], 1, _where(source, "b_matrix"))
+    raw = data.get("obstacles") or []
+    if not isinstance(raw, Sequence) or isinstance(raw, str):
+        raise MapFormatError(f"{_where(source, 'obstacles')}: expected a list of obstacles, got {raw!r}")
+    next_id = max((o.id for o in obstacles), default=0) + 1
+    for i, entry in enumerate(raw):
+        obstacles.append(_obstacle(entry, next_id + i, _where(source, f"obstacles[{i}]")))
+    if not obstacles and border == "open":
+        raise MapFormatError(
+            f"{source or 'world'}: the world is empty (no obstacles and an open border); "
+            "add obstacles or set border: wall"
+        )
+    resolution = data.get("resolution")
+    if resolution is not None:
+        try:
+            resolution = float(resolution)
+        except (TypeError, ValueError):
+            resolution = math.nan
+        if not (math.isfinite(resolution) and resolution > 0):
+            raise MapFormatError(f"{_where(source, 'resolution')}: must be a positive number, got {data['resolution']!r}")
+    params = data.get("params") or {}
+    if not isinstance(params, Mapping):
+        raise MapFormatError(f"{_where(source, 'params')}: expected a mapping of parameter names to values")
+    for k, v in params.items():
+        if isinstance(v, bool | str):
+            continue
+        if isinstance(v, int | float) and math.isnan(v):
+            raise MapFormatError(f"{_where(source, 'params.' + str(k))}: must not be NaN")
+    world = World(bounds=bounds, obstacles=tuple(obstacles), border=border, params=dict(params),
+                  resolution=resolution, source=source)
+    start = goal = None
+    if data.get("start") is not None:
+        start = _point(data["start"], _where(source, "start"))
+        _check_in_world(world, "start", start, source)
+    if data.get("goal") is not None:
+        goal = _point(data["goal"], _where(source, "goal"))
+        _check_in_world(world, "goal", goal, source)
+    return World(bounds=bounds, obstacles=tuple(obstacles), border=border, start=start, goal=goal,
+                 params=dict(params), resolution=resolution, source=source)
+
+
+def _check_in_world(world: World, name: str, p: tuple[float, float], source: str) -> None:
+    try:
+        world.check_point(name, p)
+    except GridfieldError as e:
+        raise MapFormatError(f"{source}: {e}" if source else str(e)) from None

@@ -1,0 +1,65 @@
+"""``gridfield plan``: plan one path and report it (text or DESIGN's JSON)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from ._common import add_map_arguments, add_param_arguments, collect_params, load_target
+
+
+def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    from ..planners import PLANNERS
+
+    p = sub.add_parser("plan", help="plan a path from start to goal",
+                       description="Plan a path from START to GOAL on a map or world and report it.")
+    add_map_arguments(p)
+    p.add_argument("--start", nargs=2, type=float, metavar=("X", "Y"),
+                   help="start point (default: the world file's start)")
+    p.add_argument("--goal", nargs=2, type=float, metavar=("X", "Y"),
+                   help="goal point (default: the world file's goal)")
+    p.add_argument("--planner", default="potential", choices=list(PLANNERS), help="planner (default: potential)")
+    p.add_argument("--json", action="store_true", help="print one JSON object (DESIGN's plan contract)")
+    p.add_argument("--plot", metavar="F", help="save a figure of the map and the path")
+    p.add_argument("--animate", metavar="F", help="save an animation of the follower (.gif, or .mp4 with ffmpeg)")
+    add_param_arguments(p)
+    return p
+
+
+def endpoints(args: argparse.Namespace, target: object) -> tuple[list[float], list[float]]:
+    """Start and goal from the command line, else from the world file."""
+    from ..errors import ParameterError
+
+    world = getattr(target, "world", None) or target
+    start = args.start if args.start is not None else getattr(world, "start", None)
+    goal = args.goal if args.goal is not None else getattr(world, "goal", None)
+    if start is None or goal is None:
+        missing = "--start X Y" if start is None else "--goal X Y"
+        raise ParameterError(f"{args.map} names no {missing.split()[0][2:]}; pass {missing}")
+    return list(start), list(goal)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..planners import plan
+
+    target = load_target(args)
+    start, goal = endpoints(args, target)
+    path = plan(args.planner, target, start, goal, collect_params(args), resolution=args.resolution)
+    if args.json:
+        json.dump(path.to_json(), sys.stdout)
+        sys.stdout.write("\n")
+    else:
+        x, y = path.end
+        print(f"{path.planner}: {path.status} after {path.iterations} iterations, length {path.length:.4g}, "
+              f"end ({x:.4g}, {y:.4g}), min clearance {path.min_clearance:.4g}, {path.seconds * 1e3:.1f} ms")
+    if args.plot or args.animate:
+        from .. import plot as gplot
+
+        if args.plot:
+            gplot.save_plan_figure(args.plot, target, path, resolution=args.resolution)
+            print(f"wrote {args.plot}", file=sys.stderr if args.json else sys.stdout)
+        if args.animate:
+            gplot.save_plan_animation(args.animate, target, path, resolution=args.resolution)
+            print(f"wrote {args.animate}", file=sys.stderr if args.json else sys.stdout)
+    return 0

@@ -28,7 +28,7 @@ __all__ = ["PARAMETERS", "PLANNERS", "check_params", "get_planner", "plan"]
 PLANNERS: dict[str, tuple[str, str, str]] = {
     "potential": ("gridfield.follow", "plan_potential", "grid"),
     "exact-potential": ("gridfield.exact", "plan_exact_potential", "world"),
-    "visibility": ("gridfield.exact", "plan_visibility", "world"),
+    "visibility": ("gridfield.visibility", "plan_visibility", "world"),
     "wavefront": ("gridfield.navigation", "plan_wavefront", "grid"),
     "wavefront-octile": ("gridfield.navigation", "plan_wavefront_octile", "grid"),
     "fmm": ("gridfield.navigation", "plan_fmm", "grid"),

@@ -83,8 +83,8 @@ def load_spec(path: str | os.PathLike[str]) -> tuple[list[Run], FsPath]:
 
     Raises :class:`MapFormatError` naming the spec file and the key at fault.
     """
-    from .io import read, read_scen, read_yaml
     from .grid import GridMap
+    from .io import read, read_scen, read_yaml
     from .world import World
 
     spec_path = FsPath(path)

@@ -36,6 +36,40 @@ def _as_points(points: ArrayLike, name: str = "points") -> NDArray[np.float64]:
     return p
 
 
+def _check_shape(shape: object) -> tuple[int, int]:
+    """``shape`` as two positive Python ints, or :class:`ParameterError`."""
+    msg = f"grid shape must be two positive integers (rows, cols), got {shape!r}"
+    try:
+        dims = tuple(shape)  # type: ignore[call-overload]
+    except TypeError:
+        raise ParameterError(msg) from None
+    if len(dims) != 2:
+        raise ParameterError(msg)
+    out = []
+    for d in dims:
+        if isinstance(d, bool | np.bool_) or not isinstance(d, int | np.integer | float | np.floating):
+            raise ParameterError(msg)
+        if not (math.isfinite(d) and float(d).is_integer() and d > 0):
+            raise ParameterError(msg)
+        out.append(int(d))
+    return out[0], out[1]
+
+
+#: World -> cell indices are clipped to +-this before the cast to int, so that points far outside
+#: (say 1e300) stay outside and never overflow or wrap.
+_INDEX_LIMIT = float(2**62)
+
+
+def _cell_index(coord: NDArray[np.float64], origin: float, res: float) -> NDArray[np.float64]:
+    """``floor((coord - origin) / res)``, corrected so that it agrees exactly with the cell
+    boundaries ``origin + i * res`` as computed in floating point (half-open intervals)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        i = np.floor((coord - origin) / res)
+        i = i + (coord >= origin + (i + 1) * res)
+        i = i - (coord < origin + i * res)
+    return i
+
+
 @dataclass(frozen=True)
 class Grid:
     """Geometry of a 2-D grid: shape, cell size, world position of the lower-left corner, border.
@@ -68,16 +102,14 @@ class Grid:
     border: Border = "open"
 
     def __post_init__(self) -> None:
-        try:
-            rows, cols = (int(s) for s in self.shape)
-        except (TypeError, ValueError):
-            raise ParameterError(f"grid shape must be two integers (rows, cols), got {self.shape!r}") from None
-        if rows <= 0 or cols <= 0:
-            raise ParameterError(f"grid shape must be positive, got {self.shape!r}")
-        object.__setattr__(self, "shape", (rows, cols))
+        object.__setattr__(self, "shape", _check_shape(self.shape))
         object.__setattr__(self, "resolution", check_positive("resolution", self.resolution))
-        if len(tuple(self.origin)) != 2:
-            raise ParameterError(f"origin must be (x, y), got {self.origin!r}")
+        try:
+            n_origin = len(tuple(self.origin))
+        except TypeError:
+            n_origin = -1
+        if n_origin != 2:
+            raise ParameterError(f"origin must be two numbers (x, y), got {self.origin!r}")
         check_finite("origin", self.origin)
         object.__setattr__(self, "origin", (float(self.origin[0]), float(self.origin[1])))
         if self.border not in BORDERS:
@@ -123,6 +155,8 @@ class Grid:
         """
         res = check_positive("resolution", resolution)
         check_finite("bounds", bounds)
+        if len(tuple(bounds)) != 4:
+            raise ParameterError(f"bounds must be [xmin, ymin, xmax, ymax], got {list(bounds)}")
         xmin, ymin, xmax, ymax = (float(b) for b in bounds)
         if not (xmax > xmin and ymax > ymin):
             raise ParameterError(f"bounds must be [xmin, ymin, xmax, ymax] with max > min, got {list(bounds)}")
@@ -136,15 +170,18 @@ class Grid:
         """Cells ``(row, col)`` containing world points, and a mask of the points inside the grid.
 
         Points outside the grid get the cell index they would have on an unbounded grid
-        (possibly negative or past the last row/column), never a wrapped one; use the mask.
+        (possibly negative or past the last row/column; clipped to +-2**62), never a wrapped
+        one; use the mask. Non-finite points get ``(-1, -1)`` and ``False``. A point exactly on a
+        cell boundary ``origin + i * res`` (as computed in floating point) belongs to cell ``i``.
         """
         p = _as_points(points)
         x0, y0 = self.origin
-        col = np.floor((p[:, 0] - x0) / self.resolution)
-        row = np.floor((p[:, 1] - y0) / self.resolution)
+        col = _cell_index(p[:, 0], x0, self.resolution)
+        row = _cell_index(p[:, 1], y0, self.resolution)
         finite = np.isfinite(col) & np.isfinite(row)
-        col = np.where(finite, col, -1).astype(np.intp)
-        row = np.where(finite, row, -1).astype(np.intp)
+        lim = _INDEX_LIMIT
+        col = np.clip(np.where(finite, col, -1), -lim, lim).astype(np.intp)
+        row = np.clip(np.where(finite, row, -1), -lim, lim).astype(np.intp)
         inside = finite & (row >= 0) & (row < self.rows) & (col >= 0) & (col < self.cols)
         return np.stack([row, col], axis=1), inside
 

@@ -180,10 +180,14 @@ def _shape_from_vertices(pts: NDArray[np.float64], oid: int, what: str) -> Obsta
         if np.array_equal(pts[0], pts[1]):
             return Obstacle(oid, "point", Point(pts[0]))
         return Obstacle(oid, "segment", LineString(pts))
+    rel = pts - pts[0]
+    d = rel[np.argmax(np.hypot(rel[:, 0], rel[:, 1]))]
+    if np.all(rel[:, 0] * d[1] - rel[:, 1] * d[0] == 0.0):
+        # all vertices collinear (a zero signed area alone would also accept a symmetric bow-tie):
+        # the obstacle is the segment between the two extreme vertices
+        t = rel @ d
+        return Obstacle(oid, "segment", LineString([pts[np.argmin(t)], pts[np.argmax(t)]]))
     poly = Polygon(pts)
-    if poly.area == 0.0:
-        # all vertices collinear: the obstacle is the line through them (a segment)
-        return Obstacle(oid, "segment", LineString(pts))
     if not poly.is_valid:
         reason = shapely.is_valid_reason(poly)
         raise MapFormatError(f"{what} is not a simple polygon ({reason}); list the vertices in order around it")
@@ -254,11 +258,15 @@ def _b_matrix(value: Any, first_id: int, what: str) -> list[Obstacle]:
     tags = b[2]
     if not np.all(tags == np.round(tags)):
         raise MapFormatError(f"{what}: the third row holds obstacle ids and must be integers, got {tags.tolist()}")
+    if np.any(tags < first_id):
+        raise MapFormatError(
+            f"{what}: the third row holds obstacle ids, which must be integers >= {first_id}, "
+            f"got {sorted(set(tags.astype(int).tolist()))} (for 0-based ids add 1)"
+        )
     obstacles = []
     for tag in dict.fromkeys(tags.astype(int).tolist()):  # order of first appearance
         pts = b[:2, tags == tag].T
-        oid = tag if tag >= first_id else first_id + len(obstacles)
-        obstacles.append(_shape_from_vertices(pts, int(oid), f"{what} obstacle {tag}"))
+        obstacles.append(_shape_from_vertices(pts, int(tag), f"{what} obstacle {tag}"))
     return obstacles
 
 
@@ -278,7 +286,7 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
         raise MapFormatError(f"{source or 'world'}: a world file must be a YAML mapping with at least 'bounds'")
     known = {"bounds", "border", "obstacles", "b_matrix", "start", "goal", "params", "resolution", "name",
              "description"}
-    unknown = sorted(set(data) - known)
+    unknown = sorted(set(data) - known, key=str)
     if unknown:
         raise MapFormatError(f"{_where(source, unknown[0])}: unknown key; expected one of {sorted(known)}")
     if "bounds" not in data:

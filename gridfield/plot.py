@@ -1,0 +1,1194 @@
+"""Figures and animations: occupancy maps, distance maps, potentials, surfaces, basins, comparisons.
+
+Every function here follows one contract:
+
+- matplotlib is imported inside the function (importing :mod:`gridfield.plot` is cheap);
+- ``ax=None`` creates a new figure (constrained layout), otherwise the function draws into ``ax``;
+- the function returns an :class:`Artists` record of what it drew and never calls ``plt.show()``;
+- images use ``origin="lower"`` and ``extent=grid.extent`` (world coordinates, row 0 at the bottom);
+- ``ax.lines`` holds exactly the drawn paths (one :class:`~matplotlib.lines.Line2D` per path): start,
+  goal and stall points are scatter collections and segment obstacles a line collection, so that
+  tests and callers can count paths.
+
+Animations (:func:`save_plan_animation`, :func:`animate_brushfire`) are written as GIF with pillow,
+or as MP4 when ffmpeg is installed.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path as FsPath
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .errors import GridfieldError, ParameterError
+from .grid import Grid, GridMap
+from .path import Path
+from .world import World
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = [
+    "Artists",
+    "animate_brushfire",
+    "plot_basins",
+    "plot_brushfire",
+    "plot_comparison",
+    "plot_convergence",
+    "plot_map",
+    "plot_potential",
+    "plot_surface",
+    "save_plan_animation",
+    "save_plan_figure",
+]
+
+PathLike = str | os.PathLike[str]
+
+#: Colours of the occupancy image: free, occupied.
+FREE_COLOR = "white"
+OCCUPIED_COLOR = "0.22"
+#: Colour of vector obstacle outlines.
+OUTLINE_COLOR = "tab:blue"
+#: Colours given to successive paths.
+PATH_COLORS = ("tab:red", "tab:orange", "tab:purple", "tab:cyan", "tab:brown", "tab:pink", "tab:olive")
+#: Animation formats and the matplotlib writer each needs.
+ANIMATION_FORMATS = {".gif": "pillow", ".mp4": "ffmpeg"}
+
+
+@dataclass
+class Artists:
+    """What a plotting function drew, for callers that restyle or update it and for tests.
+
+    Attributes
+    ----------
+    ax : Axes
+        The axes drawn into (a 3-D axes for :func:`plot_surface`).
+    image : AxesImage or None
+        The main raster layer (occupancy, distance, basins), drawn with ``origin="lower"``.
+    mappable : ScalarMappable or None
+        What the colour bar shows (an image or a filled contour set); its ``get_clim()`` is the
+        colour range used.
+    contours : ContourSet or None
+        Iso-lines (brushfire) or filled contours (potential).
+    obstacles : list
+        Artists of vector obstacle outlines and occupancy overlays.
+    paths : list of Line2D
+        One line per path, in the order given.
+    markers : dict
+        Scatter collections by role: ``"start"``, ``"goal"``, ``"stall"``, ``"minima"``, ...
+    quiver : Quiver or None
+    surface : Poly3DCollection or None
+    colorbar : Colorbar or None
+    legend : Legend or None
+    extra : dict
+        Anything else (GVD overlay, label overlay, reference lines).
+    """
+
+    ax: Any
+    image: Any = None
+    mappable: Any = None
+    contours: Any = None
+    obstacles: list[Any] = field(default_factory=list)
+    paths: list[Any] = field(default_factory=list)
+    markers: dict[str, Any] = field(default_factory=dict)
+    quiver: Any = None
+    surface: Any = None
+    colorbar: Any = None
+    legend: Any = None
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def figure(self) -> Figure:
+        return self.ax.figure
+
+
+# ----------------------------------------------------------------------------------------------
+# helpers
+# ----------------------------------------------------------------------------------------------
+def _new_axes(ax: Axes | None, *, projection: str | None = None, figsize: tuple[float, float] = (7.0, 5.6)) -> Axes:
+    if ax is not None:
+        return ax
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=figsize, layout="constrained")
+    return fig.add_subplot(projection=projection)
+
+
+def _grid_of(obj: Any) -> Grid:
+    """The :class:`Grid` an array-holding result belongs to (GridMap, DistanceMap, Field, Basins, ...)."""
+    seen = 0
+    while obj is not None and seen < 4:
+        if isinstance(obj, Grid):
+            return obj
+        if isinstance(obj, GridMap):
+            return obj.grid
+        g = getattr(obj, "grid", None)
+        if isinstance(g, Grid):
+            return g
+        nxt = None
+        for name in ("map", "gridmap", "field"):
+            nxt = getattr(obj, name, None)
+            if nxt is not None:
+                break
+        obj, seen = nxt, seen + 1
+    raise GridfieldError(f"cannot find the grid of {type(obj).__name__}; pass grid=... explicitly")
+
+
+def _gridmap_of(obj: Any) -> GridMap | None:
+    if isinstance(obj, GridMap):
+        return obj
+    for name in ("map", "gridmap"):
+        m = getattr(obj, name, None)
+        if isinstance(m, GridMap):
+            return m
+    f = getattr(obj, "field", None)
+    return _gridmap_of(f) if f is not None and f is not obj else None
+
+
+def _rasterized(target: World | GridMap, resolution: float | None) -> GridMap | None:
+    """The occupancy grid of ``target``: itself, or the world rasterized (None if rasterize is missing)."""
+    if isinstance(target, GridMap):
+        return target
+    try:
+        from .rasterize import as_gridmap
+    except ImportError:
+        return None
+    if resolution is None and target.resolution is None:
+        xmin, ymin, xmax, ymax = target.bounds
+        resolution = max(xmax - xmin, ymax - ymin) / 400.0
+    return as_gridmap(target, resolution)
+
+
+def _world_of(target: Any) -> World | None:
+    if isinstance(target, World):
+        return target
+    w = getattr(target, "world", None)
+    if isinstance(w, World):
+        return w
+    m = _gridmap_of(target)
+    return m.world if m is not None and isinstance(m.world, World) else None
+
+
+def _point_or_none(p: ArrayLike | None, name: str) -> NDArray[np.float64] | None:
+    if p is None:
+        return None
+    a = np.asarray(p, dtype=float).reshape(-1)
+    if a.shape != (2,) or not np.all(np.isfinite(a)):
+        raise ParameterError(f"{name} must be a point (x, y) of finite numbers, got {p!r}")
+    return a
+
+
+def _points_or_empty(p: ArrayLike | None, name: str) -> NDArray[np.float64]:
+    if p is None:
+        return np.empty((0, 2))
+    a = np.asarray(p, dtype=float)
+    if a.size == 0:
+        return np.empty((0, 2))
+    a = a.reshape(-1, 2) if a.ndim == 1 and a.shape[0] == 2 else a
+    if a.ndim != 2 or a.shape[1] != 2:
+        raise ParameterError(f"{name} must be points of shape (N, 2), got shape {np.shape(p)}")
+    return a
+
+
+def _title_of(target: Any) -> str:
+    src = getattr(target, "source", "") or getattr(_world_of(target), "source", "") or ""
+    return FsPath(src).name if src else ""
+
+
+def _occupancy_layer(ax: Axes, gm: GridMap, *, alpha: float = 1.0, zorder: float = 0.0,
+                     free_color: str | None = FREE_COLOR) -> Any:
+    """Occupancy as an image: ``free_color`` (or transparent) on free cells, dark grey on obstacles."""
+    from matplotlib.colors import ListedColormap
+
+    if free_color is None:
+        data = np.ma.masked_array(np.ones(gm.shape), mask=~gm.occupied)
+        cmap = ListedColormap([OCCUPIED_COLOR])
+        vmin, vmax = 0.5, 1.5
+    else:
+        data = gm.occupied.astype(np.uint8)
+        cmap = ListedColormap([free_color, OCCUPIED_COLOR])
+        vmin, vmax = -0.5, 1.5
+    return ax.imshow(data, origin="lower", extent=gm.grid.extent, cmap=cmap, vmin=vmin, vmax=vmax,
+                     interpolation="nearest", alpha=alpha, zorder=zorder)
+
+
+def _draw_outlines(ax: Axes, world: World, *, color: str = OUTLINE_COLOR, zorder: float = 3.0) -> list[Any]:
+    """Outline every vector obstacle of ``world``: polygons, circles (exact), segments, points."""
+    from matplotlib.collections import LineCollection, PatchCollection
+    from matplotlib.patches import Circle
+    from matplotlib.patches import Polygon as MplPolygon
+
+    patches, segments, points = [], [], []
+    for ob in world.obstacles:
+        if ob.kind == "circle" and ob.center is not None and ob.radius is not None:
+            patches.append(Circle(ob.center, ob.radius))
+        elif ob.kind == "polygon":
+            patches.append(MplPolygon(ob.vertices, closed=True))
+        elif ob.kind == "segment":
+            segments.append(ob.vertices)
+        else:
+            points.append(ob.vertices.reshape(-1, 2)[0])
+    out: list[Any] = []
+    if patches:
+        out.append(ax.add_collection(PatchCollection(patches, facecolor="none", edgecolor=color, linewidth=1.6,
+                                                     zorder=zorder)))
+    if segments:
+        out.append(ax.add_collection(LineCollection(segments, colors=color, linewidths=2.2, zorder=zorder)))
+    if points:
+        p = np.asarray(points)
+        out.append(ax.scatter(p[:, 0], p[:, 1], s=18, color=color, zorder=zorder))
+    return out
+
+
+def _frame(ax: Axes, bounds: tuple[float, float, float, float]) -> None:
+    xmin, ymin, xmax, ymax = bounds
+    ax.set_xlim(xmin, xmax)
+    ax.set_ylim(ymin, ymax)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+
+
+def _path_label(path: Path) -> str:
+    return f"{path.planner}: {path.status}, length {path.length:.3g}"
+
+
+def _stall_points(path: Path | None) -> NDArray[np.float64]:
+    """Stall points a follower recorded (``extra['stall']``), or its end when it stopped in a minimum."""
+    if path is None:
+        return np.empty((0, 2))
+    stall = path.extra.get("stall") if isinstance(path.extra, Mapping) else None
+    pts = _points_or_empty(stall, "path.extra['stall']")
+    if len(pts) == 0 and path.status == "local_minimum" and len(path.points):
+        pts = path.points[-1:].copy()
+    return pts
+
+
+def _draw_paths(ax: Axes, paths: Sequence[Path], art: Artists, *, zorder: float = 5.0,
+                styles: Sequence[Mapping[str, Any]] | None = None) -> None:
+    stalls = []
+    for i, p in enumerate(paths):
+        if not isinstance(p, Path):
+            raise ParameterError(f"paths must be gridfield Path objects, got {type(p).__name__} at position {i}")
+        style: dict[str, Any] = {"color": PATH_COLORS[i % len(PATH_COLORS)], "linewidth": 2.0}
+        if styles is not None and i < len(styles):
+            style.update(styles[i])
+        (line,) = ax.plot(p.points[:, 0], p.points[:, 1], label=_path_label(p), zorder=zorder, **style)
+        art.paths.append(line)
+        s = _stall_points(p)
+        if len(s):
+            stalls.append(s)
+    if stalls:
+        s = np.concatenate(stalls)
+        art.markers["stall"] = ax.scatter(s[:, 0], s[:, 1], marker="X", s=90, color="red", edgecolor="white",
+                                          linewidth=0.8, zorder=zorder + 2, label="stall point")
+
+
+def _draw_endpoints(ax: Axes, art: Artists, start: NDArray[np.float64] | None, goal: NDArray[np.float64] | None,
+                    *, zorder: float = 6.0) -> None:
+    if start is not None:
+        art.markers["start"] = ax.scatter([start[0]], [start[1]], marker="o", s=70, color="tab:green",
+                                          edgecolor="black", zorder=zorder, label="start")
+    if goal is not None:
+        art.markers["goal"] = ax.scatter([goal[0]], [goal[1]], marker="*", s=180, color="gold",
+                                         edgecolor="black", zorder=zorder, label="goal")
+
+
+def _legend(ax: Axes, art: Artists, *, loc: str = "best", fontsize: float = 8.0) -> None:
+    handles, labels = ax.get_legend_handles_labels()
+    if handles:
+        art.legend = ax.legend(handles, labels, loc=loc, fontsize=fontsize, framealpha=0.85)
+
+
+def _finite_levels(lo: float, hi: float, n: int) -> NDArray[np.float64]:
+    """``n`` levels strictly inside ``(lo, hi)`` (so that contour never warns of empty levels)."""
+    if not (np.isfinite(lo) and np.isfinite(hi)) or hi <= lo:
+        return np.empty(0)
+    return np.linspace(lo, hi, n + 2)[1:-1]
+
+
+# ----------------------------------------------------------------------------------------------
+# maps
+# ----------------------------------------------------------------------------------------------
+def plot_map(
+    target: World | GridMap,
+    ax: Axes | None = None,
+    *,
+    paths: Path | Iterable[Path] = (),
+    start: ArrayLike | None = None,
+    goal: ArrayLike | None = None,
+    resolution: float | None = None,
+    outlines: bool = True,
+    legend: bool = True,
+    title: str | None = None,
+    path_styles: Sequence[Mapping[str, Any]] | None = None,
+) -> Artists:
+    """Occupancy grid in world coordinates, vector obstacles outlined, start/goal and paths drawn.
+
+    Parameters
+    ----------
+    target : World or GridMap
+        A vector world is rasterized at ``resolution`` (default: the world's own) with
+        :func:`gridfield.rasterize.as_gridmap`; a grid map that came from a world also gets its
+        obstacles outlined.
+    ax : Axes, optional
+        Draw into this axes; default: a new figure.
+    paths : Path or iterable of Path
+        Drawn as lines (``ax.lines`` holds exactly these), labelled with planner and status;
+        stall points (``path.extra['stall']``, or the end of a ``local_minimum`` path) are marked.
+    start, goal : (x, y), optional
+        Marked points; default: the world's start and goal, if any.
+    resolution : float, optional
+        Cell size used to rasterize a vector world.
+    outlines : bool
+        Outline the vector obstacles (polygons, circles, segments, points).
+    legend : bool
+    title : str, optional
+        Default: the map's file name.
+    path_styles : sequence of dict, optional
+        Line properties per path (e.g. ``[{"linestyle": "--"}]``).
+
+    Returns
+    -------
+    Artists
+        ``image`` (occupancy, ``None`` when a world cannot be rasterized), ``obstacles``, ``paths``,
+        ``markers`` (``start``, ``goal``, ``stall``), ``legend``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gridfield.grid import Grid, GridMap
+    >>> occ = np.zeros((4, 6), bool); occ[0, :] = True
+    >>> m = GridMap(Grid((4, 6), 0.5, origin=(1.0, 0.0)), occ)
+    >>> p = Path(np.array([[1.2, 1.2], [3.5, 1.7]]), "reached", "demo")
+    >>> art = plot_map(m, paths=[p], goal=(3.5, 1.7))
+    >>> art.image.get_extent(), len(art.ax.lines)
+    ([1.0, 4.0, 0.0, 2.0], 1)
+    >>> import matplotlib.pyplot as plt; plt.close(art.figure)
+    """
+    if isinstance(paths, Path):
+        paths = [paths]
+    paths = list(paths)
+    if not isinstance(target, World | GridMap):
+        raise ParameterError(f"plot_map needs a World or a GridMap, got {type(target).__name__}")
+    ax = _new_axes(ax)
+    art = Artists(ax)
+    gm = _rasterized(target, resolution)
+    world = _world_of(target)
+    if gm is not None:
+        art.image = _occupancy_layer(ax, gm)
+        art.mappable = art.image
+        art.obstacles.append(art.image)
+    if outlines and world is not None:
+        art.obstacles += _draw_outlines(ax, world)
+    if world is not None:
+        start = world.start if start is None else start
+        goal = world.goal if goal is None else goal
+    _draw_paths(ax, paths, art, styles=path_styles)
+    _draw_endpoints(ax, art, _point_or_none(start, "start"), _point_or_none(goal, "goal"))
+    bounds = gm.grid.bounds if gm is not None else world.bounds  # type: ignore[union-attr]
+    _frame(ax, bounds)
+    ax.set_title(_title_of(target) if title is None else title)
+    if legend:
+        _legend(ax, art)
+    return art
+
+
+# ----------------------------------------------------------------------------------------------
+# brushfire
+# ----------------------------------------------------------------------------------------------
+def plot_brushfire(
+    dmap: Any,
+    ax: Axes | None = None,
+    *,
+    levels: int | Sequence[float] = 8,
+    gvd: bool = True,
+    labels: bool = False,
+    cmap: str = "viridis",
+    clim: tuple[float, float] | None = None,
+    colorbar: bool = True,
+    title: str | None = None,
+) -> Artists:
+    """Distance to the nearest obstacle as a heat map, with iso-distance contours and the GVD.
+
+    Parameters
+    ----------
+    dmap : DistanceMap
+        Result of :func:`gridfield.brushfire.brushfire`.
+    levels : int or sequence of float
+        Number of iso-distance lines (evenly spaced inside the distance range) or their values.
+    gvd : bool
+        Overlay the generalized Voronoi diagram cells (``dmap.gvd``) in red.
+    labels : bool
+        Overlay the nearest-obstacle labels as translucent colours.
+    clim : (float, float), optional
+        Colour range of the distance image (default: 0 to the largest finite distance).
+    colorbar : bool
+
+    Returns
+    -------
+    Artists
+        ``image`` (distance; obstacles and cells without an obstacle masked), ``contours``,
+        ``obstacles`` (the occupancy overlay), ``extra['gvd']``, ``extra['labels']``, ``colorbar``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gridfield.grid import Grid, GridMap
+    >>> from gridfield.brushfire import brushfire
+    >>> occ = np.zeros((20, 30), bool); occ[:, 0] = occ[:, -1] = True
+    >>> art = plot_brushfire(brushfire(GridMap(Grid((20, 30), 0.1), occ), metric="euclidean"))
+    >>> art.image.get_extent(), art.image.get_clim()
+    ([0.0, 3.0, 0.0, 2.0], (0.0, 1.4...))
+    >>> bool(art.extra["gvd"].get_array()[:, 14:16].count() > 0)   # the GVD runs down the middle
+    True
+    >>> import matplotlib.pyplot as plt; plt.close(art.figure)
+    """
+    from matplotlib.colors import ListedColormap
+
+    grid = _grid_of(dmap)
+    gm = _gridmap_of(dmap)
+    dist = np.asarray(dmap.distance, dtype=float)
+    if dist.shape != grid.shape:
+        raise GridfieldError(f"distance has shape {dist.shape}, but the grid has shape {grid.shape}")
+    occ = gm.occupied if gm is not None else dist <= 0
+    ax = _new_axes(ax)
+    art = Artists(ax)
+    valid = np.isfinite(dist) & ~occ
+    shown = np.ma.masked_array(np.where(valid, dist, 0.0), mask=~valid)
+    dmax = float(dist[valid].max()) if valid.any() else 1.0
+    if clim is None:
+        clim = (0.0, dmax if dmax > 0 else 1.0)
+    art.image = ax.imshow(shown, origin="lower", extent=grid.extent, cmap=cmap, vmin=clim[0], vmax=clim[1],
+                          interpolation="nearest", zorder=0)
+    art.mappable = art.image
+    if gm is not None and occ.any():
+        art.obstacles.append(_occupancy_layer(ax, gm, free_color=None, zorder=1))
+    if labels:
+        lab = np.asarray(dmap.label)
+        uniq, inv = np.unique(lab, return_inverse=True)
+        inv = inv.reshape(lab.shape)
+        import matplotlib as mpl
+
+        base = mpl.colormaps["tab20"].colors
+        lcmap = ListedColormap([base[i % len(base)] for i in range(len(uniq))])
+        art.extra["labels"] = ax.imshow(np.ma.masked_array(inv, mask=occ | (lab == 0)), origin="lower",
+                                        extent=grid.extent, cmap=lcmap, vmin=-0.5, vmax=len(uniq) - 0.5,
+                                        interpolation="nearest", alpha=0.45, zorder=1.5)
+    xs, ys = grid.cell_centers()
+    lv = _finite_levels(0.0, dmax, levels) if isinstance(levels, int) else np.asarray(levels, dtype=float)
+    lv = lv[(lv > 0) & (lv < dmax)] if valid.any() else np.empty(0)
+    if len(lv) and min(grid.shape) >= 2:
+        art.contours = ax.contour(xs, ys, shown, levels=lv, colors="white", linewidths=0.7, alpha=0.8, zorder=2)
+    if gvd:
+        g = np.asarray(dmap.gvd, dtype=bool)
+        art.extra["gvd"] = ax.imshow(np.ma.masked_array(np.ones(g.shape), mask=~g), origin="lower",
+                                     extent=grid.extent, cmap=ListedColormap(["red"]), vmin=0.5, vmax=1.5,
+                                     interpolation="nearest", zorder=3)
+    if colorbar:
+        art.colorbar = ax.figure.colorbar(art.image, ax=ax, shrink=0.85, label=f"distance ({dmap.metric})")
+    _frame(ax, grid.bounds)
+    ax.set_title(title if title is not None else f"brushfire {_title_of(gm) if gm is not None else ''}".strip())
+    return art
+
+
+# ----------------------------------------------------------------------------------------------
+# potentials
+# ----------------------------------------------------------------------------------------------
+def _potential_scale(u: NDArray[np.float64], finite: NDArray[np.bool_], cap: float | None,
+                     log: bool) -> tuple[NDArray[np.float64], float, float, str]:
+    """Values to colour, their colour range and a label: ``U`` clipped at ``cap``, or for ``log``
+    ``U - min U`` clipped into ``[lo, cap - min U]`` (log colour scales need positive values)."""
+    vals = u[finite]
+    umin = float(vals.min())
+    if cap is None:
+        cap = float(vals.max()) if log else float(np.percentile(vals, 95.0))
+    cap = float(cap)
+    if not np.isfinite(cap):
+        raise ParameterError(f"cap must be a finite potential value, got {cap!r}")
+    if not log:
+        hi = cap if cap > umin else umin + 1.0
+        return np.clip(np.where(finite, u, hi), umin, hi), umin, hi, "potential U"
+    hi = cap - umin
+    if hi <= 0:
+        hi = 1.0
+    v = np.where(finite, u - umin, hi)
+    pos = v[finite & (v > 0)]
+    lo = float(np.percentile(pos, 1.0)) if pos.size else hi * 1e-6
+    lo = min(max(lo, hi * 1e-12), hi / 10.0)
+    return np.clip(v, lo, hi), lo, hi, "U − min U (log scale)"
+
+
+def _decimated_quiver(ax: Axes, grid: Grid, gx: NDArray[np.float64], gy: NDArray[np.float64],
+                      free: NDArray[np.bool_], step: int | None, *, color: str = "black", zorder: float = 4) -> Any:
+    rows, cols = grid.shape
+    if step is None:
+        step = max(1, round(max(rows, cols) / 28))
+    step = int(step)
+    if step < 1:
+        raise ParameterError(f"quiver_step must be a positive number of cells, got {step}")
+    r = np.arange(step // 2, rows, step)
+    c = np.arange(step // 2, cols, step)
+    rr, cc = np.meshgrid(r, c, indexing="ij")
+    u, v = -gx[rr, cc], -gy[rr, cc]
+    mag = np.hypot(u, v)
+    ok = free[rr, cc] & np.isfinite(mag) & (mag > 0)
+    if not ok.any():
+        return None
+    xs, ys = grid.cell_centers()
+    length = 0.75 * step * grid.resolution
+    return ax.quiver(xs[cc[ok]], ys[rr[ok]], u[ok] / mag[ok], v[ok] / mag[ok], angles="xy", scale_units="xy",
+                     scale=1.0 / length, width=0.0025, color=color, alpha=0.65, zorder=zorder, pivot="mid")
+
+
+def plot_potential(
+    field: Any,
+    ax: Axes | None = None,
+    *,
+    cap: float | None = None,
+    log: bool = True,
+    quiver: bool = True,
+    quiver_step: int | None = None,
+    stall_points: ArrayLike | None = None,
+    path: Path | None = None,
+    levels: int = 24,
+    cmap: str = "viridis",
+    colorbar: bool = True,
+    title: str | None = None,
+) -> Artists:
+    """Potential as filled contours, the negative gradient as arrows, stall points and a path.
+
+    Parameters
+    ----------
+    field : Field
+        From :func:`gridfield.potential.build_field`: ``potential`` (``+inf`` on obstacles),
+        ``grad_x``, ``grad_y``, ``goal`` and ``map``.
+    cap : float, optional
+        Potential values above ``cap`` are drawn as ``cap`` (default: the largest finite value with
+        ``log``, else the 95th percentile, so that the repulsive spikes do not flatten the rest).
+    log : bool
+        Colour ``U - min U`` on a logarithmic scale (the repulsive part explodes near obstacles);
+        otherwise ``U`` on a linear scale from ``min U`` to ``cap``.
+    quiver : bool
+        Draw the direction of ``-grad U`` (unit arrows) on a decimated lattice of free cells.
+    quiver_step : int, optional
+        Lattice spacing in cells (default: about 28 arrows along the longer side).
+    stall_points : (N, 2) array, optional
+        Points where a follower stalled; default: those of ``path`` (see :func:`plot_map`).
+    path : Path, optional
+    levels : int
+        Number of filled-contour levels.
+
+    Returns
+    -------
+    Artists
+        ``contours`` and ``mappable`` (the filled contour set; ``get_clim()`` is the colour range),
+        ``image`` (the obstacle overlay), ``quiver``, ``paths``, ``markers`` (``goal``, ``stall``).
+    """
+    from matplotlib.colors import LogNorm, Normalize
+
+    grid = _grid_of(field)
+    gm = _gridmap_of(field)
+    u = np.asarray(field.potential, dtype=float)
+    if u.shape != grid.shape:
+        raise GridfieldError(f"potential has shape {u.shape}, but the grid has shape {grid.shape}")
+    finite = np.isfinite(u)
+    if gm is not None:
+        finite &= ~gm.occupied
+    if not finite.any():
+        raise GridfieldError("the potential has no finite value on a free cell; nothing to plot")
+    if levels < 2:
+        raise ParameterError(f"levels must be at least 2, got {levels}")
+    z, lo, hi, label = _potential_scale(u, finite, cap, log)
+    ax = _new_axes(ax)
+    art = Artists(ax)
+    xs, ys = grid.cell_centers()
+    zm = np.ma.masked_array(z, mask=~finite)
+    if log:
+        lv = np.geomspace(lo, hi, levels)
+        norm: Any = LogNorm(vmin=lo, vmax=hi)
+    else:
+        lv = np.linspace(lo, hi, levels)
+        norm = Normalize(vmin=lo, vmax=hi)
+    if min(grid.shape) >= 2:
+        art.contours = ax.contourf(xs, ys, zm, levels=lv, norm=norm, cmap=cmap, zorder=0)
+        art.mappable = art.contours
+    else:  # a single row or column cannot be contoured
+        art.mappable = ax.imshow(zm, origin="lower", extent=grid.extent, cmap=cmap, norm=norm,
+                                 interpolation="nearest", zorder=0)
+    occ = ~finite
+    if occ.any():
+        data = np.ma.masked_array(np.ones(grid.shape), mask=~occ)
+        from matplotlib.colors import ListedColormap
+
+        art.image = ax.imshow(data, origin="lower", extent=grid.extent, cmap=ListedColormap([OCCUPIED_COLOR]),
+                              vmin=0.5, vmax=1.5, interpolation="nearest", zorder=1)
+        art.obstacles.append(art.image)
+    world = _world_of(field)
+    if world is not None:
+        art.obstacles += _draw_outlines(ax, world, color="white", zorder=2)
+    if quiver:
+        gx = np.asarray(field.grad_x, dtype=float)
+        gy = np.asarray(field.grad_y, dtype=float)
+        art.quiver = _decimated_quiver(ax, grid, gx, gy, finite, quiver_step)
+    if path is not None:
+        _draw_paths(ax, [path], art, styles=[{"color": "tab:red"}])
+    if stall_points is not None:
+        s = _points_or_empty(stall_points, "stall_points")
+        if "stall" in art.markers:
+            art.markers["stall"].remove()
+        art.markers.pop("stall", None)
+        if len(s):
+            art.markers["stall"] = ax.scatter(s[:, 0], s[:, 1], marker="X", s=90, color="red", edgecolor="white",
+                                              linewidth=0.8, zorder=8, label="stall point")
+    start = path.points[0] if path is not None and len(path.points) else None
+    goal = getattr(field, "goal", None)
+    _draw_endpoints(ax, art, _point_or_none(start, "start"), _point_or_none(goal, "goal"))
+    if colorbar:
+        art.colorbar = ax.figure.colorbar(art.mappable, ax=ax, shrink=0.85, label=label)
+    _frame(ax, grid.bounds)
+    ax.set_title(title if title is not None else "potential")
+    if path is not None or "stall" in art.markers:
+        _legend(ax, art)
+    return art
+
+
+def plot_surface(
+    field: Any,
+    ax: Axes | None = None,
+    *,
+    path: Path | None = None,
+    cap: float | None = None,
+    max_cells: int = 150,
+    cmap: str = "viridis",
+    title: str | None = None,
+) -> Artists:
+    """The potential as a 3-D surface (capped, decimated), with a path drawn on it.
+
+    Parameters
+    ----------
+    field : Field
+    ax : Axes3D, optional
+        Must be a 3-D axes (``projection="3d"``); default: a new figure.
+    path : Path, optional
+        Drawn on the surface (heights sampled at the nearest cell).
+    cap : float, optional
+        Heights above ``cap`` (and obstacles) are drawn at ``cap``; default: the 90th percentile of
+        the finite potential, which keeps the repulsive walls from dwarfing the attractive bowl.
+    max_cells : int
+        At most this many samples along each side: larger grids are decimated by a whole stride.
+
+    Returns
+    -------
+    Artists
+        ``surface`` (also ``mappable``; ``get_clim()`` is the height range), ``paths``,
+        ``extra['stride']``.
+    """
+    if int(max_cells) < 2:
+        raise ParameterError(f"max_cells must be at least 2, got {max_cells}")
+    grid = _grid_of(field)
+    gm = _gridmap_of(field)
+    u = np.asarray(field.potential, dtype=float)
+    finite = np.isfinite(u)
+    if gm is not None:
+        finite &= ~gm.occupied
+    if not finite.any():
+        raise GridfieldError("the potential has no finite value on a free cell; nothing to plot")
+    vals = u[finite]
+    umin = float(vals.min())
+    if cap is None:
+        cap = float(np.percentile(vals, 90.0))
+    cap = float(cap)
+    if not np.isfinite(cap):
+        raise ParameterError(f"cap must be a finite potential value, got {cap!r}")
+    if cap <= umin:
+        cap = umin + 1.0
+    if ax is None:
+        ax = _new_axes(None, projection="3d", figsize=(7.5, 6.0))
+    elif getattr(ax, "name", "") != "3d":
+        raise ParameterError("plot_surface needs a 3-D axes: create it with fig.add_subplot(projection='3d')")
+    art = Artists(ax)
+    stride = max(1, math.ceil(max(grid.shape) / int(max_cells)))
+    xs, ys = grid.cell_centers()
+    z = np.clip(np.where(finite, u, cap), umin, cap)[::stride, ::stride]
+    x, y = np.meshgrid(xs[::stride], ys[::stride])
+    art.surface = ax.plot_surface(x, y, z, cmap=cmap, vmin=umin, vmax=cap, linewidth=0, antialiased=False,
+                                  rstride=1, cstride=1, alpha=0.9)
+    art.mappable = art.surface
+    art.extra["stride"] = stride
+    if path is not None and len(path.points):
+        cells, _ = grid.world_to_cell(path.points)
+        r = np.clip(cells[:, 0], 0, grid.rows - 1)
+        c = np.clip(cells[:, 1], 0, grid.cols - 1)
+        pz = np.clip(np.where(finite[r, c], u[r, c], cap), umin, cap) + 0.01 * (cap - umin)
+        (line,) = ax.plot(path.points[:, 0], path.points[:, 1], pz, color="tab:red", linewidth=2.2, zorder=10,
+                          label=_path_label(path))
+        art.paths.append(line)
+    ax.set_zlim(umin, cap)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_zlabel("U")
+    ax.set_title(title if title is not None else "potential surface")
+    return art
+
+
+# ----------------------------------------------------------------------------------------------
+# basins
+# ----------------------------------------------------------------------------------------------
+def plot_basins(
+    basins: Any,
+    ax: Axes | None = None,
+    *,
+    grid: Grid | None = None,
+    max_legend: int = 6,
+    title: str | None = None,
+) -> Artists:
+    """Each free cell coloured by where gradient descent from it ends.
+
+    Parameters
+    ----------
+    basins : Basins
+        From :func:`gridfield.follow.basins`: ``label`` (0 obstacle, 1 goal, ``k >= 2`` the local
+        minimum ``k - 2`` of ``minima``), ``minima`` (points ``(K, 2)``).
+    grid : Grid, optional
+        Needed only when ``basins`` does not carry its grid.
+    max_legend : int
+        At most this many local-minimum basins get a legend entry (largest first).
+
+    Returns
+    -------
+    Artists
+        ``image`` (labels; colour range ``(-0.5, max label + 0.5)``), ``markers`` (``minima``, ``goal``),
+        ``legend``.
+
+    Examples
+    --------
+    >>> import numpy as np, types
+    >>> from gridfield.grid import Grid
+    >>> lab = np.array([[0, 1, 1], [2, 2, 1]])
+    >>> b = types.SimpleNamespace(label=lab, minima=np.array([[0.5, 1.5]]))
+    >>> art = plot_basins(b, grid=Grid((2, 3), 1.0))
+    >>> art.image.get_clim(), len(art.legend.get_texts())
+    ((-0.5, 2.5), 3)
+    >>> import matplotlib.pyplot as plt; plt.close(art.figure)
+    """
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+
+    grid = grid if grid is not None else _grid_of(basins)
+    lab = np.asarray(getattr(basins, "label", None) if hasattr(basins, "label") else basins.labels)
+    if lab.shape != grid.shape:
+        raise GridfieldError(f"basin labels have shape {lab.shape}, but the grid has shape {grid.shape}")
+    lab = lab.astype(np.int64)
+    if lab.size and lab.min() < 0:
+        raise GridfieldError(f"basin labels must be >= 0 (0 obstacle, 1 goal, k >= 2 minima), got {lab.min()}")
+    n = int(lab.max()) if lab.size else 1
+    n = max(n, 1)
+    import matplotlib as mpl
+
+    minima_colors = mpl.colormaps["tab20"].colors
+    colors = [OCCUPIED_COLOR, "#b8e0b0"] + [minima_colors[(k * 2 + 1) % 20] if k % 2 else minima_colors[(k * 2) % 20]
+                                            for k in range(n - 1)]
+    ax = _new_axes(ax)
+    art = Artists(ax)
+    art.image = ax.imshow(lab, origin="lower", extent=grid.extent, cmap=ListedColormap(colors), vmin=-0.5,
+                          vmax=n + 0.5 if n > 1 else 1.5, interpolation="nearest", zorder=0)
+    art.mappable = art.image
+    free = lab > 0
+    nfree = max(int(free.sum()), 1)
+    counts = np.bincount(lab.ravel(), minlength=n + 1)
+    handles = [Patch(facecolor=colors[1], edgecolor="0.3", label=f"goal basin ({100 * counts[1] / nfree:.0f} %)")]
+    order = np.argsort(-counts[2:], kind="stable")[:max_legend] + 2 if n >= 2 else np.empty(0, int)
+    for k in order:
+        if counts[k]:
+            handles.append(Patch(facecolor=colors[k], edgecolor="0.3",
+                                 label=f"minimum {k - 1} ({100 * counts[k] / nfree:.1f} %)"))
+    hidden = int((counts[2:] > 0).sum()) - (len(handles) - 1)
+    minima = _points_or_empty(getattr(basins, "minima", None), "basins.minima")
+    if len(minima):
+        art.markers["minima"] = ax.scatter(minima[:, 0], minima[:, 1], marker="X", s=60, color="red",
+                                           edgecolor="white", linewidth=0.7, zorder=5)
+        handles.append(art.markers["minima"])
+        art.markers["minima"].set_label(f"local minima ({len(minima)})")
+    f = getattr(basins, "field", None)
+    goal = getattr(basins, "goal", None)
+    goal = goal if goal is not None else getattr(f, "goal", None)
+    if goal is not None:
+        g = _point_or_none(goal, "goal")
+        art.markers["goal"] = ax.scatter([g[0]], [g[1]], marker="*", s=180, color="gold", edgecolor="black",  # type: ignore[index]
+                                         zorder=6, label="goal")
+        handles.append(art.markers["goal"])
+    if hidden > 0:
+        handles.append(Patch(facecolor="none", edgecolor="none", label=f"(+{hidden} smaller basins)"))
+    art.legend = ax.legend(handles=handles, loc="best", fontsize=7.5, framealpha=0.85)
+    _frame(ax, grid.bounds)
+    ax.set_title(title if title is not None else "basins of attraction")
+    return art
+
+
+# ----------------------------------------------------------------------------------------------
+# grid vs exact
+# ----------------------------------------------------------------------------------------------
+def plot_comparison(
+    target: World | GridMap,
+    grid_path: Path,
+    exact_path: Path,
+    ax: Axes | None = None,
+    *,
+    resolution: float | None = None,
+    title: str | None = None,
+) -> Artists:
+    """A grid planner's path against the exact planner's on the same world.
+
+    The exact path is drawn dashed on top of the grid path; the title reports both lengths and
+    the largest distance of the grid path's points from the exact path (Hausdorff-like deviation).
+
+    Returns
+    -------
+    Artists
+        As :func:`plot_map`; ``paths == [grid line, exact line]``, ``extra['deviation']``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 4, 4], "obstacles": [{"circle": {"center": [2, 2], "radius": 1}}]})
+    >>> a = Path(np.array([[0.5, 0.5], [0.5, 3.5]]), "reached", "potential")
+    >>> b = Path(np.array([[0.5, 0.5], [0.7, 3.5]]), "reached", "exact-potential")
+    >>> art = plot_comparison(w, a, b, resolution=0.5)
+    >>> len(art.paths), round(art.extra["deviation"], 3)
+    (2, 0.2)
+    >>> import matplotlib.pyplot as plt; plt.close(art.figure)
+    """
+    import shapely
+
+    art = plot_map(target, ax, paths=[grid_path, exact_path], resolution=resolution, legend=True,
+                   path_styles=[{"color": "tab:red", "linewidth": 2.4},
+                                {"color": "black", "linestyle": "--", "linewidth": 1.6}],
+                   start=grid_path.points[0] if len(grid_path.points) else None, title="")
+    dev = math.nan
+    if len(grid_path.points) and len(exact_path.points):
+        ref = shapely.LineString(exact_path.points) if len(exact_path.points) > 1 else shapely.Point(exact_path.points[0])
+        dev = float(np.max(shapely.distance(ref, shapely.points(grid_path.points))))
+    art.extra["deviation"] = dev
+    art.ax.set_title(title if title is not None else
+                     f"grid {grid_path.length:.3g} vs exact {exact_path.length:.3g}, max deviation {dev:.3g}",
+                     fontsize=10)
+    return art
+
+
+def plot_convergence(
+    resolutions: Sequence[float] | Sequence[Mapping[str, Any]],
+    errors: Mapping[str, Sequence[float]] | None = None,
+    ax: Axes | None = None,
+    *,
+    slopes: Sequence[float] = (1.0,),
+    xlabel: str = "resolution (cell size)",
+    ylabel: str = "error",
+    title: str | None = None,
+) -> Artists:
+    """Errors against resolution on log-log axes, one line per error column.
+
+    Parameters
+    ----------
+    resolutions : sequence of float, or sequence of dict
+        Cell sizes; or rows (dicts with a ``"resolution"`` key and one key per error column), as
+        a convergence study returns them, in which case ``errors`` is taken from the rows' other
+        numeric keys.
+    errors : mapping of name to sequence of float
+        Each sequence as long as ``resolutions``. Non-positive or non-finite values are left out
+        (they have no logarithm); a column with none left is not drawn.
+    slopes : sequence of float
+        Reference lines ``error ∝ h**s`` (dotted), anchored at the first column's coarsest point.
+
+    Returns
+    -------
+    Artists
+        ``paths`` holds one line per drawn error column; ``extra['reference']`` the slope lines.
+
+    Examples
+    --------
+    >>> art = plot_convergence([0.4, 0.2, 0.1], {"length": [0.3, 0.16, 0.07], "end": [0.0, 0.1, 0.05]})
+    >>> len(art.paths), art.ax.get_xscale(), art.ax.get_yscale()
+    (2, 'log', 'log')
+    >>> rows = [{"resolution": 0.2, "error": 0.1, "planner": "x"}, {"resolution": 0.1, "error": 0.05, "planner": "x"}]
+    >>> len(plot_convergence(rows, slopes=()).paths)
+    1
+    >>> import matplotlib.pyplot as plt; plt.close("all")
+    """
+    seq = list(resolutions)
+    if errors is None:
+        if not seq or not all(isinstance(r, Mapping) for r in seq):
+            raise ParameterError("plot_convergence needs resolutions and an errors mapping, or a list of row dicts")
+        if not all("resolution" in r for r in seq):
+            raise ParameterError("every row passed to plot_convergence needs a 'resolution' key")
+        names = [k for k in seq[0] if k != "resolution" and all(
+            isinstance(r.get(k), int | float | np.number) and not isinstance(r.get(k), bool) for r in seq)]
+        errors = {k: [float(r[k]) for r in seq] for k in names}
+        seq = [float(r["resolution"]) for r in seq]
+    h = np.asarray(seq, dtype=float)
+    if h.ndim != 1 or not np.all(np.isfinite(h) & (h > 0)):
+        raise ParameterError(f"resolutions must be positive finite numbers, got {list(seq)!r}")
+    ax = _new_axes(ax, figsize=(6.0, 4.6))
+    art = Artists(ax)
+    order = np.argsort(h)
+    markers = "osD^vP*"
+    for i, (name, errs) in enumerate(errors.items()):
+        e = np.asarray(errs, dtype=float)
+        if e.shape != h.shape:
+            raise ParameterError(f"error column {name!r} has {e.size} values for {h.size} resolutions")
+        ok = np.isfinite(e[order]) & (e[order] > 0)
+        if not ok.any():
+            continue
+        (line,) = ax.plot(h[order][ok], e[order][ok], marker=markers[i % len(markers)], label=name)
+        art.paths.append(line)
+    art.extra["reference"] = []
+    if art.paths:
+        x0, y0 = art.paths[0].get_xdata()[-1], art.paths[0].get_ydata()[-1]
+        hh = np.array([h.min(), h.max()])
+        for s in slopes:
+            (ref,) = ax.plot(hh, y0 * (hh / x0) ** s, linestyle=":", color="0.4", label=f"O(h^{s:g})")
+            art.extra["reference"].append(ref)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        _legend(ax, art)
+    else:
+        ax.text(0.5, 0.5, "no positive errors to plot", transform=ax.transAxes, ha="center", va="center")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.set_title(title if title is not None else "convergence")
+    return art
+
+
+# ----------------------------------------------------------------------------------------------
+# files: figures and animations
+# ----------------------------------------------------------------------------------------------
+def _check_figure_file(file: PathLike) -> FsPath:
+    p = FsPath(file)
+    if p.suffix.lower() not in (".png", ".pdf", ".svg", ".jpg", ".jpeg"):
+        raise ParameterError(f"{p}: unknown figure format {p.suffix!r}; use .png, .pdf, .svg or .jpg")
+    if p.parent and not p.parent.exists():
+        raise GridfieldError(f"{p}: the folder {p.parent} does not exist")
+    return p
+
+
+def _save(fig: Figure, file: FsPath, dpi: int = 110) -> None:
+    import matplotlib.pyplot as plt
+
+    try:
+        fig.savefig(file, dpi=dpi)
+    except OSError as e:
+        raise GridfieldError(f"{file}: cannot write: {e.strerror or e}") from None
+    finally:
+        plt.close(fig)
+
+
+def _goal_of(path: Path, target: Any, goal: ArrayLike | None) -> NDArray[np.float64] | None:
+    """The goal a path was planned to: given, recorded in ``path.extra``, the world's when the path
+    starts at the world's start, or the end of a path that reached its goal."""
+    if goal is not None:
+        return _point_or_none(goal, "goal")
+    g = path.extra.get("goal") if isinstance(path.extra, Mapping) else None
+    if g is not None:
+        return _point_or_none(g, "goal")
+    w = _world_of(target)
+    if w is not None and w.goal is not None and w.start is not None and len(path.points) and np.allclose(
+            path.points[0], w.start):
+        return np.asarray(w.goal, dtype=float)
+    if path.reached and len(path.points):
+        return path.points[-1].copy()
+    return None
+
+
+def save_plan_figure(
+    file: PathLike,
+    target: World | GridMap,
+    path: Path,
+    *,
+    resolution: float | None = None,
+    goal: ArrayLike | None = None,
+    dpi: int = 110,
+) -> FsPath:
+    """Write a figure of the map and a planned path (what ``gridfield plan --plot F`` writes).
+
+    Returns the file's path. The format follows the suffix (``.png``, ``.pdf``, ``.svg``, ``.jpg``).
+    """
+    p = _check_figure_file(file)
+    g = _goal_of(path, target, goal)
+    start = path.points[0] if len(path.points) else None
+    art = plot_map(target, paths=[path], start=start, goal=g, resolution=resolution)
+    _save(art.figure, p, dpi)
+    return p
+
+
+def _animation_writer(file: FsPath, fps: int) -> Any:
+    from matplotlib import animation
+
+    suffix = file.suffix.lower()
+    if suffix not in ANIMATION_FORMATS:
+        raise ParameterError(f"{file}: unknown animation format {suffix!r}; use .gif (or .mp4 with ffmpeg installed)")
+    if file.parent and not file.parent.exists():
+        raise GridfieldError(f"{file}: the folder {file.parent} does not exist")
+    if suffix == ".mp4":
+        if not animation.writers.is_available("ffmpeg"):
+            raise GridfieldError(f"{file}: writing MP4 needs ffmpeg on the PATH, which was not found; "
+                                 "install ffmpeg or write a .gif instead")
+        return animation.FFMpegWriter(fps=fps)
+    return animation.PillowWriter(fps=fps)
+
+
+def _frame_indices(n: int, max_frames: int) -> NDArray[np.intp]:
+    if max_frames < 1:
+        raise ParameterError(f"max_frames must be at least 1, got {max_frames}")
+    if n <= max_frames:
+        return np.arange(n)
+    return np.unique(np.linspace(0, n - 1, max_frames).round().astype(np.intp))
+
+
+def _try_field(target: Any, path: Path, goal: NDArray[np.float64] | None, resolution: float | None) -> Any:
+    """Build the potential the path followed, when the potential module exists and the goal is known."""
+    if goal is None or path.planner != "potential":
+        return None
+    try:
+        from .potential import build_field
+    except ImportError:
+        return None
+    gm = _rasterized(target, resolution)
+    if gm is None:
+        return None
+    try:
+        return build_field(gm, goal, dict(path.params))
+    except GridfieldError:
+        return None
+
+
+def _write_animation(fig: Figure, update: Any, frames: int, writer: Any, file: FsPath, dpi: int) -> None:
+    import matplotlib.pyplot as plt
+    from matplotlib import animation
+
+    anim = animation.FuncAnimation(fig, update, frames=frames, blit=False, repeat=False)
+    try:
+        anim.save(str(file), writer=writer, dpi=dpi)
+    except OSError as e:
+        raise GridfieldError(f"{file}: cannot write: {e.strerror or e}") from None
+    finally:
+        plt.close(fig)
+
+
+def save_plan_animation(
+    file: PathLike,
+    target: World | GridMap,
+    path: Path,
+    *,
+    resolution: float | None = None,
+    field: Any = None,
+    goal: ArrayLike | None = None,
+    fps: int = 20,
+    max_frames: int = 120,
+    dpi: int = 80,
+) -> FsPath:
+    """Animate a follower moving along ``path``: over its potential when one is given or can be
+    built (a ``potential`` path whose goal is known), otherwise over the map.
+
+    Parameters
+    ----------
+    file : path
+        ``.gif`` (pillow) or ``.mp4`` (needs ffmpeg; :class:`GridfieldError` otherwise).
+    target : World or GridMap
+    path : Path
+    field : Field, optional
+        Background potential; default: rebuilt with the path's parameters.
+    goal : (x, y), optional
+        The goal the path was planned to (see :func:`save_plan_figure`).
+    fps, max_frames : int
+        Long paths are sampled down to ``max_frames`` evenly spaced frames (first and last kept).
+
+    Returns the file's path.
+    """
+    import matplotlib.pyplot as plt
+
+    p = FsPath(file)
+    writer = _animation_writer(p, int(fps))
+    if len(path.points) == 0:
+        raise GridfieldError("the path has no points to animate")
+    g = _goal_of(path, target, goal)
+    if field is None:
+        field = _try_field(target, path, g, resolution)
+    fig = plt.figure(figsize=(6.4, 5.0), layout="constrained")
+    ax = fig.add_subplot()
+    if field is not None:
+        art = plot_potential(field, ax, quiver=True, colorbar=False, title="")
+        if g is None:
+            g = _point_or_none(getattr(field, "goal", None), "goal")
+    else:
+        art = plot_map(target, ax, resolution=resolution, start=path.points[0], goal=g, legend=False, title="")
+    if g is not None and "goal" not in art.markers:
+        _draw_endpoints(ax, art, None, g)
+    pts = path.points
+    idx = _frame_indices(len(pts), int(max_frames))
+    (trail,) = ax.plot([], [], color="tab:red", linewidth=2.0, zorder=7)
+    robot = ax.scatter([pts[0, 0]], [pts[0, 1]], s=80, color="tab:red", edgecolor="white", zorder=9)
+    title = ax.set_title("")
+    stall = _stall_points(path)
+
+    def update(k: int) -> tuple[Any, ...]:
+        i = int(idx[k])
+        trail.set_data(pts[: i + 1, 0], pts[: i + 1, 1])
+        robot.set_offsets(pts[i : i + 1])
+        last = k == len(idx) - 1
+        title.set_text(f"{path.planner}: step {i}/{len(pts) - 1}" + (f" — {path.status}" if last else ""))
+        if last and len(stall):
+            ax.scatter(stall[:, 0], stall[:, 1], marker="X", s=90, color="red", edgecolor="white", zorder=10)
+        return trail, robot, title
+
+    _write_animation(fig, update, len(idx), writer, p, dpi)
+    return p
+
+
+def animate_brushfire(
+    dmap: Any,
+    file: PathLike,
+    *,
+    fps: int = 10,
+    max_frames: int = 60,
+    dpi: int = 80,
+) -> FsPath:
+    """Animate the brushfire wavefront growing out of the obstacles, one frame per wave (sampled
+    down to ``max_frames``): cells with ``steps <= k`` are coloured by their step number.
+
+    Returns the file's path (``.gif``, or ``.mp4`` with ffmpeg).
+    """
+    import matplotlib.pyplot as plt
+
+    p = FsPath(file)
+    writer = _animation_writer(p, int(fps))
+    grid = _grid_of(dmap)
+    steps = np.asarray(dmap.steps)
+    top = int(steps.max()) if steps.size else 0
+    if top <= 0:
+        raise GridfieldError("the distance map has no wavefront to animate (no obstacle, or no free cell)")
+    waves = np.unique(np.linspace(0, top, min(top + 1, int(max_frames))).round().astype(int))
+    fig = plt.figure(figsize=(6.4, 5.0), layout="constrained")
+    ax = fig.add_subplot()
+    img = ax.imshow(np.ma.masked_all(grid.shape), origin="lower", extent=grid.extent, cmap="viridis", vmin=0,
+                    vmax=top, interpolation="nearest")
+    fig.colorbar(img, ax=ax, shrink=0.85, label="wavefront step")
+    _frame(ax, grid.bounds)
+    title = ax.set_title("")
+
+    def update(k: int) -> tuple[Any, ...]:
+        w = int(waves[k])
+        img.set_data(np.ma.masked_array(steps, mask=(steps > w) | (steps < 0)))
+        title.set_text(f"brushfire: wave {w}/{top}")
+        return img, title
+
+    _write_animation(fig, update, len(waves), writer, p, dpi)
+    return p

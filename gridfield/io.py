@@ -1140,7 +1140,8 @@ def _check_options(reader: Callable[..., Any], options: Mapping[str, Any], p: Fs
     bad = sorted(set(options) - set(accepted))
     if bad:
         takes = f"it takes {', '.join(accepted)}" if accepted else "it takes no options"
-        raise ParameterError(f"{p}: option{'s' if len(bad) > 1 else ''} {', '.join(bad)} do not apply to a {what}; {takes}")
+        verb = "do not apply" if len(bad) > 1 else "does not apply"
+        raise ParameterError(f"{p}: option{'s' if len(bad) > 1 else ''} {', '.join(bad)} {verb} to a {what}; {takes}")
 
 
 def read(path: PathLike, **options: Any) -> World | GridMap:
@@ -1166,8 +1167,8 @@ def read(path: PathLike, **options: Any) -> World | GridMap:
         else:
             if options:
                 raise ParameterError(
-                    f"{p}: option{'s' if len(options) > 1 else ''} {', '.join(sorted(options))} do not apply to a "
-                    "world file (a world is rasterized later, e.g. by gridfield.rasterize.as_gridmap)"
+                    f"{p}: option{'s' if len(options) > 1 else ''} {', '.join(sorted(options))} "
+                    f"{'do' if len(options) > 1 else 'does'} not apply to a world file (a world is rasterized later, e.g. by gridfield.rasterize.as_gridmap)"
                 )
             return world_from_dict(data, source=str(p))
     elif suffix in (".png", ".pgm", ".bmp"):

@@ -18,7 +18,7 @@ settings.register_profile(
 )
 settings.load_profile("gridfield")
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parent
 #: Externally authored maps (Moving AI, ROS, polygon fixtures) beside the repository.
 SHARED_MAPS = REPO.parent / "shared" / "maps"
 

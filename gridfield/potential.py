@@ -1,0 +1,967 @@
+"""Potentials and their gradient arrays: attractive, repulsive (Khatib), saturated, vortex.
+
+Every function here takes arrays (a :class:`~gridfield.grid.Grid`, a
+:class:`~gridfield.brushfire.DistanceMap`) and returns arrays of the grid's shape, indexed
+``[row, col]`` with row 0 at the lowest y (see :mod:`gridfield.grid`). Values are evaluated at
+**cell centres**; gradients are in world units (``dU/dx``, ``dU/dy``). The force a follower uses is
+``-(grad_x, grad_y)``.
+
+The models (names from DESIGN / Choset et al. ch. 4):
+
+attractive (goal ``g``, ``d = |q - g|``)
+    ``d_star = inf``: quadratic ``0.5*zeta*d**2`` everywhere.
+    ``0 < d_star < inf``: Choset's combined form (seed 002): ``0.5*zeta*d**2`` for ``d <= d_star``,
+    ``d_star*zeta*d - 0.5*zeta*d_star**2`` beyond; value and gradient are continuous at ``d_star``
+    and the gradient magnitude is capped at ``zeta*d_star``.
+    ``d_star = 0``: pure conic ``zeta*d`` (gradient magnitude ``zeta``, 0 at the goal itself). This
+    is a separate case, not the limit of the combined form (whose slope ``zeta*d_star`` tends to 0).
+
+repulsive (distance ``D`` to the nearest obstacle, influence ``q_star``)
+    ``U = 0.5*eta*(1/D - 1/q_star)**2`` for ``D < q_star``, 0 beyond. The force is
+    ``eta*(1/D - 1/q_star)/D**p`` along ``grad D`` with ``p = repulsive_power``. For ``p = 2`` the
+    arrays are exactly ``grad U``. For any other ``p`` (seed 000 uses ``p = 3``) the force has no
+    relation to ``U``: the potential array **stays the classic potential above** and the gradient
+    arrays hold the negative of the ``p``-model force (so that the follower moves along the
+    seed's force); ``gradient="finite_difference"`` is refused there because it would silently
+    differentiate the ``p = 2`` potential instead.
+
+``D``, the distance behind the repulsion
+    ``D`` is the brushfire's distance: the Euclidean distance from the cell centre to the **centre
+    of the nearest occupied cell** (for ``metric="chessboard"``/``"taxicab"`` that metric's
+    distance, as in seed 002's grid brushfire). The wall border counts as a ring of occupied cells
+    just outside the grid. ``grad D`` is the unit vector from that nearest cell centre to the cell
+    centre: an exact direction, taken from the single nearest obstacle cell, so nothing is
+    smeared across the generalized Voronoi diagram. Measured against the exact distances of the
+    seed worlds (``world.distance``) with the conservative rasterization, this beat the
+    alternatives we tried at every resolution from 0.4 to 0.05: mean absolute error
+    0.3-0.6 cells and at most 0.71 cells, against about 1 cell (at most 1.41) for the distance to
+    the nearest point of the nearest occupied *square*, which is a guaranteed lower bound
+    but biased by a full cell, because a conservative rasterization marks cells the obstacle only
+    touches. The direction error was smaller too: 1.5 degrees median at ``h = 0.1`` on seed 000,
+    against 2.4 degrees.
+
+``repulsion="sum"`` (seed 000)
+    One term per obstacle, each with that obstacle's own distance, summed. Obstacles are the
+    labels of the occupied cells (world obstacle ids when the map was rasterized from a world,
+    else 8-connected components); the wall border is one more obstacle. Each term is computed only
+    in the obstacle's bounding box dilated by ``q_star`` (a Euclidean distance transform with
+    indices on that window), never in a full-grid pass per obstacle.
+
+saturated distance (seed 004)
+    With ``saturate = R``, distances ``D >= R`` become ``far`` (the distance map's ``far``,
+    ``inf`` by default) and exert no repulsion. With ``R < q_star`` the repulsion then drops to
+    zero at ``D = R``: the seed's behaviour.
+
+vortex (seed 003)
+    See :func:`vortex_field`.
+
+Obstacle cells hold ``potential = +inf`` and zero gradients in every model. All returned arrays
+are float64 (the fused kernel computes in float64 and runs at memory bandwidth; float32 would not
+make it faster enough to be worth the precision near obstacles).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numba import njit, prange
+from numpy.typing import ArrayLike, NDArray
+from scipy import ndimage
+
+from .brushfire import METRICS, DistanceMap, brushfire
+from .errors import GridfieldError, MapFormatError, ParameterError
+from .grid import Grid, GridMap
+from .planners import PARAMETERS
+
+__all__ = [
+    "DEFAULTS",
+    "GRADIENTS",
+    "MODELS",
+    "REPULSIONS",
+    "Field",
+    "attractive",
+    "build_field",
+    "finite_difference_gradient",
+    "load_field",
+    "repulsive",
+    "resolve_params",
+    "save_field",
+    "vortex_field",
+    "vortex_lattice",
+]
+
+#: Defaults of the parameters :func:`build_field` reads (DESIGN "Names" for their meaning).
+#: ``saturate=None``: no saturation. ``spacing=None``: the map's resolution. ``sample_radius=None``:
+#: 1.05 x each circle's radius (seed 003's 2.1 for radius 2). ``ka``, ``kr``, ``ko``: seed 003.
+DEFAULTS: dict[str, Any] = {
+    "zeta": 1.0,
+    "d_star": math.inf,
+    "eta": 1.0,
+    "q_star": 2.0,
+    "repulsive_power": 2.0,
+    "repulsion": "nearest",
+    "metric": "euclidean",
+    "gradient": "analytic",
+    "saturate": None,
+    "model": "khatib",
+    "ka": 25.0,
+    "kr": 30.0,
+    "ko": 5.0,
+    "spacing": None,
+    "sample_radius": None,
+}
+REPULSIONS = ("nearest", "sum")
+GRADIENTS = ("analytic", "finite_difference")
+MODELS = ("khatib", "vortex")
+_METRIC_CODE = {"euclidean": 0, "chessboard": 1, "taxicab": 2}
+
+
+# ----------------------------------------------------------------------------------------------
+# the Field
+# ----------------------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class Field:
+    """A potential and its gradient on a grid, ready for a gradient-descent follower.
+
+    Attributes
+    ----------
+    map : GridMap
+        The occupancy map the field lives on (``field.grid`` is ``map.grid``).
+    potential : ndarray of float64
+        ``U`` at the cell centres; ``+inf`` on obstacle cells.
+    grad_x, grad_y : ndarray of float64
+        ``dU/dx`` and ``dU/dy`` in world units (for ``repulsive_power != 2``: the negative of the
+        force model, see the module docstring); 0 on obstacle cells. The force is ``-grad``.
+    goal : (float, float)
+    params : dict
+        The full resolved parameters (:func:`resolve_params`; defaults filled in).
+    distance : DistanceMap or None
+        The distance map behind the repulsion, when there is one.
+
+    Examples
+    --------
+    >>> occ = np.zeros((3, 4), bool); occ[0, 0] = True
+    >>> f = build_field(GridMap(Grid((3, 4), 1.0), occ), (3.5, 2.5), {"q_star": 1.5})
+    >>> f.grid.shape, float(f.potential[0, 0]), float(f.grad_x[0, 0])
+    ((3, 4), inf, 0.0)
+    """
+
+    map: GridMap
+    potential: NDArray[np.float64]
+    grad_x: NDArray[np.float64]
+    grad_y: NDArray[np.float64]
+    goal: tuple[float, float]
+    params: dict
+    distance: DistanceMap | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("potential", "grad_x", "grad_y"):
+            a = getattr(self, name)
+            if np.shape(a) != self.map.grid.shape:
+                raise GridfieldError(f"Field.{name} has shape {np.shape(a)}, but the grid has shape {self.map.grid.shape}")
+        object.__setattr__(self, "goal", (float(self.goal[0]), float(self.goal[1])))
+
+    @property
+    def grid(self) -> Grid:
+        """The grid geometry (``map.grid``)."""
+        return self.map.grid
+
+
+# ----------------------------------------------------------------------------------------------
+# parameters
+# ----------------------------------------------------------------------------------------------
+def _number(name: str, value: Any, *, minimum: float = 0.0, strict: bool = False, allow_inf: bool = False) -> float:
+    what = f"{'> ' if strict else '>= '}{minimum:g}"
+    kind = f"a number {what}" + (" (inf allowed)" if allow_inf else " and finite")
+    if isinstance(value, bool | str) or value is None:
+        raise ParameterError(f"{name} must be {kind}, got {value!r}")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be {kind}, got {value!r}") from None
+    if math.isnan(v) or (math.isinf(v) and not allow_inf) or v < minimum or (strict and v == minimum):
+        raise ParameterError(f"{name} must be {kind}, got {value!r}")
+    return v
+
+
+def _choice(name: str, value: Any, options: Sequence[str]) -> str:
+    if value not in options:
+        raise ParameterError(f"{name} must be one of {', '.join(map(repr, options))}; got {value!r}")
+    return str(value)
+
+
+def resolve_params(params: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """Validate potential parameters and fill in the defaults.
+
+    Keys must be names from :data:`gridfield.planners.PARAMETERS`; those a potential does not read
+    (the follower's ``step``, ``alpha``, ``tolerance``, ...) pass through unchanged. Defaults are
+    :data:`DEFAULTS`: ``zeta=1``, ``d_star=inf``, ``eta=1``, ``q_star=2``, ``repulsive_power=2``,
+    ``repulsion='nearest'``, ``metric='euclidean'``, ``gradient='analytic'``, ``model='khatib'``,
+    ``saturate=None``; vortex model ``ka=25``, ``kr=30``, ``ko=5``, ``spacing=None`` (the map's
+    resolution), ``sample_radius=None`` (1.05 x each circle's radius).
+
+    Raises
+    ------
+    ParameterError
+        for an unknown name, a negative gain, ``q_star <= 0``, NaN, ``inf`` where it is not
+        allowed (only ``d_star`` and ``q_star`` may be infinite), or an unknown option string; the
+        message names the parameter, the value and what is valid.
+
+    Examples
+    --------
+    >>> p = resolve_params({"eta": 2, "step": 0.1})
+    >>> p["eta"], p["q_star"], p["repulsion"], p["step"]
+    (2.0, 2.0, 'nearest', 0.1)
+    >>> resolve_params({"repulsion": "all"})
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: repulsion must be one of 'nearest', 'sum'; got 'all'
+    >>> resolve_params({"q_star": 0})
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: q_star must be a number > 0 (inf allowed), got 0
+    """
+    given = dict(params or {})
+    for k in given:
+        if k not in PARAMETERS:
+            import difflib
+
+            close = difflib.get_close_matches(k, PARAMETERS, n=1)
+            hint = f"did you mean {close[0]!r}? " if close else ""
+            raise ParameterError(f"unknown parameter {k!r}; {hint}known parameters: {', '.join(sorted(PARAMETERS))}")
+    p = {**DEFAULTS, **given}
+    p["zeta"] = _number("zeta", p["zeta"])
+    p["d_star"] = _number("d_star", p["d_star"], allow_inf=True)
+    p["eta"] = _number("eta", p["eta"])
+    p["q_star"] = _number("q_star", p["q_star"], strict=True, allow_inf=True)
+    p["repulsive_power"] = _number("repulsive_power", p["repulsive_power"])
+    p["repulsion"] = _choice("repulsion", p["repulsion"], REPULSIONS)
+    p["metric"] = _choice("metric", p["metric"], METRICS)
+    p["gradient"] = _choice("gradient", p["gradient"], GRADIENTS)
+    p["model"] = _choice("model", p["model"], MODELS)
+    if p["saturate"] is not None:
+        p["saturate"] = _number("saturate", p["saturate"], strict=True)
+    for k in ("ka", "kr", "ko"):
+        p[k] = _number(k, p[k])
+    for k in ("spacing", "sample_radius"):
+        if p[k] is not None:
+            p[k] = _number(k, p[k], strict=True)
+    if p["model"] == "khatib" and p["gradient"] == "finite_difference" and p["repulsive_power"] != 2:
+        raise ParameterError(
+            f"gradient='finite_difference' differentiates the potential 0.5*eta*(1/D - 1/q_star)**2, whose "
+            f"gradient is the repulsive_power=2 force; repulsive_power={p['repulsive_power']:g} has no such "
+            "potential: use gradient='analytic' or repulsive_power=2"
+        )
+    if p["model"] == "vortex":
+        if "gradient" in given and p["gradient"] != "finite_difference":
+            raise ParameterError(
+                "the vortex model (seed 003) is defined by finite differences on its lattice; "
+                "use gradient='finite_difference' (or leave gradient unset)"
+            )
+        p["gradient"] = "finite_difference"
+    return p
+
+
+# ----------------------------------------------------------------------------------------------
+# numba kernels (fused: one pass over the arrays, no temporaries)
+# ----------------------------------------------------------------------------------------------
+_JIT = {"cache": True, "error_model": "numpy", "nogil": True}
+
+
+@njit(inline="always", **_JIT)
+def _att_at(dx, dy, zeta, d_star, conic):  # pragma: no cover - compiled
+    """Attractive (U, dU/dx, dU/dy) at offset (dx, dy) from the goal."""
+    d2 = dx * dx + dy * dy
+    if d2 <= d_star * d_star:  # quadratic part (d_star = inf: everywhere; d_star = 0: only the goal)
+        return 0.5 * zeta * d2, zeta * dx, zeta * dy
+    d = math.sqrt(d2)
+    if conic:
+        k = zeta / d
+        return zeta * d, k * dx, k * dy
+    k = zeta * d_star / d
+    return zeta * d_star * d - 0.5 * zeta * d_star * d_star, k * dx, k * dy
+
+
+@njit(inline="always", **_JIT)
+def _rep_at(vr, vc, res, metric, eta, q_star, power, sat, far):  # pragma: no cover - compiled
+    """Repulsive (U, dU/dx, dU/dy) for a nearest obstacle cell ``(vr, vc)`` cells away."""
+    fr = float(vr)
+    fc = float(vc)
+    length = math.sqrt(fr * fr + fc * fc)
+    if metric == 0:
+        dist = length * res
+    elif metric == 1:
+        dist = max(abs(fr), abs(fc)) * res
+    else:
+        dist = (abs(fr) + abs(fc)) * res
+    if dist >= sat:
+        dist = far
+    if not dist < q_star:
+        return 0.0, 0.0, 0.0
+    s = 1.0 / dist - 1.0 / q_star
+    if power == 2.0:
+        m = eta * s / (dist * dist)
+    elif power == 3.0:
+        m = eta * s / (dist * dist * dist)
+    else:
+        m = eta * s / dist**power
+    k = m / length  # -grad U = m * (unit vector away from the obstacle)
+    return 0.5 * eta * s * s, -k * fc, -k * fr
+
+
+@njit(parallel=True, **_JIT)
+def _khatib_kernel(occ, nr, nc, x0, y0, res, goal_x, goal_y, zeta, d_star, conic, att,
+                   metric, eta, q_star, power, sat, far, rep, U, GX, GY):  # pragma: no cover - compiled
+    """Attractive (if ``att``) + nearest-obstacle repulsive (if ``rep``) potential, one fused pass."""
+    rows, cols = occ.shape
+    inf = np.inf
+    for r in prange(rows):
+        dy = y0 + (r + 0.5) * res - goal_y
+        for c in range(cols):
+            if occ[r, c]:
+                U[r, c] = inf
+                GX[r, c] = 0.0
+                GY[r, c] = 0.0
+                continue
+            u = 0.0
+            gx = 0.0
+            gy = 0.0
+            if att:
+                u, gx, gy = _att_at(x0 + (c + 0.5) * res - goal_x, dy, zeta, d_star, conic)
+            if rep:
+                a = nr[r, c]
+                b = nc[r, c]
+                if a != -1 or b != -1:
+                    ur, rx, ry = _rep_at(r - a, c - b, res, metric, eta, q_star, power, sat, far)
+                    u += ur
+                    gx += rx
+                    gy += ry
+            U[r, c] = u
+            GX[r, c] = gx
+            GY[r, c] = gy
+
+
+@njit(**_JIT)
+def _rep_accumulate(occ, nr, nc, r_off, c_off, res, metric, eta, q_star, power, sat, far,
+                    U, GX, GY):  # pragma: no cover - compiled
+    """Add one obstacle's repulsive term over a window (all arrays are that window).
+
+    ``nr``/``nc`` are nearest-cell indices in a frame shifted by ``(r_off, c_off)`` from the window.
+    """
+    rows, cols = occ.shape
+    for r in range(rows):
+        for c in range(cols):
+            if occ[r, c]:
+                continue
+            ur, rx, ry = _rep_at(r + r_off - nr[r, c], c + c_off - nc[r, c], res, metric, eta, q_star,
+                                 power, sat, far)
+            if ur != 0.0 or rx != 0.0 or ry != 0.0:
+                U[r, c] += ur
+                GX[r, c] += rx
+                GY[r, c] += ry
+
+
+# ----------------------------------------------------------------------------------------------
+# array functions
+# ----------------------------------------------------------------------------------------------
+def _goal_xy(goal: ArrayLike) -> tuple[float, float]:
+    g = np.asarray(goal, dtype=np.float64).reshape(-1)
+    if g.shape != (2,) or not np.all(np.isfinite(g)):
+        raise ParameterError(f"goal must be two finite numbers (x, y), got {goal!r}")
+    return float(g[0]), float(g[1])
+
+
+def _empty3(shape: tuple[int, int]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    return np.empty(shape), np.empty(shape), np.empty(shape)
+
+
+def attractive(
+    grid: Grid, goal: ArrayLike, *, zeta: float = 1.0, d_star: float = math.inf
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Attractive potential and its gradient at the cell centres of ``grid``.
+
+    Parameters
+    ----------
+    grid : Grid
+    goal : (x, y)
+        World coordinates of the goal (it may lie anywhere, even off the grid).
+    zeta : float
+        Attractive gain (>= 0).
+    d_star : float
+        ``inf``: quadratic ``0.5*zeta*d**2``; ``0 < d_star < inf``: quadratic up to ``d_star``, then
+        conic ``d_star*zeta*d - 0.5*zeta*d_star**2`` (continuous value and gradient);
+        ``0``: pure conic ``zeta*d`` (gradient 0 at the goal itself).
+
+    Returns
+    -------
+    U, grad_x, grad_y : ndarray of float64, shape ``grid.shape``
+
+    Examples
+    --------
+    >>> g = Grid((1, 4), 1.0)
+    >>> U, gx, gy = attractive(g, (0.5, 0.5), zeta=2.0, d_star=1.0)
+    >>> U.tolist(), gx.tolist(), gy.tolist()
+    ([[0.0, 1.0, 3.0, 5.0]], [[0.0, 2.0, 2.0, 2.0]], [[0.0, 0.0, 0.0, 0.0]])
+    """
+    gx0, gy0 = _goal_xy(goal)
+    zeta = _number("zeta", zeta)
+    d_star = _number("d_star", d_star, allow_inf=True)
+    U, GX, GY = _empty3(grid.shape)
+    dummy_i = np.zeros((1, 1), np.int32)
+    _khatib_kernel(np.zeros(grid.shape, bool), dummy_i, dummy_i, grid.origin[0], grid.origin[1], grid.resolution,
+                   gx0, gy0, zeta, d_star, d_star == 0.0, True, 0, 0.0, 1.0, 2.0, math.inf, math.inf, False,
+                   U, GX, GY)
+    return U, GX, GY
+
+
+def _int32(a: NDArray[Any]) -> NDArray[np.int32]:
+    return np.ascontiguousarray(a, dtype=np.int32)
+
+
+def _saturation(dmap: DistanceMap, saturate: float | None) -> tuple[float, float]:
+    sat = saturate if saturate is not None else dmap.saturate
+    return (math.inf if sat is None else float(sat)), float(dmap.far)
+
+
+def repulsive(
+    dmap: DistanceMap,
+    *,
+    eta: float = 1.0,
+    q_star: float = 2.0,
+    power: float = 2.0,
+    mode: str = "nearest",
+    gradient: str = "analytic",
+    saturate: float | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Repulsive potential ``0.5*eta*(1/D - 1/q_star)**2`` (0 beyond ``q_star``) and its gradient.
+
+    Parameters
+    ----------
+    dmap : DistanceMap
+        The brushfire of the map; its ``metric`` defines ``D`` (see the module docstring) and its
+        nearest-obstacle cells give ``grad D``. Its ``saturate``/``far`` are honoured.
+    eta : float
+        Repulsive gain (>= 0).
+    q_star : float
+        Distance of influence (> 0; ``inf`` allowed).
+    power : float
+        ``p`` of the force ``eta*(1/D - 1/q_star)/D**p`` along ``grad D``; 2 gives exactly
+        ``grad U``. For other ``p`` the returned gradient is the negative of that force and ``U``
+        is still the classic potential.
+    mode : {"nearest", "sum"}
+        One term from the nearest obstacle, or one term per obstacle summed (seed 000).
+    gradient : {"analytic", "finite_difference"}
+        From the nearest-obstacle vectors, or :func:`finite_difference_gradient` of ``U``
+        (only for ``power == 2``).
+    saturate : float, optional
+        Saturation radius: distances ``>= saturate`` become ``dmap.far`` (default: ``dmap.saturate``).
+
+    Returns
+    -------
+    U, grad_x, grad_y : ndarray of float64
+        ``U = +inf`` and zero gradient on obstacle cells.
+
+    Examples
+    --------
+    A single obstacle cell; the cell two to the right has ``D = 2``:
+
+    >>> occ = np.zeros((1, 4), bool); occ[0, 0] = True
+    >>> U, gx, gy = repulsive(brushfire(GridMap(Grid((1, 4), 1.0), occ), metric="euclidean"), q_star=4.0)
+    >>> float(U[0, 2]) == 0.5 * (1/2 - 1/4) ** 2, float(gx[0, 2]) == -(1/2 - 1/4) / 2**2
+    (True, True)
+    >>> float(U[0, 0]), float(gx[0, 0])
+    (inf, 0.0)
+    """
+    eta = _number("eta", eta)
+    q_star = _number("q_star", q_star, strict=True, allow_inf=True)
+    power = _number("repulsive_power", power)
+    mode = _choice("mode", mode, REPULSIONS)
+    gradient = _choice("gradient", gradient, GRADIENTS)
+    if gradient == "finite_difference" and power != 2:
+        raise ParameterError(f"gradient='finite_difference' needs power=2 (the gradient of U), got power={power:g}")
+    if saturate is not None:
+        saturate = _number("saturate", saturate, strict=True)
+    sat, far = _saturation(dmap, saturate)
+    grid = dmap.grid
+    metric = _METRIC_CODE[dmap.metric]
+    occ = np.ascontiguousarray(dmap.map.occupied)
+    U, GX, GY = _empty3(grid.shape)
+    if mode == "nearest":
+        _khatib_kernel(occ, _int32(dmap.nearest_row), _int32(dmap.nearest_col), grid.origin[0], grid.origin[1],
+                       grid.resolution, 0.0, 0.0, 0.0, math.inf, False, False, metric, eta, q_star, power,
+                       sat, far, True, U, GX, GY)
+    else:
+        U.fill(0.0)
+        GX.fill(0.0)
+        GY.fill(0.0)
+        _sum_repulsion(dmap, eta, q_star, power, sat, far, U, GX, GY)
+        U[occ] = np.inf
+    if gradient == "finite_difference":
+        GX, GY = finite_difference_gradient(U, grid)
+    return U, GX, GY
+
+
+def _obstacle_labels(dmap: DistanceMap) -> tuple[NDArray[np.int32], int]:
+    """Occupied cells numbered 1..K by obstacle (world id or component), 0 elsewhere."""
+    occ = dmap.map.occupied
+    ids = dmap.map.obstacle_id if dmap.map.obstacle_id is not None else dmap.label
+    lab = np.zeros(occ.shape, np.int32)
+    if occ.any():
+        _, inverse = np.unique(ids[occ], return_inverse=True)
+        lab[occ] = inverse.reshape(-1).astype(np.int32) + 1
+    return lab, int(lab.max())
+
+
+def _sum_repulsion(dmap: DistanceMap, eta: float, q_star: float, power: float, sat: float, far: float,
+                   U: NDArray[np.float64], GX: NDArray[np.float64], GY: NDArray[np.float64]) -> None:
+    """Add one repulsive term per obstacle (and the wall) to U, GX, GY in place."""
+    grid = dmap.grid
+    rows, cols = grid.shape
+    res = grid.resolution
+    occ = dmap.map.occupied
+    metric = _METRIC_CODE[dmap.metric]
+    # no term beyond the influence distance, nor beyond the saturation radius (unless far is nearer)
+    reach = q_star if far < q_star else min(q_star, sat)
+    k = rows + cols if not math.isfinite(reach) else math.ceil(reach / res) + 1
+    lab, _ = _obstacle_labels(dmap)
+    for i, box in enumerate(ndimage.find_objects(lab), start=1):
+        if box is None:
+            continue
+        r0, r1 = max(box[0].start - k, 0), min(box[0].stop + k, rows)
+        c0, c1 = max(box[1].start - k, 0), min(box[1].stop + k, cols)
+        win = (slice(r0, r1), slice(c0, c1))
+        mine = lab[win] == i
+        if metric == 0:
+            idx = ndimage.distance_transform_edt(~mine, return_distances=False, return_indices=True)
+        else:
+            idx = ndimage.distance_transform_cdt(~mine, metric=("chessboard", "taxicab")[metric - 1],
+                                                 return_distances=False, return_indices=True)
+        _rep_accumulate(np.ascontiguousarray(occ[win]), _int32(idx[0]), _int32(idx[1]), 0, 0, res, metric, eta,
+                        q_star, power, sat, far, U[win], GX[win], GY[win])
+    if grid.border == "wall":
+        _wall_repulsion(grid, occ, metric, k, eta, q_star, power, sat, far, U, GX, GY)
+
+
+def _wall_repulsion(grid: Grid, occ: NDArray[np.bool_], metric: int, k: int, eta: float, q_star: float,
+                    power: float, sat: float, far: float, U: NDArray[np.float64], GX: NDArray[np.float64],
+                    GY: NDArray[np.float64]) -> None:
+    """The wall border as one obstacle: the ring of cells just outside the grid, within ``k`` cells."""
+    rows, cols = grid.shape
+    k = min(k, max(rows, cols))
+    # disjoint bands covering every cell within k cells of an edge: bottom, top, left, right
+    lo, hi = min(k, rows), max(rows - k, min(k, rows))
+    bands = [(0, lo, 0, cols), (hi, rows, 0, cols), (lo, hi, 0, min(k, cols)), (lo, hi, max(cols - k, min(k, cols)), cols)]
+    for r0, r1, c0, c1 in bands:
+        if r1 <= r0 or c1 <= c0:
+            continue
+        r, c = np.mgrid[r0:r1, c0:c1].astype(np.int32)
+        # nearest ring cell: straight out through the nearest edge (the four candidates' minimum)
+        cand_r = np.stack([np.full_like(r, -1), np.full_like(r, rows), r, r])
+        cand_c = np.stack([c, c, np.full_like(c, -1), np.full_like(c, cols)])
+        which = np.argmin(np.stack([r + 1, rows - r, c + 1, cols - c]), axis=0)[None]
+        nr = np.take_along_axis(cand_r, which, 0)[0]
+        nc = np.take_along_axis(cand_c, which, 0)[0]
+        win = (slice(r0, r1), slice(c0, c1))
+        _rep_accumulate(np.ascontiguousarray(occ[win]), _int32(nr - r0), _int32(nc - c0), 0, 0, grid.resolution,
+                        metric, eta, q_star, power, sat, far, U[win], GX[win], GY[win])
+
+
+def finite_difference_gradient(
+    U: NDArray[np.float64], grid: Grid
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``(dU/dx, dU/dy)`` by finite differences (:func:`numpy.gradient`), aware of ``inf`` cells.
+
+    Central differences where both neighbours along an axis are finite, one-sided differences
+    where only one is (and at the grid edges, as :func:`numpy.gradient` does), 0 where neither is
+    and on non-finite cells themselves.
+
+    Examples
+    --------
+    >>> U = np.array([[np.inf, 1.0, 2.0, 4.0]])
+    >>> gx, gy = finite_difference_gradient(U, Grid((1, 4), 0.5))
+    >>> gx.tolist(), gy.tolist()
+    ([[0.0, 2.0, 3.0, 4.0]], [[0.0, 0.0, 0.0, 0.0]])
+    """
+    U = np.asarray(U, dtype=np.float64)
+    if U.shape != grid.shape:
+        raise ParameterError(f"U has shape {U.shape}, but the grid has shape {grid.shape}")
+    finite = np.isfinite(U)
+    Uf = np.where(finite, U, 0.0)
+    h = grid.resolution
+    out = []
+    for axis in (1, 0):  # x along columns, y along rows
+        n = U.shape[axis]
+        if n < 2:
+            out.append(np.zeros_like(U))
+            continue
+        g = np.gradient(Uf, h, axis=axis)
+        fwd = np.zeros(U.shape, bool)  # the next cell along the axis exists and is finite
+        bwd = np.zeros(U.shape, bool)
+        lead = [slice(None)] * 2
+        tail = [slice(None)] * 2
+        lead[axis], tail[axis] = slice(0, n - 1), slice(1, n)
+        fwd[tuple(lead)] = finite[tuple(tail)]
+        bwd[tuple(tail)] = finite[tuple(lead)]
+        diff = np.zeros_like(U)  # forward differences U[i+1] - U[i]
+        diff[tuple(lead)] = (Uf[tuple(tail)] - Uf[tuple(lead)]) / h
+        back = np.zeros_like(U)  # backward differences U[i] - U[i-1]
+        back[tuple(tail)] = diff[tuple(lead)]
+        interior = np.zeros(U.shape, bool)
+        interior[tuple(lead)] = True
+        interior &= np.roll(interior, 1, axis=axis)  # cells with both neighbours inside the grid
+        g = np.where(interior & fwd & bwd, g, np.where(fwd, diff, np.where(bwd, back, 0.0)))
+        g[~finite] = 0.0
+        out.append(g)
+    return out[0], out[1]
+
+
+# ----------------------------------------------------------------------------------------------
+# seed 003: the vortex field
+# ----------------------------------------------------------------------------------------------
+def vortex_lattice(bounds: Sequence[float], spacing: float, *, border: str = "open") -> Grid:
+    """The grid whose cell **centres** are seed 003's lattice nodes ``xmin:spacing:xmax`` (MATLAB colon).
+
+    Seed 003 samples its field at ``X = -5:0.4:5`` (26 nodes per axis, both ends included). As a
+    gridfield :class:`Grid` that is 26 x 26 cells of size 0.4 with origin ``(-5.2, -5.2)``: the
+    grid covers half a spacing beyond the bounds on each side.
+
+    Examples
+    --------
+    >>> g = vortex_lattice((-5, -5, 5, 5), 0.4)
+    >>> g.shape, g.origin, round(float(g.cell_centers()[0][-1]), 12)
+    ((26, 26), (-5.2, -5.2), 5.0)
+    """
+    spacing = _number("spacing", spacing, strict=True)
+    xmin, ymin, xmax, ymax = (float(b) for b in bounds)
+    nx = math.floor((xmax - xmin) / spacing + 1e-9) + 1
+    ny = math.floor((ymax - ymin) / spacing + 1e-9) + 1
+    return Grid((ny, nx), spacing, (xmin - spacing / 2, ymin - spacing / 2), border)  # type: ignore[arg-type]
+
+
+def _circles_of(obj: Any) -> NDArray[np.float64]:
+    from .world import World
+
+    if isinstance(obj, World):
+        bad = [ob for ob in obj.obstacles if ob.kind != "circle"]
+        if bad:
+            raise ParameterError(
+                f"the vortex model (seed 003) samples charges on circles; obstacle {bad[0].id} is a {bad[0].kind}"
+            )
+        return np.array([(*ob.center, ob.radius) for ob in obj.obstacles], dtype=np.float64).reshape(-1, 3)
+    c = np.asarray(obj, dtype=np.float64)
+    if c.ndim != 2 or c.shape[1] != 3 or not np.all(np.isfinite(c)) or np.any(c[:, 2] <= 0):
+        raise ParameterError(f"circles must be rows (cx, cy, radius) with radius > 0, got {obj!r}")
+    return c
+
+
+def vortex_field(
+    grid: Grid | GridMap | None,
+    circles: Any,
+    start: ArrayLike,
+    goal: ArrayLike,
+    *,
+    ka: float = 25.0,
+    kr: float = 30.0,
+    ko: float = 5.0,
+    sample_radius: float | None = None,
+    spacing: float | None = None,
+) -> Field:
+    """Seed 003's field: start repulsion, goal attraction, boundary charges with a rotational term.
+
+    On the lattice nodes (the cell centres of ``grid``):
+
+    - ``Vr = kr / |q - start|``, ``Va = 0.5*ka*|q - goal|**2``,
+    - ``Vo = sum_i ko / |q - s_i|`` over samples ``s_i`` on a circle of radius ``sample_radius``
+      around each obstacle circle's centre, at angles ``th = (0 : 0.1*spacing : 2)*pi`` (MATLAB
+      colon, so 0 and 2*pi both appear: the sample at angle 0 counts twice, as in the seed),
+    - gradients by :func:`numpy.gradient` at the lattice spacing (MATLAB ``gradient``):
+      ``fX = -dVr/dx - dVa/dx - dVo/dx - dVo/dy``, ``fY = -dVr/dy - dVa/dy - dVo/dy + dVo/dx``.
+
+    The returned :class:`Field` has ``potential = Vr + Va + Vo`` and ``(grad_x, grad_y) = -(fX, fY)``
+    (the force is ``-grad`` as for every Field; the rotational part has no potential). Obstacle
+    cells (conservative rasterization of the circles on the lattice cells) hold ``+inf`` and zero
+    gradients. The seed writes the samples as ``xo - cx`` (centred on ``(-cx, -cy)``); here they are
+    centred on ``(cx, cy)``, which is the same set for the seed's mirror-symmetric pair of circles.
+
+    Parameters
+    ----------
+    grid : Grid, GridMap or None
+        The lattice (its cell centres are the nodes). A GridMap also supplies the occupancy.
+        ``None``: :func:`vortex_lattice` of the world's bounds at ``spacing``.
+    circles : World or array of rows (cx, cy, radius)
+        A World must hold only circles.
+    start, goal : (x, y)
+    ka, kr, ko : float
+        Gains (>= 0); the seed's 25, 30, 5 converge, ``ko = 10`` does not.
+    sample_radius : float, optional
+        Radius of the charge circles (default 1.05 x each circle's radius: the seed's 2.1).
+    spacing : float, optional
+        Lattice spacing; only with ``grid=None`` (else it must equal ``grid.resolution``).
+
+    Examples
+    --------
+    >>> f = vortex_field(Grid((13, 13), 0.5, (-3.25, -3.25)), [[0.0, 0.0, 1.0]], (0, 3), (0, -3), ko=1.0)
+    >>> f.grid.shape, float(f.potential[6, 6]), bool(np.isfinite(f.potential[0, 0]))
+    ((13, 13), inf, True)
+    """
+    from .world import World
+
+    cir = _circles_of(circles)
+    start_xy, goal_xy = _goal_xy(start), _goal_xy(goal)
+    ka, kr, ko = _number("ka", ka), _number("kr", kr), _number("ko", ko)
+    if sample_radius is not None:
+        sample_radius = _number("sample_radius", sample_radius, strict=True)
+    gridmap: GridMap | None = grid if isinstance(grid, GridMap) else None
+    if grid is None:
+        if not isinstance(circles, World):
+            raise ParameterError("vortex_field needs a grid or a World (for its bounds) when grid is None")
+        if spacing is None:
+            raise ParameterError("vortex_field needs spacing (the lattice spacing) when grid is None")
+        lattice = vortex_lattice(circles.bounds, spacing, border=circles.border)
+    else:
+        lattice = grid.grid if isinstance(grid, GridMap) else grid
+        if spacing is not None and not math.isclose(_number("spacing", spacing, strict=True), lattice.resolution):
+            raise ParameterError(f"spacing {spacing:g} differs from the grid's resolution {lattice.resolution:g}")
+    h = lattice.resolution
+    if gridmap is None:
+        if isinstance(circles, World):
+            from .rasterize import rasterize
+
+            gridmap = rasterize(circles, h, bounds=lattice.bounds)
+            if gridmap.grid.shape != lattice.shape:  # pragma: no cover - Grid.covering rounding
+                raise GridfieldError(f"lattice {lattice.shape} and rasterized grid {gridmap.grid.shape} differ")
+            gridmap = GridMap(lattice, gridmap.occupied, gridmap.obstacle_id, circles, circles.source)
+        else:
+            gridmap = GridMap(lattice, _circle_occupancy(lattice, cir))
+
+    xs, ys = lattice.cell_centers()
+    X, Y = np.meshgrid(xs, ys)
+    with np.errstate(divide="ignore"):
+        Vr = kr / np.hypot(X - start_xy[0], Y - start_xy[1])
+    Va = 0.5 * ka * ((X - goal_xy[0]) ** 2 + (Y - goal_xy[1]) ** 2)
+    n_th = math.floor(2.0 / (0.1 * h) + 1e-9) + 1
+    th = np.arange(n_th) * (0.1 * h) * np.pi
+    Vo = np.zeros_like(X)
+    with np.errstate(divide="ignore"):
+        for cx, cy, r in cir:
+            rad = sample_radius if sample_radius is not None else 1.05 * r
+            for xo, yo in zip(cx + rad * np.cos(th), cy + rad * np.sin(th), strict=True):
+                Vo += ko / np.hypot(X - xo, Y - yo)
+    with np.errstate(invalid="ignore"):
+        fyr, fxr = _np_gradient(Vr, h)
+        fya, fxa = _np_gradient(Va, h)
+        fyo, fxo = _np_gradient(Vo, h)
+        fX = -fxr - fxa - fxo - fyo
+        fY = -fyr - fya - fyo + fxo
+        U = Vr + Va + Vo
+    occ = gridmap.occupied
+    U[occ] = np.inf
+    gx, gy = -fX, -fY
+    gx[occ] = 0.0
+    gy[occ] = 0.0
+    params = resolve_params({"model": "vortex", "ka": ka, "kr": kr, "ko": ko, "spacing": h,
+                             "sample_radius": sample_radius})
+    return Field(gridmap, U, gx, gy, goal_xy, params, brushfire(gridmap, metric="euclidean"))
+
+
+def _np_gradient(V: NDArray[np.float64], h: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``(dV/dy, dV/dx)`` like MATLAB's ``gradient`` (central inside, one-sided at the edges)."""
+    if min(V.shape) < 2:
+        raise ParameterError(f"the vortex lattice needs at least 2 x 2 nodes, got {V.shape}")
+    gy, gx = np.gradient(V, h, h)
+    return gy, gx
+
+
+def _circle_occupancy(grid: Grid, circles: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Cells whose closed square meets a closed disc."""
+    xs, ys = grid.cell_centers()
+    half = grid.resolution / 2
+    occ = np.zeros(grid.shape, bool)
+    for cx, cy, r in circles:
+        dx = np.maximum(np.abs(xs - cx) - half, 0.0)
+        dy = np.maximum(np.abs(ys - cy) - half, 0.0)
+        occ |= dx[None, :] ** 2 + dy[:, None] ** 2 <= r * r
+    return occ
+
+
+# ----------------------------------------------------------------------------------------------
+# build_field
+# ----------------------------------------------------------------------------------------------
+def build_field(
+    gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] | None = None, *, dmap: DistanceMap | None = None
+) -> Field:
+    """Build the potential field of ``params`` on ``gridmap`` for ``goal``.
+
+    ``model="khatib"`` (default): :func:`attractive` + :func:`repulsive` in one fused pass (for
+    ``repulsion="nearest"``; ``"sum"`` adds the per-obstacle terms window by window).
+    ``model="vortex"``: :func:`vortex_field` on the lattice of the map's world (its circles, its
+    start, its bounds at ``spacing``); the returned field's map is that lattice, not ``gridmap``.
+
+    Parameters
+    ----------
+    gridmap : GridMap
+    goal : (x, y)
+        Must lie in a free cell of the map.
+    params : mapping, optional
+        Parameter names of :data:`gridfield.planners.PARAMETERS`; see :func:`resolve_params`.
+        Follower parameters are carried along in ``Field.params`` and otherwise ignored.
+    dmap : DistanceMap, optional
+        A brushfire of ``gridmap`` to reuse (its metric must agree with ``params["metric"]`` when
+        that is given); computed with ``metric`` and ``saturate`` when omitted.
+
+    Raises
+    ------
+    ParameterError
+        for invalid parameters (see :func:`resolve_params`).
+    GridfieldError
+        for a goal outside the map or inside an obstacle.
+
+    Examples
+    --------
+    >>> occ = np.zeros((4, 6), bool); occ[:, 0] = True
+    >>> f = build_field(GridMap(Grid((4, 6), 1.0), occ), (5.5, 1.5), {"zeta": 0.5, "q_star": 3})
+    >>> round(float(f.potential[1, 2]), 6), round(float(f.grad_x[1, 2]), 6)
+    (2.263889, -1.541667)
+    >>> build_field(GridMap(Grid((4, 6), 1.0), occ), (0.5, 1.5))
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.GridfieldError: goal (0.5, 1.5) lies inside an obstacle
+    """
+    given = dict(params or {})
+    p = resolve_params(given)
+    if not isinstance(gridmap, GridMap):
+        raise ParameterError(f"build_field needs a GridMap, got {type(gridmap).__name__}")
+    if p["model"] == "vortex":
+        return _build_vortex(gridmap, goal, p)
+    g = gridmap.check_point("goal", goal)
+    goal_xy = (float(g[0]), float(g[1]))
+    if dmap is None:
+        dmap = brushfire(gridmap, connectivity=4 if p["metric"] == "taxicab" else 8, metric=p["metric"],
+                         saturate=p["saturate"])
+    else:
+        if not isinstance(dmap, DistanceMap) or dmap.grid.shape != gridmap.grid.shape:
+            raise ParameterError("dmap must be a DistanceMap of the same grid as gridmap")
+        if "metric" in given and p["metric"] != dmap.metric:
+            raise ParameterError(f"params ask for metric {p['metric']!r}, but dmap was computed with {dmap.metric!r}")
+        p["metric"] = dmap.metric
+    grid = gridmap.grid
+    sat, far = _saturation(dmap, p["saturate"])
+    occ = np.ascontiguousarray(gridmap.occupied)
+    U, GX, GY = _empty3(grid.shape)
+    nearest = p["repulsion"] == "nearest"
+    _khatib_kernel(occ, _int32(dmap.nearest_row), _int32(dmap.nearest_col), grid.origin[0], grid.origin[1],
+                   grid.resolution, goal_xy[0], goal_xy[1], p["zeta"], p["d_star"], p["d_star"] == 0.0, True,
+                   _METRIC_CODE[dmap.metric], p["eta"], p["q_star"], p["repulsive_power"], sat, far, nearest,
+                   U, GX, GY)
+    if not nearest:
+        _sum_repulsion(dmap, p["eta"], p["q_star"], p["repulsive_power"], sat, far, U, GX, GY)
+    if p["gradient"] == "finite_difference":
+        GX, GY = finite_difference_gradient(U, grid)
+    return Field(gridmap, U, GX, GY, goal_xy, p, dmap)
+
+
+def _build_vortex(gridmap: GridMap, goal: ArrayLike, p: dict[str, Any]) -> Field:
+    from .world import World
+
+    world = gridmap.world
+    if not isinstance(world, World) or world.start is None:
+        raise ParameterError(
+            "the vortex model (seed 003) needs a world file with circle obstacles and a start point "
+            f"({gridmap.source or 'this map'} has {'no start' if isinstance(world, World) else 'no vector world'})"
+        )
+    spacing = p["spacing"] if p["spacing"] is not None else gridmap.grid.resolution
+    lattice = vortex_lattice(world.bounds, spacing, border=world.border)
+    _circles_of(world)  # reject non-circles before rasterizing
+    from .rasterize import rasterize
+
+    raster = rasterize(world, spacing, bounds=lattice.bounds)
+    lattice_map = GridMap(lattice, raster.occupied, raster.obstacle_id, world, world.source)
+    g = lattice_map.check_point("goal", goal)
+    field = vortex_field(lattice_map, world, world.start, g, ka=p["ka"], kr=p["kr"], ko=p["ko"],
+                         sample_radius=p["sample_radius"])
+    return Field(field.map, field.potential, field.grad_x, field.grad_y, field.goal, {**p, "spacing": spacing},
+                 field.distance)
+
+
+# ----------------------------------------------------------------------------------------------
+# .npz round trip
+# ----------------------------------------------------------------------------------------------
+_DMAP_ARRAYS = ("steps", "distance", "nearest_row", "nearest_col", "label", "gvd")
+
+
+def save_field(path: str | os.PathLike[str], field: Field) -> None:
+    """Write a :class:`Field` to an ``.npz`` file that :func:`load_field` reads back.
+
+    The file holds DESIGN's arrays by name (``occupied``, ``potential``, ``grad_x``, ``grad_y``,
+    and when the field has a distance map ``steps``, ``distance``, ``label``, ``gvd``,
+    ``nearest_row``, ``nearest_col``), plus ``resolution``, ``origin``, ``border``, ``goal`` and
+    ``params`` (a JSON string; ``inf`` is written as ``Infinity``).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> occ = np.zeros((3, 3), bool); occ[1, 1] = True
+    >>> f = build_field(GridMap(Grid((3, 3), 1.0), occ), (0.5, 0.5))
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     save_field(pathlib.Path(d) / "f.npz", f)
+    ...     g = load_field(pathlib.Path(d) / "f.npz")
+    >>> np.array_equal(g.potential, f.potential), g.goal, g.params == f.params
+    (True, (0.5, 0.5), True)
+    """
+    grid = field.grid
+    arrays: dict[str, Any] = {"occupied": field.map.occupied, "potential": field.potential,
+                              "grad_x": field.grad_x, "grad_y": field.grad_y}
+    meta: dict[str, Any] = {}
+    if field.distance is not None:
+        d = field.distance
+        arrays.update({k: getattr(d, k) for k in _DMAP_ARRAYS})
+        meta = {"connectivity": d.connectivity, "metric": d.metric, "saturate": d.saturate, "far": d.far}
+    if field.map.obstacle_id is not None:
+        arrays["obstacle_id"] = field.map.obstacle_id
+    try:
+        with open(path, "wb") as fh:
+            np.savez_compressed(
+                fh, **arrays, resolution=np.float64(grid.resolution), origin=np.asarray(grid.origin, np.float64),
+                border=np.asarray(grid.border), goal=np.asarray(field.goal, np.float64),
+                params=np.asarray(json.dumps(field.params)), distance_meta=np.asarray(json.dumps(meta)),
+            )
+    except OSError as e:
+        raise GridfieldError(f"{path}: cannot write: {e.strerror or e}") from None
+
+
+def load_field(path: str | os.PathLike[str]) -> Field:
+    """Read a :class:`Field` written by :func:`save_field` (see there for an example)."""
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            content = {k: z[k] for k in z.files}
+    except FileNotFoundError:
+        raise MapFormatError(f"{path}: no such file") from None
+    except Exception as e:
+        raise MapFormatError(f"{path}: not a gridfield field .npz ({type(e).__name__}: {e})") from None
+    missing = [k for k in ("occupied", "potential", "grad_x", "grad_y", "resolution", "origin", "goal", "params")
+               if k not in content]
+    if missing:
+        raise MapFormatError(f"{path}: not a field file written by save_field (missing {', '.join(missing)})")
+    try:
+        origin = content["origin"].astype(np.float64).reshape(2)
+        grid = Grid(content["occupied"].shape, float(content["resolution"]), (float(origin[0]), float(origin[1])),
+                    str(content.get("border", "open")))  # type: ignore[arg-type]
+        params = json.loads(str(content["params"]))
+        meta = json.loads(str(content.get("distance_meta", "{}")))
+        goal = content["goal"].astype(np.float64).reshape(2)
+    except (ValueError, TypeError, ParameterError) as e:
+        raise MapFormatError(f"{path}: damaged field file ({e})") from None
+    gridmap = GridMap(grid, content["occupied"].astype(bool), content.get("obstacle_id"), source=str(path))
+    dmap = None
+    if meta and all(k in content for k in _DMAP_ARRAYS):
+        dmap = DistanceMap(gridmap, int(meta["connectivity"]), str(meta["metric"]), content["steps"],
+                           content["distance"], content["nearest_row"], content["nearest_col"], content["label"],
+                           content["gvd"], meta.get("saturate"), float(meta.get("far", math.inf)))
+    return Field(gridmap, content["potential"], content["grad_x"], content["grad_y"], (goal[0], goal[1]), params,
+                 dmap)

@@ -1,0 +1,543 @@
+"""Configuration space (seed 004): obstacles grown by the robot's shape.
+
+Two robot models, each on vector worlds and on grids:
+
+- **disc robot** of radius ``r`` (rotation does not matter): every obstacle grows by ``r``;
+  :func:`inflate_world` (shapely buffer) and :func:`inflate_grid` (Euclidean distance threshold);
+- **convex polygon robot**, translation only: the C-obstacle of a workspace obstacle ``O`` is the
+  Minkowski sum ``O ⊕ (−R)`` where ``R`` is the robot's shape in its own frame and the robot's
+  **reference point is the origin (0, 0) of that frame**: the robot at configuration ``q``
+  occupies ``q + R``, which meets ``O`` iff ``q ∈ O ⊕ (−R)``. :func:`minkowski_obstacle`
+  computes it as the convex hull of all pairwise vertex differences, :func:`star_algorithm` by
+  the seed's star algorithm (merging the two polygons' edges in the order of their directions);
+  :func:`cspace_world` and :func:`cspace_grid` apply it to whole worlds and grids.
+
+Polygon vertex arrays are ``(N, 2)`` world coordinates ``(x, y)``; convex polygons may be given
+in either orientation and with or without a repeated closing vertex. Returned convex polygons are
+counter-clockwise, start at the lowest vertex (lowest y, then lowest x), repeat no vertex and
+contain no collinear vertices; a degenerate result has 1 (point) or 2 (segment) rows.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import shapely
+from numpy.typing import ArrayLike, NDArray
+from scipy import ndimage
+from shapely.geometry import LineString, Point, Polygon
+from shapely.geometry.base import BaseGeometry
+
+from .errors import ParameterError
+from .grid import Grid, GridMap
+from .rasterize import rasterize_geometry
+from .world import CIRCLE_SEGMENTS, Obstacle, World
+
+__all__ = [
+    "cspace_grid",
+    "cspace_world",
+    "inflate_grid",
+    "inflate_world",
+    "minkowski_obstacle",
+    "star_algorithm",
+]
+
+#: Relative tolerance for collinearity: |sin| of the turn between two edges below which a
+#: vertex counts as collinear.
+_COLLINEAR_TOL = 1e-12
+
+
+# ----------------------------------------------------------------------------------------
+# Convex polygons as vertex arrays
+# ----------------------------------------------------------------------------------------
+def _vertices(value: ArrayLike, name: str) -> NDArray[np.float64]:
+    try:
+        v = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be an (N, 2) array of vertices (x, y), got {value!r}") from None
+    if v.ndim == 1 and v.shape == (2,):
+        v = v[None, :]
+    if v.ndim != 2 or v.shape[1] != 2 or len(v) == 0:
+        raise ParameterError(f"{name} must be an (N, 2) array of vertices (x, y), got shape {np.shape(v)}")
+    if not np.all(np.isfinite(v)):
+        raise ParameterError(f"{name} must hold finite numbers, got {v.tolist()}")
+    # drop consecutive duplicates, cyclically (this also drops a repeated closing vertex)
+    keep = np.any(v != np.roll(v, 1, axis=0), axis=1)
+    if not keep.any():
+        return v[:1].copy()
+    return v[keep]
+
+
+def _start_lowest(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Rotate a vertex cycle to start at its lowest vertex (lowest y, then lowest x)."""
+    k = np.lexsort((v[:, 0], v[:, 1]))[0]
+    return np.roll(v, -k, axis=0)
+
+
+def _turns(v: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Per vertex: cross and dot of the incoming and outgoing edges, and |in| * |out|."""
+    e_out = np.roll(v, -1, axis=0) - v
+    e_in = v - np.roll(v, 1, axis=0)
+    cross = e_in[:, 0] * e_out[:, 1] - e_in[:, 1] * e_out[:, 0]
+    dot = np.einsum("ij,ij->i", e_in, e_out)
+    norms = np.hypot(e_in[:, 0], e_in[:, 1]) * np.hypot(e_out[:, 0], e_out[:, 1])
+    return cross, dot, norms
+
+
+def _segment_ends(v: NDArray[np.float64]) -> NDArray[np.float64] | None:
+    """The two extreme points if all of ``v`` lie on one line (lower one first), else None."""
+    rel = v - v[0]
+    d = rel[np.argmax(np.hypot(rel[:, 0], rel[:, 1]))]
+    n = math.hypot(d[0], d[1])
+    cross = rel[:, 0] * d[1] - rel[:, 1] * d[0]
+    if np.all(np.abs(cross) <= _COLLINEAR_TOL * n * np.maximum(np.hypot(rel[:, 0], rel[:, 1]), n)):
+        t = rel @ d
+        ends = np.array([v[np.argmin(t)], v[np.argmax(t)]])
+        return _start_lowest(ends)
+    return None
+
+
+def _convex_polygon(value: ArrayLike, name: str) -> NDArray[np.float64]:
+    """Validate a convex polygon; return it normalized (see the module docstring).
+
+    Raises ParameterError for a non-convex or self-intersecting vertex list.
+    """
+    v = _vertices(value, name)
+    if len(v) == 1:
+        return v
+    ends = _segment_ends(v)
+    if ends is not None:
+        return ends
+    area2 = float(np.sum(v[:, 0] * np.roll(v[:, 1], -1) - np.roll(v[:, 0], -1) * v[:, 1]))
+    if area2 < 0:
+        v = v[::-1]
+    cross, dot, norms = _turns(v)
+    straight = np.abs(cross) <= _COLLINEAR_TOL * norms
+    if np.any(~straight & (cross < 0)):
+        k = int(np.flatnonzero(~straight & (cross < 0))[0])
+        raise ParameterError(
+            f"{name} must be a convex polygon; vertex {tuple(v[k].tolist())} is reflex "
+            f"(vertices: {np.asarray(value, dtype=np.float64).tolist()})"
+        )
+    if np.any(straight & (dot < 0)):
+        raise ParameterError(f"{name} doubles back on itself; it must be a simple convex polygon: {v.tolist()}")
+    turning = float(np.sum(np.arctan2(cross, dot)))
+    if not math.isclose(turning, 2 * math.pi, rel_tol=1e-6):
+        raise ParameterError(
+            f"{name} winds around {turning / (2 * math.pi):.3g} times; it must be a simple convex polygon "
+            f"listed once around: {np.asarray(value, dtype=np.float64).tolist()}"
+        )
+    return _start_lowest(v[~straight])
+
+
+def _clean_convex(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Normalize the vertex cycle of a convex polygon computed by this module (no validation):
+    CCW, no duplicates, no collinear (or rounding-reflex) vertices, lowest vertex first."""
+    v = np.asarray(v, dtype=np.float64)
+    keep = np.any(v != np.roll(v, 1, axis=0), axis=1)
+    v = v[keep] if keep.any() else v[:1]
+    if len(v) <= 1:
+        return v
+    ends = _segment_ends(v)
+    if ends is not None:
+        return ends
+    area2 = float(np.sum(v[:, 0] * np.roll(v[:, 1], -1) - np.roll(v[:, 0], -1) * v[:, 1]))
+    if area2 < 0:
+        v = v[::-1]
+    while len(v) > 3:
+        cross, _, norms = _turns(v)
+        flat = cross <= _COLLINEAR_TOL * norms
+        if not flat.any():
+            break
+        v = v[~flat]
+    return _start_lowest(v)
+
+
+def _as_geometry(v: NDArray[np.float64]) -> BaseGeometry:
+    if len(v) == 1:
+        return Point(v[0])
+    if len(v) == 2:
+        return LineString(v)
+    return Polygon(v)
+
+
+def _kind(v: NDArray[np.float64]) -> str:
+    return {1: "point", 2: "segment"}.get(len(v), "polygon")
+
+
+# ----------------------------------------------------------------------------------------
+# Minkowski sums of convex polygons
+# ----------------------------------------------------------------------------------------
+def minkowski_obstacle(obstacle_vertices: ArrayLike, robot_vertices: ArrayLike) -> NDArray[np.float64]:
+    """C-obstacle of a convex obstacle for a convex robot that translates: ``O ⊕ (−R)``.
+
+    Computed exactly as the convex hull of all pairwise differences ``o_i − r_j`` of the
+    vertices. The robot's reference point is the origin of its vertex coordinates.
+
+    Parameters
+    ----------
+    obstacle_vertices : (N, 2) array_like
+        Convex obstacle (a point or a segment are allowed: 1 or 2 vertices).
+    robot_vertices : (M, 2) array_like
+        Convex robot shape in the robot's frame.
+
+    Returns
+    -------
+    ndarray, shape (K, 2)
+        Counter-clockwise vertices starting at the lowest one, without collinear vertices.
+
+    Raises
+    ------
+    ParameterError
+        if either polygon is not convex (or not simple), or not an (N, 2) finite array.
+
+    Examples
+    --------
+    >>> square = [[0, 0], [2, 0], [2, 2], [0, 2]]
+    >>> robot = [[0, 0], [1, 0], [0, 1]]          # reference point at the right-angle corner
+    >>> minkowski_obstacle(square, robot)
+    array([[ 0., -1.],
+           [ 2., -1.],
+           [ 2.,  2.],
+           [-1.,  2.],
+           [-1.,  0.]])
+
+    A segment robot sweeps a parallelogram; a non-convex robot is refused:
+
+    >>> minkowski_obstacle([[0, 0], [1, 0]], [[0, 0], [0, 1]])
+    array([[ 0., -1.],
+           [ 1., -1.],
+           [ 1.,  0.],
+           [ 0.,  0.]])
+    >>> minkowski_obstacle(square, [[0, 0], [2, 0], [1, 0.5], [1, 2]])
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: robot_vertices must be a convex polygon; vertex (1.0, 0.5) is reflex (vertices: [[0.0, 0.0], [2.0, 0.0], [1.0, 0.5], [1.0, 2.0]])
+    """
+    obstacle = _convex_polygon(obstacle_vertices, "obstacle_vertices")
+    robot = _convex_polygon(robot_vertices, "robot_vertices")
+    diffs = (obstacle[:, None, :] - robot[None, :, :]).reshape(-1, 2)
+    hull = shapely.convex_hull(shapely.multipoints(diffs))
+    coords = np.asarray(hull.exterior.coords)[:-1] if isinstance(hull, Polygon) else np.asarray(hull.coords)
+    return _clean_convex(coords)
+
+
+def _edge_angles(v: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Edge vectors of a normalized convex polygon (lowest vertex first) and their directions
+    in ``[0, 2π)``, non-decreasing along the polygon."""
+    if len(v) == 1:
+        return np.empty((0, 2)), np.empty(0)
+    edges = np.roll(v, -1, axis=0) - v
+    ang = np.mod(np.arctan2(edges[:, 1], edges[:, 0]), 2 * np.pi)
+    # the first edge leaves the lowest vertex with a direction in [0, π); a last edge whose
+    # direction rounds to 0 closes the polygon and belongs at the end
+    ang[1:][ang[1:] == 0.0] = 2 * np.pi
+    return edges, ang
+
+
+def star_algorithm(obstacle_vertices: ArrayLike, robot_vertices: ArrayLike) -> NDArray[np.float64]:
+    """C-obstacle ``O ⊕ (−R)`` of a convex obstacle by the star algorithm (seed 004).
+
+    The edges of the obstacle and of the reflected robot ``−R`` are merged in the order of their
+    directions (equivalently, of their outward normals), starting from the sum of the two lowest
+    vertices, which is the lowest vertex of the sum; walking the merged edges traces the
+    C-obstacle. Same inputs, output and reference point as :func:`minkowski_obstacle`, computed
+    independently of it (no convex hull).
+
+    Examples
+    --------
+    >>> star_algorithm([[0, 0], [2, 0], [2, 2], [0, 2]], [[0, 0], [1, 0], [0, 1]])
+    array([[ 0., -1.],
+           [ 2., -1.],
+           [ 2.,  2.],
+           [-1.,  2.],
+           [-1.,  0.]])
+    """
+    a = _convex_polygon(obstacle_vertices, "obstacle_vertices")
+    b = _start_lowest(-_convex_polygon(robot_vertices, "robot_vertices"))
+    ea, ta = _edge_angles(a)
+    eb, tb = _edge_angles(b)
+    # merge the two edge sequences by direction (a stable sort keeps each polygon's own order)
+    edges = np.concatenate([ea, eb])
+    order = np.argsort(np.concatenate([ta, tb]), kind="stable")
+    start = a[0] + b[0]
+    path = start + np.cumsum(edges[order], axis=0)
+    return _clean_convex(np.vstack([start, path[:-1]]) if len(path) else start[None, :])
+
+
+# ----------------------------------------------------------------------------------------
+# Worlds
+# ----------------------------------------------------------------------------------------
+def _check_radius(radius: float) -> float:
+    try:
+        r = float(radius)
+    except (TypeError, ValueError):
+        raise ParameterError(f"radius must be a number >= 0, got {radius!r}") from None
+    if not (math.isfinite(r) and r >= 0):
+        raise ParameterError(f"radius must be a finite number >= 0 (the robot's radius), got {radius!r}")
+    return r
+
+
+def _circle_obstacle(oid: int, center: tuple[float, float], radius: float) -> Obstacle:
+    geom = Point(center).buffer(radius, quad_segs=CIRCLE_SEGMENTS)
+    return Obstacle(oid, "circle", geom, center=(float(center[0]), float(center[1])), radius=float(radius))
+
+
+def _circumscribed_outline(center: tuple[float, float], radius: float) -> NDArray[np.float64]:
+    """Vertices of the regular polygon with ``4 * CIRCLE_SEGMENTS`` sides whose edges touch the circle."""
+    n = 4 * CIRCLE_SEGMENTS
+    rc = radius / math.cos(math.pi / n)
+    t = 2 * np.pi * np.arange(n) / n
+    return np.stack([center[0] + rc * np.cos(t), center[1] + rc * np.sin(t)], axis=1)
+
+
+def inflate_world(world: World, radius: float, *, quad_segs: int = CIRCLE_SEGMENTS) -> World:
+    """C-space of a disc robot of ``radius``: every obstacle grown by ``radius``.
+
+    Circles stay exact circles (radius + ``radius``); a point becomes a circle of ``radius``.
+    Polygons and segments become their shapely buffer (exact along straight parts) united with,
+    at each vertex, the regular polygon with ``4 * quad_segs`` sides circumscribing the disc of
+    ``radius``: the result contains the exact grown obstacle (conservative) and lies within
+    ``radius * (1 / cos(π / (4 quad_segs)) − 1)`` (0.12 % of ``radius`` for 16) of it.
+
+    Obstacle ids are kept; bounds, border, start, goal and params are copied unchanged (a wall
+    border is not grown here, since a World cannot express it; :func:`inflate_grid` grows it;
+    start and goal are not re-validated, use ``World.check_point``).
+
+    Parameters
+    ----------
+    world : World
+    radius : float
+        Robot radius (>= 0, finite).
+    quad_segs : int
+        Segments per quarter circle of the round parts (>= 1).
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [
+    ...     {"circle": {"center": [5, 5], "radius": 1}}, {"segment": [[1, 1], [3, 1]]}]})
+    >>> grown = inflate_world(w, 0.5)
+    >>> grown.obstacles[0].kind, grown.obstacles[0].radius
+    ('circle', 1.5)
+    >>> grown.obstacles[1].kind, [round(v, 3) for v in grown.obstacles[1].geometry.bounds]
+    ('polygon', [0.5, 0.5, 3.5, 1.5])
+    """
+    if not isinstance(world, World):
+        raise ParameterError(f"inflate_world needs a World, got {type(world).__name__}")
+    r = _check_radius(radius)
+    if isinstance(quad_segs, bool) or not isinstance(quad_segs, int | np.integer) or quad_segs < 1:
+        raise ParameterError(f"quad_segs must be an integer >= 1, got {quad_segs!r}")
+    if r == 0:
+        return dataclasses.replace(world)
+    rc = r / math.cos(math.pi / (4 * int(quad_segs)))
+    grown: list[Obstacle] = []
+    for ob in world.obstacles:
+        if ob.kind == "circle" and ob.center is not None and ob.radius is not None:
+            grown.append(_circle_obstacle(ob.id, ob.center, ob.radius + r))
+        elif ob.kind == "point":
+            (x, y), = np.asarray(ob.geometry.coords)
+            grown.append(_circle_obstacle(ob.id, (float(x), float(y)), r))
+        else:
+            verts = shapely.get_coordinates(ob.geometry)
+            discs = shapely.buffer(shapely.points(verts), rc, quad_segs=int(quad_segs))
+            geom = shapely.union_all([ob.geometry.buffer(r, quad_segs=int(quad_segs)), *discs])
+            grown.append(Obstacle(ob.id, "polygon", geom))
+    return dataclasses.replace(world, obstacles=tuple(grown))
+
+
+def _cspace_geometry(ob: Obstacle, neg_robot: NDArray[np.float64], robot: NDArray[np.float64]) -> tuple[
+        str, BaseGeometry]:
+    if ob.kind == "circle" and ob.center is not None and ob.radius is not None:
+        v = minkowski_obstacle(_circumscribed_outline(ob.center, ob.radius), robot)
+        return _kind(v), _as_geometry(v)
+    if ob.kind in ("point", "segment"):
+        pts = shapely.get_coordinates(ob.geometry)
+        v = minkowski_obstacle(_clean_convex(pts), robot)
+        return _kind(v), _as_geometry(v)
+    poly = ob.geometry
+    verts = np.asarray(poly.exterior.coords)[:-1]
+    if isinstance(poly, Polygon) and not poly.interiors:
+        try:
+            v = minkowski_obstacle(verts, robot)
+        except ParameterError:
+            pass  # not convex: below
+        else:
+            return _kind(v), _as_geometry(v)
+    # Non-convex P: P ⊕ S = (P + s0) ∪ ⋃_edges (edge ⊕ S) for convex S and any s0 in S
+    # (a point p + s with p + s - s0 outside P puts some point of p + [s, s0] - s on ∂P).
+    rings = [poly.exterior, *poly.interiors]
+    segs = np.vstack([np.hstack([c[:-1], c[1:]]) for c in (np.asarray(r.coords) for r in rings)])
+    k = len(neg_robot)
+    pts = np.concatenate([segs[:, None, :2] + neg_robot[None], segs[:, None, 2:] + neg_robot[None]], axis=1)
+    hulls = shapely.convex_hull(shapely.multipoints(pts.reshape(-1, 2), indices=np.repeat(np.arange(len(segs)), 2 * k)))
+    moved = shapely.affinity.translate(poly, *neg_robot[0])
+    return "polygon", shapely.union_all([moved, *hulls])
+
+
+def cspace_world(world: World, robot_vertices: ArrayLike) -> World:
+    """C-space of a convex polygon robot that translates: each obstacle becomes ``O ⊕ (−R)``.
+
+    The robot's reference point is the origin of ``robot_vertices``. Convex polygons, segments
+    and points go through :func:`minkowski_obstacle` (exact); circles through their
+    circumscribed ``4 * CIRCLE_SEGMENTS``-gon (conservative: contains the exact C-obstacle);
+    non-convex polygons as the union of the translated polygon and of the sums of each edge
+    with ``−R`` (exact up to shapely's union). Ids are kept; a C-obstacle's kind is ``polygon``
+    (``segment``/``point`` when degenerate). Bounds, border, start, goal and params are copied
+    unchanged: a wall border is not grown (a World cannot express it; :func:`cspace_grid`
+    grows it), and start/goal are not re-validated (use ``World.check_point``).
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[4, 4], [6, 4], [6, 6], [4, 6]]}]})
+    >>> c = cspace_world(w, [[0, 0], [1, 0], [1, 1], [0, 1]])
+    >>> c.obstacles[0].id, c.obstacles[0].geometry.bounds
+    (1, (3.0, 3.0, 6.0, 6.0))
+    """
+    if not isinstance(world, World):
+        raise ParameterError(f"cspace_world needs a World, got {type(world).__name__}")
+    robot = _convex_polygon(robot_vertices, "robot_vertices")
+    neg = -robot
+    obstacles = []
+    for ob in world.obstacles:
+        kind, geom = _cspace_geometry(ob, neg, robot)
+        obstacles.append(Obstacle(ob.id, kind, geom))
+    return dataclasses.replace(world, obstacles=tuple(obstacles))
+
+
+# ----------------------------------------------------------------------------------------
+# Grids
+# ----------------------------------------------------------------------------------------
+def inflate_grid(gridmap: GridMap, radius: float) -> GridMap:
+    """C-space of a disc robot on a grid: occupied where the distance to an occupied cell <= radius.
+
+    Distances are Euclidean and measured **between cell centres** (``distance_transform_edt``
+    on the free cells, in world units), with a tolerance of ``1e-9 * resolution``; a radius
+    below one cell therefore changes nothing. With ``border="wall"`` the wall (a ring of
+    occupied cells just outside the grid, as in :mod:`gridfield.brushfire`) grows too. Each new
+    cell takes the ``obstacle_id`` of its nearest obstacle cell (0 when that is the wall).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+    radius : float
+        Robot radius in world units (>= 0, finite).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gridfield.grid import Grid, GridMap
+    >>> occ = np.zeros((5, 5), bool); occ[2, 2] = True
+    >>> inflate_grid(GridMap(Grid((5, 5), 0.5), occ), 1.0).occupied.astype(int)
+    array([[0, 0, 1, 0, 0],
+           [0, 1, 1, 1, 0],
+           [1, 1, 1, 1, 1],
+           [0, 1, 1, 1, 0],
+           [0, 0, 1, 0, 0]])
+    """
+    if not isinstance(gridmap, GridMap):
+        raise ParameterError(f"inflate_grid needs a GridMap, got {type(gridmap).__name__}")
+    r = _check_radius(radius)
+    grid = gridmap.grid
+    res = grid.resolution
+    wall = grid.border == "wall"
+    occ = np.pad(gridmap.occupied, 1, constant_values=True) if wall else gridmap.occupied
+    if r < res or not occ.any():
+        return gridmap.with_occupied(gridmap.occupied.copy(),
+                                     obstacle_id=None if gridmap.obstacle_id is None else gridmap.obstacle_id.copy())
+    want_ids = gridmap.obstacle_id is not None
+    if want_ids:
+        dist, idx = ndimage.distance_transform_edt(~occ, sampling=res, return_indices=True)
+    else:
+        dist = ndimage.distance_transform_edt(~occ, sampling=res)
+    inflated = dist <= r + 1e-9 * res
+    ids = None
+    if want_ids:
+        assert gridmap.obstacle_id is not None
+        src = np.pad(gridmap.obstacle_id, 1) if wall else gridmap.obstacle_id
+        ids = np.where(inflated, src[idx[0], idx[1]], 0).astype(np.int32)
+    if wall:
+        inflated = inflated[1:-1, 1:-1]
+        ids = None if ids is None else ids[1:-1, 1:-1]
+    return gridmap.with_occupied(inflated, obstacle_id=ids)
+
+
+def _footprint(robot: NDArray[np.float64], resolution: float) -> NDArray[np.bool_]:
+    """Conservative rasterization of ``−R`` on a ``(2m+1)^2`` grid whose centre cell is centred on
+    the reference point: cell ``(m + i, m + j)`` is the offset of ``i`` rows and ``j`` columns."""
+    neg = -robot
+    m = math.ceil(float(np.max(np.abs(neg))) / resolution + 0.5) + 1
+    grid = Grid((2 * m + 1, 2 * m + 1), resolution, origin=(-(m + 0.5) * resolution, -(m + 0.5) * resolution))
+    return rasterize_geometry(_as_geometry(_clean_convex(neg)), grid)
+
+
+def _runs(footprint: NDArray[np.bool_]) -> list[tuple[int, int, int]]:
+    """Horizontal runs ``(row offset, first col offset, last col offset)`` of a centred footprint."""
+    m = footprint.shape[0] // 2
+    padded = np.pad(footprint, ((0, 0), (1, 1))).astype(np.int8)
+    d = np.diff(padded, axis=1)
+    starts, ends = np.nonzero(d == 1), np.nonzero(d == -1)
+    return [(int(r) - m, int(a) - m, int(b) - 1 - m) for r, a, b in zip(starts[0], starts[1], ends[1], strict=True)]
+
+
+def _dilate(arr: NDArray, runs: list[tuple[int, int, int]], pad_value: int) -> NDArray:
+    """``out[y, x] = max over runs (dr, a, b) and s in [a, b] of arr[y - dr, x - s]``, with
+    ``pad_value`` outside ``arr`` (a Minkowski-sum dilation by the footprint), via one 1-D
+    running maximum per run (cost independent of the run's length)."""
+    rows, cols = arr.shape
+    p = max(max(abs(dr), abs(a), abs(b)) for dr, a, b in runs) + 1
+    padded = np.pad(arr, p, constant_values=pad_value)
+    out = np.zeros_like(arr)
+    cache: dict[tuple[int, int], NDArray] = {}
+    for dr, a, b in runs:
+        length = b - a + 1
+        if (a, b) not in cache:
+            cache[(a, b)] = ndimage.maximum_filter1d(padded, length, axis=1, mode="constant", cval=pad_value)
+        f = cache[(a, b)]
+        r0 = p - dr
+        c0 = p - b + length // 2
+        np.maximum(out, f[r0:r0 + rows, c0:c0 + cols], out=out)
+    return out
+
+
+def cspace_grid(gridmap: GridMap, robot_vertices: ArrayLike) -> GridMap:
+    """C-space of a convex polygon robot that translates, on a grid.
+
+    The occupancy is dilated by the **footprint**: the reflected robot ``−R`` rasterized
+    conservatively (closed cells) at the grid's resolution on cells centred on the reference
+    point (the origin of ``robot_vertices``). A cell ``q`` is occupied iff ``q = c + k`` for an
+    occupied cell ``c`` and a footprint offset ``k``. The result contains every cell whose centre
+    lies in the exact C-space of the rasterized obstacles and is within one cell of the exact
+    C-space. With ``border="wall"`` the wall grows too. Each cell's ``obstacle_id`` is the
+    lowest id among the obstacle cells that reach it (0 if only the wall or id-less cells do).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gridfield.grid import Grid, GridMap
+    >>> occ = np.zeros((4, 5), bool); occ[1, 2] = True
+    >>> m = cspace_grid(GridMap(Grid((4, 5), 1.0), occ), [[0, 0], [1.6, 0], [1.6, 0.4], [0, 0.4]])
+    >>> m.occupied.astype(int)  # the robot extends right of its reference point: C-obstacle to the left
+    array([[0, 0, 0, 0, 0],
+           [1, 1, 1, 0, 0],
+           [0, 0, 0, 0, 0],
+           [0, 0, 0, 0, 0]])
+    """
+    if not isinstance(gridmap, GridMap):
+        raise ParameterError(f"cspace_grid needs a GridMap, got {type(gridmap).__name__}")
+    robot = _convex_polygon(robot_vertices, "robot_vertices")
+    runs = _runs(_footprint(robot, gridmap.grid.resolution))
+    wall = gridmap.grid.border == "wall"
+    ids = gridmap.obstacle_id
+    if ids is None:
+        occ = _dilate(gridmap.occupied, runs, pad_value=int(wall)).astype(bool)
+        return gridmap.with_occupied(occ, obstacle_id=None)
+    # priority: free 0, occupied without id 1, id k -> big - k (the maximum is the lowest id)
+    big = int(max(int(ids.max(initial=0)), 0)) + 2
+    prio = np.where(gridmap.occupied, np.where(ids > 0, big - ids, 1), 0).astype(np.int64)
+    out = _dilate(prio, runs, pad_value=1 if wall else 0)
+    new_ids = np.where(out >= 2, big - out, 0).astype(np.int32)
+    return gridmap.with_occupied(out > 0, obstacle_id=new_ids)

@@ -245,8 +245,11 @@ def _read_pgm(p: FsPath, data: bytes) -> _Pixels:
             raise MapFormatError(f"{p}: truncated PGM: {width} x {height} pixels need {n} values, found {len(body)}")
         try:
             values = np.array(body[:n], dtype=np.int64)
-        except ValueError:
-            bad = next(t for t in body[:n] if not t.isdigit())
+            ok = bool((values >= 0).all())
+        except (ValueError, OverflowError):
+            ok = False
+        if not ok:
+            bad = next(t for t in body[:n] if not t.isdigit() or len(t) > 6)
             raise MapFormatError(f"{p}: bad PGM pixel value {bad[:20].decode('latin-1')!r}; expected a number") from None
     if int(values.max()) > maxval:
         raise MapFormatError(f"{p}: PGM pixel value {int(values.max())} exceeds maxval {maxval}")
@@ -873,7 +876,7 @@ def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
         try:
             return col.astype(dtype)
         except ValueError:
-            for n, s in zip(line_no, col, strict=True):
+            for n, s in zip(line_no.tolist(), col.tolist(), strict=True):
                 try:
                     dtype(s)
                 except ValueError:
@@ -982,8 +985,14 @@ def read_npz_arrays(path: PathLike) -> tuple[dict[str, NDArray[Any]], Grid]:
     """Read an ``.npz`` written by :func:`write_npz`: the arrays by name and their :class:`Grid`."""
     p = _check_file(path)
     try:
-        with np.load(p, allow_pickle=False) as z:
-            content = {k: z[k] for k in z.files}
+        with open(p, "rb") as fh:
+            z = np.load(fh, allow_pickle=False)
+            if not isinstance(z, np.lib.npyio.NpzFile):
+                raise MapFormatError(f"{p}: holds a single .npy array, not a gridfield .npz archive of named arrays")
+            with z:
+                content = {k: z[k] for k in z.files}
+    except MapFormatError:
+        raise
     except (zipfile.BadZipFile, ValueError, OSError, EOFError, KeyError) as e:
         raise MapFormatError(f"{p}: not a gridfield .npz file ({e})") from None
     except Exception as e:  # zlib.error and friends: a damaged archive

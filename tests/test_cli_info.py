@@ -1,0 +1,140 @@
+"""``gridfield info``: the description is checked against values computed independently of
+gridfield's readers (Pillow decoding, the raw map text, scikit-image labelling)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from PIL import Image
+from skimage.measure import label
+
+from gridfield.cli import main
+from gridfield.io import bundled_map
+
+KEYS = {"shape", "resolution", "origin", "border", "occupied_fraction", "obstacles", "source", "format"}
+
+
+def run_json(capsys, *argv):
+    rc = main(["info", *map(str, argv), "--json"])
+    out, err = capsys.readouterr()
+    assert rc == 0, err
+    assert err == ""
+    lines = out.strip().splitlines()
+    assert len(lines) == 1  # exactly one JSON object
+    return json.loads(lines[0])
+
+
+def components(occupied: np.ndarray) -> int:
+    return int(label(occupied, connectivity=2).max())
+
+
+def test_info_ros_map_json(capsys):
+    path = bundled_map("turtlebot3_world/map.yaml")
+    info = run_json(capsys, path)
+    assert set(info) == KEYS
+    with Image.open(path.parent / "map.pgm") as im:
+        img = np.asarray(im)
+    occupied = img != 254  # 0 occupied, 205 unknown -> obstacles by default
+    assert info["shape"] == [384, 384]
+    assert info["resolution"] == 0.05
+    assert info["origin"] == [-10.0, -10.0]
+    assert info["border"] == "wall"
+    assert info["occupied_fraction"] == pytest.approx((795 + 138722) / 384**2)
+    assert info["obstacles"] == components(occupied)
+    assert info["format"] == "ros" and info["source"] == str(path)
+
+    free = run_json(capsys, path, "--unknown", "free")
+    assert free["occupied_fraction"] == pytest.approx(795 / 384**2)
+    assert free["obstacles"] == components(img == 0)
+    assert free["border"] == "open"
+
+
+def test_info_movingai_json(capsys):
+    path = bundled_map("arena/arena.map")
+    info = run_json(capsys, path)
+    rows = path.read_text().split("\n")[4:53]
+    blocked = np.array([[ch != "." for ch in r] for r in rows])
+    assert info["shape"] == [49, 49] and info["resolution"] == 1.0 and info["origin"] == [0.0, 0.0]
+    assert info["border"] == "wall" and info["format"] == "movingai"
+    assert info["occupied_fraction"] == pytest.approx(blocked.mean())
+    assert info["obstacles"] == components(blocked)
+
+
+def test_info_bitmap_resolution_and_npz(capsys, tmp_path):
+    img = np.full((4, 6), 254, dtype=np.uint8)
+    img[0, 0] = 0  # top-left: one obstacle
+    img[2:4, 3:5] = 0  # a 2x2 block
+    img[3, 5] = 0  # touches the block diagonally -> same 8-connected component
+    Image.fromarray(img).save(tmp_path / "m.png")
+    npz = tmp_path / "out.npz"
+    info = run_json(capsys, tmp_path / "m.png", "--resolution", "0.5", "--npz", npz)
+    assert info["shape"] == [4, 6] and info["resolution"] == 0.5 and info["border"] == "open"
+    assert info["obstacles"] == 2 and info["occupied_fraction"] == pytest.approx(6 / 24)
+    assert info["format"] == "bitmap"
+    with np.load(npz) as z:
+        np.testing.assert_array_equal(z["occupied"], (img == 0)[::-1])
+        assert float(z["resolution"]) == 0.5 and z["origin"].tolist() == [0.0, 0.0] and str(z["border"]) == "open"
+    # the written file is itself a map gridfield reads
+    again = run_json(capsys, npz)
+    assert again["shape"] == [4, 6] and again["obstacles"] == 2 and again["format"] == "npz"
+
+
+def test_info_world(capsys):
+    pytest.importorskip("gridfield.rasterize")
+    path = bundled_map("seed000.yaml")
+    info = run_json(capsys, path, "--resolution", "0.5")
+    assert info["format"] == "world" and info["obstacles"] == 3  # three polygons in seed 000
+    assert info["shape"] == [40, 50]  # bounds 25 x 20 at 0.5
+    assert info["resolution"] == 0.5 and info["origin"] == [0.0, 0.0]
+    assert 0 < info["occupied_fraction"] < 1
+
+
+def test_info_text(capsys):
+    rc = main(["info", str(bundled_map("nav2_depot/depot.yaml"))])
+    out, err = capsys.readouterr()
+    assert rc == 0 and err == ""
+    assert "shape:             307 rows x 604 cols" in out
+    assert "resolution:        0.05" in out
+    assert "border:            wall" in out
+    assert "occupied fraction: 0.0321" in out  # 5947 / 185428
+    assert "format:            ros" in out
+
+
+def one_line_error(capsys, argv) -> str:
+    rc = main(argv)
+    out, err = capsys.readouterr()
+    assert rc == 2
+    assert out == ""
+    lines = err.strip("\n").split("\n")
+    assert len(lines) == 1, err
+    assert lines[0].startswith("gridfield info: error: ")
+    assert "Traceback" not in err
+    return lines[0]
+
+
+def test_info_missing_file(capsys, tmp_path):
+    msg = one_line_error(capsys, ["info", str(tmp_path / "nope.yaml")])
+    assert "nope.yaml: no such file" in msg
+
+
+def test_info_malformed_map(capsys, tmp_path):
+    f = tmp_path / "bad.map"
+    f.write_text("type octile\nheight 3\nwidth 4\nmap\n....\n..x.\n....\n")
+    msg = one_line_error(capsys, ["info", str(f), "--json"])
+    assert "bad.map: line 6, column 3: invalid map character 'x'" in msg
+
+
+def test_info_malformed_ros_yaml(capsys, tmp_path):
+    f = tmp_path / "m.yaml"
+    f.write_text("image: m.pgm\norigin: [0, 0, 0]\n")
+    msg = one_line_error(capsys, ["info", str(f)])
+    assert "m.yaml: missing key 'resolution'" in msg
+
+
+def test_info_option_errors(capsys):
+    msg = one_line_error(capsys, ["info", str(bundled_map("arena/arena.map")), "--resolution", "2"])
+    assert "--resolution applies to world files and bitmaps" in msg
+    msg = one_line_error(capsys, ["info", str(bundled_map("arena/arena.map")), "--unknown", "free"])
+    assert "option unknown does not apply to a Moving AI map" in msg

@@ -58,6 +58,10 @@ OCCUPIED_COLOR = "0.22"
 OUTLINE_COLOR = "tab:blue"
 #: Colours given to successive paths.
 PATH_COLORS = ("tab:red", "tab:orange", "tab:purple", "tab:cyan", "tab:brown", "tab:pink", "tab:olive")
+#: Colour of the goal's basin and, cycled, of the local minima's basins (no greens: the goal is green).
+GOAL_BASIN_COLOR = "#b8e0b0"
+MINIMUM_COLORS = ("#4c78a8", "#f58518", "#e45756", "#b279a2", "#9d755d", "#ff9da6", "#72b7b2", "#bab0ac",
+                  "#eeca3b", "#9ecae9", "#ffbf79", "#d6a5c9")
 #: Animation formats and the matplotlib writer each needs.
 ANIMATION_FORMATS = {".gif": "pillow", ".mp4": "ffmpeg"}
 
@@ -261,11 +265,17 @@ def _path_label(path: Path) -> str:
 
 
 def _stall_points(path: Path | None) -> NDArray[np.float64]:
-    """Stall points a follower recorded (``extra['stall']``), or its end when it stopped in a minimum."""
+    """Stall points a follower recorded (``extra['local_minima']``, ``extra['stall_point']`` or
+    ``extra['stall']``), or its end when it stopped in a local minimum."""
     if path is None:
         return np.empty((0, 2))
-    stall = path.extra.get("stall") if isinstance(path.extra, Mapping) else None
-    pts = _points_or_empty(stall, "path.extra['stall']")
+    extra = path.extra if isinstance(path.extra, Mapping) else {}
+    pts = np.empty((0, 2))
+    for key in ("local_minima", "stall_point", "stall"):
+        if extra.get(key) is not None:
+            pts = _points_or_empty(extra[key], f"path.extra[{key!r}]")
+            if len(pts):
+                break
     if len(pts) == 0 and path.status == "local_minimum" and len(path.points):
         pts = path.points[-1:].copy()
     return pts
@@ -342,7 +352,8 @@ def plot_map(
         Draw into this axes; default: a new figure.
     paths : Path or iterable of Path
         Drawn as lines (``ax.lines`` holds exactly these), labelled with planner and status;
-        stall points (``path.extra['stall']``, or the end of a ``local_minimum`` path) are marked.
+        stall points (``path.extra['local_minima']`` / ``['stall_point']`` / ``['stall']``, or the end of
+        a ``local_minimum`` path) are marked.
     start, goal : (x, y), optional
         Marked points; default: the world's start and goal, if any.
     resolution : float, optional
@@ -526,6 +537,22 @@ def _potential_scale(u: NDArray[np.float64], finite: NDArray[np.bool_], cap: flo
     return np.clip(v, lo, hi), lo, hi, "U − min U (log scale)"
 
 
+def _log_ticks(lo: float, hi: float) -> list[float]:
+    """Decades inside ``[lo, hi]``, or a few rounded values when the range spans less than two.
+
+    Examples
+    --------
+    >>> _log_ticks(0.5, 2000.0)
+    [1.0, 10.0, 100.0, 1000.0]
+    >>> _log_ticks(2.0, 30.0)
+    [2.0, 4.9, 12.0, 30.0]
+    """
+    decades = [10.0**k for k in range(math.ceil(math.log10(lo)), math.floor(math.log10(hi)) + 1)]
+    if len(decades) >= 2:
+        return decades
+    return [float(f"{v:.2g}") for v in np.geomspace(lo, hi, 4)]
+
+
 def _decimated_quiver(ax: Axes, grid: Grid, gx: NDArray[np.float64], gy: NDArray[np.float64],
                       free: NDArray[np.bool_], step: int | None, *, color: str = "black", zorder: float = 4) -> Any:
     rows, cols = grid.shape
@@ -610,7 +637,9 @@ def plot_potential(
     ax = _new_axes(ax)
     art = Artists(ax)
     xs, ys = grid.cell_centers()
-    zm = np.ma.masked_array(z, mask=~finite)
+    # Obstacle cells hold the top of the colour range (the potential is +inf there) instead of
+    # being masked, so that the filled contours reach the obstacle overlay without white gaps.
+    zm = z
     if log:
         lv = np.geomspace(lo, hi, levels)
         norm: Any = LogNorm(vmin=lo, vmax=hi)
@@ -653,6 +682,8 @@ def plot_potential(
     _draw_endpoints(ax, art, _point_or_none(start, "start"), _point_or_none(goal, "goal"))
     if colorbar:
         art.colorbar = ax.figure.colorbar(art.mappable, ax=ax, shrink=0.85, label=label)
+        if log:
+            art.colorbar.set_ticks(_log_ticks(lo, hi))
     _frame(ax, grid.bounds)
     ax.set_title(title if title is not None else "potential")
     if path is not None or "stall" in art.markers:
@@ -755,8 +786,10 @@ def plot_basins(
     Parameters
     ----------
     basins : Basins
-        From :func:`gridfield.follow.basins`: ``label`` (0 obstacle, 1 goal, ``k >= 2`` the local
-        minimum ``k - 2`` of ``minima``), ``minima`` (points ``(K, 2)``).
+        From :func:`gridfield.follow.basins`: ``label`` (0 obstacle, 1 goal, ``k >= 2`` local
+        minima) and ``minima`` (the sinks' points; row ``k - 1`` for label ``k``, so that row 0,
+        the goal's sink, is not marked as a local minimum; a list of the local minima alone is
+        accepted too), ``goal_cell`` or ``goal``.
     grid : Grid, optional
         Needed only when ``basins`` does not carry its grid.
     max_legend : int
@@ -793,9 +826,7 @@ def plot_basins(
     n = max(n, 1)
     import matplotlib as mpl
 
-    minima_colors = mpl.colormaps["tab20"].colors
-    colors = [OCCUPIED_COLOR, "#b8e0b0"] + [minima_colors[(k * 2 + 1) % 20] if k % 2 else minima_colors[(k * 2) % 20]
-                                            for k in range(n - 1)]
+    colors = [OCCUPIED_COLOR, GOAL_BASIN_COLOR] + [MINIMUM_COLORS[k % len(MINIMUM_COLORS)] for k in range(n - 1)]
     ax = _new_axes(ax)
     art = Artists(ax)
     art.image = ax.imshow(lab, origin="lower", extent=grid.extent, cmap=ListedColormap(colors), vmin=-0.5,
@@ -812,6 +843,8 @@ def plot_basins(
                                  label=f"minimum {k - 1} ({100 * counts[k] / nfree:.1f} %)"))
     hidden = int((counts[2:] > 0).sum()) - (len(handles) - 1)
     minima = _points_or_empty(getattr(basins, "minima", None), "basins.minima")
+    if len(minima) == n:  # row k - 1 is the sink of label k: row 0 is the goal's own sink
+        minima = minima[1:]
     if len(minima):
         art.markers["minima"] = ax.scatter(minima[:, 0], minima[:, 1], marker="X", s=60, color="red",
                                            edgecolor="white", linewidth=0.7, zorder=5)
@@ -820,6 +853,8 @@ def plot_basins(
     f = getattr(basins, "field", None)
     goal = getattr(basins, "goal", None)
     goal = goal if goal is not None else getattr(f, "goal", None)
+    if goal is None and getattr(basins, "goal_cell", None) is not None:
+        goal = grid.cell_to_world(np.asarray(basins.goal_cell))[0]
     if goal is not None:
         g = _point_or_none(goal, "goal")
         art.markers["goal"] = ax.scatter([g[0]], [g[1]], marker="*", s=180, color="gold", edgecolor="black",  # type: ignore[index]

@@ -93,8 +93,10 @@ __all__ = [
     "SAMPLINGS",
     "STEP_RULES",
     "Basins",
+    "attraction_force",
     "basins",
     "descend",
+    "descent_successor",
     "follow",
     "follow_many",
     "grid_blocked",
@@ -766,9 +768,19 @@ def grid_blocked(gridmap: GridMap) -> Callable[[Point, Point], bool]:
 # ----------------------------------------------------------------------------------------------
 # Following a Field
 # ----------------------------------------------------------------------------------------------
-def _attraction(goal: Point, params: Mapping[str, Any]) -> Callable[[Point], tuple[float, float]]:
-    """The attractive force of the potentials' models (khatib: quadratic/conic; vortex: Ka quadratic)."""
-    gx, gy = goal
+def attraction_force(goal: ArrayLike, params: Mapping[str, Any]) -> Callable[[Point], tuple[float, float]]:
+    """``attraction(p) -> (fx, fy)``: the attractive force of the potential models at a point.
+
+    ``model="khatib"``: ``-grad`` of :mod:`gridfield.potential`'s quadratic / combined / conic
+    attractive potential (``zeta``, ``d_star``); ``model="vortex"``: ``-ka * (p - goal)``.
+
+    Examples
+    --------
+    >>> f = attraction_force((0.0, 0.0), {"zeta": 2.0, "d_star": 1.0})
+    >>> f((0.5, 0.0)), f((4.0, 0.0))
+    ((-1.0, -0.0), (-2.0, -0.0))
+    """
+    gx, gy = _xy(goal, "goal")
     if params.get("model", "khatib") == "vortex":
         ka = float(params.get("ka", 25.0))
 
@@ -782,11 +794,42 @@ def _attraction(goal: Point, params: Mapping[str, Any]) -> Callable[[Point], tup
     def attr(p: Point) -> tuple[float, float]:
         dx, dy = p[0] - gx, p[1] - gy
         d = math.sqrt(dx * dx + dy * dy)
-        if d <= d_star or d == 0.0:
+        if d == 0.0:
+            return 0.0, 0.0
+        if d_star == 0.0:  # pure conic (potential.py's separate case)
+            return -zeta * dx / d, -zeta * dy / d
+        if d <= d_star:
             return -zeta * dx, -zeta * dy
         return -d_star * zeta * dx / d, -d_star * zeta * dy / d
 
     return attr
+
+
+def _vortex_norms(field: Any, params: Mapping[str, Any]) -> tuple[float, float]:
+    """Matrix 2-norms of seed 003's force components ``fX``, ``fY`` over the whole lattice.
+
+    The seed's arrays are defined everywhere, inside the circles too, while a Field holds zeros on
+    obstacle cells; the norms are therefore taken from the same field rebuilt on the lattice without
+    occupancy (when the field's map carries its world), else from the field's own arrays.
+    """
+    from .world import World
+
+    world = getattr(field.map, "world", None)
+    gx, gy = field.grad_x, field.grad_y
+    if isinstance(world, World) and world.start is not None:
+        from .potential import vortex_field
+
+        open_map = GridMap(field.map.grid, np.zeros(field.map.grid.shape, bool))
+        full = vortex_field(open_map, world, world.start, field.goal, ka=float(params.get("ka", 25.0)),
+                            kr=float(params.get("kr", 30.0)), ko=float(params.get("ko", 5.0)),
+                            sample_radius=params.get("sample_radius"))
+        gx, gy = full.grad_x, full.grad_y
+    nx = float(np.linalg.norm(np.asarray(gx, dtype=float), 2))
+    ny = float(np.linalg.norm(np.asarray(gy, dtype=float), 2))
+    if not (nx > 0 and ny > 0 and math.isfinite(nx) and math.isfinite(ny)):
+        raise GridfieldError(f"the vortex field's force components have matrix norms {nx:g}, {ny:g}; "
+                             "cannot scale the steps (seed 003's follower divides by them)")
+    return nx, ny
 
 
 @dataclass(frozen=True)
@@ -810,10 +853,7 @@ def _setup(field: Any, params: Mapping[str, Any] | None) -> _Setup:
         merged.setdefault("sampling", "nearest")
         merged.setdefault("tolerance", 0.4)
         merged["step_rule"] = "scaled"
-        nx = float(np.linalg.norm(np.asarray(field.grad_x, dtype=float), 2))
-        ny = float(np.linalg.norm(np.asarray(field.grad_y, dtype=float), 2))
-        if not (nx > 0 and ny > 0):
-            raise GridfieldError("the vortex field is zero in one component; cannot scale its steps")
+        nx, ny = _vortex_norms(field, merged)
         merged["alpha"] = (spacing / nx, spacing / ny)
     p = resolve_follow_params(merged, unit=grid.resolution)
     out = dict(merged)
@@ -837,6 +877,14 @@ def _clearance(field: Any, points: NDArray[np.float64]) -> float:
     r = np.clip(cells[:, 0], 0, grid.rows - 1)
     c = np.clip(cells[:, 1], 0, grid.cols - 1)
     return float(np.min(dist[r, c])) if len(points) else math.nan
+
+
+def _note_outside(extra: dict[str, Any], grid: Grid, pts: NDArray[np.float64]) -> None:
+    """Record when the follower left an open-border grid (where the field is only clamped)."""
+    outside = ~grid.contains(pts)
+    if outside.any():
+        extra["left_map"] = True
+        extra["outside_fraction"] = float(outside.mean())
 
 
 def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = None) -> Path:
@@ -881,12 +929,13 @@ def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = N
     potential = attraction = None
     if p["escape"] == "potential_increase":
         potential = grid_potential_sampler(field, sampling=setup.sampling)
-        attraction = _attraction(goal, p)
+        attraction = attraction_force(goal, p)
     t0 = time.perf_counter()
     pts, status, n, extra = descend(force, s, goal, blocked=blocked, potential=potential, attraction=attraction,
                                     rng=np.random.default_rng(p["seed"]), **setup.kwargs)
     seconds = time.perf_counter() - t0
     extra["sampling"] = setup.sampling
+    _note_outside(extra, grid_map.grid, pts)
     if setup.vortex:
         extra["alpha_xy"] = list(setup.kwargs["alpha"]) if isinstance(setup.kwargs["alpha"], tuple) else None
     return Path(pts, status, "potential", iterations=n, params=p, seconds=seconds,
@@ -1133,6 +1182,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
                 extra["oscillation"] = osc[i].tolist()
         elif status == "collision":
             extra["collision_at"] = coll[i].tolist()
+        _note_outside(extra, grid_map.grid, pts)
         if p["escape"] != "none":
             if status == "local_minimum":
                 paths.append(follow(field, S[i], params=params))

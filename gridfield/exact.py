@@ -1,0 +1,345 @@
+"""The continuous (exact-geometry) potential-field planner on vector worlds.
+
+:func:`plan_exact_potential` follows the same attractive / repulsive models, parameters, step
+rules, stop rules and escapes as the grid planner ``potential`` -- through the same core,
+:func:`gridfield.follow.descend` -- with the field sampled differently: the force at a point is
+computed from the exact distance and closest point to each obstacle instead of being read from
+gradient arrays.
+
+Force (``p`` the point, ``g`` the goal; names of :data:`gridfield.planners.PARAMETERS`)
+    attractive: ``-grad`` of gridfield.potential's attractive potential (``zeta``, ``d_star``);
+    repulsive: for an obstacle at distance ``D < q_star`` with closest point ``c``,
+    ``eta * (1/D - 1/q_star) / D**repulsive_power`` along ``(p - c) / D``; ``repulsion="sum"``
+    adds one term per obstacle (seed 000), ``"nearest"`` takes only the nearest obstacle.
+    A wall border is one more obstacle: the boundary of the world's bounds. ``saturate=R`` drops
+    the repulsion of obstacles at ``D >= R`` (seed 004).
+
+Closest points
+    circles analytically (``Obstacle.center``/``radius``), polygons, segments and points with
+    :func:`shapely.shortest_line`; with more than a few obstacles only those within ``q_star``
+    (an STRtree query) are measured.
+
+Potential (for the ``potential_increase`` escape)
+    the attractive potential plus ``0.5 * eta * (1/D - 1/q_star)**2`` per obstacle within
+    ``q_star`` -- the classic potential, which is what gridfield.potential stores for every
+    ``repulsive_power``.
+
+Blocking
+    a move ``p -> q`` is blocked when the closed segment touches an obstacle (shapely
+    ``intersects``; circles analytically) or, with a wall border, reaches the world's boundary.
+    With an open border the world extends beyond its bounds as free space.
+
+Seed 000 (``maps/seed000.yaml``: start (1, 10), goal (22, 12), zeta = eta = 1, q_star = 2,
+repulsive_power 3, sum over obstacles, step 0.1) reaches the goal after exactly 247 steps; the
+path is the 248 visited points plus the goal (appended, like the seed's ``P = [P Xf]``), length
+24.7621 (24.7 for the 247 steps). With the segment (17.5, 10)-(17.5, 8)
+(``maps/seed000_segment.yaml``) it oscillates between (16.874, 9.058) and (16.970, 9.028) and
+stops as a local minimum after 213 steps; the stall point, the one of the two with the smaller
+force, is (16.970, 9.028), the point the seed reports. The continuous equilibrium is
+(16.9512, 9.0518).
+
+Examples
+--------
+>>> from gridfield.io import read_world, bundled_map
+>>> w = read_world(bundled_map("seed000.yaml"))
+>>> p = plan_exact_potential(w, w.start, w.goal, w.params)
+>>> p.status, p.iterations, round(p.length, 4)
+('reached', 247, 24.7621)
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import numpy as np
+import shapely
+from numpy.typing import ArrayLike, NDArray
+
+from .errors import GridfieldError, ParameterError
+from .follow import attraction_force, descend, resolve_follow_params
+from .path import Path
+from .world import World
+
+__all__ = ["ExactField", "exact_clearance", "plan_exact_potential"]
+
+#: Above this many non-circle obstacles the force queries an STRtree for those within q_star.
+_TREE_MIN = 8
+
+
+class ExactField:
+    """Forces, potential and blocking of the Khatib model on a vector world, from exact geometry.
+
+    Parameters
+    ----------
+    world : World
+    goal : (2,) array_like
+    params : mapping, optional
+        Potential parameters (:func:`gridfield.potential.resolve_params`); ``model`` must be
+        ``"khatib"``. Follower parameters are ignored here.
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"circle": {"center": [5, 5], "radius": 1}}]})
+    >>> f = ExactField(w, (9, 5), {"zeta": 0.0, "q_star": 2.0, "repulsive_power": 2})
+    >>> [round(v, 6) for v in f.force((7.0, 5.0))]   # D = 1: eta*(1 - 1/2)/1**2 along +x
+    [0.5, 0.0]
+    >>> f.blocked((3.0, 3.0), (7.0, 7.0)), f.blocked((3.0, 3.0), (3.0, 7.0))
+    (True, False)
+    """
+
+    def __init__(self, world: World, goal: ArrayLike, params: Mapping[str, Any] | None = None) -> None:
+        from .potential import resolve_params
+
+        if not isinstance(world, World):
+            raise ParameterError(f"the exact planner needs a World, got {type(world).__name__}")
+        p = resolve_params(params)
+        if p["model"] != "khatib":
+            raise ParameterError(f"the exact planner implements model 'khatib' only, got model {p['model']!r}; "
+                                 "the vortex model (seed 003) is a grid field: use planner 'potential'")
+        self.world = world
+        self.params = p
+        g = np.asarray(goal, dtype=float).reshape(-1)
+        self.goal = (float(g[0]), float(g[1]))
+        self.zeta, self.d_star = p["zeta"], p["d_star"]
+        self.eta, self.q_star, self.power = p["eta"], p["q_star"], float(p["repulsive_power"])
+        self.sum = p["repulsion"] == "sum"
+        self.saturate = p["saturate"]
+        circles = [ob for ob in world.obstacles if ob.kind == "circle"]
+        self._cx = np.array([ob.center[0] for ob in circles], dtype=float)  # type: ignore[index]
+        self._cy = np.array([ob.center[1] for ob in circles], dtype=float)  # type: ignore[index]
+        self._cr = np.array([ob.radius for ob in circles], dtype=float)
+        self._circles = [(float(ob.center[0]), float(ob.center[1]), float(ob.radius)) for ob in circles]  # type: ignore[index,arg-type]
+        self._geoms = np.array([ob.geometry for ob in world.obstacles if ob.kind != "circle"], dtype=object)
+        self._tree = shapely.STRtree(self._geoms) if len(self._geoms) > _TREE_MIN else None
+        union = shapely.union_all(self._geoms) if len(self._geoms) else None
+        if union is not None:
+            shapely.prepare(union)
+        self._union = union
+        self._wall = world.border == "wall"
+        self._attr = attraction_force(self.goal, p)
+
+    # -- distances ------------------------------------------------------------------------
+    def closest(self, p: tuple[float, float]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """Distances ``D`` and closest points ``(cx, cy)`` of the obstacles that can repel at ``p``.
+
+        All obstacles (and the wall) when few, else only those within ``q_star``.
+        """
+        x, y = p
+        ds: list[float] = []
+        xs: list[float] = []
+        ys: list[float] = []
+        for cx, cy, r in self._circles:
+            dx, dy = x - cx, y - cy
+            rho = math.sqrt(dx * dx + dy * dy)
+            ds.append(rho - r)
+            if rho > 0:
+                xs.append(cx + r * dx / rho)
+                ys.append(cy + r * dy / rho)
+            else:
+                xs.append(cx + r)
+                ys.append(cy)
+        if len(self._geoms):
+            pt = shapely.points(x, y)
+            geoms = self._geoms
+            if self._tree is not None:
+                if math.isfinite(self.q_star) and self.sum:
+                    idx = self._tree.query(pt, predicate="dwithin", distance=self.q_star)
+                else:
+                    idx = self._tree.query_nearest(pt)
+                geoms = geoms[idx]
+            if len(geoms):
+                c = shapely.get_coordinates(shapely.shortest_line(geoms, pt))[0::2]
+                cx, cy = c[:, 0], c[:, 1]
+                ds.extend(np.hypot(x - cx, y - cy).tolist())
+                xs.extend(cx.tolist())
+                ys.extend(cy.tolist())
+        if self._wall:
+            xmin, ymin, xmax, ymax = self.world.bounds
+            cand = ((x - xmin, xmin, y), (xmax - x, xmax, y), (y - ymin, x, ymin), (ymax - y, x, ymax))
+            d, wx, wy = min(cand, key=lambda t: t[0])
+            ds.append(d)
+            xs.append(wx)
+            ys.append(wy)
+        return np.asarray(ds), np.asarray(xs), np.asarray(ys)
+
+    def _active(self, d: NDArray[np.float64]) -> NDArray[np.intp]:
+        if len(d) == 0:
+            return np.zeros(0, np.intp)
+        if not self.sum:
+            k = int(np.argmin(d))
+            d = d[k: k + 1]
+            base = np.array([k])
+        else:
+            base = np.arange(len(d))
+        keep = d < self.q_star
+        if self.saturate is not None:
+            keep &= d < self.saturate
+        return base[keep]
+
+    # -- the field ------------------------------------------------------------------------
+    def attraction(self, p: tuple[float, float]) -> tuple[float, float]:
+        """The attractive force at ``p``."""
+        return self._attr(p)
+
+    def force(self, p: tuple[float, float]) -> tuple[float, float]:
+        """The force ``F = F_attr + F_rep`` at ``p``. Raises GridfieldError inside an obstacle."""
+        fx, fy = self._attr(p)
+        d, cx, cy = self.closest(p)
+        act = self._active(d)
+        if len(act):
+            dd = d[act]
+            if np.any(dd <= 0.0):
+                raise GridfieldError(f"the point ({p[0]:g}, {p[1]:g}) lies inside or on an obstacle")
+            mag = self.eta * (1.0 / dd - 1.0 / self.q_star) / dd**self.power
+            fx += float(np.sum(mag * (p[0] - cx[act]) / dd))
+            fy += float(np.sum(mag * (p[1] - cy[act]) / dd))
+        return fx, fy
+
+    def potential(self, p: tuple[float, float]) -> float:
+        """The potential at ``p`` (attractive + classic repulsive ``0.5*eta*(1/D - 1/q_star)**2``)."""
+        gx, gy = self.goal
+        dist = math.hypot(p[0] - gx, p[1] - gy)
+        if self.d_star == 0.0:
+            u = self.zeta * dist
+        elif dist <= self.d_star:
+            u = 0.5 * self.zeta * dist * dist
+        else:
+            u = self.d_star * self.zeta * dist - 0.5 * self.zeta * self.d_star**2
+        d, _, _ = self.closest(p)
+        act = self._active(d)
+        if len(act):
+            dd = d[act]
+            if np.any(dd <= 0.0):
+                return math.inf
+            u += float(np.sum(0.5 * self.eta * (1.0 / dd - 1.0 / self.q_star) ** 2))
+        return u
+
+    def blocked(self, p: tuple[float, float], q: tuple[float, float]) -> bool:
+        """Whether the closed segment ``p -> q`` touches an obstacle or (wall border) the world's boundary."""
+        if self._wall:
+            xmin, ymin, xmax, ymax = self.world.bounds
+            for x, y in (p, q):
+                if not (xmin < x < xmax and ymin < y < ymax):
+                    return True
+        ax, ay = p
+        bx, by = q
+        vx, vy = bx - ax, by - ay
+        vv = vx * vx + vy * vy
+        for cx, cy, r in self._circles:
+            t = 0.0 if vv == 0 else min(1.0, max(0.0, ((cx - ax) * vx + (cy - ay) * vy) / vv))
+            if math.hypot(ax + t * vx - cx, ay + t * vy - cy) <= r:
+                return True
+        if self._union is not None:
+            seg = shapely.linestrings([p, q]) if vv > 0 else shapely.points(p)
+            if shapely.intersects(self._union, seg):
+                return True
+        return False
+
+
+def exact_clearance(world: World, points: ArrayLike) -> float:
+    """Smallest exact distance from the polyline ``points`` (vertices and segments) to the obstacles.
+
+    Circles are measured analytically; a wall border counts (for a polyline inside the bounds the
+    nearest point to the boundary is a vertex).
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"circle": {"center": [5, 5], "radius": 1}}]})
+    >>> round(exact_clearance(w, [[0, 3], [10, 3]]), 6)
+    1.0
+    """
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    if len(pts) == 0:
+        return math.nan
+    best = math.inf
+    a, b = pts[:-1], pts[1:]
+    line = shapely.linestrings(pts) if len(pts) > 1 else shapely.points(pts[0])
+    for ob in world.obstacles:
+        if ob.kind == "circle":
+            c = np.asarray(ob.center, dtype=float)
+            if len(a):
+                v = b - a
+                vv = np.einsum("ij,ij->i", v, v)
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    t = np.clip(np.where(vv > 0, np.einsum("ij,ij->i", c - a, v) / vv, 0.0), 0.0, 1.0)
+                near = a + t[:, None] * v
+                dist = float(np.min(np.hypot(*(near - c).T)))
+            else:
+                dist = float(np.hypot(*(pts[0] - c)))
+            best = min(best, max(dist - float(ob.radius), 0.0))  # type: ignore[arg-type]
+        else:
+            best = min(best, float(shapely.distance(ob.geometry, line)))
+    if world.border == "wall":
+        xmin, ymin, xmax, ymax = world.bounds
+        dw = np.minimum.reduce([pts[:, 0] - xmin, xmax - pts[:, 0], pts[:, 1] - ymin, ymax - pts[:, 1]])
+        best = min(best, float(np.maximum(dw, 0.0).min()))
+    return best
+
+
+def _default_step(world: World) -> float:
+    if world.resolution is not None:
+        return float(world.resolution)
+    xmin, ymin, xmax, ymax = world.bounds
+    return min(xmax - xmin, ymax - ymin) / 100.0
+
+
+def plan_exact_potential(world: World, start: ArrayLike, goal: ArrayLike, params: Mapping[str, Any] | None) -> Path:
+    """The ``exact-potential`` planner: :func:`gridfield.follow.descend` on exact forces.
+
+    Parameters
+    ----------
+    world : World
+    start, goal : (2,) array_like
+        Free points of the world (a point inside an obstacle raises :class:`GridfieldError`).
+    params : mapping
+        Potential parameters (:func:`gridfield.potential.resolve_params`) and follower parameters
+        (:data:`gridfield.follow.FOLLOW_DEFAULTS`; ``step`` defaults to the world's resolution, else
+        1/100 of its smaller side; ``sampling`` is ignored).
+
+    Returns
+    -------
+    Path
+        ``planner="exact-potential"``; ``min_clearance`` is the exact distance of the path
+        polyline to the obstacles; ``seconds`` the planning time.
+
+    Examples
+    --------
+    >>> from gridfield.io import read_world, bundled_map
+    >>> w = read_world(bundled_map("seed000_segment.yaml"))
+    >>> p = plan_exact_potential(w, w.start, w.goal, w.params)
+    >>> p.status, p.extra["stop_reason"], [round(v, 3) for v in p.extra["stall_point"]]
+    ('local_minimum', 'oscillation', [16.97, 9.028])
+    >>> plan_exact_potential(w, (8.0, 14.0), w.goal, w.params)
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.GridfieldError: start (8, 14) lies inside obstacle 1 (polygon)
+    """
+    if not isinstance(world, World):
+        raise ParameterError(f"the exact planner needs a World, got {type(world).__name__}")
+    s = world.check_point("start", start)
+    g = world.check_point("goal", goal)
+    params = dict(params or {})
+    t0 = time.perf_counter()
+    field = ExactField(world, g, params)
+    fp = resolve_follow_params(params, unit=_default_step(world))
+    potential: Callable[[tuple[float, float]], float] | None = None
+    attraction = None
+    if fp["escape"] == "potential_increase":
+        potential, attraction = field.potential, field.attraction
+    pts, status, n, extra = descend(
+        field.force, s, g, blocked=field.blocked, potential=potential, attraction=attraction,
+        rng=np.random.default_rng(fp["seed"]),
+        **{k: fp[k] for k in ("step_rule", "step", "alpha", "min_speed", "tolerance", "max_iterations",
+                              "gradient_threshold", "progress_window", "escape", "escape_tries", "escape_radius")},
+    )
+    seconds = time.perf_counter() - t0
+    merged = dict(field.params)
+    merged.update(fp)
+    merged.pop("sampling", None)
+    return Path(pts, status, "exact-potential", iterations=n, params=merged, seconds=seconds,
+                min_clearance=exact_clearance(world, pts), extra=extra)

@@ -346,6 +346,18 @@ def test_ros_alpha_is_unknown_in_nav2(tmp_path):
     assert read_ros_map(yml).occupied.tolist() == [[False, True, True]]
 
 
+def test_ros_threshold_inclusiveness(tmp_path):
+    # occupancies 1, .498, 0 against thresholds exactly 1.0 and 0.0: nav2 compares >= / <=, ros1 > / <
+    Image.fromarray(np.array([[0, 128, 255]], dtype=np.uint8)).save(tmp_path / "t.png")
+    yml = ros_yaml(tmp_path, "t.png", occupied_thresh=1.0, free_thresh=0.0)
+    assert ros_occupancy_values(yml, semantics="nav2").tolist() == [[100, -1, 0]]
+    assert ros_occupancy_values(yml, semantics="ros1").tolist() == [[-1, -1, -1]]
+    # scale mode: nav2 rounds 100 * ratio, ros1 truncates 1 + 98 * ratio
+    yml = ros_yaml(tmp_path, "t.png", occupied_thresh=1.0, free_thresh=0.0, mode="scale")
+    assert ros_occupancy_values(yml, semantics="nav2").tolist() == [[100, 50, 0]]  # round(49.8)
+    assert ros_occupancy_values(yml, semantics="ros1").tolist() == [[99, 49, 1]]  # trunc(1 + 98 * .498) = 49
+
+
 def test_ros_yaml_defaults_and_relative_image(tmp_path):
     (tmp_path / "sub").mkdir()
     Image.fromarray(PICTURE).save(tmp_path / "sub" / "p.png")

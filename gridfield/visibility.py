@@ -1,0 +1,782 @@
+"""Exact shortest paths among polygonal obstacles: the visibility graph.
+
+The shortest path between two points of a plane with polygonal obstacles is a polyline whose
+inner vertices are obstacle corners (Lozano-Pérez & Wesley 1979; Choset et al. ch. 5.1). The
+*visibility graph* joins every pair of mutually visible corners; a Dijkstra search over it, with
+the start and the goal added, gives the exact optimum. This module builds that graph on shapely
+geometry and solves it with :func:`scipy.sparse.csgraph.dijkstra`.
+
+Free space
+    The free space is **closed**: a path may touch obstacle boundaries, run along edges and
+    start or end on an edge or a vertex. With ``border: wall`` the world's bounds are a wall;
+    with ``border: open`` the plane outside the bounds is free. Touching or overlapping
+    obstacles act as their union.
+
+Segments and points
+    A segment obstacle has no area: a path may not cross it through its relative interior but
+    may run along it and go round its end points. A point obstacle never blocks (a path may pass
+    arbitrarily close round it) and is ignored.
+
+Pinch points (``pinch=``)
+    Where two obstacles touch at a single point (two squares touching corner to corner, a
+    segment ending on a polygon edge) the closed free space is connected *through* that point.
+
+    - ``"block"`` (default, the physically meaningful rule and Polyanya's): a path must be a
+      limit of paths through the open free space, so it may not squeeze through a pinch point;
+      it may still touch it from one side. A start or goal exactly on a pinch point, or on the
+      relative interior of a segment obstacle, is ambiguous (which side is it on?) and raises
+      :class:`~gridfield.errors.GridfieldError`.
+    - ``"pass"`` (extremitypathfinder's rule): a path may pass through any point of the closed
+      free space where obstacles merely touch; only the relative interior of a segment obstacle
+      may not be crossed.
+
+Circles
+    A circle is replaced by its **circumscribed** regular polygon with ``4 * CIRCLE_SEGMENTS``
+    (= 64) sides, whose edges are tangent to the circle. The planned path is therefore feasible
+    (it never enters the true circle) and at most slightly too long: with ``R = r / cos(pi/64)``
+    the polygon lies between the circles of radius ``r`` and ``R``, and the length of a geodesic
+    wrapped round a circle grows with the radius at the rate of the wrapped angle ``phi``, so the
+    excess is at most ``phi * (R - r) = phi * r * 1.2e-3`` per circle wrapped
+    (``<= 2*pi * r * 1.2e-3 = 0.0076 r``). An inscribed outline would instead give paths up to
+    ``r * (1 - cos(pi/64))`` inside the circle and lengths too short by about ``4e-4 * r * phi``.
+
+Examples
+--------
+>>> from gridfield.world import world_from_dict
+>>> w = world_from_dict({"bounds": [0, 0, 10, 10], "border": "wall",
+...                      "obstacles": [{"rectangle": [4, 0, 6, 8]}]})
+>>> vg = visibility_graph(w)
+>>> pts, length = vg.shortest_path([1, 1], [9, 1])
+>>> pts.tolist()
+[[1.0, 1.0], [4.0, 8.0], [6.0, 8.0], [9.0, 1.0]]
+>>> round(length, 6)
+17.231546
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import weakref
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import shapely
+from numpy.typing import ArrayLike, NDArray
+from scipy import sparse
+from scipy.sparse import csgraph
+from scipy.spatial import cKDTree
+from shapely.geometry import LineString, Point, Polygon, box
+from shapely.geometry.base import BaseGeometry
+
+from .errors import GridfieldError, MapFormatError, ParameterError
+from .path import Path
+from .world import CIRCLE_SEGMENTS, Obstacle, World
+
+__all__ = [
+    "PINCH_RULES",
+    "VisibilityGraph",
+    "path_clearance",
+    "plan_visibility",
+    "visibility_graph",
+    "world_from_polygon_environment",
+]
+
+#: How a path may treat a point where obstacles touch (see the module docstring).
+PINCH_RULES = ("block", "pass")
+
+_TWO_PI = 2.0 * math.pi
+_ANGLE_EPS = 1e-9
+#: Relative excess of the circumscribed circle outline: 1 / cos(pi / (4 * CIRCLE_SEGMENTS)) - 1.
+CIRCLE_OUTLINE_EXCESS = 1.0 / math.cos(math.pi / (4 * CIRCLE_SEGMENTS)) - 1.0
+
+
+# ----------------------------------------------------------------------------------------
+# World construction for polygon environments (boundary + holes)
+# ----------------------------------------------------------------------------------------
+def _as_ring(coords: Any, what: str) -> Polygon:
+    try:
+        pts = np.asarray(coords, dtype=float)
+    except (TypeError, ValueError):
+        raise MapFormatError(f"{what} must be a list of points [[x, y], ...], got {coords!r}") from None
+    if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) < 3:
+        raise MapFormatError(f"{what} must be at least three points [[x, y], ...], got shape {pts.shape}")
+    if not np.all(np.isfinite(pts)):
+        raise MapFormatError(f"{what} must hold finite coordinates")
+    poly = Polygon(pts)
+    if not poly.is_valid or poly.area == 0.0:
+        reason = shapely.is_valid_reason(poly) if not poly.is_valid else "zero area"
+        raise MapFormatError(f"{what} is not a simple polygon ({reason}); list the vertices in order around it")
+    return poly
+
+
+def world_from_polygon_environment(
+    boundary: ArrayLike,
+    holes: Sequence[ArrayLike] = (),
+    *,
+    start: ArrayLike | None = None,
+    goal: ArrayLike | None = None,
+    source: str = "",
+) -> World:
+    """A :class:`World` whose free space is inside ``boundary`` and outside every hole.
+
+    This is the environment model of extremitypathfinder and of navigation meshes: the bounds
+    become the bounding box of ``boundary`` with a wall border, the parts of that box outside
+    the boundary become polygon obstacles, and each hole becomes a polygon obstacle (ids: the
+    holes first, in order, then the outside parts). Holes may overlap each other and the
+    boundary; the union is what counts. Orientation of the rings does not matter.
+
+    ``start`` and ``goal`` are stored as given (they may lie on edges: the free space is
+    closed); they are checked when a path is planned.
+
+    Examples
+    --------
+    >>> w = world_from_polygon_environment([[0, 0], [4, 0], [4, 4], [2, 2], [0, 4]],
+    ...                                    [[[1, 0.5], [1, 1], [1.5, 1]]])
+    >>> w.bounds, w.border, [ob.kind for ob in w.obstacles]
+    ((0.0, 0.0, 4.0, 4.0), 'wall', ['polygon', 'polygon'])
+    >>> round(visibility_graph(w).shortest_path([0.5, 3.5], [3.5, 3.5])[1], 6)
+    4.242641
+    """
+    outer = _as_ring(boundary, "boundary")
+    obstacles: list[Obstacle] = []
+    for i, h in enumerate(holes):
+        obstacles.append(Obstacle(len(obstacles) + 1, "polygon", _as_ring(h, f"holes[{i}]")))
+    xmin, ymin, xmax, ymax = outer.bounds
+    outside = box(xmin, ymin, xmax, ymax).difference(outer)
+    for part in shapely.get_parts(outside):
+        if isinstance(part, Polygon) and part.area > 0:
+            obstacles.append(Obstacle(len(obstacles) + 1, "polygon", shapely.normalize(part)))
+
+    def pt(v: ArrayLike | None, name: str) -> tuple[float, float] | None:
+        if v is None:
+            return None
+        p = np.asarray(v, dtype=float).reshape(-1)
+        if p.shape != (2,) or not np.all(np.isfinite(p)):
+            raise MapFormatError(f"{name} must be two finite numbers [x, y], got {v!r}")
+        return (float(p[0]), float(p[1]))
+
+    return World(bounds=(xmin, ymin, xmax, ymax), obstacles=tuple(obstacles), border="wall",
+                 start=pt(start, "start"), goal=pt(goal, "goal"), source=source)
+
+
+# ----------------------------------------------------------------------------------------
+# Geometry helpers
+# ----------------------------------------------------------------------------------------
+def _circle_outline(ob: Obstacle) -> Polygon:
+    """The circumscribed regular 4*CIRCLE_SEGMENTS-gon of a circle obstacle."""
+    assert ob.center is not None and ob.radius is not None
+    n = 4 * CIRCLE_SEGMENTS
+    theta = np.arange(n) * (_TWO_PI / n)
+    big = ob.radius * (1.0 + CIRCLE_OUTLINE_EXCESS)
+    return Polygon(np.column_stack([ob.center[0] + big * np.cos(theta), ob.center[1] + big * np.sin(theta)]))
+
+
+def _angle(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Angle of vectors ``(..., 2)`` in ``[0, 2 pi)``."""
+    return np.mod(np.arctan2(v[..., 1], v[..., 0]), _TWO_PI)
+
+
+def _in_arc(theta: NDArray[np.float64], start: float, width: float) -> NDArray[np.bool_]:
+    """Whether angles lie in the closed arc ``[start, start + width]`` (counter-clockwise)."""
+    rel = np.mod(np.asarray(theta) - start, _TWO_PI)
+    return (rel <= width + _ANGLE_EPS) | (rel >= _TWO_PI - _ANGLE_EPS)
+
+
+def _free_arcs(occupied: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """Free directions round a point as closed arcs ``(start, width)``.
+
+    ``occupied`` lists closed arcs ``(start, width)`` taken by obstacles; ``width == 0`` is a ray
+    (a segment obstacle), which separates the arcs on its two sides.
+    """
+    if not occupied:
+        return [(0.0, _TWO_PI)]
+    bounds = np.sort(np.mod(np.concatenate([[s, s + w] for s, w in occupied]), _TWO_PI))
+    keep = np.concatenate([[True], np.diff(bounds) > _ANGLE_EPS])
+    bounds = bounds[keep]
+    if len(bounds) > 1 and bounds[-1] - bounds[0] > _TWO_PI - _ANGLE_EPS:
+        bounds = bounds[:-1]
+    if len(bounds) == 1:
+        return [(float(bounds[0]), _TWO_PI)]
+    arcs = []
+    for k in range(len(bounds)):
+        a = bounds[k]
+        b = bounds[k + 1] if k + 1 < len(bounds) else bounds[0] + _TWO_PI
+        mid = 0.5 * (a + b)
+        if any(np.mod(mid - s, _TWO_PI) < w for s, w in occupied):
+            continue
+        arcs.append((float(a), float(b - a)))
+    return arcs
+
+
+def path_clearance(world: World, points: ArrayLike) -> float:
+    """Exact smallest distance from a polyline to the world's obstacles (and wall border).
+
+    Circles are measured exactly (distance to the centre minus the radius), other obstacles with
+    shapely; a path touching an obstacle gives 0 and one entering it also 0.
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10],
+    ...                      "obstacles": [{"circle": {"center": [5, 5], "radius": 1}}]})
+    >>> path_clearance(w, [[0, 7], [10, 7]])
+    1.0
+    """
+    p = np.atleast_2d(np.asarray(points, dtype=float))
+    if len(p) == 0:
+        return math.nan
+    line: BaseGeometry = LineString(p) if len(p) > 1 else Point(p[0])
+    best = math.inf
+    for ob in world.obstacles:
+        if ob.kind == "circle":
+            assert ob.center is not None and ob.radius is not None
+            d = shapely.distance(line, Point(ob.center)) - ob.radius
+            if d <= 0 and shapely.intersects(line, ob.geometry):
+                d = 0.0
+            best = min(best, max(float(d), 0.0))
+        else:
+            best = min(best, float(shapely.distance(line, ob.geometry)))
+    if world.border == "wall":
+        xmin, ymin, xmax, ymax = world.bounds
+        inside = np.minimum.reduce([p[:, 0] - xmin, xmax - p[:, 0], p[:, 1] - ymin, ymax - p[:, 1]])
+        best = min(best, max(float(inside.min()), 0.0))
+    return best
+
+
+# ----------------------------------------------------------------------------------------
+# The graph
+# ----------------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class VisibilityGraph:
+    """A visibility graph of a world, reusable for many start/goal queries.
+
+    Build it with :func:`visibility_graph`.
+
+    Attributes
+    ----------
+    world : World
+    pinch : {"block", "pass"}
+        The pinch-point rule (module docstring).
+    nodes : ndarray, shape (n, 2)
+        Corner points: convex obstacle vertices, segment end points and the sides of pinch points.
+    edges : ndarray of int, shape (m, 2)
+        Pairs of mutually visible nodes (only bitangent pairs: a shortest path uses no others).
+    weights : ndarray, shape (m,)
+        Euclidean edge lengths.
+    obstacles : shapely geometry
+        The union of the area obstacles as the graph sees them (circles circumscribed, the wall
+        border as a frame round the bounds).
+    """
+
+    world: World
+    pinch: str
+    nodes: NDArray[np.float64]
+    edges: NDArray[np.intp]
+    weights: NDArray[np.float64]
+    obstacles: BaseGeometry
+    _tol: float = field(repr=False)
+    _parts: NDArray[np.object_] = field(repr=False)
+    _part_tree: shapely.STRtree = field(repr=False)
+    _segments: NDArray[np.object_] = field(repr=False)
+    _segment_tree: shapely.STRtree = field(repr=False)
+    _segment_ids: NDArray[np.intp] = field(repr=False)
+    _seg_coords: NDArray[np.float64] = field(repr=False)
+    #: tangent test at nodes: previous/next ring vertex, NaN where no test applies
+    _prev: NDArray[np.float64] = field(repr=False)
+    _next: NDArray[np.float64] = field(repr=False)
+    #: closed free arc (start, width) a node may be left through; NaN: any direction
+    _wedge: NDArray[np.float64] = field(repr=False)
+    #: points where the free space has several separate sides (block rule), and their free arcs
+    _critical: tuple[tuple[NDArray[np.float64], tuple[tuple[float, float], ...]], ...] = field(repr=False)
+    _matrix: sparse.csr_matrix = field(repr=False)
+    seconds: float = 0.0
+
+    @property
+    def n_nodes(self) -> int:
+        return len(self.nodes)
+
+    @property
+    def n_edges(self) -> int:
+        return len(self.edges)
+
+    # -- visibility ------------------------------------------------------------------
+    def visible(self, p: ArrayLike, q: ArrayLike) -> NDArray[np.bool_]:
+        """Whether the straight segments ``p[i] -> q[i]`` are admissible paths.
+
+        ``p`` and ``q`` are points ``(2,)`` or arrays ``(N, 2)``. A segment is admissible when it
+        does not enter the interior of an area obstacle, does not cross a segment obstacle and,
+        under the ``block`` rule, does not pass through a pinch point from one side to another.
+
+        Examples
+        --------
+        >>> from gridfield.world import world_from_dict
+        >>> w = world_from_dict({"bounds": [0, 0, 4, 4],
+        ...                      "obstacles": [{"rectangle": [1, 1, 2, 2]}, {"rectangle": [2, 2, 3, 3]}]})
+        >>> visibility_graph(w).visible([[1, 3], [0, 1]], [[3, 1], [4, 1]]).tolist()
+        [False, True]
+        >>> visibility_graph(w, pinch="pass").visible([1, 3], [3, 1]).tolist()
+        [True]
+        """
+        P = np.atleast_2d(np.asarray(p, dtype=float))
+        Q = np.atleast_2d(np.asarray(q, dtype=float))
+        P, Q = np.broadcast_arrays(P, Q)
+        return self._admissible(P, Q)
+
+    def _admissible(self, P: NDArray[np.float64], Q: NDArray[np.float64]) -> NDArray[np.bool_]:
+        m = len(P)
+        ok = np.ones(m, dtype=bool)
+        if m == 0:
+            return ok
+        d = Q - P
+        length = np.hypot(d[:, 0], d[:, 1])
+        proper = length > self._tol
+        idx = np.flatnonzero(proper)
+        if len(idx) == 0:
+            return ok
+        lines = shapely.linestrings(np.stack([P[idx], Q[idx]], axis=1))
+        if len(self._parts):
+            li, pj = self._part_tree.query(lines, predicate="intersects")
+            if len(li):
+                hit = shapely.relate_pattern(lines[li], self._parts[pj], "T********")
+                ok[idx[li[hit]]] = False
+        if len(self._segments):
+            # proper crossings: each segment's end points strictly on both sides of the other's line
+            li, sj = self._segment_tree.query(lines, predicate="intersects")
+            if len(li):
+                a, b = P[idx[li]], Q[idx[li]]
+                c, e = self._seg_coords[sj, 0], self._seg_coords[sj, 1]
+                ok[idx[li[_properly_cross(a, b, c, e, self._tol)]]] = False
+        for c, arcs in self._critical:
+            # segments whose relative interior passes through the pinch point c
+            rel = c - P
+            t = (rel[:, 0] * d[:, 0] + rel[:, 1] * d[:, 1]) / np.where(proper, length, 1.0)
+            off = np.abs(d[:, 0] * rel[:, 1] - d[:, 1] * rel[:, 0]) / np.where(proper, length, 1.0)
+            through = ok & proper & (off <= 4 * self._tol) & (t > self._tol) & (t < length - self._tol)
+            if not through.any():
+                continue
+            k = np.flatnonzero(through)
+            a_fwd = _angle(Q[k] - c)
+            a_back = _angle(P[k] - c)
+            common = np.zeros(len(k), dtype=bool)
+            for s, w in arcs:
+                common |= _in_arc(a_fwd, s, w) & _in_arc(a_back, s, w)
+            ok[k[~common]] = False
+        return ok
+
+    def _node_ok(self, nodes: NDArray[np.intp], other: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Tangent and wedge conditions at graph nodes for segments towards ``other`` points."""
+        u = self.nodes[nodes]
+        d = other - u
+        ok = np.ones(len(nodes), dtype=bool)
+        a, b = self._prev[nodes], self._next[nodes]
+        test = ~np.isnan(a[:, 0])
+        if test.any():
+            da, db = a[test] - u[test], b[test] - u[test]
+            dd = d[test]
+            ca = dd[:, 0] * da[:, 1] - dd[:, 1] * da[:, 0]
+            cb = dd[:, 0] * db[:, 1] - dd[:, 1] * db[:, 0]
+            scale = np.hypot(dd[:, 0], dd[:, 1])
+            ca = np.where(np.abs(ca) <= self._tol * scale, 0.0, ca)
+            cb = np.where(np.abs(cb) <= self._tol * scale, 0.0, cb)
+            ok[test] = ca * cb >= 0.0
+        w = self._wedge[nodes]
+        wtest = ~np.isnan(w[:, 0])
+        if wtest.any():
+            th = _angle(d[wtest])
+            rel = np.mod(th - w[wtest, 0], _TWO_PI)
+            ok[wtest] &= (rel <= w[wtest, 1] + _ANGLE_EPS) | (rel >= _TWO_PI - _ANGLE_EPS)
+        return ok
+
+    # -- queries -----------------------------------------------------------------------
+    def check_point(self, name: str, point: ArrayLike) -> NDArray[np.float64]:
+        """Validate a start/goal point against the closed free space; return it as ``(2,)``.
+
+        Raises
+        ------
+        GridfieldError
+            when the point is not finite, outside the world's walls, inside an obstacle, or (under
+            the ``block`` rule) on a pinch point or a segment obstacle, where its side is ambiguous.
+        """
+        p = np.asarray(point, dtype=float).reshape(-1)
+        if p.shape != (2,) or not np.all(np.isfinite(p)):
+            raise GridfieldError(f"{name} must be two finite numbers X Y, got {point!r}")
+        x, y = p
+        w = self.world
+        if w.border == "wall":
+            xmin, ymin, xmax, ymax = w.bounds
+            if not (xmin <= x <= xmax and ymin <= y <= ymax):
+                raise GridfieldError(f"{name} ({x:g}, {y:g}) lies outside the free space: outside the world's walls "
+                                     f"[{xmin:g}, {ymin:g}, {xmax:g}, {ymax:g}]")
+        pt = Point(p)
+        if len(self._parts):
+            hits = self._part_tree.query(pt, predicate="intersects")
+            for j in hits:
+                if shapely.contains(self._parts[j], pt):
+                    ob = _obstacle_at(w, p)
+                    what = f"obstacle {ob.id} ({ob.kind})" if ob is not None else "an obstacle"
+                    extra = ""
+                    if ob is not None and ob.kind == "circle":
+                        extra = (" or within its circumscribed outline (the visibility graph's circle, "
+                                 f"{CIRCLE_OUTLINE_EXCESS:.2%} of the radius outside it)")
+                    raise GridfieldError(f"{name} ({x:g}, {y:g}) lies outside the free space: inside {what}{extra}")
+        if self.pinch == "block":
+            for c, arcs in self._critical:
+                if np.hypot(*(p - c)) <= self._tol:
+                    raise GridfieldError(
+                        f"{name} ({x:g}, {y:g}) lies on a pinch point where obstacles touch: which side it is on is "
+                        f"ambiguous ({len(arcs)} separate sides); move it off the point")
+            if len(self._segments):
+                for j in self._segment_tree.query(pt, predicate="dwithin", distance=self._tol):
+                    seg = np.asarray(self._segments[j].coords)
+                    if min(np.hypot(*(p - seg[0])), np.hypot(*(p - seg[1]))) > self._tol:
+                        raise GridfieldError(
+                            f"{name} ({x:g}, {y:g}) lies on segment obstacle {int(self._segment_ids[j])}: which side "
+                            "it is on is ambiguous; move it off the segment")
+        return p
+
+    def shortest_path(self, start: ArrayLike, goal: ArrayLike) -> tuple[NDArray[np.float64], float]:
+        """The shortest path from ``start`` to ``goal``: its vertices ``(k, 2)`` and its length.
+
+        When no path exists, returns an empty ``(0, 2)`` array and ``inf``.
+
+        Raises
+        ------
+        GridfieldError
+            when ``start`` or ``goal`` is not in the free space (see :meth:`check_point`).
+
+        Examples
+        --------
+        >>> w = world_from_polygon_environment([[0, 0], [3, 0], [3, 3], [0, 3]], [[[1, -1], [2, -1], [2, 4], [1, 4]]])
+        >>> visibility_graph(w).shortest_path([0.5, 1], [2.5, 1])
+        (array([], shape=(0, 2), dtype=float64), inf)
+        """
+        s = self.check_point("start", start)
+        g = self.check_point("goal", goal)
+        if np.hypot(*(g - s)) <= self._tol:
+            return np.array([s, g]), float(np.hypot(*(g - s)))
+        if self._admissible(s[None, :], g[None, :])[0]:
+            return np.array([s, g]), float(np.hypot(*(g - s)))
+        n = self.n_nodes
+        all_nodes = np.arange(n)
+        rows, cols, vals = [], [], []
+        for k, p in ((n, s), (n + 1, g)):
+            far = np.hypot(*(self.nodes - p).T) > self._tol
+            cand = all_nodes[far]
+            cand = cand[self._node_ok(cand, np.broadcast_to(p, (len(cand), 2)))]
+            vis = self._admissible(np.broadcast_to(p, (len(cand), 2)), self.nodes[cand])
+            cand = cand[vis]
+            rows.append(np.full(len(cand), k))
+            cols.append(cand)
+            vals.append(np.hypot(*(self.nodes[cand] - p).T))
+        rows.append(self.edges[:, 0])
+        cols.append(self.edges[:, 1])
+        vals.append(self.weights)
+        r, c, v = np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
+        mat = sparse.csr_matrix((v, (r, c)), shape=(n + 2, n + 2))
+        dist, pred = csgraph.dijkstra(mat, directed=False, indices=n, return_predecessors=True)
+        if not np.isfinite(dist[n + 1]):
+            return np.empty((0, 2)), math.inf
+        order = [n + 1]
+        while order[-1] != n:
+            order.append(int(pred[order[-1]]))
+        order.reverse()
+        pts = np.vstack([s, self.nodes[order[1:-1]], g]) if len(order) > 2 else np.array([s, g])
+        return pts, float(dist[n + 1])
+
+
+def _side(a: NDArray[np.float64], b: NDArray[np.float64], p: NDArray[np.float64], tol: float) -> NDArray[np.int8]:
+    """-1, 0, +1: side of points ``p`` of the lines ``a -> b`` (0 within ``tol``)."""
+    d = b - a
+    cross = d[:, 0] * (p[:, 1] - a[:, 1]) - d[:, 1] * (p[:, 0] - a[:, 0])
+    dist = cross / np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-300)
+    return np.where(np.abs(dist) <= tol, 0, np.sign(dist)).astype(np.int8)
+
+
+def _properly_cross(a: NDArray[np.float64], b: NDArray[np.float64], c: NDArray[np.float64],
+                    e: NDArray[np.float64], tol: float) -> NDArray[np.bool_]:
+    """Whether segments ``a-b`` and ``c-e`` cross at one point interior to both (with tolerance)."""
+    return (_side(a, b, c, tol) * _side(a, b, e, tol) < 0) & (_side(c, e, a, tol) * _side(c, e, b, tol) < 0)
+
+
+def _obstacle_at(world: World, p: NDArray[np.float64]) -> Obstacle | None:
+    for ob in world.obstacles:
+        if ob.kind in ("polygon", "circle") and shapely.intersects(ob.geometry if ob.kind != "circle"
+                                                                   else _circle_outline(ob), Point(p)):
+            return ob
+    return None
+
+
+# ----------------------------------------------------------------------------------------
+# Building the graph
+# ----------------------------------------------------------------------------------------
+def _area_union(world: World) -> BaseGeometry:
+    shapes = []
+    for ob in world.obstacles:
+        if ob.kind == "circle":
+            shapes.append(_circle_outline(ob))
+        elif ob.kind == "polygon":
+            shapes.append(ob.geometry)
+    if world.border == "wall":
+        xmin, ymin, xmax, ymax = world.bounds
+        m = max(xmax - xmin, ymax - ymin)
+        shapes.append(box(xmin - m, ymin - m, xmax + m, ymax + m).difference(box(xmin, ymin, xmax, ymax)))
+    if not shapes:
+        return shapely.GeometryCollection()
+    return shapely.orient_polygons(shapely.union_all(shapes))
+
+
+def _rings(union: BaseGeometry) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Vertices of every ring of the union with their previous and next ring vertices.
+
+    Rings are oriented with the obstacle on the left (shell counter-clockwise, holes clockwise).
+    """
+    verts, prevs, nexts = [], [], []
+    for poly in shapely.get_parts(union):
+        if not isinstance(poly, Polygon) or poly.is_empty:
+            continue
+        for ring in (poly.exterior, *poly.interiors):
+            v = np.asarray(ring.coords, dtype=float)[:-1]
+            if len(v) < 3:
+                continue
+            verts.append(v)
+            prevs.append(np.roll(v, 1, axis=0))
+            nexts.append(np.roll(v, -1, axis=0))
+    if not verts:
+        e = np.empty((0, 2))
+        return e, e, e
+    return np.concatenate(verts), np.concatenate(prevs), np.concatenate(nexts)
+
+
+def _dedupe(points: NDArray[np.float64], tol: float) -> NDArray[np.float64]:
+    if len(points) == 0:
+        return points
+    tree = cKDTree(points)
+    taken = np.zeros(len(points), dtype=bool)
+    out = []
+    for i in range(len(points)):
+        if taken[i]:
+            continue
+        group = tree.query_ball_point(points[i], tol)
+        taken[group] = True
+        out.append(points[i])
+    return np.array(out)
+
+
+def visibility_graph(world: World, *, pinch: str = "block") -> VisibilityGraph:
+    """Build the (reduced) visibility graph of a world.
+
+    Parameters
+    ----------
+    world : World
+        Polygons, circles (circumscribed 64-gons), segments; points are ignored.
+    pinch : {"block", "pass"}
+        Whether a path may squeeze through a point where obstacles touch (module docstring).
+
+    Returns
+    -------
+    VisibilityGraph
+        Reusable for any number of :meth:`VisibilityGraph.shortest_path` queries.
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"segment": [[5, 2], [5, 8]]}]})
+    >>> vg = visibility_graph(w)
+    >>> vg.n_nodes
+    2
+    >>> pts, length = vg.shortest_path([4, 5], [6, 5])
+    >>> pts.tolist(), round(length, 4)
+    ([[4.0, 5.0], [5.0, 8.0], [6.0, 5.0]], 6.3246)
+    """
+    if pinch not in PINCH_RULES:
+        raise ParameterError(f"pinch must be one of {', '.join(map(repr, PINCH_RULES))}, got {pinch!r}")
+    if not isinstance(world, World):
+        raise ParameterError(f"visibility_graph needs a World (vector obstacles), got {type(world).__name__}")
+    t0 = time.perf_counter()
+    xmin, ymin, xmax, ymax = world.bounds
+    scale = max(1.0, abs(xmin), abs(ymin), abs(xmax), abs(ymax), xmax - xmin, ymax - ymin)
+    tol = 1e-9 * scale
+
+    union = _area_union(world)
+    shapely.prepare(union)
+    # Visibility is tested against the obstacles shrunk by ``tol``: a segment along an edge or
+    # grazing a corner stays admissible when rounding puts it 1e-16 inside (rotated maps).
+    shrunk = shapely.buffer(union, -tol, join_style="mitre", mitre_limit=10.0) if not union.is_empty else union
+    parts = np.asarray([g for g in shapely.get_parts(shrunk) if isinstance(g, Polygon) and not g.is_empty],
+                       dtype=object)
+    part_tree = shapely.STRtree(parts)
+    shapely.prepare(parts)
+    union_prepared = union
+
+    seg_obs = [ob for ob in world.obstacles if ob.kind == "segment"]
+    segments = np.asarray([ob.geometry for ob in seg_obs], dtype=object)
+    segment_ids = np.asarray([ob.id for ob in seg_obs], dtype=np.intp)
+    segment_tree = shapely.STRtree(segments)
+    seg_coords = np.asarray([np.asarray(s.coords)[[0, -1]] for s in segments], dtype=float).reshape(-1, 2, 2)
+
+    # ---- ring vertices, and which of them are special (touch something else)
+    rv, rp, rn = _rings(union)
+    edges_geom = shapely.linestrings(np.stack([rv, rn], axis=1)) if len(rv) else np.empty(0, dtype=object)
+    edge_tree = shapely.STRtree(edges_geom)
+    vtree = cKDTree(rv) if len(rv) else None
+    special = np.zeros(len(rv), dtype=bool)
+    if len(rv):
+        counts = np.asarray([len(g) for g in vtree.query_ball_point(rv, tol)])
+        special |= counts > 1
+        vi, ej = edge_tree.query(shapely.points(rv), predicate="dwithin", distance=tol)
+        away = (np.hypot(*(rv[vi] - rv[ej]).T) > tol) & (np.hypot(*(rv[vi] - rn[ej]).T) > tol)
+        special[vi[away]] = True
+        if len(segments):
+            vi, _ = segment_tree.query(shapely.points(rv), predicate="dwithin", distance=tol)
+            special[vi] = True
+
+    # ---- special points: special ring vertices, segment end points and segment intersections
+    cand = [rv[special]]
+    if len(segments):
+        cand.append(seg_coords.reshape(-1, 2))
+        if len(parts):
+            boundary = shapely.boundary(union_prepared)
+            cand.append(shapely.get_coordinates(shapely.intersection(segments, boundary)))
+        si, sj = segment_tree.query(segments, predicate="intersects")
+        pair = si < sj
+        if pair.any():
+            cand.append(shapely.get_coordinates(shapely.intersection(segments[si[pair]], segments[sj[pair]])))
+    special_pts = _dedupe(np.concatenate(cand) if cand else np.empty((0, 2)), tol)
+
+    node_pts: list[NDArray[np.float64]] = []
+    node_prev: list[NDArray[np.float64]] = []
+    node_next: list[NDArray[np.float64]] = []
+    node_wedge: list[NDArray[np.float64]] = []
+    critical: list[tuple[NDArray[np.float64], tuple[tuple[float, float], ...]]] = []
+
+    # ordinary convex corners: a strict left turn of a ring (obstacle on the left)
+    plain = ~special
+    if plain.any():
+        a, c, b = rp[plain], rv[plain], rn[plain]
+        e1, e2 = c - a, b - c
+        turn = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+        convex = turn > tol * np.hypot(*e1.T) * np.hypot(*e2.T) / scale
+        node_pts.append(c[convex])
+        node_prev.append(a[convex])
+        node_next.append(b[convex])
+        node_wedge.append(np.full((convex.sum(), 2), np.nan))
+
+    for c in special_pts:
+        pt = Point(c)
+        if len(parts) and shapely.contains(union_prepared, pt):
+            continue  # inside an area obstacle: never on a path
+        occupied: list[tuple[float, float]] = []
+        if vtree is not None:
+            for k in vtree.query_ball_point(c, tol):
+                sb, sa = _angle(rn[k] - c), _angle(rp[k] - c)
+                occupied.append((float(sb), float(np.mod(sa - sb, _TWO_PI))))
+            for j in edge_tree.query(pt, predicate="dwithin", distance=tol):
+                if np.hypot(*(rv[j] - c)) > tol and np.hypot(*(rn[j] - c)) > tol:
+                    occupied.append((float(_angle(rn[j] - c)), math.pi))
+        for j in segment_tree.query(pt, predicate="dwithin", distance=tol):
+            for end in seg_coords[j]:
+                if np.hypot(*(c - end)) > tol:
+                    occupied.append((float(_angle(end - c)), 0.0))
+        arcs = _free_arcs(occupied)
+        if not arcs:
+            continue
+        if pinch == "block":
+            if len(arcs) > 1:
+                critical.append((c, tuple(arcs)))
+            for s, w in arcs:
+                if w > math.pi + _ANGLE_EPS:  # a path can only bend round a side wider than a half-plane
+                    node_pts.append(c[None, :])
+                    node_prev.append(np.full((1, 2), np.nan))
+                    node_next.append(np.full((1, 2), np.nan))
+                    node_wedge.append(np.array([[s, w]]) if len(arcs) > 1 else np.full((1, 2), np.nan))
+        else:
+            if len(arcs) > 1 or arcs[0][1] > math.pi + _ANGLE_EPS:
+                node_pts.append(c[None, :])
+                node_prev.append(np.full((1, 2), np.nan))
+                node_next.append(np.full((1, 2), np.nan))
+                node_wedge.append(np.full((1, 2), np.nan))
+
+    nodes = np.concatenate(node_pts) if node_pts else np.empty((0, 2))
+    prev = np.concatenate(node_prev) if node_prev else np.empty((0, 2))
+    nxt = np.concatenate(node_next) if node_next else np.empty((0, 2))
+    wedge = np.concatenate(node_wedge) if node_wedge else np.empty((0, 2))
+
+    graph = VisibilityGraph(
+        world=world, pinch=pinch, nodes=nodes, edges=np.empty((0, 2), dtype=np.intp), weights=np.empty(0),
+        obstacles=union_prepared, _tol=tol, _parts=parts, _part_tree=part_tree, _segments=segments,
+        _segment_tree=segment_tree, _segment_ids=segment_ids, _seg_coords=seg_coords, _prev=prev, _next=nxt, _wedge=wedge,
+        _critical=tuple(critical), _matrix=sparse.csr_matrix((len(nodes), len(nodes))),
+    )
+
+    # ---- edges: bitangent pairs that see each other
+    n = len(nodes)
+    ei, ej = [], []
+    chunk = max(1, 2_000_000 // max(n, 1))
+    for i0 in range(0, n, chunk):
+        i1 = min(n, i0 + chunk)
+        ii, jj = np.nonzero(np.arange(i0, i1)[:, None] < np.arange(n)[None, :])
+        ii += i0
+        keep = np.hypot(*(nodes[ii] - nodes[jj]).T) > tol
+        ii, jj = ii[keep], jj[keep]
+        keep = graph._node_ok(ii, nodes[jj]) & graph._node_ok(jj, nodes[ii])
+        ii, jj = ii[keep], jj[keep]
+        vis = graph._admissible(nodes[ii], nodes[jj])
+        ei.append(ii[vis])
+        ej.append(jj[vis])
+    edges = np.stack([np.concatenate(ei), np.concatenate(ej)], axis=1).astype(np.intp) if ei else \
+        np.empty((0, 2), dtype=np.intp)
+    weights = np.hypot(*(nodes[edges[:, 0]] - nodes[edges[:, 1]]).T)
+    matrix = sparse.csr_matrix((weights, (edges[:, 0], edges[:, 1])), shape=(n, n))
+    object.__setattr__(graph, "edges", edges)
+    object.__setattr__(graph, "weights", weights)
+    object.__setattr__(graph, "_matrix", matrix)
+    object.__setattr__(graph, "seconds", time.perf_counter() - t0)
+    return graph
+
+
+# ----------------------------------------------------------------------------------------
+# The planner of the registry
+# ----------------------------------------------------------------------------------------
+_CACHE: weakref.WeakKeyDictionary[World, dict[str, VisibilityGraph]] = weakref.WeakKeyDictionary()
+
+
+def _cached_graph(world: World, pinch: str) -> VisibilityGraph:
+    per_world = _CACHE.setdefault(world, {})
+    if pinch not in per_world:
+        per_world[pinch] = visibility_graph(world, pinch=pinch)
+    return per_world[pinch]
+
+
+def plan_visibility(world: World, start: ArrayLike, goal: ArrayLike, params: Mapping[str, Any] | None = None) -> Path:
+    """Exact shortest path by the visibility graph (planner ``"visibility"``).
+
+    Uses the ``block`` pinch rule; the graph of a world is built once and cached while the world
+    lives. ``params`` are recorded but not used (the optimum has no parameters). The path's
+    ``min_clearance`` is exact (:func:`path_clearance`): 0 wherever it touches an obstacle.
+
+    Returns a :class:`~gridfield.path.Path` with status ``"reached"``, or ``"no_path"`` (one
+    point, the start) when the goal cannot be reached.
+
+    Examples
+    --------
+    >>> from gridfield.io import read_world, bundled_map
+    >>> w = read_world(bundled_map("seed000.yaml"))
+    >>> p = plan_visibility(w, w.start, w.goal, {})
+    >>> p.status, round(p.length, 4), len(p.points)
+    ('reached', 22.3868, 4)
+    """
+    t0 = time.perf_counter()
+    vg = _cached_graph(world, "block")
+    pts, length = vg.shortest_path(start, goal)
+    seconds = time.perf_counter() - t0
+    extra = {"nodes": vg.n_nodes, "edges": vg.n_edges, "pinch": vg.pinch, "graph_seconds": vg.seconds,
+             "optimal_length": length}
+    if not np.isfinite(length):
+        s = np.asarray(start, dtype=float).reshape(1, 2)
+        return Path(s, "no_path", "visibility", iterations=vg.n_nodes, params=dict(params or {}),
+                    seconds=seconds, min_clearance=path_clearance(world, s), extra=extra)
+    return Path(pts, "reached", "visibility", iterations=vg.n_nodes, params=dict(params or {}), seconds=seconds,
+                min_clearance=path_clearance(world, pts), extra=extra)

@@ -48,9 +48,11 @@ def load_target(args: argparse.Namespace) -> Any:
     """Read the map named on the command line: a World or a GridMap."""
     from ..io import read
 
-    options = {}
+    options: dict[str, Any] = {}
     if getattr(args, "unknown", None) is not None:
         options["unknown"] = args.unknown
+    if getattr(args, "resolution", None) is not None and str(args.map).lower().endswith((".png", ".pgm", ".bmp")):
+        options["resolution"] = args.resolution  # a bitmap's pixel size
     try:
         return read(args.map, **options)
     except TypeError as e:  # an option the format's reader does not take

@@ -204,9 +204,9 @@ class Explorer:
         xmin, ymin, xmax, ymax = self._bounds()
         extent = (xmin, xmax, ymin, ymax)
         shape = self.gridmap.shape if self.gridmap is not None else (2, 2)
-        self.field_image = ax.imshow(np.ma.masked_all(shape), origin="lower", extent=extent, cmap="viridis",
+        self.field_image = ax.imshow(np.ma.masked_array(np.zeros(shape), mask=True), origin="lower", extent=extent, cmap="viridis",
                                      interpolation="nearest", zorder=0, vmin=0.0, vmax=1.0)
-        self.occupancy_image = ax.imshow(np.ma.masked_all(shape), origin="lower", extent=extent,
+        self.occupancy_image = ax.imshow(np.ma.masked_array(np.zeros(shape), mask=True), origin="lower", extent=extent,
                                          cmap=ListedColormap([OCCUPIED_COLOR]), vmin=0.5, vmax=1.5,
                                          interpolation="nearest", zorder=1)
         self._update_occupancy()
@@ -310,10 +310,9 @@ class Explorer:
         if name not in EXPLORER_PLANNERS:
             raise ParameterError(f"planner must be one of {EXPLORER_PLANNERS}, got {name!r}")
         self.planner = name
-        if self.radio is not None and name in self.radio.labels_text:
-            idx = self.radio.labels_text.index(name)
-            if self.radio.index_selected != idx:
-                self.radio.set_active(idx)  # calls back into set_planner, which returns early
+        labels = [t.get_text() for t in self.radio.labels] if self.radio is not None else []
+        if self.radio is not None and name in labels and self.radio.value_selected != name:
+            self.radio.set_active(labels.index(name))  # calls back into set_planner, which returns early
         self.recompute()
 
     def _is_free(self, p: tuple[float, float]) -> str | None:

@@ -824,7 +824,6 @@ def plot_basins(
         raise GridfieldError(f"basin labels must be >= 0 (0 obstacle, 1 goal, k >= 2 minima), got {lab.min()}")
     n = int(lab.max()) if lab.size else 1
     n = max(n, 1)
-    import matplotlib as mpl
 
     colors = [OCCUPIED_COLOR, GOAL_BASIN_COLOR] + [MINIMUM_COLORS[k % len(MINIMUM_COLORS)] for k in range(n - 1)]
     ax = _new_axes(ax)
@@ -1213,7 +1212,7 @@ def animate_brushfire(
     waves = np.unique(np.linspace(0, top, min(top + 1, int(max_frames))).round().astype(int))
     fig = plt.figure(figsize=(6.4, 5.0), layout="constrained")
     ax = fig.add_subplot()
-    img = ax.imshow(np.ma.masked_all(grid.shape), origin="lower", extent=grid.extent, cmap="viridis", vmin=0,
+    img = ax.imshow(np.ma.masked_array(np.zeros(grid.shape), mask=True), origin="lower", extent=grid.extent, cmap="viridis", vmin=0,
                     vmax=top, interpolation="nearest")
     fig.colorbar(img, ax=ax, shrink=0.85, label="wavefront step")
     _frame(ax, grid.bounds)

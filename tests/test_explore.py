@@ -1,0 +1,240 @@
+"""The interactive explorer, headless: synthetic mouse events, widget callbacks, the CLI snapshot."""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("MPLBACKEND", "Agg")
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+from matplotlib.backend_bases import KeyEvent, MouseEvent  # noqa: E402
+
+from gridfield.cli import main  # noqa: E402
+from gridfield.errors import GridfieldError, ParameterError  # noqa: E402
+from gridfield.explore import Explorer, available_planners  # noqa: E402
+from gridfield.grid import Grid, GridMap  # noqa: E402
+from gridfield.io import bundled_map, read_world  # noqa: E402
+
+pytest.importorskip("gridfield.rasterize")
+pytest.importorskip("gridfield.follow")
+
+
+@pytest.fixture
+def explorer():
+    ex = Explorer(read_world(bundled_map("seed000.yaml")), resolution=0.25)
+    yield ex
+    ex.close()
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
+
+
+def click(ex: Explorer, x: float, y: float, button: int = 1) -> None:
+    """Send a mouse press at world point (x, y) through the canvas' callback registry."""
+    dx, dy = ex.ax.transData.transform((x, y))
+    event = MouseEvent("button_press_event", ex.figure.canvas, dx, dy, button=button)
+    ex.figure.canvas.callbacks.process("button_press_event", event)
+
+
+def path_xy(ex: Explorer) -> np.ndarray:
+    return np.column_stack(ex.path_line.get_data()).astype(float)
+
+
+def test_initial_state_plans_the_world_start_to_goal(explorer):
+    assert explorer.start == (1.0, 10.0) and explorer.goal == (22.0, 12.0)
+    assert explorer.path is not None and explorer.path.status == "reached"
+    xy = path_xy(explorer)
+    assert len(xy) == len(explorer.path.points) and np.allclose(xy[0], (1.0, 10.0))
+    assert explorer.message.startswith("potential: reached")
+    # the map layer is in world coordinates with row 0 at the bottom
+    img = explorer.occupancy_image
+    assert img.origin == "lower" and list(img.get_extent()) == [0.0, 25.0, 0.0, 20.0]
+
+
+def test_clicks_set_start_then_goal_and_the_path_follows(explorer):
+    before = path_xy(explorer)
+    n = explorer.n_updates
+    click(explorer, 2.0, 2.0)
+    assert explorer.start == pytest.approx((2.0, 2.0))
+    assert explorer.n_updates == n + 1
+    after_start = path_xy(explorer)
+    assert not np.array_equal(before, after_start)
+    assert np.allclose(after_start[0], (2.0, 2.0))
+    click(explorer, 20.0, 3.0)
+    assert explorer.goal == pytest.approx((20.0, 3.0))
+    assert np.allclose(explorer.goal_marker.get_offsets()[0], (20.0, 3.0))
+    assert explorer.path.status == "reached"
+    assert np.allclose(path_xy(explorer)[-1], (20.0, 3.0), atol=0.2)
+    # the third click sets the start again
+    click(explorer, 3.0, 15.0)
+    assert explorer.start == pytest.approx((3.0, 15.0))
+
+
+def test_click_inside_an_obstacle_is_refused_with_a_message(explorer):
+    before = path_xy(explorer)
+    click(explorer, 9.0, 6.0)  # inside the triangle
+    assert explorer.start == (1.0, 10.0)
+    assert "inside an obstacle" in explorer.message and "start" in explorer.message
+    assert np.array_equal(before, path_xy(explorer))
+
+
+def test_clicks_outside_the_map_axes_and_right_clicks_are_ignored(explorer):
+    n = explorer.n_updates
+    click(explorer, 2.0, 2.0, button=3)
+    slider_ax = explorer.sliders["eta"].ax
+    x, y = slider_ax.transAxes.transform((0.5, 0.5))
+    explorer.figure.canvas.callbacks.process("button_press_event",
+                                             MouseEvent("button_press_event", explorer.figure.canvas, x, y, button=1))
+    assert explorer.start == (1.0, 10.0)
+    assert explorer.n_updates == n + 1  # only the slider reacted to its own click (eta moved)
+
+
+def test_slider_set_val_recomputes(explorer):
+    n = explorer.n_updates
+    before = path_xy(explorer)
+    explorer.sliders["q_star"].set_val(4.0)
+    assert explorer.params["q_star"] == pytest.approx(4.0)
+    assert explorer.n_updates == n + 1
+    assert explorer.path.params["q_star"] == pytest.approx(4.0)
+    assert not np.array_equal(before, path_xy(explorer))
+
+
+def test_d_star_slider_end_means_inf(explorer):
+    s = explorer.sliders["d_star"]
+    assert np.isinf(explorer.params["d_star"]) and s.val == s.valmax and s.valtext.get_text() == "inf"
+    s.set_val(3.0)
+    assert explorer.params["d_star"] == pytest.approx(3.0) and s.valtext.get_text() == "3"
+    explorer.set_param("d_star", float("inf"))
+    assert np.isinf(explorer.params["d_star"]) and s.val == s.valmax
+
+
+def test_set_param_checks_names_and_ranges(explorer):
+    with pytest.raises(ParameterError, match="zetta"):
+        explorer.set_param("zetta", 1.0)
+    with pytest.raises(ParameterError, match="outside the slider range"):
+        explorer.set_param("eta", 1e6)
+
+
+def test_drawing_a_polygon_adds_an_obstacle_and_replans(explorer):
+    n_obstacles = len(explorer.world.obstacles)
+    occupied_before = explorer.gridmap.occupied.sum()
+    explorer.draw_button.on_clicked  # the button exists
+    explorer.toggle_drawing()
+    assert explorer.drawing
+    for v in [(19.5, 9.0), (21.0, 9.0), (21.0, 15.0), (19.5, 15.0)]:
+        click(explorer, *v)
+    assert explorer.start == (1.0, 10.0)  # clicks while drawing add vertices, not endpoints
+    assert len(explorer.draft_line.get_xdata()) == 4
+    n = explorer.n_updates
+    click(explorer, 20.0, 12.0, button=3)  # right click closes the polygon
+    assert not explorer.drawing
+    assert len(explorer.world.obstacles) == n_obstacles + 1
+    assert explorer.world.obstacles[-1].kind == "polygon"
+    assert explorer.gridmap.occupied.sum() > occupied_before
+    assert explorer.n_updates == n + 1
+    assert len(explorer.draft_line.get_xdata()) == 0
+    # the wall between start and goal changes the path: it no longer runs straight through x = 20
+    assert explorer.path is not None
+    pts = explorer.path.points
+    assert not np.any((pts[:, 0] > 19.6) & (pts[:, 0] < 20.9) & (pts[:, 1] > 9.1) & (pts[:, 1] < 14.9))
+
+
+def test_drawing_with_too_few_vertices_is_discarded(explorer):
+    n_obstacles = len(explorer.world.obstacles)
+    explorer.toggle_drawing()
+    click(explorer, 20.0, 2.0)
+    click(explorer, 21.0, 2.0)
+    explorer.toggle_drawing()  # the button again finishes drawing
+    assert len(explorer.world.obstacles) == n_obstacles
+    assert "at least 3 vertices" in explorer.message
+
+
+def test_self_intersecting_polygon_is_refused(explorer):
+    with pytest.raises(GridfieldError, match="not simple"):
+        explorer.add_polygon([(20, 2), (22, 4), (22, 2), (20, 4)])
+
+
+def test_key_d_toggles_drawing(explorer):
+    canvas = explorer.figure.canvas
+    canvas.callbacks.process("key_press_event", KeyEvent("key_press_event", canvas, "d"))
+    assert explorer.drawing
+    canvas.callbacks.process("key_press_event", KeyEvent("key_press_event", canvas, "escape"))
+    assert not explorer.drawing
+
+
+def test_planner_radio_lists_installed_planners(explorer):
+    labels = [t.get_text() for t in explorer.radio.labels]
+    assert labels == available_planners()
+    assert "potential" in labels
+    for name in labels:
+        explorer.set_planner(name)
+        assert explorer.planner == name
+        assert explorer.radio.value_selected == name
+        assert explorer.path is not None, explorer.message
+        assert explorer.path.planner == name
+
+
+def test_radio_click_switches_planner(explorer):
+    labels = [t.get_text() for t in explorer.radio.labels]
+    if len(labels) < 2:
+        pytest.skip("only one explorer planner installed")
+    explorer.radio.set_active(labels.index(labels[1]))
+    assert explorer.planner == labels[1]
+    assert explorer.path is not None and explorer.path.planner == labels[1]
+
+
+def test_grid_map_without_world_burns_polygons_into_the_occupancy():
+    occ = np.zeros((40, 40), bool)
+    occ[:, :2] = True
+    gm = GridMap(Grid((40, 40), 0.5), occ)
+    ex = Explorer(gm, start=(3.0, 3.0), goal=(17.0, 17.0), params={"q_star": 2.0, "step": 0.2})
+    try:
+        assert ex.world is None and ex.path is not None
+        ex.add_polygon([(8, 8), (12, 8), (12, 12), (8, 12)])
+        assert ex.gridmap.occupied[20, 20]  # centre (10.25, 10.25)
+        assert ex.gridmap.occupied.sum() > occ.sum()
+    finally:
+        ex.close()
+
+
+def test_vortex_world_tracks_the_start_charge():
+    ex = Explorer(read_world(bundled_map("seed003_circles.yaml")))
+    try:
+        assert ex.field is not None
+        assert ex.field_image.get_extent() == list(ex.field.map.grid.extent)
+        assert ex.set_start(-3.0, 4.0)
+        assert ex.world.start == (-3.0, 4.0)
+        assert ex.path is not None and np.allclose(ex.path.points[0], (-3.0, 4.0))
+    finally:
+        ex.close()
+
+
+def test_bad_arguments():
+    w = read_world(bundled_map("seed000.yaml"))
+    with pytest.raises(ParameterError, match="planner must be one of"):
+        Explorer(w, planner="dijkstra")
+    with pytest.raises(ParameterError, match="World or a GridMap"):
+        Explorer("seed000.yaml")  # type: ignore[arg-type]
+
+
+def test_cli_explore_snapshot(tmp_path, capsys):
+    out = tmp_path / "explore.png"
+    assert main(["explore", str(bundled_map("seed000.yaml")), "--resolution", "0.25", "--eta", "2",
+                 "--save", str(out)]) == 0
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "wrote" in capsys.readouterr().out
+
+
+def test_cli_explore_needs_an_interactive_backend(capsys):
+    assert main(["explore", str(bundled_map("seed000.yaml"))]) == 2
+    err = capsys.readouterr().err
+    assert "cannot open a window" in err and "--save" in err

@@ -6,20 +6,20 @@ import os
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
-import matplotlib  # noqa: E402
+import matplotlib
 
 matplotlib.use("Agg")
 
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pytest  # noqa: E402
-from matplotlib.backend_bases import KeyEvent, MouseEvent  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+from matplotlib.backend_bases import KeyEvent, MouseEvent
 
-from gridfield.cli import main  # noqa: E402
-from gridfield.errors import GridfieldError, ParameterError  # noqa: E402
-from gridfield.explore import Explorer, available_planners  # noqa: E402
-from gridfield.grid import Grid, GridMap  # noqa: E402
-from gridfield.io import bundled_map, read_world  # noqa: E402
+from gridfield.cli import main
+from gridfield.errors import GridfieldError, ParameterError
+from gridfield.explore import Explorer, available_planners
+from gridfield.grid import Grid, GridMap
+from gridfield.io import bundled_map, read_world
 
 pytest.importorskip("gridfield.rasterize")
 pytest.importorskip("gridfield.follow")
@@ -127,7 +127,6 @@ def test_set_param_checks_names_and_ranges(explorer):
 def test_drawing_a_polygon_adds_an_obstacle_and_replans(explorer):
     n_obstacles = len(explorer.world.obstacles)
     occupied_before = explorer.gridmap.occupied.sum()
-    explorer.draw_button.on_clicked  # the button exists
     explorer.toggle_drawing()
     assert explorer.drawing
     for v in [(19.5, 9.0), (21.0, 9.0), (21.0, 15.0), (19.5, 15.0)]:

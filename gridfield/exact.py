@@ -56,7 +56,7 @@ from typing import Any
 
 import numpy as np
 import shapely
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
 from .errors import GridfieldError, ParameterError
 from .follow import attraction_force, descend, resolve_follow_params
@@ -109,9 +109,6 @@ class ExactField:
         self.sum = p["repulsion"] == "sum"
         self.saturate = p["saturate"]
         circles = [ob for ob in world.obstacles if ob.kind == "circle"]
-        self._cx = np.array([ob.center[0] for ob in circles], dtype=float)  # type: ignore[index]
-        self._cy = np.array([ob.center[1] for ob in circles], dtype=float)  # type: ignore[index]
-        self._cr = np.array([ob.radius for ob in circles], dtype=float)
         self._circles = [(float(ob.center[0]), float(ob.center[1]), float(ob.radius)) for ob in circles]  # type: ignore[index,arg-type]
         self._geoms = np.array([ob.geometry for ob in world.obstacles if ob.kind != "circle"], dtype=object)
         self._tree = shapely.STRtree(self._geoms) if len(self._geoms) > _TREE_MIN else None
@@ -123,27 +120,23 @@ class ExactField:
         self._attr = attraction_force(self.goal, p)
 
     # -- distances ------------------------------------------------------------------------
-    def closest(self, p: tuple[float, float]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """Distances ``D`` and closest points ``(cx, cy)`` of the obstacles that can repel at ``p``.
+    def closest(self, p: tuple[float, float]) -> list[tuple[float, float, float]]:
+        """``(D, cx, cy)``: distance and closest point of each obstacle that can repel at ``p``.
 
-        All obstacles (and the wall) when few, else only those within ``q_star``.
+        All obstacles (and the wall) when there are few, else those an STRtree finds within
+        ``q_star`` (or the nearest, for ``repulsion="nearest"``).
         """
         x, y = p
-        ds: list[float] = []
-        xs: list[float] = []
-        ys: list[float] = []
+        out: list[tuple[float, float, float]] = []
         for cx, cy, r in self._circles:
             dx, dy = x - cx, y - cy
             rho = math.sqrt(dx * dx + dy * dy)
-            ds.append(rho - r)
             if rho > 0:
-                xs.append(cx + r * dx / rho)
-                ys.append(cy + r * dy / rho)
+                out.append((rho - r, cx + r * dx / rho, cy + r * dy / rho))
             else:
-                xs.append(cx + r)
-                ys.append(cy)
+                out.append((-r, cx + r, cy))
         if len(self._geoms):
-            pt = shapely.points(x, y)
+            pt = shapely.points(p)
             geoms = self._geoms
             if self._tree is not None:
                 if math.isfinite(self.q_star) and self.sum:
@@ -152,33 +145,22 @@ class ExactField:
                     idx = self._tree.query_nearest(pt)
                 geoms = geoms[idx]
             if len(geoms):
-                c = shapely.get_coordinates(shapely.shortest_line(geoms, pt))[0::2]
-                cx, cy = c[:, 0], c[:, 1]
-                ds.extend(np.hypot(x - cx, y - cy).tolist())
-                xs.extend(cx.tolist())
-                ys.extend(cy.tolist())
+                c = shapely.get_coordinates(shapely.shortest_line(geoms, pt))[0::2].tolist()
+                for cx, cy in c:
+                    out.append((math.hypot(x - cx, y - cy), cx, cy))
         if self._wall:
             xmin, ymin, xmax, ymax = self.world.bounds
-            cand = ((x - xmin, xmin, y), (xmax - x, xmax, y), (y - ymin, x, ymin), (ymax - y, x, ymax))
-            d, wx, wy = min(cand, key=lambda t: t[0])
-            ds.append(d)
-            xs.append(wx)
-            ys.append(wy)
-        return np.asarray(ds), np.asarray(xs), np.asarray(ys)
+            out.append(min(((x - xmin, xmin, y), (xmax - x, xmax, y), (y - ymin, x, ymin), (ymax - y, x, ymax))))
+        return out
 
-    def _active(self, d: NDArray[np.float64]) -> NDArray[np.intp]:
-        if len(d) == 0:
-            return np.zeros(0, np.intp)
+    def _active(self, p: tuple[float, float]) -> list[tuple[float, float, float]]:
+        near = self.closest(p)
+        if not near:
+            return near
         if not self.sum:
-            k = int(np.argmin(d))
-            d = d[k: k + 1]
-            base = np.array([k])
-        else:
-            base = np.arange(len(d))
-        keep = d < self.q_star
-        if self.saturate is not None:
-            keep &= d < self.saturate
-        return base[keep]
+            near = [min(near, key=lambda t: t[0])]
+        lim = self.q_star if self.saturate is None else min(self.q_star, self.saturate)
+        return [t for t in near if t[0] < lim]
 
     # -- the field ------------------------------------------------------------------------
     def attraction(self, p: tuple[float, float]) -> tuple[float, float]:
@@ -188,15 +170,14 @@ class ExactField:
     def force(self, p: tuple[float, float]) -> tuple[float, float]:
         """The force ``F = F_attr + F_rep`` at ``p``. Raises GridfieldError inside an obstacle."""
         fx, fy = self._attr(p)
-        d, cx, cy = self.closest(p)
-        act = self._active(d)
-        if len(act):
-            dd = d[act]
-            if np.any(dd <= 0.0):
-                raise GridfieldError(f"the point ({p[0]:g}, {p[1]:g}) lies inside or on an obstacle")
-            mag = self.eta * (1.0 / dd - 1.0 / self.q_star) / dd**self.power
-            fx += float(np.sum(mag * (p[0] - cx[act]) / dd))
-            fy += float(np.sum(mag * (p[1] - cy[act]) / dd))
+        x, y = p
+        eta, iq, power = self.eta, 1.0 / self.q_star, self.power
+        for d, cx, cy in self._active(p):
+            if d <= 0.0:
+                raise GridfieldError(f"the point ({x:g}, {y:g}) lies inside or on an obstacle")
+            mag = eta * (1.0 / d - iq) / d**power
+            fx += mag * (x - cx) / d
+            fy += mag * (y - cy) / d
         return fx, fy
 
     def potential(self, p: tuple[float, float]) -> float:
@@ -209,13 +190,11 @@ class ExactField:
             u = 0.5 * self.zeta * dist * dist
         else:
             u = self.d_star * self.zeta * dist - 0.5 * self.zeta * self.d_star**2
-        d, _, _ = self.closest(p)
-        act = self._active(d)
-        if len(act):
-            dd = d[act]
-            if np.any(dd <= 0.0):
+        iq = 1.0 / self.q_star
+        for d, _, _ in self._active(p):
+            if d <= 0.0:
                 return math.inf
-            u += float(np.sum(0.5 * self.eta * (1.0 / dd - 1.0 / self.q_star) ** 2))
+            u += 0.5 * self.eta * (1.0 / d - iq) ** 2
         return u
 
     def blocked(self, p: tuple[float, float], q: tuple[float, float]) -> bool:

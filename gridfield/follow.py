@@ -629,10 +629,10 @@ def _segment_blocked(occ, x0, y0, inv, wall, xa, ya, xb, yb):  # pragma: no cove
     v0 = (ya - y0) * inv
     u1 = (xb - x0) * inv
     v1 = (yb - y0) * inv
-    i = int(math.floor(u0))
-    j = int(math.floor(v0))
-    ie = int(math.floor(u1))
-    je = int(math.floor(v1))
+    i = math.floor(u0)
+    j = math.floor(v0)
+    ie = math.floor(u1)
+    je = math.floor(v1)
     if _cell_blocked(occ, wall, i, j):
         return True
     du = u1 - u0
@@ -1277,14 +1277,14 @@ def basins(field: Any) -> Basins:
     grid: Grid = field.map.grid
     free = ~np.asarray(field.map.occupied, dtype=bool)
     succ = descent_successor(np.asarray(field.potential, dtype=float), free)
-    for _ in range(int(math.ceil(math.log2(max(succ.size, 2)))) + 1):
+    for _ in range(math.ceil(math.log2(max(succ.size, 2))) + 1):
         nxt = succ[succ]
         if np.array_equal(nxt, succ):
             break
         succ = nxt
     flat_free = free.reshape(-1)
     sink = np.where(flat_free, succ, -1)
-    cells, inside = grid.world_to_cell(np.asarray(field.goal, dtype=float))
+    cells, _ = grid.world_to_cell(np.asarray(field.goal, dtype=float))
     gr = int(np.clip(cells[0, 0], 0, grid.rows - 1))
     gc = int(np.clip(cells[0, 1], 0, grid.cols - 1))
     goal_flat = gr * grid.cols + gc

@@ -1,0 +1,166 @@
+"""``gridfield compare``: a grid planner against the exact-geometry planner on a vector world.
+
+Two modes:
+
+- convergence (default): the grid planner at every ``--resolutions`` cell size against the exact
+  planner, one table row per resolution, and the observed order of each error;
+- ``--batch N``: N random start/goal pairs at ``--resolution``: success rates of the grid and
+  exact potential fields and of the octile wavefront, length ratios to the visibility optimum.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from ._common import add_map_arguments, add_param_arguments, collect_params, load_target
+
+DEFAULT_RESOLUTIONS = (0.4, 0.2, 0.1, 0.05)
+
+
+def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    from ..planners import PLANNERS
+
+    grid_planners = [k for k, v in PLANNERS.items() if v[2] == "grid"] + ["visibility"]
+    world_planners = [k for k, v in PLANNERS.items() if v[2] == "world"]
+    p = sub.add_parser("compare", help="compare a grid planner with the exact planner (convergence, batch)",
+                       description="Run a grid planner at several resolutions against the exact-geometry "
+                                   "planner on a vector world and report path length ratios, Hausdorff and "
+                                   "Frechet distances, stall-point errors and clearances; or, with --batch N, "
+                                   "success rates and length ratios over N random start/goal pairs.")
+    add_map_arguments(p, name="WORLD")
+    p.add_argument("--start", nargs=2, type=float, metavar=("X", "Y"),
+                   help="start point (default: the world file's start)")
+    p.add_argument("--goal", nargs=2, type=float, metavar=("X", "Y"),
+                   help="goal point (default: the world file's goal)")
+    p.add_argument("--resolutions", nargs="+", type=float, metavar="R", default=None,
+                   help=f"cell sizes of the convergence study (default: {' '.join(map(str, DEFAULT_RESOLUTIONS))})")
+    p.add_argument("--planner", default="potential", choices=grid_planners,
+                   help="grid planner (default: potential)")
+    p.add_argument("--exact-planner", default="exact-potential", choices=world_planners,
+                   help="exact planner (default: exact-potential)")
+    p.add_argument("--batch", type=int, metavar="N", default=None,
+                   help="compare on N random start/goal pairs at --resolution instead")
+    p.add_argument("--pair-seed", type=int, default=0, metavar="S", help="random seed of the --batch pairs")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar in --batch mode")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--plot", metavar="F", help="save error vs resolution on log-log axes (convergence mode)")
+    add_param_arguments(p)
+    return p
+
+
+def _clean(v: Any) -> Any:
+    """JSON-safe values: NaN -> null, +-inf -> "inf"/"-inf", numpy scalars -> Python."""
+    import numpy as np
+
+    if isinstance(v, bool | np.bool_):
+        return bool(v)
+    if isinstance(v, int | np.integer):
+        return int(v)
+    if isinstance(v, float | np.floating):
+        f = float(v)
+        return f if math.isfinite(f) else (None if math.isnan(f) else ("inf" if f > 0 else "-inf"))
+    if isinstance(v, Mapping):
+        return {str(k): _clean(x) for k, x in v.items()}
+    if isinstance(v, list | tuple | np.ndarray):
+        return [_clean(x) for x in v]
+    return v
+
+
+def _fmt(v: Any, spec: str) -> str:
+    if isinstance(v, float) and math.isnan(v):
+        return "-"
+    return format(v, spec)
+
+
+def _print_table(rows: Sequence[Mapping[str, Any]], orders: Mapping[str, float], header: str) -> None:
+    print(header)
+    print(f"{'resolution':>10} {'cells':>9} {'build ms':>9} {'plan ms':>8} {'status':>14} {'exact':>14} "
+          f"{'len/exact':>9} {'len/opt':>8} {'Hausdorff':>9} {'Frechet':>8} {'stall err':>9} {'clearance':>9}")
+    for r in rows:
+        print(f"{r['resolution']:>10g} {r['cells']:>9d} {r['build_ms']:>9.1f} {r['plan_ms']:>8.1f} "
+              f"{r['status']:>14} {r['exact_status']:>14} {_fmt(r['length_ratio'], '9.4f')} "
+              f"{_fmt(r['length_ratio_optimal'], '8.4f')} {_fmt(r['hausdorff'], '9.4f')} {_fmt(r['frechet'], '8.4f')} "
+              f"{_fmt(r['end_error'], '9.4f')} {_fmt(r['min_clearance'], '9.4f')}"
+              + ("  COLLIDES" if r["collides"] else ""))
+    shown = ", ".join(f"{k} {v:.2f}" for k, v in orders.items() if not math.isnan(v))
+    print(f"observed order (error ~ h^p): {shown or 'not enough positive errors'}")
+
+
+def _plot(file: str, rows: Sequence[Mapping[str, Any]], title: str) -> None:
+    import matplotlib.pyplot as plt
+
+    from ..compare import study_errors
+    from ..plot import plot_convergence
+
+    names = {"hausdorff": "Hausdorff", "frechet": "Frechet", "end_error": "stall/end point",
+             "length_error": "|length ratio - 1|"}
+    errors = {names[k]: v for k, v in study_errors(rows).items()}
+    h = [r["resolution"] for r in rows]
+    art = plot_convergence(h, errors, title=title)
+    art.figure.savefig(file, dpi=110, bbox_inches="tight")
+    plt.close(art.figure)
+
+
+def _print_batch(result: Mapping[str, Any]) -> None:
+    print(f"{result['world'] or 'world'}: {result['pairs']} random pairs at resolution {result['resolution']:g} "
+          f"(seed {result['seed']})")
+    print(f"{'planner':18} {'success':>8} {'len/opt mean':>12} {'median':>8} {'max':>8}  statuses")
+    for name, s in result["planners"].items():
+        lr = s["length_ratio"]
+        agree = f"  agrees with exact: {s['agreement_with_exact']:.0%}" if "agreement_with_exact" in s else ""
+        print(f"{name:18} {s['success_rate']:8.1%} {_fmt(lr['mean'], '12.4f')} {_fmt(lr['median'], '8.4f')} "
+              f"{_fmt(lr['max'], '8.4f')}  {s['statuses']}{agree}")
+    for name, why in result["skipped"].items():
+        print(f"{name:18} skipped: {why}")
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..compare import batch_compare, convergence_study, study_orders
+    from ..errors import ParameterError
+    from ..world import World
+    from .plan import endpoints
+
+    target = load_target(args)
+    if not isinstance(target, World):
+        raise ParameterError(f"{args.map} is a grid map; compare needs a vector world (a world YAML file)")
+    params = collect_params(args)
+    if args.batch is not None:
+        if args.batch < 1:
+            raise ParameterError(f"--batch must be a positive number of pairs, got {args.batch}")
+        if args.plot:
+            raise ParameterError("--plot draws the convergence study; leave it out with --batch")
+        resolution = args.resolution if args.resolution is not None else target.resolution
+        if resolution is None:
+            raise ParameterError(f"{args.map} sets no resolution; pass --resolution R with --batch")
+        result = batch_compare(target, args.batch, resolution=resolution, params=params, seed=args.pair_seed,
+                               progress=not args.no_progress)
+        if args.json:
+            out = dict(result)
+            out["world"] = args.map
+            json.dump(_clean(out), sys.stdout)
+            sys.stdout.write("\n")
+        else:
+            _print_batch(result)
+        return 0
+
+    start, goal = endpoints(args, target)
+    resolutions = args.resolutions if args.resolutions is not None else list(DEFAULT_RESOLUTIONS)
+    rows = convergence_study(target, start, goal, resolutions, params=params, grid_planner=args.planner,
+                             exact_planner=args.exact_planner)
+    orders = study_orders(rows)
+    if args.json:
+        json.dump(_clean({"world": args.map, "start": list(start), "goal": list(goal), "planner": args.planner,
+                          "exact_planner": args.exact_planner, "rows": rows, "order": orders}), sys.stdout)
+        sys.stdout.write("\n")
+    else:
+        _print_table(rows, orders, f"{args.map}: {args.planner} (grid) vs {args.exact_planner} (exact), "
+                                   f"start ({start[0]:g}, {start[1]:g}) goal ({goal[0]:g}, {goal[1]:g})")
+    if args.plot:
+        _plot(args.plot, rows, f"{args.planner} vs {args.exact_planner}")
+        print(f"wrote {args.plot}", file=sys.stderr if args.json else sys.stdout)
+    return 0

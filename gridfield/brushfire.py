@@ -1,22 +1,40 @@
 """Brushfire (wavefront) distance maps: steps, distances, nearest obstacle, labels, GVD.
 
-Numbering: obstacle cells have ``steps == 0``, their neighbours 1, and so on (the textbook
-brushfire of Choset et al. sec. 4.3 numbers obstacles 1 and their neighbours 2; subtract 1).
-With ``connectivity=8`` the wavefront measures chessboard distance, with 4 taxicab distance.
+Numbering
+---------
+Obstacle cells have ``steps == 0``, their neighbours 1, and so on. The textbook brushfire of
+Choset et al. (sec. 4.3; seed 002) numbers obstacles 1 and their neighbours 2: subtract 1 from the
+textbook's numbers to get ours, so that ``steps`` *is* the distance in cells. With
+``connectivity=8`` the wavefront measures chessboard distance (``max(|dr|, |dc|)``), with 4 taxicab
+distance (``|dr| + |dc|``).
 
+Border
+------
 A wall border counts as an obstacle ring just outside the grid: its cells are rows ``-1`` and
-``rows``, columns ``-1`` and ``cols``, and its label is :data:`BORDER_LABEL`.
+``rows``, columns ``-1`` and ``cols``, and its label is :data:`BORDER_LABEL`. An open border is free
+space that is not part of the map: the wavefront simply stops at the edge.
+
+Implementation
+--------------
+Compiled (numba) separable transforms: a pass along the columns finds each cell's nearest obstacle
+in its column, a pass along the rows takes the lower envelope of those (Meijster et al. 2000). Both
+passes are exact for the three metrics and carry the nearest obstacle cell along with the distance;
+both run in parallel over columns / rows (``threads``). The kernels are compiled on first use and
+cached on disk (``numba`` ``cache=True``).
 """
 
 from __future__ import annotations
 
+import contextlib
+import threading
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from types import ModuleType
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import ndimage
 
-from .errors import ParameterError
+from .errors import GridfieldError, ParameterError
 from .grid import Grid, GridMap
 
 __all__ = ["BORDER_LABEL", "METRICS", "DistanceMap", "brushfire"]
@@ -35,21 +53,37 @@ class DistanceMap:
     map : GridMap
         The occupancy map the distances were computed on.
     connectivity : int
+        4 or 8: the neighbourhood of the wavefront that numbers ``steps``.
     metric : str
+        What ``distance`` measures: ``"chessboard"``, ``"taxicab"`` or ``"euclidean"``.
     steps : ndarray of int32
-        Wavefront number (0 on obstacles). ``-1`` where no obstacle exists at all.
+        Wavefront number: 0 on obstacles, 1 on their neighbours, ... (the textbook's number minus 1).
+        ``-1`` everywhere when there is no obstacle at all (empty map, open border).
     distance : ndarray of float64
-        Distance to the nearest obstacle cell in world units, by ``metric`` (``inf`` where none).
-        With ``saturate``, distances ``>= saturate`` are replaced by ``far``.
-    nearest_row, nearest_col : ndarray of int32
-        Cell index of the nearest obstacle cell (may be -1 or ``rows``/``cols`` for the wall border;
-        -1 on both where there is no obstacle).
-    label : ndarray of int32
+        Distance from the cell's centre to the centre of the nearest obstacle cell in world units, by
+        ``metric`` (``inf`` where there is none). With ``saturate``, distances ``>= saturate`` are
+        replaced by ``far``.
+    nearest_row, nearest_col : ndarray of int32 or None
+        Cell index of the nearest obstacle cell: exactly at ``distance`` by ``metric``; on ties any one
+        of the nearest. The wall border's cells are row ``-1`` / ``rows`` or column ``-1`` / ``cols``
+        (never a corner of the ring). -1 on both where there is no obstacle. ``None`` when computed
+        with ``compute_nearest=False``.
+    label : ndarray of int32 or None
         Label of the nearest obstacle: the world obstacle id when the grid was rasterized from a
-        world, else the 8-connected component number (1-based); :data:`BORDER_LABEL` for the wall
-        border; 0 where there is no obstacle. Obstacle cells carry their own label.
-    gvd : ndarray of bool
-        Free cells where the wavefronts of two different labels meet (one cell thick).
+        world (``GridMap.obstacle_id``), else the 8-connected component number (1-based, numbered in
+        raster order of each component's first cell, as ``scipy.ndimage.label``);
+        :data:`BORDER_LABEL` for the wall border; 0 where there is no obstacle. Obstacle cells carry
+        their own label. ``None`` when computed with ``compute_labels=False``.
+    gvd : ndarray of bool or None
+        Generalized Voronoi diagram: free cells where the wavefronts of two different labels meet.
+        Of each pair of 8-neighbouring free cells with different labels, the one farther from its
+        obstacle is marked (ties: the first in raster order), so the GVD is one cell thick, and
+        every GVD cell is within one cell of equidistant from two obstacles. With a wall border the
+        wall is one of the obstacles. ``None`` when computed with ``compute_gvd=False``.
+    saturate : float or None
+        Saturation radius used (seed 004), or None.
+    far : float
+        Value that replaced saturated distances.
     """
 
     map: GridMap
@@ -57,10 +91,10 @@ class DistanceMap:
     metric: str
     steps: NDArray[np.int32]
     distance: NDArray[np.float64]
-    nearest_row: NDArray[np.int32]
-    nearest_col: NDArray[np.int32]
-    label: NDArray[np.int32]
-    gvd: NDArray[np.bool_]
+    nearest_row: NDArray[np.int32] | None
+    nearest_col: NDArray[np.int32] | None
+    label: NDArray[np.int32] | None
+    gvd: NDArray[np.bool_] | None
     saturate: float | None = None
     far: float = np.inf
 
@@ -69,18 +103,96 @@ class DistanceMap:
         return self.map.grid
 
     def nearest_point(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """World coordinates ``(x, y)`` of the centre of each cell's nearest obstacle cell."""
+        """World coordinates ``(x, y)`` of the centre of each cell's nearest obstacle cell.
+
+        NaN where there is no obstacle at all. Wall-border cells lie just outside the grid.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from gridfield.grid import Grid, GridMap
+        >>> occ = np.zeros((1, 4), bool); occ[0, 0] = True
+        >>> x, y = brushfire(GridMap(Grid((1, 4), 0.5), occ)).nearest_point()
+        >>> x.tolist(), y.tolist()
+        ([[0.25, 0.25, 0.25, 0.25]], [[0.25, 0.25, 0.25, 0.25]])
+        """
+        if self.nearest_row is None or self.nearest_col is None:
+            raise GridfieldError("this distance map was computed with compute_nearest=False; "
+                                 "call brushfire(..., compute_nearest=True) to get nearest obstacles")
         g = self.grid
         x = g.origin[0] + (self.nearest_col + 0.5) * g.resolution
         y = g.origin[1] + (self.nearest_row + 0.5) * g.resolution
-        none = self.nearest_row == -1
-        none &= self.nearest_col == -1
+        none = (self.nearest_row == -1) & (self.nearest_col == -1) & (g.border == "open")
         return np.where(none, np.nan, x), np.where(none, np.nan, y)
 
 
-def _components(occ: NDArray[np.bool_]) -> NDArray[np.int32]:
-    lab, _ = ndimage.label(occ, structure=np.ones((3, 3), dtype=bool))
-    return lab.astype(np.int32)
+_KERNELS: ModuleType | None = None
+
+
+def _kernels() -> ModuleType:
+    """The numba kernels, imported (and compiled or loaded from the cache) on first use."""
+    global _KERNELS
+    if _KERNELS is None:
+        from . import _kernels_brushfire
+
+        _KERNELS = _kernels_brushfire
+    return _KERNELS
+
+
+@contextlib.contextmanager
+def _num_threads(threads: int | None) -> Iterator[int]:
+    import numba
+
+    available = int(numba.config.NUMBA_NUM_THREADS)
+    if threads is None:
+        yield numba.get_num_threads()
+        return
+    if isinstance(threads, bool) or not isinstance(threads, int | np.integer) or threads < 1:
+        raise ParameterError(f"threads must be a positive integer or None (all {available}), got {threads!r}")
+    before = numba.get_num_threads()
+    n = min(int(threads), available)
+    numba.set_num_threads(n)
+    try:
+        yield n
+    finally:
+        numba.set_num_threads(before)
+
+
+_NO_COMP = np.zeros((1, 1), np.int32)  # placeholder for an output that is not computed
+_NO_MAP = np.zeros(1, np.int32)
+
+
+def _beside(job: Callable[[], None] | None, nthreads: int) -> Callable[[], None]:
+    """Start ``job`` in a second thread (when there are 2+ threads; else run it now); return ``join``,
+    which waits for it and re-raises its exception."""
+    if job is None:
+        return lambda: None
+    if nthreads < 2:
+        job()
+        return lambda: None
+    failure: list[BaseException] = []
+
+    def target() -> None:
+        try:
+            job()
+        except BaseException as e:  # re-raised in the caller's thread
+            failure.append(e)
+
+    thread = threading.Thread(target=target, name="gridfield-brushfire", daemon=True)
+    thread.start()
+
+    def join() -> None:
+        thread.join()
+        if failure:
+            raise failure[0]
+
+    return join
+
+
+def _check_flag(name: str, value: object) -> bool:
+    if not isinstance(value, bool | np.bool_):
+        raise ParameterError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
 
 
 def brushfire(
@@ -90,20 +202,50 @@ def brushfire(
     metric: str | None = None,
     saturate: float | None = None,
     far: float = np.inf,
+    compute_nearest: bool = True,
+    compute_labels: bool | None = None,
+    compute_gvd: bool | None = None,
+    threads: int | None = None,
 ) -> DistanceMap:
     """Wavefront distance map of an occupancy grid.
 
     Parameters
     ----------
     gridmap : GridMap
+        Occupancy (``True`` = obstacle) and geometry; ``gridmap.grid.border`` says whether what lies
+        outside the grid is a wall (an obstacle for the wavefront) or open space.
     connectivity : {8, 4}
-        Neighbourhood of the wavefront that numbers ``steps``.
+        Neighbourhood of the wavefront that numbers ``steps``: 8 gives chessboard distances in cells
+        (the classic brushfire), 4 taxicab.
     metric : {"chessboard", "taxicab", "euclidean"}, optional
-        What ``distance`` measures; default: chessboard for 8-connectivity, taxicab for 4.
+        What ``distance`` (and the nearest obstacle) measures; default: chessboard for
+        8-connectivity, taxicab for 4. Euclidean is the exact distance between cell centres.
     saturate : float, optional
-        Saturation radius (seed 004): distances at or beyond it become ``far``.
+        Saturation radius in world units (seed 004): distances at or beyond it become ``far``.
+        ``steps``, the nearest obstacle and the GVD are not saturated.
     far : float
         Value of saturated distances (default ``inf``).
+    compute_nearest : bool
+        Compute ``nearest_row`` / ``nearest_col`` (default True; else they are None).
+    compute_labels : bool, optional
+        Compute ``label`` (default: True). Labels need a connected-component pass unless the map
+        carries ``obstacle_id``.
+    compute_gvd : bool, optional
+        Compute ``gvd`` (default: ``compute_labels``); needs the labels.
+    threads : int, optional
+        Number of threads for the compiled passes (default: all numba threads, i.e. all cores
+        unless ``NUMBA_NUM_THREADS`` says otherwise); clipped to that maximum.
+
+    Returns
+    -------
+    DistanceMap
+        Always the same type; fields not computed are None.
+
+    Raises
+    ------
+    ParameterError
+        For an unknown connectivity, metric or flag, a non-positive saturation radius, or
+        ``compute_gvd=True`` with ``compute_labels=False``.
 
     Examples
     --------
@@ -115,72 +257,133 @@ def brushfire(
     array([[1, 1, 2, 3, 4],
            [0, 1, 2, 3, 4],
            [1, 1, 2, 3, 4]], dtype=int32)
+    >>> brushfire(GridMap(Grid((3, 5), 1.0), occ), connectivity=4).steps
+    array([[1, 2, 3, 4, 5],
+           [0, 1, 2, 3, 4],
+           [1, 2, 3, 4, 5]], dtype=int32)
+
+    A wall border is an obstacle for the wavefront, labelled :data:`BORDER_LABEL`:
+
+    >>> w = brushfire(GridMap(Grid((3, 5), 1.0, border="wall"), occ))
+    >>> w.steps
+    array([[1, 1, 1, 1, 1],
+           [0, 1, 2, 2, 1],
+           [1, 1, 1, 1, 1]], dtype=int32)
+    >>> int(w.label[1, 3]), int(w.label[1, 1])
+    (-1, 1)
+
+    Labels tell the obstacles apart; the GVD lies where their wavefronts meet:
+
+    >>> two = np.zeros((1, 6), bool); two[0, [0, 5]] = True
+    >>> d = brushfire(GridMap(Grid((1, 6), 1.0), two), metric="euclidean")
+    >>> d.label, d.gvd
+    (array([[1, 1, 1, 2, 2, 2]], dtype=int32), array([[False, False,  True, False, False, False]]))
+
+    Saturation (seed 004) clips the distance, not the steps:
+
+    >>> brushfire(GridMap(Grid((1, 5), 0.5), occ[1:2]), saturate=1.0).distance
+    array([[0. , 0.5, inf, inf, inf]])
     """
-    if connectivity not in (4, 8):
+    if isinstance(connectivity, bool) or connectivity not in (4, 8):
         raise ParameterError(f"connectivity must be 4 or 8, got {connectivity!r}")
     if metric is None:
         metric = "chessboard" if connectivity == 8 else "taxicab"
     if metric not in METRICS:
         raise ParameterError(f"metric must be one of {METRICS}, got {metric!r}")
-    if saturate is not None and not (np.isfinite(saturate) and saturate > 0):
-        raise ParameterError(f"saturate must be a positive finite distance, got {saturate!r}")
-    grid = gridmap.grid
-    occ = gridmap.occupied
-    wall = grid.border == "wall"
-    pad = 1 if wall else 0
-    if wall:
-        occ = np.pad(occ, 1, constant_values=True)
-    rows, cols = occ.shape
-
-    if not occ.any():
-        shape = grid.shape
-        minus = np.full(shape, -1, np.int32)
-        return DistanceMap(gridmap, connectivity, metric, minus, np.full(shape, np.inf), minus, minus.copy(),
-                           np.zeros(shape, np.int32), np.zeros(shape, bool), saturate, far)
-
-    step_metric = "chessboard" if connectivity == 8 else "taxicab"
-    steps, idx = ndimage.distance_transform_cdt(~occ, metric=step_metric, return_indices=True)
-    if metric == "euclidean":
-        edt, idx = ndimage.distance_transform_edt(~occ, return_indices=True)
-        distance = edt * grid.resolution
-    elif metric == step_metric:
-        distance = steps * grid.resolution
-    else:
-        other, idx = ndimage.distance_transform_cdt(~occ, metric=metric, return_indices=True)
-        distance = other * grid.resolution
-    nr, nc = idx[0], idx[1]
-
-    if gridmap.obstacle_id is not None:
-        lab = np.pad(gridmap.obstacle_id, pad) if wall else gridmap.obstacle_id.copy()
-    else:
-        lab = _components(np.pad(gridmap.occupied, pad) if wall else gridmap.occupied)
-    if wall:
-        ring = np.ones((rows, cols), bool)
-        ring[1:-1, 1:-1] = False
-        lab = lab.copy()
-        lab[ring] = BORDER_LABEL
-    label = lab[nr, nc]
-
-    sl = (slice(pad, rows - pad), slice(pad, cols - pad))
-    steps, distance, label = steps[sl].astype(np.int32), distance[sl].astype(np.float64), label[sl]
-    nr, nc = (nr[sl] - pad).astype(np.int32), (nc[sl] - pad).astype(np.int32)
-    gvd = _gvd(label, distance, gridmap.occupied)
     if saturate is not None:
-        distance = np.where(distance >= saturate, far, distance)
-    return DistanceMap(gridmap, connectivity, metric, steps, distance, nr, nc, label.astype(np.int32), gvd,
+        try:
+            saturate = float(saturate)
+        except (TypeError, ValueError):
+            raise ParameterError(f"saturate must be a positive finite distance, got {saturate!r}") from None
+        if not (np.isfinite(saturate) and saturate > 0):
+            raise ParameterError(f"saturate must be a positive finite distance, got {saturate!r}")
+    try:
+        far = float(far)
+    except (TypeError, ValueError):
+        raise ParameterError(f"far must be a number, got {far!r}") from None
+    want_nearest = _check_flag("compute_nearest", compute_nearest)
+    want_label = True if compute_labels is None else _check_flag("compute_labels", compute_labels)
+    want_gvd = want_label if compute_gvd is None else _check_flag("compute_gvd", compute_gvd)
+    if want_gvd and not want_label:
+        raise ParameterError("compute_gvd=True needs the labels; pass compute_labels=True or compute_gvd=False")
+
+    grid = gridmap.grid
+    shape = grid.shape
+    wall = grid.border == "wall"
+    occ = np.ascontiguousarray(gridmap.occupied, dtype=bool)
+
+    if not wall and not occ.any():
+        minus = np.full(shape, -1, np.int32)
+        return DistanceMap(
+            gridmap, connectivity, metric, minus, np.full(shape, np.inf),
+            minus.copy() if want_nearest else None, minus.copy() if want_nearest else None,
+            np.zeros(shape, np.int32) if want_label else None, np.zeros(shape, bool) if want_gvd else None,
+            saturate, far,
+        )
+
+    k = _kernels()
+    occ8 = occ.view(np.uint8)
+    res = float(grid.resolution)
+    step8 = connectivity == 8
+    obstacle_id = gridmap.obstacle_id
+    steps = np.empty(shape, np.int32)
+    distance = np.empty(shape, np.float64)
+    nearest_row = nearest_col = label = gvd = None
+    comps: list[NDArray[np.int32]] = []
+
+    def components() -> None:
+        comp = np.empty(shape, np.int32)
+        comp_map, _ = k.label_components(occ8, comp)
+        comps.extend((comp, comp_map))
+
+    with _num_threads(threads) as nthreads:
+        # Component labelling is sequential: it runs in a second thread beside the sequential passes.
+        join = _beside(components if want_label and obstacle_id is None else None, nthreads)
+        try:
+            if metric == "euclidean":
+                k.chamfer_steps(occ8, wall, step8, steps, distance, res, False)
+                vr = np.empty(shape, np.int32)  # column pass result; becomes nearest_row
+                k.column_pass(occ8, wall, vr, nthreads)
+            else:
+                if metric == ("chessboard" if step8 else "taxicab"):
+                    scratch = steps
+                else:  # distance and nearest obstacle by the other chamfer metric
+                    k.chamfer_steps(occ8, wall, step8, steps, distance, res, False)
+                    scratch = np.empty(shape, np.int32)
+                if want_nearest or want_label:  # labels are looked up at the nearest obstacle
+                    nearest_row, nearest_col = np.empty(shape, np.int32), np.empty(shape, np.int32)
+                    k.chamfer_nearest(occ8, wall, metric == "chessboard", scratch, nearest_row, nearest_col,
+                                      distance, res, True)
+                else:
+                    k.chamfer_steps(occ8, wall, metric == "chessboard", scratch, distance, res, True)
+                del scratch
+        finally:
+            join()
+        if want_label:
+            label = np.empty(shape, np.int32)
+            if obstacle_id is not None:
+                comp, comp_map, use_map = np.ascontiguousarray(obstacle_id, np.int32), _NO_MAP, False
+            else:
+                (comp, comp_map), use_map = comps, True
+        else:
+            comp, comp_map, use_map = _NO_COMP, _NO_MAP, False
+        if metric == "euclidean":
+            if want_nearest:
+                nearest_row, nearest_col = vr, np.empty(shape, np.int32)
+            k.edt_row_pass(vr, wall, res, distance, vr, _NO_COMP if nearest_col is None else nearest_col,
+                           want_nearest, comp, comp_map, use_map, want_label,
+                           _NO_COMP if label is None else label, BORDER_LABEL, nthreads)
+            del vr
+        elif label is not None:
+            k.label_pass(nearest_row, nearest_col, comp, comp_map, use_map, BORDER_LABEL, label, nthreads)
+        del comp, comp_map
+        comps.clear()
+        if want_gvd:
+            gvd = np.empty(shape, bool)
+            k.gvd_pass(label, distance, occ8, gvd, nthreads)
+        if saturate is not None:
+            k.saturate_pass(distance, saturate, far, nthreads)
+    if not want_nearest:
+        nearest_row = nearest_col = None
+    return DistanceMap(gridmap, connectivity, metric, steps, distance, nearest_row, nearest_col, label, gvd,
                        saturate, far)
-
-
-def _gvd(label: NDArray[np.int32], distance: NDArray[np.float64], occupied: NDArray[np.bool_]) -> NDArray[np.bool_]:
-    """Free cells next to a free cell of another label; of each such pair the farther cell (ties: the first)."""
-    gvd = np.zeros(label.shape, bool)
-    free = ~occupied
-    # forward half of the 8-neighbourhood: (dr, dc)
-    for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):
-        a = (slice(0, label.shape[0] - dr), slice(max(0, -dc), label.shape[1] - max(0, dc)))
-        b = (slice(dr, None), slice(max(0, dc), label.shape[1] + min(0, dc) or None))
-        meet = (label[a] != label[b]) & free[a] & free[b]
-        a_mark = meet & (distance[a] >= distance[b])
-        gvd[a] |= a_mark
-        gvd[b] |= meet & ~a_mark
-    return gvd

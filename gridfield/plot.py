@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path as FsPath
 from typing import TYPE_CHECKING, Any
@@ -251,8 +251,21 @@ def _draw_outlines(ax: Axes, world: World, *, color: str = OUTLINE_COLOR, zorder
     return out
 
 
-def _frame(ax: Axes, bounds: tuple[float, float, float, float]) -> None:
+def _frame(ax: Axes, bounds: tuple[float, float, float, float], points: Sequence[NDArray[np.float64]] = ()) -> None:
+    """Equal-aspect world axes showing ``bounds``, widened to show every point of ``points`` (paths
+    that left an open-bordered grid)."""
     xmin, ymin, xmax, ymax = bounds
+    pts = [p for p in points if len(p)]
+    if pts:
+        allp = np.concatenate(pts)
+        allp = allp[np.all(np.isfinite(allp), axis=1)]
+        if len(allp):
+            pad = 0.02 * max(xmax - xmin, ymax - ymin)
+            (px0, py0), (px1, py1) = allp.min(axis=0), allp.max(axis=0)
+            xmin = px0 - pad if px0 < xmin else xmin
+            ymin = py0 - pad if py0 < ymin else ymin
+            xmax = px1 + pad if px1 > xmax else xmax
+            ymax = py1 + pad if py1 > ymax else ymax
     ax.set_xlim(xmin, xmax)
     ax.set_ylim(ymin, ymax)
     ax.set_aspect("equal")
@@ -405,7 +418,7 @@ def plot_map(
     _draw_paths(ax, paths, art, styles=path_styles)
     _draw_endpoints(ax, art, _point_or_none(start, "start"), _point_or_none(goal, "goal"))
     bounds = gm.grid.bounds if gm is not None else world.bounds  # type: ignore[union-attr]
-    _frame(ax, bounds)
+    _frame(ax, bounds, [p.points for p in paths])
     ax.set_title(_title_of(target) if title is None else title)
     if legend:
         _legend(ax, art)
@@ -647,7 +660,11 @@ def plot_potential(
         lv = np.linspace(lo, hi, levels)
         norm = Normalize(vmin=lo, vmax=hi)
     if min(grid.shape) >= 2:
-        art.contours = ax.contourf(xs, ys, zm, levels=lv, norm=norm, cmap=cmap, zorder=0)
+        # Contour on the cell centres plus the grid's outer edges (edge values repeated), so that
+        # the filled contours cover the whole extent like the images do.
+        xe = np.concatenate([[grid.bounds[0]], xs, [grid.bounds[2]]])
+        ye = np.concatenate([[grid.bounds[1]], ys, [grid.bounds[3]]])
+        art.contours = ax.contourf(xe, ye, np.pad(zm, 1, mode="edge"), levels=lv, norm=norm, cmap=cmap, zorder=0)
         art.mappable = art.contours
     else:  # a single row or column cannot be contoured
         art.mappable = ax.imshow(zm, origin="lower", extent=grid.extent, cmap=cmap, norm=norm,
@@ -684,7 +701,10 @@ def plot_potential(
         art.colorbar = ax.figure.colorbar(art.mappable, ax=ax, shrink=0.85, label=label)
         if log:
             art.colorbar.set_ticks(_log_ticks(lo, hi))
-    _frame(ax, grid.bounds)
+    shown = [path.points] if path is not None else []
+    if stall_points is not None:
+        shown.append(_points_or_empty(stall_points, "stall_points"))
+    _frame(ax, grid.bounds, shown)
     ax.set_title(title if title is not None else "potential")
     if path is not None or "stall" in art.markers:
         _legend(ax, art)
@@ -743,6 +763,7 @@ def plot_surface(
         cap = umin + 1.0
     if ax is None:
         ax = _new_axes(None, projection="3d", figsize=(7.5, 6.0))
+        ax.view_init(elev=38, azim=-62)
     elif getattr(ax, "name", "") != "3d":
         raise ParameterError("plot_surface needs a 3-D axes: create it with fig.add_subplot(projection='3d')")
     art = Artists(ax)
@@ -1063,20 +1084,30 @@ def save_plan_figure(
     return p
 
 
-def _animation_writer(file: FsPath, fps: int) -> Any:
+def _check_animation_file(file: PathLike) -> FsPath:
+    """Validate an animation file name: ``.gif``, or ``.mp4`` when ffmpeg is installed."""
     from matplotlib import animation
 
-    suffix = file.suffix.lower()
+    p = FsPath(file)
+    suffix = p.suffix.lower()
     if suffix not in ANIMATION_FORMATS:
-        raise ParameterError(f"{file}: unknown animation format {suffix!r}; use .gif (or .mp4 with ffmpeg installed)")
-    if file.parent and not file.parent.exists():
-        raise GridfieldError(f"{file}: the folder {file.parent} does not exist")
-    if suffix == ".mp4":
-        if not animation.writers.is_available("ffmpeg"):
-            raise GridfieldError(f"{file}: writing MP4 needs ffmpeg on the PATH, which was not found; "
-                                 "install ffmpeg or write a .gif instead")
-        return animation.FFMpegWriter(fps=fps)
-    return animation.PillowWriter(fps=fps)
+        raise ParameterError(f"{p}: unknown animation format {suffix!r}; use .gif (or .mp4 with ffmpeg installed)")
+    if p.parent and not p.parent.exists():
+        raise GridfieldError(f"{p}: the folder {p.parent} does not exist")
+    if suffix == ".mp4" and not animation.writers.is_available("ffmpeg"):
+        raise GridfieldError(f"{p}: writing MP4 needs ffmpeg on the PATH, which was not found; "
+                             "install ffmpeg or write a .gif instead")
+    return p
+
+
+def _animation_figure(figsize: tuple[float, float], dpi: int) -> tuple[Figure, Axes]:
+    """A figure on its own Agg canvas (no pyplot, no window, whatever the backend)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize, dpi=dpi, layout="constrained")
+    FigureCanvasAgg(fig)
+    return fig, fig.add_subplot()
 
 
 def _frame_indices(n: int, max_frames: int) -> NDArray[np.intp]:
@@ -1104,17 +1135,48 @@ def _try_field(target: Any, path: Path, goal: NDArray[np.float64] | None, resolu
         return None
 
 
-def _write_animation(fig: Figure, update: Any, frames: int, writer: Any, file: FsPath, dpi: int) -> None:
-    import matplotlib.pyplot as plt
-    from matplotlib import animation
+def _write_animation(fig: Figure, update: Callable[[int], None], n_frames: int, animated: Sequence[Any],
+                     file: FsPath, fps: int) -> None:
+    """Render ``n_frames`` frames and write them.
 
-    anim = animation.FuncAnimation(fig, update, frames=frames, blit=False, repeat=False)
+    GIF: the static part of the figure is drawn once and each frame redraws only the ``animated``
+    artists over it (blitting), then pillow writes the frames with one shared palette. MP4: matplotlib's
+    ffmpeg writer (a full redraw per frame).
+    """
+    if fps < 1:
+        raise ParameterError(f"fps must be at least 1, got {fps}")
+    if file.suffix.lower() == ".mp4":
+        from matplotlib import animation
+
+        anim = animation.FuncAnimation(fig, update, frames=n_frames, blit=False, repeat=False)
+        try:
+            anim.save(str(file), writer=animation.FFMpegWriter(fps=fps))
+        except OSError as e:
+            raise GridfieldError(f"{file}: cannot write: {e.strerror or e}") from None
+        return
+    from PIL import Image
+
+    canvas = fig.canvas
+    for a in animated:
+        a.set_animated(True)
+    canvas.draw()
+    background = canvas.copy_from_bbox(fig.bbox)
+    frames = []
+    palette = None
+    for k in range(n_frames):
+        update(k)
+        canvas.restore_region(background)
+        for a in animated:
+            fig.draw_artist(a)
+        rgb = Image.fromarray(np.asarray(canvas.buffer_rgba())[..., :3])
+        if palette is None:
+            palette = rgb.quantize(colors=255, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
+        frames.append(rgb.quantize(palette=palette, dither=Image.Dither.NONE))
     try:
-        anim.save(str(file), writer=writer, dpi=dpi)
+        frames[0].save(file, format="GIF", save_all=True, append_images=frames[1:], duration=max(1, round(1000 / fps)),
+                       loop=0, disposal=1)
     except OSError as e:
         raise GridfieldError(f"{file}: cannot write: {e.strerror or e}") from None
-    finally:
-        plt.close(fig)
 
 
 def save_plan_animation(
@@ -1147,43 +1209,39 @@ def save_plan_animation(
 
     Returns the file's path.
     """
-    import matplotlib.pyplot as plt
-
-    p = FsPath(file)
-    writer = _animation_writer(p, int(fps))
+    p = _check_animation_file(file)
     if len(path.points) == 0:
         raise GridfieldError("the path has no points to animate")
     g = _goal_of(path, target, goal)
     if field is None:
         field = _try_field(target, path, g, resolution)
-    fig = plt.figure(figsize=(6.4, 5.0), layout="constrained")
-    ax = fig.add_subplot()
+    fig, ax = _animation_figure((6.4, 5.0), int(dpi))
     if field is not None:
         art = plot_potential(field, ax, quiver=True, colorbar=False, title="")
         if g is None:
             g = _point_or_none(getattr(field, "goal", None), "goal")
     else:
         art = plot_map(target, ax, resolution=resolution, start=path.points[0], goal=g, legend=False, title="")
-    if g is not None and "goal" not in art.markers:
-        _draw_endpoints(ax, art, None, g)
+    _draw_endpoints(ax, art, None if "start" in art.markers else path.points[0],
+                    None if (g is None or "goal" in art.markers) else g)
     pts = path.points
     idx = _frame_indices(len(pts), int(max_frames))
     (trail,) = ax.plot([], [], color="tab:red", linewidth=2.0, zorder=7)
     robot = ax.scatter([pts[0, 0]], [pts[0, 1]], s=80, color="tab:red", edgecolor="white", zorder=9)
-    title = ax.set_title("")
     stall = _stall_points(path)
+    stall_marker = ax.scatter(stall[:, 0], stall[:, 1], marker="X", s=110, color="red", edgecolor="white",
+                              zorder=10)
+    title = ax.set_title(" ")
 
-    def update(k: int) -> tuple[Any, ...]:
+    def update(k: int) -> None:
         i = int(idx[k])
         trail.set_data(pts[: i + 1, 0], pts[: i + 1, 1])
         robot.set_offsets(pts[i : i + 1])
         last = k == len(idx) - 1
         title.set_text(f"{path.planner}: step {i}/{len(pts) - 1}" + (f" — {path.status}" if last else ""))
-        if last and len(stall):
-            ax.scatter(stall[:, 0], stall[:, 1], marker="X", s=90, color="red", edgecolor="white", zorder=10)
-        return trail, robot, title
+        stall_marker.set_visible(last)
 
-    _write_animation(fig, update, len(idx), writer, p, dpi)
+    _write_animation(fig, update, len(idx), (trail, robot, stall_marker, title), p, int(fps))
     return p
 
 
@@ -1200,29 +1258,24 @@ def animate_brushfire(
 
     Returns the file's path (``.gif``, or ``.mp4`` with ffmpeg).
     """
-    import matplotlib.pyplot as plt
-
-    p = FsPath(file)
-    writer = _animation_writer(p, int(fps))
+    p = _check_animation_file(file)
     grid = _grid_of(dmap)
     steps = np.asarray(dmap.steps)
     top = int(steps.max()) if steps.size else 0
     if top <= 0:
         raise GridfieldError("the distance map has no wavefront to animate (no obstacle, or no free cell)")
     waves = np.unique(np.linspace(0, top, min(top + 1, int(max_frames))).round().astype(int))
-    fig = plt.figure(figsize=(6.4, 5.0), layout="constrained")
-    ax = fig.add_subplot()
-    img = ax.imshow(np.ma.masked_array(np.zeros(grid.shape), mask=True), origin="lower", extent=grid.extent, cmap="viridis", vmin=0,
-                    vmax=top, interpolation="nearest")
+    fig, ax = _animation_figure((6.4, 5.0), int(dpi))
+    img = ax.imshow(np.ma.masked_array(np.zeros(grid.shape), mask=True), origin="lower", extent=grid.extent,
+                    cmap="viridis", vmin=0, vmax=top, interpolation="nearest")
     fig.colorbar(img, ax=ax, shrink=0.85, label="wavefront step")
     _frame(ax, grid.bounds)
-    title = ax.set_title("")
+    title = ax.set_title(" ")
 
-    def update(k: int) -> tuple[Any, ...]:
+    def update(k: int) -> None:
         w = int(waves[k])
         img.set_data(np.ma.masked_array(steps, mask=(steps > w) | (steps < 0)))
         title.set_text(f"brushfire: wave {w}/{top}")
-        return img, title
 
-    _write_animation(fig, update, len(waves), writer, p, dpi)
+    _write_animation(fig, update, len(waves), (img, title), p, int(fps))
     return p

@@ -1,0 +1,434 @@
+"""The demo behind ``gridfield demo``: every bundled map and world through the whole pipeline.
+
+:func:`run_demo` loads the bundled maps and worlds, runs the planners on them and writes the
+figures (PNG), one animation (GIF) and a summary table (``summary.md``, ``summary.csv``) to a
+folder. The parts:
+
+``maps``
+    a picture of each bundled occupancy grid (vector worlds rasterized, outlines drawn);
+``seed000``
+    seed 000's polygon world and its segment variant: the grid follower and the exact planner
+    side by side (the segment variant stalls in the local minimum the seed reports, marked),
+    the potential, its 3-D surface, the basins of attraction and the follower animated;
+``seed003``
+    seed 003's two circles with the vortex field, ``Ko = 5`` (reaches) and ``Ko = 10`` (does not);
+``turtlebot3``, ``arena``
+    a ROS map and a Moving AI map: brushfire, potential, basins and a wavefront path next to
+    the potential path.
+
+A part whose modules are not installed is skipped with a line naming the missing capability
+(:attr:`DemoResult.skipped`); nothing is silently left out.
+"""
+
+from __future__ import annotations
+
+import csv
+import importlib.util
+import math
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path as FsPath
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .errors import GridfieldError
+from .grid import Grid, GridMap
+from .path import Path
+
+__all__ = ["DEMO_PARTS", "SUMMARY_COLUMNS", "DemoResult", "demo", "run_demo"]
+
+#: The demo's parts, in the order they run.
+DEMO_PARTS = ("maps", "seed000", "seed003", "turtlebot3", "arena")
+#: Columns of ``summary.csv`` (and of the rows :func:`run_demo` returns).
+SUMMARY_COLUMNS = ("part", "map", "planner", "status", "length", "steps", "ms", "note")
+
+#: Grid-map potential parameters (the ROS map is in metres at 0.05 m, the Moving AI map in cells).
+TURTLEBOT3_PARAMS = {"zeta": 1.0, "d_star": 1.0, "eta": 0.05, "q_star": 0.35, "step": 0.02, "tolerance": 0.05,
+                     "max_iterations": 2000}
+TURTLEBOT3_START, TURTLEBOT3_GOAL = (-2.0, -0.5), (2.0, 0.5)
+ARENA_PARAMS = {"zeta": 1.0, "d_star": 6.0, "eta": 20.0, "q_star": 3.0, "step": 0.25, "tolerance": 0.5,
+                "max_iterations": 2000}
+
+
+@dataclass
+class DemoResult:
+    """What :func:`demo` did: summary rows, files written, parts or steps skipped."""
+
+    out_dir: FsPath
+    rows: list[dict[str, Any]] = field(default_factory=list)
+    files: list[FsPath] = field(default_factory=list)
+    skipped: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+
+
+class _Run:
+    """Bookkeeping shared by the parts."""
+
+    def __init__(self, out: FsPath, quick: bool, log: Callable[[str], None]) -> None:
+        self.out = out
+        self.quick = quick
+        self.log = log
+        self.result = DemoResult(out)
+
+    # -- capabilities ----------------------------------------------------------------------
+    @staticmethod
+    def have(module: str) -> bool:
+        try:
+            return importlib.util.find_spec(module) is not None
+        except (ImportError, ValueError):
+            return False
+
+    def need(self, what: str, *modules: str) -> bool:
+        """Whether every module is installed; otherwise log and record the skip."""
+        missing = [m for m in modules if not self.have(m)]
+        if missing:
+            line = f"skipped {what}: needs {', '.join(missing)} (not available yet)"
+            self.result.skipped.append(line)
+            self.log(line)
+            return False
+        return True
+
+    def have_planner(self, what: str, planner: str) -> bool:
+        from .planners import PLANNERS
+
+        return self.need(f"{what} ({planner} planner)", PLANNERS[planner][0])
+
+    # -- results ---------------------------------------------------------------------------
+    def plan(self, part: str, name: str, target: Any, planner: str, start: ArrayLike, goal: ArrayLike,
+             params: Mapping[str, Any] | None = None, *, note: str = "") -> Path:
+        from .planners import plan
+
+        t0 = time.perf_counter()
+        path = plan(planner, target, start, goal, params)
+        ms = (time.perf_counter() - t0) * 1e3
+        self.row(part, name, path, ms, note)
+        return path
+
+    def row(self, part: str, name: str, path: Path, ms: float, note: str = "") -> None:
+        stall = _stall_note(path)
+        self.result.rows.append({
+            "part": part, "map": name, "planner": path.planner, "status": path.status,
+            "length": round(path.length, 3), "steps": int(path.iterations), "ms": round(ms, 1),
+            "note": "; ".join(s for s in (note, stall) if s),
+        })
+
+    def save(self, fig: Any, name: str) -> FsPath:
+        import matplotlib.pyplot as plt
+
+        p = self.out / name
+        try:
+            fig.savefig(p, dpi=80 if self.quick else 100)
+        finally:
+            plt.close(fig)
+        self.result.files.append(p)
+        return p
+
+    def add_file(self, p: FsPath) -> None:
+        self.result.files.append(FsPath(p))
+
+
+def _stall_note(path: Path) -> str:
+    if path.status != "local_minimum":
+        return ""
+    from .plot import _stall_points
+
+    s = _stall_points(path)
+    return f"stalls at ({s[-1, 0]:.2f}, {s[-1, 1]:.2f})" if len(s) else ""
+
+
+def _figure(nrows: int, ncols: int, size: tuple[float, float], **kw: Any) -> tuple[Any, Any]:
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(nrows, ncols, figsize=size, layout="constrained", squeeze=False, **kw)
+    return fig, axes
+
+
+def crop_to_known(gridmap: GridMap, *, margin: int = 8) -> GridMap:
+    """The part of a map around its free cells (ROS maps are mostly unknown space), ``margin`` cells wider.
+
+    Examples
+    --------
+    >>> occ = np.ones((10, 10), bool); occ[4:6, 3:7] = False
+    >>> crop_to_known(GridMap(Grid((10, 10), 0.5), occ), margin=1).grid.bounds
+    (1.0, 1.5, 4.0, 3.5)
+    """
+    free = ~gridmap.occupied
+    if not free.any():
+        return gridmap
+    rows, cols = np.nonzero(free.any(axis=1))[0], np.nonzero(free.any(axis=0))[0]
+    r0, r1 = max(rows[0] - margin, 0), min(rows[-1] + margin + 1, gridmap.shape[0])
+    c0, c1 = max(cols[0] - margin, 0), min(cols[-1] + margin + 1, gridmap.shape[1])
+    g = gridmap.grid
+    origin = (g.origin[0] + c0 * g.resolution, g.origin[1] + r0 * g.resolution)
+    grid = Grid((r1 - r0, c1 - c0), g.resolution, origin, g.border)
+    ids = gridmap.obstacle_id[r0:r1, c0:c1] if gridmap.obstacle_id is not None else None
+    return GridMap(grid, np.ascontiguousarray(gridmap.occupied[r0:r1, c0:c1]), ids, gridmap.world, gridmap.source,
+                   {**gridmap.meta, "cropped_from": g.shape})
+
+
+# ----------------------------------------------------------------------------------------------
+# parts
+# ----------------------------------------------------------------------------------------------
+BUNDLED = (
+    ("seed000.yaml", "seed 000 world"),
+    ("seed000_segment.yaml", "seed 000 + segment"),
+    ("seed003_circles.yaml", "seed 003 circles"),
+    ("turtlebot3_world/map.yaml", "TurtleBot3 world (ROS)"),
+    ("nav2_depot/depot.yaml", "nav2 depot (ROS)"),
+    ("arena/arena.map", "arena (Moving AI)"),
+)
+
+
+def _part_maps(run: _Run) -> None:
+    from .io import bundled_map, read
+    from .plot import plot_map
+
+    if not run.have("gridfield.rasterize"):
+        run.need("maps: occupancy of the vector worlds (outlines only)", "gridfield.rasterize")
+    fig, axes = _figure(2, 3, (15.0, 9.0))
+    for ax, (name, title) in zip(axes.ravel(), BUNDLED, strict=True):
+        target = read(bundled_map(name))
+        if isinstance(target, GridMap) and target.meta.get("format") == "ros":
+            target = crop_to_known(target)
+        art = plot_map(target, ax, legend=False, title="")
+        if isinstance(target, GridMap):
+            g = target.grid
+            shape = f"{g.rows}x{g.cols} at {g.resolution:g}"
+        elif art.image is not None:
+            shape = "rasterized {}x{} at {:g}".format(*art.image.get_array().shape, target.resolution or 0)
+        else:
+            shape = "vector world"
+        ax.set_title(f"{title}\n{FsPath(name).name}: {shape}", fontsize=10)
+    run.save(fig, "maps.png")
+
+
+def _part_seed000(run: _Run) -> None:
+    from .io import bundled_map, read_world
+    from .plot import plot_basins, plot_comparison, plot_potential, plot_surface, save_plan_animation
+    from .rasterize import as_gridmap
+
+    res = 0.1 if run.quick else 0.05
+    worlds = {key: read_world(bundled_map(f"{key}.yaml")) for key in ("seed000", "seed000_segment")}
+    grid_paths: dict[str, Path] = {}
+    exact_paths: dict[str, Path] = {}
+    have_exact = run.have_planner("seed000 exact paths", "exact-potential")
+    for key, w in worlds.items():
+        gm = as_gridmap(w, res)
+        grid_paths[key] = run.plan("seed000", key, gm, "potential", w.start, w.goal, note=f"grid h={res:g}")  # type: ignore[arg-type]
+        if have_exact:
+            exact_paths[key] = run.plan("seed000", key, w, "exact-potential", w.start, w.goal, note="exact geometry")  # type: ignore[arg-type]
+    if exact_paths:
+        fig, axes = _figure(1, 2, (14.0, 5.6))
+        for ax, key in zip(axes.ravel(), worlds, strict=True):
+            plot_comparison(as_gridmap(worlds[key], res), grid_paths[key], exact_paths[key], ax)
+            ax.set_title(f"{key}: grid (h={res:g}) vs exact\n{ax.get_title()}", fontsize=10)
+        run.save(fig, "seed000_paths.png")
+    else:
+        from .plot import plot_map
+
+        fig, axes = _figure(1, 2, (14.0, 5.6))
+        for ax, key in zip(axes.ravel(), worlds, strict=True):
+            plot_map(as_gridmap(worlds[key], res), ax, paths=[grid_paths[key]], title=key)
+        run.save(fig, "seed000_paths.png")
+
+    from .follow import basins
+    from .potential import build_field
+
+    seg = worlds["seed000_segment"]
+    seg_map = as_gridmap(seg, res)
+    field_seg = build_field(seg_map, seg.goal, dict(seg.params))  # type: ignore[arg-type]
+    art = plot_potential(field_seg, path=grid_paths["seed000_segment"],
+                         title="seed 000 + segment: potential, -grad U, stall point")
+    run.save(art.figure, "seed000_segment_potential.png")
+    w0 = worlds["seed000"]
+    field0 = build_field(as_gridmap(w0, res), w0.goal, dict(w0.params))  # type: ignore[arg-type]
+    art = plot_surface(field0, path=grid_paths["seed000"], max_cells=60 if run.quick else 150,
+                       title="seed 000: potential surface (capped) and the follower's path")
+    run.save(art.figure, "seed000_surface.png")
+    art = plot_basins(basins(field_seg), title="seed 000 + segment: where steepest descent ends")
+    run.save(art.figure, "seed000_segment_basins.png")
+    gif = run.out / "seed000_segment_follower.gif"
+    save_plan_animation(gif, seg_map, grid_paths["seed000_segment"], field=field_seg, goal=seg.goal,
+                        max_frames=30 if run.quick else 80, fps=15, dpi=60 if run.quick else 72)
+    run.add_file(gif)
+
+
+def _part_seed003(run: _Run) -> None:
+    from .io import bundled_map, read_world
+    from .plot import plot_potential
+    from .potential import build_field
+    from .rasterize import as_gridmap
+
+    w = read_world(bundled_map("seed003_circles.yaml"))
+    gm = as_gridmap(w)
+    fig, axes = _figure(1, 2, (13.0, 5.6))
+    for ax, ko in zip(axes.ravel(), (5.0, 10.0), strict=True):
+        params = {"ko": ko}
+        path = run.plan("seed003", f"seed003 Ko={ko:g}", gm, "potential", w.start, w.goal, params,  # type: ignore[arg-type]
+                        note="vortex field, spacing 0.4")
+        field_ = build_field(gm, w.goal, {**w.params, **params})  # type: ignore[arg-type]
+        plot_potential(field_, ax, path=path, quiver_step=1, title=f"vortex field, Ko = {ko:g}: {path.status}")
+    run.save(fig, "seed003_vortex.png")
+
+
+def _grid_map_part(run: _Run, part: str, gm: GridMap, start: Sequence[float], goal: Sequence[float],
+                   params: Mapping[str, Any], title: str, *, note: str = "") -> None:
+    from .brushfire import brushfire
+    from .follow import basins
+    from .plot import plot_basins, plot_brushfire, plot_map, plot_potential
+    from .potential import build_field
+
+    fig, axes = _figure(2, 2, (13.0, 11.0))
+    dmap = brushfire(gm, metric="euclidean")
+    plot_brushfire(dmap, axes[0, 0], title="brushfire: distance to the nearest obstacle, GVD in red")
+    pot = run.plan(part, part, gm, "potential", start, goal, params, note=note)
+    field_ = build_field(gm, goal, dict(params))
+    plot_potential(field_, axes[0, 1], path=pot, title=f"potential: {pot.status}")
+    plot_basins(basins(field_), axes[1, 0], title="basins of attraction")
+    paths = [pot]
+    if run.have_planner(f"{part} wavefront path", "wavefront-octile"):
+        paths.insert(0, run.plan(part, part, gm, "wavefront-octile", start, goal, note=note))
+    plot_map(gm, axes[1, 1], paths=paths, start=start, goal=goal, title="paths")
+    fig.suptitle(title)
+    run.save(fig, f"{part}.png")
+
+
+def _part_turtlebot3(run: _Run) -> None:
+    from .io import bundled_map, read_ros_map
+
+    gm = crop_to_known(read_ros_map(bundled_map("turtlebot3_world/map.yaml")))
+    _grid_map_part(run, "turtlebot3", gm, TURTLEBOT3_START, TURTLEBOT3_GOAL, TURTLEBOT3_PARAMS,
+                   "TurtleBot3 world (ROS map_server map, 0.05 m cells, cropped to the known area)")
+
+
+def _part_arena(run: _Run) -> None:
+    from .io import bundled_map, read_movingai_map, read_scen
+
+    gm = read_movingai_map(bundled_map("arena/arena.map"))
+    scen = read_scen(bundled_map("arena/arena.map.scen"), map_height=gm.shape[0])
+    i = int(np.argmax(scen.optimal))
+    start, goal = scen.start_xy[i].tolist(), scen.goal_xy[i].tolist()
+    _grid_map_part(run, "arena", gm, start, goal, ARENA_PARAMS,
+                   f"Moving AI 'arena' (49x49), scenario {i}: optimal octile length {scen.optimal[i]:g}",
+                   note=f"scenario {i}, optimal {scen.optimal[i]:g}")
+
+
+#: part -> (function, modules it needs)
+_PARTS: dict[str, tuple[Callable[[_Run], None], tuple[str, ...]]] = {
+    "maps": (_part_maps, ()),
+    "seed000": (_part_seed000, ("gridfield.rasterize", "gridfield.potential", "gridfield.follow")),
+    "seed003": (_part_seed003, ("gridfield.rasterize", "gridfield.potential", "gridfield.follow")),
+    "turtlebot3": (_part_turtlebot3, ("gridfield.potential", "gridfield.follow")),
+    "arena": (_part_arena, ("gridfield.potential", "gridfield.follow")),
+}
+
+
+# ----------------------------------------------------------------------------------------------
+# summary
+# ----------------------------------------------------------------------------------------------
+def _fmt(v: Any) -> str:
+    if isinstance(v, float):
+        return "" if math.isnan(v) else f"{v:g}"
+    return str(v)
+
+
+def format_table(rows: Sequence[Mapping[str, Any]], columns: Sequence[str] = SUMMARY_COLUMNS) -> str:
+    """Rows as a Markdown table (also readable as plain text).
+
+    Examples
+    --------
+    >>> print(format_table([{"planner": "potential", "ms": 1.5}], ("planner", "ms")))
+    | planner   | ms  |
+    |-----------|-----|
+    | potential | 1.5 |
+    """
+    cells = [[_fmt(r.get(c, "")) for c in columns] for r in rows]
+    widths = [max([len(c)] + [len(row[i]) for row in cells]) for i, c in enumerate(columns)]
+    line = "| " + " | ".join(c.ljust(w) for c, w in zip(columns, widths, strict=True)) + " |"
+    rule = "|" + "|".join("-" * (w + 2) for w in widths) + "|"
+    body = ["| " + " | ".join(v.ljust(w) for v, w in zip(row, widths, strict=True)) + " |" for row in cells]
+    return "\n".join([line, rule, *body])
+
+
+def _write_summary(result: DemoResult) -> None:
+    out = result.out_dir
+    csv_path, md_path = out / "summary.csv", out / "summary.md"
+    with csv_path.open("w", newline="", encoding="utf-8") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(SUMMARY_COLUMNS))
+        writer.writeheader()
+        for r in result.rows:
+            writer.writerow({k: _fmt(r.get(k, "")) for k in SUMMARY_COLUMNS})
+    lines = ["# gridfield demo", "", format_table(result.rows), "",
+             "`length` in map units, `steps`: follower iterations or expanded path cells, "
+             "`ms`: wall time of the planner call (rasterization and field building included).", ""]
+    if result.skipped:
+        lines += ["## Skipped", "", *[f"- {s}" for s in result.skipped], ""]
+    lines += ["## Files", ""]
+    for f in result.files:
+        lines.append(f"![{f.stem}]({f.name})" if f.suffix in (".png", ".gif") else f"- {f.name}")
+        lines.append("")
+    md_path.write_text("\n".join(lines), encoding="utf-8")
+    result.files += [md_path, csv_path]
+
+
+def demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, parts: Sequence[str] | None = None,
+         log: Callable[[str], None] | None = None) -> DemoResult:
+    """Run the demo and return everything it did (see :func:`run_demo` for the rows only).
+
+    Parameters
+    ----------
+    out_dir : path
+        Created if missing; existing files of the same names are overwritten.
+    quick : bool
+        Coarser grids, fewer animation frames, lower resolution images (for tests).
+    parts : sequence of str, optional
+        A subset of :data:`DEMO_PARTS` (default: all).
+    log : callable, optional
+        Receives one line per step (e.g. ``print``); default: silent.
+    """
+    import matplotlib
+
+    if parts is None:
+        parts = DEMO_PARTS
+    unknown = [p for p in parts if p not in DEMO_PARTS]
+    if unknown:
+        raise GridfieldError(f"unknown demo part {unknown[0]!r}; expected some of {', '.join(DEMO_PARTS)}")
+    out = FsPath(out_dir)
+    if out.exists() and not out.is_dir():
+        raise GridfieldError(f"{out}: exists and is not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise GridfieldError(f"{out}: cannot create the output folder: {e.strerror or e}") from None
+    run = _Run(out, quick, log or (lambda _line: None))
+    t_all = time.perf_counter()
+    with matplotlib.rc_context({"figure.max_open_warning": 0}):
+        for name in parts:
+            fn, modules = _PARTS[name]
+            if not run.need(name, *modules):
+                continue
+            t0 = time.perf_counter()
+            n_files = len(run.result.files)
+            fn(run)
+            written = ", ".join(f.name for f in run.result.files[n_files:])
+            run.log(f"{name}: {time.perf_counter() - t0:.1f} s  {written}")
+    run.result.seconds = time.perf_counter() - t_all
+    _write_summary(run.result)
+    return run.result
+
+
+def run_demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False,
+             log: Callable[[str], None] | None = None) -> list[dict[str, Any]]:
+    """Run every part of the demo, write its files to ``out_dir`` and return the summary rows.
+
+    Each row holds :data:`SUMMARY_COLUMNS`: ``part``, ``map``, ``planner``, ``status``, ``length``,
+    ``steps`` (iterations), ``ms`` (wall time of the planner call) and a ``note``. The files are the
+    figures (``maps.png``, ``seed000_paths.png``, ``seed000_segment_potential.png``,
+    ``seed000_surface.png``, ``seed000_segment_basins.png``, ``seed003_vortex.png``,
+    ``turtlebot3.png``, ``arena.png``), the animation ``seed000_segment_follower.gif`` and
+    ``summary.md`` / ``summary.csv``.
+    """
+    return demo(out_dir, quick=quick, log=log).rows

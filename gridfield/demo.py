@@ -420,7 +420,7 @@ def demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, parts
     return run.result
 
 
-def run_demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False,
+def run_demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, parts: Sequence[str] | None = None,
              log: Callable[[str], None] | None = None) -> list[dict[str, Any]]:
     """Run every part of the demo, write its files to ``out_dir`` and return the summary rows.
 
@@ -429,6 +429,7 @@ def run_demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False,
     figures (``maps.png``, ``seed000_paths.png``, ``seed000_segment_potential.png``,
     ``seed000_surface.png``, ``seed000_segment_basins.png``, ``seed003_vortex.png``,
     ``turtlebot3.png``, ``arena.png``), the animation ``seed000_segment_follower.gif`` and
-    ``summary.md`` / ``summary.csv``.
+    ``summary.md`` / ``summary.csv``. ``parts`` and ``log`` are as in :func:`demo`, which also returns
+    the files written and the steps skipped.
     """
-    return demo(out_dir, quick=quick, log=log).rows
+    return demo(out_dir, quick=quick, parts=parts, log=log).rows

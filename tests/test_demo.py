@@ -1,0 +1,153 @@
+"""``gridfield demo``: the files and the summary rows it writes (quick mode)."""
+
+from __future__ import annotations
+
+import csv
+import importlib.util
+import time
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt
+import pytest
+from PIL import Image
+
+from gridfield.cli import main
+from gridfield.demo import DEMO_PARTS, SUMMARY_COLUMNS, crop_to_known, demo, format_table, run_demo
+from gridfield.errors import GridfieldError
+from gridfield.io import bundled_map, read_ros_map
+
+PNG = b"\x89PNG\r\n\x1a\n"
+CORE = ("gridfield.rasterize", "gridfield.potential", "gridfield.follow")
+
+
+def have(*modules: str) -> bool:
+    return all(importlib.util.find_spec(m) is not None for m in modules)
+
+
+@pytest.fixture(scope="module")
+def quick_demo(tmp_path_factory):
+    out = tmp_path_factory.mktemp("demo")
+    lines: list[str] = []
+    t0 = time.perf_counter()
+    result = demo(out, quick=True, log=lines.append)
+    seconds = time.perf_counter() - t0
+    yield result, lines, seconds
+    plt.close("all")
+
+
+def expected_files() -> set[str]:
+    files = {"maps.png", "summary.md", "summary.csv"}
+    if have(*CORE):
+        files |= {"seed000_paths.png", "seed000_segment_potential.png", "seed000_surface.png",
+                  "seed000_segment_basins.png", "seed000_segment_follower.gif", "seed003_vortex.png",
+                  "turtlebot3.png", "arena.png"}
+    return files
+
+
+def test_demo_writes_the_expected_files(quick_demo):
+    result, _, seconds = quick_demo
+    names = {f.name for f in result.files}
+    assert names == expected_files()
+    for f in result.files:
+        assert f.parent == result.out_dir and f.is_file() and f.stat().st_size > 0
+        if f.suffix == ".png":
+            assert f.read_bytes()[:8] == PNG
+            with Image.open(f) as im:
+                assert im.size[0] >= 400
+        if f.suffix == ".gif":
+            assert f.read_bytes()[:6] == b"GIF89a"
+            with Image.open(f) as im:
+                assert 2 <= im.n_frames <= 30
+    assert plt.get_fignums() == []
+    assert seconds < 60
+
+
+def test_demo_summary_rows(quick_demo):
+    result, _, _ = quick_demo
+    rows = result.rows
+    for r in rows:
+        assert tuple(r) == SUMMARY_COLUMNS
+        assert r["status"] in ("reached", "local_minimum", "collision", "max_iterations", "no_path")
+        assert r["length"] >= 0 and r["steps"] >= 0 and r["ms"] >= 0
+    if not have(*CORE):
+        assert rows == []
+        return
+    by = {(r["map"], r["planner"]): r for r in rows}
+    # the published outcomes: seed 000 reaches, its segment variant stalls near (16.97, 9.028)
+    assert by[("seed000", "potential")]["status"] == "reached"
+    seg = by[("seed000_segment", "potential")]
+    assert seg["status"] == "local_minimum" and "stalls at (16.9" in seg["note"]
+    if have("gridfield.exact"):
+        assert by[("seed000", "exact-potential")]["status"] == "reached"
+        assert by[("seed000_segment", "exact-potential")]["status"] == "local_minimum"
+    # seed 003: Ko = 5 converges, Ko = 10 does not
+    assert by[("seed003 Ko=5", "potential")]["status"] == "reached"
+    assert by[("seed003 Ko=10", "potential")]["status"] != "reached"
+    assert ("turtlebot3", "potential") in by and ("arena", "potential") in by
+    if have("gridfield.navigation"):
+        for name in ("turtlebot3", "arena"):
+            assert by[(name, "wavefront-octile")]["status"] == "reached"
+        # the arena wavefront path is the scenario's optimal octile length
+        arena = by[("arena", "wavefront-octile")]
+        optimal = float(arena["note"].split("optimal ")[1].split(";")[0])
+        assert arena["length"] == pytest.approx(optimal, abs=1e-3)
+
+
+def test_demo_summary_files_match_the_rows(quick_demo):
+    result, _, _ = quick_demo
+    with (result.out_dir / "summary.csv").open(newline="") as fh:
+        table = list(csv.DictReader(fh))
+    assert [tuple(r) for r in table] == [SUMMARY_COLUMNS] * len(table)
+    assert [r["planner"] for r in table] == [r["planner"] for r in result.rows]
+    assert [r["status"] for r in table] == [r["status"] for r in result.rows]
+    md = (result.out_dir / "summary.md").read_text()
+    assert md.startswith("# gridfield demo")
+    assert "| part" in md and "![maps](maps.png)" in md
+    for line in result.skipped:
+        assert line in md
+
+
+def test_demo_logs_each_part_and_every_skip(quick_demo):
+    result, lines, _ = quick_demo
+    for part in DEMO_PARTS:
+        assert any(line.startswith(f"{part}:") or (line.startswith("skipped") and part in line) for line in lines)
+    for s in result.skipped:
+        assert s in lines and "needs gridfield." in s
+
+
+def test_run_demo_returns_rows_for_a_subset(tmp_path):
+    rows = run_demo(tmp_path, quick=True, parts=["maps"])
+    assert rows == []
+    assert (tmp_path / "maps.png").read_bytes()[:8] == PNG
+    assert (tmp_path / "summary.md").is_file()
+
+
+def test_demo_errors(tmp_path):
+    with pytest.raises(GridfieldError, match="unknown demo part"):
+        demo(tmp_path, parts=["everything"])
+    f = tmp_path / "file"
+    f.write_text("x")
+    with pytest.raises(GridfieldError, match="not a folder"):
+        demo(f)
+
+
+def test_cli_demo_prints_the_table_and_where_the_files_are(tmp_path, capsys):
+    out = tmp_path / "d"
+    assert main(["demo", "--out", str(out), "--quick", "--part", "maps", "--part", "seed003"]) == 0
+    text = capsys.readouterr().out
+    assert "| part" in text and "wrote" in text and str(out.resolve()) in text
+    assert (out / "maps.png").is_file()
+    if have(*CORE):
+        assert "seed003 Ko=5" in text and (out / "seed003_vortex.png").is_file()
+
+
+def test_format_table_and_crop():
+    assert format_table([]).splitlines()[0].startswith("| part")
+    gm = read_ros_map(bundled_map("turtlebot3_world/map.yaml"))
+    c = crop_to_known(gm)
+    assert c.shape[0] < gm.shape[0] and c.shape[1] < gm.shape[1]
+    assert (~c.occupied).sum() == (~gm.occupied).sum()  # every free cell kept
+    assert c.grid.resolution == gm.grid.resolution

@@ -611,6 +611,29 @@ def _force_many(gx, gy, occ, x0, y0, inv, nearest, xs, ys, fx, fy):  # pragma: n
 
 
 @numba.njit(cache=True, nogil=True)
+def _cell_index(c, origin, res):  # pragma: no cover - numba
+    """``floor((c - origin) / res)`` corrected to the float cell boundaries ``origin + i*res``
+    (the rule of :meth:`gridfield.grid.Grid.world_to_cell`)."""
+    i = math.floor((c - origin) / res)
+    if c >= origin + (i + 1) * res:
+        i += 1
+    elif c < origin + i * res:
+        i -= 1
+    return i
+
+
+@numba.njit(cache=True, nogil=True)
+def _cell_values(a, x0, y0, res, xs, ys, out, inside):  # pragma: no cover - numba
+    """``a`` at the cells containing the points, clamped to the grid; whether each point is inside."""
+    rows, cols = a.shape
+    for k in range(xs.shape[0]):
+        i = _cell_index(xs[k], x0, res)
+        j = _cell_index(ys[k], y0, res)
+        inside[k] = 0 <= i < cols and 0 <= j < rows
+        out[k] = a[min(max(j, 0), rows - 1), min(max(i, 0), cols - 1)]
+
+
+@numba.njit(cache=True, nogil=True)
 def _cell_blocked(occ, wall, i, j):  # pragma: no cover - numba
     rows, cols = occ.shape
     if i < 0 or j < 0 or i >= cols or j >= rows:
@@ -688,6 +711,20 @@ def _blocked_many(occ, x0, y0, inv, wall, xa, ya, xb, yb, out):  # pragma: no co
         out[k] = _segment_blocked(occ, x0, y0, inv, wall, xa[k], ya[k], xb[k], yb[k])
 
 
+def _direct(dispatcher: Any, *args: Any) -> Callable[..., Any]:
+    """The compiled entry point of a numba function for these argument types.
+
+    Calling it skips the dispatcher's per-call type resolution (about half the cost of a call with
+    three array arguments); falls back to the dispatcher if numba's internals differ.
+    """
+    dispatcher(*args)
+    try:
+        sig = tuple(numba.typeof(a) for a in args)
+        return dispatcher.overloads[sig].entry_point
+    except (AttributeError, KeyError, TypeError, ValueError):  # pragma: no cover - numba internals
+        return dispatcher
+
+
 def _grid_args(gridmap: GridMap) -> tuple[NDArray[np.bool_], float, float, float]:
     g = gridmap.grid
     occ = np.ascontiguousarray(gridmap.occupied, dtype=np.bool_)
@@ -720,9 +757,10 @@ def grid_sampler(field: Any, *, sampling: str = "bilinear") -> Callable[[Point],
     gx, gy = _field_arrays(field)
     occ, x0, y0, inv = _grid_args(field.map)
     nearest = sampling == "nearest"
+    kern = _direct(_force_at, gx, gy, occ, x0, y0, inv, nearest, x0, y0)
 
     def force(p: Point) -> tuple[float, float]:
-        return _force_at(gx, gy, occ, x0, y0, inv, nearest, p[0], p[1])
+        return kern(gx, gy, occ, x0, y0, inv, nearest, p[0], p[1])
 
     return force
 
@@ -732,7 +770,7 @@ def grid_potential_sampler(field: Any, *, sampling: str = "bilinear") -> Callabl
     _choice("sampling", sampling, SAMPLINGS)
     u = np.ascontiguousarray(field.potential, dtype=np.float64)
     occ, x0, y0, inv = _grid_args(field.map)
-    kern = _nearest2 if sampling == "nearest" else _bilinear2
+    kern = _direct(_nearest2 if sampling == "nearest" else _bilinear2, u, u, occ, x0, y0, inv, x0, y0)
 
     def potential(p: Point) -> float:
         return kern(u, u, occ, x0, y0, inv, p[0], p[1])[0]
@@ -758,9 +796,10 @@ def grid_blocked(gridmap: GridMap) -> Callable[[Point, Point], bool]:
     """
     occ, x0, y0, inv = _grid_args(gridmap)
     wall = gridmap.grid.border == "wall"
+    kern = _direct(_segment_blocked, occ, x0, y0, inv, wall, x0, y0, x0, y0)
 
     def blocked(p: Point, q: Point) -> bool:
-        return bool(_segment_blocked(occ, x0, y0, inv, wall, p[0], p[1], q[0], q[1]))
+        return kern(occ, x0, y0, inv, wall, p[0], p[1], q[0], q[1])
 
     return blocked
 
@@ -864,19 +903,27 @@ def _setup(field: Any, params: Mapping[str, Any] | None) -> _Setup:
     return _Setup(out, kwargs, p["sampling"], vortex)
 
 
-def _clearance(field: Any, points: NDArray[np.float64]) -> float:
-    """Smallest brushfire distance at the cells of the path's points (NaN when no distance map)."""
+def _distance_at(field: Any, points: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Brushfire (Euclidean) distance of the cells containing the points (clamped to the grid), and
+    whether each point lies inside the grid."""
     dmap = getattr(field, "distance", None)
     if dmap is None:
         from .brushfire import brushfire
 
         dmap = brushfire(field.map, metric="euclidean")
-    dist = np.asarray(dmap.distance, dtype=float)
+    dist = np.ascontiguousarray(dmap.distance, dtype=np.float64)
     grid: Grid = field.map.grid
-    cells, _ = grid.world_to_cell(points)
-    r = np.clip(cells[:, 0], 0, grid.rows - 1)
-    c = np.clip(cells[:, 1], 0, grid.cols - 1)
-    return float(np.min(dist[r, c])) if len(points) else math.nan
+    pts = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+    out = np.empty(len(pts))
+    inside = np.empty(len(pts), np.bool_)
+    _cell_values(dist, grid.origin[0], grid.origin[1], grid.resolution, pts[:, 0].copy(), pts[:, 1].copy(), out,
+                 inside)
+    return out, inside
+
+
+def _clearance(field: Any, points: NDArray[np.float64]) -> float:
+    """Smallest brushfire distance at the cells of the path's points."""
+    return float(np.min(_distance_at(field, points)[0])) if len(points) else math.nan
 
 
 def _note_outside(extra: dict[str, Any], grid: Grid, pts: NDArray[np.float64]) -> None:
@@ -1004,7 +1051,9 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
     S = np.asarray(starts, dtype=float)
     if S.ndim != 2 or S.shape[1] != 2:
         raise ParameterError(f"starts must have shape (N, 2), got {S.shape}")
-    for i in range(len(S)):
+    ok = np.isfinite(S).all(axis=1) & grid_map.grid.contains(S) & grid_map.is_free(S)
+    if not ok.all():
+        i = int(np.flatnonzero(~ok)[0])
         try:
             grid_map.check_point("start", S[i])
         except GridfieldError as e:
@@ -1133,10 +1182,10 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
             ids, X, Y = ids[move], X[move], Y[move]
             P1x, P1y, P2x, P2y, F1, F2 = P1x[move], P1y[move], P2x[move], P2y[move], F1[move], F2[move]
             best, best_it, win_min, win_x, win_y = best[move], best_it[move], win_min[move], win_x[move], win_y[move]
-        if keep_paths:
-            hist_x.append(X.copy())
-            hist_y.append(Y.copy())
-            hist_ids.append(ids.copy())
+        if keep_paths:  # X, Y, ids are fresh arrays every step (never written in place)
+            hist_x.append(X)
+            hist_y.append(Y)
+            hist_ids.append(ids)
         dx, dy = X - goal[0], Y - goal[1]
         d = np.sqrt(dx * dx + dy * dy)
         imp = d < best - min_gain
@@ -1147,21 +1196,22 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         win_y = np.where(imp, Y, win_y)
     seconds = time.perf_counter() - t0
 
-    # paths: hist[k] holds the positions after k moves of the points still moving then
+    # paths: hist[k] holds the positions after k moves of the points still moving then; a stable
+    # sort by point id lists each point's positions in step order
     if keep_paths:
-        K = len(hist_x)
-        AX = np.full((K, N), np.nan)
-        AY = np.full((K, N), np.nan)
-        for k in range(K):
-            AX[k, hist_ids[k]] = hist_x[k]
-            AY[k, hist_ids[k]] = hist_y[k]
+        HI = np.concatenate(hist_ids)
+        order = np.argsort(HI, kind="stable")
+        HX, HY = np.concatenate(hist_x)[order], np.concatenate(hist_y)[order]
+        first = np.concatenate([[0], np.cumsum(np.bincount(HI, minlength=N))[:-1]])
+        del HI, order, hist_x, hist_y, hist_ids
     blocked = grid_blocked(grid_map)
-    paths: list[Path] = []
-    per = seconds / max(N, 1)
+    pts_list: list[NDArray[np.float64]] = []
+    extras: list[dict[str, Any]] = []
     for i in range(N):
         n_i = int(end_it[i])
         if keep_paths:
-            pts = np.column_stack([AX[: n_i + 1, i], AY[: n_i + 1, i]])
+            o = first[i]
+            pts = np.column_stack([HX[o: o + n_i + 1], HY[o: o + n_i + 1]])
         else:
             pts = np.array([S[i], last[i]]) if n_i else S[i][None, :]
         status = _CODES[code[i]]
@@ -1169,10 +1219,10 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         if status == "reached":
             lx, ly = float(last[i, 0]), float(last[i, 1])
             if (lx, ly) != goal:
-                ok = not blocked((lx, ly), goal)
-                if ok:
+                ok_i = not blocked((lx, ly), goal)
+                if ok_i:
                     pts = np.vstack([pts, goal])
-                extra["goal_appended"] = ok
+                extra["goal_appended"] = ok_i
             else:
                 extra["goal_appended"] = False
         elif status == "local_minimum":
@@ -1182,14 +1232,29 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
                 extra["oscillation"] = osc[i].tolist()
         elif status == "collision":
             extra["collision_at"] = coll[i].tolist()
-        _note_outside(extra, grid_map.grid, pts)
+        pts_list.append(pts)
+        extras.append(extra)
+    # clearance and the outside-the-map note for all paths at once
+    lengths = np.array([len(q) for q in pts_list])
+    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    all_pts = np.concatenate(pts_list)
+    dist, inside = _distance_at(field, all_pts)
+    clear = np.minimum.reduceat(dist, offsets)
+    n_out = np.add.reduceat((~inside).astype(np.int64), offsets)
+    paths: list[Path] = []
+    per = seconds / max(N, 1)
+    for i in range(N):
+        status, extra, pts = _CODES[code[i]], extras[i], pts_list[i]
+        if n_out[i]:
+            extra["left_map"] = True
+            extra["outside_fraction"] = float(n_out[i] / lengths[i])
         if p["escape"] != "none":
             if status == "local_minimum":
                 paths.append(follow(field, S[i], params=params))
                 continue
             extra.update(escapes_tried=0, escapes_succeeded=0, escapes=[])
-        paths.append(Path(pts, status, "potential", iterations=n_i, params=p, seconds=per,
-                          min_clearance=_clearance(field, pts), extra=extra))
+        paths.append(Path(pts, status, "potential", iterations=int(end_it[i]), params=p, seconds=per,
+                          min_clearance=float(clear[i]), extra=extra))
     return paths
 
 

@@ -338,7 +338,9 @@ class VisibilityGraph:
             return ok
         lines = shapely.linestrings(np.stack([P[idx], Q[idx]], axis=1))
         if len(self._parts):
-            li, pj = self._part_tree.query(lines, predicate="intersects")
+            li, pj = self._part_tree.query(lines)  # bounding boxes; then the prepared obstacle
+            touch = shapely.intersects(self._parts[pj], lines[li])
+            li, pj = li[touch], pj[touch]
             if len(li):
                 hit = shapely.relate_pattern(lines[li], self._parts[pj], "T********")
                 ok[idx[li[hit]]] = False
@@ -714,14 +716,31 @@ def visibility_graph(world: World, *, pinch: str = "block") -> VisibilityGraph:
     # ---- edges: bitangent pairs that see each other
     n = len(nodes)
     ei, ej = [], []
-    chunk = max(1, 2_000_000 // max(n, 1))
+    # tangent test at both ends by broadcasting over blocks of rows (no gathers over n^2 pairs):
+    # the pair (i, j) is kept when the ring neighbours of i lie on one side of the line i-j, and
+    # those of j too; nodes without ring neighbours (NaN) always pass
+    has = ~np.isnan(prev[:, 0])
+    da = np.where(has[:, None], prev - nodes, 0.0)
+    db = np.where(has[:, None], nxt - nodes, 0.0)
+    chunk = max(1, 1_000_000 // max(n, 1))
     for i0 in range(0, n, chunk):
         i1 = min(n, i0 + chunk)
-        ii, jj = np.nonzero(np.arange(i0, i1)[:, None] < np.arange(n)[None, :])
+        # rows i0:i1 against columns i0: (the pairs i < j of these rows)
+        dx = nodes[None, i0:, 0] - nodes[i0:i1, None, 0]
+        dy = nodes[None, i0:, 1] - nodes[i0:i1, None, 1]
+        dist = np.hypot(dx, dy)
+        eps = tol * dist
+        keep = (np.arange(i0, n)[None, :] > np.arange(i0, i1)[:, None]) & (dist > tol)
+        for a, b in ((da[i0:i1, None, :], db[i0:i1, None, :]), (da[None, i0:, :], db[None, i0:, :])):
+            ca = dx * a[..., 1] - dy * a[..., 0]
+            cb = dx * b[..., 1] - dy * b[..., 0]
+            ca[np.abs(ca) <= eps] = 0.0
+            cb[np.abs(cb) <= eps] = 0.0
+            keep &= ca * cb >= 0.0
+        ii, jj = np.nonzero(keep)
         ii += i0
-        keep = np.hypot(*(nodes[ii] - nodes[jj]).T) > tol
-        ii, jj = ii[keep], jj[keep]
-        keep = graph._node_ok(ii, nodes[jj]) & graph._node_ok(jj, nodes[ii])
+        jj += i0
+        keep = graph._node_ok(ii, nodes[jj]) & graph._node_ok(jj, nodes[ii])  # wedges of pinch points
         ii, jj = ii[keep], jj[keep]
         vis = graph._admissible(nodes[ii], nodes[jj])
         ei.append(ii[vis])

@@ -523,11 +523,11 @@ def descend(
 # Grid samplers (numba kernels; the scalar kernels are shared by follow and follow_many)
 # ----------------------------------------------------------------------------------------------
 @numba.njit(cache=True, nogil=True)
-def _bilinear2(a, b, occ, x0, y0, inv, x, y):  # pragma: no cover - numba
+def _bilinear2(a, b, occ, x0, y0, res, x, y):  # pragma: no cover - numba
     """Bilinear interpolation of two arrays among the free corner cells (renormalized), clamped."""
     rows, cols = occ.shape
-    u = (x - x0) * inv - 0.5
-    v = (y - y0) * inv - 0.5
+    u = (x - x0) / res - 0.5
+    v = (y - y0) / res - 0.5
     if not (u >= 0.0):  # also NaN
         u = 0.0
     if u > cols - 1.0:
@@ -583,31 +583,31 @@ def _bilinear2(a, b, occ, x0, y0, inv, x, y):  # pragma: no cover - numba
 
 
 @numba.njit(cache=True, nogil=True)
-def _nearest2(a, b, occ, x0, y0, inv, x, y):  # pragma: no cover - numba
+def _nearest2(a, b, occ, x0, y0, res, x, y):  # pragma: no cover - numba
     """Values of two arrays in the cell containing the point (clamped to the grid); 0 on obstacles."""
     rows, cols = occ.shape
-    u = (x - x0) * inv
-    v = (y - y0) * inv
-    i = 0 if not (u >= 0.0) else min(int(u), cols - 1)
-    j = 0 if not (v >= 0.0) else min(int(v), rows - 1)
+    if not (math.isfinite(x) and math.isfinite(y)):
+        return 0.0, 0.0
+    i = min(max(_cell_index(x, x0, res), 0), cols - 1)
+    j = min(max(_cell_index(y, y0, res), 0), rows - 1)
     if occ[j, i]:
         return 0.0, 0.0
     return a[j, i], b[j, i]
 
 
 @numba.njit(cache=True, nogil=True)
-def _force_at(gx, gy, occ, x0, y0, inv, nearest, x, y):  # pragma: no cover - numba
+def _force_at(gx, gy, occ, x0, y0, res, nearest, x, y):  # pragma: no cover - numba
     if nearest:
-        vx, vy = _nearest2(gx, gy, occ, x0, y0, inv, x, y)
+        vx, vy = _nearest2(gx, gy, occ, x0, y0, res, x, y)
     else:
-        vx, vy = _bilinear2(gx, gy, occ, x0, y0, inv, x, y)
+        vx, vy = _bilinear2(gx, gy, occ, x0, y0, res, x, y)
     return -vx, -vy
 
 
 @numba.njit(cache=True, nogil=True)
-def _force_many(gx, gy, occ, x0, y0, inv, nearest, xs, ys, fx, fy):  # pragma: no cover - numba
+def _force_many(gx, gy, occ, x0, y0, res, nearest, xs, ys, fx, fy):  # pragma: no cover - numba
     for k in range(xs.shape[0]):
-        fx[k], fy[k] = _force_at(gx, gy, occ, x0, y0, inv, nearest, xs[k], ys[k])
+        fx[k], fy[k] = _force_at(gx, gy, occ, x0, y0, res, nearest, xs[k], ys[k])
 
 
 @numba.njit(cache=True, nogil=True)
@@ -642,20 +642,63 @@ def _cell_blocked(occ, wall, i, j):  # pragma: no cover - numba
 
 
 @numba.njit(cache=True, nogil=True)
-def _segment_blocked(occ, x0, y0, inv, wall, xa, ya, xb, yb):  # pragma: no cover - numba
+def _segment_blocked(occ, x0, y0, res, wall, xa, ya, xb, yb):  # pragma: no cover - numba
     """Whether the segment crosses (or touches at a corner) an occupied cell, or a wall outside the grid.
 
     An exact cell walk (Amanatides & Woo): every cell whose interior the segment crosses is checked;
     where the segment passes exactly through a cell corner, both side cells are checked too.
     """
-    u0 = (xa - x0) * inv
-    v0 = (ya - y0) * inv
-    u1 = (xb - x0) * inv
-    v1 = (yb - y0) * inv
-    i = math.floor(u0)
-    j = math.floor(v0)
-    ie = math.floor(u1)
-    je = math.floor(v1)
+    if not (math.isfinite(xa) and math.isfinite(ya) and math.isfinite(xb) and math.isfinite(yb)):
+        return True
+    rows, cols = occ.shape
+    u0 = (xa - x0) / res
+    v0 = (ya - y0) / res
+    u1 = (xb - x0) / res
+    v1 = (yb - y0) / res
+    # cells by the grid's own rule (GridMap.is_free agrees); the walk's crossings use u, v
+    i = _cell_index(xa, x0, res)
+    j = _cell_index(ya, y0, res)
+    ie = _cell_index(xb, x0, res)
+    je = _cell_index(yb, y0, res)
+    out_a = i < 0 or j < 0 or i >= cols or j >= rows
+    out_b = ie < 0 or je < 0 or ie >= cols or je >= rows
+    if wall and (out_a or out_b):
+        return True
+    if out_a or out_b:  # open border: only the part inside the grid can be blocked (Liang-Barsky clip)
+        du = u1 - u0
+        dv = v1 - v0
+        t0 = 0.0
+        t1 = 1.0
+        for k in range(4):
+            if k == 0:
+                p, q = -du, u0
+            elif k == 1:
+                p, q = du, cols - u0
+            elif k == 2:
+                p, q = -dv, v0
+            else:
+                p, q = dv, rows - v0
+            if p == 0.0:
+                if q < 0.0:
+                    return False
+            elif p < 0.0:
+                t0 = max(t0, q / p)
+            else:
+                t1 = min(t1, q / p)
+        if t0 > t1:
+            return False
+        ua = u0 + t0 * du
+        va = v0 + t0 * dv
+        ub = u0 + t1 * du
+        vb = v0 + t1 * dv
+        if out_a:
+            u0, v0 = ua, va
+            i = min(max(math.floor(ua), 0), cols - 1)
+            j = min(max(math.floor(va), 0), rows - 1)
+        if out_b:
+            u1, v1 = ub, vb
+            ie = min(max(math.floor(ub), 0), cols - 1)
+            je = min(max(math.floor(vb), 0), rows - 1)
     if _cell_blocked(occ, wall, i, j):
         return True
     du = u1 - u0
@@ -706,9 +749,9 @@ def _segment_blocked(occ, x0, y0, inv, wall, xa, ya, xb, yb):  # pragma: no cove
 
 
 @numba.njit(cache=True, nogil=True)
-def _blocked_many(occ, x0, y0, inv, wall, xa, ya, xb, yb, out):  # pragma: no cover - numba
+def _blocked_many(occ, x0, y0, res, wall, xa, ya, xb, yb, out):  # pragma: no cover - numba
     for k in range(xa.shape[0]):
-        out[k] = _segment_blocked(occ, x0, y0, inv, wall, xa[k], ya[k], xb[k], yb[k])
+        out[k] = _segment_blocked(occ, x0, y0, res, wall, xa[k], ya[k], xb[k], yb[k])
 
 
 def _direct(dispatcher: Any, *args: Any) -> Callable[..., Any]:
@@ -728,7 +771,7 @@ def _direct(dispatcher: Any, *args: Any) -> Callable[..., Any]:
 def _grid_args(gridmap: GridMap) -> tuple[NDArray[np.bool_], float, float, float]:
     g = gridmap.grid
     occ = np.ascontiguousarray(gridmap.occupied, dtype=np.bool_)
-    return occ, float(g.origin[0]), float(g.origin[1]), 1.0 / g.resolution
+    return occ, float(g.origin[0]), float(g.origin[1]), float(g.resolution)
 
 
 def _field_arrays(field: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -755,12 +798,12 @@ def grid_sampler(field: Any, *, sampling: str = "bilinear") -> Callable[[Point],
     """
     _choice("sampling", sampling, SAMPLINGS)
     gx, gy = _field_arrays(field)
-    occ, x0, y0, inv = _grid_args(field.map)
+    occ, x0, y0, res = _grid_args(field.map)
     nearest = sampling == "nearest"
-    kern = _direct(_force_at, gx, gy, occ, x0, y0, inv, nearest, x0, y0)
+    kern = _direct(_force_at, gx, gy, occ, x0, y0, res, nearest, x0, y0)
 
     def force(p: Point) -> tuple[float, float]:
-        return kern(gx, gy, occ, x0, y0, inv, nearest, p[0], p[1])
+        return kern(gx, gy, occ, x0, y0, res, nearest, p[0], p[1])
 
     return force
 
@@ -769,11 +812,11 @@ def grid_potential_sampler(field: Any, *, sampling: str = "bilinear") -> Callabl
     """``potential(p) -> U`` sampled like :func:`grid_sampler` (free corners only)."""
     _choice("sampling", sampling, SAMPLINGS)
     u = np.ascontiguousarray(field.potential, dtype=np.float64)
-    occ, x0, y0, inv = _grid_args(field.map)
-    kern = _direct(_nearest2 if sampling == "nearest" else _bilinear2, u, u, occ, x0, y0, inv, x0, y0)
+    occ, x0, y0, res = _grid_args(field.map)
+    kern = _direct(_nearest2 if sampling == "nearest" else _bilinear2, u, u, occ, x0, y0, res, x0, y0)
 
     def potential(p: Point) -> float:
-        return kern(u, u, occ, x0, y0, inv, p[0], p[1])[0]
+        return kern(u, u, occ, x0, y0, res, p[0], p[1])[0]
 
     return potential
 
@@ -794,12 +837,12 @@ def grid_blocked(gridmap: GridMap) -> Callable[[Point, Point], bool]:
     >>> bw((0.5, 1.5), (-1.0, 1.5))
     True
     """
-    occ, x0, y0, inv = _grid_args(gridmap)
+    occ, x0, y0, res = _grid_args(gridmap)
     wall = gridmap.grid.border == "wall"
-    kern = _direct(_segment_blocked, occ, x0, y0, inv, wall, x0, y0, x0, y0)
+    kern = _direct(_segment_blocked, occ, x0, y0, res, wall, x0, y0, x0, y0)
 
     def blocked(p: Point, q: Point) -> bool:
-        return kern(occ, x0, y0, inv, wall, p[0], p[1], q[0], q[1])
+        return kern(occ, x0, y0, res, wall, p[0], p[1], q[0], q[1])
 
     return blocked
 
@@ -1060,7 +1103,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
             raise type(e)(f"starts[{i}]: {e}") from None
     goal = _xy(field.goal, "goal")
     gx, gy = _field_arrays(field)
-    occ, x0, y0, inv = _grid_args(grid_map)
+    occ, x0, y0, res = _grid_args(grid_map)
     nearest = setup.sampling == "nearest"
     wall = grid_map.grid.border == "wall"
     normalized = kw["step_rule"] == "normalized"
@@ -1141,7 +1184,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
                 break
         n = len(ids)
         fx, fy = FX[:n], FY[:n]
-        _force_many(gx, gy, occ, x0, y0, inv, nearest, X, Y, fx, fy)
+        _force_many(gx, gy, occ, x0, y0, res, nearest, X, Y, fx, fy)
         fn = np.sqrt(fx * fx + fy * fy)
         upd = fn < win_min
         win_min = np.where(upd, fn, win_min)
@@ -1167,7 +1210,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         NX = np.where(bad, X, NX)
         NY = np.where(bad, Y, NY)
         ob = out_b[:n]
-        _blocked_many(occ, x0, y0, inv, wall, X, Y, NX, NY, ob)
+        _blocked_many(occ, x0, y0, res, wall, X, Y, NX, NY, ob)
         hit = ob & ~bad
         if hit.any():
             coll[ids[hit], 0], coll[ids[hit], 1] = NX[hit], NY[hit]

@@ -310,6 +310,13 @@ def test_grid_blocked_corner_and_degenerate_segments():
     assert b((0.5, 1.5), (1.5, 0.5))  # through the occupied cell
     assert b((0.0, 0.0), (2.0, 2.0))  # exactly through the centre corner: touches (0, 1)
     assert not b((0.5, 0.5), (0.5, 0.5))
+    # long segments through an open-border grid are clipped to it before the cell walk
+    occ = np.zeros((100, 100), bool)
+    occ[50, 50] = True
+    b = grid_blocked(GridMap(Grid((100, 100), 1.0), occ))
+    assert b((-1e6, 50.5), (1e6, 50.2)) and b((50.5, -1e8), (50.5, 1e8))
+    assert not b((49.5, -1e8), (49.5, 1e8)) and not b((-5.0, -5.0), (-5.0, 1e9))
+    assert grid_blocked(GridMap(Grid((100, 100), 1.0, border="wall"), occ))((5.0, 5.0), (5.0, 1e300))
 
 
 # ----------------------------------------------------------------------------------------------

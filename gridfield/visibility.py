@@ -291,7 +291,6 @@ class VisibilityGraph:
     _wedge: NDArray[np.float64] = field(repr=False)
     #: points where the free space has several separate sides (block rule), and their free arcs
     _critical: tuple[tuple[NDArray[np.float64], tuple[tuple[float, float], ...]], ...] = field(repr=False)
-    _matrix: sparse.csr_matrix = field(repr=False)
     seconds: float = 0.0
 
     @property
@@ -710,7 +709,7 @@ def visibility_graph(world: World, *, pinch: str = "block") -> VisibilityGraph:
         world=world, pinch=pinch, nodes=nodes, edges=np.empty((0, 2), dtype=np.intp), weights=np.empty(0),
         obstacles=union_prepared, _tol=tol, _parts=parts, _part_tree=part_tree, _segments=segments,
         _segment_tree=segment_tree, _segment_ids=segment_ids, _seg_coords=seg_coords, _prev=prev, _next=nxt, _wedge=wedge,
-        _critical=tuple(critical), _matrix=sparse.csr_matrix((len(nodes), len(nodes))),
+        _critical=tuple(critical)
     )
 
     # ---- edges: bitangent pairs that see each other
@@ -748,10 +747,8 @@ def visibility_graph(world: World, *, pinch: str = "block") -> VisibilityGraph:
     edges = np.stack([np.concatenate(ei), np.concatenate(ej)], axis=1).astype(np.intp) if ei else \
         np.empty((0, 2), dtype=np.intp)
     weights = np.hypot(*(nodes[edges[:, 0]] - nodes[edges[:, 1]]).T)
-    matrix = sparse.csr_matrix((weights, (edges[:, 0], edges[:, 1])), shape=(n, n))
     object.__setattr__(graph, "edges", edges)
     object.__setattr__(graph, "weights", weights)
-    object.__setattr__(graph, "_matrix", matrix)
     object.__setattr__(graph, "seconds", time.perf_counter() - t0)
     return graph
 

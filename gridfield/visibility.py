@@ -704,6 +704,10 @@ def visibility_graph(world: World, *, pinch: str = "block") -> VisibilityGraph:
     prev = np.concatenate(node_prev) if node_prev else np.empty((0, 2))
     nxt = np.concatenate(node_next) if node_next else np.empty((0, 2))
     wedge = np.concatenate(node_wedge) if node_wedge else np.empty((0, 2))
+    if world.border == "wall":  # the outer corners of the wall frame are never reached
+        inside = ((nodes[:, 0] >= xmin - tol) & (nodes[:, 0] <= xmax + tol)
+                  & (nodes[:, 1] >= ymin - tol) & (nodes[:, 1] <= ymax + tol))
+        nodes, prev, nxt, wedge = nodes[inside], prev[inside], nxt[inside], wedge[inside]
 
     graph = VisibilityGraph(
         world=world, pinch=pinch, nodes=nodes, edges=np.empty((0, 2), dtype=np.intp), weights=np.empty(0),

@@ -10,6 +10,9 @@ folder. The parts:
     seed 000's polygon world and its segment variant: the grid follower and the exact planner
     side by side (the segment variant stalls in the local minimum the seed reports, marked),
     the potential, its 3-D surface, the basins of attraction and the follower animated;
+``convergence``
+    the grid potential against the exact one on both seed 000 worlds at cell sizes 0.4 to 0.05:
+    path deviation and stall-point error on log-log axes, with the observed orders;
 ``seed003``
     seed 003's two circles with the vortex field, ``Ko = 5`` (reaches) and ``Ko = 10`` (does not);
 ``turtlebot3``, ``arena``
@@ -41,7 +44,7 @@ from .path import Path
 __all__ = ["DEMO_PARTS", "SUMMARY_COLUMNS", "DemoResult", "demo", "run_demo"]
 
 #: The demo's parts, in the order they run.
-DEMO_PARTS = ("maps", "seed000", "seed003", "turtlebot3", "arena")
+DEMO_PARTS = ("maps", "seed000", "convergence", "seed003", "turtlebot3", "arena")
 #: Columns of ``summary.csv`` (and of the rows :func:`run_demo` returns).
 SUMMARY_COLUMNS = ("part", "map", "planner", "status", "length", "steps", "ms", "note")
 
@@ -55,12 +58,14 @@ ARENA_PARAMS = {"zeta": 1.0, "d_star": 6.0, "eta": 20.0, "q_star": 3.0, "step": 
 
 @dataclass
 class DemoResult:
-    """What :func:`demo` did: summary rows, files written, parts or steps skipped."""
+    """What :func:`demo` did: summary rows, files written, parts or steps skipped, notes (observed
+    convergence orders)."""
 
     out_dir: FsPath
     rows: list[dict[str, Any]] = field(default_factory=list)
     files: list[FsPath] = field(default_factory=list)
     skipped: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
     seconds: float = 0.0
 
 
@@ -256,6 +261,30 @@ def _part_seed000(run: _Run) -> None:
     run.add_file(gif)
 
 
+#: Names of the convergence-study error columns in the figure.
+_ERROR_NAMES = {"hausdorff": "Hausdorff", "frechet": "Fréchet", "end_error": "end / stall point",
+                "length_error": "|length ratio − 1|"}
+
+
+def _part_convergence(run: _Run) -> None:
+    from .compare import convergence_study, study_errors, study_orders
+    from .io import bundled_map, read_world
+    from .plot import plot_convergence
+
+    hs = [0.4, 0.2, 0.1] if run.quick else [0.4, 0.2, 0.1, 0.05]
+    fig, axes = _figure(1, 2, (12.0, 4.8))
+    for ax, key in zip(axes.ravel(), ("seed000", "seed000_segment"), strict=True):
+        w = read_world(bundled_map(f"{key}.yaml"))
+        rows = convergence_study(w, w.start, w.goal, hs)  # type: ignore[arg-type]
+        errors = {_ERROR_NAMES[k]: v for k, v in study_errors(rows).items()}
+        plot_convergence([r["resolution"] for r in rows], errors, ax, title=f"{key}: grid potential vs exact")
+        orders = {k: v for k, v in study_orders(rows).items() if not math.isnan(v)}
+        line = ", ".join(f"{_ERROR_NAMES[k]} {v:.2f}" for k, v in orders.items())
+        run.result.notes.append(f"{key}: observed orders (error ~ h^p) at h = {', '.join(map(str, hs))}: {line}")
+        run.log(run.result.notes[-1])
+    run.save(fig, "convergence.png")
+
+
 def _part_seed003(run: _Run) -> None:
     from .io import bundled_map, read_world
     from .plot import plot_potential
@@ -316,10 +345,28 @@ def _part_arena(run: _Run) -> None:
                    note=f"scenario {i}, optimal {scen.optimal[i]:g}")
 
 
+def _warm_up(run: _Run) -> None:
+    """Load (or compile) the numba kernels on a tiny map, so that the timings in the table are the
+    planners' and not the JIT's."""
+    if not (run.have("gridfield.potential") and run.have("gridfield.follow")):
+        return
+    from .follow import plan_potential
+
+    t0 = time.perf_counter()
+    occ = np.zeros((12, 12), bool)
+    occ[5:7, 5:7] = True
+    for extra in ({}, {"repulsion": "sum", "repulsive_power": 3}):
+        plan_potential(GridMap(Grid((12, 12), 1.0), occ), np.array([1.5, 1.5]), np.array([10.5, 10.5]),
+                       {"q_star": 2.0, "step": 0.5, "tolerance": 0.5, **extra})
+    run.log(f"warm-up (numba kernels): {time.perf_counter() - t0:.1f} s")
+
+
 #: part -> (function, modules it needs)
 _PARTS: dict[str, tuple[Callable[[_Run], None], tuple[str, ...]]] = {
     "maps": (_part_maps, ()),
     "seed000": (_part_seed000, ("gridfield.rasterize", "gridfield.potential", "gridfield.follow")),
+    "convergence": (_part_convergence, ("gridfield.compare", "gridfield.exact", "gridfield.rasterize",
+                                         "gridfield.potential", "gridfield.follow")),
     "seed003": (_part_seed003, ("gridfield.rasterize", "gridfield.potential", "gridfield.follow")),
     "turtlebot3": (_part_turtlebot3, ("gridfield.potential", "gridfield.follow")),
     "arena": (_part_arena, ("gridfield.potential", "gridfield.follow")),
@@ -364,6 +411,8 @@ def _write_summary(result: DemoResult) -> None:
     lines = ["# gridfield demo", "", format_table(result.rows), "",
              "`length` in map units, `steps`: follower iterations or expanded path cells, "
              "`ms`: wall time of the planner call (rasterization and field building included).", ""]
+    if result.notes:
+        lines += ["## Notes", "", *[f"- {s}" for s in result.notes], ""]
     if result.skipped:
         lines += ["## Skipped", "", *[f"- {s}" for s in result.skipped], ""]
     lines += ["## Files", ""]
@@ -405,6 +454,7 @@ def demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, parts
         raise GridfieldError(f"{out}: cannot create the output folder: {e.strerror or e}") from None
     run = _Run(out, quick, log or (lambda _line: None))
     t_all = time.perf_counter()
+    _warm_up(run)
     with matplotlib.rc_context({"figure.max_open_warning": 0}):
         for name in parts:
             fn, modules = _PARTS[name]
@@ -427,7 +477,7 @@ def run_demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, p
     Each row holds :data:`SUMMARY_COLUMNS`: ``part``, ``map``, ``planner``, ``status``, ``length``,
     ``steps`` (iterations), ``ms`` (wall time of the planner call) and a ``note``. The files are the
     figures (``maps.png``, ``seed000_paths.png``, ``seed000_segment_potential.png``,
-    ``seed000_surface.png``, ``seed000_segment_basins.png``, ``seed003_vortex.png``,
+    ``seed000_surface.png``, ``seed000_segment_basins.png``, ``convergence.png``, ``seed003_vortex.png``,
     ``turtlebot3.png``, ``arena.png``), the animation ``seed000_segment_follower.gif`` and
     ``summary.md`` / ``summary.csv``. ``parts`` and ``log`` are as in :func:`demo`, which also returns
     the files written and the steps skipped.

@@ -1009,10 +1009,18 @@ def plot_convergence(
         x0, y0 = art.paths[0].get_xdata()[-1], art.paths[0].get_ydata()[-1]
         hh = np.array([h.min(), h.max()])
         for s in slopes:
-            (ref,) = ax.plot(hh, y0 * (hh / x0) ** s, linestyle=":", color="0.4", label=f"O(h^{s:g})")
+            (ref,) = ax.plot(hh, y0 * (hh / x0) ** s, linestyle=":", color="0.4", label=rf"$\propto h^{{{s:g}}}$")
             art.extra["reference"].append(ref)
+        from matplotlib.ticker import FuncFormatter, NullFormatter
+
         ax.set_xscale("log")
         ax.set_yscale("log")
+        # plain numbers at the resolutions studied instead of 6x10^-2 style labels
+        ax.set_xticks(np.unique(h))
+        plain = FuncFormatter(lambda v, _pos: f"{v:g}")
+        ax.xaxis.set_major_formatter(plain)
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.yaxis.set_major_formatter(plain)
         _legend(ax, art)
     else:
         ax.text(0.5, 0.5, "no positive errors to plot", transform=ax.transAxes, ha="center", va="center")

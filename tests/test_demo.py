@@ -44,6 +44,8 @@ def expected_files() -> set[str]:
         files |= {"seed000_paths.png", "seed000_segment_potential.png", "seed000_surface.png",
                   "seed000_segment_basins.png", "seed000_segment_follower.gif", "seed003_vortex.png",
                   "turtlebot3.png", "arena.png"}
+    if have(*CORE, "gridfield.compare", "gridfield.exact"):
+        files.add("convergence.png")
     return files
 
 

@@ -63,8 +63,15 @@ def _vertices(value: ArrayLike, name: str) -> NDArray[np.float64]:
         raise ParameterError(f"{name} must be an (N, 2) array of vertices (x, y), got shape {np.shape(v)}")
     if not np.all(np.isfinite(v)):
         raise ParameterError(f"{name} must hold finite numbers, got {v.tolist()}")
-    # drop consecutive duplicates, cyclically (this also drops a repeated closing vertex)
-    keep = np.any(v != np.roll(v, 1, axis=0), axis=1)
+    return _merge_duplicates(v)
+
+
+def _merge_duplicates(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Drop vertices equal to their predecessor (cyclically, so also a repeated closing vertex)
+    up to ``_COLLINEAR_TOL`` times the polygon's extent."""
+    extent = float(np.max(np.abs(v - v[0]))) if len(v) else 0.0
+    step = np.max(np.abs(v - np.roll(v, 1, axis=0)), axis=1)
+    keep = step > _COLLINEAR_TOL * extent
     if not keep.any():
         return v[:1].copy()
     return v[keep]
@@ -136,8 +143,7 @@ def _clean_convex(v: NDArray[np.float64]) -> NDArray[np.float64]:
     """Normalize the vertex cycle of a convex polygon computed by this module (no validation):
     CCW, no duplicates, no collinear (or rounding-reflex) vertices, lowest vertex first."""
     v = np.asarray(v, dtype=np.float64)
-    keep = np.any(v != np.roll(v, 1, axis=0), axis=1)
-    v = v[keep] if keep.any() else v[:1]
+    v = _merge_duplicates(v)
     if len(v) <= 1:
         return v
     ends = _segment_ends(v)
@@ -224,17 +230,17 @@ def minkowski_obstacle(obstacle_vertices: ArrayLike, robot_vertices: ArrayLike) 
     return _clean_convex(coords)
 
 
-def _edge_angles(v: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Edge vectors of a normalized convex polygon (lowest vertex first) and their directions
-    in ``[0, 2π)``, non-decreasing along the polygon."""
+def _edge_angles(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Directions in ``[0, 2π)`` of the edges ``v[k] -> v[k+1]`` of a normalized convex polygon
+    (lowest vertex first): non-decreasing along the polygon."""
     if len(v) == 1:
-        return np.empty((0, 2)), np.empty(0)
+        return np.empty(0)
     edges = np.roll(v, -1, axis=0) - v
     ang = np.mod(np.arctan2(edges[:, 1], edges[:, 0]), 2 * np.pi)
-    # the first edge leaves the lowest vertex with a direction in [0, π); a last edge whose
+    # the first edge leaves the lowest vertex with a direction in [0, π); a later edge whose
     # direction rounds to 0 closes the polygon and belongs at the end
     ang[1:][ang[1:] == 0.0] = 2 * np.pi
-    return edges, ang
+    return ang
 
 
 def star_algorithm(obstacle_vertices: ArrayLike, robot_vertices: ArrayLike) -> NDArray[np.float64]:
@@ -243,8 +249,9 @@ def star_algorithm(obstacle_vertices: ArrayLike, robot_vertices: ArrayLike) -> N
     The edges of the obstacle and of the reflected robot ``−R`` are merged in the order of their
     directions (equivalently, of their outward normals), starting from the sum of the two lowest
     vertices, which is the lowest vertex of the sum; walking the merged edges traces the
-    C-obstacle. Same inputs, output and reference point as :func:`minkowski_obstacle`, computed
-    independently of it (no convex hull).
+    C-obstacle; its vertices are the sums of the vertices the two walks stand on. Same inputs,
+    output and reference point as :func:`minkowski_obstacle`, computed independently of it (no
+    convex hull).
 
     Examples
     --------
@@ -257,14 +264,17 @@ def star_algorithm(obstacle_vertices: ArrayLike, robot_vertices: ArrayLike) -> N
     """
     a = _convex_polygon(obstacle_vertices, "obstacle_vertices")
     b = _start_lowest(-_convex_polygon(robot_vertices, "robot_vertices"))
-    ea, ta = _edge_angles(a)
-    eb, tb = _edge_angles(b)
-    # merge the two edge sequences by direction (a stable sort keeps each polygon's own order)
-    edges = np.concatenate([ea, eb])
+    ta, tb = _edge_angles(a), _edge_angles(b)
+    # merge the two edge sequences by direction (a stable sort keeps each polygon's own order);
+    # after k merged edges the walk stands on a[i_k] + b[j_k], where i_k and j_k count the edges
+    # taken from each polygon so far (vertex sums, not accumulated edge vectors: no drift)
     order = np.argsort(np.concatenate([ta, tb]), kind="stable")
-    start = a[0] + b[0]
-    path = start + np.cumsum(edges[order], axis=0)
-    return _clean_convex(np.vstack([start, path[:-1]]) if len(path) else start[None, :])
+    from_a = order < len(ta)
+    i = np.concatenate([[0], np.cumsum(from_a)[:-1]]) % len(a)
+    j = np.concatenate([[0], np.cumsum(~from_a)[:-1]]) % len(b)
+    if len(order) == 0:
+        return _clean_convex((a[0] + b[0])[None, :])
+    return _clean_convex(a[i] + b[j])
 
 
 # ----------------------------------------------------------------------------------------

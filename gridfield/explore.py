@@ -151,6 +151,10 @@ class Explorer:
             w.start if w is not None else None)
         self.goal: tuple[float, float] | None = self._point(goal, "goal") if goal is not None else (
             w.goal if w is not None else None)
+        if self.world is not None and (start is not None or goal is not None):
+            self.world = dataclasses.replace(self.world, start=self.start, goal=self.goal)
+            if self.gridmap is not None and isinstance(self.gridmap.world, World):
+                self.gridmap = self.gridmap.with_occupied(self.gridmap.occupied, world=self.world)
         self.path: Path | None = None
         self.field: Any = None
         self.message = ""

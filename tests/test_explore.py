@@ -217,6 +217,15 @@ def test_vortex_world_tracks_the_start_charge():
         ex.close()
 
 
+def test_explicit_endpoints_replace_the_world_ones():
+    ex = Explorer(read_world(bundled_map("seed003_circles.yaml")), start=(3.0, 4.0), goal=(-3.0, -4.0))
+    try:
+        assert ex.world.start == (3.0, 4.0) and ex.world.goal == (-3.0, -4.0)
+        assert ex.path is not None and np.allclose(ex.path.points[0], (3.0, 4.0))
+    finally:
+        ex.close()
+
+
 def test_bad_arguments():
     w = read_world(bundled_map("seed000.yaml"))
     with pytest.raises(ParameterError, match="planner must be one of"):

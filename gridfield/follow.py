@@ -385,9 +385,12 @@ def descend(
             log[-1]["outcome"] = outcome
 
     fx = fy = fn = 0.0
+    sqrt = math.sqrt
+    isinf = math.isinf
+    append_x, append_y = xs.append, ys.append
+    dx, dy = x - gx, y - gy
+    d = sqrt(dx * dx + dy * dy)
     while True:
-        dx, dy = x - gx, y - gy
-        d = math.sqrt(dx * dx + dy * dy)
         if d < tolerance:
             status = "reached"
             extra["stop_reason"] = "goal"
@@ -395,7 +398,7 @@ def descend(
         n = len(xs)
         reason = ""
         stall = -1
-        if n > 2 and math.sqrt((x - xs[-3]) * (x - xs[-3]) + (y - ys[-3]) * (y - ys[-3])) <= rev_tol:
+        if n > 2 and sqrt((x - xs[-3]) * (x - xs[-3]) + (y - ys[-3]) * (y - ys[-3])) <= rev_tol:
             reason = "oscillation"
             stall = n - 3 if fns[n - 3] <= fns[n - 2] else n - 2
             extra["oscillation"] = [[xs[n - 2], ys[n - 2]], [x, y]]
@@ -409,12 +412,15 @@ def descend(
                 break
             fx, fy = force((x, y))
             fx, fy = float(fx), float(fy)
-            fn = math.sqrt(fx * fx + fy * fy)
-            fns.append(fn)
+            fn = sqrt(fx * fx + fy * fy)
+            if len(fns) < n:
+                fns.append(fn)
+            else:  # recomputed at the same point after a failed escape
+                fns[n - 1] = fn
             if fn < win_min:
                 win_min, win_idx = fn, n - 1
-            if not (fn > gradient_threshold) or math.isinf(fn):
-                reason = "small_gradient" if fn == fn and not math.isinf(fn) else "undefined_force"
+            if not (fn > gradient_threshold) or isinf(fn):
+                reason = "small_gradient" if fn == fn and not isinf(fn) else "undefined_force"
                 stall = n - 1
 
         if reason:
@@ -475,8 +481,9 @@ def descend(
                 fns.append(math.nan)
                 it += 1
             x, y = moves[-1]
-            best = math.hypot(x - gx, y - gy)
-            best_it = it
+            dx, dy = x - gx, y - gy
+            d = sqrt(dx * dx + dy * dy)
+            best, best_it = d, it
             win_min, win_idx = math.inf, len(xs) - 1
             continue
 
@@ -486,7 +493,7 @@ def descend(
             ny = y + step * fy / fn
         else:
             sx, sy = ax * fx, ay * fy
-            if min_speed > 0.0 and math.sqrt(sx * sx + sy * sy) < min_speed:
+            if min_speed > 0.0 and sqrt(sx * sx + sy * sy) < min_speed:
                 sx, sy = min_speed * fx / fn, min_speed * fy / fn
             nx, ny = x + sx, y + sy
         if blocked is not None and blocked((x, y), (nx, ny)):
@@ -495,11 +502,11 @@ def descend(
             extra["collision_at"] = [nx, ny]
             break
         x, y = nx, ny
-        xs.append(x)
-        ys.append(y)
+        append_x(x)
+        append_y(y)
         it += 1
         dx, dy = x - gx, y - gy
-        d = math.sqrt(dx * dx + dy * dy)
+        d = sqrt(dx * dx + dy * dy)
         if d < best - min_gain:
             best, best_it = d, it
             win_min, win_idx = math.inf, len(xs) - 1

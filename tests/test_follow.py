@@ -474,3 +474,11 @@ def test_descent_successor_ties_are_deterministic():
     u = np.array([[1.0, 1.0, 1.0], [1.0, 2.0, 1.0], [1.0, 1.0, 1.0]])
     s = descent_successor(u, np.ones(u.shape, bool))
     assert s[4] == 0  # the first of the equal lower neighbours in row-major order
+
+
+def test_failed_jumps_are_counted_and_do_not_move():
+    pts, status, n, extra = descend(lambda p: (0.0, 0.0), (1.0, 1.0), (5.0, 5.0), escape="random_walk",
+                                    escape_tries=3, blocked=lambda p, q: True, rng=0)
+    assert (status, n, len(pts)) == ("local_minimum", 0, 1)
+    assert extra["escapes_tried"] == 3 and extra["escapes_succeeded"] == 0
+    assert [e["outcome"] for e in extra["escapes"]] == ["no_jump"] * 3

@@ -1,0 +1,434 @@
+"""Benchmark: the peers a user would otherwise pick, on the same maps, as ratios to gridfield.
+
+Run ``python benchmarks/peers.py`` (options: ``--repeat`` (default 3), ``--scale F`` to shrink the
+example maps (``--scale 0.25`` for a smoke run), ``--json``). The peers are in gridfield's
+``[bench]`` extra (``roboticstoolbox-python``, ``python-motion-planning``); a peer that is not
+installed is reported as missing, not as a failure.
+
+Each peer runs on its own example-sized map, and gridfield's equivalent on the same map in the
+same process; ``ratio`` is peer time / gridfield time (medians; > 1: gridfield is faster):
+
+``rtb-dt``
+    Robotics Toolbox for Python's ``DistanceTransformPlanner`` (metric ``"euclidean"``: 8
+    neighbours, diagonal cost sqrt 2) on its book example, the ``house`` floor plan shipped with
+    ``rtb-data`` (397 x 596 cells), from ``br3`` to ``kitchen``: ``plan()`` (the distance
+    transform from the goal) + ``query(start)`` (the path). gridfield: ``plan("wavefront", ...)``,
+    the wavefront navigation function from the goal and its descent path; the
+    ``wavefront-octile`` variant (the same octile costs as RTB's euclidean) is shown too.
+``pmp-astar``
+    python-motion-planning 2.1's ``AStar`` on a ``Grid`` laid out like the package's README
+    example: 51 x 31 cells, a wall round the border and four wall segments, obstacles inflated by
+    3 cells, from (5, 5) to (45, 25). gridfield: ``plan("wavefront-octile", ...)`` on the same
+    cells (obstacles and inflation occupied), the same 8-neighbour octile metric; both return the
+    shortest octile path (lengths are compared).
+``pmp-apf-force`` and ``pmp-apf-step``
+    python-motion-planning's ``APF`` is a *path-tracking controller* for a robot model, not a
+    planner: each control step it finds a look-ahead point on a given path, computes an
+    attractive force towards it and a repulsive force from its ESDF (3 x 3 window,
+    ``numpy.gradient``), and turns the sum into an acceleration. The fair equivalents are per
+    step: ``pmp-apf-force`` times its attractive + repulsive force at a point (its two force
+    methods) against gridfield's force sample at a point (``grid_sampler``, bilinear
+    interpolation of the precomputed gradient arrays); ``pmp-apf-step`` times a whole control step
+    (``get_action``: force + look-ahead + velocity/acceleration conversion) against one step of
+    gridfield's follower (``follow``'s time per iteration: force, step rule, exact cell-walk
+    collision check, stop rules). Both are measured at the same points (the A* path's cells), on
+    the same 51 x 31 map, with a CircularRobot of radius 0.5 and the default gains; the ESDF is
+    built once beforehand for pmp (and gridfield's field likewise).
+``cell-by-cell``
+    The classic potential-field script's way (as in PythonRobotics' potential_field_planning):
+    a plain Python double loop over the cells of a 600 x 500 grid, each summing the attractive
+    term and the repulsive term of the nearest of 4 obstacle points (written here from the
+    formula, not copied). gridfield: ``build_field`` on the same grid with those 4 cells
+    occupied (brushfire + fused potential **and** gradients, which the loop does not compute).
+    The two potentials are checked to agree (``max |dU|``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from end_to_end import Timing, timed
+
+
+@dataclass
+class Row:
+    """One peer against its gridfield equivalent."""
+
+    peer: str
+    what: str
+    map: str
+    gridfield: str
+    peer_time: Timing | None = None
+    gf_time: Timing | None = None
+    note: str = ""
+    status: str = "ok"  # ok | missing | failed
+    unit: str = "ms"
+
+    @property
+    def ratio(self) -> float:
+        if self.peer_time is None or self.gf_time is None:
+            return math.nan
+        return self.peer_time.median / self.gf_time.median
+
+    def as_dict(self) -> dict[str, Any]:
+        d = asdict(self)
+        d["ratio"] = self.ratio
+        return d
+
+
+@dataclass
+class _Context:
+    repeat: int
+    scale: float
+    rows: list[Row] = field(default_factory=list)
+
+
+def _gridmap(occupied: np.ndarray, resolution: float = 1.0, source: str = "") -> Any:
+    from gridfield.grid import Grid, GridMap
+
+    return GridMap(Grid(occupied.shape, resolution), np.ascontiguousarray(occupied, bool), source=source)
+
+
+def _gf_plan(name: str, gm: Any, start: Sequence[float], goal: Sequence[float],
+             params: dict[str, Any] | None = None) -> Any:
+    from gridfield.planners import plan
+
+    return plan(name, gm, start, goal, params or {})
+
+
+def _missing(exc: BaseException) -> str:
+    return f"{type(exc).__name__}: {exc}".splitlines()[0]
+
+
+# ----------------------------------------------------------------------------------------------
+# Robotics Toolbox: DistanceTransformPlanner
+# ----------------------------------------------------------------------------------------------
+def _house(scale: float) -> tuple[np.ndarray, tuple[int, int], tuple[int, int]]:
+    """RTB's house floor plan (row 0 = y 0, as gridfield), start br3 and goal kitchen as (x, y) cells."""
+    from roboticstoolbox import rtb_load_matfile
+
+    house = rtb_load_matfile("data/house.mat")
+    occ = np.asarray(house["floorplan"]) > 0
+    start, goal = (int(v) for v in house["places"]["br3"]), (int(v) for v in house["places"]["kitchen"])
+    start, goal = tuple(start), tuple(goal)
+    k = max(1, round(1 / scale)) if scale < 1 else 1
+    if k > 1:  # shrink: a cell is occupied if any of its k x k source cells is
+        h, w = (occ.shape[0] // k) * k, (occ.shape[1] // k) * k
+        occ = occ[:h, :w].reshape(h // k, k, w // k, k).any(axis=(1, 3))
+        start, goal = (start[0] // k, start[1] // k), (goal[0] // k, goal[1] // k)
+    return occ, start, goal  # type: ignore[return-value]
+
+
+def bench_rtb(ctx: _Context) -> None:
+    """RTB DistanceTransformPlanner vs gridfield's wavefront planners on the house floor plan."""
+    base = Row("RTB DistanceTransformPlanner (euclidean): plan + query", "wavefront from the goal + path",
+               "house floor plan", 'plan("wavefront")')
+    try:
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            from roboticstoolbox import DistanceTransformPlanner
+        occ, start, goal = _house(ctx.scale)
+    except Exception as e:  # ImportError, or its data package missing
+        base.status, base.note = "missing", _missing(e)
+        ctx.rows.append(base)
+        return
+    base.map = f"house floor plan {occ.shape[0]}x{occ.shape[1]}"
+
+    def rtb() -> np.ndarray:
+        dx = DistanceTransformPlanner(occ.astype(np.uint8), goal=goal, metric="euclidean")
+        dx.plan()
+        return dx.query(start=start)
+
+    # RTB is slow (seconds): no warm-up run, it has nothing to compile
+    t_rtb, rtb_path = timed(rtb, ctx.repeat, warmup=0, budget=40.0)
+    rtb_len = float(np.sum(np.hypot(*np.diff(np.asarray(rtb_path, float), axis=0).T)))
+    gm = _gridmap(occ, 1.0, "house")
+    s, g = (start[0] + 0.5, start[1] + 0.5), (goal[0] + 0.5, goal[1] + 0.5)
+    for name in ("wavefront", "wavefront-octile"):
+        row = Row(base.peer, base.what, base.map, f'plan("{name}")', peer_time=t_rtb)
+        try:
+            t_gf, path = timed(lambda name=name: _gf_plan(name, gm, s, g), max(ctx.repeat, 5))
+            row.gf_time = t_gf
+            row.note = (f"path length: RTB {rtb_len:.1f}, gridfield {path.length:.1f} ({path.status}, "
+                        f"{len(path.points)} points)")
+        except Exception as e:
+            row.status, row.note = "missing" if "not available" in str(e) else "failed", _missing(e)
+        ctx.rows.append(row)
+
+
+# ----------------------------------------------------------------------------------------------
+# python-motion-planning: A* and APF
+# ----------------------------------------------------------------------------------------------
+PMP_START, PMP_GOAL = (5, 5), (45, 25)
+
+
+def _pmp_grid() -> Any:
+    """A 51 x 31 pmp Grid laid out like the package's README example (indexed ``[x, y]``)."""
+    from python_motion_planning.common import TYPES, Grid
+
+    grid = Grid(bounds=[[0, 51], [0, 31]])
+    grid.fill_boundary_with_obstacles()
+    t = grid.type_map
+    t[10:21, 15] = TYPES.OBSTACLE
+    t[20, :15] = TYPES.OBSTACLE
+    t[30, 15:] = TYPES.OBSTACLE
+    t[40, :16] = TYPES.OBSTACLE
+    grid.inflate_obstacles(radius=3)
+    return grid
+
+
+def _pmp_occupancy(grid: Any) -> np.ndarray:
+    """gridfield occupancy ``[row=y, col=x]`` of a pmp grid: obstacles and inflation are occupied."""
+    from python_motion_planning.common import TYPES
+
+    data = np.asarray(grid.type_map.data)
+    return ((data == TYPES.OBSTACLE) | (data == TYPES.INFLATION)).T
+
+
+def bench_pmp_astar(ctx: _Context) -> Any:
+    """pmp A* vs gridfield wavefront-octile; returns the A* path (cells) for the APF benchmark."""
+    row = Row("python-motion-planning AStar", "shortest 8-neighbour octile path", "pmp README-like 51x31",
+              'plan("wavefront-octile")')
+    try:
+        from python_motion_planning.path_planner.graph_search.a_star import AStar
+
+        grid = _pmp_grid()
+    except Exception as e:
+        row.status, row.note = "missing", _missing(e)
+        ctx.rows.append(row)
+        return None
+
+    def astar() -> Any:
+        return AStar(map_=grid, start=PMP_START, goal=PMP_GOAL).plan()
+
+    t_pmp, (path, info) = timed(astar, max(ctx.repeat, 5))  # warm-up compiles pmp's numba helpers
+    row.peer_time = t_pmp
+    gm = _gridmap(_pmp_occupancy(grid), 1.0, "pmp example")
+    s, g = (PMP_START[0] + 0.5, PMP_START[1] + 0.5), (PMP_GOAL[0] + 0.5, PMP_GOAL[1] + 0.5)
+    try:
+        t_gf, gpath = timed(lambda: _gf_plan("wavefront-octile", gm, s, g), max(ctx.repeat, 5) * 4)
+        row.gf_time = t_gf
+        row.note = f"path length: A* {info['length']:.3f}, gridfield {gpath.length:.3f} ({gpath.status})"
+    except Exception as e:
+        row.status, row.note = "missing" if "not available" in str(e) else "failed", _missing(e)
+    ctx.rows.append(row)
+    return path
+
+
+def bench_pmp_apf(ctx: _Context, astar_path: Any) -> None:
+    """pmp APF's force and control step vs gridfield's force sample and follower step."""
+    force_row = Row("python-motion-planning APF: attractive + repulsive force at a point", "force at one point",
+                    "pmp README-like 51x31", "grid_sampler(field)(p)", unit="us")
+    step_row = Row("python-motion-planning APF: get_action (one control step)", "one step of a follower",
+                   "pmp README-like 51x31", "follow(): seconds / iterations", unit="us")
+    try:
+        from gymnasium import spaces
+        from python_motion_planning.common.env.robot.circular_robot import CircularRobot
+        from python_motion_planning.controller.path_tracker.apf import APF
+
+        grid = _pmp_grid()
+        if astar_path is None:
+            from python_motion_planning.path_planner.graph_search.a_star import AStar
+
+            astar_path, _ = AStar(map_=grid, start=PMP_START, goal=PMP_GOAL).plan()
+    except Exception as e:
+        for r in (force_row, step_row):
+            r.status, r.note = "missing", _missing(e)
+        ctx.rows += [force_row, step_row]
+        return
+    from gridfield.follow import follow, grid_sampler
+    from gridfield.potential import build_field
+
+    world_path = [grid.map_to_world(p) for p in astar_path]
+    robot = CircularRobot(dim=2, radius=0.5)
+    obs_space = spaces.Box(-np.inf, np.inf, shape=(6,))
+    act_space = spaces.Box(-1.0, 1.0, shape=(3,))
+    apf = APF(obs_space, act_space, 0.1, path=world_path, robot_model=robot, obstacle_grid=grid, max_lin_speed=1.0)
+    grid.update_esdf()  # built once, outside the timed loop (gridfield's field likewise)
+    pts = np.asarray(world_path, float)  # pmp world point (x, y); cell (i, j) has centre (i + 0.5, j + 0.5)
+    target = np.asarray(world_path[-1], float)
+    n = len(pts)
+
+    def pmp_forces() -> None:
+        for p in pts:
+            apf._calculate_attractive_force(p, target)
+            apf._calculate_repulsive_force(p)
+
+    def pmp_steps() -> None:
+        for p in pts:
+            apf.get_action(np.array([p[0], p[1], 0.0, 0.0, 0.0, 0.0]))
+
+    gm = _gridmap(_pmp_occupancy(grid), 1.0, "pmp example")
+    goal = (PMP_GOAL[0] + 0.5, PMP_GOAL[1] + 0.5)
+    params = {"q_star": float(apf.rep_range)}  # pmp's influence range; zeta = eta = 1 like its weights
+    fld = build_field(gm, goal, params)
+    force = grid_sampler(fld)
+    tuples = [(float(x), float(y)) for x, y in pts]
+
+    def gf_forces() -> None:
+        for p in tuples:
+            force(p)
+
+    reps = max(ctx.repeat, 5)
+    t_pf, _ = timed(pmp_forces, reps)
+    t_ps, _ = timed(pmp_steps, reps)
+    t_gf, _ = timed(gf_forces, reps * 10)
+    per = 1e6 / n
+    force_row.peer_time = Timing(t_pf.median * per, t_pf.min * per, t_pf.max * per, t_pf.n)
+    force_row.gf_time = Timing(t_gf.median * per, t_gf.min * per, t_gf.max * per, t_gf.n)
+    force_row.note = f"per point, over the {n} cells of the A* path"
+    step_row.peer_time = Timing(t_ps.median * per, t_ps.min * per, t_ps.max * per, t_ps.n)
+
+    # the follower's time per step, from Path.seconds / iterations (the follower's own clock)
+    start = (PMP_START[0] + 0.5, PMP_START[1] + 0.5)
+    per_step: list[float] = []
+    status = ""
+    iters = 0
+
+    def gf_follow() -> None:
+        nonlocal status, iters
+        p = follow(fld, start, params={**params, "step": 0.25, "max_iterations": 5000})
+        per_step.append(p.seconds / max(p.iterations, 1) * 1e6)
+        status, iters = p.status, p.iterations
+
+    timed(gf_follow, reps)
+    per_step = per_step[1:]  # drop the warm-up
+    step_row.gf_time = Timing(float(np.median(per_step)), min(per_step), max(per_step), len(per_step))
+    step_row.note = f"pmp: per get_action at the A* path's {n} cells; gridfield: follower from (5.5, 5.5), " \
+                    f"step 0.25: {status} after {iters} steps"
+    ctx.rows += [force_row, step_row]
+
+
+# ----------------------------------------------------------------------------------------------
+# The classic cell-by-cell potential (PythonRobotics-style), written here from the formula
+# ----------------------------------------------------------------------------------------------
+#: The 4 obstacle points of the classic script's example, shifted into a 60 m x 50 m world.
+CELL_OBSTACLES = ((25.0, 35.0), (15.0, 25.0), (30.0, 36.0), (35.0, 35.0))
+CELL_GOAL = (40.0, 40.0)
+
+
+def cell_by_cell_potential(width: int, height: int, res: float, goal: tuple[float, float],
+                           obstacles: Sequence[tuple[float, float]], zeta: float, eta: float,
+                           q_star: float) -> list[list[float]]:
+    """The potential at every cell centre by a plain Python double loop (the reference, slow on purpose).
+
+    ``U = 0.5*zeta*d_goal**2 + 0.5*eta*(1/d - 1/q_star)**2`` with ``d`` the distance to the nearest
+    obstacle point (repulsion only where ``d < q_star``; ``inf`` at an obstacle point), as the
+    classic scripts compute it: an x-major list of lists, one cell at a time.
+    """
+    gx, gy = goal
+    pmap = [[0.0] * height for _ in range(width)]
+    for ix in range(width):
+        x = (ix + 0.5) * res
+        column = pmap[ix]
+        for iy in range(height):
+            y = (iy + 0.5) * res
+            u = 0.5 * zeta * ((x - gx) ** 2 + (y - gy) ** 2)
+            d = math.inf
+            for ox, oy in obstacles:
+                d = min(d, math.hypot(x - ox, y - oy))
+            if d <= 1e-9:
+                u = math.inf
+            elif d < q_star:
+                u += 0.5 * eta * (1.0 / d - 1.0 / q_star) ** 2
+            column[iy] = u
+    return pmap
+
+
+def bench_cell_by_cell(ctx: _Context) -> None:
+    """The cell-by-cell Python potential vs gridfield's build_field on the same grid."""
+    from gridfield.potential import build_field
+
+    scale = min(ctx.scale, 1.0)
+    width, height = max(8, round(600 * scale)), max(8, round(500 * scale))
+    res = 0.1 / scale
+    obstacles = [((math.floor(x / res) + 0.5) * res, (math.floor(y / res) + 0.5) * res) for x, y in CELL_OBSTACLES]
+    goal = ((math.floor(CELL_GOAL[0] / res) + 0.5) * res, (math.floor(CELL_GOAL[1] / res) + 0.5) * res)
+    zeta, eta, q_star = 1.0, 100.0, 5.0
+    row = Row("cell-by-cell Python potential (PythonRobotics-style)", "potential on every cell",
+              f"{width}x{height}, 4 obstacle points", "build_field (brushfire + potential + gradients)")
+    t_ref, pmap = timed(lambda: cell_by_cell_potential(width, height, res, goal, obstacles, zeta, eta, q_star),
+                        ctx.repeat, warmup=0, budget=20.0)
+    occ = np.zeros((height, width), bool)
+    for x, y in obstacles:
+        occ[int(y / res), int(x / res)] = True
+    gm = _gridmap(occ, res, "cell-by-cell")
+    params = {"zeta": zeta, "eta": eta, "q_star": q_star}
+    t_gf, fld = timed(lambda: build_field(gm, goal, params), max(ctx.repeat, 5) * 2)
+    ref = np.asarray(pmap).T  # x-major -> [row, col]
+    free = ~occ
+    err = float(np.max(np.abs(ref[free] - fld.potential[free]) / np.maximum(1.0, np.abs(ref[free]))))
+    row.peer_time, row.gf_time = t_ref, t_gf
+    row.note = f"max relative |dU| between the two potentials: {err:.1e}"
+    ctx.rows.append(row)
+
+
+# ----------------------------------------------------------------------------------------------
+def measure(repeat: int = 3, scale: float = 1.0) -> list[Row]:
+    """Run every peer benchmark; a failing one becomes a ``failed`` row, never an exception."""
+    ctx = _Context(repeat, scale)
+    astar: dict[str, Any] = {}
+    steps: list[tuple[str, Callable[[], Any]]] = [
+        ("rtb", lambda: bench_rtb(ctx)),
+        ("pmp A*", lambda: astar.setdefault("path", bench_pmp_astar(ctx))),
+        ("pmp APF", lambda: bench_pmp_apf(ctx, astar.get("path"))),
+        ("cell-by-cell", lambda: bench_cell_by_cell(ctx)),
+    ]
+    for name, fn in steps:
+        t0 = time.perf_counter()
+        try:
+            fn()
+        except Exception as e:  # report, keep going
+            ctx.rows.append(Row(name, "", "", "", status="failed", note=_missing(e)))
+        print(f"  peers: {name} done in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
+    return ctx.rows
+
+
+def _fmt(t: Timing | None, unit: str) -> str:
+    if t is None:
+        return "-"
+    k = 1e3 if unit == "ms" else 1.0
+    return f"{t.median * k:,.4g} ({t.min * k:,.4g}-{t.max * k:,.4g}) n={t.n}"
+
+
+def table(rows: Sequence[Row]) -> str:
+    """A markdown table of the rows; ratio = peer median / gridfield median."""
+    out = ["| peer | map | peer time | gridfield equivalent | gridfield time | ratio (peer / gridfield) | ≥ 100x | notes |",
+           "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        u = r.unit
+        peer = f"{_fmt(r.peer_time, u)} {u}" if r.peer_time else "-"
+        if r.status != "ok" or r.gf_time is None:
+            out.append(f"| {r.peer} | {r.map} | {peer} | {r.gridfield} | {r.status} | - | - | {r.note} |")
+            continue
+        out.append(f"| {r.peer} | {r.map} | {peer} | {r.gridfield} | {_fmt(r.gf_time, u)} {u} "
+                   f"| **{r.ratio:,.0f}x** | {'yes' if r.ratio >= 100 else 'NO'} | {r.note} |")
+    return "\n".join(out)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=3, help="timed runs per measurement (median reported)")
+    ap.add_argument("--scale", type=float, default=1.0, help="shrink the example maps (smoke runs: 0.25)")
+    ap.add_argument("--json", action="store_true")
+    args = ap.parse_args(argv)
+    rows = measure(args.repeat, args.scale)
+    print(json.dumps([r.as_dict() for r in rows], indent=1, default=str) if args.json else table(rows))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -62,13 +62,15 @@ make it faster enough to be worth the precision near obstacles).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numba
 import numpy as np
 from numba import njit, prange
 from numpy.typing import ArrayLike, NDArray
@@ -401,6 +403,24 @@ def _rep_accumulate(occ, nr, nc, r_off, c_off, res, metric, eta, q_star, ipow, p
                 GY[r, c] -= k * fr
 
 
+#: Below this many cells the parallel kernels run on the calling thread only: waking the thread pool
+#: costs more than the work (and, on a busy machine, can cost milliseconds).
+_PARALLEL_MIN_CELLS = 1 << 18
+
+
+@contextlib.contextmanager
+def _threads_for(cells: int) -> Iterator[None]:
+    if cells >= _PARALLEL_MIN_CELLS:
+        yield
+        return
+    before = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        yield
+    finally:
+        numba.set_num_threads(before)
+
+
 def _integer_power(power: float) -> int:
     """``power`` as a small non-negative int, or -1 when it is fractional (or huge)."""
     return int(power) if float(power).is_integer() and 0 <= power <= 64 else -1
@@ -418,7 +438,8 @@ def _khatib_arrays(
     U, GX, GY = np.empty(grid.shape), np.empty(grid.shape), np.empty(grid.shape)
     x0, y0 = grid.origin
     if occ is None:
-        _attractive_kernel(x0, y0, grid.resolution, goal[0], goal[1], zeta, d_star, d_star == 0.0, U, GX, GY)
+        with _threads_for(U.size):
+            _attractive_kernel(x0, y0, grid.resolution, goal[0], goal[1], zeta, d_star, d_star == 0.0, U, GX, GY)
         return U, GX, GY
     occ = np.ascontiguousarray(occ, dtype=bool)
     assert nr is not None and nc is not None
@@ -426,8 +447,9 @@ def _khatib_arrays(
     ipow = _integer_power(power)
     fused = nearest and 0 <= ipow <= 4
     code = _METRIC_CODE[metric]
-    _khatib_kernel(occ, nr, nc, x0, y0, grid.resolution, goal[0], goal[1], zeta, d_star, d_star == 0.0, code,
-                   eta if fused else 0.0, q_star, max(ipow, 0), sat, far, U, GX, GY)
+    with _threads_for(U.size):
+        _khatib_kernel(occ, nr, nc, x0, y0, grid.resolution, goal[0], goal[1], zeta, d_star, d_star == 0.0, code,
+                       eta if fused else 0.0, q_star, max(ipow, 0), sat, far, U, GX, GY)
     if nearest and not fused:
         _rep_accumulate(occ, nr, nc, 0, 0, grid.resolution, code, eta, q_star, ipow, power, sat, far, U, GX, GY)
     return U, GX, GY

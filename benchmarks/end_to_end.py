@@ -146,8 +146,10 @@ def _peak_rss_bytes() -> int:
 
 def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
     """Measure one size in the current process (meant to be a fresh one); a JSON-able dict."""
-    import cv2
-
+    try:
+        import cv2
+    except ImportError:  # opencv-python-headless is in the [bench] extra only
+        cv2 = None
     from gridfield.brushfire import brushfire
     from gridfield.planners import plan
 
@@ -176,8 +178,10 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
         follows.append(float(p.seconds))
 
     t_plan, _ = timed(one_plan, repeat, warmup=0)
-    free8 = np.ascontiguousarray(~gm.occupied, dtype=np.uint8)
-    t_distc, _ = timed(lambda: cv2.distanceTransform(free8, cv2.DIST_C, 3), repeat)
+    t_distc = None
+    if cv2 is not None:
+        free8 = np.ascontiguousarray(~gm.occupied, dtype=np.uint8)
+        t_distc, _ = timed(lambda: cv2.distanceTransform(free8, cv2.DIST_C, 3), repeat)
     t_bf, _ = timed(lambda: brushfire(gm, metric="euclidean"), repeat, warmup=0)
     t_bf_lean, _ = timed(lambda: brushfire(gm, metric="euclidean", compute_labels=False), repeat, warmup=0)
 
@@ -192,7 +196,7 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
         del p
     return {
         "n": n, "occupied": float(gm.occupied.mean()), "first_plan_s": first,
-        "plan": asdict(t_plan), "dist_c": asdict(t_distc), "brushfire": asdict(t_bf),
+        "plan": asdict(t_plan), "dist_c": asdict(t_distc) if t_distc else None, "brushfire": asdict(t_bf),
         "brushfire_lean": asdict(t_bf_lean),
         "build_median_s": statistics.median(builds), "follow_median_s": statistics.median(follows),
         "rss_before_plan": rss_before, "rss_after_first_plan": rss_plan, "rss_peak_self": _peak_rss_bytes(),
@@ -249,9 +253,10 @@ def table(results: Sequence[dict[str, Any]]) -> str:
             lines.append(f"| {r['n']}^2 | failed: {r['error']} | | | | | | | | |")
             continue
         p, d = r["plan"], r["dist_c"]
+        dc = f"{d['median'] * 1e3:,.1f} | **{p['median'] / d['median']:.2f}**" if d else "not installed | -"
         lines.append(
             f"| {r['n']}^2 | {p['median'] * 1e3:,.0f} ({p['min'] * 1e3:,.0f}-{p['max'] * 1e3:,.0f}) | {p['n']} "
-            f"| {d['median'] * 1e3:,.1f} | **{p['median'] / d['median']:.2f}** | {r['brushfire']['median'] * 1e3:,.0f} "
+            f"| {dc} | {r['brushfire']['median'] * 1e3:,.0f} "
             f"| {r['brushfire_lean']['median'] * 1e3:,.0f} | {r['build_median_s'] * 1e3:,.0f} "
             f"| {r['follow_median_s'] * 1e3:,.1f} | {r['status']}, {r['iterations']} |"
         )

@@ -591,7 +591,7 @@ def section_areas(quick: bool, repeat: int | None, timeout: float, results: dict
 def section_targets(results: dict[str, Any]) -> list[str]:
     rows = []
     e2e = {r["n"]: r for r in results.get("end_to_end", []) if "error" not in r}
-    if 4096 in e2e:
+    if 4096 in e2e and e2e[4096]["dist_c"]:
         r = e2e[4096]
         ratio = r["plan"]["median"] / r["dist_c"]["median"]
         lean = (r["plan"]["median"] - r["brushfire"]["median"] + r["brushfire_lean"]["median"]) / r["dist_c"]["median"]
@@ -638,6 +638,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                     "use those up to 4096 (default 1024 4096 8192; quick: 512 1024)")
     ap.add_argument("--repeat", type=int, help="timed runs per measurement (default 5; quick: 2)")
     ap.add_argument("--out", metavar="FILE", help="also write the markdown report to FILE")
+    ap.add_argument("--startup-repeat", type=int, default=5, help="fresh processes per start-up timing (default 5)")
     ap.add_argument("--only", nargs="+", choices=SECTIONS, metavar="SECTION",
                     help=f"run only these sections ({', '.join(SECTIONS)})")
     ap.add_argument("--peer-scale", type=float, help="shrink the peers' maps (default 1; quick: 0.5)")
@@ -668,7 +669,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     body: list[str] = []
     if "startup" in sections:
         log("startup")
-        body += section_startup(results, 5)
+        body += section_startup(results, args.startup_repeat)
     if "components" in sections:
         body += section_components(comp_sizes, repeat, results)
     if "end_to_end" in sections:

@@ -12,7 +12,8 @@ Force (``p`` the point, ``g`` the goal; names of :data:`gridfield.planners.PARAM
     ``eta * (1/D - 1/q_star) / D**repulsive_power`` along ``(p - c) / D``; ``repulsion="sum"``
     adds one term per obstacle (seed 000), ``"nearest"`` takes only the nearest obstacle.
     A wall border is one more obstacle: the boundary of the world's bounds. ``saturate=R`` drops
-    the repulsion of obstacles at ``D >= R`` (seed 004).
+    the repulsion of obstacles at ``D >= R`` (seed 004). Distances are Euclidean and gradients
+    analytic: the grid options ``metric`` and ``gradient`` have no meaning here and are ignored.
 
 Closest points
     circles analytically (``Obstacle.center``/``radius``), polygons, segments and points with

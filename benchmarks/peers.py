@@ -123,9 +123,9 @@ def _house(scale: float) -> tuple[np.ndarray, tuple[int, int], tuple[int, int]]:
     start, goal = (int(v) for v in house["places"]["br3"]), (int(v) for v in house["places"]["kitchen"])
     start, goal = tuple(start), tuple(goal)
     k = max(1, round(1 / scale)) if scale < 1 else 1
-    if k > 1:  # shrink: a cell is occupied if any of its k x k source cells is
+    if k > 1:  # shrink (smoke runs): a cell is occupied if all its k x k source cells are, so no door closes
         h, w = (occ.shape[0] // k) * k, (occ.shape[1] // k) * k
-        occ = occ[:h, :w].reshape(h // k, k, w // k, k).any(axis=(1, 3))
+        occ = occ[:h, :w].reshape(h // k, k, w // k, k).all(axis=(1, 3))
         start, goal = (start[0] // k, start[1] // k), (goal[0] // k, goal[1] // k)
     return occ, start, goal  # type: ignore[return-value]
 

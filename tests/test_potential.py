@@ -623,3 +623,69 @@ def test_load_field_rejects_other_files(tmp_path):
         load_field(tmp_path / "x.npz")
     with pytest.raises(MapFormatError, match="no such file"):
         load_field(tmp_path / "missing.npz")
+
+
+# ------------------------------------------------------------------------------------------------
+# the command line
+# ------------------------------------------------------------------------------------------------
+def test_cli_field_writes_arrays_and_figures(tmp_path, capsys):
+    from gridfield.cli import main
+    from gridfield.io import read_npz_arrays
+
+    world = bundled_map("seed000.yaml")
+    out = {k: tmp_path / f"{k}.{'npz' if k == 'npz' else 'png'}" for k in ("npz", "plot", "surface", "basins")}
+    argv = [str(world), "--resolution", "0.25", "--repulsion", "nearest", "--q-star", "1.5"]
+    for k, f in out.items():
+        argv += [f"--{k}", str(f)]
+    assert main(["field", *argv]) == 0
+    text = capsys.readouterr().out
+    assert "field 80x100 cells of 0.25" in text and "nearest repulsion, p=3" in text and "U in [" in text
+    for f in out.values():
+        assert f.exists() and f.stat().st_size > 0
+    arrays, grid = read_npz_arrays(out["npz"])
+    assert {"occupied", "distance", "label", "gvd", "potential", "grad_x", "grad_y"} <= set(arrays)
+    assert grid.resolution == 0.25 and grid.origin == (0.0, 0.0)
+    # the world's params, overridden by the command line's
+    w = read_world(world)
+    f = build_field(rasterize(w, 0.25), w.goal, {**w.params, "repulsion": "nearest", "q_star": 1.5})
+    np.testing.assert_array_equal(arrays["potential"], f.potential)
+    np.testing.assert_array_equal(arrays["grad_y"], f.grad_y)
+
+
+def test_cli_field_vortex_and_goal_option(tmp_path, capsys):
+    from gridfield.cli import main
+
+    assert main(["field", str(bundled_map("seed003_circles.yaml")), "--npz", str(tmp_path / "v.npz")]) == 0
+    assert "26x26 cells of 0.4 (vortex" in capsys.readouterr().out
+    assert main(["field", str(bundled_map("seed000.yaml")), "--resolution", "0.5", "--goal", "2", "2",
+                 "--param", "saturate=1.0", "--param", "repulsion=sum"]) == 0
+    assert "goal (2, 2)" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(("extra", "words"), [
+    (["--goal", "5", "12"], "inside an obstacle"),
+    (["--goal", "50", "12"], "outside the map"),
+    (["--param", "zeta=nan"], "NaN"),
+    (["--param", "q_star=0"], "q_star"),
+    (["--repulsion", "everything"], "repulsion must be one of"),
+    (["--param", "zetta=1"], "did you mean 'zeta'"),
+])
+def test_cli_field_errors_are_one_line_and_exit_2(extra, words, capsys):
+    from gridfield.cli import main
+
+    assert main(["field", str(bundled_map("seed000.yaml")), "--resolution", "0.5", *extra]) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip()
+    assert len(err.splitlines()) == 1 and err.startswith("gridfield field: error:") and words in err, err
+    assert captured.out == ""
+
+
+def test_cli_field_needs_a_goal(tmp_path, capsys):
+    from gridfield.cli import main
+
+    (tmp_path / "w.yaml").write_text("bounds: [0, 0, 4, 4]\nresolution: 0.5\nobstacles:\n"
+                                     "  - circle: {center: [2, 2], radius: 0.5}\n")
+    assert main(["field", str(tmp_path / "w.yaml")]) == 2
+    assert "--goal X Y" in capsys.readouterr().err
+    assert main(["field", str(tmp_path / "w.yaml"), "--goal", "0.25", "0.25", "--plot", str(tmp_path / "no" / "p.png")]) == 2
+    assert "does not exist" in capsys.readouterr().err

@@ -1,0 +1,138 @@
+"""``gridfield field``: build a potential field on a map and save its arrays and figures."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from ._common import add_map_arguments, add_param_arguments, collect_params, load_target
+
+
+def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    p = sub.add_parser(
+        "field", help="build a potential field (U and its gradient) on a map",
+        description="Build the attractive/repulsive (or seed 003 vortex) potential field of a map for a goal; "
+                    "print a summary and optionally write its arrays (.npz) and figures. Parameters come from "
+                    "the world file's 'params', overridden by the options below (others via --param K=V, "
+                    "e.g. --param saturate=0.5 or --param model=vortex).")
+    add_map_arguments(p)
+    p.add_argument("--goal", nargs=2, type=float, metavar=("X", "Y"),
+                   help="goal point (default: the world file's goal)")
+    p.add_argument("--npz", metavar="F",
+                   help="write occupied, distance, label, gvd, potential, grad_x, grad_y + resolution, origin")
+    p.add_argument("--plot", metavar="F", help="save the potential (contours and force arrows) as a figure")
+    p.add_argument("--surface", metavar="F", help="save the potential as a 3-D surface figure")
+    p.add_argument("--basins", metavar="F",
+                   help="save the basins of attraction of steepest descent (goal basin and local minima)")
+    add_param_arguments(p)
+    return p
+
+
+def _goal(args: argparse.Namespace, target: Any) -> list[float]:
+    from ..errors import ParameterError
+
+    if args.goal is not None:
+        return list(args.goal)
+    world = target if hasattr(target, "obstacles") else getattr(target, "world", None)
+    goal = getattr(world, "goal", None)
+    if goal is None:
+        raise ParameterError(f"{args.map} names no goal; pass --goal X Y")
+    return list(goal)
+
+
+def _world_params(target: Any) -> dict[str, Any]:
+    from ..world import World
+
+    world = target if isinstance(target, World) else getattr(target, "world", None)
+    return dict(world.params) if isinstance(world, World) else {}
+
+
+def _save_figure(art: Any, file: str) -> None:
+    import matplotlib.pyplot as plt
+
+    from ..errors import GridfieldError
+
+    fig = art.figure
+    try:
+        fig.savefig(file, dpi=110)
+    except OSError as e:
+        raise GridfieldError(f"{file}: cannot write: {e.strerror or e}") from None
+    except ValueError as e:  # an unknown image format
+        raise GridfieldError(f"{file}: {e}") from None
+    finally:
+        plt.close(fig)
+
+
+def _check_output(file: str | None) -> None:
+    from ..errors import GridfieldError
+
+    if file is not None and not Path(file).resolve().parent.is_dir():
+        raise GridfieldError(f"{file}: the folder {Path(file).parent} does not exist")
+
+
+def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from ..brushfire import brushfire
+    from ..io import write_npz
+    from ..potential import build_field, resolve_params
+    from ..rasterize import as_gridmap
+
+    for f in (args.npz, args.plot, args.surface, args.basins):
+        _check_output(f)
+    target = load_target(args)
+    goal = _goal(args, target)
+    params = _world_params(target)
+    params.update(collect_params(args))
+    resolved = resolve_params(params)
+    gridmap = as_gridmap(target, args.resolution)
+    dmap, ms_brushfire = None, 0.0
+    if resolved["model"] == "khatib":  # the vortex model works on its own lattice
+        gridmap.check_point("goal", goal)
+        t0 = time.perf_counter()
+        dmap = brushfire(gridmap, connectivity=4 if resolved["metric"] == "taxicab" else 8,
+                         metric=resolved["metric"], saturate=resolved["saturate"])
+        ms_brushfire = (time.perf_counter() - t0) * 1e3
+    t0 = time.perf_counter()
+    field = build_field(gridmap, goal, params, dmap=dmap)
+    ms = (time.perf_counter() - t0) * 1e3
+    grid = field.grid
+    free = ~field.map.occupied & np.isfinite(field.potential)
+    u = field.potential[free]
+    gmag = np.hypot(field.grad_x, field.grad_y)[free]
+    p = field.params
+    model = "vortex (seed 003)" if p["model"] == "vortex" else (
+        f"khatib, {p['repulsion']} repulsion, p={p['repulsive_power']:g}, {p['gradient']} gradient")
+    urange = f"U in [{u.min():.4g}, {u.max():.4g}]" if u.size else "no free cell"
+    gx, gy = field.goal
+    print(f"field {grid.rows}x{grid.cols} cells of {grid.resolution:g} ({model}), goal ({gx:g}, {gy:g}): "
+          f"{urange} over {int(free.sum())} free cells, max |grad U| {gmag.max() if gmag.size else 0:.4g}, "
+          f"built in {ms_brushfire + ms:.1f} ms (brushfire {ms_brushfire:.1f} ms, potential {ms:.1f} ms)")
+
+    if args.npz:
+        d = field.distance
+        arrays: dict[str, Any] = {"occupied": field.map.occupied, "potential": field.potential,
+                                  "grad_x": field.grad_x, "grad_y": field.grad_y}
+        if d is not None:
+            arrays.update({"steps": d.steps, "distance": d.distance, "label": d.label, "gvd": d.gvd})
+        write_npz(args.npz, arrays, grid)
+        print(f"wrote {args.npz}")
+    if args.plot or args.surface or args.basins:
+        from .. import plot as gplot
+
+        if args.plot:
+            _save_figure(gplot.plot_potential(field, ax=None), args.plot)
+            print(f"wrote {args.plot}")
+        if args.surface:
+            _save_figure(gplot.plot_surface(field, ax=None), args.surface)
+            print(f"wrote {args.surface}")
+        if args.basins:
+            from ..follow import basins
+
+            _save_figure(gplot.plot_basins(basins(field), ax=None), args.basins)
+            print(f"wrote {args.basins}")
+    sys.stdout.flush()
+    return 0

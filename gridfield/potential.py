@@ -403,9 +403,11 @@ def _rep_accumulate(occ, nr, nc, r_off, c_off, res, metric, eta, q_star, ipow, p
                 GY[r, c] -= k * fr
 
 
-#: Below this many cells the parallel kernels run on the calling thread only: waking the thread pool
-#: costs more than the work (and, on a busy machine, can cost milliseconds).
-_PARALLEL_MIN_CELLS = 1 << 18
+#: Below this many cells (2048^2) the parallel kernels run on the calling thread only. The kernels
+#: are memory-bound (one thread streams at ``np.copyto`` speed), so a second thread gains little,
+#: and on a busy 2-core machine waiting for the thread pool cost up to 8x at 1024^2 and
+#: milliseconds on tiny grids (benchmarks/README.md, "Potentials").
+_PARALLEL_MIN_CELLS = 1 << 22
 
 
 @contextlib.contextmanager

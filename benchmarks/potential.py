@@ -28,7 +28,7 @@ import numpy as np
 
 from gridfield.brushfire import brushfire
 from gridfield.grid import Grid, GridMap
-from gridfield.potential import _khatib_kernel, build_field
+from gridfield.potential import _khatib_kernel, _threads_for, build_field
 
 
 def blocks(n: int, count: int, seed: int) -> GridMap:
@@ -95,14 +95,18 @@ def bench_size(n: int, count: int, seed: int, repeat: int) -> list[tuple[str, fl
         np.testing.assert_allclose(a, b, rtol=1e-10, atol=1e-12)
     U, GX, GY = (np.empty((n, n)) for _ in range(3))
     out = [np.empty((n, n)) for _ in range(3)]
+
+    def kernel() -> None:
+        with _threads_for(n * n):  # as build_field runs it
+            _khatib_kernel(gm.occupied, d.nearest_row, d.nearest_col, 0.0, 0.0, 1.0, goal[0], goal[1], 1.0,
+                           math.inf, False, 0, 1.0, q, 2, math.inf, math.inf, U, GX, GY)
+
     reference = "np.copyto of the 3 output arrays (reference)"
     cases: dict[str, Callable[[], object]] = {
         reference: lambda: [np.copyto(o, a) for o, a in zip(out, arrays, strict=True)],
         "fresh copy of the 3 output arrays": lambda: [a.copy() for a in arrays],
         "build_field, nearest, p=2": lambda: build_field(gm, goal, p_near, dmap=d),
-        "fused kernel alone, preallocated outputs": lambda: _khatib_kernel(
-            gm.occupied, d.nearest_row, d.nearest_col, 0.0, 0.0, 1.0, goal[0], goal[1], 1.0, math.inf, False,
-            0, 1.0, q, 2, math.inf, math.inf, U, GX, GY),
+        "fused kernel alone, preallocated outputs": kernel,
         f"build_field, sum over {count} obstacles, p=3": lambda: build_field(gm, goal, p_sum, dmap=d),
         "plain numpy expressions (temporaries)": lambda: numpy_version(gm, d, goal, 1.0, 1.0, q),
     }

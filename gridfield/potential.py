@@ -581,15 +581,19 @@ def repulsive(
     return U, GX, GY
 
 
-def _obstacle_labels(dmap: DistanceMap) -> tuple[NDArray[np.int32], int]:
-    """Occupied cells numbered 1..K by obstacle (world id or component), 0 elsewhere."""
+def _obstacle_labels(dmap: DistanceMap) -> NDArray[np.int32]:
+    """Occupied cells labelled by obstacle (world id or component, >= 1), 0 on free cells.
+
+    Ids are used as they are when they are positive (one pass); occupied cells with id <= 0
+    (e.g. cells added by an inflation) make all ids be renumbered 1..K instead.
+    """
     occ = dmap.map.occupied
     ids = dmap.map.obstacle_id if dmap.map.obstacle_id is not None else dmap.label
-    lab = np.zeros(occ.shape, np.int32)
-    if occ.any():
+    lab = np.where(occ, ids, 0).astype(np.int32, copy=False)
+    if lab.size and (lab[occ] <= 0).any():
         _, inverse = np.unique(ids[occ], return_inverse=True)
         lab[occ] = inverse.reshape(-1).astype(np.int32) + 1
-    return lab, int(lab.max())
+    return lab
 
 
 def _sum_repulsion(dmap: DistanceMap, eta: float, q_star: float, power: float, sat: float, far: float,
@@ -603,7 +607,7 @@ def _sum_repulsion(dmap: DistanceMap, eta: float, q_star: float, power: float, s
     # no term beyond the influence distance, nor beyond the saturation radius (unless far is nearer)
     reach = q_star if far < q_star else min(q_star, sat)
     k = rows + cols if not math.isfinite(reach) else math.ceil(reach / res) + 1
-    lab, _ = _obstacle_labels(dmap)
+    lab = _obstacle_labels(dmap)
     for i, box in enumerate(ndimage.find_objects(lab), start=1):
         if box is None:
             continue

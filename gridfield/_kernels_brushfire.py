@@ -16,7 +16,7 @@ Components (:func:`label_components`)
     8-connected, two-pass union-find; components are numbered in raster order of their first cell
     (row 0 first), the numbering of ``scipy.ndimage.label``. Sequential (run beside a chamfer pass).
 
-Then :func:`label_pass`, :func:`gvd_pass` and :func:`saturate_pass` (parallel over row blocks).
+Then :func:`decode_pass` (nearest cell and label), :func:`gvd_pass` and :func:`saturate_pass` (parallel over row blocks).
 
 Conventions: arrays are C-contiguous ``[row, col]``; occupancy is passed as ``uint8``; the wall
 border is the ring of cells at rows ``-1``/``rows`` and columns ``-1``/``cols`` (never its corners).
@@ -43,6 +43,240 @@ def _chunks(n, nthreads):  # pragma: no cover - compiled
 # ----------------------------------------------------------------------------------------------
 # chessboard / taxicab: two-pass raster transform
 # ----------------------------------------------------------------------------------------------
+# The scans s[c] = min(t[c], s[c -+ 1] + 1) are latency bound (one compare-select chain per row): they
+# run as 4 interleaved chains over 4 segments of the row, then the carry of each segment's end is
+# pushed into the next segment for as long as it improves it (a few cells at most in practice).
+_NOINFO = np.int64(1 << 30)  # initial carry of the inner segments: never wins
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _scan_right(t, s, cols, edge):  # pragma: no cover - compiled
+    """Left-to-right scan ``s[c] = min(t[c], s[c - 1] + 1)``, ``s[-1] = edge``."""
+    n = max(0, cols // 4 - 17)  # segment length (not a multiple of the page size)
+    l0 = np.int64(edge)
+    l1 = _NOINFO
+    l2 = _NOINFO
+    l3 = _NOINFO
+    for j in range(n):
+        a = min(np.int64(t[j]), l0 + 1)
+        s[j] = a
+        l0 = a
+        a = min(np.int64(t[n + j]), l1 + 1)
+        s[n + j] = a
+        l1 = a
+        a = min(np.int64(t[2 * n + j]), l2 + 1)
+        s[2 * n + j] = a
+        l2 = a
+        a = min(np.int64(t[3 * n + j]), l3 + 1)
+        s[3 * n + j] = a
+        l3 = a
+    if n == 0:
+        l3 = np.int64(edge)
+    for c in range(4 * n, cols):
+        a = min(np.int64(t[c]), l3 + 1)
+        s[c] = a
+        l3 = a
+    for k in range(1, 4):
+        c = k * n
+        end = cols if k == 3 else c + n
+        if c == 0:
+            continue
+        v = np.int64(s[c - 1]) + 1
+        while c < end and v < s[c]:
+            s[c] = v
+            v += 1
+            c += 1
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _scan_left(t, s, cols, edge):  # pragma: no cover - compiled
+    """Right-to-left scan ``s[c] = min(t[c], s[c + 1] + 1)``, ``s[cols] = edge`` (x = cols - 1 - c)."""
+    n = max(0, cols // 4 - 17)
+    top = cols - 1
+    l0 = np.int64(edge)
+    l1 = _NOINFO
+    l2 = _NOINFO
+    l3 = _NOINFO
+    for j in range(n):
+        c = np.uint64(top - j)  # unsigned indices: no negative-index wraparound checks
+        a = min(np.int64(t[c]), l0 + 1)
+        s[c] = a
+        l0 = a
+        c = np.uint64(top - n - j)
+        a = min(np.int64(t[c]), l1 + 1)
+        s[c] = a
+        l1 = a
+        c = np.uint64(top - 2 * n - j)
+        a = min(np.int64(t[c]), l2 + 1)
+        s[c] = a
+        l2 = a
+        c = np.uint64(top - 3 * n - j)
+        a = min(np.int64(t[c]), l3 + 1)
+        s[c] = a
+        l3 = a
+    if n == 0:
+        l3 = np.int64(edge)
+    for x in range(4 * n, cols):
+        c = np.uint64(top - x)
+        a = min(np.int64(t[c]), l3 + 1)
+        s[c] = a
+        l3 = a
+    for k in range(1, 4):
+        x = k * n
+        end = cols if k == 3 else x + n
+        if x == 0:
+            continue
+        v = np.int64(s[np.uint64(top - x + 1)]) + 1
+        while x < end and v < s[np.uint64(top - x)]:
+            s[np.uint64(top - x)] = v
+            v += 1
+            x += 1
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _scan_right_idx(t, ti, s, si, cols, edge, edge_i):  # pragma: no cover - compiled
+    """:func:`_scan_right` carrying the nearest-cell index ``si`` of the winner."""
+    n = max(0, cols // 4 - 17)
+    l0 = np.int64(edge)
+    l1 = _NOINFO
+    l2 = _NOINFO
+    l3 = _NOINFO
+    i0 = np.int64(edge_i)
+    i1 = np.int64(0)
+    i2 = np.int64(0)
+    i3 = np.int64(0)
+    for j in range(n):
+        c = j
+        a = np.int64(t[c])
+        m = np.int64(l0 + 1 < a)
+        a += (l0 + 1 - a) * m
+        i0 = ti[c] + (i0 - ti[c]) * m
+        s[c] = a
+        si[c] = i0
+        l0 = a
+        c = n + j
+        a = np.int64(t[c])
+        m = np.int64(l1 + 1 < a)
+        a += (l1 + 1 - a) * m
+        i1 = ti[c] + (i1 - ti[c]) * m
+        s[c] = a
+        si[c] = i1
+        l1 = a
+        c = 2 * n + j
+        a = np.int64(t[c])
+        m = np.int64(l2 + 1 < a)
+        a += (l2 + 1 - a) * m
+        i2 = ti[c] + (i2 - ti[c]) * m
+        s[c] = a
+        si[c] = i2
+        l2 = a
+        c = 3 * n + j
+        a = np.int64(t[c])
+        m = np.int64(l3 + 1 < a)
+        a += (l3 + 1 - a) * m
+        i3 = ti[c] + (i3 - ti[c]) * m
+        s[c] = a
+        si[c] = i3
+        l3 = a
+    if n == 0:
+        l3 = np.int64(edge)
+        i3 = np.int64(edge_i)
+    for c in range(4 * n, cols):
+        a = np.int64(t[c])
+        m = np.int64(l3 + 1 < a)
+        a += (l3 + 1 - a) * m
+        i3 = ti[c] + (i3 - ti[c]) * m
+        s[c] = a
+        si[c] = i3
+        l3 = a
+    for k in range(1, 4):
+        c = k * n
+        end = cols if k == 3 else c + n
+        if c == 0:
+            continue
+        v = np.int64(s[c - 1]) + 1
+        vi = si[c - 1]
+        while c < end and v < s[c]:
+            s[c] = v
+            si[c] = vi
+            v += 1
+            c += 1
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _scan_left_idx(t, ti, s, si, cols, edge, edge_i):  # pragma: no cover - compiled
+    """:func:`_scan_left` carrying the nearest-cell index ``si`` of the winner."""
+    n = max(0, cols // 4 - 17)
+    top = cols - 1
+    l0 = np.int64(edge)
+    l1 = _NOINFO
+    l2 = _NOINFO
+    l3 = _NOINFO
+    i0 = np.int64(edge_i)
+    i1 = np.int64(0)
+    i2 = np.int64(0)
+    i3 = np.int64(0)
+    for j in range(n):
+        c = np.uint64(top - j)
+        a = np.int64(t[c])
+        m = np.int64(l0 + 1 < a)
+        a += (l0 + 1 - a) * m
+        i0 = ti[c] + (i0 - ti[c]) * m
+        s[c] = a
+        si[c] = i0
+        l0 = a
+        c = np.uint64(top - n - j)
+        a = np.int64(t[c])
+        m = np.int64(l1 + 1 < a)
+        a += (l1 + 1 - a) * m
+        i1 = ti[c] + (i1 - ti[c]) * m
+        s[c] = a
+        si[c] = i1
+        l1 = a
+        c = np.uint64(top - 2 * n - j)
+        a = np.int64(t[c])
+        m = np.int64(l2 + 1 < a)
+        a += (l2 + 1 - a) * m
+        i2 = ti[c] + (i2 - ti[c]) * m
+        s[c] = a
+        si[c] = i2
+        l2 = a
+        c = np.uint64(top - 3 * n - j)
+        a = np.int64(t[c])
+        m = np.int64(l3 + 1 < a)
+        a += (l3 + 1 - a) * m
+        i3 = ti[c] + (i3 - ti[c]) * m
+        s[c] = a
+        si[c] = i3
+        l3 = a
+    if n == 0:
+        l3 = np.int64(edge)
+        i3 = np.int64(edge_i)
+    for x in range(4 * n, cols):
+        c = np.uint64(top - x)
+        a = np.int64(t[c])
+        m = np.int64(l3 + 1 < a)
+        a += (l3 + 1 - a) * m
+        i3 = ti[c] + (i3 - ti[c]) * m
+        s[c] = a
+        si[c] = i3
+        l3 = a
+    for k in range(1, 4):
+        x = k * n
+        end = cols if k == 3 else x + n
+        if x == 0:
+            continue
+        c = np.uint64(top - x + 1)
+        v = np.int64(s[c]) + 1
+        vi = si[c]
+        while x < end and v < s[np.uint64(top - x)]:
+            c = np.uint64(top - x)
+            s[c] = v
+            si[c] = vi
+            v += 1
+            x += 1
+
+
 @njit(**_OPTS)
 def chamfer_steps(occ, wall, conn8, steps, distance, resolution, write_distance):  # pragma: no cover
     """Chessboard (``conn8``) or taxicab steps; also ``distance = steps * resolution`` if asked."""
@@ -71,11 +305,7 @@ def chamfer_steps(occ, wall, conn8, steps, distance, resolution, write_distance)
             for c in range(cols):
                 a = np.int64(p[c + 1]) + 1
                 t[c] = a - a * np.int64(orow[c])
-        left = edge
-        for c in range(cols):
-            a = min(np.int64(t[c]), left + 1)
-            srow[c] = a
-            left = a
+        _scan_right(t, srow, cols, edge)
     for r in range(rows - 1, -1, -1):  # backward: down-right, down, down-left, right
         srow = steps[r]
         if r == rows - 1:
@@ -88,17 +318,13 @@ def chamfer_steps(occ, wall, conn8, steps, distance, resolution, write_distance)
         if conn8:
             for c in range(cols):
                 a = min(min(np.int64(p[c]), np.int64(p[c + 1])), np.int64(p[c + 2])) + 1
-                t[c] = min(a, np.int64(srow[c]))
+                t[c] = a
         else:
             for c in range(cols):
-                t[c] = min(np.int64(p[c + 1]) + 1, np.int64(srow[c]))
-        right = edge
-        c = np.uint64(cols)  # unsigned index: no negative-index wraparound checks in the scan
-        while c > 0:
-            c -= np.uint64(1)
-            a = min(np.int64(t[c]), right + 1)
-            srow[c] = a
-            right = a
+                t[c] = np.int64(p[c + 1]) + 1
+        for c in range(cols):  # a separate loop: fewer arrays, so the compiler vectorizes both
+            t[c] = min(np.int64(t[c]), np.int64(srow[c]))
+        _scan_left(t, srow, cols, edge)
         if write_distance:
             drow = distance[r]
             for c in range(cols):
@@ -106,130 +332,119 @@ def chamfer_steps(occ, wall, conn8, steps, distance, resolution, write_distance)
 
 
 @njit(**_OPTS)
-def chamfer_nearest(occ, wall, conn8, steps, nrow, ncol, distance, resolution, write_distance):  # pragma: no cover
-    """:func:`chamfer_steps` carrying the nearest obstacle cell ``(nrow, ncol)`` along (branch-free
-    selects: ``x += (y - x) * m`` with ``m`` in {0, 1})."""
+def chamfer_nearest(occ, wall, conn8, steps, nidx, distance, resolution, write_distance):  # pragma: no cover
+    """:func:`chamfer_steps` carrying the nearest obstacle cell along, packed as
+    ``nidx = (row + 1) * (cols + 2) + (col + 1)`` (see :func:`decode_pass`). Selects are branch-free:
+    ``x += (y - x) * m`` with ``m`` in {0, 1}."""
     rows, cols = occ.shape
+    w = np.int64(cols + 2)
     inf = np.int64(rows + cols + 4)
     edge = np.int64(0) if wall else inf
-    p = np.empty(cols + 2, np.int32)
-    pr = np.zeros(cols + 2, np.int32)
-    pc = np.zeros(cols + 2, np.int32)
+    p = np.empty(cols + 2, np.int32)  # the neighbouring row, padded (padding never wins)
+    pi = np.zeros(cols + 2, nidx.dtype)
     p[0] = inf
     p[cols + 1] = inf
     t = np.empty(cols, np.int32)
-    tr = np.empty(cols, np.int32)
-    tc = np.empty(cols, np.int32)
-    for r in range(rows):  # forward
+    ti = np.empty(cols, nidx.dtype)
+    for r in range(rows):  # forward: up-left, up, up-right, then left
         orow = occ[r]
         srow = steps[r]
-        rrow = nrow[r]
-        crow = ncol[r]
+        irow = nidx[r]
         if r == 0:
             for c in range(cols):
                 p[c + 1] = edge
-                pr[c + 1] = -1
-                pc[c + 1] = c
+                pi[c + 1] = c + 1  # wall cell (-1, c)
         else:
             prev = steps[r - 1]
-            prevr = nrow[r - 1]
-            prevc = ncol[r - 1]
+            previ = nidx[r - 1]
             for c in range(cols):
                 p[c + 1] = prev[c]
-                pr[c + 1] = prevr[c]
-                pc[c + 1] = prevc[c]
+                pi[c + 1] = previ[c]
+        own = (r + 1) * w + 1
         for c in range(cols):
             a = np.int64(p[c + 1])
-            ar = np.int64(pr[c + 1])
-            ac = np.int64(pc[c + 1])
+            ai = np.int64(pi[c + 1])
             if conn8:
                 b = np.int64(p[c])
                 m = np.int64(b < a)
                 a += (b - a) * m
-                ar += (np.int64(pr[c]) - ar) * m
-                ac += (np.int64(pc[c]) - ac) * m
+                ai += (np.int64(pi[c]) - ai) * m
                 b = np.int64(p[c + 2])
                 m = np.int64(b < a)
                 a += (b - a) * m
-                ar += (np.int64(pr[c + 2]) - ar) * m
-                ac += (np.int64(pc[c + 2]) - ac) * m
+                ai += (np.int64(pi[c + 2]) - ai) * m
             a += 1
             o = np.int64(orow[c])
             t[c] = a - a * o
-            tr[c] = ar + (r - ar) * o
-            tc[c] = ac + (c - ac) * o
-        left = edge
-        lr = np.int64(r)
-        lc = np.int64(-1)
-        for c in range(cols):
-            a = np.int64(t[c])
-            b = left + 1
-            m = np.int64(b < a)
-            a += (b - a) * m
-            lr = tr[c] + (lr - tr[c]) * m
-            lc = tc[c] + (lc - tc[c]) * m
-            srow[c] = a
-            rrow[c] = lr
-            crow[c] = lc
-            left = a
-    for r in range(rows - 1, -1, -1):  # backward
+            ti[c] = ai + (own + c - ai) * o
+        _scan_right_idx(t, ti, srow, irow, cols, edge, own - 1)  # wall cell (r, -1)
+    for r in range(rows - 1, -1, -1):  # backward: down-right, down, down-left, then right
         srow = steps[r]
-        rrow = nrow[r]
-        crow = ncol[r]
+        irow = nidx[r]
         if r == rows - 1:
             for c in range(cols):
                 p[c + 1] = edge
-                pr[c + 1] = rows
-                pc[c + 1] = c
+                pi[c + 1] = (rows + 1) * w + c + 1  # wall cell (rows, c)
         else:
             nxt = steps[r + 1]
-            nxtr = nrow[r + 1]
-            nxtc = ncol[r + 1]
+            nxti = nidx[r + 1]
             for c in range(cols):
                 p[c + 1] = nxt[c]
-                pr[c + 1] = nxtr[c]
-                pc[c + 1] = nxtc[c]
+                pi[c + 1] = nxti[c]
         for c in range(cols):
             a = np.int64(p[c + 1])
-            ar = np.int64(pr[c + 1])
-            ac = np.int64(pc[c + 1])
+            ai = np.int64(pi[c + 1])
             if conn8:
                 b = np.int64(p[c])
                 m = np.int64(b < a)
                 a += (b - a) * m
-                ar += (np.int64(pr[c]) - ar) * m
-                ac += (np.int64(pc[c]) - ac) * m
+                ai += (np.int64(pi[c]) - ai) * m
                 b = np.int64(p[c + 2])
                 m = np.int64(b < a)
                 a += (b - a) * m
-                ar += (np.int64(pr[c + 2]) - ar) * m
-                ac += (np.int64(pc[c + 2]) - ac) * m
-            a += 1
+                ai += (np.int64(pi[c + 2]) - ai) * m
+            t[c] = a + 1
+            ti[c] = ai
+        for c in range(cols):  # a separate loop: fewer arrays, so the compiler vectorizes both
+            a = np.int64(t[c])
             cur = np.int64(srow[c])
             m = np.int64(a < cur)
             t[c] = cur + (a - cur) * m
-            tr[c] = rrow[c] + (ar - rrow[c]) * m
-            tc[c] = crow[c] + (ac - crow[c]) * m
-        right = edge
-        rr = np.int64(r)
-        rc = np.int64(cols)
-        c = np.uint64(cols)
-        while c > 0:
-            c -= np.uint64(1)
-            a = np.int64(t[c])
-            b = right + 1
-            m = np.int64(b < a)
-            a += (b - a) * m
-            rr = tr[c] + (rr - tr[c]) * m
-            rc = tc[c] + (rc - tc[c]) * m
-            srow[c] = a
-            rrow[c] = rr
-            crow[c] = rc
-            right = a
+            ti[c] = irow[c] + (ti[c] - irow[c]) * m
+        _scan_left_idx(t, ti, srow, irow, cols, edge, (r + 1) * w + cols + 1)  # wall cell (r, cols)
         if write_distance:
             drow = distance[r]
             for c in range(cols):
                 drow[c] = srow[c] * resolution
+
+
+@njit(cache=True, nogil=True, parallel=True, error_model="numpy")
+def decode_pass(nidx, nearest_row, nearest_col, want_nearest, comp, want_label, label, border_label,
+                nthreads):  # pragma: no cover - compiled
+    """Unpack ``nidx`` (see :func:`chamfer_nearest`) into ``nearest_row``/``nearest_col`` (which may be
+    the very array ``nidx``: each value is read before it is overwritten) and look up ``label``:
+    ``comp[nr, nc]``, or ``border_label`` outside the grid (the wall)."""
+    rows, cols = nidx.shape
+    w = np.int64(cols + 2)
+    inv = 1.0 / (cols + 2)
+    nchunks = _chunks(rows, nthreads)
+    for k in prange(nchunks):
+        for r in range(k * rows // nchunks, (k + 1) * rows // nchunks):
+            irow = nidx[r]
+            for c in range(cols):
+                i = np.int64(irow[c])
+                q = np.int64(i * inv)  # i // w in floating point, then corrected
+                q += np.int64(i - q * w >= w) - np.int64(i - q * w < 0)
+                nr = q - 1
+                nc = i - q * w - 1
+                if want_label:
+                    if nr < 0 or nr >= rows or nc < 0 or nc >= cols:
+                        label[r, c] = border_label
+                    else:
+                        label[r, c] = comp[nr, nc]
+                if want_nearest:
+                    nearest_row[r, c] = nr
+                    nearest_col[r, c] = nc
 
 
 # ----------------------------------------------------------------------------------------------
@@ -330,11 +545,11 @@ def edt_1d(g, n, inf, s, t, val, arg):  # pragma: no cover - compiled
 
 @njit(cache=True, nogil=True, parallel=True, error_model="numpy")
 def edt_row_pass(vr, wall, resolution, distance, nearest_row, nearest_col, want_nearest,
-                 comp, comp_map, use_map, want_label, label, border_label, nthreads):  # pragma: no cover
+                 comp, want_label, label, border_label, nthreads):  # pragma: no cover
     """Row pass of the Euclidean transform: ``distance`` and optionally nearest obstacle and label.
 
     ``vr`` holds the column pass result; it may be the very array ``nearest_row`` (each row is copied
-    to a buffer before it is overwritten). Labels: see :func:`label_pass`.
+    to a buffer before it is overwritten). Labels: see :func:`decode_pass`.
     """
     rows, cols = vr.shape
     n = cols
@@ -374,8 +589,6 @@ def edt_row_pass(vr, wall, resolution, distance, nearest_row, nearest_col, want_
                     nc = a - 1
                     if nr < 0 or nr >= rows or nc < 0 or nc >= cols:
                         label[r, c] = border_label
-                    elif use_map:
-                        label[r, c] = comp_map[comp[nr, nc]]
                     else:
                         label[r, c] = comp[nr, nc]
 
@@ -407,10 +620,10 @@ def _union(parent, a, b):  # pragma: no cover - compiled
 
 @njit(**_OPTS)
 def label_components(occ, comp):  # pragma: no cover - compiled
-    """Provisional 8-connected labels in ``comp`` (0 on free cells); returns ``(comp_map, count)``.
+    """8-connected labels of the obstacle cells in ``comp`` (0 on free cells); returns their number.
 
-    ``comp_map[comp[r, c]]`` is the final label, numbered 1.. in raster order of each component's
-    first cell (row 0 first). The root of every union-find set is its smallest provisional label.
+    Components are numbered 1.. in raster order of their first cell (row 0 first): the root of every
+    union-find set is its smallest provisional label, and provisional labels grow in raster order.
     """
     rows, cols = occ.shape
     # provisional labels are only created at cells with no labelled neighbour before them: no two
@@ -471,31 +684,16 @@ def label_components(occ, comp):  # pragma: no cover - compiled
             comp_map[i] = count
         else:
             comp_map[i] = comp_map[_find(parent, p)]
-    return comp_map, count
+    for r in range(rows):
+        crow = comp[r]
+        for c in range(cols):
+            crow[c] = comp_map[crow[c]]
+    return count
 
 
 # ----------------------------------------------------------------------------------------------
-# labels of the nearest obstacles, generalized Voronoi diagram, saturation
+# generalized Voronoi diagram, saturation
 # ----------------------------------------------------------------------------------------------
-@njit(cache=True, nogil=True, parallel=True, error_model="numpy")
-def label_pass(nearest_row, nearest_col, comp, comp_map, use_map, border_label, label, nthreads):  # pragma: no cover
-    """``label = comp_map[comp[nr, nc]]`` (or ``comp[nr, nc]`` without ``use_map``); ``border_label``
-    where the nearest obstacle is the wall (outside the grid)."""
-    rows, cols = label.shape
-    nchunks = _chunks(rows, nthreads)
-    for k in prange(nchunks):
-        for r in range(k * rows // nchunks, (k + 1) * rows // nchunks):
-            for c in range(cols):
-                nr = nearest_row[r, c]
-                nc = nearest_col[r, c]
-                if nr < 0 or nr >= rows or nc < 0 or nc >= cols:
-                    label[r, c] = border_label
-                elif use_map:
-                    label[r, c] = comp_map[comp[nr, nc]]
-                else:
-                    label[r, c] = comp[nr, nc]
-
-
 @njit(cache=True, nogil=True, inline="always")
 def _gvd_dir(la, da, lb, db, fb, mark, a0, a1, off, later):  # pragma: no cover - compiled
     # cells a in a0:a1 against b = a + off of a neighbouring (or the same) row

@@ -159,7 +159,6 @@ def _num_threads(threads: int | None) -> Iterator[int]:
 
 
 _NO_COMP = np.zeros((1, 1), np.int32)  # placeholder for an output that is not computed
-_NO_MAP = np.zeros(1, np.int32)
 
 
 def _beside(job: Callable[[], None] | None, nthreads: int) -> Callable[[], None]:
@@ -333,8 +332,8 @@ def brushfire(
 
     def components() -> None:
         comp = np.empty(shape, np.int32)
-        comp_map, _ = k.label_components(occ8, comp)
-        comps.extend((comp, comp_map))
+        k.label_components(occ8, comp)
+        comps.append(comp)
 
     with _num_threads(threads) as nthreads:
         # Component labelling is sequential: it runs in a second thread beside the sequential passes.
@@ -351,9 +350,10 @@ def brushfire(
                     k.chamfer_steps(occ8, wall, step8, steps, distance, res, False)
                     scratch = np.empty(shape, np.int32)
                 if want_nearest or want_label:  # labels are looked up at the nearest obstacle
-                    nearest_row, nearest_col = np.empty(shape, np.int32), np.empty(shape, np.int32)
-                    k.chamfer_nearest(occ8, wall, metric == "chessboard", scratch, nearest_row, nearest_col,
-                                      distance, res, True)
+                    # nearest cell packed in one integer (int64 beyond 2**31 padded cells)
+                    small = (shape[0] + 2) * (shape[1] + 2) < 2**31
+                    nidx = np.empty(shape, np.int32 if small else np.int64)
+                    k.chamfer_nearest(occ8, wall, metric == "chessboard", scratch, nidx, distance, res, True)
                 else:
                     k.chamfer_steps(occ8, wall, metric == "chessboard", scratch, distance, res, True)
                 del scratch
@@ -361,23 +361,25 @@ def brushfire(
             join()
         if want_label:
             label = np.empty(shape, np.int32)
-            if obstacle_id is not None:
-                comp, comp_map, use_map = np.ascontiguousarray(obstacle_id, np.int32), _NO_MAP, False
-            else:
-                (comp, comp_map), use_map = comps, True
+            comp = np.ascontiguousarray(obstacle_id, np.int32) if obstacle_id is not None else comps.pop()
         else:
-            comp, comp_map, use_map = _NO_COMP, _NO_MAP, False
+            comp = _NO_COMP
         if metric == "euclidean":
             if want_nearest:
                 nearest_row, nearest_col = vr, np.empty(shape, np.int32)
             k.edt_row_pass(vr, wall, res, distance, vr, _NO_COMP if nearest_col is None else nearest_col,
-                           want_nearest, comp, comp_map, use_map, want_label,
-                           _NO_COMP if label is None else label, BORDER_LABEL, nthreads)
+                           want_nearest, comp, want_label, _NO_COMP if label is None else label, BORDER_LABEL,
+                           nthreads)
             del vr
-        elif label is not None:
-            k.label_pass(nearest_row, nearest_col, comp, comp_map, use_map, BORDER_LABEL, label, nthreads)
-        del comp, comp_map
-        comps.clear()
+        elif want_nearest or want_label:
+            if want_nearest:
+                nearest_row = np.empty(shape, np.int32)
+                nearest_col = nidx if nidx.dtype == np.int32 else np.empty(shape, np.int32)
+            k.decode_pass(nidx, _NO_COMP if nearest_row is None else nearest_row,
+                          _NO_COMP if nearest_col is None else nearest_col, want_nearest,
+                          comp, want_label, _NO_COMP if label is None else label, BORDER_LABEL, nthreads)
+            del nidx
+        del comp
         if want_gvd:
             gvd = np.empty(shape, bool)
             k.gvd_pass(label, distance, occ8, gvd, nthreads)

@@ -175,7 +175,7 @@ def test_attractive_closed_forms(zeta, d_star, gx, gy):
 # ------------------------------------------------------------------------------------------------
 # repulsive: closed forms where D is known exactly
 # ------------------------------------------------------------------------------------------------
-@pytest.mark.parametrize("power", [2, 3, 2.5, 0])
+@pytest.mark.parametrize("power", [2, 3, 2.5, 0, 1, 4, 7])
 def test_repulsive_single_obstacle_cell(power):
     res, eta, q = 0.5, 1.7, 3.2
     occ = np.zeros((15, 17), bool)
@@ -249,6 +249,17 @@ def test_repulsive_other_metrics(metric, formula):
     force = np.stack([-f.grad_x, -f.grad_y])[:, free]
     np.testing.assert_allclose(force / np.hypot(*force), np.stack([c, r])[:, free] / np.hypot(r, c)[free], atol=1e-12)
     assert f.params["metric"] == metric and f.distance is not None and f.distance.metric == metric
+
+
+@pytest.mark.parametrize("repulsion", ["nearest", "sum"])
+def test_map_without_obstacles_is_pure_attraction(repulsion):
+    gm = GridMap(Grid((6, 7), 0.5, (-1.0, 2.0)), np.zeros((6, 7), bool))
+    f = build_field(gm, (0.3, 3.1), {"zeta": 2.0, "d_star": 1.0, "repulsion": repulsion})
+    Ua, ax, ay = attractive(gm.grid, (0.3, 3.1), zeta=2.0, d_star=1.0)
+    np.testing.assert_array_equal(f.potential, Ua)
+    np.testing.assert_array_equal(f.grad_x, ax)
+    np.testing.assert_array_equal(f.grad_y, ay)
+    assert f.distance is not None and np.all(np.isinf(f.distance.distance))
 
 
 def test_saturated_distance_seed004():

@@ -980,6 +980,11 @@ def _build_vortex(gridmap: GridMap, goal: ArrayLike, p: dict[str, Any]) -> Field
 _DMAP_ARRAYS = ("steps", "distance", "nearest_row", "nearest_col", "label", "gvd")
 
 
+def _json_value(v: Any) -> Any:
+    """numpy scalars (and anything else json does not know) as plain values."""
+    return v.item() if isinstance(v, np.generic) else str(v)
+
+
 def save_field(path: str | os.PathLike[str], field: Field) -> None:
     """Write a :class:`Field` to an ``.npz`` file that :func:`load_field` reads back.
 
@@ -1014,7 +1019,7 @@ def save_field(path: str | os.PathLike[str], field: Field) -> None:
             np.savez_compressed(
                 fh, **arrays, resolution=np.float64(grid.resolution), origin=np.asarray(grid.origin, np.float64),
                 border=np.asarray(grid.border), goal=np.asarray(field.goal, np.float64),
-                params=np.asarray(json.dumps(field.params)), distance_meta=np.asarray(json.dumps(meta)),
+                params=np.asarray(json.dumps(field.params, default=_json_value)), distance_meta=np.asarray(json.dumps(meta)),
             )
     except OSError as e:
         raise GridfieldError(f"{path}: cannot write: {e.strerror or e}") from None

@@ -284,20 +284,6 @@ _JIT = {"cache": True, "error_model": "numpy", "nogil": True}
 
 
 @njit(inline="always", **_JIT)
-def _att_at(dx, dy, zeta, d_star, conic):  # pragma: no cover - compiled
-    """Attractive (U, dU/dx, dU/dy) at offset (dx, dy) from the goal."""
-    d2 = dx * dx + dy * dy
-    if d2 <= d_star * d_star:  # quadratic part (d_star = inf: everywhere; d_star = 0: only the goal)
-        return 0.5 * zeta * d2, zeta * dx, zeta * dy
-    d = math.sqrt(d2)
-    if conic:
-        k = zeta / d
-        return zeta * d, k * dx, k * dy
-    k = zeta * d_star / d
-    return zeta * d_star * d - 0.5 * zeta * d_star * d_star, k * dx, k * dy
-
-
-@njit(inline="always", **_JIT)
 def _rep_distance(fr, fc, res, metric, sat, far):  # pragma: no cover - compiled
     """``(D, |offset| in cells)`` for a nearest obstacle cell ``(fr, fc)`` cells away, after saturation."""
     length = math.sqrt(fr * fr + fc * fc)

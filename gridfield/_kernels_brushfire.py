@@ -695,23 +695,21 @@ def label_components(occ, comp):  # pragma: no cover - compiled
 # generalized Voronoi diagram, saturation
 # ----------------------------------------------------------------------------------------------
 @njit(cache=True, nogil=True, inline="always")
-def _gvd_dir(la, da, lb, db, fb, mark, a0, a1, off, later):  # pragma: no cover - compiled
-    # cells a in a0:a1 against b = a + off of a neighbouring (or the same) row
-    if later:
-        for c in range(a0, a1):
-            b = c + off
-            mark[c] |= (la[c] != lb[b]) & (fb[b] == 0) & (da[c] >= db[b])
-    else:
-        for c in range(a0, a1):
-            b = c + off
-            mark[c] |= (la[c] != lb[b]) & (fb[b] == 0) & (da[c] > db[b])
+def _gvd_dir(la, da, lb, db, fb, mark, a0, a1, off):  # pragma: no cover - compiled
+    # cells a in a0:a1 against b = a + off of a neighbouring (or the same) row: a is marked if b is a
+    # free cell of another label and a is farther from its obstacle (on a tie: a has the smaller label)
+    for c in range(a0, a1):
+        b = c + off
+        lab_a = la[c]
+        lab_b = lb[b]
+        mark[c] |= (lab_a != lab_b) & (fb[b] == 0) & ((da[c] > db[b]) | ((da[c] == db[b]) & (lab_a < lab_b)))
 
 
 @njit(cache=True, nogil=True, parallel=True, error_model="numpy")
 def gvd_pass(label, distance, occ, gvd, nthreads):  # pragma: no cover - compiled
-    """Mark free cells next to a free cell of another label: of each such 8-neighbour pair the farther
-    cell, on ties the one first in raster order. Each cell looks at its 8 neighbours, so every row is
-    written by one thread only."""
+    """Of each pair of 8-neighbouring free cells with different labels, mark the one farther from its
+    obstacle; on a tie, the one with the smaller label. Each cell looks at its 8 neighbours, so every
+    row is written by one thread only."""
     rows, cols = label.shape
     nchunks = _chunks(rows, nthreads)
     for k in prange(nchunks):
@@ -728,12 +726,10 @@ def gvd_pass(label, distance, occ, gvd, nthreads):  # pragma: no cover - compile
                 lb = label[rr]
                 db = distance[rr]
                 fb = occ[rr]
-                # neighbour b = (r + dr, c + dc) comes later in raster order iff dr > 0 or dc > 0 on
-                # the same row; on a tie the earlier cell of the pair is marked
                 if dr != 0:
-                    _gvd_dir(la, da, lb, db, fb, mark, 0, cols, 0, dr > 0)
-                _gvd_dir(la, da, lb, db, fb, mark, 1, cols, -1, dr > 0)
-                _gvd_dir(la, da, lb, db, fb, mark, 0, cols - 1, 1, dr >= 0)
+                    _gvd_dir(la, da, lb, db, fb, mark, 0, cols, 0)
+                _gvd_dir(la, da, lb, db, fb, mark, 1, cols, -1)
+                _gvd_dir(la, da, lb, db, fb, mark, 0, cols - 1, 1)
             grow = gvd[r]
             for c in range(cols):
                 grow[c] = mark[c] & (fa[c] == 0)

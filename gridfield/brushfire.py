@@ -77,9 +77,12 @@ class DistanceMap:
     gvd : ndarray of bool or None
         Generalized Voronoi diagram: free cells where the wavefronts of two different labels meet.
         Of each pair of 8-neighbouring free cells with different labels, the one farther from its
-        obstacle is marked (ties: the first in raster order), so the GVD is one cell thick, and
-        every GVD cell is within one cell of equidistant from two obstacles. With a wall border the
-        wall is one of the obstacles. ``None`` when computed with ``compute_gvd=False``.
+        obstacle (by ``distance`` before saturation) is marked; on a tie, the one with the smaller
+        label. So the GVD separates the labels' regions (no two 8-neighbouring free cells of
+        different labels remain once it is removed), it is one cell thick (an even gap between two
+        obstacles gives one column, not two), and every GVD cell is within one cell of equidistant
+        from two obstacles. With a wall border the wall is one of the obstacles.
+        ``None`` when computed with ``compute_gvd=False``.
     saturate : float or None
         Saturation radius used (seed 004), or None.
     far : float

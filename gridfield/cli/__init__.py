@@ -12,6 +12,7 @@ import argparse
 import importlib
 import sys
 from collections.abc import Sequence
+from typing import NoReturn
 
 from .._version import __version__
 
@@ -21,8 +22,15 @@ __all__ = ["COMMANDS", "main"]
 COMMANDS = ("demo", "info", "brushfire", "field", "plan", "compare", "explore", "sweep")
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line on stderr (and exit code 2), like every other error."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="gridfield",
         description="Grid-based path planning with brushfire distance maps and potential fields.",
     )
@@ -44,7 +52,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     from ..errors import GridfieldError
 
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as e:  # --help, --version (0) or a usage error (2, already printed)
+        return int(e.code or 0)
     if not getattr(args, "_run", None):
         parser.print_help()
         return 2

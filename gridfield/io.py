@@ -982,7 +982,11 @@ def write_npz(path: PathLike, arrays: Mapping[str, NDArray[Any]], grid: Grid) ->
 
 
 def read_npz_arrays(path: PathLike) -> tuple[dict[str, NDArray[Any]], Grid]:
-    """Read an ``.npz`` written by :func:`write_npz`: the arrays by name and their :class:`Grid`."""
+    """Read an ``.npz`` written by :func:`write_npz`: the arrays by name and their :class:`Grid`.
+
+    Entries of fewer than two dimensions (e.g. the goal and parameters that
+    :func:`gridfield.potential.save_field` adds) are returned too but do not set the grid's shape.
+    """
     p = _check_file(path)
     try:
         with open(p, "rb") as fh:
@@ -1006,11 +1010,12 @@ def read_npz_arrays(path: PathLike) -> tuple[dict[str, NDArray[Any]], Grid]:
         border = str(np.asarray(content.pop("border", "open")).reshape(()))
     except (TypeError, ValueError) as e:
         raise MapFormatError(f"{p}: bad resolution, origin or border entry ({e})") from None
-    if not content:
+    # Grid-shaped arrays share one shape; 0-d/1-d entries (a goal, parameters as JSON) are metadata.
+    shapes = {k: a.shape[:2] for k, a in content.items() if a.ndim >= 2}
+    if not shapes:
         raise MapFormatError(f"{p}: holds no arrays besides the grid geometry")
-    shapes = {k: a.shape[:2] for k, a in content.items()}
     shape = shapes.get("occupied", next(iter(shapes.values())))
-    bad = [k for k, s in shapes.items() if s != shape or len(s) != 2]
+    bad = [k for k, s in shapes.items() if s != shape]
     if bad:
         raise MapFormatError(f"{p}: arrays have different shapes: {shapes}")
     try:

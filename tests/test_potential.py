@@ -700,3 +700,17 @@ def test_cli_field_needs_a_goal(tmp_path, capsys):
     assert "--goal X Y" in capsys.readouterr().err
     assert main(["field", str(tmp_path / "w.yaml"), "--goal", "0.25", "0.25", "--plot", str(tmp_path / "no" / "p.png")]) == 2
     assert "does not exist" in capsys.readouterr().err
+
+
+def test_saved_field_reads_back_as_a_map(tmp_path) -> None:
+    """A save_field file is also a gridfield .npz map (its goal/params entries are metadata)."""
+    from gridfield.io import read
+
+    occ = np.zeros((5, 7), bool)
+    occ[2, 3] = True
+    gm = GridMap(Grid((5, 7), 0.5, origin=(1.0, -2.0)), occ)
+    f = build_field(gm, (4.25, -0.25), {"q_star": 1.0})
+    save_field(tmp_path / "f.npz", f)
+    back = read(tmp_path / "f.npz")
+    assert back.grid == gm.grid
+    assert np.array_equal(back.occupied, occ)

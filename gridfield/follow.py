@@ -1042,17 +1042,27 @@ def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = N
                 min_clearance=_clearance(field, pts), extra=extra)
 
 
-def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: Mapping[str, Any]) -> Path:
+def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: Mapping[str, Any], *,
+                   cache: dict[Any, Any] | None = None) -> Path:
     """The ``potential`` planner: build the field (:func:`gridfield.potential.build_field`), follow it.
 
     ``Path.seconds`` is the following time; ``extra["build_seconds"]`` the field's build time;
-    ``Path.params`` the resolved potential and follower parameters.
+    ``Path.params`` the resolved potential and follower parameters. With a ``cache`` dict, the
+    brushfire of ``gridmap`` is computed once per (metric, saturation) and reused by later calls
+    (batch sweeps: many goals and gains on one map).
     """
-    from .potential import build_field, resolve_params
+    from .potential import build_field, field_distance_map, resolve_params
 
     params = dict(params or {})
     t0 = time.perf_counter()
-    field = build_field(gridmap, goal, params)
+    dmap = None
+    if cache is not None and params.get("model", "khatib") != "vortex":
+        p = resolve_params(params)
+        key = ("brushfire", gridmap, p["metric"], p["saturate"])
+        if key not in cache:
+            cache[key] = field_distance_map(gridmap, p)
+        dmap = cache[key]
+    field = build_field(gridmap, goal, params, dmap=dmap)
     build = time.perf_counter() - t0
     path = follow(field, start, params=params)
     merged = dict(resolve_params(params))

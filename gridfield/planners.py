@@ -10,6 +10,7 @@ names it knows and ignores the others). Planners are imported only when used.
 from __future__ import annotations
 
 import importlib
+import inspect
 import math
 from collections.abc import Callable, Mapping
 from typing import Any
@@ -121,11 +122,15 @@ def plan(
     params: Mapping[str, Any] | None = None,
     *,
     resolution: float | None = None,
+    cache: dict[Any, Any] | None = None,
 ) -> Path:
     """Plan a path from ``start`` to ``goal`` with the named planner.
 
     A grid planner given a :class:`World` rasterizes it at ``resolution`` (or the world's own);
     an exact planner given a :class:`GridMap` uses the world it was rasterized from, if any.
+    With a ``cache`` dict (kept by the caller across calls on the same ``target`` object), the
+    rasterized grid, and for planners that take a ``cache`` their per-map work (the brushfire),
+    are computed once and reused.
 
     Examples
     --------
@@ -144,8 +149,16 @@ def plan(
     if kind == "grid":
         from .rasterize import as_gridmap
 
-        gm = as_gridmap(target, resolution)
+        if cache is None:
+            gm = as_gridmap(target, resolution)
+        else:
+            key = ("gridmap", target, resolution)
+            if key not in cache:
+                cache[key] = as_gridmap(target, resolution)
+            gm = cache[key]
         s, g = gm.check_point("start", start), gm.check_point("goal", goal)
+        if cache is not None and "cache" in inspect.signature(fn).parameters:
+            return fn(gm, s, g, merged, cache=cache)
         return fn(gm, s, g, merged)
     world = target if isinstance(target, World) else target.world
     if not isinstance(world, World):

@@ -174,7 +174,7 @@ def _random_pairs(target: Any, resolution: float | None, n: int, seed: int) -> l
 # ----------------------------------------------------------------------------------------
 # Running
 # ----------------------------------------------------------------------------------------
-_CACHE: dict[tuple[str, float | None], Any] = {}
+_CACHE: dict[Any, Any] = {}
 
 
 def _target(run: Run) -> Any:
@@ -193,7 +193,8 @@ def run_one(run: Run) -> dict[str, Any]:
 
     t0 = time.perf_counter()
     try:
-        path = plan(run.planner, _target(run), run.start, run.goal, dict(run.params), resolution=run.resolution)
+        path = plan(run.planner, _target(run), run.start, run.goal, dict(run.params), resolution=run.resolution,
+                    cache=_CACHE)
         status, length, steps = path.status, path.length, path.iterations
     except GridfieldError as e:
         status, length, steps = f"error: {e}", math.nan, 0

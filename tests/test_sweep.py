@@ -157,3 +157,29 @@ def test_bad_specs_name_the_problem(tmp_path: Path, body: str, message: str) -> 
     with pytest.raises(MapFormatError, match=None) as e:
         load_spec(_spec(tmp_path, body))
     assert message in str(e.value)
+
+
+def test_maps_are_loaded_and_brushfires_computed_once_per_map(tmp_path: Path, monkeypatch) -> None:
+    import gridfield.io
+    import gridfield.potential
+    import gridfield.sweep as sweep_module
+
+    spec = _spec(tmp_path, SPEC.replace("[potential, wavefront-octile]", "[potential]"))
+    runs, output = load_spec(spec)
+    monkeypatch.setattr(sweep_module, "_CACHE", {})
+    calls = {"read": 0, "brushfire": 0}
+    real_read, real_dmap = gridfield.io.read, gridfield.potential.field_distance_map
+
+    def counting_read(*a, **k):
+        calls["read"] += 1
+        return real_read(*a, **k)
+
+    def counting_dmap(*a, **k):
+        calls["brushfire"] += 1
+        return real_dmap(*a, **k)
+
+    monkeypatch.setattr(gridfield.io, "read", counting_read)
+    monkeypatch.setattr(gridfield.potential, "field_distance_map", counting_dmap)
+    rows = run_sweep(runs, output, workers=1, progress=False)
+    assert len(rows) == len(runs) == 10
+    assert calls == {"read": 2, "brushfire": 2}  # two maps; one metric

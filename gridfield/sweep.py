@@ -221,11 +221,15 @@ def _local_results(runs: Sequence[Run], workers: int) -> Iterator[dict[str, Any]
     if workers <= 1 or len(runs) <= 1:
         yield from map(run_one, runs)
         return
+    import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
     # Runs of the same map go to the same chunk, so each worker loads few maps.
     chunk = max(1, len(runs) // (workers * 4))
-    with ProcessPoolExecutor(max_workers=workers) as pool:
+    # "spawn", not fork: numba's parallel kernels start an OpenMP thread pool, and a process that
+    # forks after that aborts ("fork() called from a process already using GNU OpenMP").
+    ctx = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
         yield from pool.map(run_one, runs, chunksize=chunk)
 
 

@@ -306,10 +306,14 @@ def test_seed000_segment_stall_point_converges():
 def test_batch_compare_on_seed000(monkeypatch):
     w = read_world(bundled_map("seed000.yaml"))
     monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)  # the tqdm bar runs
-    out = batch_compare(w, 4, resolution=0.2, seed=3, planners=("potential", "exact-potential", "visibility"))
-    assert out["pairs"] == 4 and len(out["rows"]) == 4
+    out = batch_compare(w, 4, resolution=0.2, seed=3,
+                        planners=("potential", "exact-potential", "wavefront-octile", "visibility"))
+    assert out["pairs"] == 4 and len(out["rows"]) == 4 and out["skipped"] == {}
     s = out["planners"]
     assert s["visibility"]["success_rate"] == 1.0 and s["visibility"]["length_ratio"]["max"] == pytest.approx(1.0)
+    # a complete planner on a conservative grid: always there, never shorter than the optimum
+    assert s["wavefront-octile"]["success_rate"] == 1.0
+    assert s["wavefront-octile"]["length_ratio"]["mean"] >= 1.0
     tol = w.params["tolerance"]
     for row in out["rows"]:
         assert w.distance([row["start"], row["goal"]]).min() > 0.2

@@ -73,7 +73,8 @@ def _clean(v: Any) -> Any:
 
 def _fmt(v: Any, spec: str) -> str:
     if isinstance(v, float) and math.isnan(v):
-        return "-"
+        width = spec.split(".")[0]
+        return "-".rjust(int(width) if width.isdigit() else 1)
     return format(v, spec)
 
 

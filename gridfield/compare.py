@@ -258,9 +258,8 @@ def min_clearance(world: World, points: ArrayLike | Path) -> float:
     >>> min_clearance(w, [[0, 3], [10, 3]]), min_clearance(w, [[0, 4], [10, 4]])
     (1.0, 0.0)
     """
-    from .visibility import path_clearance
 
-    return path_clearance(world, _points(points, "points"))
+    return world.clearance(_points(points, "points"))
 
 
 def _crosses_segment(p: NDArray[np.float64], seg: NDArray[np.float64]) -> bool:

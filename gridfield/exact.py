@@ -65,7 +65,7 @@ from .path import Path
 from .potential import resolve_params
 from .world import World
 
-__all__ = ["ExactField", "exact_clearance", "plan_exact_potential"]
+__all__ = ["ExactField", "plan_exact_potential"]
 
 #: Above this many non-circle obstacles the force queries an STRtree for those within q_star.
 _TREE_MIN = 8
@@ -219,47 +219,6 @@ class ExactField:
         return False
 
 
-def exact_clearance(world: World, points: ArrayLike) -> float:
-    """Smallest exact distance from the polyline ``points`` (vertices and segments) to the obstacles.
-
-    Circles are measured analytically; a wall border counts (for a polyline inside the bounds the
-    nearest point to the boundary is a vertex).
-
-    Examples
-    --------
-    >>> from gridfield.world import world_from_dict
-    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"circle": {"center": [5, 5], "radius": 1}}]})
-    >>> round(exact_clearance(w, [[0, 3], [10, 3]]), 6)
-    1.0
-    """
-    pts = np.asarray(points, dtype=float).reshape(-1, 2)
-    if len(pts) == 0:
-        return math.nan
-    best = math.inf
-    a, b = pts[:-1], pts[1:]
-    line = shapely.linestrings(pts) if len(pts) > 1 else shapely.points(pts[0])
-    for ob in world.obstacles:
-        if ob.kind == "circle":
-            c = np.asarray(ob.center, dtype=float)
-            if len(a):
-                v = b - a
-                vv = np.einsum("ij,ij->i", v, v)
-                with np.errstate(invalid="ignore", divide="ignore"):
-                    t = np.clip(np.where(vv > 0, np.einsum("ij,ij->i", c - a, v) / vv, 0.0), 0.0, 1.0)
-                near = a + t[:, None] * v
-                dist = float(np.min(np.hypot(*(near - c).T)))
-            else:
-                dist = float(np.hypot(*(pts[0] - c)))
-            best = min(best, max(dist - float(ob.radius), 0.0))  # type: ignore[arg-type]
-        else:
-            best = min(best, float(shapely.distance(ob.geometry, line)))
-    if world.border == "wall":
-        xmin, ymin, xmax, ymax = world.bounds
-        dw = np.minimum.reduce([pts[:, 0] - xmin, xmax - pts[:, 0], pts[:, 1] - ymin, ymax - pts[:, 1]])
-        best = min(best, float(np.maximum(dw, 0.0).min()))
-    return best
-
-
 def _default_step(world: World) -> float:
     if world.resolution is not None:
         return float(world.resolution)
@@ -325,4 +284,4 @@ def plan_exact_potential(world: World, start: ArrayLike, goal: ArrayLike, params
     merged.update(fp)
     merged.pop("sampling", None)
     return Path(pts, status, "exact-potential", iterations=n, params=merged, seconds=seconds,
-                min_clearance=exact_clearance(world, pts), extra=extra)
+                min_clearance=world.clearance(pts), extra=extra)

@@ -68,7 +68,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import sparse
 from scipy.sparse import csgraph
 from scipy.spatial import cKDTree
-from shapely.geometry import LineString, Point, Polygon, box
+from shapely.geometry import Point, Polygon, box
 from shapely.geometry.base import BaseGeometry
 
 from .errors import GridfieldError, MapFormatError, ParameterError
@@ -78,7 +78,6 @@ from .world import CIRCLE_SEGMENTS, Obstacle, World
 __all__ = [
     "PINCH_RULES",
     "VisibilityGraph",
-    "path_clearance",
     "plan_visibility",
     "visibility_graph",
     "world_from_polygon_environment",
@@ -209,41 +208,6 @@ def _free_arcs(occupied: list[tuple[float, float]]) -> list[tuple[float, float]]
             continue
         arcs.append((float(a), float(b - a)))
     return arcs
-
-
-def path_clearance(world: World, points: ArrayLike) -> float:
-    """Exact smallest distance from a polyline to the world's obstacles (and wall border).
-
-    Circles are measured exactly (distance to the centre minus the radius), other obstacles with
-    shapely; a path touching an obstacle gives 0 and one entering it also 0.
-
-    Examples
-    --------
-    >>> from gridfield.world import world_from_dict
-    >>> w = world_from_dict({"bounds": [0, 0, 10, 10],
-    ...                      "obstacles": [{"circle": {"center": [5, 5], "radius": 1}}]})
-    >>> path_clearance(w, [[0, 7], [10, 7]])
-    1.0
-    """
-    p = np.atleast_2d(np.asarray(points, dtype=float))
-    if len(p) == 0:
-        return math.nan
-    line: BaseGeometry = LineString(p) if len(p) > 1 else Point(p[0])
-    best = math.inf
-    for ob in world.obstacles:
-        if ob.kind == "circle":
-            assert ob.center is not None and ob.radius is not None
-            d = shapely.distance(line, Point(ob.center)) - ob.radius
-            if d <= 0 and shapely.intersects(line, ob.geometry):
-                d = 0.0
-            best = min(best, max(float(d), 0.0))
-        else:
-            best = min(best, float(shapely.distance(line, ob.geometry)))
-    if world.border == "wall":
-        xmin, ymin, xmax, ymax = world.bounds
-        inside = np.minimum.reduce([p[:, 0] - xmin, xmax - p[:, 0], p[:, 1] - ymin, ymax - p[:, 1]])
-        best = min(best, max(float(inside.min()), 0.0))
-    return best
 
 
 # ----------------------------------------------------------------------------------------
@@ -775,7 +739,7 @@ def plan_visibility(world: World, start: ArrayLike, goal: ArrayLike, params: Map
 
     Uses the ``block`` pinch rule; the graph of a world is built once and cached while the world
     lives. ``params`` are recorded but not used (the optimum has no parameters). The path's
-    ``min_clearance`` is exact (:func:`path_clearance`): 0 wherever it touches an obstacle.
+    ``min_clearance`` is exact (:meth:`World.clearance`): 0 wherever it touches an obstacle.
 
     Returns a :class:`~gridfield.path.Path` with status ``"reached"``, or ``"no_path"`` (one
     point, the start) when the goal cannot be reached.
@@ -797,6 +761,6 @@ def plan_visibility(world: World, start: ArrayLike, goal: ArrayLike, params: Map
     if not np.isfinite(length):
         s = np.asarray(start, dtype=float).reshape(1, 2)
         return Path(s, "no_path", "visibility", iterations=vg.n_nodes, params=dict(params or {}),
-                    seconds=seconds, min_clearance=path_clearance(world, s), extra=extra)
+                    seconds=seconds, min_clearance=world.clearance(s), extra=extra)
     return Path(pts, "reached", "visibility", iterations=vg.n_nodes, params=dict(params or {}), seconds=seconds,
-                min_clearance=path_clearance(world, pts), extra=extra)
+                min_clearance=world.clearance(pts), extra=extra)

@@ -28,9 +28,10 @@ from .grid import BORDERS
 
 __all__ = ["CIRCLE_SEGMENTS", "Obstacle", "World", "world_from_dict"]
 
-#: Segments per quarter circle used for the polygonal outline of a circle (display, visibility
-#: graph). The outline is inscribed; its largest gap to the true circle is r * (1 - cos(pi / (4*16))),
-#: i.e. 0.12 % of the radius. Distances and rasterization use the exact circle.
+#: Segments per quarter circle used for the polygonal outline of a circle (``Obstacle.geometry``,
+#: used for display). The outline is inscribed; its largest gap to the true circle is
+#: r * (1 - cos(pi / (4*16))), i.e. 0.12 % of the radius. Distances, clearance and rasterization use
+#: the exact circle; the visibility graph uses a circumscribed outline (see gridfield.visibility).
 CIRCLE_SEGMENTS = 16
 
 
@@ -116,6 +117,48 @@ class World:
             dw = np.minimum.reduce([p[:, 0] - xmin, xmax - p[:, 0], p[:, 1] - ymin, ymax - p[:, 1]])
             d = np.minimum(d, np.maximum(dw, 0.0))
         return d
+
+    def clearance(self, points: ArrayLike) -> float:
+        """Smallest exact distance from the polyline ``points`` (its vertices and segments) to the
+        obstacles; the border counts when it is a wall. 0 where the path touches or enters an obstacle.
+
+        Circles are measured analytically (closest point of each segment to the centre, minus the
+        radius), other obstacles with shapely. For a polyline inside the bounds the nearest point to
+        a wall border is a vertex.
+
+        Examples
+        --------
+        >>> w = world_from_dict({"bounds": [0, 0, 10, 10],
+        ...                      "obstacles": [{"circle": {"center": [5, 5], "radius": 1}}]})
+        >>> round(w.clearance([[0, 3], [10, 3]]), 6), w.clearance([[0, 5], [10, 5]])
+        (1.0, 0.0)
+        """
+        pts = np.asarray(points, dtype=float).reshape(-1, 2)
+        if len(pts) == 0:
+            return math.nan
+        best = math.inf
+        a, b = pts[:-1], pts[1:]
+        line = shapely.linestrings(pts) if len(pts) > 1 else shapely.points(pts[0])
+        for ob in self.obstacles:
+            if ob.kind == "circle":
+                assert ob.center is not None and ob.radius is not None
+                c = np.asarray(ob.center, dtype=float)
+                if len(a):
+                    v = b - a
+                    vv = np.einsum("ij,ij->i", v, v)
+                    with np.errstate(invalid="ignore", divide="ignore"):
+                        t = np.clip(np.where(vv > 0, np.einsum("ij,ij->i", c - a, v) / vv, 0.0), 0.0, 1.0)
+                    dist = float(np.min(np.hypot(*(a + t[:, None] * v - c).T)))
+                else:
+                    dist = float(np.hypot(*(pts[0] - c)))
+                best = min(best, max(dist - ob.radius, 0.0))
+            else:
+                best = min(best, float(shapely.distance(ob.geometry, line)))
+        if self.border == "wall":
+            xmin, ymin, xmax, ymax = self.bounds
+            dw = np.minimum.reduce([pts[:, 0] - xmin, xmax - pts[:, 0], pts[:, 1] - ymin, ymax - pts[:, 1]])
+            best = min(best, float(np.maximum(dw, 0.0).min()))
+        return best
 
     def union(self) -> BaseGeometry:
         """All obstacles as one shapely geometry."""

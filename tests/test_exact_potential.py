@@ -13,7 +13,7 @@ from shapely.ops import nearest_points
 
 import gridfield.exact as exact_mod
 from gridfield.errors import GridfieldError, ParameterError
-from gridfield.exact import ExactField, exact_clearance, plan_exact_potential
+from gridfield.exact import ExactField, plan_exact_potential
 from gridfield.io import bundled_map, read_world
 from gridfield.planners import plan
 from gridfield.world import world_from_dict
@@ -158,8 +158,8 @@ def test_exact_clearance_matches_sampling(mixed_world):
     path = np.array([[1.0, 1.0], [8.5, 3.5], [14.0, 6.0], [16.0, 9.0], [19.0, 10.0]])
     t = np.linspace(0, 1, 4001)[:, None]
     dense = np.vstack([a + t * (b - a) for a, b in itertools.pairwise(path)])
-    assert exact_clearance(mixed_world, path) == pytest.approx(mixed_world.distance(dense).min(), abs=2e-3)
-    assert exact_clearance(mixed_world, path[:1]) == pytest.approx(mixed_world.distance(path[:1])[0])
+    assert mixed_world.clearance(path) == pytest.approx(mixed_world.distance(dense).min(), abs=2e-3)
+    assert mixed_world.clearance(path[:1]) == pytest.approx(mixed_world.distance(path[:1])[0])
 
 
 def test_errors(seg_world, mixed_world):

@@ -17,7 +17,6 @@ from gridfield.path import path_length
 from gridfield.planners import plan
 from gridfield.visibility import (
     CIRCLE_OUTLINE_EXCESS,
-    path_clearance,
     plan_visibility,
     visibility_graph,
     world_from_polygon_environment,
@@ -224,7 +223,7 @@ def test_circle_detour_within_the_stated_bound():
     wrapped = math.pi - 2 * math.acos(r / 6)
     exact = 2 * tangent + r * wrapped
     assert exact <= length <= exact + wrapped * r * CIRCLE_OUTLINE_EXCESS
-    assert path_clearance(w, pts) >= 0.0
+    assert w.clearance(pts) >= 0.0
     assert w.distance(pts).min() >= -1e-12  # every vertex outside the true circle
 
 

@@ -16,13 +16,17 @@ Each size runs in its own fresh Python process, so that numbers do not depend on
   OpenCV's ``cv2.distanceTransform(DIST_C, 3)`` alone (the reference of the 3x target), the
   brushfire alone as ``plan`` calls it, and the brushfire without labels and GVD (all ``plan``
   needs). ``ratio`` is plan / DIST_C.
-- **peak memory**: the child process's maximum resident set size, read by the parent with
-  ``os.wait4`` (the rusage of that child alone, like ``resource.getrusage(RUSAGE_CHILDREN)`` but not
-  mixed with other children). It includes the interpreter, numpy/scipy/numba and the map; the
-  peak before the first plan is reported beside it. The first plan runs before any other
-  measurement, so the peak is the plan's. With tracemalloc (default on) one more plan is traced
-  after the timed ones: the peak of memory allocated *during* ``plan`` (numpy allocations are
-  traced by tracemalloc; the map itself was allocated before tracing started).
+- **peak memory**: the child process's peak resident set size, ``VmHWM`` from /proc/self/status
+  (not ``ru_maxrss``: on Linux a child's ``ru_maxrss``, as read with ``RUSAGE_CHILDREN`` or
+  ``os.wait4``, starts from its parent's peak at fork and survives exec, so it reports a big
+  parent's memory; the wait4 value is kept in ``--json`` output). It includes the interpreter,
+  numpy/scipy/numba and the map; the peak before the first plan is reported beside it. The first
+  plan runs before any other measurement, so the peak is the plan's. With tracemalloc (default
+  on) one more plan is traced after the timed ones: the peak of memory allocated *during*
+  ``plan`` (numpy allocations are traced by tracemalloc; the map was allocated before tracing).
+- **lean plan**: brushfire without labels and GVD + ``build_field(dmap=...)`` + ``follow``, the
+  same result as ``plan`` (the potential reads only the distances and nearest obstacles), timed
+  to show what the labels and GVD that ``plan`` computes cost.
 """
 
 from __future__ import annotations
@@ -139,6 +143,19 @@ def plan_params(n: int) -> dict[str, Any]:
 # One size, in this process (the child)
 # ----------------------------------------------------------------------------------------------
 def _peak_rss_bytes() -> int:
+    """This process's peak resident set size in bytes: ``VmHWM`` of /proc/self/status.
+
+    Not ``ru_maxrss``: on Linux a child's ``ru_maxrss`` (and so ``RUSAGE_CHILDREN`` / ``wait4``) starts
+    from the parent's peak at ``fork`` and survives ``exec``, so a child spawned by a big parent
+    reports the parent's peak. ``VmHWM`` belongs to the child's own address space.
+    """
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
     import resource
 
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux: KiB
@@ -151,7 +168,9 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
     except ImportError:  # opencv-python-headless is in the [bench] extra only
         cv2 = None
     from gridfield.brushfire import brushfire
+    from gridfield.follow import follow
     from gridfield.planners import plan
+    from gridfield.potential import build_field
 
     small = synthetic_map(64)
     plan("potential", small, START, GOAL, plan_params(64))  # compile / load the numba kernels
@@ -185,6 +204,14 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
     t_bf, _ = timed(lambda: brushfire(gm, metric="euclidean"), repeat, warmup=0)
     t_bf_lean, _ = timed(lambda: brushfire(gm, metric="euclidean", compute_labels=False), repeat, warmup=0)
 
+    def lean_plan() -> Any:
+        """What plan would cost with a brushfire without labels and GVD (all the potential reads)."""
+        dmap = brushfire(gm, metric="euclidean", compute_labels=False)
+        fld = build_field(gm, GOAL, params, dmap=dmap)
+        return follow(fld, START, params=params)
+
+    t_lean, _ = timed(lean_plan, repeat, warmup=0)
+
     traced = None
     if trace:
         import tracemalloc
@@ -197,7 +224,7 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
     return {
         "n": n, "occupied": float(gm.occupied.mean()), "first_plan_s": first,
         "plan": asdict(t_plan), "dist_c": asdict(t_distc) if t_distc else None, "brushfire": asdict(t_bf),
-        "brushfire_lean": asdict(t_bf_lean),
+        "brushfire_lean": asdict(t_bf_lean), "lean_plan": asdict(t_lean),
         "build_median_s": statistics.median(builds), "follow_median_s": statistics.median(follows),
         "rss_before_plan": rss_before, "rss_after_first_plan": rss_plan, "rss_peak_self": _peak_rss_bytes(),
         "traced_peak": traced, **info,
@@ -208,8 +235,9 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
 # Every size, each in a fresh process (the parent)
 # ----------------------------------------------------------------------------------------------
 def run_child(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
-    """Measure size ``n`` in a fresh interpreter, reaping it with ``os.wait4`` to read its own peak RSS
-    (``rss_peak``, bytes)."""
+    """Measure size ``n`` in a fresh interpreter; ``rss_peak`` is its VmHWM in bytes (``ru_maxrss_wait4``,
+    the child's rusage from ``os.wait4``, is kept for comparison: it cannot be lower than the parent's
+    peak at fork)."""
     cmd = [sys.executable, os.path.abspath(__file__), "--child", str(n), "--repeat", str(repeat)]
     if not trace:
         cmd.append("--no-tracemalloc")
@@ -227,7 +255,8 @@ def run_child(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
     if proc.returncode != 0 or not out.strip():
         return {"n": n, "error": f"child exited with {proc.returncode}: {message}"}
     result = json.loads(out.strip().splitlines()[-1])
-    result["rss_peak"] = usage.ru_maxrss * 1024
+    result["rss_peak"] = result["rss_peak_self"]  # VmHWM (see _peak_rss_bytes)
+    result["ru_maxrss_wait4"] = usage.ru_maxrss * 1024  # includes the parent's peak at fork
     result["child_wall_s"] = wall
     return result
 
@@ -245,24 +274,26 @@ def table(results: Sequence[dict[str, Any]]) -> str:
     """Markdown tables of :func:`measure`'s results."""
     lines = [
         "| size | plan ms median (min-max) | n | OpenCV DIST_C ms | plan / DIST_C | brushfire ms (as plan) "
-        "| brushfire ms (no labels/GVD) | build ms | follow ms | status, steps |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "| brushfire ms (no labels/GVD) | build ms | follow ms | lean plan ms | lean plan / DIST_C | status, steps |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in results:
         if "error" in r:
-            lines.append(f"| {r['n']}^2 | failed: {r['error']} | | | | | | | | |")
+            lines.append(f"| {r['n']}^2 | failed: {r['error']} | | | | | | | | | | |")
             continue
         p, d = r["plan"], r["dist_c"]
         dc = f"{d['median'] * 1e3:,.1f} | **{p['median'] / d['median']:.2f}**" if d else "not installed | -"
+        lean = r["lean_plan"]["median"]
+        lean_ratio = f"{lean / d['median']:.2f}" if d else "-"
         lines.append(
             f"| {r['n']}^2 | {p['median'] * 1e3:,.0f} ({p['min'] * 1e3:,.0f}-{p['max'] * 1e3:,.0f}) | {p['n']} "
             f"| {dc} | {r['brushfire']['median'] * 1e3:,.0f} "
             f"| {r['brushfire_lean']['median'] * 1e3:,.0f} | {r['build_median_s'] * 1e3:,.0f} "
-            f"| {r['follow_median_s'] * 1e3:,.1f} | {r['status']}, {r['iterations']} |"
+            f"| {r['follow_median_s'] * 1e3:,.1f} | {lean * 1e3:,.0f} | {lean_ratio} | {r['status']}, {r['iterations']} |"
         )
     lines += [
         "",
-        "| size | peak RSS MiB (whole process) | peak RSS before plan MiB | plan's own allocations, "
+        "| size | peak RSS MiB (whole process, VmHWM) | peak RSS before plan MiB | plan's own allocations, "
         "tracemalloc peak MiB | within 4 GiB |",
         "|---|---|---|---|---|",
     ]

@@ -3,41 +3,40 @@
 Chessboard and taxicab (:func:`chamfer_steps`, :func:`chamfer_nearest`)
     The classic two-pass raster transform with a 3x3 mask (Rosenfeld & Pfaltz 1966), exact for both
     metrics. Each row is done in two stages: the neighbours in the previous row (a branch-free loop
-    the compiler vectorizes), then the left (right) neighbour (a scan). The nearest obstacle cell is
-    carried along: the neighbour that gives a cell its final value has a nearest obstacle at exactly
-    that distance, so the carried cell is an exact nearest obstacle. Sequential over rows.
+    the compiler vectorizes), then the left (right) neighbour (a scan, run as 4 interleaved chains).
+    The nearest obstacle cell is carried along: the neighbour that gives a cell its final value has a
+    nearest obstacle at exactly that distance, so the carried cell is an exact nearest obstacle.
+    Sequential over the rows.
 
-Euclidean (:func:`column_pass`, :func:`edt_row_pass`)
+Euclidean (:func:`column_block`, :func:`edt_rows`)
     Separable: for every cell the nearest obstacle row in its column, then per row the lower envelope
     of the parabolas ``(x - i)**2 + g_i**2`` (Meijster, Roerdink & Hesselink 2000), whose winning
-    column gives the exact nearest obstacle cell. Parallel over column blocks / row blocks.
+    column gives the exact nearest obstacle cell. Columns, then rows, are independent.
 
 Components (:func:`label_components`)
     8-connected, two-pass union-find; components are numbered in raster order of their first cell
-    (row 0 first), the numbering of ``scipy.ndimage.label``. Sequential (run beside a chamfer pass).
+    (row 0 first), the numbering of ``scipy.ndimage.label``. Sequential.
 
-Then :func:`decode_pass` (nearest cell and label), :func:`gvd_pass` and :func:`saturate_pass` (parallel over row blocks).
+Then :func:`decode_rows` (nearest cell and label of the chamfer path), :func:`gvd_rows` and
+:func:`saturate_rows`, again independent over rows.
+
+Every kernel is sequential and releases the GIL (``nogil``); the ones taking a range of rows or
+columns (``r0, r1`` / ``c0, c1``) are run by :mod:`gridfield.brushfire` on several threads that take
+chunks of the range as they become free, and the sequential ones run beside each other.
 
 Conventions: arrays are C-contiguous ``[row, col]``; occupancy is passed as ``uint8``; the wall
 border is the ring of cells at rows ``-1``/``rows`` and columns ``-1``/``cols`` (never its corners).
-Sequential kernels are ``nogil`` so that two of them can run side by side in Python threads.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 #: Sentinel row for "no obstacle above/below" (far beyond any real grid).
 BIG = 1 << 30
 
 _OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
-
-
-@njit(**_OPTS)
-def _chunks(n, nthreads):  # pragma: no cover - compiled
-    """Number of work chunks for ``n`` independent lines (a few per thread, for balance)."""
-    return max(1, min(n, 4 * nthreads))
 
 
 # ----------------------------------------------------------------------------------------------
@@ -418,33 +417,31 @@ def chamfer_nearest(occ, wall, conn8, steps, nidx, distance, resolution, write_d
                 drow[c] = srow[c] * resolution
 
 
-@njit(cache=True, nogil=True, parallel=True, error_model="numpy")
-def decode_pass(nidx, nearest_row, nearest_col, want_nearest, comp, want_label, label, border_label,
-                nthreads):  # pragma: no cover - compiled
-    """Unpack ``nidx`` (see :func:`chamfer_nearest`) into ``nearest_row``/``nearest_col`` (which may be
-    the very array ``nidx``: each value is read before it is overwritten) and look up ``label``:
-    ``comp[nr, nc]``, or ``border_label`` outside the grid (the wall)."""
+@njit(**_OPTS)
+def decode_rows(r0, r1, nidx, nearest_row, nearest_col, want_nearest, comp, want_label, label,
+                border_label):  # pragma: no cover - compiled
+    """Rows ``r0:r1``: unpack ``nidx`` (see :func:`chamfer_nearest`) into ``nearest_row``/``nearest_col``
+    (which may be the very array ``nidx``: each value is read before it is overwritten) and look up
+    ``label``: ``comp[nr, nc]``, or ``border_label`` outside the grid (the wall)."""
     rows, cols = nidx.shape
     w = np.int64(cols + 2)
     inv = 1.0 / (cols + 2)
-    nchunks = _chunks(rows, nthreads)
-    for k in prange(nchunks):
-        for r in range(k * rows // nchunks, (k + 1) * rows // nchunks):
-            irow = nidx[r]
-            for c in range(cols):
-                i = np.int64(irow[c])
-                q = np.int64(i * inv)  # i // w in floating point, then corrected
-                q += np.int64(i - q * w >= w) - np.int64(i - q * w < 0)
-                nr = q - 1
-                nc = i - q * w - 1
-                if want_label:
-                    if nr < 0 or nr >= rows or nc < 0 or nc >= cols:
-                        label[r, c] = border_label
-                    else:
-                        label[r, c] = comp[nr, nc]
-                if want_nearest:
-                    nearest_row[r, c] = nr
-                    nearest_col[r, c] = nc
+    for r in range(r0, r1):
+        irow = nidx[r]
+        for c in range(cols):
+            i = np.int64(irow[c])
+            q = np.int64(i * inv)  # i // w in floating point, then corrected
+            q += np.int64(i - q * w >= w) - np.int64(i - q * w < 0)
+            nr = q - 1
+            nc = i - q * w - 1
+            if want_label:
+                if nr < 0 or nr >= rows or nc < 0 or nc >= cols:
+                    label[r, c] = border_label
+                else:
+                    label[r, c] = comp[nr, nc]
+            if want_nearest:
+                nearest_row[r, c] = nr
+                nearest_col[r, c] = nc
 
 
 # ----------------------------------------------------------------------------------------------
@@ -470,8 +467,10 @@ def _up_segment(below, vrow, r):  # pragma: no cover - compiled
 
 
 @njit(**_OPTS)
-def column_block(occ, wall, vr, c0, c1):  # pragma: no cover - compiled
-    """:func:`column_pass` on the columns ``c0:c1``."""
+def column_block(c0, c1, occ, wall, vr):  # pragma: no cover - compiled
+    """Columns ``c0:c1``: ``vr[r, c]`` = row of the obstacle nearest to ``(r, c)`` in column ``c``
+    (ties: the one above). Wall border: rows ``-1`` and ``rows`` count as obstacles. No obstacle in
+    the column: ``+-BIG``. Two sweeps over the rows, each a branch-free loop over the columns."""
     rows = occ.shape[0]
     top = -1 if wall else -BIG
     bottom = rows if wall else BIG
@@ -485,19 +484,6 @@ def column_block(occ, wall, vr, c0, c1):  # pragma: no cover - compiled
             vr[last, c] = bottom
     for r in range(rows - 2, -1, -1):
         _up_segment(vr[r + 1, c0:c1], vr[r, c0:c1], r)
-
-
-@njit(cache=True, nogil=True, parallel=True, error_model="numpy")
-def column_pass(occ, wall, vr, nthreads):  # pragma: no cover - compiled
-    """``vr[r, c]`` = row of the obstacle nearest to ``(r, c)`` in column ``c`` (ties: the one above).
-
-    Wall border: rows ``-1`` and ``rows`` count as obstacles. No obstacle in the column: ``+-BIG``.
-    Each thread owns a contiguous block of columns.
-    """
-    cols = occ.shape[1]
-    nblocks = max(1, min(cols // 64, nthreads))
-    for k in prange(nblocks):
-        column_block(occ, wall, vr, k * cols // nblocks, (k + 1) * cols // nblocks)
 
 
 @njit(**_OPTS)
@@ -543,54 +529,51 @@ def edt_1d(g, n, inf, s, t, val, arg):  # pragma: no cover - compiled
     return True
 
 
-@njit(cache=True, nogil=True, parallel=True, error_model="numpy")
-def edt_row_pass(vr, wall, resolution, distance, nearest_row, nearest_col, want_nearest,
-                 comp, want_label, label, border_label, nthreads):  # pragma: no cover
-    """Row pass of the Euclidean transform: ``distance`` and optionally nearest obstacle and label.
+@njit(**_OPTS)
+def edt_rows(r0, r1, vr, wall, resolution, distance, nearest_row, nearest_col, want_nearest,
+             comp, want_label, label, border_label):  # pragma: no cover - compiled
+    """Rows ``r0:r1`` of the Euclidean transform's row pass: ``distance`` and optionally the nearest
+    obstacle and its label.
 
     ``vr`` holds the column pass result; it may be the very array ``nearest_row`` (each row is copied
-    to a buffer before it is overwritten). Labels: see :func:`decode_pass`.
+    to a buffer before it is overwritten). Labels: see :func:`decode_rows`.
     """
     rows, cols = vr.shape
     n = cols
     inf = np.int64(rows + cols + 4)
-    nchunks = _chunks(rows, nthreads)
-    for k in prange(nchunks):
-        r0 = k * rows // nchunks
-        r1 = (k + 1) * rows // nchunks
-        g = np.empty(n + 2, np.int64)
-        rowv = np.empty(n + 2, np.int64)
-        s = np.empty(n + 2, np.int64)
-        t = np.empty(n + 2, np.int64)
-        val = np.empty(n, np.int64)
-        arg = np.empty(n, np.int64)
-        for r in range(r0, r1):
-            g[0] = 0 if wall else inf
-            g[n + 1] = 0 if wall else inf
-            rowv[0] = r
-            rowv[n + 1] = r
+    g = np.empty(n + 2, np.int64)
+    rowv = np.empty(n + 2, np.int64)
+    s = np.empty(n + 2, np.int64)
+    t = np.empty(n + 2, np.int64)
+    val = np.empty(n, np.int64)
+    arg = np.empty(n, np.int64)
+    for r in range(r0, r1):
+        g[0] = 0 if wall else inf
+        g[n + 1] = 0 if wall else inf
+        rowv[0] = r
+        rowv[n + 1] = r
+        for c in range(n):
+            v = np.int64(vr[r, c])
+            rowv[c + 1] = v
+            d = abs(r - v)
+            g[c + 1] = min(d, inf)
+        edt_1d(g, n, inf, s, t, val, arg)
+        for c in range(n):
+            distance[r, c] = np.sqrt(np.float64(val[c])) * resolution
+        if want_nearest:
             for c in range(n):
-                v = np.int64(vr[r, c])
-                rowv[c + 1] = v
-                d = abs(r - v)
-                g[c + 1] = min(d, inf)
-            edt_1d(g, n, inf, s, t, val, arg)
+                a = arg[c]
+                nearest_row[r, c] = rowv[a]
+                nearest_col[r, c] = a - 1
+        if want_label:
             for c in range(n):
-                distance[r, c] = np.sqrt(np.float64(val[c])) * resolution
-            if want_nearest:
-                for c in range(n):
-                    a = arg[c]
-                    nearest_row[r, c] = rowv[a]
-                    nearest_col[r, c] = a - 1
-            if want_label:
-                for c in range(n):
-                    a = arg[c]
-                    nr = rowv[a]
-                    nc = a - 1
-                    if nr < 0 or nr >= rows or nc < 0 or nc >= cols:
-                        label[r, c] = border_label
-                    else:
-                        label[r, c] = comp[nr, nc]
+                a = arg[c]
+                nr = rowv[a]
+                nc = a - 1
+                if nr < 0 or nr >= rows or nc < 0 or nc >= cols:
+                    label[r, c] = border_label
+                else:
+                    label[r, c] = comp[nr, nc]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -705,43 +688,40 @@ def _gvd_dir(la, da, lb, db, fb, mark, a0, a1, off):  # pragma: no cover - compi
         mark[c] |= (lab_a != lab_b) & (fb[b] == 0) & ((da[c] > db[b]) | ((da[c] == db[b]) & (lab_a < lab_b)))
 
 
-@njit(cache=True, nogil=True, parallel=True, error_model="numpy")
-def gvd_pass(label, distance, occ, gvd, nthreads):  # pragma: no cover - compiled
-    """Of each pair of 8-neighbouring free cells with different labels, mark the one farther from its
-    obstacle; on a tie, the one with the smaller label. Each cell looks at its 8 neighbours, so every
-    row is written by one thread only."""
+@njit(**_OPTS)
+def gvd_rows(r0, r1, label, distance, occ, gvd):  # pragma: no cover - compiled
+    """Rows ``r0:r1`` of the GVD: of each pair of 8-neighbouring free cells with different labels,
+    mark the one farther from its obstacle; on a tie, the one with the smaller label. Each cell looks
+    at its 8 neighbours, so rows can be done in any order, by any thread."""
     rows, cols = label.shape
-    nchunks = _chunks(rows, nthreads)
-    for k in prange(nchunks):
-        mark = np.empty(cols, np.bool_)
-        for r in range(k * rows // nchunks, (k + 1) * rows // nchunks):
-            la = label[r]
-            da = distance[r]
-            fa = occ[r]
-            mark[:] = False
-            for dr in range(-1, 2):
-                rr = r + dr
-                if rr < 0 or rr >= rows:
-                    continue
-                lb = label[rr]
-                db = distance[rr]
-                fb = occ[rr]
-                if dr != 0:
-                    _gvd_dir(la, da, lb, db, fb, mark, 0, cols, 0)
-                _gvd_dir(la, da, lb, db, fb, mark, 1, cols, -1)
-                _gvd_dir(la, da, lb, db, fb, mark, 0, cols - 1, 1)
-            grow = gvd[r]
-            for c in range(cols):
-                grow[c] = mark[c] & (fa[c] == 0)
+    mark = np.empty(cols, np.bool_)
+    for r in range(r0, r1):
+        la = label[r]
+        da = distance[r]
+        fa = occ[r]
+        mark[:] = False
+        for dr in range(-1, 2):
+            rr = r + dr
+            if rr < 0 or rr >= rows:
+                continue
+            lb = label[rr]
+            db = distance[rr]
+            fb = occ[rr]
+            if dr != 0:
+                _gvd_dir(la, da, lb, db, fb, mark, 0, cols, 0)
+            _gvd_dir(la, da, lb, db, fb, mark, 1, cols, -1)
+            _gvd_dir(la, da, lb, db, fb, mark, 0, cols - 1, 1)
+        grow = gvd[r]
+        for c in range(cols):
+            grow[c] = mark[c] & (fa[c] == 0)
 
 
-@njit(cache=True, nogil=True, parallel=True, error_model="numpy")
-def saturate_pass(distance, radius, far, nthreads):  # pragma: no cover - compiled
-    """In place: ``distance[distance >= radius] = far``."""
-    rows, cols = distance.shape
-    nchunks = _chunks(rows, nthreads)
-    for k in prange(nchunks):
-        for r in range(k * rows // nchunks, (k + 1) * rows // nchunks):
-            for c in range(cols):
-                if distance[r, c] >= radius:
-                    distance[r, c] = far
+@njit(**_OPTS)
+def saturate_rows(r0, r1, distance, radius, far):  # pragma: no cover - compiled
+    """Rows ``r0:r1``, in place: ``distance[distance >= radius] = far``."""
+    cols = distance.shape[1]
+    for r in range(r0, r1):
+        drow = distance[r]
+        for c in range(cols):
+            if drow[c] >= radius:
+                drow[c] = far

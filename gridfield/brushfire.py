@@ -16,19 +16,22 @@ space that is not part of the map: the wavefront simply stops at the edge.
 
 Implementation
 --------------
-Compiled (numba) separable transforms: a pass along the columns finds each cell's nearest obstacle
-in its column, a pass along the rows takes the lower envelope of those (Meijster et al. 2000). Both
-passes are exact for the three metrics and carry the nearest obstacle cell along with the distance;
-both run in parallel over columns / rows (``threads``). The kernels are compiled on first use and
-cached on disk (``numba`` ``cache=True``).
+Compiled (numba) kernels, see :mod:`gridfield._kernels_brushfire`. Chessboard and taxicab: the
+two-pass raster transform with a 3x3 mask, carrying the nearest obstacle cell along with the
+distance. Euclidean: the separable exact transform (per column, then the lower envelope per row;
+Meijster et al. 2000) with the nearest obstacle cell. Both are exact. Connected obstacle components:
+union-find. The kernels are compiled on first use and cached on disk (numba ``cache=True``): the
+first call in a fresh process loads them in well under a second, compiling them takes several.
 """
 
 from __future__ import annotations
 
-import contextlib
+import os
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from functools import partial
 from types import ModuleType
 
 import numpy as np
@@ -142,53 +145,76 @@ def _kernels() -> ModuleType:
     return _KERNELS
 
 
-@contextlib.contextmanager
-def _num_threads(threads: int | None) -> Iterator[int]:
-    import numba
-
-    available = int(numba.config.NUMBA_NUM_THREADS)
-    if threads is None:
-        yield numba.get_num_threads()
-        return
-    if isinstance(threads, bool) or not isinstance(threads, int | np.integer) or threads < 1:
-        raise ParameterError(f"threads must be a positive integer or None (all {available}), got {threads!r}")
-    before = numba.get_num_threads()
-    n = min(int(threads), available)
-    numba.set_num_threads(n)
-    try:
-        yield n
-    finally:
-        numba.set_num_threads(before)
-
+#: Grids with fewer cells run on one thread unless ``threads`` says otherwise: below about 1M cells
+#: handing work to a second thread costs about as much as it saves, more when the machine is busy.
+PARALLEL_MIN_CELLS = 1 << 20
 
 _NO_COMP = np.zeros((1, 1), np.int32)  # placeholder for an output that is not computed
+_POOL: ThreadPoolExecutor | None = None
+_POOL_LOCK = threading.Lock()
 
 
-def _beside(job: Callable[[], None] | None, nthreads: int) -> Callable[[], None]:
-    """Start ``job`` in a second thread (when there are 2+ threads; else run it now); return ``join``,
-    which waits for it and re-raises its exception."""
-    if job is None:
-        return lambda: None
-    if nthreads < 2:
-        job()
-        return lambda: None
-    failure: list[BaseException] = []
+def _available_threads() -> int:
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # not Linux
+        return max(1, os.cpu_count() or 1)
 
-    def target() -> None:
-        try:
-            job()
-        except BaseException as e:  # re-raised in the caller's thread
-            failure.append(e)
 
-    thread = threading.Thread(target=target, name="gridfield-brushfire", daemon=True)
-    thread.start()
+def _thread_count(threads: int | None, cells: int) -> int:
+    available = _available_threads()
+    if threads is None:
+        return available if cells >= PARALLEL_MIN_CELLS else 1
+    if isinstance(threads, bool) or not isinstance(threads, int | np.integer) or threads < 1:
+        raise ParameterError(f"threads must be a positive integer or None (all {available} cores for grids of "
+                             f"{PARALLEL_MIN_CELLS} cells or more), got {threads!r}")
+    return min(int(threads), available)
 
-    def join() -> None:
-        thread.join()
-        if failure:
-            raise failure[0]
 
-    return join
+def _pool() -> ThreadPoolExecutor:
+    global _POOL
+    with _POOL_LOCK:
+        if _POOL is None:
+            _POOL = ThreadPoolExecutor(max_workers=_available_threads(), thread_name_prefix="gridfield-brushfire")
+        return _POOL
+
+
+def _run(tasks: Sequence[Callable[[], object]], nthreads: int) -> None:
+    """Run ``tasks`` (numba kernels that release the GIL) on ``nthreads`` threads, this one included.
+
+    Each thread takes the next task as soon as it is free, so a thread that the OS does not schedule
+    (another job on the core) holds up at most the task it has in hand; with a static split of the
+    work (numba's ``prange``) the whole pass would wait for it.
+    """
+    if nthreads <= 1 or len(tasks) <= 1:
+        for task in tasks:
+            task()
+        return
+    queue = iter(tasks)
+    lock = threading.Lock()
+
+    def worker() -> None:
+        while True:
+            with lock:
+                task = next(queue, None)
+            if task is None:
+                return
+            task()
+
+    helpers = [_pool().submit(worker) for _ in range(min(nthreads, len(tasks)) - 1)]
+    try:
+        worker()
+    finally:
+        for h in helpers:
+            h.result()
+
+
+def _chunks(kernel: Callable[..., object], n: int, nthreads: int, *args: object,
+            min_size: int = 1) -> list[Callable[[], object]]:
+    """Tasks running ``kernel(lo, hi, *args)`` over ``range(n)`` in chunks (8 per thread)."""
+    k = 1 if nthreads <= 1 else max(1, min(n // max(1, min_size), 8 * nthreads))
+    bounds = [i * n // k for i in range(k + 1)]
+    return [partial(kernel, bounds[i], bounds[i + 1], *args) for i in range(k) if bounds[i] < bounds[i + 1]]
 
 
 def _check_flag(name: str, value: object) -> bool:
@@ -235,8 +261,11 @@ def brushfire(
     compute_gvd : bool, optional
         Compute ``gvd`` (default: ``compute_labels``); needs the labels.
     threads : int, optional
-        Number of threads for the compiled passes (default: all numba threads, i.e. all cores
-        unless ``NUMBA_NUM_THREADS`` says otherwise); clipped to that maximum.
+        Threads to use (default: all cores for grids of at least :data:`PARALLEL_MIN_CELLS` cells,
+        else 1; more than the cores available are not used). The chessboard/taxicab passes and the
+        component labelling are sequential and run beside each other; the Euclidean transform, the
+        nearest-cell lookups and the GVD are split into chunks of rows (or columns) that the threads
+        take as they become free.
 
     Returns
     -------
@@ -323,72 +352,68 @@ def brushfire(
             saturate, far,
         )
 
+    nthreads = _thread_count(threads, occ.size)
     k = _kernels()
     occ8 = occ.view(np.uint8)
+    rows, cols = shape
     res = float(grid.resolution)
     step8 = connectivity == 8
-    obstacle_id = gridmap.obstacle_id
     steps = np.empty(shape, np.int32)
     distance = np.empty(shape, np.float64)
-    nearest_row = nearest_col = label = gvd = None
-    comps: list[NDArray[np.int32]] = []
+    nearest_row = nearest_col = label = gvd = nidx = vr = None
+    comp = _NO_COMP
+    if want_label:
+        label = np.empty(shape, np.int32)
+        if gridmap.obstacle_id is not None:
+            comp = np.ascontiguousarray(gridmap.obstacle_id, np.int32)
 
-    def components() -> None:
+    # 1. the sequential passes side by side (and the column blocks of the Euclidean transform)
+    first: list[Callable[[], object]] = []
+    if want_label and gridmap.obstacle_id is None:
         comp = np.empty(shape, np.int32)
-        k.label_components(occ8, comp)
-        comps.append(comp)
-
-    with _num_threads(threads) as nthreads:
-        # Component labelling is sequential: it runs in a second thread beside the sequential passes.
-        join = _beside(components if want_label and obstacle_id is None else None, nthreads)
-        try:
-            if metric == "euclidean":
-                k.chamfer_steps(occ8, wall, step8, steps, distance, res, False)
-                vr = np.empty(shape, np.int32)  # column pass result; becomes nearest_row
-                k.column_pass(occ8, wall, vr, nthreads)
-            else:
-                if metric == ("chessboard" if step8 else "taxicab"):
-                    scratch = steps
-                else:  # distance and nearest obstacle by the other chamfer metric
-                    k.chamfer_steps(occ8, wall, step8, steps, distance, res, False)
-                    scratch = np.empty(shape, np.int32)
-                if want_nearest or want_label:  # labels are looked up at the nearest obstacle
-                    # nearest cell packed in one integer (int64 beyond 2**31 padded cells)
-                    small = (shape[0] + 2) * (shape[1] + 2) < 2**31
-                    nidx = np.empty(shape, np.int32 if small else np.int64)
-                    k.chamfer_nearest(occ8, wall, metric == "chessboard", scratch, nidx, distance, res, True)
-                else:
-                    k.chamfer_steps(occ8, wall, metric == "chessboard", scratch, distance, res, True)
-                del scratch
-        finally:
-            join()
-        if want_label:
-            label = np.empty(shape, np.int32)
-            comp = np.ascontiguousarray(obstacle_id, np.int32) if obstacle_id is not None else comps.pop()
+        first.append(partial(k.label_components, occ8, comp))
+    if metric == "euclidean":
+        first.append(partial(k.chamfer_steps, occ8, wall, step8, steps, distance, res, False))
+        vr = np.empty(shape, np.int32)  # column pass result, becomes nearest_row
+        first += _chunks(k.column_block, cols, nthreads, occ8, wall, vr, min_size=64)
+    else:
+        if metric == ("chessboard" if step8 else "taxicab"):
+            scratch = steps
+        else:  # steps by one chamfer metric, distance and nearest obstacle by the other
+            first.append(partial(k.chamfer_steps, occ8, wall, step8, steps, distance, res, False))
+            scratch = np.empty(shape, np.int32)
+        if want_nearest or want_label:  # labels are looked up at the nearest obstacle
+            # the nearest cell packed in one integer (int64 beyond 2**31 padded cells)
+            small = (rows + 2) * (cols + 2) < 2**31
+            nidx = np.empty(shape, np.int32 if small else np.int64)
+            first.append(partial(k.chamfer_nearest, occ8, wall, metric == "chessboard", scratch, nidx,
+                                 distance, res, True))
         else:
-            comp = _NO_COMP
-        if metric == "euclidean":
-            if want_nearest:
-                nearest_row, nearest_col = vr, np.empty(shape, np.int32)
-            k.edt_row_pass(vr, wall, res, distance, vr, _NO_COMP if nearest_col is None else nearest_col,
-                           want_nearest, comp, want_label, _NO_COMP if label is None else label, BORDER_LABEL,
-                           nthreads)
-            del vr
-        elif want_nearest or want_label:
-            if want_nearest:
-                nearest_row = np.empty(shape, np.int32)
-                nearest_col = nidx if nidx.dtype == np.int32 else np.empty(shape, np.int32)
-            k.decode_pass(nidx, _NO_COMP if nearest_row is None else nearest_row,
-                          _NO_COMP if nearest_col is None else nearest_col, want_nearest,
-                          comp, want_label, _NO_COMP if label is None else label, BORDER_LABEL, nthreads)
-            del nidx
-        del comp
-        if want_gvd:
-            gvd = np.empty(shape, bool)
-            k.gvd_pass(label, distance, occ8, gvd, nthreads)
-        if saturate is not None:
-            k.saturate_pass(distance, saturate, far, nthreads)
-    if not want_nearest:
-        nearest_row = nearest_col = None
+            first.append(partial(k.chamfer_steps, occ8, wall, metric == "chessboard", scratch, distance, res, True))
+    _run(first, nthreads)
+    del first
+
+    # 2. per row: the Euclidean envelope, or unpacking the chamfer's nearest cell; labels
+    if metric == "euclidean":
+        if want_nearest:
+            nearest_row, nearest_col = vr, np.empty(shape, np.int32)
+        _run(_chunks(k.edt_rows, rows, nthreads, vr, wall, res, distance, vr,
+                     _NO_COMP if nearest_col is None else nearest_col, want_nearest, comp, want_label,
+                     _NO_COMP if label is None else label, BORDER_LABEL), nthreads)
+    elif nidx is not None:
+        if want_nearest:
+            nearest_row = np.empty(shape, np.int32)
+            nearest_col = nidx if nidx.dtype == np.int32 else np.empty(shape, np.int32)
+        _run(_chunks(k.decode_rows, rows, nthreads, nidx, _NO_COMP if nearest_row is None else nearest_row,
+                     _NO_COMP if nearest_col is None else nearest_col, want_nearest, comp, want_label,
+                     _NO_COMP if label is None else label, BORDER_LABEL), nthreads)
+    del vr, nidx, comp
+
+    # 3. GVD from the labels, then saturation
+    if want_gvd:
+        gvd = np.empty(shape, bool)
+        _run(_chunks(k.gvd_rows, rows, nthreads, label, distance, occ8, gvd), nthreads)
+    if saturate is not None:
+        _run(_chunks(k.saturate_rows, rows, nthreads, distance, saturate, far), nthreads)
     return DistanceMap(gridmap, connectivity, metric, steps, distance, nearest_row, nearest_col, label, gvd,
                        saturate, far)

@@ -499,15 +499,14 @@ def test_bad_parameters_are_named(kw, match):
         brushfire(GridMap(Grid((2, 2), 1.0), np.eye(2, dtype=bool)), **kw)
 
 
-def test_threads_above_the_maximum_are_clipped():
-    import numba
-
-    occ = random_occupancy(2, (20, 20), 0.1)
+def test_threads_above_the_maximum_are_clipped_and_large_grids_use_them():
+    occ = random_occupancy(2, (1024, 1100), 0.1)  # above PARALLEL_MIN_CELLS: all cores by default
     gm = GridMap(Grid(occ.shape, 1.0), occ)
-    before = numba.get_num_threads()
-    dm = brushfire(gm, threads=10_000)
-    assert numba.get_num_threads() == before
-    assert np.array_equal(dm.steps, brushfire(gm).steps)
+    ref = brushfire(gm, threads=1, metric="euclidean")
+    for threads in (None, 2, 10_000):
+        dm = brushfire(gm, threads=threads, metric="euclidean")
+        for name in ("steps", "distance", "nearest_row", "nearest_col", "label", "gvd"):
+            assert np.array_equal(getattr(dm, name), getattr(ref, name)), name
 
 
 def test_packed_nearest_index_in_int64_as_for_huge_grids():
@@ -524,7 +523,7 @@ def test_packed_nearest_index_in_int64_as_for_huge_grids():
         lab = np.empty(occ.shape, np.int32)
         comp = np.empty(occ.shape, np.int32)
         k.label_components(o8, comp)
-        k.decode_pass(nidx, rows_, cols_, True, comp, True, lab, BORDER_LABEL, 2)
+        k.decode_rows(0, occ.shape[0], nidx, rows_, cols_, True, comp, True, lab, BORDER_LABEL)
         out[dtype] = (steps, rows_, cols_, lab)
     for a, b in zip(out[np.int32], out[np.int64], strict=True):
         assert np.array_equal(a, b)

@@ -11,11 +11,12 @@ brushfire, the fused attractive + repulsive potential and its gradients, and fol
 
 Each size runs in its own fresh Python process, so that numbers do not depend on what ran before:
 
-- **time**: median / min / max of ``--repeat`` plans after one warm-up plan on a 64 x 64 map
-  (compiles or loads the numba kernels), and, in the same process on the same map, the median of
-  OpenCV's ``cv2.distanceTransform(DIST_C, 3)`` alone (the reference of the 3x target), the
-  brushfire alone as ``plan`` calls it, and the brushfire without labels and GVD (all ``plan``
-  needs). ``ratio`` is plan / DIST_C.
+- **time**: after a warm-up plan on a 64 x 64 map (compiles or loads the numba kernels) and a
+  first plan on the big map, ``--repeat`` rounds, each running once (interleaved, so that a burst
+  of load from other jobs hits all alike): the plan; OpenCV's ``cv2.distanceTransform(DIST_C, 3)``
+  alone on the same map (the reference of the 3x target); the brushfire alone as ``plan`` calls
+  it; the brushfire without labels and GVD; the lean plan (below). Medians / min / max;
+  ``ratio`` is plan / DIST_C.
 - **peak memory**: the child process's peak resident set size, ``VmHWM`` from /proc/self/status
   (not ``ru_maxrss``: on Linux a child's ``ru_maxrss``, as read with ``RUSAGE_CHILDREN`` or
   ``os.wait4``, starts from its parent's peak at fork and survives exec, so it reports a big
@@ -161,6 +162,29 @@ def _peak_rss_bytes() -> int:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux: KiB
 
 
+def _reset_peak_rss() -> bool:
+    """Reset this process's VmHWM to its current RSS (``/proc/self/clear_refs``); False where unsupported."""
+    try:
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
+    except OSError:
+        return False
+    return True
+
+
+def round_robin(candidates: dict[str, Callable[[], Any]], repeat: int) -> dict[str, Timing]:
+    """Time each candidate ``repeat`` times, interleaved (one run of each per round), so that a burst
+    of load from other jobs hits all alike. Candidates are assumed warmed up already."""
+    runs: dict[str, list[float]] = {k: [] for k in candidates}
+    for _ in range(repeat):
+        for k, fn in candidates.items():
+            t0 = time.perf_counter()
+            out = fn()
+            runs[k].append(time.perf_counter() - t0)
+            del out
+    return {k: Timing(statistics.median(v), min(v), max(v), len(v)) for k, v in runs.items()}
+
+
 def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
     """Measure one size in the current process (meant to be a fresh one); a JSON-able dict."""
     try:
@@ -188,6 +212,19 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
             "follow_s": float(path.seconds), "build_s": float(path.extra.get("build_seconds", float("nan")))}
     del path
 
+    def lean_plan() -> Any:
+        """What plan would cost with a brushfire without labels and GVD (all the potential reads)."""
+        dmap = brushfire(gm, metric="euclidean", compute_labels=False)
+        fld = build_field(gm, GOAL, params, dmap=dmap)
+        return follow(fld, START, params=params)
+
+    # the lean plan's own peak: reset VmHWM (Linux >= 4.0) and run it once
+    rss_lean = None
+    if _reset_peak_rss():
+        base = _peak_rss_bytes()
+        lean_plan()
+        rss_lean = _peak_rss_bytes() - base
+
     builds: list[float] = []
     follows: list[float] = []
 
@@ -196,21 +233,19 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
         builds.append(float(p.extra.get("build_seconds", float("nan"))))
         follows.append(float(p.seconds))
 
-    t_plan, _ = timed(one_plan, repeat, warmup=0)
-    t_distc = None
+    candidates: dict[str, Callable[[], Any]] = {
+        "plan": one_plan,
+        "lean_plan": lean_plan,
+        "brushfire": lambda: brushfire(gm, metric="euclidean"),
+        "brushfire_lean": lambda: brushfire(gm, metric="euclidean", compute_labels=False),
+    }
     if cv2 is not None:
         free8 = np.ascontiguousarray(~gm.occupied, dtype=np.uint8)
-        t_distc, _ = timed(lambda: cv2.distanceTransform(free8, cv2.DIST_C, 3), repeat)
-    t_bf, _ = timed(lambda: brushfire(gm, metric="euclidean"), repeat, warmup=0)
-    t_bf_lean, _ = timed(lambda: brushfire(gm, metric="euclidean", compute_labels=False), repeat, warmup=0)
-
-    def lean_plan() -> Any:
-        """What plan would cost with a brushfire without labels and GVD (all the potential reads)."""
-        dmap = brushfire(gm, metric="euclidean", compute_labels=False)
-        fld = build_field(gm, GOAL, params, dmap=dmap)
-        return follow(fld, START, params=params)
-
-    t_lean, _ = timed(lean_plan, repeat, warmup=0)
+        cv2.distanceTransform(free8, cv2.DIST_C, 3)  # warm-up
+        candidates["dist_c"] = lambda: cv2.distanceTransform(free8, cv2.DIST_C, 3)
+    times = round_robin(candidates, repeat)
+    t_plan, t_lean, t_bf, t_bf_lean = (times[k] for k in ("plan", "lean_plan", "brushfire", "brushfire_lean"))
+    t_distc = times.get("dist_c")
 
     traced = None
     if trace:
@@ -227,7 +262,7 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
         "brushfire_lean": asdict(t_bf_lean), "lean_plan": asdict(t_lean),
         "build_median_s": statistics.median(builds), "follow_median_s": statistics.median(follows),
         "rss_before_plan": rss_before, "rss_after_first_plan": rss_plan, "rss_peak_self": _peak_rss_bytes(),
-        "traced_peak": traced, **info,
+        "traced_peak": traced, "lean_plan_extra_rss": rss_lean, **info,
     }
 
 
@@ -294,14 +329,15 @@ def table(results: Sequence[dict[str, Any]]) -> str:
     lines += [
         "",
         "| size | peak RSS MiB (whole process, VmHWM) | peak RSS before plan MiB | plan's own allocations, "
-        "tracemalloc peak MiB | within 4 GiB |",
-        "|---|---|---|---|---|",
+        "tracemalloc peak MiB | lean plan: extra peak RSS MiB | within 4 GiB |",
+        "|---|---|---|---|---|---|",
     ]
     for r in results:
         if "error" in r:
             continue
         lines.append(
             f"| {r['n']}^2 | {_mb(r['rss_peak'])} | {_mb(r['rss_before_plan'])} | {_mb(r.get('traced_peak'))} "
+            f"| {_mb(r.get('lean_plan_extra_rss'))} "
             f"| {'yes' if r['rss_peak'] <= 4 * GiB else 'NO'} |"
         )
     return "\n".join(lines)

@@ -159,6 +159,21 @@ class NavigationField:
         """d value / dy at the cell centres."""
         return self._gradient[1]
 
+    @cached_property
+    def clearance(self) -> NDArray[np.float64]:
+        """Euclidean brushfire distance of each cell centre to the nearest obstacle cell centre (computed
+        once per field; used for :attr:`Path.min_clearance`)."""
+        from .brushfire import brushfire
+
+        return brushfire(self.map, metric="euclidean").distance
+
+    def to_field(self) -> Any:
+        """The same arrays as a :class:`gridfield.potential.Field` (for its follower and plots)."""
+        from .potential import Field
+
+        return Field(self.map, self.value, self.grad_x, self.grad_y, (float(self.goal[0]), float(self.goal[1])),
+                     {"navigation": self.kind, **dict(self.params)})
+
     def value_at(self, points: ArrayLike) -> NDArray[np.float64]:
         """Value of the cell containing each world point, shape ``(N,)``; ``inf`` outside the grid.
 
@@ -474,20 +489,17 @@ def extract_path(
     keep[1:] = np.any(np.diff(points, axis=0) != 0, axis=1)
     points = points[keep]
     seconds = time.perf_counter() - t0
-    return Path(points, status, name, iterations, params, seconds, _min_clearance(gm, points), extra)
+    return Path(points, status, name, iterations, params, seconds, _min_clearance(nav, points), extra)
 
 
-def _min_clearance(gm: GridMap, points: NDArray[np.float64]) -> float:
+def _min_clearance(nav: NavigationField, points: NDArray[np.float64]) -> float:
     """Smallest Euclidean brushfire distance (cell centre to nearest obstacle cell centre) over the cells
     the path's points lie in; ``inf`` on a map without obstacles."""
-    from .brushfire import brushfire
-
-    d = brushfire(gm, metric="euclidean").distance
-    cells, inside = gm.grid.world_to_cell(points)
+    cells, inside = nav.grid.world_to_cell(points)
     if not inside.any():
         return math.nan
     r, c = cells[inside].T
-    return float(d[r, c].min())
+    return float(nav.clearance[r, c].min())
 
 
 # ----------------------------------------------------------------------------------------------
@@ -549,10 +561,23 @@ def fmm(
 # ----------------------------------------------------------------------------------------------
 # Harmonic potential
 # ----------------------------------------------------------------------------------------------
-def _solve_dirichlet(unknown: NDArray[np.bool_], one: NDArray[np.bool_], rtol: float) -> tuple[NDArray[np.float64], int]:
+SOLVERS = ("pcg", "scipy-cg", "spsolve")
+#: Relaxation of the MIC(0) preconditioner (1 = full modification; 0 = plain IC(0)).
+MIC_OMEGA = 0.99
+
+
+def _solve_dirichlet(unknown: NDArray[np.bool_], one: NDArray[np.bool_], rtol: float,
+                     solver: str = "pcg") -> tuple[NDArray[np.float64], int]:
     """Solve the 5-point Laplace equation on the ``unknown`` cells with value 1 on the ``one`` cells and 0
     on every other cell (and outside the grid). Returns the solution on the grid (0 elsewhere) and the
-    number of conjugate-gradient iterations."""
+    number of conjugate-gradient iterations (0 for the direct solver).
+
+    The system is ``A w = b`` over the unknowns in row-major order: ``A`` has 4 on the diagonal and -1
+    between neighbouring unknowns (a scipy.sparse CSR matrix built from index arrays), ``b`` counts each
+    unknown's neighbours in ``one``. ``solver``: ``"pcg"`` compiled conjugate gradients with a MIC(0)
+    preconditioner (default); ``"scipy-cg"`` :func:`scipy.sparse.linalg.cg` with the same preconditioner;
+    ``"spsolve"`` the direct :func:`scipy.sparse.linalg.spsolve` (small maps, reference).
+    """
     import scipy.sparse as sp
     import scipy.sparse.linalg as sla
 
@@ -577,20 +602,33 @@ def _solve_dirichlet(unknown: NDArray[np.bool_], one: NDArray[np.bool_], rtol: f
     vals = np.concatenate([np.full(n, 4.0), np.full(int(has.sum()), -1.0)])
     a = sp.csr_matrix((vals, (row_i, col_i)), shape=(n, n))
     k = _kernels()
-    piv = k.mic0_factor(left, down, right, up, 0.95)
-    m = sla.LinearOperator((n, n), matvec=lambda r: k.mic0_apply(left, down, right, up, piv, np.ravel(r)),
-                           dtype=np.float64)
-    count = [0]
+    maxiter = 20 * (rows + cols) + 1000
+    if solver == "pcg":
+        x, its, _ = k.pcg_laplace(left, down, right, up, b, MIC_OMEGA, rtol, maxiter)
+    elif solver == "scipy-cg":
+        piv = k.mic0_factor(left, down, right, up, MIC_OMEGA)
+        m = sla.LinearOperator((n, n), matvec=lambda r: k.mic0_apply(left, down, right, up, piv, np.ravel(r)),
+                               dtype=np.float64)
+        count = [0]
 
-    def _count(_: Any) -> None:
-        count[0] += 1
+        def _count(_: Any) -> None:
+            count[0] += 1
 
-    x0 = k.mic0_apply(left, down, right, up, piv, b)
-    x, info = sla.cg(a, b, x0=x0, rtol=rtol, atol=0.0, M=m, maxiter=20 * (rows + cols) + 1000, callback=_count)
-    if info != 0:
-        raise GridfieldError(f"the harmonic solve did not converge in {count[0]} iterations (rtol {rtol:g})")
+        x0 = k.mic0_apply(left, down, right, up, piv, b)
+        x, _info = sla.cg(a, b, x0=x0, rtol=rtol, atol=0.0, M=m, maxiter=maxiter, callback=_count)
+        its = count[0]
+    elif solver == "spsolve":
+        x = sla.spsolve(a.tocsc(), b)
+        its = 0
+    else:
+        raise ParameterError(f"solver must be one of {SOLVERS}, got {solver!r}")
+    r = a @ x - b  # (no BLAS calls here: OpenBLAS threads stall on a busy machine)
+    resid = math.sqrt(float(np.sum(r * r)) / float(np.sum(b * b)))
+    if not resid <= max(10 * rtol, 1e-10):
+        raise GridfieldError(f"the harmonic solve ({solver}) did not converge: relative residual {resid:.2g} after "
+                             f"{its} iterations (rtol {rtol:g})")
     out[unknown] = x
-    return out, count[0]
+    return out, int(its)
 
 
 def harmonic(
@@ -600,14 +638,17 @@ def harmonic(
     tau: float = 1e-6,
     band: int | None = 64,
     rtol: float = 1e-12,
+    solver: Literal["pcg", "scipy-cg", "spsolve"] = "pcg",
 ) -> NavigationField:
     """Harmonic navigation function: Laplace's equation with the goal at 0, obstacles and border at 1.
 
     Solves the 5-point discrete Laplace equation for ``w = 1 - u`` (1 at the goal cell, 0 on obstacle
     cells and outside the grid) on the free cells connected to the goal (4-connected: the cells a
     no-corner-cutting 8-connected path can reach). The sparse system (5-point Laplacian built from
-    index arrays) is solved by conjugate gradients (:func:`scipy.sparse.linalg.cg`) preconditioned by a
-    modified incomplete Cholesky factorization (compiled).
+    index arrays, a scipy.sparse matrix) is solved by conjugate gradients preconditioned by a modified
+    incomplete Cholesky factorization, MIC(0) (compiled; ``solver="scipy-cg"`` runs
+    :func:`scipy.sparse.linalg.cg` with the same preconditioner, ``"spsolve"`` the direct solver). Each
+    solve is checked against the sparse matrix: relative residual at most ``max(10 * rtol, 1e-10)``.
 
     A discrete harmonic function has no local extrema away from its boundary values, so steepest
     descent over the neighbours reaches the goal -- in exact arithmetic. In floating point it does not:
@@ -640,6 +681,8 @@ def harmonic(
         Width in cells of the region each continuation shell solves on (``None``: all remaining cells).
     rtol : float
         Relative residual tolerance of the conjugate-gradient solves.
+    solver : {"pcg", "scipy-cg", "spsolve"}
+        How each shell's linear system is solved (see above).
 
     Returns
     -------
@@ -666,6 +709,8 @@ def harmonic(
         raise ParameterError(f"band must be a positive number of cells or None, got {band!r}")
     if not (0 < rtol < 1e-3):
         raise ParameterError(f"rtol must be in (0, 1e-3), got {rtol!r}")
+    if solver not in SOLVERS:
+        raise ParameterError(f"solver must be one of {SOLVERS}, got {solver!r}")
     g, (gr, gc) = _goal_cell(gridmap, goal)
     free = ~gridmap.occupied
     lab, _ = ndimage.label(free)  # 4-connected components
@@ -694,7 +739,7 @@ def harmonic(
                    slice(max(0, cc.min() - band), cc.max() + band + 1))
             near = ndimage.distance_transform_cdt(~inside[box], metric="taxicab") <= band
             domain = remaining[box] & near
-        w, its = _solve_dirichlet(domain, inside[box], rtol)
+        w, its = _solve_dirichlet(domain, inside[box], rtol, solver)
         iterations.append(its)
         if shell == 0:
             u0[domain] = 1.0 - w[domain]
@@ -706,7 +751,7 @@ def harmonic(
         shell_of[box][new] = shell
         inside[box] |= new
         shell += 1
-    params = {"tau": tau, "band": band, "rtol": rtol}
+    params = {"tau": tau, "band": band, "rtol": rtol, "solver": solver}
     aux = {"harmonic": u0, "shell": shell_of, "shells": shell, "iterations": iterations,
            "seconds": time.perf_counter() - t0}
     return NavigationField(gridmap, value, g, (gr, gc), "harmonic", params, aux)

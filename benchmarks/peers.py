@@ -20,7 +20,8 @@ same process; ``ratio`` is peer time / gridfield time (medians; > 1: gridfield i
     example: 51 x 31 cells, a wall round the border and four wall segments, obstacles inflated by
     3 cells, from (5, 5) to (45, 25). gridfield: ``plan("wavefront-octile", ...)`` on the same
     cells (obstacles and inflation occupied), the same 8-neighbour octile metric; both return the
-    shortest octile path (lengths are compared).
+    shortest octile path (lengths are compared). For scale (not a target: not pmp's example map)
+    the same pair also runs on RTB's house floor plan.
 ``pmp-apf-force`` and ``pmp-apf-step``
     python-motion-planning's ``APF`` is a *path-tracking controller* for a robot model, not a
     planner: each control step it finds a look-ahead point on a given path, computes an
@@ -76,6 +77,7 @@ class Row:
     note: str = ""
     status: str = "ok"  # ok | missing | failed
     unit: str = "ms"
+    context: bool = False  #: not on the peer's own example map: shown for scale, not a target
 
     @property
     def ratio(self) -> float:
@@ -228,6 +230,37 @@ def bench_pmp_astar(ctx: _Context) -> Any:
         row.status, row.note = "missing" if "not available" in str(e) else "failed", _missing(e)
     ctx.rows.append(row)
     return path
+
+
+def bench_pmp_astar_house(ctx: _Context) -> None:
+    """Context: pmp A* on RTB's house floor plan (a real-sized map) vs gridfield wavefront-octile."""
+    row = Row("python-motion-planning AStar (context: a bigger map)", "shortest 8-neighbour octile path",
+              "house floor plan", 'plan("wavefront-octile")', context=True)
+    try:
+        from python_motion_planning.common import TYPES, Grid
+        from python_motion_planning.path_planner.graph_search.a_star import AStar
+
+        occ, start, goal = _house(ctx.scale)
+    except Exception as e:
+        row.status, row.note = "missing", _missing(e)
+        ctx.rows.append(row)
+        return
+    row.map = f"house floor plan {occ.shape[0]}x{occ.shape[1]}"
+    type_map = np.where(occ.T, TYPES.OBSTACLE, TYPES.FREE).astype(np.int8)  # pmp indexes [x, y]
+    grid = Grid(bounds=[[0, occ.shape[1]], [0, occ.shape[0]]], type_map=type_map)
+    t_pmp, (_, info) = timed(lambda: AStar(map_=grid, start=start, goal=goal).plan(), ctx.repeat, warmup=0,
+                             budget=30.0)
+    row.peer_time = t_pmp
+    gm = _gridmap(occ, 1.0, "house")
+    s, g = (start[0] + 0.5, start[1] + 0.5), (goal[0] + 0.5, goal[1] + 0.5)
+    try:
+        t_gf, gpath = timed(lambda: _gf_plan("wavefront-octile", gm, s, g), max(ctx.repeat, 5))
+        row.gf_time = t_gf
+        row.note = (f"path length: A* {info['length']:.3f}, gridfield {gpath.length:.3f} ({gpath.status}); "
+                    f"A* expanded {len(info['expand'])} cells")
+    except Exception as e:
+        row.status, row.note = "missing" if "not available" in str(e) else "failed", _missing(e)
+    ctx.rows.append(row)
 
 
 #: APF's repulsive influence range for the benchmark: pmp's default (2 x the robot radius = 1 cell)
@@ -444,6 +477,7 @@ def measure(repeat: int = 3, scale: float = 1.0) -> list[Row]:
     steps: list[tuple[str, Callable[[], Any]]] = [
         ("rtb", lambda: bench_rtb(ctx)),
         ("pmp A*", lambda: astar.setdefault("path", bench_pmp_astar(ctx))),
+        ("pmp A* (house)", lambda: bench_pmp_astar_house(ctx)),
         ("pmp APF", lambda: bench_pmp_apf(ctx, astar.get("path"))),
         ("cell-by-cell", lambda: bench_cell_by_cell(ctx)),
     ]
@@ -474,8 +508,9 @@ def table(rows: Sequence[Row]) -> str:
         if r.status != "ok" or r.gf_time is None:
             out.append(f"| {r.peer} | {r.map} | {peer} | {r.gridfield} | {r.status} | - | - | {r.note} |")
             continue
+        verdict = "(context)" if r.context else ("yes" if r.ratio >= 100 else "NO")
         out.append(f"| {r.peer} | {r.map} | {peer} | {r.gridfield} | {_fmt(r.gf_time, u)} {u} "
-                   f"| **{r.ratio:,.0f}x** | {'yes' if r.ratio >= 100 else 'NO'} | {r.note} |")
+                   f"| **{r.ratio:,.0f}x** | {verdict} | {r.note} |")
     return "\n".join(out)
 
 

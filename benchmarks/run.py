@@ -614,6 +614,8 @@ def section_targets(results: dict[str, Any]) -> list[str]:
     prs = results.get("peers")
     if prs is not None:
         for p in prs:
+            if p.context:
+                continue
             if p.status == "ok" and p.gf_time is not None:
                 rows.append((f"peer ≥ 100x slower: {p.peer} vs {p.gridfield}", f"{p.ratio:,.0f}x",
                              "met" if p.ratio >= PEER_TARGET_RATIO else "NOT met"))

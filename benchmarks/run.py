@@ -539,14 +539,15 @@ def _script_options(script: Path) -> str:
 
 
 def area_arguments(help_text: str, *, quick: bool, repeat: int | None) -> list[str]:
-    """Arguments for a per-area script: small sizes when quick, ``--repeat`` when given."""
+    """Arguments for a per-area script: small sizes when quick; ``--repeat`` (default 3 in the full
+    suite, so that all five scripts fit its time budget; 2 when quick)."""
     args: list[str] = []
     if quick:
         if re.search(r"--sizes\b", help_text):
             args += ["--sizes", "512"]
         elif re.search(r"--size\b", help_text):
             args += ["--size", "512"]
-    rep = 2 if quick and repeat is None else repeat
+    rep = repeat if repeat is not None else (2 if quick else 3)
     if rep is not None:
         for flag in ("--repeat", "--repeats"):
             if re.search(rf"{flag}\b", help_text):
@@ -646,7 +647,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--only", nargs="+", choices=SECTIONS, metavar="SECTION",
                     help=f"run only these sections ({', '.join(SECTIONS)})")
     ap.add_argument("--peer-scale", type=float, help="shrink the peers' maps (default 1; quick: 0.5)")
-    ap.add_argument("--area-timeout", type=float, default=None, help="seconds per area script (default 300; quick 120)")
+    ap.add_argument("--area-timeout", type=float, default=None, help="seconds per area script (default 480; quick 120)")
     args = ap.parse_args(argv)
 
     sizes = args.sizes or ([512, 1024] if args.quick else list(end_to_end.DEFAULT_SIZES))
@@ -655,7 +656,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     sections = args.only or list(SECTIONS)
     comp_sizes = [n for n in sizes if n <= 4096] or [min(sizes)]
     peer_scale = args.peer_scale or (0.5 if args.quick else 1.0)
-    area_timeout = args.area_timeout or (120.0 if args.quick else 300.0)
+    area_timeout = args.area_timeout or (120.0 if args.quick else 480.0)
 
     started = time.perf_counter()
     command = "python benchmarks/run.py" + ("" if argv is None and len(sys.argv) <= 1 else " " + " ".join(

@@ -13,9 +13,10 @@ Euclidean (:func:`column_block`, :func:`edt_rows`)
     of the parabolas ``(x - i)**2 + g_i**2`` (Meijster, Roerdink & Hesselink 2000), whose winning
     column gives the exact nearest obstacle cell. Columns, then rows, are independent.
 
-Components (:func:`label_components`)
-    8-connected, two-pass union-find; components are numbered in raster order of their first cell
-    (row 0 first), the numbering of ``scipy.ndimage.label``. Sequential.
+Components (:func:`label_strip`, :func:`merge_strips`, :func:`relabel_rows`)
+    8-connected, two-pass union-find on horizontal strips, joined across the strip boundaries;
+    components are numbered in raster order of their first cell (row 0 first), the numbering of
+    ``scipy.ndimage.label``. Strips are independent.
 
 Then :func:`decode_rows` (nearest cell and label of the chamfer path), :func:`gvd_rows` and
 :func:`saturate_rows`, again independent over rows.
@@ -418,11 +419,12 @@ def chamfer_nearest(occ, wall, conn8, steps, nidx, distance, resolution, write_d
 
 
 @njit(**_OPTS)
-def decode_rows(r0, r1, nidx, nearest_row, nearest_col, want_nearest, comp, want_label, label,
-                border_label):  # pragma: no cover - compiled
+def decode_rows(r0, r1, nidx, nearest_row, nearest_col, want_nearest, comp, comp_map, use_map, want_label,
+                label, border_label):  # pragma: no cover - compiled
     """Rows ``r0:r1``: unpack ``nidx`` (see :func:`chamfer_nearest`) into ``nearest_row``/``nearest_col``
     (which may be the very array ``nidx``: each value is read before it is overwritten) and look up
-    ``label``: ``comp[nr, nc]``, or ``border_label`` outside the grid (the wall)."""
+    ``label``: ``comp_map[comp[nr, nc]]`` (``comp[nr, nc]`` without ``use_map``), or ``border_label``
+    outside the grid (the wall)."""
     rows, cols = nidx.shape
     w = np.int64(cols + 2)
     inv = 1.0 / (cols + 2)
@@ -437,6 +439,8 @@ def decode_rows(r0, r1, nidx, nearest_row, nearest_col, want_nearest, comp, want
             if want_label:
                 if nr < 0 or nr >= rows or nc < 0 or nc >= cols:
                     label[r, c] = border_label
+                elif use_map:
+                    label[r, c] = comp_map[comp[nr, nc]]
                 else:
                     label[r, c] = comp[nr, nc]
             if want_nearest:
@@ -531,7 +535,7 @@ def edt_1d(g, n, inf, s, t, val, arg):  # pragma: no cover - compiled
 
 @njit(**_OPTS)
 def edt_rows(r0, r1, vr, wall, resolution, distance, nearest_row, nearest_col, want_nearest,
-             comp, want_label, label, border_label):  # pragma: no cover - compiled
+             comp, comp_map, use_map, want_label, label, border_label):  # pragma: no cover - compiled
     """Rows ``r0:r1`` of the Euclidean transform's row pass: ``distance`` and optionally the nearest
     obstacle and its label.
 
@@ -572,6 +576,8 @@ def edt_rows(r0, r1, vr, wall, resolution, distance, nearest_row, nearest_col, w
                 nc = a - 1
                 if nr < 0 or nr >= rows or nc < 0 or nc >= cols:
                     label[r, c] = border_label
+                elif use_map:
+                    label[r, c] = comp_map[comp[nr, nc]]
                 else:
                     label[r, c] = comp[nr, nc]
 
@@ -601,24 +607,23 @@ def _union(parent, a, b):  # pragma: no cover - compiled
         parent[ra] = rb
 
 
-@njit(**_OPTS)
-def label_components(occ, comp):  # pragma: no cover - compiled
-    """8-connected labels of the obstacle cells in ``comp`` (0 on free cells); returns their number.
+def strip_cap(rows, cols):
+    """Most provisional labels a strip of ``rows`` x ``cols`` cells can create: they are only created
+    at cells with no labelled neighbour before them, so no two are 8-adjacent."""
+    return ((rows + 1) // 2) * ((cols + 1) // 2)
 
-    Components are numbered 1.. in raster order of their first cell (row 0 first): the root of every
-    union-find set is its smallest provisional label, and provisional labels grow in raster order.
-    """
-    rows, cols = occ.shape
-    # provisional labels are only created at cells with no labelled neighbour before them: no two
-    # are 8-adjacent, so there are at most ceil(rows/2) * ceil(cols/2) of them
-    cap = ((rows + 1) // 2) * ((cols + 1) // 2) + 2
-    parent = np.empty(cap, np.int32)
-    parent[0] = 0
-    nxt = 1
-    for r in range(rows):
+
+@njit(**_OPTS)
+def label_strip(r0, r1, occ, comp, parent, base):  # pragma: no cover - compiled
+    """First pass of the 8-connected labelling on rows ``r0:r1`` alone: provisional labels
+    ``base + 1, base + 2, ...`` in raster order (0 on free cells), unions in ``parent`` (each set's
+    root is its smallest label). Returns the last label used (``base`` if none)."""
+    cols = occ.shape[1]
+    nxt = base + 1
+    for r in range(r0, r1):
         orow = occ[r]
         crow = comp[r]
-        if r == 0:
+        if r == r0:
             left = 0
             for c in range(cols):
                 if not orow[c]:
@@ -643,7 +648,7 @@ def label_components(occ, comp):  # pragma: no cover - compiled
             ur = up[c + 1] if c + 1 < cols else 0
             ul = up[c - 1] if c > 0 else 0
             lf = crow[c - 1] if c > 0 else 0
-            if ur:
+            if ur:  # up-left and left are neighbours of each other: one union is enough
                 if ul:
                     _union(parent, ur, ul)
                 elif lf:
@@ -657,20 +662,61 @@ def label_components(occ, comp):  # pragma: no cover - compiled
                 parent[nxt] = nxt
                 crow[c] = nxt
                 nxt += 1
-    comp_map = np.empty(nxt, np.int32)
-    comp_map[0] = 0
+    return nxt - 1
+
+
+@njit(**_OPTS)
+def merge_strips(occ, comp, parent, firsts, bases, lasts):  # pragma: no cover - compiled
+    """Join the strips (first rows ``firsts``, label ranges ``bases[k] + 1 .. lasts[k]``) across their
+    boundaries and number the components 1.. in raster order of their first cell (the numbering of
+    ``scipy.ndimage.label``): returns ``(comp_map, count)``, the final label of each provisional one."""
+    cols = occ.shape[1]
+    for k in range(1, len(firsts)):
+        b = firsts[k]
+        for c in range(cols):
+            if not occ[b, c]:
+                continue
+            for cc in range(max(0, c - 1), min(cols, c + 2)):
+                if occ[b - 1, cc]:
+                    _union(parent, comp[b, c], comp[b - 1, cc])
+    comp_map = np.zeros(lasts[-1] + 1, np.int32)
     count = 0
-    for i in range(1, nxt):
-        p = parent[i]
-        if p == i:
-            count += 1
-            comp_map[i] = count
-        else:
-            comp_map[i] = comp_map[_find(parent, p)]
-    for r in range(rows):
+    for k in range(len(firsts)):  # labels grow with the strips: every root comes before its members
+        for i in range(bases[k] + 1, lasts[k] + 1):
+            p = parent[i]
+            if p == i:
+                count += 1
+                comp_map[i] = count
+            else:
+                comp_map[i] = comp_map[_find(parent, p)]
+    return comp_map, count
+
+
+@njit(**_OPTS)
+def relabel_rows(r0, r1, comp, comp_map):  # pragma: no cover - compiled
+    """Rows ``r0:r1``, in place: ``comp = comp_map[comp]``."""
+    cols = comp.shape[1]
+    for r in range(r0, r1):
         crow = comp[r]
         for c in range(cols):
             crow[c] = comp_map[crow[c]]
+
+
+def label_components(occ, comp, strips=1):
+    """8-connected labels of the obstacle cells into ``comp`` (0 on free cells), numbered 1.. in raster
+    order of each component's first cell; returns their number. Sequential reference use of the
+    strip kernels (:mod:`gridfield.brushfire` runs the strips on several threads)."""
+    rows, cols = occ.shape
+    strips = max(1, min(strips, rows))  # no empty strip
+    firsts = np.array([k * rows // strips for k in range(strips)], np.int64)
+    ends = [(k + 1) * rows // strips for k in range(strips)]
+    bases = np.zeros(strips, np.int64)
+    for k in range(1, strips):
+        bases[k] = bases[k - 1] + strip_cap(ends[k - 1] - firsts[k - 1], cols)
+    parent = np.zeros(int(bases[-1]) + strip_cap(ends[-1] - firsts[-1], cols) + 1, np.int32)
+    lasts = np.array([label_strip(firsts[k], ends[k], occ, comp, parent, bases[k]) for k in range(strips)], np.int64)
+    comp_map, count = merge_strips(occ, comp, parent, firsts, bases, lasts)
+    relabel_rows(0, rows, comp, comp_map)
     return count
 
 

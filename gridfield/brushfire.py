@@ -149,7 +149,8 @@ def _kernels() -> ModuleType:
 #: handing work to a second thread costs about as much as it saves, more when the machine is busy.
 PARALLEL_MIN_CELLS = 1 << 20
 
-_NO_COMP = np.zeros((1, 1), np.int32)  # placeholder for an output that is not computed
+_NO_COMP = np.zeros((1, 1), np.int32)  # placeholders for arrays that are not needed
+_NO_MAP = np.zeros(1, np.int32)
 _POOL: ThreadPoolExecutor | None = None
 _POOL_LOCK = threading.Lock()
 
@@ -179,14 +180,17 @@ def _pool() -> ThreadPoolExecutor:
         return _POOL
 
 
-def _run(tasks: Sequence[Callable[[], object]], nthreads: int) -> None:
-    """Run ``tasks`` (numba kernels that release the GIL) on ``nthreads`` threads, this one included.
+def _run(tasks: Sequence[Callable[[], object]], nthreads: int, first: Callable[[], object] | None = None) -> None:
+    """Run ``tasks`` (numba kernels that release the GIL) on ``nthreads`` threads, this one included;
+    this thread runs ``first`` before it joins the others on ``tasks``.
 
     Each thread takes the next task as soon as it is free, so a thread that the OS does not schedule
     (another job on the core) holds up at most the task it has in hand; with a static split of the
     work (numba's ``prange``) the whole pass would wait for it.
     """
-    if nthreads <= 1 or len(tasks) <= 1:
+    if nthreads <= 1 or len(tasks) + (first is not None) <= 1:
+        if first is not None:
+            first()
         for task in tasks:
             task()
         return
@@ -201,12 +205,40 @@ def _run(tasks: Sequence[Callable[[], object]], nthreads: int) -> None:
                 return
             task()
 
-    helpers = [_pool().submit(worker) for _ in range(min(nthreads, len(tasks)) - 1)]
+    helpers = [_pool().submit(worker) for _ in range(min(nthreads - 1, len(tasks)))]
     try:
+        if first is not None:
+            first()
         worker()
     finally:
         for h in helpers:
             h.result()
+
+
+class _Strips:
+    """Labelling the 8-connected obstacle components in horizontal strips (tasks for any thread), then
+    joining them across the strip boundaries (:meth:`merge`, in the calling thread)."""
+
+    def __init__(self, k: ModuleType, occ8: NDArray[np.uint8], comp: NDArray[np.int32], n: int) -> None:
+        rows, cols = occ8.shape
+        self.k, self.occ8, self.comp = k, occ8, comp
+        self.firsts = np.array([i * rows // n for i in range(n)], np.int64)  # n <= rows: none empty
+        self.ends = np.append(self.firsts[1:], rows)
+        caps = [k.strip_cap(int(e - f), cols) for f, e in zip(self.firsts, self.ends, strict=True)]
+        self.bases = np.concatenate([[0], np.cumsum(caps[:-1])]).astype(np.int64)
+        self.parent = np.empty(int(sum(caps)) + 1, np.int32)
+        self.lasts = np.zeros(n, np.int64)
+
+    def _label(self, i: int) -> None:
+        self.lasts[i] = self.k.label_strip(self.firsts[i], self.ends[i], self.occ8, self.comp, self.parent,
+                                           self.bases[i])
+
+    def tasks(self) -> list[Callable[[], object]]:
+        return [partial(self._label, i) for i in range(len(self.firsts))]
+
+    def merge(self) -> NDArray[np.int32]:
+        comp_map, _ = self.k.merge_strips(self.occ8, self.comp, self.parent, self.firsts, self.bases, self.lasts)
+        return comp_map
 
 
 def _chunks(kernel: Callable[..., object], n: int, nthreads: int, *args: object,
@@ -361,53 +393,58 @@ def brushfire(
     steps = np.empty(shape, np.int32)
     distance = np.empty(shape, np.float64)
     nearest_row = nearest_col = label = gvd = nidx = vr = None
-    comp = _NO_COMP
+    comp, comp_map, use_map = _NO_COMP, _NO_MAP, False
     if want_label:
         label = np.empty(shape, np.int32)
         if gridmap.obstacle_id is not None:
             comp = np.ascontiguousarray(gridmap.obstacle_id, np.int32)
 
-    # 1. the sequential passes side by side (and the column blocks of the Euclidean transform)
-    first: list[Callable[[], object]] = []
+    # 1. the sequential transform in this thread; the other threads label the obstacle components
+    #    (horizontal strips) and do the column pass of the Euclidean transform (blocks of columns)
+    tasks: list[Callable[[], object]] = []
+    strips = None
     if want_label and gridmap.obstacle_id is None:
         comp = np.empty(shape, np.int32)
-        first.append(partial(k.label_components, occ8, comp))
+        strips = _Strips(k, occ8, comp, 1 if nthreads <= 1 else min(rows, 8 * nthreads))
+        tasks += strips.tasks()
     if metric == "euclidean":
-        first.append(partial(k.chamfer_steps, occ8, wall, step8, steps, distance, res, False))
+        main = partial(k.chamfer_steps, occ8, wall, step8, steps, distance, res, False)
         vr = np.empty(shape, np.int32)  # column pass result, becomes nearest_row
-        first += _chunks(k.column_block, cols, nthreads, occ8, wall, vr, min_size=64)
+        tasks += _chunks(k.column_block, cols, nthreads, occ8, wall, vr, min_size=64)
     else:
         if metric == ("chessboard" if step8 else "taxicab"):
             scratch = steps
         else:  # steps by one chamfer metric, distance and nearest obstacle by the other
-            first.append(partial(k.chamfer_steps, occ8, wall, step8, steps, distance, res, False))
+            tasks.insert(0, partial(k.chamfer_steps, occ8, wall, step8, steps, distance, res, False))
             scratch = np.empty(shape, np.int32)
         if want_nearest or want_label:  # labels are looked up at the nearest obstacle
             # the nearest cell packed in one integer (int64 beyond 2**31 padded cells)
             small = (rows + 2) * (cols + 2) < 2**31
             nidx = np.empty(shape, np.int32 if small else np.int64)
-            first.append(partial(k.chamfer_nearest, occ8, wall, metric == "chessboard", scratch, nidx,
-                                 distance, res, True))
+            main = partial(k.chamfer_nearest, occ8, wall, metric == "chessboard", scratch, nidx, distance, res, True)
         else:
-            first.append(partial(k.chamfer_steps, occ8, wall, metric == "chessboard", scratch, distance, res, True))
-    _run(first, nthreads)
-    del first
+            main = partial(k.chamfer_steps, occ8, wall, metric == "chessboard", scratch, distance, res, True)
+    _run(tasks, nthreads, first=main)
+    del tasks, main
+    if strips is not None:
+        comp_map, use_map = strips.merge(), True
+        del strips
 
     # 2. per row: the Euclidean envelope, or unpacking the chamfer's nearest cell; labels
     if metric == "euclidean":
         if want_nearest:
             nearest_row, nearest_col = vr, np.empty(shape, np.int32)
         _run(_chunks(k.edt_rows, rows, nthreads, vr, wall, res, distance, vr,
-                     _NO_COMP if nearest_col is None else nearest_col, want_nearest, comp, want_label,
-                     _NO_COMP if label is None else label, BORDER_LABEL), nthreads)
+                     _NO_COMP if nearest_col is None else nearest_col, want_nearest, comp, comp_map, use_map,
+                     want_label, _NO_COMP if label is None else label, BORDER_LABEL), nthreads)
     elif nidx is not None:
         if want_nearest:
             nearest_row = np.empty(shape, np.int32)
             nearest_col = nidx if nidx.dtype == np.int32 else np.empty(shape, np.int32)
         _run(_chunks(k.decode_rows, rows, nthreads, nidx, _NO_COMP if nearest_row is None else nearest_row,
-                     _NO_COMP if nearest_col is None else nearest_col, want_nearest, comp, want_label,
-                     _NO_COMP if label is None else label, BORDER_LABEL), nthreads)
-    del vr, nidx, comp
+                     _NO_COMP if nearest_col is None else nearest_col, want_nearest, comp, comp_map, use_map,
+                     want_label, _NO_COMP if label is None else label, BORDER_LABEL), nthreads)
+    del vr, nidx, comp, comp_map
 
     # 3. GVD from the labels, then saturation
     if want_gvd:

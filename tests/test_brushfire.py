@@ -282,6 +282,20 @@ def test_labels_number_components_like_scipy():
     assert set(np.unique(dm.label)) == set(range(1, n + 1))
 
 
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), rows=st.integers(1, 50), cols=st.integers(1, 50),
+       density=st.sampled_from([0.1, 0.3, 0.5, 0.7]), strips=st.integers(1, 60))
+def test_components_labelled_in_strips_equal_scipy(seed, rows, cols, density, strips):
+    """The threads label horizontal strips, joined afterwards: same numbering as scipy.ndimage.label."""
+    from gridfield import _kernels_brushfire as k
+
+    occ = random_occupancy(seed, (rows, cols), density)
+    comp = np.empty(occ.shape, np.int32)
+    count = k.label_components(occ.view(np.uint8), comp, strips)
+    ref, n = ndimage.label(occ, structure=np.ones((3, 3), bool))
+    assert count == n and np.array_equal(comp, ref)
+
+
 def test_labels_from_rasterized_world_obstacle_ids():
     occ = np.zeros((6, 9), bool)
     occ[1:3, 1] = occ[4, 6:8] = occ[0, 8] = True
@@ -523,7 +537,8 @@ def test_packed_nearest_index_in_int64_as_for_huge_grids():
         lab = np.empty(occ.shape, np.int32)
         comp = np.empty(occ.shape, np.int32)
         k.label_components(o8, comp)
-        k.decode_rows(0, occ.shape[0], nidx, rows_, cols_, True, comp, True, lab, BORDER_LABEL)
+        k.decode_rows(0, occ.shape[0], nidx, rows_, cols_, True, comp, np.zeros(1, np.int32), False, True, lab,
+                      BORDER_LABEL)
         out[dtype] = (steps, rows_, cols_, lab)
     for a, b in zip(out[np.int32], out[np.int64], strict=True):
         assert np.array_equal(a, b)

@@ -542,3 +542,53 @@ def pcg_laplace(left, down, right, up, b, omega, rtol, maxiter):
         for i in range(n):
             p[i] = z[i] + beta * p[i]
     return x, it, math.sqrt(rr) / bnorm
+
+
+@njit(**_OPTS)
+def clearance_along(occupied, rows_idx, cols_idx, wall, budget):
+    """Smallest Euclidean distance (in cells) from the centres of the given cells to the centre of an
+    obstacle cell -- with ``wall``, the ring of cells just outside the grid counts as obstacle, as in
+    :func:`gridfield.brushfire.brushfire`. Searches Chebyshev rings around each cell, only out to the
+    best distance found so far. Returns ``inf`` when there is no obstacle, and -1 when more than
+    ``budget`` cells would have to be examined (the caller then uses a distance transform).
+    """
+    rows, cols = occupied.shape
+    best = np.inf
+    work = 0
+    kmax = max(rows, cols) + 1
+    for i in range(rows_idx.shape[0]):
+        r = rows_idx[i]
+        c = cols_idx[i]
+        k = 1
+        while k < best and k <= kmax:
+            for t in range(-k, k + 1):
+                for side in range(4):
+                    if side == 0:
+                        rr = r - k
+                        cc = c + t
+                    elif side == 1:
+                        rr = r + k
+                        cc = c + t
+                    elif side == 2:
+                        if t == -k or t == k:
+                            continue
+                        rr = r + t
+                        cc = c - k
+                    else:
+                        if t == -k or t == k:
+                            continue
+                        rr = r + t
+                        cc = c + k
+                    if 0 <= rr < rows and 0 <= cc < cols:
+                        hit = occupied[rr, cc]
+                    else:
+                        hit = wall and -1 <= rr <= rows and -1 <= cc <= cols
+                    if hit:
+                        d = math.sqrt(float((rr - r) * (rr - r) + (cc - c) * (cc - c)))
+                        if d < best:
+                            best = d
+            work += 8 * k
+            if work > budget:
+                return -1.0
+            k += 1
+    return best

@@ -612,3 +612,22 @@ def test_cli_plan_wavefront_octile_json(repo_maps, capsys):
     out = json.loads(capsys.readouterr().out)
     assert rc in (0, None) and out["status"] == "reached" and out["planner"] == "wavefront-octile"
     assert out["path"][0] == [1.5, 37.5] and out["end"] == [4.5, 47.5]
+
+
+@pytest.mark.parametrize("border", ["open", "wall"])
+def test_min_clearance_equals_brushfire(border):
+    from gridfield.brushfire import brushfire
+
+    for seed, p in ((0, 0.3), (1, 0.02), (2, 0.0)):
+        rng = np.random.default_rng(seed)
+        occ = rng.random((40, 30)) < p
+        occ[0, 0] = False
+        gm = GridMap(Grid(occ.shape, 0.5, border=border), occ)
+        cells = np.argwhere(~occ)
+        pts = gm.grid.cell_to_world(cells[rng.integers(len(cells), size=25)])
+        nav = nv.wavefront(gm, pts[0])
+        d = brushfire(gm, metric="euclidean").distance
+        cl, _ = gm.grid.world_to_cell(pts)
+        expect = d[cl[:, 0], cl[:, 1]].min()
+        assert nv._min_clearance(nav, pts) == pytest.approx(expect, abs=1e-12)
+        assert nv._min_clearance(nav, pts[:1]) == pytest.approx(d[cl[0, 0], cl[0, 1]], abs=1e-12)

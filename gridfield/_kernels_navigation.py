@@ -241,14 +241,15 @@ def wavefront_weighted(free, cost, goal_r, goal_c, connectivity, diag, stop_r, s
 
 
 @njit(**_OPTS)
-def descend(value, free, cost, start_r, start_c, connectivity, diag, mode):
+def descend(value, free, cost, start_r, start_c, connectivity, diag, mode, scale):
     """Cells ``(row, col)`` from the start cell down to a cell of value 0 on ``value``.
 
     ``mode`` 0 (shortest-path fields): step to the allowed neighbour ``v`` minimizing
     ``value[v] + cost(u, v)`` among those with ``value[v] < value[u]`` -- on an exact Dijkstra field
     this is a shortest-path parent, so the chain's cost equals ``value[start]``.
     ``mode`` 1 (harmonic fields): steepest descent, maximizing ``(value[u] - value[v]) / length``.
-    ``cost`` is an empty array for unit cell costs. Returns the chain and a flag: 1 reached a zero,
+    ``cost`` is an empty array for unit cell costs; step costs are multiplied by ``scale`` (the
+    resolution, when ``value`` is in world units). Returns the chain and a flag: 1 reached a zero,
     0 stopped where no neighbour is lower (a numerical local minimum).
     """
     rows, cols = value.shape
@@ -292,7 +293,7 @@ def descend(value, free, cost, start_r, start_c, connectivity, diag, mode):
                     continue
                 length = diag if isdiag else 1.0
                 if mode == 0:
-                    step = length * (0.5 * (cost[r, c] + cost[rr, cc]) if weighted else 1.0)
+                    step = scale * length * (0.5 * (cost[r, c] + cost[rr, cc]) if weighted else 1.0)
                     key = vv + step
                 else:
                     key = -(vu - vv) / length

@@ -29,6 +29,7 @@ at value 1).
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from collections.abc import Mapping
@@ -70,6 +71,18 @@ def _kernels() -> Any:
     from . import _kernels_navigation
 
     return _kernels_navigation
+
+
+@functools.cache
+def _warm_followers() -> None:
+    """Load the compiled followers once per process (numba's first cache load takes up to a second),
+    so that :attr:`Path.seconds` measures the path, not the start-up."""
+    k = _kernels()
+    one = np.zeros((1, 1))
+    free = np.ones((1, 1), bool)
+    k.descend(one, free, np.empty((0, 0)), 0, 0, 8, SQRT2, 0, 1.0)
+    k.follow_interpolated(one, one, one, free, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 1, SQRT2)
+    k.clearance_along(~free, np.zeros(1, np.int64), np.zeros(1, np.int64), False, 8)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -429,6 +442,7 @@ def extract_path(
     >>> p.points.tolist()
     [[2.5, 2.5], [2.5, 1.5], [2.5, 0.5], [1.5, 0.5], [0.5, 0.5]]
     """
+    _warm_followers()
     t0 = time.perf_counter()
     gm = nav.map
     grid = gm.grid
@@ -456,7 +470,7 @@ def extract_path(
         cost_arr = np.where(free, cost, 1.0) if cost is not None else np.empty((0, 0))
         diag = SQRT2 if nav.params.get("costs", "octile") == "octile" or nav.kind != "wavefront" else 1.0
         mode = 0 if nav.kind == "wavefront" else 1
-        cells, reached = k.descend(nav.value / res, free, cost_arr, sr, sc, conn, diag, mode)
+        cells, reached = k.descend(nav.value, free, cost_arr, sr, sc, conn, diag, mode, res)
         centres = grid.cell_to_world(cells)
         steps = np.abs(np.diff(cells, axis=0))
         grid_length = float(np.where(steps.sum(axis=1) == 2, SQRT2, 1.0).sum() * res) if len(cells) > 1 else 0.0
@@ -475,8 +489,8 @@ def extract_path(
         max_it = int(4 * n_free * res / step_len) + 100 if max_iterations is None else int(max_iterations)
         x0, y0 = grid.origin
         gx, gy = nav.grad_x, nav.grad_y
-        cpts, st, iterations = k.follow_interpolated(
-            nav.value / res, gx, gy, free, (s[0] - x0) / res, (s[1] - y0) / res,
+        cpts, st, iterations = k.follow_interpolated(  # (only the order of the values matters)
+            nav.value, gx, gy, free, (s[0] - x0) / res, (s[1] - y0) / res,
             (nav.goal[0] - x0) / res, (nav.goal[1] - y0) / res, step_len / res, tol / res, max_it, SQRT2)
         centres = cpts * res + np.array([x0, y0])
         status = ("reached", "local_minimum", "max_iterations")[st]
@@ -1075,8 +1089,8 @@ def plan_wavefront_octile(gridmap: GridMap, start: NDArray[np.float64], goal: ND
 
 def plan_fmm(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[np.float64],
              params: Mapping[str, Any]) -> Path:
-    """Planner ``fmm``: fast-marching geodesic distance followed along its gradient (``step``,
-    ``tolerance``, ``max_iterations``; optional ``clearance_weight``/``q_star``).
+    """Planner ``fmm``: fast-marching geodesic distance followed along its gradient (``step``, at most
+    one cell, default half a cell; ``tolerance``; ``max_iterations``; optional ``clearance_weight``/``q_star``).
 
     Examples
     --------
@@ -1088,6 +1102,8 @@ def plan_fmm(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[np.floa
     """
     t0 = time.perf_counter()
     nav = fmm(gridmap, goal, **_common(params))
+    if params.get("step") is not None:  # a world's step for the potential follower may exceed a cell
+        params = {**params, "step": min(float(params["step"]), gridmap.grid.resolution)}
     return _plan_grid(nav, start, params, "fmm", time.perf_counter() - t0)
 
 

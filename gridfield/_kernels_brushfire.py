@@ -419,33 +419,53 @@ def chamfer_nearest(occ, wall, conn8, steps, nidx, distance, resolution, write_d
 
 
 @njit(**_OPTS)
-def decode_rows(r0, r1, nidx, nearest_row, nearest_col, want_nearest, comp, comp_map, use_map, want_label,
-                label, border_label):  # pragma: no cover - compiled
+def decode_rows(r0, r1, nidx, nearest_row, nearest_col, want_nearest, flat, comp_map, use_map, want_label,
+                label):  # pragma: no cover - compiled
     """Rows ``r0:r1``: unpack ``nidx`` (see :func:`chamfer_nearest`) into ``nearest_row``/``nearest_col``
-    (which may be the very array ``nidx``: each value is read before it is overwritten) and look up
-    ``label``: ``comp_map[comp[nr, nc]]`` (``comp[nr, nc]`` without ``use_map``), or ``border_label``
-    outside the grid (the wall)."""
+    (which may be the very array ``nidx``: each row is read before it is overwritten) and look up
+    ``label``: see :func:`_gather_labels`."""
     rows, cols = nidx.shape
     w = np.int64(cols + 2)
     inv = 1.0 / (cols + 2)
+    bnr = np.empty(cols, np.int64)
+    bnc = np.empty(cols, np.int64)
     for r in range(r0, r1):
         irow = nidx[r]
         for c in range(cols):
             i = np.int64(irow[c])
             q = np.int64(i * inv)  # i // w in floating point, then corrected
             q += np.int64(i - q * w >= w) - np.int64(i - q * w < 0)
-            nr = q - 1
-            nc = i - q * w - 1
-            if want_label:
-                if nr < 0 or nr >= rows or nc < 0 or nc >= cols:
-                    label[r, c] = border_label
-                elif use_map:
-                    label[r, c] = comp_map[comp[nr, nc]]
-                else:
-                    label[r, c] = comp[nr, nc]
-            if want_nearest:
-                nearest_row[r, c] = nr
-                nearest_col[r, c] = nc
+            bnr[c] = q - 1
+            bnc[c] = i - q * w - 1
+        if want_label:
+            _gather_labels(bnr, bnc, rows, cols, flat, comp_map, use_map, label[r])
+        if want_nearest:
+            rrow = nearest_row[r]
+            crow = nearest_col[r]
+            for c in range(cols):
+                rrow[c] = bnr[c]
+                crow[c] = bnc[c]
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _gather_labels(nr, nc, rows, cols, flat, comp_map, use_map, out):  # pragma: no cover - compiled
+    """``out[c]`` = label of the cell ``(nr[c], nc[c])``: ``flat[nr * cols + nc]``, mapped through
+    ``comp_map`` if ``use_map``. ``flat`` is the label grid raveled plus one last element for any cell
+    outside the grid (the wall), so that the loop is a plain gather."""
+    outside = np.int64(rows * cols)
+    n = out.shape[0]
+    if use_map:
+        for c in range(n):
+            a = nr[c]
+            b = nc[c]
+            inside = np.int64((a >= 0) & (a < rows) & (b >= 0) & (b < cols))
+            out[c] = comp_map[flat[outside + (a * cols + b - outside) * inside]]
+    else:
+        for c in range(n):
+            a = nr[c]
+            b = nc[c]
+            inside = np.int64((a >= 0) & (a < rows) & (b >= 0) & (b < cols))
+            out[c] = flat[outside + (a * cols + b - outside) * inside]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -535,12 +555,12 @@ def edt_1d(g, n, inf, s, t, val, arg):  # pragma: no cover - compiled
 
 @njit(**_OPTS)
 def edt_rows(r0, r1, vr, wall, resolution, distance, nearest_row, nearest_col, want_nearest,
-             comp, comp_map, use_map, want_label, label, border_label):  # pragma: no cover - compiled
+             flat, comp_map, use_map, want_label, label):  # pragma: no cover - compiled
     """Rows ``r0:r1`` of the Euclidean transform's row pass: ``distance`` and optionally the nearest
     obstacle and its label.
 
     ``vr`` holds the column pass result; it may be the very array ``nearest_row`` (each row is copied
-    to a buffer before it is overwritten). Labels: see :func:`decode_rows`.
+    to a buffer before it is overwritten). Labels: see :func:`_gather_labels`.
     """
     rows, cols = vr.shape
     n = cols
@@ -551,6 +571,8 @@ def edt_rows(r0, r1, vr, wall, resolution, distance, nearest_row, nearest_col, w
     t = np.empty(n + 2, np.int64)
     val = np.empty(n, np.int64)
     arg = np.empty(n, np.int64)
+    bnr = np.empty(n, np.int64)
+    bnc = np.empty(n, np.int64)
     for r in range(r0, r1):
         g[0] = 0 if wall else inf
         g[n + 1] = 0 if wall else inf
@@ -564,22 +586,18 @@ def edt_rows(r0, r1, vr, wall, resolution, distance, nearest_row, nearest_col, w
         edt_1d(g, n, inf, s, t, val, arg)
         for c in range(n):
             distance[r, c] = np.sqrt(np.float64(val[c])) * resolution
+        for c in range(n):
+            a = arg[c]
+            bnr[c] = rowv[a]
+            bnc[c] = a - 1
         if want_nearest:
+            rrow = nearest_row[r]
+            crow = nearest_col[r]
             for c in range(n):
-                a = arg[c]
-                nearest_row[r, c] = rowv[a]
-                nearest_col[r, c] = a - 1
+                rrow[c] = bnr[c]
+                crow[c] = bnc[c]
         if want_label:
-            for c in range(n):
-                a = arg[c]
-                nr = rowv[a]
-                nc = a - 1
-                if nr < 0 or nr >= rows or nc < 0 or nc >= cols:
-                    label[r, c] = border_label
-                elif use_map:
-                    label[r, c] = comp_map[comp[nr, nc]]
-                else:
-                    label[r, c] = comp[nr, nc]
+            _gather_labels(bnr, bnc, rows, cols, flat, comp_map, use_map, label[r])
 
 
 # ----------------------------------------------------------------------------------------------
@@ -738,7 +756,8 @@ def _gvd_dir(la, da, lb, db, fb, mark, a0, a1, off):  # pragma: no cover - compi
 def gvd_rows(r0, r1, label, distance, occ, gvd):  # pragma: no cover - compiled
     """Rows ``r0:r1`` of the GVD: of each pair of 8-neighbouring free cells with different labels,
     mark the one farther from its obstacle; on a tie, the one with the smaller label. Each cell looks
-    at its 8 neighbours, so rows can be done in any order, by any thread."""
+    at its 8 neighbours, so rows can be done in any order, by any thread. ``distance`` may be any
+    array that orders the cells as the distance does (the int32 steps of a chamfer metric)."""
     rows, cols = label.shape
     mark = np.empty(cols, np.bool_)
     for r in range(r0, r1):

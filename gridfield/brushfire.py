@@ -374,17 +374,17 @@ def brushfire(
     shape = grid.shape
     wall = grid.border == "wall"
     occ = np.ascontiguousarray(gridmap.occupied, dtype=bool)
+    nthreads = _thread_count(threads, occ.size)
 
-    if not wall and not occ.any():
+    if not wall and not occ.any():  # no obstacle at all: nothing is reached
         minus = np.full(shape, -1, np.int32)
         return DistanceMap(
-            gridmap, connectivity, metric, minus, np.full(shape, np.inf),
+            gridmap, connectivity, metric, minus, np.full(shape, np.inf if saturate is None else far),
             minus.copy() if want_nearest else None, minus.copy() if want_nearest else None,
             np.zeros(shape, np.int32) if want_label else None, np.zeros(shape, bool) if want_gvd else None,
             saturate, far,
         )
 
-    nthreads = _thread_count(threads, occ.size)
     k = _kernels()
     occ8 = occ.view(np.uint8)
     rows, cols = shape
@@ -393,41 +393,45 @@ def brushfire(
     steps = np.empty(shape, np.int32)
     distance = np.empty(shape, np.float64)
     nearest_row = nearest_col = label = gvd = nidx = vr = None
-    comp, comp_map, use_map = _NO_COMP, _NO_MAP, False
+    # labels are gathered from `flat`: the label grid raveled, plus one element for the wall
+    flat, comp_map, use_map = _NO_MAP, _NO_MAP, False
     if want_label:
         label = np.empty(shape, np.int32)
+        flat = np.empty(rows * cols + 1, np.int32)
         if gridmap.obstacle_id is not None:
-            comp = np.ascontiguousarray(gridmap.obstacle_id, np.int32)
+            flat[:-1] = gridmap.obstacle_id.ravel()
+            flat[-1] = BORDER_LABEL
 
     # 1. the sequential transform in this thread; the other threads label the obstacle components
     #    (horizontal strips) and do the column pass of the Euclidean transform (blocks of columns)
     tasks: list[Callable[[], object]] = []
     strips = None
     if want_label and gridmap.obstacle_id is None:
-        comp = np.empty(shape, np.int32)
-        strips = _Strips(k, occ8, comp, 1 if nthreads <= 1 else min(rows, 8 * nthreads))
+        strips = _Strips(k, occ8, flat[:-1].reshape(shape), 1 if nthreads <= 1 else min(rows, 8 * nthreads))
         tasks += strips.tasks()
     if metric == "euclidean":
+        key: NDArray[np.int32] | NDArray[np.float64] = distance  # what orders the cells for the GVD
         main = partial(k.chamfer_steps, occ8, wall, step8, steps, distance, res, False)
         vr = np.empty(shape, np.int32)  # column pass result, becomes nearest_row
         tasks += _chunks(k.column_block, cols, nthreads, occ8, wall, vr, min_size=64)
     else:
         if metric == ("chessboard" if step8 else "taxicab"):
-            scratch = steps
+            key = steps
         else:  # steps by one chamfer metric, distance and nearest obstacle by the other
             tasks.insert(0, partial(k.chamfer_steps, occ8, wall, step8, steps, distance, res, False))
-            scratch = np.empty(shape, np.int32)
+            key = np.empty(shape, np.int32)
         if want_nearest or want_label:  # labels are looked up at the nearest obstacle
             # the nearest cell packed in one integer (int64 beyond 2**31 padded cells)
             small = (rows + 2) * (cols + 2) < 2**31
             nidx = np.empty(shape, np.int32 if small else np.int64)
-            main = partial(k.chamfer_nearest, occ8, wall, metric == "chessboard", scratch, nidx, distance, res, True)
+            main = partial(k.chamfer_nearest, occ8, wall, metric == "chessboard", key, nidx, distance, res, True)
         else:
-            main = partial(k.chamfer_steps, occ8, wall, metric == "chessboard", scratch, distance, res, True)
+            main = partial(k.chamfer_steps, occ8, wall, metric == "chessboard", key, distance, res, True)
     _run(tasks, nthreads, first=main)
     del tasks, main
     if strips is not None:
-        comp_map, use_map = strips.merge(), True
+        comp_map, use_map = np.append(strips.merge(), np.int32(BORDER_LABEL)), True
+        flat[-1] = len(comp_map) - 1
         del strips
 
     # 2. per row: the Euclidean envelope, or unpacking the chamfer's nearest cell; labels
@@ -435,21 +439,21 @@ def brushfire(
         if want_nearest:
             nearest_row, nearest_col = vr, np.empty(shape, np.int32)
         _run(_chunks(k.edt_rows, rows, nthreads, vr, wall, res, distance, vr,
-                     _NO_COMP if nearest_col is None else nearest_col, want_nearest, comp, comp_map, use_map,
-                     want_label, _NO_COMP if label is None else label, BORDER_LABEL), nthreads)
+                     _NO_COMP if nearest_col is None else nearest_col, want_nearest, flat, comp_map, use_map,
+                     want_label, _NO_COMP if label is None else label), nthreads)
     elif nidx is not None:
         if want_nearest:
             nearest_row = np.empty(shape, np.int32)
             nearest_col = nidx if nidx.dtype == np.int32 else np.empty(shape, np.int32)
         _run(_chunks(k.decode_rows, rows, nthreads, nidx, _NO_COMP if nearest_row is None else nearest_row,
-                     _NO_COMP if nearest_col is None else nearest_col, want_nearest, comp, comp_map, use_map,
-                     want_label, _NO_COMP if label is None else label, BORDER_LABEL), nthreads)
-    del vr, nidx, comp, comp_map
+                     _NO_COMP if nearest_col is None else nearest_col, want_nearest, flat, comp_map, use_map,
+                     want_label, _NO_COMP if label is None else label), nthreads)
+    del vr, nidx, flat, comp_map
 
     # 3. GVD from the labels, then saturation
     if want_gvd:
         gvd = np.empty(shape, bool)
-        _run(_chunks(k.gvd_rows, rows, nthreads, label, distance, occ8, gvd), nthreads)
+        _run(_chunks(k.gvd_rows, rows, nthreads, label, key, occ8, gvd), nthreads)
     if saturate is not None:
         _run(_chunks(k.saturate_rows, rows, nthreads, distance, saturate, far), nthreads)
     return DistanceMap(gridmap, connectivity, metric, steps, distance, nearest_row, nearest_col, label, gvd,

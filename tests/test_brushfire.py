@@ -417,6 +417,8 @@ def test_empty_and_all_obstacle_maps(border, combo):
         assert (empty.label == 0).all() and not empty.gvd.any()
         x, y = empty.nearest_point()
         assert np.isnan(x).all() and np.isnan(y).all()
+        sat = brushfire(GridMap(Grid(shape, 1.0, border=border), np.zeros(shape, bool)), saturate=2.0, far=7.0)
+        assert (sat.distance == 7.0).all()  # nothing within the radius: every distance is "far"
     else:
         check_nearest(empty)
         x, _ = empty.nearest_point()
@@ -535,10 +537,10 @@ def test_packed_nearest_index_in_int64_as_for_huge_grids():
         k.chamfer_nearest(o8, True, True, steps, nidx, dist, 1.0, True)
         rows_, cols_ = np.empty(occ.shape, np.int32), np.empty(occ.shape, np.int32)
         lab = np.empty(occ.shape, np.int32)
-        comp = np.empty(occ.shape, np.int32)
-        k.label_components(o8, comp)
-        k.decode_rows(0, occ.shape[0], nidx, rows_, cols_, True, comp, np.zeros(1, np.int32), False, True, lab,
-                      BORDER_LABEL)
+        flat = np.empty(occ.size + 1, np.int32)
+        k.label_components(o8, flat[:-1].reshape(occ.shape))
+        flat[-1] = BORDER_LABEL
+        k.decode_rows(0, occ.shape[0], nidx, rows_, cols_, True, flat, np.zeros(1, np.int32), False, True, lab)
         out[dtype] = (steps, rows_, cols_, lab)
     for a, b in zip(out[np.int32], out[np.int64], strict=True):
         assert np.array_equal(a, b)

@@ -36,18 +36,18 @@ def _pad_free(free):
 
 
 @njit(**_OPTS)
-def _unpad(a, rows, cols):
+def _unpad(a, rows, cols, scale):
     w = cols + 2
     out = np.empty((rows, cols))
     for r in range(rows):
         base = (r + 1) * w + 1
         for c in range(cols):
-            out[r, c] = a[base + c]
+            out[r, c] = a[base + c] * scale
     return out
 
 
 @njit(**_OPTS)
-def wavefront_uniform(free, goal_r, goal_c, connectivity, diag, stop_r, stop_c):
+def wavefront_uniform(free, goal_r, goal_c, connectivity, diag, stop_r, stop_c, scale):
     """Exact shortest-path distance to the goal cell with orthogonal steps 1 and diagonal steps ``diag``.
 
     Dijkstra with a bucket queue keyed by ``floor(distance)`` (Dial's algorithm with the bucket width
@@ -56,7 +56,8 @@ def wavefront_uniform(free, goal_r, goal_c, connectivity, diag, stop_r, stop_c):
     settled in any order: three rotating buckets replace the heap. ``diag`` must lie in ``[1, 2)``.
 
     ``stop_r >= 0`` ends the search once cell ``(stop_r, stop_c)`` is settled (values larger than its
-    distance are then upper bounds, or ``inf``). Unreachable and blocked cells are ``inf``.
+    distance are then upper bounds, or ``inf``). Unreachable and blocked cells are ``inf``. The result
+    is multiplied by ``scale`` (the resolution).
     """
     rows, cols = free.shape
     f, w = _pad_free(free)
@@ -143,11 +144,11 @@ def wavefront_uniform(free, goal_r, goal_c, connectivity, diag, stop_r, stop_c):
         n1 = n2
         n2 = 0
         k += 1
-    return _unpad(dist, rows, cols)
+    return _unpad(dist, rows, cols, scale)
 
 
 @njit(**_OPTS)
-def wavefront_weighted(free, cost, goal_r, goal_c, connectivity, diag, stop_r, stop_c):
+def wavefront_weighted(free, cost, goal_r, goal_c, connectivity, diag, stop_r, stop_c, scale):
     """Exact shortest-path distance with cell costs: a step from ``u`` to ``v`` costs
     ``length * (cost[u] + cost[v]) / 2`` (length 1 or ``diag``). Requires ``cost >= 1`` on free cells,
     so that every edge costs at least 1 and a ring of ``floor(diag * max(cost)) + 2`` buckets of
@@ -237,7 +238,7 @@ def wavefront_weighted(free, cost, goal_r, goal_c, connectivity, diag, stop_r, s
         pending -= m
         size[b] = 0
         k += 1
-    return _unpad(dist, rows, cols)
+    return _unpad(dist, rows, cols, scale)
 
 
 @njit(**_OPTS)

@@ -230,8 +230,30 @@ def upwind_gradient(value: NDArray[np.float64], resolution: float) -> tuple[NDAr
 # ----------------------------------------------------------------------------------------------
 # Helpers
 # ----------------------------------------------------------------------------------------------
+def _scalar_index(v: float, origin: float, res: float) -> int:
+    """:meth:`Grid.world_to_cell` for one finite coordinate (same boundary rule), without numpy overhead."""
+    i = math.floor((v - origin) / res)
+    if v >= origin + (i + 1) * res:
+        i += 1
+    if v < origin + i * res:
+        i -= 1
+    return i
+
+
 def _goal_cell(gridmap: GridMap, goal: ArrayLike) -> tuple[NDArray[np.float64], tuple[int, int]]:
-    g = gridmap.check_point("goal", goal)
+    """The goal as ``(2,)`` and its cell; :meth:`GridMap.check_point`'s errors when it is not free."""
+    try:
+        g = np.asarray(goal, dtype=np.float64).reshape(2)
+        x, y = float(g[0]), float(g[1])
+        if math.isfinite(x) and math.isfinite(y):  # fast path (tiny maps are dominated by this check)
+            grid = gridmap.grid
+            r = _scalar_index(y, grid.origin[1], grid.resolution)
+            c = _scalar_index(x, grid.origin[0], grid.resolution)
+            if 0 <= r < grid.rows and 0 <= c < grid.cols and not gridmap.occupied[r, c]:
+                return g, (r, c)
+    except (TypeError, ValueError):
+        pass
+    g = gridmap.check_point("goal", goal)  # raises, naming what is wrong
     (r, c), = gridmap.grid.world_to_cell(g)[0]
     return g, (int(r), int(c))
 
@@ -372,11 +394,11 @@ def wavefront(
     aux: dict[str, Any] = {}
     if w > 0:
         cost = clearance_cost(gridmap, w, q_star)
-        dist = k.wavefront_weighted(free, np.where(free, cost, 1.0), gr, gc, conn, diag, sr, sc)
+        dist = k.wavefront_weighted(free, np.where(free, cost, 1.0), gr, gc, conn, diag, sr, sc,
+                                    gridmap.grid.resolution)
         aux["cost"] = cost
     else:
-        dist = k.wavefront_uniform(free, gr, gc, conn, diag, sr, sc)
-    dist *= gridmap.grid.resolution
+        dist = k.wavefront_uniform(free, gr, gc, conn, diag, sr, sc, gridmap.grid.resolution)
     params = {"connectivity": conn, "costs": costs, "clearance_weight": w, "q_star": q_star}
     return NavigationField(gridmap, dist, g, (gr, gc), "wavefront", params, aux)
 
@@ -679,8 +701,9 @@ def harmonic(
 
     1. Shell 0 is the global solution ``w0``; its cells with ``w0 >= tau`` form the region ``S1``.
     2. Shell ``k`` solves Laplace's equation again, on the remaining reachable cells within taxicab
-       distance ``band`` of ``S_k``, with value 1 on ``S_k`` and 0 elsewhere; its cells with
-       ``w_k >= tau`` join ``S_{k+1}``. Repeat until every reachable cell is in a shell.
+       distance ``band`` of the cells shell ``k - 1`` added (every remaining cell next to ``S_k`` is
+       among them), with value 1 on ``S_k`` and 0 elsewhere; its cells with ``w_k >= tau`` join
+       ``S_{k+1}``. Repeat until every reachable cell is in a shell.
     3. ``value = k * log(1/tau) - log(w_k)`` on shell ``k`` (0 at the goal, ``inf`` on obstacles and
        unreachable cells).
 
@@ -746,19 +769,23 @@ def harmonic(
     u0 = np.ones(gridmap.shape)
     u0[gr, gc] = 0.0
     shell = 0
-    while True:
-        remaining = reach & ~inside
-        if not remaining.any():
-            break
+    left = int(reach.sum()) - 1  # reachable cells not yet in a shell
+    newest = (np.array([gr]), np.array([gc]))  # the cells the last shell added
+    rows, cols = gridmap.shape
+    while left > 0:
         if shell == 0 or band is None:
-            domain = remaining
             box = (slice(None), slice(None))
+            domain = reach & ~inside
         else:
-            rr, cc = np.nonzero(inside)
-            box = (slice(max(0, rr.min() - band), rr.max() + band + 1),
-                   slice(max(0, cc.min() - band), cc.max() + band + 1))
-            near = ndimage.distance_transform_cdt(~inside[box], metric="taxicab") <= band
-            domain = remaining[box] & near
+            # Remaining cells next to S_k all lie next to the newest shell (the others were absorbed:
+            # a cell next to the Dirichlet-1 set gets w >= 1/4), so the band around it suffices.
+            rr, cc = newest
+            box = (slice(max(0, int(rr.min()) - band), min(rows, int(rr.max()) + band + 1)),
+                   slice(max(0, int(cc.min()) - band), min(cols, int(cc.max()) + band + 1)))
+            seed = np.ones((box[0].stop - box[0].start, box[1].stop - box[1].start), bool)
+            seed[rr - box[0].start, cc - box[1].start] = False
+            near = ndimage.distance_transform_cdt(seed, metric="taxicab") <= band
+            domain = reach[box] & ~inside[box] & near
         w, its = _solve_dirichlet(domain, inside[box], rtol, solver)
         iterations.append(its)
         if shell == 0:
@@ -770,6 +797,9 @@ def harmonic(
             value[box][new] = shell * big_l - np.log(w[new])
         shell_of[box][new] = shell
         inside[box] |= new
+        nr, nc = np.nonzero(new)
+        newest = (nr + (box[0].start or 0), nc + (box[1].start or 0))
+        left -= len(nr)
         shell += 1
     params = {"tau": tau, "band": band, "rtol": rtol, "solver": solver}
     aux = {"harmonic": u0, "shell": shell_of, "shells": shell, "iterations": iterations,

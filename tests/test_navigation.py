@@ -631,3 +631,27 @@ def test_min_clearance_equals_brushfire(border):
         expect = d[cl[:, 0], cl[:, 1]].min()
         assert nv._min_clearance(nav, pts) == pytest.approx(expect, abs=1e-12)
         assert nv._min_clearance(nav, pts[:1]) == pytest.approx(d[cl[0, 0], cl[0, 1]], abs=1e-12)
+
+
+@given(st.floats(-3, 3), st.floats(-3, 3), st.sampled_from([0.1, 0.25, 0.3, 1.0, 1 / 3]),
+       st.floats(-1, 1), st.floats(-1, 1))
+def test_goal_cell_fast_path_agrees_with_world_to_cell(x, y, res, x0, y0):
+    gm = GridMap(Grid((20, 20), res, (x0, y0)), np.zeros((20, 20), bool))
+    for px, py in ((x, y), (x0 + round(x / res) * res, y0 + round(y / res) * res)):  # incl. exact boundaries
+        cells, inside = gm.grid.world_to_cell([px, py])
+        if inside[0]:
+            _, cell = nv._goal_cell(gm, (px, py))
+            assert cell == tuple(int(v) for v in cells[0])
+        else:
+            with pytest.raises(GridfieldError, match="outside the map"):
+                nv._goal_cell(gm, (px, py))
+
+
+def test_goal_errors_name_the_problem():
+    gm = GridMap(Grid((2, 2), 1.0), np.array([[True, False], [False, False]]))
+    with pytest.raises(GridfieldError, match=r"goal \(0.5, 0.5\) lies inside an obstacle"):
+        nv.wavefront(gm, (0.5, 0.5))
+    with pytest.raises(ParameterError, match="finite"):
+        nv.wavefront(gm, (math.nan, 0.5))
+    with pytest.raises(ParameterError, match="two numbers"):
+        nv.wavefront(gm, (1.0, 2.0, 3.0))

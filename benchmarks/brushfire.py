@@ -7,7 +7,7 @@ Usage::
     python benchmarks/brushfire.py --sizes 4096 --maps random --no-compile
 
 For every map (``random``: ~20 % of the cells blocked at random; ``maze``: a perfect maze of 14-cell
-corridors and 2-cell walls, ~23 % blocked, generated with vectorized numpy) and size, every method
+corridors and 2-cell walls, ~13 % blocked, generated with vectorized numpy) and size, every method
 runs once untimed, then ``--repeat`` rounds in which each method runs once (interleaved, so that load
 from other jobs hits all alike). The table gives the median/min/max wall time, the throughput at the
 median, the ratio of the median to the fastest method of that map and size (the streaming floor row
@@ -210,6 +210,27 @@ def targets(rows: list[Row]) -> list[str]:
     return out
 
 
+def summary_table(groups: list[list[Row]]) -> str:
+    """One line per map and size: the targets' ratios."""
+    lines = []
+    for rows in groups:
+        med = {r.method.key: r.timing.median_ms for r in rows}
+        worst = max(r.timing.peak_bytes / r.timing.result_bytes for r in rows
+                    if r.method.key.startswith("gf_") and r.timing.peak_bytes is not None and r.timing.result_bytes)
+
+        def ratio(a: str, b: str, med: dict[str, float] = med) -> str:
+            return f"{med[a] / med[b]:.2f}" if a in med and b in med else "n/a"
+
+        lines.append([rows[0].map, f"{rows[0].n}^2", ratio("cv_c", "gf_c"), ratio("cdt_i", "gf_c_nl"),
+                      ratio("cdt_i", "gf_c_full"), ratio("gf_e_n1", "cv_l2"), ratio("gf_e_n", "cv_l2"),
+                      ratio("edt_i", "gf_e_n1"), ratio("edt_i", "gf_e_n"), f"{worst:.2f}"])
+    return markdown_table(
+        ["map", "size", "DIST_C / gf distance (>= 0.8)", "cdt+idx / gf nearest+labels (>= 2.5)",
+         "cdt+idx / gf default (>= 2.5)", "gf eucl+nearest 1 thr / DIST_L2 (<= 1.5)",
+         "gf eucl+nearest 2 thr / DIST_L2 (<= 1.5)", "edt+idx / gf eucl 1 thr (>= 2.8)",
+         "edt+idx / gf eucl 2 thr (>= 2.8)", "peak / returned (<= ~2)"], lines, align="llrrrrrrrr")
+
+
 # ----------------------------------------------------------------------------------------------
 # first call: compiling vs loading from numba's cache
 # ----------------------------------------------------------------------------------------------
@@ -271,7 +292,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if note:
         print(note)
     print()
-    all_targets = []
+    all_rows: list[list[Row]] = []
     for n in args.sizes:
         for name in args.maps:
             rows = run_group(name, n, args.repeat, opencv)
@@ -282,9 +303,14 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(table(rows))
             print()
             tg = targets(rows)
-            all_targets.append((name, n, tg))
+            all_rows.append(rows)
             print("\n".join(tg))
             print()
+    if len(all_rows) > 1:
+        print("### Targets across sizes (ratios of medians; >= is better for speed-ups, <= for the others)")
+        print()
+        print(summary_table(all_rows))
+        print()
     if not args.no_compile:
         print("### First call in a fresh process (64x64 map; numba compile vs cache load)")
         print()

@@ -237,7 +237,8 @@ def medians(cands: dict[str, Callable[[], Any]], repeat: int) -> tuple[dict[str,
 
 
 def fmt_ms(s: float) -> str:
-    return f"{s * 1e3:.1f}" if s < 10 else f"{s * 1e3:.0f}"
+    ms = s * 1e3
+    return f"{ms:.3f}" if ms < 1 else (f"{ms:.1f}" if ms < 1e4 else f"{ms:.0f}")
 
 
 def wavefront_rows(name: str, gm: GridMap, repeat: int, extra: bool) -> list[str]:
@@ -349,7 +350,7 @@ def section_fmm(sizes: list[int], repeat: int) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--sizes", type=int, nargs="+", default=[512, 1024, 4096], help="synthetic map sizes")
+    ap.add_argument("--sizes", type=int, nargs="*", default=[512, 1024, 4096], help="synthetic map sizes")
     ap.add_argument("--repeat", type=int, default=5, help="rounds per measurement (medians)")
     ap.add_argument("--maps", nargs="*", default=None, help="Moving AI map names (default: all)")
     ap.add_argument("--skip", nargs="*", default=[], choices=["wavefront", "harmonic", "fmm"],

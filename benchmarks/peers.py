@@ -8,33 +8,37 @@ installed is reported as missing, not as a failure.
 Each peer runs on its own example-sized map, and gridfield's equivalent on the same map in the
 same process; ``ratio`` is peer time / gridfield time (medians; > 1: gridfield is faster):
 
-``rtb-dt``
+``RTB DistanceTransformPlanner``
     Robotics Toolbox for Python's ``DistanceTransformPlanner`` (metric ``"euclidean"``: 8
     neighbours, diagonal cost sqrt 2) on its book example, the ``house`` floor plan shipped with
     ``rtb-data`` (397 x 596 cells), from ``br3`` to ``kitchen``: ``plan()`` (the distance
     transform from the goal) + ``query(start)`` (the path). gridfield: ``plan("wavefront", ...)``,
     the wavefront navigation function from the goal and its descent path; the
     ``wavefront-octile`` variant (the same octile costs as RTB's euclidean) is shown too.
-``pmp-astar``
+``pmp A*``
     python-motion-planning 2.1's ``AStar`` on a ``Grid`` laid out like the package's README
     example: 51 x 31 cells, a wall round the border and four wall segments, obstacles inflated by
     3 cells, from (5, 5) to (45, 25). gridfield: ``plan("wavefront-octile", ...)`` on the same
     cells (obstacles and inflation occupied), the same 8-neighbour octile metric; both return the
     shortest octile path (lengths are compared). For scale (not a target: not pmp's example map)
     the same pair also runs on RTB's house floor plan.
-``pmp-apf-force`` and ``pmp-apf-step``
+``pmp APF``
     python-motion-planning's ``APF`` is a *path-tracking controller* for a robot model, not a
     planner: each control step it finds a look-ahead point on a given path, computes an
     attractive force towards it and a repulsive force from its ESDF (3 x 3 window,
-    ``numpy.gradient``), and turns the sum into an acceleration. The fair equivalents are per
-    step: ``pmp-apf-force`` times its attractive + repulsive force at a point (its two force
-    methods) against gridfield's force sample at a point (``grid_sampler``, bilinear
-    interpolation of the precomputed gradient arrays); ``pmp-apf-step`` times a whole control step
-    (``get_action``: force + look-ahead + velocity/acceleration conversion) against one step of
-    gridfield's follower (``follow``'s time per iteration: force, step rule, exact cell-walk
-    collision check, stop rules). Both are measured at the same points (the A* path's cells), on
-    the same 51 x 31 map, with a CircularRobot of radius 0.5 and the default gains; the ESDF is
-    built once beforehand for pmp (and gridfield's field likewise).
+    ``numpy.gradient``), and turns the sum into an acceleration. There is no APF planner to time
+    against ``plan``, so it is compared per step, three ways: (1) its attractive + repulsive force
+    at a point (its two force methods) against one step of gridfield's follower (``follow``'s time
+    per iteration: force, step rule, exact cell-walk collision check, stop rules), as the benchmark
+    issue proposes; (2) the same force against gridfield's force at a point (``grid_sampler``,
+    bilinear interpolation of the precomputed gradient arrays), like for like; (3) a whole APF
+    control step (``get_action``: force + look-ahead + velocity/acceleration) against one follower
+    step. pmp is timed at every free cell centre of the README-like map without the inflation (the
+    controller avoids obstacles itself), with a CircularRobot of radius 0.5, its default gains and
+    a repulsive range of 3 (pmp's default, 2 x the radius = 1, never acts on 1 m cells: every free
+    cell centre is at least 1 from an obstacle centre); its ESDF is built once beforehand, as
+    gridfield's field is. gridfield uses the same gains and range, ``d_star = 1`` (the APF pulls
+    towards a look-ahead point about 1 m ahead, so its attraction is about 1 at most).
 ``cell-by-cell``
     The classic potential-field script's way (as in PythonRobotics' potential_field_planning):
     a plain Python double loop over the cells of a 600 x 500 grid, each summing the attractive

@@ -319,7 +319,7 @@ def _grid_map_part(run: _Run, part: str, gm: GridMap, start: Sequence[float], go
     plot_basins(basins(field_), axes[1, 0], title="basins of attraction")
     paths = [pot]
     if run.have_planner(f"{part} wavefront path", "wavefront-octile"):
-        paths.insert(0, run.plan(part, part, gm, "wavefront-octile", start, goal, note=note))
+        paths.append(run.plan(part, part, gm, "wavefront-octile", start, goal, note=note))
     plot_map(gm, axes[1, 1], paths=paths, start=start, goal=goal, title="paths")
     fig.suptitle(title)
     run.save(fig, f"{part}.png")

@@ -247,14 +247,16 @@ class Explorer:
 
         fig = self.figure
         self.sliders: dict[str, Any] = {}
-        defaults = {"zeta": 1.0, "eta": 1.0, "q_star": None, "d_star": math.inf, "step": None}
+        # What the planners use when a parameter is not given (gridfield.potential.DEFAULTS; the
+        # follower's step defaults to one cell), so that every slider shows the value in use.
+        res = self.gridmap.grid.resolution if self.gridmap is not None else self._slider_range("step")[0] * 10
+        defaults = {"zeta": 1.0, "eta": 1.0, "q_star": 2.0, "d_star": math.inf, "step": res}
         for i, name in enumerate(SLIDER_PARAMS):
             lo, hi = self._slider_range(name)
-            v = self.params.get(name, defaults[name])
-            if v is None:
-                v = (lo + hi) / 4.0 if name == "q_star" else min(hi, max(lo, (lo + hi) / 20.0))
-            v = float(v)
-            v = hi if (name == "d_star" and math.isinf(v)) else min(max(v, lo), hi)
+            v = float(self.params.get(name, defaults[name]))
+            if name == "d_star" and math.isinf(v):
+                v = hi
+            lo, hi = min(lo, v), max(hi, v)  # the range always holds the value in use
             sax = fig.add_axes((0.76, 0.56 - 0.055 * i, 0.17, 0.03))
             s = Slider(sax, name, lo, hi, valinit=v)
             s.on_changed(lambda val, n=name: self._on_slider(n, val))

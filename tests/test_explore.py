@@ -117,6 +117,18 @@ def test_d_star_slider_end_means_inf(explorer):
     assert np.isinf(explorer.params["d_star"]) and s.val == s.valmax
 
 
+def test_sliders_show_the_values_in_use():
+    occ = np.zeros((40, 40), bool)
+    occ[:, :2] = True
+    ex = Explorer(GridMap(Grid((40, 40), 0.5), occ), start=(3.0, 3.0), goal=(17.0, 17.0), params={"eta": 3.0})
+    try:
+        vals = {k: s.val for k, s in ex.sliders.items()}
+        assert vals["eta"] == 3.0 and vals["zeta"] == 1.0 and vals["q_star"] == 2.0 and vals["step"] == 0.5
+        assert ex.path.params["q_star"] == 2.0 and ex.path.params["step"] == 0.5
+    finally:
+        ex.close()
+
+
 def test_set_param_checks_names_and_ranges(explorer):
     with pytest.raises(ParameterError, match="zetta"):
         explorer.set_param("zetta", 1.0)

@@ -13,6 +13,7 @@ import importlib
 import inspect
 import math
 from collections.abc import Callable, Mapping
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -158,12 +159,20 @@ def plan(
             gm = cache[key]
         s, g = gm.check_point("start", start), gm.check_point("goal", goal)
         if cache is not None and "cache" in inspect.signature(fn).parameters:
-            return fn(gm, s, g, merged, cache=cache)
-        return fn(gm, s, g, merged)
+            return _with_endpoints(fn(gm, s, g, merged, cache=cache), s, g)
+        return _with_endpoints(fn(gm, s, g, merged), s, g)
     world = target if isinstance(target, World) else target.world
     if not isinstance(world, World):
         raise GridfieldError(
             f"planner {planner!r} works on vector worlds; {getattr(target, 'source', '') or 'this map'} is a grid map"
         )
     s, g = world.check_point("start", start), world.check_point("goal", goal)
-    return fn(world, np.asarray(s), np.asarray(g), merged)
+    return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged), s, g)
+
+
+def _with_endpoints(path: Path, start: np.ndarray, goal: np.ndarray) -> Path:
+    """Record the query in ``path.extra`` (``start``, ``goal``) so figures need not guess the goal."""
+    extra = dict(path.extra)
+    extra.setdefault("start", (float(start[0]), float(start[1])))
+    extra.setdefault("goal", (float(goal[0]), float(goal[1])))
+    return replace(path, extra=extra)

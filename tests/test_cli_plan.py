@@ -10,6 +10,7 @@ import pytest
 
 from gridfield.cli import main
 from gridfield.io import bundled_map, read_world
+from gridfield.planners import plan
 
 KEYS = {"planner", "status", "path", "end", "length", "iterations", "min_clearance", "params", "seconds"}
 STATUSES = {"reached", "local_minimum", "collision", "max_iterations", "no_path"}
@@ -79,3 +80,10 @@ def test_missing_map_file(capsys: pytest.CaptureFixture[str], tmp_path) -> None:
 def test_grid_map_without_endpoints_asks_for_them(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["plan", str(bundled_map("arena/arena.map"))]) == 2
     assert "--start X Y" in capsys.readouterr().err
+
+
+def test_plan_records_its_query_for_figures() -> None:
+    """A Path from plan() carries its start and goal, so a figure of a stalled path still marks the goal."""
+    path = plan("exact-potential", read_world(bundled_map("seed000_segment.yaml")), (1, 10), (22, 12))
+    assert path.status == "local_minimum"
+    assert path.extra["goal"] == (22.0, 12.0) and path.extra["start"] == (1.0, 10.0)

@@ -539,7 +539,14 @@ def _script_options(script: Path) -> str:
         return ""
 
 
-def area_arguments(help_text: str, *, quick: bool, repeat: int | None) -> list[str]:
+#: Extra options of ``--quick`` runs for scripts whose defaults cover more than sizes and repeats.
+QUICK_EXTRA = {
+    "brushfire": ["--maps", "random", "--no-compile"],
+    "navigation": ["--maps", "arena", "--skip", "harmonic"],
+}
+
+
+def area_arguments(help_text: str, *, quick: bool, repeat: int | None, name: str = "") -> list[str]:
     """Arguments for a per-area script: small sizes when quick; ``--repeat`` (default 3 in the full
     suite, so that all five scripts fit its time budget; 2 when quick)."""
     args: list[str] = []
@@ -548,6 +555,10 @@ def area_arguments(help_text: str, *, quick: bool, repeat: int | None) -> list[s
             args += ["--sizes", "512"]
         elif re.search(r"--size\b", help_text):
             args += ["--size", "512"]
+    if quick:
+        extra = QUICK_EXTRA.get(name, [])
+        if all(re.search(rf"{re.escape(x)}\b", help_text) for x in extra if x.startswith("--")):
+            args += extra
     rep = repeat if repeat is not None else (2 if quick else 3)
     if rep is not None:
         for flag in ("--repeat", "--repeats"):
@@ -568,7 +579,7 @@ def section_areas(quick: bool, repeat: int | None, timeout: float, results: dict
             status[name] = "missing"
             lines += [f"### {name}", "", f"**missing**: benchmarks/{name}.py does not exist yet.", ""]
             continue
-        args = area_arguments(_script_options(script), quick=quick, repeat=repeat)
+        args = area_arguments(_script_options(script), quick=quick, repeat=repeat, name=name)
         log(f"areas: {name}.py {' '.join(args)}")
         t0 = time.perf_counter()
         try:

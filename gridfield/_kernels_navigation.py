@@ -593,4 +593,6 @@ def clearance_along(occupied, rows_idx, cols_idx, wall, budget):
             if work > budget:
                 return -1.0
             k += 1
+        if best == np.inf:  # the rings covered the whole grid (and the wall ring): no obstacle at all
+            return best
     return best

@@ -278,11 +278,16 @@ def _scan_left_idx(t, ti, s, si, cols, edge, edge_i):  # pragma: no cover - comp
 
 
 @njit(**_OPTS)
-def chamfer_steps(occ, wall, conn8, steps, distance, resolution, write_distance):  # pragma: no cover
-    """Chessboard (``conn8``) or taxicab steps; also ``distance = steps * resolution`` if asked."""
+def chamfer_steps(occ, top, bottom, side, conn8, steps, distance, resolution, write_distance):  # pragma: no cover
+    """Chessboard (``conn8``) or taxicab steps; also ``distance = steps * resolution`` if asked.
+
+    ``top``, ``bottom``, ``side``: whether the rows above / below the array and the columns beside it
+    are a wall (obstacles) or open."""
     rows, cols = occ.shape
     inf = np.int64(rows + cols + 4)
-    edge = np.int64(0) if wall else inf
+    top_edge = np.int64(0) if top else inf
+    bottom_edge = np.int64(0) if bottom else inf
+    edge = np.int64(0) if side else inf
     p = np.empty(cols + 2, np.int32)  # the neighbouring row, padded (padding never wins)
     p[0] = inf
     p[cols + 1] = inf
@@ -292,7 +297,7 @@ def chamfer_steps(occ, wall, conn8, steps, distance, resolution, write_distance)
         srow = steps[r]
         if r == 0:
             for c in range(cols):
-                p[c + 1] = edge
+                p[c + 1] = top_edge
         else:
             prev = steps[r - 1]
             for c in range(cols):
@@ -310,7 +315,7 @@ def chamfer_steps(occ, wall, conn8, steps, distance, resolution, write_distance)
         srow = steps[r]
         if r == rows - 1:
             for c in range(cols):
-                p[c + 1] = edge
+                p[c + 1] = bottom_edge
         else:
             nxt = steps[r + 1]
             for c in range(cols):
@@ -332,14 +337,18 @@ def chamfer_steps(occ, wall, conn8, steps, distance, resolution, write_distance)
 
 
 @njit(**_OPTS)
-def chamfer_nearest(occ, wall, conn8, steps, nidx, distance, resolution, write_distance):  # pragma: no cover
+def chamfer_nearest(occ, top, bottom, side, row0, conn8, steps, nidx, distance, resolution,
+                    write_distance):  # pragma: no cover - compiled
     """:func:`chamfer_steps` carrying the nearest obstacle cell along, packed as
-    ``nidx = (row + 1) * (cols + 2) + (col + 1)`` (see :func:`decode_pass`). Selects are branch-free:
-    ``x += (y - x) * m`` with ``m`` in {0, 1}."""
+    ``nidx = (row + 1) * (cols + 2) + (col + 1)`` with ``row`` counted from ``row0`` (the first row of
+    ``occ`` in the whole grid; see :func:`decode_row`). Selects are branch-free: ``x += (y - x) * m``
+    with ``m`` in {0, 1}."""
     rows, cols = occ.shape
     w = np.int64(cols + 2)
     inf = np.int64(rows + cols + 4)
-    edge = np.int64(0) if wall else inf
+    top_edge = np.int64(0) if top else inf
+    bottom_edge = np.int64(0) if bottom else inf
+    edge = np.int64(0) if side else inf
     p = np.empty(cols + 2, np.int32)  # the neighbouring row, padded (padding never wins)
     pi = np.zeros(cols + 2, nidx.dtype)
     p[0] = inf
@@ -352,15 +361,15 @@ def chamfer_nearest(occ, wall, conn8, steps, nidx, distance, resolution, write_d
         irow = nidx[r]
         if r == 0:
             for c in range(cols):
-                p[c + 1] = edge
-                pi[c + 1] = c + 1  # wall cell (-1, c)
+                p[c + 1] = top_edge
+                pi[c + 1] = row0 * w + c + 1  # wall cell (row0 - 1, c)
         else:
             prev = steps[r - 1]
             previ = nidx[r - 1]
             for c in range(cols):
                 p[c + 1] = prev[c]
                 pi[c + 1] = previ[c]
-        own = (r + 1) * w + 1
+        own = (row0 + r + 1) * w + 1
         for c in range(cols):
             a = np.int64(p[c + 1])
             ai = np.int64(pi[c + 1])
@@ -383,8 +392,8 @@ def chamfer_nearest(occ, wall, conn8, steps, nidx, distance, resolution, write_d
         irow = nidx[r]
         if r == rows - 1:
             for c in range(cols):
-                p[c + 1] = edge
-                pi[c + 1] = (rows + 1) * w + c + 1  # wall cell (rows, c)
+                p[c + 1] = bottom_edge
+                pi[c + 1] = (row0 + rows + 1) * w + c + 1  # wall cell (row0 + rows, c)
         else:
             nxt = steps[r + 1]
             nxti = nidx[r + 1]
@@ -411,40 +420,95 @@ def chamfer_nearest(occ, wall, conn8, steps, nidx, distance, resolution, write_d
             m = np.int64(a < cur)
             t[c] = cur + (a - cur) * m
             ti[c] = irow[c] + (ti[c] - irow[c]) * m
-        _scan_left_idx(t, ti, srow, irow, cols, edge, (r + 1) * w + cols + 1)  # wall cell (r, cols)
+        _scan_left_idx(t, ti, srow, irow, cols, edge, (row0 + r + 1) * w + cols + 1)  # wall cell (r, cols)
         if write_distance:
             drow = distance[r]
             for c in range(cols):
                 drow[c] = srow[c] * resolution
 
 
-@njit(**_OPTS)
-def decode_rows(r0, r1, nidx, nearest_row, nearest_col, want_nearest, flat, comp_map, use_map, want_label,
-                label):  # pragma: no cover - compiled
-    """Rows ``r0:r1``: unpack ``nidx`` (see :func:`chamfer_nearest`) into ``nearest_row``/``nearest_col``
-    (which may be the very array ``nidx``: each row is read before it is overwritten) and look up
-    ``label``: see :func:`_gather_labels`."""
-    rows, cols = nidx.shape
+@njit(cache=True, nogil=True, inline="always")
+def decode_row(irow, cols, nr, nc):  # pragma: no cover - compiled
+    """Unpack one row of :func:`chamfer_nearest`'s packed cells into ``nr``, ``nc`` (int64 buffers, or
+    the output rows: each value is read before it is written)."""
     w = np.int64(cols + 2)
     inv = 1.0 / (cols + 2)
-    bnr = np.empty(cols, np.int64)
-    bnc = np.empty(cols, np.int64)
-    for r in range(r0, r1):
-        irow = nidx[r]
+    for c in range(cols):
+        i = np.int64(irow[c])
+        q = np.int64(i * inv)  # i // w in floating point, then corrected
+        q += np.int64(i - q * w >= w) - np.int64(i - q * w < 0)
+        nr[c] = q - 1
+        nc[c] = i - q * w - 1
+
+
+@njit(**_OPTS)
+def finish_window(a, b, lo, margin, checked, ws, wi, want_idx, steps, nearest_row, nearest_col, distance,
+                  resolution, write_distance):  # pragma: no cover - compiled
+    """Copy rows ``a:b`` of a window transform (``ws``/``wi``: rows ``lo:lo + len(ws)`` of the grid) into
+    the outputs, unpacking the nearest cells. Returns False if ``checked`` and some copied cell lies
+    farther than ``margin`` from its nearest obstacle in the window: an obstacle outside the window
+    might then be nearer (one within ``margin`` rows of the cell always lies inside it)."""
+    cols = ws.shape[1]
+    worst = np.int64(0)
+    br = np.empty(cols, np.int64)
+    bc = np.empty(cols, np.int64)
+    for r in range(a, b):
+        src = ws[r - lo]
+        srow = steps[r]
         for c in range(cols):
-            i = np.int64(irow[c])
-            q = np.int64(i * inv)  # i // w in floating point, then corrected
-            q += np.int64(i - q * w >= w) - np.int64(i - q * w < 0)
-            bnr[c] = q - 1
-            bnc[c] = i - q * w - 1
-        if want_label:
-            _gather_labels(bnr, bnc, rows, cols, flat, comp_map, use_map, label[r])
-        if want_nearest:
+            v = np.int64(src[c])
+            worst = max(worst, v)
+            srow[c] = v
+        if write_distance:
+            drow = distance[r]
+            for c in range(cols):
+                drow[c] = src[c] * resolution
+        if want_idx:
+            decode_row(wi[r - lo], cols, br, bc)
             rrow = nearest_row[r]
             crow = nearest_col[r]
             for c in range(cols):
-                rrow[c] = bnr[c]
-                crow[c] = bnc[c]
+                rrow[c] = br[c]
+                crow[c] = bc[c]
+    return not checked or worst <= margin
+
+
+@njit(**_OPTS)
+def decode_rows(r0, r1, nidx, nearest_row, nearest_col):  # pragma: no cover - compiled
+    """Rows ``r0:r1``: unpack ``nidx`` into ``nearest_row``/``nearest_col`` (which may be ``nidx``)."""
+    cols = nidx.shape[1]
+    br = np.empty(cols, np.int64)
+    bc = np.empty(cols, np.int64)
+    for r in range(r0, r1):
+        decode_row(nidx[r], cols, br, bc)
+        rrow = nearest_row[r]
+        crow = nearest_col[r]
+        for c in range(cols):
+            rrow[c] = br[c]
+            crow[c] = bc[c]
+
+
+@njit(**_OPTS)
+def label_gvd_rows(r0, r1, nearest_row, nearest_col, flat, comp_map, use_map, label, want_gvd, key, occ,
+                   gvd):  # pragma: no cover - compiled
+    """Rows ``r0:r1``: ``label`` (see :func:`_gather_labels`) and, if ``want_gvd``, the GVD (see
+    :func:`gvd_rows`) from the labels of each row and its two neighbours, kept in a 3-row ring (the
+    neighbour rows outside ``r0:r1`` are gathered again, not read back)."""
+    rows, cols = nearest_row.shape
+    ring = np.zeros((3, cols), np.int32)
+    mark = np.empty(cols, np.bool_)
+    for rr in range(max(0, r0 - 1), min(rows, r0 + 1)):
+        _gather_labels(nearest_row[rr], nearest_col[rr], rows, cols, flat, comp_map, use_map, ring[rr % 3])
+    for r in range(r0, r1):
+        if r + 1 < rows:
+            _gather_labels(nearest_row[r + 1], nearest_col[r + 1], rows, cols, flat, comp_map, use_map,
+                           ring[(r + 1) % 3])
+        la = ring[r % 3]
+        lrow = label[r]
+        for c in range(cols):
+            lrow[c] = la[c]
+        if want_gvd:
+            _gvd_row(r, rows, cols, la, ring, key, occ, mark, gvd[r])
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -456,14 +520,14 @@ def _gather_labels(nr, nc, rows, cols, flat, comp_map, use_map, out):  # pragma:
     n = out.shape[0]
     if use_map:
         for c in range(n):
-            a = nr[c]
-            b = nc[c]
+            a = np.int64(nr[c])
+            b = np.int64(nc[c])
             inside = np.int64((a >= 0) & (a < rows) & (b >= 0) & (b < cols))
             out[c] = comp_map[flat[outside + (a * cols + b - outside) * inside]]
     else:
         for c in range(n):
-            a = nr[c]
-            b = nc[c]
+            a = np.int64(nr[c])
+            b = np.int64(nc[c])
             inside = np.int64((a >= 0) & (a < rows) & (b >= 0) & (b < cols))
             out[c] = flat[outside + (a * cols + b - outside) * inside]
 
@@ -752,6 +816,27 @@ def _gvd_dir(la, da, lb, db, fb, mark, a0, a1, off):  # pragma: no cover - compi
         mark[c] |= (lab_a != lab_b) & (fb[b] == 0) & ((da[c] > db[b]) | ((da[c] == db[b]) & (lab_a < lab_b)))
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _gvd_row(r, rows, cols, la, labels, key, occ, mark, out):  # pragma: no cover - compiled
+    # labels is the label grid or a ring of 3 rows: either way row r + dr is labels[(r + dr) % len]
+    da = key[r]
+    fa = occ[r]
+    mark[:] = False
+    for dr in range(-1, 2):
+        rr = r + dr
+        if rr < 0 or rr >= rows:
+            continue
+        lb = labels[rr % labels.shape[0]]
+        db = key[rr]
+        fb = occ[rr]
+        if dr != 0:
+            _gvd_dir(la, da, lb, db, fb, mark, 0, cols, 0)
+        _gvd_dir(la, da, lb, db, fb, mark, 1, cols, -1)
+        _gvd_dir(la, da, lb, db, fb, mark, 0, cols - 1, 1)
+    for c in range(cols):
+        out[c] = mark[c] & (fa[c] == 0)
+
+
 @njit(**_OPTS)
 def gvd_rows(r0, r1, label, distance, occ, gvd):  # pragma: no cover - compiled
     """Rows ``r0:r1`` of the GVD: of each pair of 8-neighbouring free cells with different labels,
@@ -761,24 +846,7 @@ def gvd_rows(r0, r1, label, distance, occ, gvd):  # pragma: no cover - compiled
     rows, cols = label.shape
     mark = np.empty(cols, np.bool_)
     for r in range(r0, r1):
-        la = label[r]
-        da = distance[r]
-        fa = occ[r]
-        mark[:] = False
-        for dr in range(-1, 2):
-            rr = r + dr
-            if rr < 0 or rr >= rows:
-                continue
-            lb = label[rr]
-            db = distance[rr]
-            fb = occ[rr]
-            if dr != 0:
-                _gvd_dir(la, da, lb, db, fb, mark, 0, cols, 0)
-            _gvd_dir(la, da, lb, db, fb, mark, 1, cols, -1)
-            _gvd_dir(la, da, lb, db, fb, mark, 0, cols - 1, 1)
-        grow = gvd[r]
-        for c in range(cols):
-            grow[c] = mark[c] & (fa[c] == 0)
+        _gvd_row(r, rows, cols, label[r], label, distance, occ, mark, gvd[r])
 
 
 @njit(**_OPTS)

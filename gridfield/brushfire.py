@@ -151,6 +151,12 @@ PARALLEL_MIN_CELLS = 1 << 20
 
 _NO_COMP = np.zeros((1, 1), np.int32)  # placeholders for arrays that are not needed
 _NO_MAP = np.zeros(1, np.int32)
+_NO_DIST = np.zeros((1, 1), np.float64)
+_NO_GVD = np.zeros((1, 1), bool)
+#: Chamfer passes over grids of at least 2 * STRIP_ROWS rows run as strips of about STRIP_ROWS rows,
+#: each computed on a window reaching MARGIN rows beyond it (see :class:`_Chamfer`).
+STRIP_ROWS = 1024
+MARGIN = 64
 _POOL: ThreadPoolExecutor | None = None
 _POOL_LOCK = threading.Lock()
 
@@ -239,6 +245,74 @@ class _Strips:
     def merge(self) -> NDArray[np.int32]:
         comp_map, _ = self.k.merge_strips(self.occ8, self.comp, self.parent, self.firsts, self.bases, self.lasts)
         return comp_map
+
+
+class _Chamfer:
+    """The two-pass chessboard/taxicab transform over the whole grid (one sequential task), or over
+    horizontal strips (independent tasks) on large grids.
+
+    A strip is computed on a window reaching :data:`MARGIN` rows beyond it on both sides. A cell whose
+    distance in the window is at most ``MARGIN`` has its exact distance and nearest obstacle: every
+    obstacle outside the window is farther than ``MARGIN`` from it. If some cell of a strip is
+    farther than that (large open areas), :meth:`finish` redoes the whole grid in one pass. The strip
+    layout depends on the grid's size only, so the nearest obstacles chosen among equally near ones
+    do not depend on the number of threads.
+    """
+
+    def __init__(self, k: ModuleType, occ8: NDArray[np.uint8], wall: bool, conn8: bool, steps: NDArray[np.int32],
+                 distance: NDArray[np.float64], res: float, write_distance: bool,
+                 nearest: tuple[NDArray[np.int32], NDArray[np.int32]] | None, nthreads: int) -> None:
+        self.k, self.occ8, self.wall, self.conn8, self.steps = k, occ8, wall, conn8, steps
+        self.distance, self.res, self.write_distance, self.nearest = distance, res, write_distance, nearest
+        rows, cols = occ8.shape
+        self.idx_dtype = np.int32 if (rows + 2) * (cols + 2) < 2**31 else np.int64
+        n = rows // STRIP_ROWS if rows >= 2 * STRIP_ROWS else 1
+        if nearest is None and nthreads <= 1:  # the values do not depend on the layout
+            n = 1
+        self.bounds = [i * rows // n for i in range(n + 1)]
+        self.failed = False
+
+    def tasks(self) -> list[Callable[[], object]]:
+        if len(self.bounds) == 2:
+            return [self._whole]
+        return [partial(self._strip, i) for i in range(len(self.bounds) - 1)]
+
+    def _whole(self) -> None:
+        k, w = self.k, self.wall
+        dist = self.distance if self.write_distance else _NO_DIST
+        if self.nearest is None:
+            k.chamfer_steps(self.occ8, w, w, w, self.conn8, self.steps, dist, self.res, self.write_distance)
+            return
+        nr, nc = self.nearest
+        nidx = nc if self.idx_dtype == np.int32 else np.empty(nc.shape, self.idx_dtype)
+        k.chamfer_nearest(self.occ8, w, w, w, 0, self.conn8, self.steps, nidx, dist, self.res, self.write_distance)
+        k.decode_rows(0, nc.shape[0], nidx, nr, nc)
+
+    def _strip(self, i: int) -> None:
+        if self.failed:  # another strip failed: the whole grid is redone anyway
+            return
+        k, rows = self.k, self.occ8.shape[0]
+        a, b = self.bounds[i], self.bounds[i + 1]
+        lo, hi = max(0, a - MARGIN), min(rows, b + MARGIN)
+        window = self.occ8[lo:hi]
+        ws = np.empty(window.shape, np.int32)
+        top, bottom = self.wall and lo == 0, self.wall and hi == rows
+        if self.nearest is None:
+            wi, nr, nc = _NO_COMP, _NO_COMP, _NO_COMP
+            k.chamfer_steps(window, top, bottom, self.wall, self.conn8, ws, _NO_DIST, self.res, False)
+        else:
+            (nr, nc), wi = self.nearest, np.empty(window.shape, self.idx_dtype)
+            k.chamfer_nearest(window, top, bottom, self.wall, lo, self.conn8, ws, wi, _NO_DIST, self.res, False)
+        ok = k.finish_window(a, b, lo, MARGIN, lo > 0 or hi < rows, ws, wi, self.nearest is not None,
+                             self.steps, nr, nc, self.distance if self.write_distance else _NO_DIST, self.res,
+                             self.write_distance)
+        if not ok:
+            self.failed = True
+
+    def finish(self) -> None:
+        """Redo the whole grid in one pass if a strip could not be verified."""
+        if self.failed:
+            self._whole()
 
 
 def _chunks(kernel: Callable[..., object], n: int, nthreads: int, *args: object,
@@ -392,7 +466,7 @@ def brushfire(
     step8 = connectivity == 8
     steps = np.empty(shape, np.int32)
     distance = np.empty(shape, np.float64)
-    nearest_row = nearest_col = label = gvd = nidx = vr = None
+    nearest_row = nearest_col = label = gvd = vr = None
     # labels are gathered from `flat`: the label grid raveled, plus one element for the wall
     flat, comp_map, use_map = _NO_MAP, _NO_MAP, False
     if want_label:
@@ -402,58 +476,64 @@ def brushfire(
             flat[:-1] = gridmap.obstacle_id.ravel()
             flat[-1] = BORDER_LABEL
 
-    # 1. the sequential transform in this thread; the other threads label the obstacle components
-    #    (horizontal strips) and do the column pass of the Euclidean transform (blocks of columns)
+    # 1. independent tasks for all threads: the chamfer passes (in strips on large grids), the
+    #    component labelling (in strips) and the column pass of the Euclidean transform (in blocks)
     tasks: list[Callable[[], object]] = []
+    chamfers: list[_Chamfer] = []
     strips = None
     if want_label and gridmap.obstacle_id is None:
         strips = _Strips(k, occ8, flat[:-1].reshape(shape), 1 if nthreads <= 1 else min(rows, 8 * nthreads))
         tasks += strips.tasks()
     if metric == "euclidean":
         key: NDArray[np.int32] | NDArray[np.float64] = distance  # what orders the cells for the GVD
-        main = partial(k.chamfer_steps, occ8, wall, step8, steps, distance, res, False)
+        chamfers.append(_Chamfer(k, occ8, wall, step8, steps, distance, res, False, None, nthreads))
         vr = np.empty(shape, np.int32)  # column pass result, becomes nearest_row
         tasks += _chunks(k.column_block, cols, nthreads, occ8, wall, vr, min_size=64)
     else:
-        if metric == ("chessboard" if step8 else "taxicab"):
-            key = steps
-        else:  # steps by one chamfer metric, distance and nearest obstacle by the other
-            tasks.insert(0, partial(k.chamfer_steps, occ8, wall, step8, steps, distance, res, False))
+        key = steps
+        if metric != ("chessboard" if step8 else "taxicab"):  # steps by one metric, the rest by the other
+            chamfers.append(_Chamfer(k, occ8, wall, step8, steps, distance, res, False, None, nthreads))
             key = np.empty(shape, np.int32)
+        nearest = None
         if want_nearest or want_label:  # labels are looked up at the nearest obstacle
-            # the nearest cell packed in one integer (int64 beyond 2**31 padded cells)
-            small = (rows + 2) * (cols + 2) < 2**31
-            nidx = np.empty(shape, np.int32 if small else np.int64)
-            main = partial(k.chamfer_nearest, occ8, wall, metric == "chessboard", key, nidx, distance, res, True)
-        else:
-            main = partial(k.chamfer_steps, occ8, wall, metric == "chessboard", key, distance, res, True)
-    _run(tasks, nthreads, first=main)
-    del tasks, main
+            nearest_row, nearest_col = np.empty(shape, np.int32), np.empty(shape, np.int32)
+            nearest = (nearest_row, nearest_col)
+        chamfers.append(_Chamfer(k, occ8, wall, metric == "chessboard", key, distance, res, True, nearest,
+                                 nthreads))
+    for chamfer in chamfers:
+        tasks = chamfer.tasks() + tasks
+    _run(tasks, nthreads)
+    del tasks
+    for chamfer in chamfers:
+        chamfer.finish()
+    del chamfers
     if strips is not None:
         comp_map, use_map = np.append(strips.merge(), np.int32(BORDER_LABEL)), True
         flat[-1] = len(comp_map) - 1
         del strips
 
-    # 2. per row: the Euclidean envelope, or unpacking the chamfer's nearest cell; labels
+    # 2. per row: the Euclidean envelope (with labels) and the GVD; or labels and GVD together
     if metric == "euclidean":
         if want_nearest:
             nearest_row, nearest_col = vr, np.empty(shape, np.int32)
         _run(_chunks(k.edt_rows, rows, nthreads, vr, wall, res, distance, vr,
                      _NO_COMP if nearest_col is None else nearest_col, want_nearest, flat, comp_map, use_map,
                      want_label, _NO_COMP if label is None else label), nthreads)
-    elif nidx is not None:
-        if want_nearest:
-            nearest_row = np.empty(shape, np.int32)
-            nearest_col = nidx if nidx.dtype == np.int32 else np.empty(shape, np.int32)
-        _run(_chunks(k.decode_rows, rows, nthreads, nidx, _NO_COMP if nearest_row is None else nearest_row,
-                     _NO_COMP if nearest_col is None else nearest_col, want_nearest, flat, comp_map, use_map,
-                     want_label, _NO_COMP if label is None else label), nthreads)
-    del vr, nidx, flat, comp_map
+        del vr
+        if want_gvd:
+            gvd = np.empty(shape, bool)
+            _run(_chunks(k.gvd_rows, rows, nthreads, label, key, occ8, gvd), nthreads)
+    elif want_label:
+        gvd = np.empty(shape, bool) if want_gvd else _NO_GVD
+        _run(_chunks(k.label_gvd_rows, rows, nthreads, nearest_row, nearest_col, flat, comp_map, use_map, label,
+                     want_gvd, key, occ8, gvd), nthreads)
+        if not want_gvd:
+            gvd = None
+    del flat, comp_map, key
+    if not want_nearest:
+        nearest_row = nearest_col = None
 
-    # 3. GVD from the labels, then saturation
-    if want_gvd:
-        gvd = np.empty(shape, bool)
-        _run(_chunks(k.gvd_rows, rows, nthreads, label, key, occ8, gvd), nthreads)
+    # 3. saturation
     if saturate is not None:
         _run(_chunks(k.saturate_rows, rows, nthreads, distance, saturate, far), nthreads)
     return DistanceMap(gridmap, connectivity, metric, steps, distance, nearest_row, nearest_col, label, gvd,

@@ -534,18 +534,39 @@ def test_packed_nearest_index_in_int64_as_for_huge_grids():
     out = {}
     for dtype in (np.int32, np.int64):
         steps, nidx, dist = np.empty(occ.shape, np.int32), np.empty(occ.shape, dtype), np.empty(occ.shape)
-        k.chamfer_nearest(o8, True, True, steps, nidx, dist, 1.0, True)
+        k.chamfer_nearest(o8, True, True, True, 0, True, steps, nidx, dist, 1.0, True)
         rows_, cols_ = np.empty(occ.shape, np.int32), np.empty(occ.shape, np.int32)
-        lab = np.empty(occ.shape, np.int32)
-        flat = np.empty(occ.size + 1, np.int32)
-        k.label_components(o8, flat[:-1].reshape(occ.shape))
-        flat[-1] = BORDER_LABEL
-        k.decode_rows(0, occ.shape[0], nidx, rows_, cols_, True, flat, np.zeros(1, np.int32), False, True, lab)
-        out[dtype] = (steps, rows_, cols_, lab)
-    for a, b in zip(out[np.int32], out[np.int64], strict=True):
-        assert np.array_equal(a, b)
+        k.decode_rows(0, occ.shape[0], nidx, rows_, cols_)
+        out[dtype] = (steps, rows_, cols_)
     ref = brushfire(GridMap(Grid(occ.shape, 1.0, border="wall"), occ))
-    assert np.array_equal(out[np.int64][1], ref.nearest_row) and np.array_equal(out[np.int64][3], ref.label)
+    for a, b, name in zip(out[np.int32], out[np.int64], ("steps", "nearest_row", "nearest_col"), strict=True):
+        assert np.array_equal(a, b) and np.array_equal(a, getattr(ref, name))
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), rows=st.integers(1, 90), cols=st.integers(1, 70),
+       density=st.sampled_from([0.003, 0.02, 0.1, 0.4]), border=st.sampled_from(["open", "wall"]),
+       strip=st.integers(2, 12), margin=st.integers(1, 8))
+def test_chamfer_in_strips_is_exact_and_thread_independent(seed, rows, cols, density, border, strip, margin):
+    """Large grids run the chamfer passes in strips on windows with margins (here made tiny so that
+    small grids use them, and sparse ones fall back to one pass): same values as scipy, exact nearest
+    obstacles, and the same arrays with 1 or 2 threads."""
+    import gridfield.brushfire as bf
+
+    occ = random_occupancy(seed, (rows, cols), density)
+    if not occ.any() and border == "open":
+        return
+    gm = GridMap(Grid(occ.shape, 1.0, border=border), occ)
+    for connectivity, metric in ((8, "chessboard"), (4, "taxicab"), (8, "taxicab"), (8, "euclidean")):
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(bf, "STRIP_ROWS", strip)
+            mp.setattr(bf, "MARGIN", margin)
+            one, two = (brushfire(gm, connectivity=connectivity, metric=metric, threads=t) for t in (1, 2))
+        assert np.array_equal(one.steps, scipy_reference(occ, border, "chessboard" if connectivity == 8 else "taxicab"))
+        np.testing.assert_allclose(one.distance, scipy_reference(occ, border, metric), rtol=1e-12)
+        check_nearest(one)
+        for name in ("steps", "distance", "nearest_row", "nearest_col", "label", "gvd"):
+            assert np.array_equal(getattr(one, name), getattr(two, name)), name
 
 
 def test_import_gridfield_does_not_load_numba_kernels():

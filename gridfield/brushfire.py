@@ -18,10 +18,12 @@ Implementation
 --------------
 Compiled (numba) kernels, see :mod:`gridfield._kernels_brushfire`. Chessboard and taxicab: the
 two-pass raster transform with a 3x3 mask, carrying the nearest obstacle cell along with the
-distance. Euclidean: the separable exact transform (per column, then the lower envelope per row;
-Meijster et al. 2000) with the nearest obstacle cell. Both are exact. Connected obstacle components:
-union-find. The kernels are compiled on first use and cached on disk (numba ``cache=True``): the
-first call in a fresh process loads them in well under a second, compiling them takes several.
+distance (on large grids in strips, each on a window with a margin, verified; see :class:`_Chamfer`).
+Euclidean: the separable exact transform (per column, then the lower envelope per row; Meijster et
+al. 2000) with the nearest obstacle cell. All are exact. Connected obstacle components: union-find
+in strips. The kernels release the GIL and run on a small thread pool (``threads``). They are
+compiled on first use and cached on disk (numba ``cache=True``): the first call in a fresh process
+loads them in about half a second; compiling them (empty cache) takes several seconds.
 """
 
 from __future__ import annotations
@@ -368,10 +370,11 @@ def brushfire(
         Compute ``gvd`` (default: ``compute_labels``); needs the labels.
     threads : int, optional
         Threads to use (default: all cores for grids of at least :data:`PARALLEL_MIN_CELLS` cells,
-        else 1; more than the cores available are not used). The chessboard/taxicab passes and the
-        component labelling are sequential and run beside each other; the Euclidean transform, the
-        nearest-cell lookups and the GVD are split into chunks of rows (or columns) that the threads
-        take as they become free.
+        else 1; more than the cores available are not used). The work is cut into independent
+        tasks that the threads take as they become free: the chessboard/taxicab passes in strips of
+        :data:`STRIP_ROWS` rows (grids of twice that many rows or more), the component labelling in
+        strips, the Euclidean transform, the labels and the GVD in chunks of rows or columns. The
+        result does not depend on the number of threads.
 
     Returns
     -------

@@ -10,7 +10,7 @@ import pytest
 # Headless plotting everywhere, before anything imports pyplot.
 os.environ.setdefault("MPLBACKEND", "Agg")
 
-from hypothesis import HealthCheck, settings  # noqa: E402
+from hypothesis import HealthCheck, settings
 
 # Property tests run on a 2-core CI machine next to numba compiles: no per-example deadline.
 settings.register_profile(

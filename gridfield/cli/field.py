@@ -10,6 +10,9 @@ from typing import Any
 
 from ._common import add_map_arguments, add_param_arguments, collect_params, load_target
 
+#: Planners whose field ``gridfield field`` builds: the potential field and the navigation functions.
+FIELD_PLANNERS = ("potential", "wavefront", "wavefront-octile", "fmm", "harmonic", "sphere-nav")
+
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = sub.add_parser(
@@ -19,6 +22,8 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                     "the world file's 'params', overridden by the options below (others via --param K=V, "
                     "e.g. --param saturate=0.5 or --param model=vortex).")
     add_map_arguments(p)
+    p.add_argument("--planner", default="potential", choices=FIELD_PLANNERS,
+                   help="whose field: the potential field (default) or a navigation function")
     p.add_argument("--goal", nargs=2, type=float, metavar=("X", "Y"),
                    help="goal point (default: the world file's goal)")
     p.add_argument("--npz", metavar="F",
@@ -74,11 +79,9 @@ def _check_output(file: str | None) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    import numpy as np
 
-    from ..brushfire import brushfire
-    from ..io import write_npz
-    from ..potential import build_field, resolve_params
+    from ..planners import check_params
+    from ..potential import build_field, field_distance_map, resolve_params
     from ..rasterize import as_gridmap
 
     for f in (args.npz, args.plot, args.surface, args.basins):
@@ -87,25 +90,41 @@ def run(args: argparse.Namespace) -> int:
     goal = _goal(args, target)
     params = _world_params(target)
     params.update(collect_params(args))
-    resolved = resolve_params(params)
     gridmap = as_gridmap(target, args.resolution)
+    if args.planner != "potential":
+        from ..navigation import navigation_field
+
+        gridmap.check_point("goal", goal)
+        t0 = time.perf_counter()
+        field = navigation_field(gridmap, goal, args.planner, check_params(params)).to_field()
+        ms = (time.perf_counter() - t0) * 1e3
+        return _report(args, field, f"{args.planner} navigation function", ms, 0.0)
+    resolved = resolve_params(params)
     dmap, ms_brushfire = None, 0.0
     if resolved["model"] == "khatib":  # the vortex model works on its own lattice
         gridmap.check_point("goal", goal)
         t0 = time.perf_counter()
-        dmap = brushfire(gridmap, connectivity=4 if resolved["metric"] == "taxicab" else 8,
-                         metric=resolved["metric"], saturate=resolved["saturate"])
+        dmap = field_distance_map(gridmap, resolved)
         ms_brushfire = (time.perf_counter() - t0) * 1e3
     t0 = time.perf_counter()
     field = build_field(gridmap, goal, params, dmap=dmap)
     ms = (time.perf_counter() - t0) * 1e3
+    p = field.params
+    model = "vortex (seed 003)" if p["model"] == "vortex" else (
+        f"khatib, {p['repulsion']} repulsion, p={p['repulsive_power']:g}, {p['gradient']} gradient")
+    return _report(args, field, model, ms, ms_brushfire)
+
+
+def _report(args: argparse.Namespace, field: Any, model: str, ms: float, ms_brushfire: float) -> int:
+    """Print the field's summary and write the files asked for."""
+    import numpy as np
+
+    from ..io import write_npz
+
     grid = field.grid
     free = ~field.map.occupied & np.isfinite(field.potential)
     u = field.potential[free]
     gmag = np.hypot(field.grad_x, field.grad_y)[free]
-    p = field.params
-    model = "vortex (seed 003)" if p["model"] == "vortex" else (
-        f"khatib, {p['repulsion']} repulsion, p={p['repulsive_power']:g}, {p['gradient']} gradient")
     urange = f"U in [{u.min():.4g}, {u.max():.4g}]" if u.size else "no free cell"
     gx, gy = field.goal
     print(f"field {grid.rows}x{grid.cols} cells of {grid.resolution:g} ({model}), goal ({gx:g}, {gy:g}): "

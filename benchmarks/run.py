@@ -2,8 +2,8 @@
 
 Usage::
 
-    python benchmarks/run.py                        # the full suite (about 10-15 minutes on 2 cores)
-    python benchmarks/run.py --quick                # small sizes, few repeats (about a minute)
+    python benchmarks/run.py                        # the full suite (9-12 minutes on 2 cores)
+    python benchmarks/run.py --quick                # small sizes, few repeats (under a minute)
     python benchmarks/run.py --out benchmarks/RESULTS.md
     python benchmarks/run.py --sizes 1024 4096 --repeat 5 --only startup components end_to_end
 

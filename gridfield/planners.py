@@ -14,7 +14,7 @@ import inspect
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -22,7 +22,9 @@ from numpy.typing import ArrayLike
 from .errors import GridfieldError, ParameterError
 from .grid import GridMap
 from .path import Path
-from .world import World
+
+if TYPE_CHECKING:  # shapely (via world) is imported only when a plan is made: `gridfield --help` stays light
+    from .world import World
 
 __all__ = ["PARAMETERS", "PLANNERS", "check_params", "get_planner", "plan"]
 
@@ -142,6 +144,8 @@ def plan(
     ...
     gridfield.errors.ParameterError: unknown planner 'nonsense'; expected one of ...
     """
+    from .world import World
+
     fn, kind = get_planner(planner)
     merged = dict(target.params) if isinstance(target, World) else (
         dict(target.world.params) if isinstance(target.world, World) else {})

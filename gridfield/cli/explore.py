@@ -9,8 +9,6 @@ from ._common import add_map_arguments, add_param_arguments, collect_params, loa
 
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
-    from ..explore import EXPLORER_PLANNERS
-
     p = sub.add_parser(
         "explore", help="open the interactive explorer on a map",
         description="Open an interactive window: left clicks set the start and then the goal; the "
@@ -20,8 +18,9 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     add_map_arguments(p)
     p.add_argument("--start", nargs=2, type=float, metavar=("X", "Y"), help="start point (default: the world's)")
     p.add_argument("--goal", nargs=2, type=float, metavar=("X", "Y"), help="goal point (default: the world's)")
-    p.add_argument("--planner", default="potential", choices=list(EXPLORER_PLANNERS),
-                   help="planner shown first (default: potential)")
+    # checked in run(): importing gridfield.explore here would load shapely for every `gridfield --help`
+    p.add_argument("--planner", default="potential",
+                   help="planner shown first: potential (default), exact-potential or wavefront-octile")
     p.add_argument("--save", metavar="F",
                    help="do not open a window: save a snapshot of the explorer (PNG) and exit (works headless)")
     add_param_arguments(p)
@@ -38,8 +37,11 @@ def _interactive_backend() -> bool:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..errors import GridfieldError
-    from ..explore import Explorer
+    from ..errors import GridfieldError, ParameterError
+    from ..explore import EXPLORER_PLANNERS, Explorer
+
+    if args.planner not in EXPLORER_PLANNERS:
+        raise ParameterError(f"--planner must be one of {', '.join(EXPLORER_PLANNERS)}, got {args.planner!r}")
 
     target = load_target(args)
     if args.save is None and not _interactive_backend():

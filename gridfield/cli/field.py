@@ -104,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
     if resolved["model"] == "khatib":  # the vortex model works on its own lattice
         gridmap.check_point("goal", goal)
         t0 = time.perf_counter()
-        dmap = field_distance_map(gridmap, resolved)
+        dmap = field_distance_map(gridmap, resolved, labels=True)  # --npz and figures show labels, GVD
         ms_brushfire = (time.perf_counter() - t0) * 1e3
     t0 = time.perf_counter()
     field = build_field(gridmap, goal, params, dmap=dmap)
@@ -136,7 +136,8 @@ def _report(args: argparse.Namespace, field: Any, model: str, ms: float, ms_brus
         arrays: dict[str, Any] = {"occupied": field.map.occupied, "potential": field.potential,
                                   "grad_x": field.grad_x, "grad_y": field.grad_y}
         if d is not None:
-            arrays.update({"steps": d.steps, "distance": d.distance, "label": d.label, "gvd": d.gvd})
+            arrays.update({k: getattr(d, k) for k in ("steps", "distance", "label", "gvd")
+                           if getattr(d, k) is not None})
         write_npz(args.npz, arrays, grid)
         print(f"wrote {args.npz}")
     if args.plot or args.surface or args.basins:

@@ -24,7 +24,7 @@ from gridfield.errors import GridfieldError, ParameterError
 from gridfield.grid import Grid, GridMap
 
 REPO = Path(__file__).resolve().parent.parent
-SHARED_MAPS = Path("/work/shared/maps")
+SHARED_MAPS = Path(__file__).resolve().parents[2] / "shared" / "maps"  # shared/ beside the repository
 EIGHT = [(dr, dc) for dr in (-1, 0, 1) for dc in (-1, 0, 1) if (dr, dc) != (0, 0)]
 FOUR = [(-1, 0), (1, 0), (0, -1), (0, 1)]
 COMBOS = [(8, "chessboard"), (4, "taxicab"), (8, "euclidean"), (4, "euclidean"), (8, "taxicab"), (4, "chessboard")]

@@ -32,7 +32,7 @@ from gridfield.io import (
 )
 from gridfield.world import World
 
-MAPS = Path("/work/shared/maps")
+MAPS = Path(__file__).resolve().parents[2] / "shared" / "maps"  # shared/ beside the repository
 FIXTURES = MAPS / "ros_map_fixtures"
 NAV2_TESTMAP = FIXTURES / "nav2_testmap"
 ROS1_TEST = FIXTURES / "ros1_map_server_test"

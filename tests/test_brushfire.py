@@ -255,8 +255,7 @@ def _real_maps() -> list:
         "movingai/mapf_maze-32-32-2/maze-32-32-2.map", "ros_maps/nav2_smoothers_world/smoothers_world.pgm",
         "ros_maps/mdr_wrs20-arena/map.pgm")]
     return [pytest.param(p, id=p.name) for p in bundled] + [
-        pytest.param(p, id=p.name, marks=pytest.mark.skipif(not p.exists(), reason=f"{p} not present"))
-        for p in shared]
+        pytest.param(p, id=p.name) for p in shared]  # missing test data fails the test
 
 
 @pytest.mark.parametrize("path", _real_maps())

@@ -82,7 +82,6 @@ def test_info_bitmap_resolution_and_npz(capsys, tmp_path):
 
 
 def test_info_world(capsys):
-    pytest.importorskip("gridfield.rasterize")
     path = bundled_map("seed000.yaml")
     info = run_json(capsys, path, "--resolution", "0.5")
     assert info["format"] == "world" and info["obstacles"] == 3  # three polygons in seed 000

@@ -200,7 +200,7 @@ def test_plot_potential_linear_scale_and_path(corridor):
 
 
 def test_plot_potential_of_a_real_field(seed000):
-    potential = pytest.importorskip("gridfield.potential")
+    import gridfield.potential as potential
     from gridfield.rasterize import as_gridmap
 
     gm = as_gridmap(seed000, 0.25)
@@ -268,8 +268,8 @@ def test_plot_basins_colours_and_legend():
 
 
 def test_plot_basins_of_a_real_field(seed000):
-    follow = pytest.importorskip("gridfield.follow")
-    potential = pytest.importorskip("gridfield.potential")
+    import gridfield.follow as follow
+    import gridfield.potential as potential
     from gridfield.rasterize import as_gridmap
 
     w = read_world(bundled_map("seed000_segment.yaml"))
@@ -354,8 +354,6 @@ def test_save_plan_animation_gif_over_the_map(tmp_path, corridor):
 
 
 def test_save_plan_animation_over_a_rebuilt_potential(tmp_path, seed000):
-    pytest.importorskip("gridfield.potential")
-    pytest.importorskip("gridfield.follow")
     from gridfield.planners import plan
 
     path = plan("potential", seed000, seed000.start, seed000.goal, resolution=0.25)
@@ -398,7 +396,6 @@ def test_animate_brushfire(tmp_path, corridor):
 
 
 def test_cli_plan_plot_and_animate(tmp_path, capsys):
-    pytest.importorskip("gridfield.follow")
     from gridfield.cli import main
 
     fig, gif = tmp_path / "plan.png", tmp_path / "plan.gif"

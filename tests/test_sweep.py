@@ -100,7 +100,7 @@ def test_interrupted_sweep_resumes_only_the_missing_runs(tmp_path: Path, monkeyp
 
 
 def test_local_pool_and_dask_localcluster_give_the_same_rows(tmp_path: Path) -> None:
-    distributed = pytest.importorskip("distributed")
+    import distributed
     runs, _ = load_spec(_spec(tmp_path, SPEC))
     runs = runs[:8]
     local = run_sweep(runs, tmp_path / "local.csv", workers=2, progress=False)

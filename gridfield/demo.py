@@ -342,7 +342,7 @@ def _part_arena(run: _Run) -> None:
     start, goal = scen.start_xy[i].tolist(), scen.goal_xy[i].tolist()
     _grid_map_part(run, "arena", gm, start, goal, ARENA_PARAMS,
                    f"Moving AI 'arena' (49x49), scenario {i}: optimal octile length {scen.optimal[i]:g}",
-                   note=f"scenario {i}, optimal {scen.optimal[i]:g}")
+                   note=f"scenario {i}, optimal {scen.optimal[i]:g}; goal 1 cell from a wall, inside q_star")
 
 
 def _warm_up(run: _Run) -> None:

@@ -28,6 +28,7 @@ loads them in about half a second; compiling them (empty cache) takes several se
 
 from __future__ import annotations
 
+import itertools
 import os
 import threading
 from collections.abc import Callable, Sequence
@@ -35,6 +36,7 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from functools import partial
 from types import ModuleType
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -245,7 +247,9 @@ class _Strips:
         return [partial(self._label, i) for i in range(len(self.firsts))]
 
     def merge(self) -> NDArray[np.int32]:
-        comp_map, _ = self.k.merge_strips(self.occ8, self.comp, self.parent, self.firsts, self.bases, self.lasts)
+        """The final label of each provisional one, and :data:`BORDER_LABEL` as the last element."""
+        comp_map, _ = self.k.merge_strips(self.occ8, self.comp, self.parent, self.firsts, self.bases, self.lasts,
+                                          BORDER_LABEL)
         return comp_map
 
 
@@ -272,6 +276,8 @@ class _Chamfer:
         if nearest is None and nthreads <= 1:  # the values do not depend on the layout
             n = 1
         self.bounds = [i * rows // n for i in range(n + 1)]
+        self.window_rows = min(rows, max(b - a for a, b in itertools.pairwise(self.bounds)) + 2 * MARGIN)
+        self.buffers: dict[int, dict[str, NDArray[Any]]] = {}
         self.failed = False
 
     def tasks(self) -> list[Callable[[], object]]:
@@ -297,13 +303,13 @@ class _Chamfer:
         a, b = self.bounds[i], self.bounds[i + 1]
         lo, hi = max(0, a - MARGIN), min(rows, b + MARGIN)
         window = self.occ8[lo:hi]
-        ws = np.empty(window.shape, np.int32)
+        ws = self._scratch("ws", window.shape, np.int32)
         top, bottom = self.wall and lo == 0, self.wall and hi == rows
         if self.nearest is None:
             wi, nr, nc = _NO_COMP, _NO_COMP, _NO_COMP
             k.chamfer_steps(window, top, bottom, self.wall, self.conn8, ws, _NO_DIST, self.res, False)
         else:
-            (nr, nc), wi = self.nearest, np.empty(window.shape, self.idx_dtype)
+            (nr, nc), wi = self.nearest, self._scratch("wi", window.shape, self.idx_dtype)
             k.chamfer_nearest(window, top, bottom, self.wall, lo, self.conn8, ws, wi, _NO_DIST, self.res, False)
         ok = k.finish_window(a, b, lo, MARGIN, lo > 0 or hi < rows, ws, wi, self.nearest is not None,
                              self.steps, nr, nc, self.distance if self.write_distance else _NO_DIST, self.res,
@@ -311,8 +317,17 @@ class _Chamfer:
         if not ok:
             self.failed = True
 
+    def _scratch(self, name: str, shape: tuple[int, ...], dtype: type) -> NDArray[Any]:
+        """A window buffer of this thread, reused by its next strip (no new pages to fault in)."""
+        mine = self.buffers.setdefault(threading.get_ident(), {})
+        buf = mine.get(name)
+        if buf is None or buf.shape[0] < shape[0] or buf.dtype != dtype:
+            buf = mine[name] = np.empty((max(shape[0], self.window_rows), shape[1]), dtype)
+        return buf[: shape[0]]
+
     def finish(self) -> None:
-        """Redo the whole grid in one pass if a strip could not be verified."""
+        """Drop the window buffers; redo the whole grid in one pass if a strip could not be verified."""
+        self.buffers.clear()
         if self.failed:
             self._whole()
 
@@ -511,7 +526,7 @@ def brushfire(
         chamfer.finish()
     del chamfers
     if strips is not None:
-        comp_map, use_map = np.append(strips.merge(), np.int32(BORDER_LABEL)), True
+        comp_map, use_map = strips.merge(), True
         flat[-1] = len(comp_map) - 1
         del strips
 

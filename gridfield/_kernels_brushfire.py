@@ -748,11 +748,11 @@ def label_strip(r0, r1, occ, comp, parent, base):  # pragma: no cover - compiled
 
 
 @njit(**_OPTS)
-def merge_strips(occ, comp, parent, firsts, bases, lasts, extra):  # pragma: no cover - compiled
+def merge_strips(occ, comp, parent, firsts, bases, lasts, comp_map):  # pragma: no cover - compiled
     """Join the strips (first rows ``firsts``, label ranges ``bases[k] + 1 .. lasts[k]``) across their
     boundaries and number the components 1.. in raster order of their first cell (the numbering of
-    ``scipy.ndimage.label``): returns ``(comp_map, count)``, the final label of each provisional one,
-    followed by one more element holding ``extra``."""
+    ``scipy.ndimage.label``): ``comp_map[i]`` becomes the final label of provisional label ``i`` (only
+    the labels in use are written; ``comp_map[0] = 0``). Returns the number of components."""
     cols = occ.shape[1]
     for k in range(1, len(firsts)):
         b = firsts[k]
@@ -762,8 +762,7 @@ def merge_strips(occ, comp, parent, firsts, bases, lasts, extra):  # pragma: no 
             for cc in range(max(0, c - 1), min(cols, c + 2)):
                 if occ[b - 1, cc]:
                     _union(parent, comp[b, c], comp[b - 1, cc])
-    comp_map = np.zeros(lasts[-1] + 2, np.int32)
-    comp_map[-1] = extra
+    comp_map[0] = 0
     count = 0
     for k in range(len(firsts)):  # labels grow with the strips: every root comes before its members
         for i in range(bases[k] + 1, lasts[k] + 1):
@@ -773,7 +772,7 @@ def merge_strips(occ, comp, parent, firsts, bases, lasts, extra):  # pragma: no 
                 comp_map[i] = count
             else:
                 comp_map[i] = comp_map[_find(parent, p)]
-    return comp_map, count
+    return count
 
 
 @njit(**_OPTS)
@@ -799,7 +798,8 @@ def label_components(occ, comp, strips=1):
         bases[k] = bases[k - 1] + strip_cap(ends[k - 1] - firsts[k - 1], cols)
     parent = np.zeros(int(bases[-1]) + strip_cap(ends[-1] - firsts[-1], cols) + 1, np.int32)
     lasts = np.array([label_strip(firsts[k], ends[k], occ, comp, parent, bases[k]) for k in range(strips)], np.int64)
-    comp_map, count = merge_strips(occ, comp, parent, firsts, bases, lasts, 0)
+    comp_map = np.zeros(len(parent), np.int32)
+    count = merge_strips(occ, comp, parent, firsts, bases, lasts, comp_map)
     relabel_rows(0, rows, comp, comp_map)
     return count
 

@@ -247,9 +247,11 @@ class _Strips:
         return [partial(self._label, i) for i in range(len(self.firsts))]
 
     def merge(self) -> NDArray[np.int32]:
-        """The final label of each provisional one, and :data:`BORDER_LABEL` as the last element."""
-        comp_map, _ = self.k.merge_strips(self.occ8, self.comp, self.parent, self.firsts, self.bases, self.lasts,
-                                          BORDER_LABEL)
+        """The final label of each provisional one (unused ones undefined), and :data:`BORDER_LABEL` as
+        the last element."""
+        comp_map = np.empty(len(self.parent) + 1, np.int32)  # untouched pages are never faulted in
+        self.k.merge_strips(self.occ8, self.comp, self.parent, self.firsts, self.bases, self.lasts, comp_map)
+        comp_map[-1] = BORDER_LABEL
         return comp_map
 
 

@@ -115,7 +115,8 @@ def _status() -> dict[str, int] | None:
     return values
 
 
-def _reset_peak() -> bool:
+def reset_peak_rss() -> bool:
+    """Reset this process's VmHWM to its current RSS (``/proc/self/clear_refs``); False where unsupported."""
     try:
         with open("/proc/self/clear_refs", "w") as f:
             f.write("5")
@@ -150,7 +151,7 @@ def peak_memory(fn: Callable[[], Any]) -> tuple[int, int]:
     import tracemalloc
 
     gc.collect()
-    before = _status() if _reset_peak() else None
+    before = _status() if reset_peak_rss() else None
     tracemalloc.start()
     try:
         result = fn()

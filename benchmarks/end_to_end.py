@@ -46,6 +46,9 @@ from typing import Any
 
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from _common import reset_peak_rss
+
 #: World side in metres; the grid has ``n`` cells per side at resolution ``WORLD / n``.
 WORLD = 100.0
 START = (5.0, 5.0)
@@ -162,16 +165,6 @@ def _peak_rss_bytes() -> int:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux: KiB
 
 
-def _reset_peak_rss() -> bool:
-    """Reset this process's VmHWM to its current RSS (``/proc/self/clear_refs``); False where unsupported."""
-    try:
-        with open("/proc/self/clear_refs", "w") as f:
-            f.write("5")
-    except OSError:
-        return False
-    return True
-
-
 def round_robin(candidates: dict[str, Callable[[], Any]], repeat: int) -> dict[str, Timing]:
     """Time each candidate ``repeat`` times, interleaved (one run of each per round), so that a burst
     of load from other jobs hits all alike. Candidates are assumed warmed up already."""
@@ -220,7 +213,7 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
 
     # the lean plan's own peak: reset VmHWM (Linux >= 4.0) and run it once
     rss_lean = None
-    if _reset_peak_rss():
+    if reset_peak_rss():
         base = _peak_rss_bytes()
         lean_plan()
         rss_lean = _peak_rss_bytes() - base

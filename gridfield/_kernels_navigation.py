@@ -310,6 +310,36 @@ def descend(value, free, cost, start_r, start_c, connectivity, diag, mode, scale
 
 
 @njit(**_OPTS)
+def chain_points(cells, sx, sy, gx, gy, reached, x0, y0, res, diag):
+    """World points of a descent: the start ``(sx, sy)``, the centres of ``cells``, and the goal
+    ``(gx, gy)`` when ``reached``, with a point equal to the one before it dropped. Also returns the
+    chain's length between cell centres (orthogonal step ``res``, diagonal ``diag * res``)."""
+    m = cells.shape[0]
+    pts = np.empty((m + 2, 2))
+    pts[0, 0] = sx
+    pts[0, 1] = sy
+    n = 1
+    length = 0.0
+    for k in range(m):
+        x = x0 + (cells[k, 1] + 0.5) * res
+        y = y0 + (cells[k, 0] + 0.5) * res
+        if k > 0:
+            if cells[k, 0] != cells[k - 1, 0] and cells[k, 1] != cells[k - 1, 1]:
+                length += diag * res
+            else:
+                length += res
+        if x != pts[n - 1, 0] or y != pts[n - 1, 1]:
+            pts[n, 0] = x
+            pts[n, 1] = y
+            n += 1
+    if reached and (gx != pts[n - 1, 0] or gy != pts[n - 1, 1]):
+        pts[n, 0] = gx
+        pts[n, 1] = gy
+        n += 1
+    return pts[:n].copy(), length
+
+
+@njit(**_OPTS)
 def _bilinear(a, valid, x, y):
     """Bilinear interpolation at ``(x, y)`` (cell units, centres at half-integers) over valid samples
     only (weights renormalized); NaN when no corner is valid."""

@@ -70,6 +70,17 @@ def _cell_index(coord: NDArray[np.float64], origin: float, res: float) -> NDArra
     return i
 
 
+def _scalar_index(v: float, origin: float, res: float) -> int:
+    """:func:`_cell_index` for one finite Python float (the same boundary rule, the same IEEE double
+    arithmetic), without numpy's per-call overhead: single-point queries are dominated by it."""
+    i = math.floor((v - origin) / res)
+    if v >= origin + (i + 1) * res:
+        i += 1
+    if v < origin + i * res:
+        i -= 1
+    return i
+
+
 @dataclass(frozen=True)
 class Grid:
     """Geometry of a 2-D grid: shape, cell size, world position of the lower-left corner, border.
@@ -185,6 +196,26 @@ class Grid:
         inside = finite & (row >= 0) & (row < self.rows) & (col >= 0) & (col < self.cols)
         return np.stack([row, col], axis=1), inside
 
+    def cell_of(self, x: float, y: float) -> tuple[int, int] | None:
+        """The cell ``(row, col)`` holding one world point, or ``None`` when it lies outside the grid
+        or is not finite. The same rule as :meth:`world_to_cell`, for a single point at a fraction of
+        its cost.
+
+        Examples
+        --------
+        >>> g = Grid((2, 3), 0.5, origin=(1.0, 2.0))
+        >>> g.cell_of(1.3, 2.9), g.cell_of(9.0, 9.0), g.cell_of(1.0, float("nan"))
+        ((1, 0), None, None)
+        """
+        x, y = float(x), float(y)
+        if not (math.isfinite(x) and math.isfinite(y)):
+            return None
+        r = _scalar_index(y, self.origin[1], self.resolution)
+        c = _scalar_index(x, self.origin[0], self.resolution)
+        if 0 <= r < self.shape[0] and 0 <= c < self.shape[1]:
+            return r, c
+        return None
+
     def cell_to_world(self, cells: ArrayLike) -> NDArray[np.float64]:
         """World coordinates ``(x, y)`` of the centres of cells given as ``(row, col)``."""
         c = np.asarray(cells)
@@ -276,6 +307,14 @@ class GridMap:
 
         Raises :class:`GridfieldError` naming the point and what is wrong.
         """
+        try:  # fast path: a finite point in a free cell (single queries on small maps are dominated by this)
+            p = np.asarray(point, dtype=np.float64).reshape(-1)
+            if p.shape == (2,):
+                cell = self.grid.cell_of(p[0], p[1])
+                if cell is not None and not self.occupied[cell]:
+                    return p
+        except (TypeError, ValueError):
+            pass
         p = np.asarray(point, dtype=np.float64).reshape(-1)
         if p.shape != (2,):
             raise ParameterError(f"{name} must be two numbers X Y, got {point!r}")

@@ -67,6 +67,7 @@ COSTS = ("unit", "octile")
 SQRT2 = math.sqrt(2.0)
 
 
+@functools.cache
 def _kernels() -> Any:
     from . import _kernels_navigation
 
@@ -230,27 +231,14 @@ def upwind_gradient(value: NDArray[np.float64], resolution: float) -> tuple[NDAr
 # ----------------------------------------------------------------------------------------------
 # Helpers
 # ----------------------------------------------------------------------------------------------
-def _scalar_index(v: float, origin: float, res: float) -> int:
-    """:meth:`Grid.world_to_cell` for one finite coordinate (same boundary rule), without numpy overhead."""
-    i = math.floor((v - origin) / res)
-    if v >= origin + (i + 1) * res:
-        i += 1
-    if v < origin + i * res:
-        i -= 1
-    return i
-
-
 def _goal_cell(gridmap: GridMap, goal: ArrayLike) -> tuple[NDArray[np.float64], tuple[int, int]]:
     """The goal as ``(2,)`` and its cell; :meth:`GridMap.check_point`'s errors when it is not free."""
     try:
         g = np.asarray(goal, dtype=np.float64).reshape(2)
         x, y = float(g[0]), float(g[1])
-        if math.isfinite(x) and math.isfinite(y):  # fast path (tiny maps are dominated by this check)
-            grid = gridmap.grid
-            r = _scalar_index(y, grid.origin[1], grid.resolution)
-            c = _scalar_index(x, grid.origin[0], grid.resolution)
-            if 0 <= r < grid.rows and 0 <= c < grid.cols and not gridmap.occupied[r, c]:
-                return g, (r, c)
+        cell = gridmap.grid.cell_of(x, y)  # fast path (tiny maps are dominated by this check)
+        if cell is not None and not gridmap.occupied[cell]:
+            return g, cell
     except (TypeError, ValueError):
         pass
     g = gridmap.check_point("goal", goal)  # raises, naming what is wrong
@@ -470,8 +458,7 @@ def extract_path(
     grid = gm.grid
     res = grid.resolution
     s = gm.check_point("start", start)
-    (sr, sc), = grid.world_to_cell(s)[0]
-    sr, sc = int(sr), int(sc)
+    sr, sc = grid.cell_of(s[0], s[1])  # type: ignore[misc]  # check_point: inside the grid
     name = planner or nav.kind
     if method == "auto":
         method = "gradient" if nav.kind == "fmm" else "descent"
@@ -493,11 +480,10 @@ def extract_path(
         diag = SQRT2 if nav.params.get("costs", "octile") == "octile" or nav.kind != "wavefront" else 1.0
         mode = 0 if nav.kind == "wavefront" else 1
         cells, reached = k.descend(nav.value, free, cost_arr, sr, sc, conn, diag, mode, res)
-        centres = grid.cell_to_world(cells)
-        steps = np.abs(np.diff(cells, axis=0))
-        grid_length = float(np.where(steps.sum(axis=1) == 2, SQRT2, 1.0).sum() * res) if len(cells) > 1 else 0.0
+        x0, y0 = grid.origin
+        points, grid_length = k.chain_points(cells, s[0], s[1], nav.goal[0], nav.goal[1], reached,
+                                             x0, y0, res, SQRT2)
         status = "reached" if reached else "local_minimum"
-        pts = [s[None, :], centres] + ([nav.goal[None, :]] if reached else [])
         iterations = len(cells) - 1
         extra: dict[str, Any] = {"value": v0, "grid_length": grid_length, "cells": cells}
     else:
@@ -520,23 +506,29 @@ def extract_path(
         extra = {"value": v0, "grid_length": float(np.hypot(*np.diff(centres, axis=0).T).sum()) if len(centres) > 1
                  else 0.0}
         iterations = int(iterations)
-    points = np.concatenate(pts)
-    keep = np.ones(len(points), bool)
-    keep[1:] = np.any(np.diff(points, axis=0) != 0, axis=1)
-    points = points[keep]
+        points = np.concatenate(pts)
+        keep = np.ones(len(points), bool)
+        keep[1:] = np.any(np.diff(points, axis=0) != 0, axis=1)
+        points = points[keep]
     seconds = time.perf_counter() - t0
-    return Path(points, status, name, iterations, params, seconds, _min_clearance(nav, points), extra)
+    # a descent's points lie in its cell chain (start and goal in its first and last cells)
+    clearance = _min_clearance(nav, points, extra["cells"] if method == "descent" else None)
+    return Path(points, status, name, iterations, params, seconds, clearance, extra)
 
 
-def _min_clearance(nav: NavigationField, points: NDArray[np.float64]) -> float:
+def _min_clearance(nav: NavigationField, points: NDArray[np.float64],
+                   cells: NDArray[np.intp] | None = None) -> float:
     """Smallest Euclidean brushfire distance (cell centre to nearest obstacle cell centre) over the cells
     the path's points lie in; ``inf`` on a map without obstacles. A ring search around the path cells
     (cheap: a path seldom runs far from every obstacle), or the brushfire of :attr:`NavigationField.clearance`
-    when that search would examine more than 8 cells per grid cell."""
-    cells, inside = nav.grid.world_to_cell(points)
-    if not inside.any():
-        return math.nan
-    r, c = np.ascontiguousarray(cells[inside].T)
+    when that search would examine more than 8 cells per grid cell. ``cells``: the cells the points lie
+    in, when the caller knows them (a descent's cell chain)."""
+    if cells is None:
+        cells, inside = nav.grid.world_to_cell(points)
+        if not inside.any():
+            return math.nan
+        cells = cells[inside]
+    r, c = np.ascontiguousarray(np.asarray(cells, dtype=np.int64).T)
     if "clearance" not in nav.__dict__:  # not computed yet
         # ~1-2 ns per examined cell: a budget of 8 cells per grid cell stays below a distance transform
         budget = 8 * nav.map.occupied.size + 100_000

@@ -9,11 +9,11 @@ names it knows and ignores the others). Planners are imported only when used.
 
 from __future__ import annotations
 
+import functools
 import importlib
 import inspect
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -162,7 +162,7 @@ def plan(
                 cache[key] = as_gridmap(target, resolution)
             gm = cache[key]
         s, g = gm.check_point("start", start), gm.check_point("goal", goal)
-        if cache is not None and "cache" in inspect.signature(fn).parameters:
+        if cache is not None and _takes_cache(fn):
             return _with_endpoints(fn(gm, s, g, merged, cache=cache), s, g)
         return _with_endpoints(fn(gm, s, g, merged), s, g)
     world = target if isinstance(target, World) else target.world
@@ -174,9 +174,15 @@ def plan(
     return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged), s, g)
 
 
+@functools.cache
+def _takes_cache(fn: Callable[..., Path]) -> bool:
+    return "cache" in inspect.signature(fn).parameters
+
+
 def _with_endpoints(path: Path, start: np.ndarray, goal: np.ndarray) -> Path:
     """Record the query in ``path.extra`` (``start``, ``goal``) so figures need not guess the goal."""
     extra = dict(path.extra)
     extra.setdefault("start", (float(start[0]), float(start[1])))
     extra.setdefault("goal", (float(goal[0]), float(goal[1])))
-    return replace(path, extra=extra)
+    object.__setattr__(path, "extra", extra)  # the planner's own new Path: no copy (dataclasses.replace re-validates)
+    return path

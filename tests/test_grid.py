@@ -78,10 +78,22 @@ def test_conversion_agrees_with_brute_force_loop(g: Grid, data) -> None:
         else:
             assert inside[k]
             assert tuple(cells[k]) == found
+        assert g.cell_of(x, y) == found  # the single-point path follows the same rule
     centres = g.cell_to_world(np.array([[r, c] for r in range(g.rows) for c in range(g.cols)]))
     xs_c, ys_c = g.cell_centers()
     expected = np.array([[xs_c[c], ys_c[r]] for r in range(g.rows) for c in range(g.cols)])
     np.testing.assert_allclose(centres, expected, rtol=0, atol=1e-9 * max(1.0, *map(abs, g.bounds)))
+
+
+@given(grids(), st.lists(st.tuples(finite, finite), min_size=1, max_size=30))
+def test_single_point_cell_of_agrees_with_world_to_cell(g: Grid, pts: list) -> None:
+    # near the grid too: points at a few cells' distance from random interior positions
+    p = np.array(pts)
+    p = np.concatenate([p, np.array(g.origin) + np.mod(p, 1.0) * np.array([g.cols, g.rows]) * g.resolution])
+    cells, inside = g.world_to_cell(p)
+    for (x, y), cell, ins in zip(p, cells, inside, strict=True):
+        assert g.cell_of(x, y) == (tuple(int(v) for v in cell) if ins else None)
+    assert g.cell_of(math.nan, 0.0) is None and g.cell_of(0.0, math.inf) is None
 
 
 def test_boundary_points_belong_to_the_upper_cell() -> None:

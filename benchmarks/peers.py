@@ -27,14 +27,16 @@ same process; ``ratio`` is peer time / gridfield time (medians; > 1: gridfield i
     planner: each control step it finds a look-ahead point on a given path, computes an
     attractive force towards it and a repulsive force from its ESDF (3 x 3 window,
     ``numpy.gradient``), and turns the sum into an acceleration. There is no APF planner to time
-    against ``plan``, so it is compared per step, three ways: (1) its attractive + repulsive force
-    at a point (its two force methods) against one step of gridfield's follower (``follow``'s time
-    per iteration: force, step rule, exact cell-walk collision check, stop rules), as the benchmark
-    issue proposes; (2) the same force against gridfield's force at a point (``grid_sampler``,
-    bilinear interpolation of the precomputed gradient arrays), like for like; (3) a whole APF
-    control step (``get_action``: force + look-ahead + velocity/acceleration) against one follower
-    step. pmp is timed at every free cell centre of the README-like map without the inflation (the
-    controller avoids obstacles itself), with a CircularRobot of radius 0.5, its default gains and
+    against ``plan``, so it is compared per step and per force: (1) a whole APF control step
+    (``get_action``: force + look-ahead + velocity/acceleration) against one step of gridfield's
+    follower (``follow``'s time per iteration: force, step rule, exact cell-walk collision check,
+    stop rules); (2) its attractive + repulsive force (its two force methods, which take one point
+    per call) at every free cell centre against gridfield's force at the same points
+    (``sample_force``: bilinear interpolation of the precomputed gradient arrays, all points in one
+    call), per point; (3) for context, not a target, the same force against gridfield's one-point
+    sampler (``grid_sampler``) called once per point, where Python's call overhead (measured beside
+    it: a compiled function that returns its arguments) is most of gridfield's time. pmp is timed
+    at every free cell centre of the README-like map without the inflation (the controller avoids obstacles itself), with a CircularRobot of radius 0.5, its default gains and
     a repulsive range of 3 (pmp's default, 2 x the radius = 1, never acts on 1 m cells: every free
     cell centre is at least 1 from an obstacle centre); its ESDF is built once beforehand, as
     gridfield's field is. gridfield uses the same gains and range, ``d_star = 1`` (the APF pulls
@@ -283,12 +285,13 @@ def bench_pmp_apf(ctx: _Context, astar_path: Any) -> None:
     """pmp APF's force and control step vs gridfield's force sample and follower step."""
     where = "pmp README-like 51x31, no inflation"
     rows = [
-        Row("python-motion-planning APF: attractive + repulsive force at a point", "force per step", where,
-            "one follower step (follow(): seconds / iterations)", unit="us"),
-        Row("python-motion-planning APF: attractive + repulsive force at a point", "force at a point", where,
-            "force at a point (grid_sampler(field)(p), bilinear)", unit="us"),
         Row("python-motion-planning APF: get_action (one control step)", "one step", where,
             "one follower step (follow(): seconds / iterations)", unit="us"),
+        Row("python-motion-planning APF: attractive + repulsive force at each free cell centre", "force at points",
+            where, "force at the same points (sample_force(field, points), bilinear), per point", unit="us"),
+        Row("python-motion-planning APF: attractive + repulsive force at a point (context: one Python call per "
+            "point on both sides)", "force at a point", where,
+            "force at a point (grid_sampler(field)(p), bilinear)", unit="us", context=True),
     ]
     try:
         from gymnasium import spaces
@@ -310,7 +313,7 @@ def bench_pmp_apf(ctx: _Context, astar_path: Any) -> None:
             r.status, r.note = "missing", _missing(e)
         ctx.rows += rows
         return
-    from gridfield.follow import follow, grid_sampler
+    from gridfield.follow import follow, grid_sampler, sample_force
     from gridfield.potential import build_field
 
     occ = _pmp_occupancy(grid)
@@ -348,10 +351,25 @@ def bench_pmp_apf(ctx: _Context, astar_path: Any) -> None:
         for p in tuples:
             force(p)
 
+    def gf_forces_batch() -> None:
+        sample_force(fld, pts)
+
+    # the floor of any per-point call: a compiled function that returns its two float arguments
+    import numba
+
+    echo = numba.njit(lambda x, y: (x, y))
+    echo(0.5, 0.5)
+
+    def call_floor() -> None:
+        for p in tuples:
+            echo(p[0], p[1])
+
     reps = max(ctx.repeat, 3)
     t_force = _per_point(timed(pmp_forces, reps)[0], n)
     t_step = _per_point(timed(pmp_steps, reps)[0], n)
     t_gf_force = _per_point(timed(gf_forces, reps * 3)[0], n)
+    t_gf_batch = _per_point(timed(gf_forces_batch, reps * 20)[0], n)
+    t_floor = _per_point(timed(call_floor, reps * 3)[0], n)
 
     # gridfield's follower: time per step from Path.seconds / iterations (the follower's own clock)
     start = (PMP_START[0] + 0.5, PMP_START[1] + 0.5)
@@ -369,12 +387,17 @@ def bench_pmp_apf(ctx: _Context, astar_path: Any) -> None:
     p = last[0]
     at = f"at all {n} free cell centres, {active:.0%} of them within the repulsive range {APF_RANGE:g}"
     follower = f"follower from (5.5, 5.5), step 0.25: {p.status} after {p.iterations} steps"
-    rows[0].peer_time, rows[0].gf_time = t_force, t_gf_step
-    rows[0].note = f"pmp {at}; gridfield {follower} (a step also moves, checks collisions and stop rules)"
-    rows[1].peer_time, rows[1].gf_time = t_force, t_gf_force
-    rows[1].note = f"both {at}"
-    rows[2].peer_time, rows[2].gf_time = t_step, t_gf_step
-    rows[2].note = f"pmp {at} (look-ahead on the A* path, velocity and acceleration); gridfield {follower}"
+    if p.status == "collision":
+        follower += " (with the APF's gains the repulsion one cell from a wall is weaker than the attraction)"
+    rows[0].peer_time, rows[0].gf_time = t_step, t_gf_step
+    rows[0].note = f"pmp {at} (look-ahead on the A* path, velocity and acceleration); gridfield {follower}"
+    rows[1].peer_time, rows[1].gf_time = t_force, t_gf_batch
+    rows[1].note = (f"both {at}; pmp's force methods take one point per call, gridfield's sample_force all "
+                    "of them in one call")
+    rows[2].peer_time, rows[2].gf_time = t_force, t_gf_force
+    rows[2].note = (f"both {at}; of gridfield's time per call, {t_floor.median:.2f} us is the floor of calling "
+                    "any compiled function with two floats from a Python loop (measured: a numba function returning "
+                    "its arguments)")
     ctx.rows += rows
 
 

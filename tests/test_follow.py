@@ -24,6 +24,7 @@ from gridfield.follow import (
     grid_sampler,
     plan_potential,
     resolve_follow_params,
+    sample_force,
 )
 from gridfield.grid import Grid, GridMap
 from gridfield.io import bundled_map, read_world
@@ -271,6 +272,38 @@ def test_bilinear_ignores_obstacle_cells():
     np.testing.assert_array_equal(vals[:, 0], -2.0)
     near = grid_sampler(f, sampling="nearest")
     assert near((2.5, 2.5)) == (-2.0, -0.0) and near((3.5, 2.5)) == (0.0, 0.0)
+
+
+def test_sample_force_reproduces_a_linear_field_at_many_points():
+    f = bowl_field()
+    g = f.grid
+    rng = np.random.default_rng(1)
+    pts = rng.uniform([g.resolution / 2, g.resolution / 2],
+                      [g.bounds[2] - g.resolution / 2, g.bounds[3] - g.resolution / 2], (500, 2))
+    np.testing.assert_allclose(sample_force(f, pts), -(pts - [10.0, 5.0]), rtol=0, atol=1e-12)
+    # one point as (2,), outside points clamped like grid_sampler, nearest sampling takes the cell's value
+    np.testing.assert_allclose(sample_force(f, (-3.0, 5.0)), [[10.0 - 0.125, 0.0]], atol=1e-12)
+    cells, _ = g.world_to_cell(pts)
+    np.testing.assert_array_equal(sample_force(f, pts, sampling="nearest"),
+                                  -np.stack([f.grad_x[cells[:, 0], cells[:, 1]],
+                                             f.grad_y[cells[:, 0], cells[:, 1]]], axis=1))
+    assert sample_force(f, np.empty((0, 2))).shape == (0, 2)
+
+
+def test_sample_force_zero_in_obstacles_and_clear_errors():
+    g = Grid((4, 4), 1.0)
+    occ = np.zeros(g.shape, bool)
+    occ[1, 1] = True
+    f = Field(GridMap(g, occ), np.where(occ, np.inf, 0.0), np.where(occ, 0.0, 3.0), np.zeros(g.shape),
+              (0.5, 0.5), {}, None)
+    np.testing.assert_array_equal(sample_force(f, [[1.5, 1.5], [0.5, 2.5]], sampling="nearest"),
+                                  [[0.0, 0.0], [-3.0, -0.0]])
+    with pytest.raises(ParameterError, match=r"point 1 is \[nan, 1.0\]"):
+        sample_force(f, [[0.5, 0.5], [math.nan, 1.0]])
+    with pytest.raises(ParameterError, match=r"shape \(N, 2\)"):
+        sample_force(f, [1.0, 2.0, 3.0])
+    with pytest.raises(ParameterError, match="sampling must be one of"):
+        sample_force(f, [0.5, 0.5], sampling="cubic")
 
 
 def _reference_blocked(gm: GridMap, p, q) -> bool:

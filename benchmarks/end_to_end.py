@@ -15,8 +15,12 @@ Each size runs in its own fresh Python process, so that numbers do not depend on
   first plan on the big map, ``--repeat`` rounds, each running once (interleaved, so that a burst
   of load from other jobs hits all alike): the plan; OpenCV's ``cv2.distanceTransform(DIST_C, 3)``
   alone on the same map (the reference of the 3x target); the brushfire alone as ``plan`` calls
-  it; the brushfire without labels and GVD; the lean plan (below). Medians / min / max;
-  ``ratio`` is plan / DIST_C.
+  it (``field_distance_map``: Euclidean distance and nearest obstacle, no wavefront steps, labels
+  or GVD, which no potential reads). Then, for context, the full brushfire (all of them), timed
+  after the rounds: its larger arrays would change the memory the others get back from the
+  allocator (on this VM, memory the process has not touched lately costs up to several times more
+  to write: the first plan on a big map takes 3-5x a later one). Medians / min / max; ``ratio``
+  is plan / DIST_C.
 - **peak memory**: the child process's peak resident set size, ``VmHWM`` from /proc/self/status
   (not ``ru_maxrss``: on Linux a child's ``ru_maxrss``, as read with ``RUSAGE_CHILDREN`` or
   ``os.wait4``, starts from its parent's peak at fork and survives exec, so it reports a big
@@ -25,9 +29,6 @@ Each size runs in its own fresh Python process, so that numbers do not depend on
   plan runs before any other measurement, so the peak is the plan's. With tracemalloc (default
   on) one more plan is traced after the timed ones: the peak of memory allocated *during*
   ``plan`` (numpy allocations are traced by tracemalloc; the map was allocated before tracing).
-- **lean plan**: brushfire without labels and GVD + ``build_field(dmap=...)`` + ``follow``, the
-  same result as ``plan`` (the potential reads only the distances and nearest obstacles), timed
-  to show what the labels and GVD that ``plan`` computes cost.
 """
 
 from __future__ import annotations
@@ -45,9 +46,6 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _common import reset_peak_rss
 
 #: World side in metres; the grid has ``n`` cells per side at resolution ``WORLD / n``.
 WORLD = 100.0
@@ -185,13 +183,12 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
     except ImportError:  # opencv-python-headless is in the [bench] extra only
         cv2 = None
     from gridfield.brushfire import brushfire
-    from gridfield.follow import follow
     from gridfield.planners import plan
-    from gridfield.potential import build_field
+    from gridfield.potential import field_distance_map
 
     small = synthetic_map(64)
     plan("potential", small, START, GOAL, plan_params(64))  # compile / load the numba kernels
-    brushfire(small, metric="euclidean", compute_labels=False)
+    brushfire(small, metric="euclidean")
     gm = synthetic_map(n)
     params = plan_params(n)
     rss_before = _peak_rss_bytes()
@@ -205,19 +202,6 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
             "follow_s": float(path.seconds), "build_s": float(path.extra.get("build_seconds", float("nan")))}
     del path
 
-    def lean_plan() -> Any:
-        """What plan would cost with a brushfire without labels and GVD (all the potential reads)."""
-        dmap = brushfire(gm, metric="euclidean", compute_labels=False)
-        fld = build_field(gm, GOAL, params, dmap=dmap)
-        return follow(fld, START, params=params)
-
-    # the lean plan's own peak: reset VmHWM (Linux >= 4.0) and run it once
-    rss_lean = None
-    if reset_peak_rss():
-        base = _peak_rss_bytes()
-        lean_plan()
-        rss_lean = _peak_rss_bytes() - base
-
     builds: list[float] = []
     follows: list[float] = []
 
@@ -228,16 +212,16 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
 
     candidates: dict[str, Callable[[], Any]] = {
         "plan": one_plan,
-        "lean_plan": lean_plan,
-        "brushfire": lambda: brushfire(gm, metric="euclidean"),
-        "brushfire_lean": lambda: brushfire(gm, metric="euclidean", compute_labels=False),
+        "brushfire": lambda: field_distance_map(gm, params),
     }
     if cv2 is not None:
         free8 = np.ascontiguousarray(~gm.occupied, dtype=np.uint8)
         cv2.distanceTransform(free8, cv2.DIST_C, 3)  # warm-up
         candidates["dist_c"] = lambda: cv2.distanceTransform(free8, cv2.DIST_C, 3)
     times = round_robin(candidates, repeat)
-    t_plan, t_lean, t_bf, t_bf_lean = (times[k] for k in ("plan", "lean_plan", "brushfire", "brushfire_lean"))
+    t_plan, t_bf = times["plan"], times["brushfire"]
+    # context, timed after the rounds: its larger arrays would change the memory the others reuse
+    t_bf_full = round_robin({"full": lambda: brushfire(gm, metric="euclidean")}, repeat)["full"]
     t_distc = times.get("dist_c")
 
     traced = None
@@ -252,10 +236,10 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
     return {
         "n": n, "occupied": float(gm.occupied.mean()), "first_plan_s": first,
         "plan": asdict(t_plan), "dist_c": asdict(t_distc) if t_distc else None, "brushfire": asdict(t_bf),
-        "brushfire_lean": asdict(t_bf_lean), "lean_plan": asdict(t_lean),
+        "brushfire_full": asdict(t_bf_full),
         "build_median_s": statistics.median(builds), "follow_median_s": statistics.median(follows),
         "rss_before_plan": rss_before, "rss_after_first_plan": rss_plan, "rss_peak_self": _peak_rss_bytes(),
-        "traced_peak": traced, "lean_plan_extra_rss": rss_lean, **info,
+        "traced_peak": traced, **info,
     }
 
 
@@ -301,36 +285,34 @@ def _mb(b: float | None) -> str:
 def table(results: Sequence[dict[str, Any]]) -> str:
     """Markdown tables of :func:`measure`'s results."""
     lines = [
-        "| size | plan ms median (min-max) | n | OpenCV DIST_C ms | plan / DIST_C | brushfire ms (as plan) "
-        "| brushfire ms (no labels/GVD) | build ms | follow ms | lean plan ms | lean plan / DIST_C | status, steps |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| size | plan ms median (min-max) | n | OpenCV DIST_C ms | plan / DIST_C | brushfire ms (as plan: distance "
+        "+ nearest) | brushfire ms (full: + steps, labels, GVD) | build ms (brushfire + potential) | follow ms "
+        "| status, steps |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in results:
         if "error" in r:
-            lines.append(f"| {r['n']}^2 | failed: {r['error']} | | | | | | | | | | |")
+            lines.append(f"| {r['n']}^2 | failed: {r['error']} | | | | | | | | |")
             continue
         p, d = r["plan"], r["dist_c"]
         dc = f"{d['median'] * 1e3:,.1f} | **{p['median'] / d['median']:.2f}**" if d else "not installed | -"
-        lean = r["lean_plan"]["median"]
-        lean_ratio = f"{lean / d['median']:.2f}" if d else "-"
         lines.append(
             f"| {r['n']}^2 | {p['median'] * 1e3:,.0f} ({p['min'] * 1e3:,.0f}-{p['max'] * 1e3:,.0f}) | {p['n']} "
             f"| {dc} | {r['brushfire']['median'] * 1e3:,.0f} "
-            f"| {r['brushfire_lean']['median'] * 1e3:,.0f} | {r['build_median_s'] * 1e3:,.0f} "
-            f"| {r['follow_median_s'] * 1e3:,.1f} | {lean * 1e3:,.0f} | {lean_ratio} | {r['status']}, {r['iterations']} |"
+            f"| {r['brushfire_full']['median'] * 1e3:,.0f} | {r['build_median_s'] * 1e3:,.0f} "
+            f"| {r['follow_median_s'] * 1e3:,.1f} | {r['status']}, {r['iterations']} |"
         )
     lines += [
         "",
         "| size | peak RSS MiB (whole process, VmHWM) | peak RSS before plan MiB | plan's own allocations, "
-        "tracemalloc peak MiB | lean plan: extra peak RSS MiB | within 4 GiB |",
-        "|---|---|---|---|---|---|",
+        "tracemalloc peak MiB | within 4 GiB |",
+        "|---|---|---|---|---|",
     ]
     for r in results:
         if "error" in r:
             continue
         lines.append(
             f"| {r['n']}^2 | {_mb(r['rss_peak'])} | {_mb(r['rss_before_plan'])} | {_mb(r.get('traced_peak'))} "
-            f"| {_mb(r.get('lean_plan_extra_rss'))} "
             f"| {'yes' if r['rss_peak'] <= 4 * GiB else 'NO'} |"
         )
     return "\n".join(lines)

@@ -63,9 +63,10 @@ class DistanceMap:
         4 or 8: the neighbourhood of the wavefront that numbers ``steps``.
     metric : str
         What ``distance`` measures: ``"chessboard"``, ``"taxicab"`` or ``"euclidean"``.
-    steps : ndarray of int32
+    steps : ndarray of int32 or None
         Wavefront number: 0 on obstacles, 1 on their neighbours, ... (the textbook's number minus 1).
-        ``-1`` everywhere when there is no obstacle at all (empty map, open border).
+        ``-1`` everywhere when there is no obstacle at all (empty map, open border). ``None`` when
+        computed with ``compute_steps=False``.
     distance : ndarray of float64
         Distance from the cell's centre to the centre of the nearest obstacle cell in world units, by
         ``metric`` (``inf`` where there is none). With ``saturate``, distances ``>= saturate`` are
@@ -99,7 +100,7 @@ class DistanceMap:
     map: GridMap
     connectivity: int
     metric: str
-    steps: NDArray[np.int32]
+    steps: NDArray[np.int32] | None
     distance: NDArray[np.float64]
     nearest_row: NDArray[np.int32] | None
     nearest_col: NDArray[np.int32] | None
@@ -355,6 +356,7 @@ def brushfire(
     metric: str | None = None,
     saturate: float | None = None,
     far: float = np.inf,
+    compute_steps: bool = True,
     compute_nearest: bool = True,
     compute_labels: bool | None = None,
     compute_gvd: bool | None = None,
@@ -378,6 +380,10 @@ def brushfire(
         ``steps``, the nearest obstacle and the GVD are not saturated.
     far : float
         Value of saturated distances (default ``inf``).
+    compute_steps : bool
+        Compute ``steps`` (default True; else it is None). With the Euclidean metric the steps are
+        a separate chessboard/taxicab pass: leaving them out (as :func:`gridfield.potential.build_field`
+        does, which reads only the distance and the nearest obstacle) saves about a quarter of the time.
     compute_nearest : bool
         Compute ``nearest_row`` / ``nearest_col`` (default True; else they are None).
     compute_labels : bool, optional
@@ -458,6 +464,7 @@ def brushfire(
         far = float(far)
     except (TypeError, ValueError):
         raise ParameterError(f"far must be a number, got {far!r}") from None
+    want_steps = _check_flag("compute_steps", compute_steps)
     want_nearest = _check_flag("compute_nearest", compute_nearest)
     want_label = True if compute_labels is None else _check_flag("compute_labels", compute_labels)
     want_gvd = want_label if compute_gvd is None else _check_flag("compute_gvd", compute_gvd)
@@ -473,7 +480,7 @@ def brushfire(
     if not wall and not occ.any():  # no obstacle at all: nothing is reached
         minus = np.full(shape, -1, np.int32)
         return DistanceMap(
-            gridmap, connectivity, metric, minus, np.full(shape, np.inf if saturate is None else far),
+            gridmap, connectivity, metric, minus.copy() if want_steps else None, np.full(shape, np.inf if saturate is None else far),
             minus.copy() if want_nearest else None, minus.copy() if want_nearest else None,
             np.zeros(shape, np.int32) if want_label else None, np.zeros(shape, bool) if want_gvd else None,
             saturate, far,
@@ -484,7 +491,10 @@ def brushfire(
     rows, cols = shape
     res = float(grid.resolution)
     step8 = connectivity == 8
-    steps = np.empty(shape, np.int32)
+    # the Euclidean metric and a metric other than the connectivity's compute the steps in a pass of
+    # their own; otherwise the steps are the distance in cells, computed anyway
+    separate_steps = metric == "euclidean" or metric != ("chessboard" if step8 else "taxicab")
+    steps = np.empty(shape, np.int32) if want_steps or not separate_steps else None
     distance = np.empty(shape, np.float64)
     nearest_row = nearest_col = label = gvd = vr = None
     # labels are gathered from `flat`: the label grid raveled, plus one element for the wall
@@ -506,14 +516,17 @@ def brushfire(
         tasks += strips.tasks()
     if metric == "euclidean":
         key: NDArray[np.int32] | NDArray[np.float64] = distance  # what orders the cells for the GVD
-        chamfers.append(_Chamfer(k, occ8, wall, step8, steps, distance, res, False, None, nthreads))
+        if steps is not None:
+            chamfers.append(_Chamfer(k, occ8, wall, step8, steps, distance, res, False, None, nthreads))
         vr = np.empty(shape, np.int32)  # column pass result, becomes nearest_row
         tasks += _chunks(k.column_block, cols, nthreads, occ8, wall, vr, min_size=64)
     else:
-        key = steps
-        if metric != ("chessboard" if step8 else "taxicab"):  # steps by one metric, the rest by the other
-            chamfers.append(_Chamfer(k, occ8, wall, step8, steps, distance, res, False, None, nthreads))
+        if separate_steps:  # steps by one metric, the rest by the other
+            if steps is not None:
+                chamfers.append(_Chamfer(k, occ8, wall, step8, steps, distance, res, False, None, nthreads))
             key = np.empty(shape, np.int32)
+        else:
+            key = steps
         nearest = None
         if want_nearest or want_label:  # labels are looked up at the nearest obstacle
             nearest_row, nearest_col = np.empty(shape, np.int32), np.empty(shape, np.int32)
@@ -556,5 +569,5 @@ def brushfire(
     # 3. saturation
     if saturate is not None:
         _run(_chunks(k.saturate_rows, rows, nthreads, distance, saturate, far), nthreads)
-    return DistanceMap(gridmap, connectivity, metric, steps, distance, nearest_row, nearest_col, label, gvd,
-                       saturate, far)
+    return DistanceMap(gridmap, connectivity, metric, steps if want_steps else None, distance, nearest_row,
+                       nearest_col, label, gvd, saturate, far)

@@ -1268,6 +1268,8 @@ def animate_brushfire(
     """
     p = _check_animation_file(file)
     grid = _grid_of(dmap)
+    if dmap.steps is None:
+        raise GridfieldError("the distance map has no wavefront steps (computed with compute_steps=False)")
     steps = np.asarray(dmap.steps)
     top = int(steps.max()) if steps.size else 0
     if top <= 0:

@@ -865,9 +865,10 @@ def _circle_occupancy(grid: Grid, circles: NDArray[np.float64]) -> NDArray[np.bo
 # build_field
 # ----------------------------------------------------------------------------------------------
 def field_distance_map(gridmap: GridMap, params: Mapping[str, Any] | None = None, *,
-                       labels: bool | None = None) -> DistanceMap:
+                       labels: bool | None = None, steps: bool = False) -> DistanceMap:
     """The brushfire :func:`build_field` computes for ``params`` (its ``metric`` and ``saturate``;
-    labels and GVD only where the per-obstacle sum needs them, unless ``labels`` says otherwise).
+    labels and GVD only where the per-obstacle sum needs them, unless ``labels`` says otherwise;
+    the wavefront ``steps``, which no potential reads, only with ``steps=True``).
 
     Compute it once and pass it as ``dmap=`` to build many fields (other goals, other gains) on
     one map.
@@ -875,8 +876,9 @@ def field_distance_map(gridmap: GridMap, params: Mapping[str, Any] | None = None
     Examples
     --------
     >>> occ = np.zeros((3, 4), bool); occ[0, 0] = True
-    >>> field_distance_map(GridMap(Grid((3, 4), 1.0), occ), {"metric": "taxicab"}).steps[2, 3]
-    np.int32(5)
+    >>> d = field_distance_map(GridMap(Grid((3, 4), 1.0), occ), {"metric": "taxicab"})
+    >>> float(d.distance[2, 3]), d.steps is None, d.label is None
+    (5.0, True, True)
     """
     p = resolve_params(params)
     # Labels (and the GVD built from them) are read only by the per-obstacle sum of a grid without
@@ -884,7 +886,7 @@ def field_distance_map(gridmap: GridMap, params: Mapping[str, Any] | None = None
     if labels is None:
         labels = p["repulsion"] == "sum" and gridmap.obstacle_id is None
     return brushfire(gridmap, connectivity=4 if p["metric"] == "taxicab" else 8, metric=p["metric"],
-                     saturate=p["saturate"], compute_labels=labels, compute_gvd=labels)
+                     saturate=p["saturate"], compute_steps=steps, compute_labels=labels, compute_gvd=labels)
 
 
 def build_field(
@@ -1057,8 +1059,8 @@ def load_field(path: str | os.PathLike[str]) -> Field:
         raise MapFormatError(f"{path}: damaged field file ({e})") from None
     gridmap = GridMap(grid, content["occupied"].astype(bool), content.get("obstacle_id"), source=str(path))
     dmap = None
-    if meta and all(k in content for k in ("steps", "distance")):  # labels, GVD, nearest: optional
-        dmap = DistanceMap(gridmap, int(meta["connectivity"]), str(meta["metric"]), content["steps"],
+    if meta and "distance" in content:  # steps, labels, GVD, nearest: optional
+        dmap = DistanceMap(gridmap, int(meta["connectivity"]), str(meta["metric"]), content.get("steps"),
                            content["distance"], content.get("nearest_row"), content.get("nearest_col"),
                            content.get("label"), content.get("gvd"), meta.get("saturate"),
                            float(meta.get("far", math.inf)))

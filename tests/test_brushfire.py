@@ -462,7 +462,7 @@ def test_occupancy_of_any_layout_and_dtype():
 # ----------------------------------------------------------------------------------------------
 # options
 # ----------------------------------------------------------------------------------------------
-@pytest.mark.parametrize("combo", COMBOS[:4])
+@pytest.mark.parametrize("combo", COMBOS)
 def test_optional_outputs_and_threads_give_the_same_arrays(combo):
     connectivity, metric = combo
     occ = random_occupancy(5, (70, 130), 0.1)
@@ -475,12 +475,19 @@ def test_optional_outputs_and_threads_give_the_same_arrays(combo):
         "labels and gvd": dict(compute_nearest=False),
         "distance only": dict(compute_nearest=False, compute_labels=False),
         "no gvd": dict(compute_gvd=False),
+        "no steps": dict(compute_steps=False),
+        "distance and nearest, no steps (what a potential reads)": dict(compute_steps=False, compute_labels=False),
+        "distance only, no steps": dict(compute_steps=False, compute_nearest=False, compute_labels=False),
     }
     for name in ("steps", "distance", "nearest_row", "nearest_col", "label", "gvd"):
         assert np.array_equal(getattr(one, name), getattr(full, name)), name
     for what, kw in variants.items():
         dm = brushfire(gm, connectivity=connectivity, metric=metric, **kw)
-        assert np.array_equal(dm.steps, full.steps) and np.array_equal(dm.distance, full.distance), what
+        assert np.array_equal(dm.distance, full.distance), what
+        if kw.get("compute_steps", True):
+            assert np.array_equal(dm.steps, full.steps), what
+        else:
+            assert dm.steps is None, what
         for name, wanted in (("nearest_row", kw.get("compute_nearest", True)),
                              ("label", kw.get("compute_labels", True)),
                              ("gvd", kw.get("compute_gvd", kw.get("compute_labels", True)))):
@@ -507,6 +514,7 @@ def test_nearest_point_needs_the_nearest_obstacle():
     (dict(threads=0), "threads must be a positive integer"),
     (dict(threads=1.5), "threads must be a positive integer"),
     (dict(compute_nearest="yes"), "compute_nearest must be True or False"),
+    (dict(compute_steps=None), "compute_steps must be True or False"),
     (dict(compute_labels=False, compute_gvd=True), "compute_gvd=True needs the labels"),
 ])
 def test_bad_parameters_are_named(kw, match):

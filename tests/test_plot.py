@@ -393,6 +393,8 @@ def test_animate_brushfire(tmp_path, corridor):
     empty = brushfire(GridMap(Grid((3, 3), 1.0), np.zeros((3, 3), bool)))
     with pytest.raises(GridfieldError, match="no wavefront"):
         plot.animate_brushfire(empty, tmp_path / "none.gif")
+    with pytest.raises(GridfieldError, match="compute_steps=False"):
+        plot.animate_brushfire(brushfire(corridor, compute_steps=False), tmp_path / "nosteps.gif")
 
 
 def test_cli_plan_plot_and_animate(tmp_path, capsys):

@@ -20,6 +20,7 @@ from gridfield.potential import (
     Field,
     attractive,
     build_field,
+    field_distance_map,
     finite_difference_gradient,
     load_field,
     repulsive,
@@ -616,6 +617,13 @@ def test_field_npz_round_trip(tmp_path):
     for name in ("steps", "distance", "nearest_row", "nearest_col", "label", "gvd"):
         np.testing.assert_array_equal(getattr(g.distance, name), getattr(f.distance, name))
     assert g.params["d_star"] == math.inf
+    assert f.distance.steps is None  # build_field's own brushfire skips the steps no potential reads
+    # a field over a full distance map (as `gridfield field --npz` writes) keeps its steps
+    full = field_distance_map(f.map, f.params, labels=True, steps=True)
+    save_field(tmp_path / "full.npz", build_field(f.map, w.goal, dict(w.params), dmap=full))
+    loaded = load_field(tmp_path / "full.npz").distance
+    assert loaded is not None and loaded.steps is not None
+    np.testing.assert_array_equal(loaded.steps, full.steps)
     # a field rebuilt from the loaded map and distance map is the same field
     h = build_field(g.map, g.goal, g.params, dmap=g.distance)
     np.testing.assert_array_equal(h.potential, f.potential)

@@ -104,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
     if resolved["model"] == "khatib":  # the vortex model works on its own lattice
         gridmap.check_point("goal", goal)
         t0 = time.perf_counter()
-        dmap = field_distance_map(gridmap, resolved, labels=True)  # --npz and figures show labels, GVD
+        dmap = field_distance_map(gridmap, resolved, labels=True, steps=True)  # --npz and figures show them all
         ms_brushfire = (time.perf_counter() - t0) * 1e3
     t0 = time.perf_counter()
     field = build_field(gridmap, goal, params, dmap=dmap)

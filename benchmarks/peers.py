@@ -46,7 +46,9 @@ same process; ``ratio`` is peer time / gridfield time (medians; > 1: gridfield i
     a plain Python double loop over the cells of a 600 x 500 grid, each summing the attractive
     term and the repulsive term of the nearest of 4 obstacle points (written here from the
     formula, not copied), once in the scripts' style (a function call per term, ``np.hypot`` on
-    scalars) and once as tight as plain Python gets (``math.hypot``, inlined). gridfield:
+    scalars: the peer of the 100x target) and once as tight as plain Python gets (``math.hypot``,
+    inlined: context, not a target; it is this benchmark's own rewrite, not a script a user
+    would find and pick, and it shows how much of the gap is the interpreter alone). gridfield:
     ``build_field`` on the same grid with those 4 cells occupied (brushfire + fused potential
     **and** gradients, which the loop does not compute). The potentials are checked to agree
     (``max |dU|``).
@@ -83,7 +85,7 @@ class Row:
     note: str = ""
     status: str = "ok"  # ok | missing | failed
     unit: str = "ms"
-    context: bool = False  #: not on the peer's own example map: shown for scale, not a target
+    context: bool = False  #: shown for scale or as a breakdown, not a target (the name says why)
 
     @property
     def ratio(self) -> float:
@@ -484,7 +486,7 @@ def bench_cell_by_cell(ctx: _Context) -> None:
     t_gf, fld = timed(lambda: build_field(gm, goal, params), max(ctx.repeat, 5) * 2)
     free = ~occ
     for style, label in (("script", "as the classic script writes it: np.hypot on scalars, a call per term"),
-                         ("tight", "tuned plain Python: math.hypot, inlined")):
+                         ("tight", "context: the same loop tuned as far as plain Python goes, math.hypot, inlined")):
         t_ref, pmap = timed(lambda style=style: cell_by_cell_potential(width, height, res, goal, obstacles, zeta,
                                                                        eta, q_star, style=style),
                             ctx.repeat, warmup=0, budget=30.0)
@@ -492,7 +494,7 @@ def bench_cell_by_cell(ctx: _Context) -> None:
         err = float(np.max(np.abs(ref[free] - fld.potential[free]) / np.maximum(1.0, np.abs(ref[free]))))
         ctx.rows.append(Row(f"cell-by-cell Python potential ({label})", "potential on every cell",
                             f"{width}x{height}, 4 obstacle points", "build_field (brushfire + potential + gradients)",
-                            peer_time=t_ref, gf_time=t_gf,
+                            peer_time=t_ref, gf_time=t_gf, context=style == "tight",
                             note=f"max relative |dU| between the two potentials: {err:.1e}"))
 
 

@@ -501,8 +501,11 @@ def section_end_to_end(sizes: Sequence[int], repeat: int, results: dict[str, Any
         "",
         "`plan(\"potential\", gridmap, (5, 5), (95, 95), {d_star: 2, q_star: 2, max_iterations: 4n})` on the synthetic "
         "100 m x 100 m map in memory (brushfire, potential, gradients, follower), each size in a fresh process. "
-        "Time ratio: plan / OpenCV `DIST_C` on the same map in the same process. Lean plan: the same steps "
-        "with a brushfire that skips the labels and GVD the potential does not read. Peak memory: the child's "
+        "Time ratio: plan / OpenCV `DIST_C` on the same map in the same process (interleaved rounds). The "
+        "brushfire `plan` computes holds the distance and nearest obstacle only (no wavefront steps, labels or "
+        "GVD, which no potential reads); the full one is timed after the rounds, for context. The max of the "
+        "plan column is its first round: memory this process has not touched lately costs several times more "
+        "to write on this VM. Peak memory: the child's "
         "VmHWM (whole process: interpreter, libraries, map, plan; not ru_maxrss, which on Linux a child inherits "
         "from its parent's peak at fork); tracemalloc: the peak of what `plan` itself allocated (numpy "
         "allocations are traced).",

@@ -183,3 +183,18 @@ def test_maps_are_loaded_and_brushfires_computed_once_per_map(tmp_path: Path, mo
     rows = run_sweep(runs, output, workers=1, progress=False)
     assert len(rows) == len(runs) == 10
     assert calls == {"read": 2, "brushfire": 2}  # two maps; one metric
+
+
+def test_bundled_example_sweep_runs_from_the_command_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    spec = bundled_map("sweep_example.yaml")
+    runs, _ = load_spec(spec)
+    assert len(runs) == (10 + 10) * 2 * 2  # pairs x planners x q_star values
+    out = tmp_path / "runs.csv"
+    assert main(["sweep", str(spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
+    assert "wrote 80 rows" in capsys.readouterr().out
+    with out.with_suffix(".summary.csv").open() as f:
+        summary = list(csv.DictReader(f))
+    octile = [s for s in summary if s["planner"] == "wavefront-octile" and s["map"].endswith("arena.map")]
+    assert len(octile) == 2
+    for s in octile:  # the Moving AI scenarios' published optimal lengths
+        assert float(s["success_rate"]) == 1.0 and float(s["length_ratio"]) == pytest.approx(1.0, abs=1e-6)

@@ -87,7 +87,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .errors import GridfieldError, ParameterError
-from .grid import Grid, GridMap
+from .grid import Grid, GridMap, _scalar_index
 from .path import Path
 
 __all__ = [
@@ -621,16 +621,9 @@ def _force_many(gx, gy, occ, x0, y0, res, nearest, xs, ys, fx, fy):  # pragma: n
         fx[k], fy[k] = _force_at(gx, gy, occ, x0, y0, res, nearest, xs[k], ys[k])
 
 
-@numba.njit(cache=True, nogil=True)
-def _cell_index(c, origin, res):  # pragma: no cover - numba
-    """``floor((c - origin) / res)`` corrected to the float cell boundaries ``origin + i*res``
-    (the rule of :meth:`gridfield.grid.Grid.world_to_cell`)."""
-    i = math.floor((c - origin) / res)
-    if c >= origin + (i + 1) * res:
-        i += 1
-    elif c < origin + i * res:
-        i -= 1
-    return i
+#: World coordinate -> cell index, the rule of :meth:`gridfield.grid.Grid.world_to_cell` (the very
+#: function behind :meth:`gridfield.grid.Grid.cell_of`, compiled).
+_cell_index = numba.njit(cache=True, nogil=True)(_scalar_index)
 
 
 @numba.njit(cache=True, nogil=True)

@@ -296,6 +296,19 @@ def _rep_distance(fr, fc, res, metric, sat, far):  # pragma: no cover - compiled
     return (far if dist >= sat else dist), length
 
 
+@njit(inline="always", **_JIT)
+def _attraction(d2, zeta, d_star, ds2, conic):  # pragma: no cover - compiled
+    """``(U, k)`` of the attractive potential at squared distance ``d2`` from the goal, with
+    ``grad U = k * (p - goal)``: quadratic within ``d_star`` (``ds2 = d_star**2``; ``inf``: everywhere,
+    ``0``: the goal only), beyond it conic (``conic``: ``zeta*d``, the ``d_star = 0`` case) or the
+    combined ``d_star*zeta*d - 0.5*zeta*d_star**2``. Selects, no jumps, so that callers' loops vectorize."""
+    d = math.sqrt(d2)
+    quad = d2 <= ds2
+    u = 0.5 * zeta * d2 if quad else (zeta * d if conic else zeta * d_star * d - 0.5 * zeta * ds2)
+    k = zeta if quad else (zeta / d if conic else zeta * d_star / d)
+    return u, k
+
+
 @njit(parallel=True, **_JIT)
 def _attractive_kernel(x0, y0, res, goal_x, goal_y, zeta, d_star, conic, U, GX, GY):  # pragma: no cover
     """Attractive potential; branch-free (selects, no jumps) so that LLVM vectorizes the inner loop."""
@@ -305,11 +318,7 @@ def _attractive_kernel(x0, y0, res, goal_x, goal_y, zeta, d_star, conic, U, GX, 
         dy = y0 + (r + 0.5) * res - goal_y
         for c in range(cols):
             dx = x0 + (c + 0.5) * res - goal_x
-            d2 = dx * dx + dy * dy
-            d = math.sqrt(d2)
-            quad = d2 <= ds2  # d_star = inf: everywhere; d_star = 0: the goal only
-            u = 0.5 * zeta * d2 if quad else (zeta * d if conic else zeta * d_star * d - 0.5 * zeta * ds2)
-            k = zeta if quad else (zeta / d if conic else zeta * d_star / d)
+            u, k = _attraction(dx * dx + dy * dy, zeta, d_star, ds2, conic)
             U[r, c] = u
             GX[r, c] = k * dx
             GY[r, c] = k * dy
@@ -333,11 +342,7 @@ def _khatib_kernel(occ, nr, nc, x0, y0, res, goal_x, goal_y, zeta, d_star, conic
         for c in range(cols):
             # attractive
             dx = x0 + (c + 0.5) * res - goal_x
-            d2 = dx * dx + dy * dy
-            d = math.sqrt(d2)
-            quad = d2 <= ds2
-            u = 0.5 * zeta * d2 if quad else (zeta * d if conic else zeta * d_star * d - 0.5 * zeta * ds2)
-            k = zeta if quad else (zeta / d if conic else zeta * d_star / d)
+            u, k = _attraction(dx * dx + dy * dy, zeta, d_star, ds2, conic)
             gx = k * dx
             gy = k * dy
             # repulsive, from the nearest obstacle cell

@@ -87,7 +87,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .errors import GridfieldError, ParameterError
-from .grid import Grid, GridMap, _scalar_index
+from .grid import Grid, GridMap, _as_points, _scalar_index
 from .path import Path
 
 __all__ = [
@@ -841,11 +841,7 @@ def sample_force(field: Any, points: ArrayLike, *, sampling: str = "bilinear") -
            [-3., -0.]])
     """
     _choice("sampling", sampling, SAMPLINGS)
-    pts = np.asarray(points, dtype=np.float64)
-    if pts.ndim == 1 and pts.shape[0] == 2:
-        pts = pts[None, :]
-    if pts.ndim != 2 or pts.shape[1] != 2:
-        raise ParameterError(f"points must have shape (N, 2) or (2,), got shape {np.shape(points)}")
+    pts = _as_points(points)
     if not np.isfinite(pts).all():
         k = int(np.flatnonzero(~np.isfinite(pts).all(axis=1))[0])
         raise ParameterError(f"points must be finite; point {k} is {pts[k].tolist()}")

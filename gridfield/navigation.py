@@ -233,17 +233,10 @@ def upwind_gradient(value: NDArray[np.float64], resolution: float) -> tuple[NDAr
 # ----------------------------------------------------------------------------------------------
 def _goal_cell(gridmap: GridMap, goal: ArrayLike) -> tuple[NDArray[np.float64], tuple[int, int]]:
     """The goal as ``(2,)`` and its cell; :meth:`GridMap.check_point`'s errors when it is not free."""
-    try:
-        g = np.asarray(goal, dtype=np.float64).reshape(2)
-        x, y = float(g[0]), float(g[1])
-        cell = gridmap.grid.cell_of(x, y)  # fast path (tiny maps are dominated by this check)
-        if cell is not None and not gridmap.occupied[cell]:
-            return g, cell
-    except (TypeError, ValueError):
-        pass
-    g = gridmap.check_point("goal", goal)  # raises, naming what is wrong
-    (r, c), = gridmap.grid.world_to_cell(g)[0]
-    return g, (int(r), int(c))
+    g = gridmap.check_point("goal", goal)
+    cell = gridmap.grid.cell_of(g[0], g[1])
+    assert cell is not None  # check_point: inside the grid
+    return g, cell
 
 
 def _check_connectivity(connectivity: Any) -> int:

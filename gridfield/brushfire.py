@@ -480,7 +480,7 @@ def brushfire(
     if not wall and not occ.any():  # no obstacle at all: nothing is reached
         minus = np.full(shape, -1, np.int32)
         return DistanceMap(
-            gridmap, connectivity, metric, minus.copy() if want_steps else None, np.full(shape, np.inf if saturate is None else far),
+            gridmap, connectivity, metric, minus if want_steps else None, np.full(shape, np.inf if saturate is None else far),
             minus.copy() if want_nearest else None, minus.copy() if want_nearest else None,
             np.zeros(shape, np.int32) if want_label else None, np.zeros(shape, bool) if want_gvd else None,
             saturate, far,
@@ -514,19 +514,14 @@ def brushfire(
     if want_label and gridmap.obstacle_id is None:
         strips = _Strips(k, occ8, flat[:-1].reshape(shape), 1 if nthreads <= 1 else min(rows, 8 * nthreads))
         tasks += strips.tasks()
+    if separate_steps and want_steps:  # the steps by the connectivity's metric, the distance by another
+        chamfers.append(_Chamfer(k, occ8, wall, step8, steps, distance, res, False, None, nthreads))
     if metric == "euclidean":
         key: NDArray[np.int32] | NDArray[np.float64] = distance  # what orders the cells for the GVD
-        if steps is not None:
-            chamfers.append(_Chamfer(k, occ8, wall, step8, steps, distance, res, False, None, nthreads))
         vr = np.empty(shape, np.int32)  # column pass result, becomes nearest_row
         tasks += _chunks(k.column_block, cols, nthreads, occ8, wall, vr, min_size=64)
     else:
-        if separate_steps:  # steps by one metric, the rest by the other
-            if steps is not None:
-                chamfers.append(_Chamfer(k, occ8, wall, step8, steps, distance, res, False, None, nthreads))
-            key = np.empty(shape, np.int32)
-        else:
-            key = steps
+        key = np.empty(shape, np.int32) if separate_steps else steps
         nearest = None
         if want_nearest or want_label:  # labels are looked up at the nearest obstacle
             nearest_row, nearest_col = np.empty(shape, np.int32), np.empty(shape, np.int32)

@@ -26,9 +26,10 @@ from collections.abc import Callable
 import numba
 import numpy as np
 
+from gridfield._kernels_potential import _khatib_kernel
 from gridfield.brushfire import brushfire
 from gridfield.grid import Grid, GridMap
-from gridfield.potential import _khatib_kernel, _threads_for, build_field
+from gridfield.potential import _threads_for, build_field
 
 
 def blocks(n: int, count: int, seed: int) -> GridMap:

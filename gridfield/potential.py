@@ -77,12 +77,11 @@ from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-import numba
 import numpy as np
-from numba import njit, prange
 from numpy.typing import ArrayLike, NDArray
 from scipy import ndimage
 
+from . import _kernels_potential as _kp
 from .brushfire import METRICS, DistanceMap, brushfire
 from .errors import GridfieldError, MapFormatError, ParameterError
 from .grid import Grid, GridMap
@@ -277,130 +276,6 @@ def resolve_params(params: Mapping[str, Any] | None = None) -> dict[str, Any]:
     return p
 
 
-# ----------------------------------------------------------------------------------------------
-# numba kernels (fused: one pass over the arrays, no temporaries)
-# ----------------------------------------------------------------------------------------------
-_JIT = {"cache": True, "error_model": "numpy", "nogil": True}
-
-
-@njit(inline="always", **_JIT)
-def _rep_distance(fr, fc, res, metric, sat, far):  # pragma: no cover - compiled
-    """``(D, |offset| in cells)`` for a nearest obstacle cell ``(fr, fc)`` cells away, after saturation."""
-    length = math.sqrt(fr * fr + fc * fc)
-    if metric == 0:
-        dist = length * res
-    elif metric == 1:
-        dist = max(abs(fr), abs(fc)) * res
-    else:
-        dist = (abs(fr) + abs(fc)) * res
-    return (far if dist >= sat else dist), length
-
-
-@njit(inline="always", **_JIT)
-def _attraction(d2, zeta, d_star, ds2, conic):  # pragma: no cover - compiled
-    """``(U, k)`` of the attractive potential at squared distance ``d2`` from the goal, with
-    ``grad U = k * (p - goal)``: quadratic within ``d_star`` (``ds2 = d_star**2``; ``inf``: everywhere,
-    ``0``: the goal only), beyond it conic (``conic``: ``zeta*d``, the ``d_star = 0`` case) or the
-    combined ``d_star*zeta*d - 0.5*zeta*d_star**2``. Selects, no jumps, so that callers' loops vectorize."""
-    d = math.sqrt(d2)
-    quad = d2 <= ds2
-    u = 0.5 * zeta * d2 if quad else (zeta * d if conic else zeta * d_star * d - 0.5 * zeta * ds2)
-    k = zeta if quad else (zeta / d if conic else zeta * d_star / d)
-    return u, k
-
-
-@njit(parallel=True, **_JIT)
-def _attractive_kernel(x0, y0, res, goal_x, goal_y, zeta, d_star, conic, U, GX, GY):  # pragma: no cover
-    """Attractive potential; branch-free (selects, no jumps) so that LLVM vectorizes the inner loop."""
-    rows, cols = U.shape
-    ds2 = d_star * d_star
-    for r in prange(rows):
-        dy = y0 + (r + 0.5) * res - goal_y
-        for c in range(cols):
-            dx = x0 + (c + 0.5) * res - goal_x
-            u, k = _attraction(dx * dx + dy * dy, zeta, d_star, ds2, conic)
-            U[r, c] = u
-            GX[r, c] = k * dx
-            GY[r, c] = k * dy
-
-
-@njit(parallel=True, **_JIT)
-def _khatib_kernel(occ, nr, nc, x0, y0, res, goal_x, goal_y, zeta, d_star, conic,
-                   metric, eta, q_star, ipow, sat, far, U, GX, GY):  # pragma: no cover - compiled
-    """Attractive + nearest-obstacle repulsive potential and gradient in one fused pass.
-
-    Branch-free: every cell computes both terms and selects, so the inner loop vectorizes (a
-    version with ``if``/``continue`` ran 8 times slower). The repulsive force is
-    ``eta*(1/D - 1/q_star)/D**ipow`` for ``ipow`` in 0..4 (pass ``eta = 0`` for no repulsion);
-    there is deliberately no float ``**``: other powers go through :func:`_rep_accumulate`.
-    """
-    rows, cols = occ.shape
-    ds2 = d_star * d_star
-    inv_q = 1.0 / q_star
-    for r in prange(rows):
-        dy = y0 + (r + 0.5) * res - goal_y
-        for c in range(cols):
-            # attractive
-            dx = x0 + (c + 0.5) * res - goal_x
-            u, k = _attraction(dx * dx + dy * dy, zeta, d_star, ds2, conic)
-            gx = k * dx
-            gy = k * dy
-            # repulsive, from the nearest obstacle cell
-            a = nr[r, c]
-            b = nc[r, c]
-            fr = float(r - a)
-            fc = float(c - b)
-            free = not occ[r, c]
-            dist, length = _rep_distance(fr, fc, res, metric, sat, far)
-            inside = free and (a != -1 or b != -1) and dist < q_star
-            dist = dist if inside else 1.0
-            length = length if inside else 1.0
-            inv_d = 1.0 / dist
-            s = inv_d - inv_q
-            inv_d2 = inv_d * inv_d
-            den = 1.0 if ipow == 0 else (inv_d if ipow == 1 else (inv_d2 if ipow == 2 else (
-                inv_d2 * inv_d if ipow == 3 else inv_d2 * inv_d2)))
-            m = eta * s * den / length  # |force| / |offset in cells|
-            U[r, c] = (u + 0.5 * eta * s * s if inside else u) if free else np.inf
-            GX[r, c] = (gx - m * fc if inside else gx) if free else 0.0
-            GY[r, c] = (gy - m * fr if inside else gy) if free else 0.0
-
-
-@njit(**_JIT)
-def _rep_accumulate(occ, nr, nc, r_off, c_off, res, metric, eta, q_star, ipow, power, sat, far,
-                    U, GX, GY):  # pragma: no cover - compiled
-    """Add a repulsive term over a window (all arrays are that window), for any power.
-
-    ``nr``/``nc`` are nearest obstacle cells in a frame shifted by ``(r_off, c_off)`` from the
-    window's; ``(-1, -1)`` in the grid frame means "no obstacle". ``ipow < 0``: use the float ``power``.
-    """
-    rows, cols = occ.shape
-    inv_q = 1.0 / q_star
-    for r in range(rows):
-        for c in range(cols):
-            if occ[r, c]:
-                continue
-            a = nr[r, c]
-            b = nc[r, c]
-            if a == -1 and b == -1:
-                continue
-            fr = float(r + r_off - a)
-            fc = float(c + c_off - b)
-            dist, length = _rep_distance(fr, fc, res, metric, sat, far)
-            if dist < q_star:
-                s = 1.0 / dist - inv_q
-                if ipow >= 0:
-                    den = 1.0
-                    for _ in range(ipow):
-                        den *= dist
-                else:
-                    den = dist**power
-                k = eta * s / (den * length)
-                U[r, c] += 0.5 * eta * s * s
-                GX[r, c] -= k * fc
-                GY[r, c] -= k * fr
-
-
 #: Below this many cells (2048^2) the parallel kernels run on the calling thread only. The kernels
 #: are memory-bound (one thread streams at ``np.copyto`` speed), so a second thread gains little,
 #: and on a busy 2-core machine waiting for the thread pool cost up to 8x at 1024^2 and
@@ -413,12 +288,12 @@ def _threads_for(cells: int) -> Iterator[None]:
     if cells >= _PARALLEL_MIN_CELLS:
         yield
         return
-    before = numba.get_num_threads()
-    numba.set_num_threads(1)
+    before = _kp.get_num_threads()
+    _kp.set_num_threads(1)
     try:
         yield
     finally:
-        numba.set_num_threads(before)
+        _kp.set_num_threads(before)
 
 
 def _integer_power(power: float) -> int:
@@ -439,7 +314,7 @@ def _khatib_arrays(
     x0, y0 = grid.origin
     if occ is None:
         with _threads_for(U.size):
-            _attractive_kernel(x0, y0, grid.resolution, goal[0], goal[1], zeta, d_star, d_star == 0.0, U, GX, GY)
+            _kp._attractive_kernel(x0, y0, grid.resolution, goal[0], goal[1], zeta, d_star, d_star == 0.0, U, GX, GY)
         return U, GX, GY
     occ = np.ascontiguousarray(occ, dtype=bool)
     assert nr is not None and nc is not None
@@ -448,10 +323,10 @@ def _khatib_arrays(
     fused = nearest and 0 <= ipow <= 4
     code = _METRIC_CODE[metric]
     with _threads_for(U.size):
-        _khatib_kernel(occ, nr, nc, x0, y0, grid.resolution, goal[0], goal[1], zeta, d_star, d_star == 0.0, code,
+        _kp._khatib_kernel(occ, nr, nc, x0, y0, grid.resolution, goal[0], goal[1], zeta, d_star, d_star == 0.0, code,
                        eta if fused else 0.0, q_star, max(ipow, 0), sat, far, U, GX, GY)
     if nearest and not fused:
-        _rep_accumulate(occ, nr, nc, 0, 0, grid.resolution, code, eta, q_star, ipow, power, sat, far, U, GX, GY)
+        _kp._rep_accumulate(occ, nr, nc, 0, 0, grid.resolution, code, eta, q_star, ipow, power, sat, far, U, GX, GY)
     return U, GX, GY
 
 
@@ -618,7 +493,7 @@ def _sum_repulsion(dmap: DistanceMap, eta: float, q_star: float, power: float, s
         else:
             idx = ndimage.distance_transform_cdt(~mine, metric=("chessboard", "taxicab")[metric - 1],
                                                  return_distances=False, return_indices=True)
-        _rep_accumulate(np.ascontiguousarray(occ[win]), _int32(idx[0]), _int32(idx[1]), 0, 0, res, metric, eta,
+        _kp._rep_accumulate(np.ascontiguousarray(occ[win]), _int32(idx[0]), _int32(idx[1]), 0, 0, res, metric, eta,
                         q_star, _integer_power(power), power, sat, far, U[win], GX[win], GY[win])
     if grid.border == "wall":
         _wall_repulsion(grid, occ, metric, k, eta, q_star, power, sat, far, U, GX, GY)
@@ -644,7 +519,7 @@ def _wall_repulsion(grid: Grid, occ: NDArray[np.bool_], metric: int, k: int, eta
         nr = np.take_along_axis(cand_r, which, 0)[0]
         nc = np.take_along_axis(cand_c, which, 0)[0]
         win = (slice(r0, r1), slice(c0, c1))
-        _rep_accumulate(np.ascontiguousarray(occ[win]), _int32(nr - r0), _int32(nc - c0), 0, 0, grid.resolution,
+        _kp._rep_accumulate(np.ascontiguousarray(occ[win]), _int32(nr - r0), _int32(nc - c0), 0, 0, grid.resolution,
                         metric, eta, q_star, _integer_power(power), power, sat, far, U[win], GX[win], GY[win])
 
 

@@ -53,7 +53,7 @@ START = (5.0, 5.0)
 GOAL = (95.0, 95.0)
 #: Planner parameters: a conic attraction beyond 2 m so that the attraction does not swamp the
 #: repulsion far from the goal; the other potential parameters are gridfield's defaults.
-PARAMS: dict[str, Any] = {"d_star": 2.0, "q_star": 2.0}
+PARAMS: dict[str, Any] = {"d_star": 2.0, "eta": 1.0, "q_star": 2.0}
 DEFAULT_SIZES = (1024, 4096, 8192)
 GiB = 2**30
 

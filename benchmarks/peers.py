@@ -482,7 +482,7 @@ def bench_cell_by_cell(ctx: _Context) -> None:
     for x, y in obstacles:
         occ[int(y / res), int(x / res)] = True
     gm = _gridmap(occ, res, "cell-by-cell")
-    params = {"zeta": zeta, "eta": eta, "q_star": q_star}
+    params = {"zeta": zeta, "d_star": math.inf, "eta": eta, "q_star": q_star}
     t_gf, fld = timed(lambda: build_field(gm, goal, params), max(ctx.repeat, 5) * 2)
     free = ~occ
     for style, label in (("script", "as the classic script writes it: np.hypot on scalars, a call per term"),

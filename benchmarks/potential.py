@@ -86,7 +86,7 @@ def bench_size(n: int, count: int, seed: int, repeat: int) -> list[tuple[str, fl
     free = np.argwhere(~gm.occupied)
     goal = tuple(float(v) + 0.5 for v in free[len(free) // 2][::-1])
     q = n / 40
-    p_near = {"zeta": 1.0, "eta": 1.0, "q_star": q}
+    p_near = {"zeta": 1.0, "d_star": math.inf, "eta": 1.0, "q_star": q}
     p_sum = {**p_near, "repulsion": "sum", "repulsive_power": 3}
     f = build_field(gm, goal, p_near, dmap=d)  # warm-up (compiles or loads the kernels)
     build_field(gm, goal, p_sum, dmap=d)

@@ -86,7 +86,7 @@ class ExactField:
     --------
     >>> from gridfield.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"circle": {"center": [5, 5], "radius": 1}}]})
-    >>> f = ExactField(w, (9, 5), {"zeta": 0.0, "q_star": 2.0, "repulsive_power": 2})
+    >>> f = ExactField(w, (9, 5), {"zeta": 0.0, "eta": 1.0, "q_star": 2.0, "repulsive_power": 2})
     >>> [round(v, 6) for v in f.force((7.0, 5.0))]   # D = 1: eta*(1 - 1/2)/1**2 along +x
     [0.5, 0.0]
     >>> f.blocked((3.0, 3.0), (7.0, 7.0)), f.blocked((3.0, 3.0), (3.0, 7.0))
@@ -96,7 +96,7 @@ class ExactField:
     def __init__(self, world: World, goal: ArrayLike, params: Mapping[str, Any] | None = None) -> None:
         if not isinstance(world, World):
             raise ParameterError(f"the exact planner needs a World, got {type(world).__name__}")
-        p = resolve_params(params)
+        p = resolve_params(params, unit=_default_step(world))
         if p["model"] != "khatib":
             raise ParameterError(f"the exact planner implements model 'khatib' only, got model {p['model']!r}; "
                                  "the vortex model (seed 003) is a grid field: use planner 'potential'")

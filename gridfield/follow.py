@@ -120,12 +120,13 @@ __all__ = [
 ]
 
 STEP_RULES = ("normalized", "scaled")
-ESCAPES = ("none", "random_walk", "potential_increase")
+ESCAPES = ("none", "random_walk", "potential_increase", "navigation")
 SAMPLINGS = ("bilinear", "nearest")
 
-#: Follower parameters and their defaults. ``step=None``: the grid resolution (exact planner: see
-#: :mod:`gridfield.exact`); ``tolerance=None``: ``step`` for the normalized rule, the grid
-#: resolution for the scaled rule.
+#: Follower parameters and their defaults (the registry's, :mod:`gridfield.params`). ``None``
+#: lengths scale with the map: ``step`` 1 cell (exact planner: see :mod:`gridfield.exact`),
+#: ``tolerance`` ``step`` for the normalized rule or 1 cell for the scaled rule, ``escape_radius``
+#: 6 cells.
 FOLLOW_DEFAULTS: dict[str, Any] = {
     "step_rule": "normalized",
     "step": None,
@@ -138,7 +139,7 @@ FOLLOW_DEFAULTS: dict[str, Any] = {
     "progress_window": 200,
     "escape": "none",
     "escape_tries": 10,
-    "escape_radius": 6.0,
+    "escape_radius": None,
     "seed": 0,
 }
 
@@ -200,47 +201,32 @@ def resolve_follow_params(params: Mapping[str, Any] | None = None, *, unit: floa
     ----------
     params : mapping, optional
         May hold other (potential) parameters; only the names in :data:`FOLLOW_DEFAULTS` are read.
+        Checked against the registry (:mod:`gridfield.params`).
     unit : float
-        Default ``step`` (the grid resolution for grid fields).
+        The map's length unit (a grid's cell size): ``step`` defaults to 1 unit, ``tolerance`` to
+        ``step`` (normalized rule) or 1 unit (scaled rule), ``escape_radius`` to 6 units.
 
     Returns
     -------
     dict
-        Every key of :data:`FOLLOW_DEFAULTS`, validated (``step`` and ``tolerance`` resolved).
+        Every key of :data:`FOLLOW_DEFAULTS`, validated and resolved.
 
     Examples
     --------
     >>> p = resolve_follow_params({"step": 0.1}, unit=0.05)
-    >>> p["step"], p["tolerance"], p["step_rule"]
-    (0.1, 0.1, 'normalized')
+    >>> p["step"], p["tolerance"], p["step_rule"], round(p["escape_radius"], 6)
+    (0.1, 0.1, 'normalized', 0.3)
     >>> resolve_follow_params({"step": -1})
     Traceback (most recent call last):
     ...
-    gridfield.errors.ParameterError: step must be > 0, got -1
+    gridfield.errors.ParameterError: step must be a finite number > 0, got -1
     """
-    src = dict(params or {})
-    out = {k: src.get(k, v) for k, v in FOLLOW_DEFAULTS.items()}
-    for k, v in out.items():
-        if v is None and k not in ("step", "tolerance", "seed") and k in src:
-            raise ParameterError(f"{k} must be given a value, got None")
-    out["step_rule"] = _choice("step_rule", out["step_rule"], STEP_RULES)
-    out["sampling"] = _choice("sampling", out["sampling"], SAMPLINGS)
-    out["escape"] = _choice("escape", out["escape"], ESCAPES)
-    unit = _number("unit", unit, positive=True, allow_zero=False)
-    out["step"] = unit if out["step"] is None else _number("step", out["step"], positive=True, allow_zero=False)
-    ax, ay = _alpha(out["alpha"])
-    out["alpha"] = ax if ax == ay else (ax, ay)
-    out["min_speed"] = _number("min_speed", out["min_speed"], positive=True)
-    if out["tolerance"] is None:
-        out["tolerance"] = out["step"] if out["step_rule"] == "normalized" else unit
-    out["tolerance"] = _number("tolerance", out["tolerance"], positive=True, allow_zero=False)
-    out["max_iterations"] = _integer("max_iterations", out["max_iterations"])
-    out["gradient_threshold"] = _number("gradient_threshold", out["gradient_threshold"], positive=True)
-    out["progress_window"] = _integer("progress_window", out["progress_window"])
-    out["escape_tries"] = _integer("escape_tries", out["escape_tries"])
-    out["escape_radius"] = _number("escape_radius", out["escape_radius"], positive=True, allow_zero=False)
-    if out["seed"] is not None:
-        out["seed"] = _integer("seed", out["seed"])
+    from .params import resolve
+
+    full = resolve(params, unit=_number("unit", unit, positive=True, allow_zero=False))
+    out = {k: full[k] for k in FOLLOW_DEFAULTS}
+    if out["max_iterations"] is None:
+        out["max_iterations"] = FOLLOW_DEFAULTS["max_iterations"]
     return out
 
 
@@ -863,7 +849,7 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     t0 = time.perf_counter()
     dmap = None
     if cache is not None and params.get("model", "khatib") != "vortex":
-        p = resolve_params(params)
+        p = resolve_params(params, unit=gridmap.grid.resolution)
         key = ("brushfire", gridmap, p["metric"], p["saturate"])
         if key not in cache:
             cache[key] = field_distance_map(gridmap, p)
@@ -871,7 +857,7 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     field = build_field(gridmap, goal, params, dmap=dmap)
     build = time.perf_counter() - t0
     path = follow(field, start, params=params)
-    merged = dict(resolve_params(params))
+    merged = dict(resolve_params(params, unit=gridmap.grid.resolution))
     merged.update(path.params)
     extra = dict(path.extra)
     extra["build_seconds"] = build

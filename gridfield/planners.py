@@ -12,7 +12,6 @@ from __future__ import annotations
 import functools
 import importlib
 import inspect
-import math
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any
 
@@ -21,6 +20,7 @@ from numpy.typing import ArrayLike
 
 from .errors import GridfieldError, ParameterError
 from .grid import GridMap
+from .params import REGISTRY, validate
 from .path import Path
 
 if TYPE_CHECKING:  # shapely (via world) is imported only when a plan is made: `gridfield --help` stays light
@@ -40,69 +40,23 @@ PLANNERS: dict[str, tuple[str, str, str]] = {
     "sphere-nav": ("gridfield.navigation", "plan_sphere_nav", "world"),
 }
 
-#: Every parameter name a planner may read, with its meaning (DESIGN "Names").
-PARAMETERS: dict[str, str] = {
-    # potentials (Choset et al. ch. 4)
-    "zeta": "attractive gain",
-    "d_star": "goal distance where the attractive potential turns from quadratic to conic (inf: quadratic)",
-    "eta": "repulsive gain",
-    "q_star": "obstacle distance of influence",
-    "repulsive_power": "p in the repulsive force eta*(1/D - 1/q_star)/D**p (2: gradient of the classic potential)",
-    "repulsion": "'nearest' (one brushfire distance D) or 'sum' (sum over obstacles, each within q_star)",
-    "metric": "brushfire metric behind D: euclidean (default), chessboard or taxicab",
-    "gradient": "'analytic' (from the nearest-obstacle vector) or 'finite_difference' (numpy.gradient)",
-    "saturate": "saturation radius of the distance (seed 004)",
-    "model": "'khatib' (attractive + repulsive, default) or 'vortex' (seed 003)",
-    "ka": "vortex model: attractive gain",
-    "kr": "vortex model: repulsive charge at the start",
-    "ko": "vortex model: obstacle charge per boundary sample",
-    "spacing": "vortex model: lattice spacing of the sampled field",
-    "sample_radius": "vortex model: radius of the circle the obstacle charges are sampled on",
-    # follower
-    "step_rule": "'normalized' (x += step*F/|F|) or 'scaled' (x += alpha*F)",
-    "step": "fixed step length of the normalized follower",
-    "alpha": "gain of the gradient-scaled follower",
-    "min_speed": "minimum step length of the scaled follower (seed 004)",
-    "tolerance": "stop when within this distance of the goal",
-    "max_iterations": "give up after this many steps",
-    "sampling": "'bilinear' (default) or 'nearest' sampling of the gradient arrays",
-    "gradient_threshold": "local minimum when |F| falls below this (seed 004)",
-    "progress_window": "local minimum when the distance to the goal has not improved over this many steps",
-    "escape": "'none', 'random_walk' or 'potential_increase' (seed 000 bonus)",
-    "escape_tries": "how many escape jumps to try",
-    "escape_radius": "maximum jump length a of the random-walk escape",
-    "seed": "random seed of the escape",
-    # navigation functions
-    "connectivity": "4 or 8 for the wavefront",
-    "clearance_weight": "weight of the clearance cost of the clearance-aware wavefront",
-    "kappa": "sphere-world navigation function exponent",
-}
+#: Every parameter name a planner may read, with its meaning (generated from :data:`gridfield.params.REGISTRY`).
+PARAMETERS: dict[str, str] = {name: spec.meaning for name, spec in REGISTRY.items()}
 
 
-def check_params(params: Mapping[str, Any]) -> dict[str, Any]:
-    """Reject unknown parameter names and NaN values; return a plain dict.
+def check_params(params: Mapping[str, Any] | None) -> dict[str, Any]:
+    """Check names and values against the registry (:func:`gridfield.params.validate`); return a plain dict.
 
     Examples
     --------
-    >>> check_params({"zeta": 1.0, "step": 0.1})
+    >>> check_params({"zeta": 1, "step": 0.1})
     {'zeta': 1.0, 'step': 0.1}
     >>> check_params({"zetta": 1.0})
     Traceback (most recent call last):
     ...
     gridfield.errors.ParameterError: unknown parameter 'zetta'; did you mean 'zeta'? ...
     """
-    out = {}
-    for k, v in params.items():
-        if k not in PARAMETERS:
-            import difflib
-
-            close = difflib.get_close_matches(k, PARAMETERS, n=1)
-            hint = f"did you mean {close[0]!r}? " if close else ""
-            raise ParameterError(f"unknown parameter {k!r}; {hint}known parameters: {', '.join(sorted(PARAMETERS))}")
-        if isinstance(v, float) and math.isnan(v):
-            raise ParameterError(f"parameter {k} must not be NaN")
-        out[k] = v
-    return out
+    return dict(validate(params))
 
 
 def get_planner(name: str) -> tuple[Callable[..., Path], str]:
@@ -147,10 +101,13 @@ def plan(
     from .world import World
 
     fn, kind = get_planner(planner)
-    merged = dict(target.params) if isinstance(target, World) else (
+    given = validate(params)
+    if not isinstance(target, World | GridMap):
+        raise ParameterError(f"plan needs a World or a GridMap as target, got {type(target).__name__}")
+    base = dict(target.params) if isinstance(target, World) else (
         dict(target.world.params) if isinstance(target.world, World) else {})
-    merged.update(params or {})
-    merged = check_params(merged)
+    merged = dict(validate(base))
+    merged.update(given)
     if kind == "grid":
         from .rasterize import as_gridmap
 

@@ -82,10 +82,9 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import ndimage
 
 from . import _kernels_potential as _kp
-from .brushfire import METRICS, DistanceMap, brushfire
+from .brushfire import DistanceMap, brushfire
 from .errors import GridfieldError, MapFormatError, ParameterError
 from .grid import Grid, GridMap
-from .planners import PARAMETERS
 
 __all__ = [
     "DEFAULTS",
@@ -109,9 +108,9 @@ __all__ = [
 #: 1.05 x each circle's radius (seed 003's 2.1 for radius 2). ``ka``, ``kr``, ``ko``: seed 003.
 DEFAULTS: dict[str, Any] = {
     "zeta": 1.0,
-    "d_star": math.inf,
-    "eta": 1.0,
-    "q_star": 2.0,
+    "d_star": None,
+    "eta": None,
+    "q_star": None,
     "repulsive_power": 2.0,
     "repulsion": "nearest",
     "metric": "euclidean",
@@ -204,15 +203,29 @@ def _choice(name: str, value: Any, options: Sequence[str]) -> str:
     return str(value)
 
 
-def resolve_params(params: Mapping[str, Any] | None = None) -> dict[str, Any]:
-    """Validate potential parameters and fill in the defaults.
+def resolve_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0) -> dict[str, Any]:
+    """Validate potential parameters and fill in the defaults, lengths scaled to the map.
 
-    Keys must be names from :data:`gridfield.planners.PARAMETERS`; those a potential does not read
-    (the follower's ``step``, ``alpha``, ``tolerance``, ...) pass through unchanged. Defaults are
-    :data:`DEFAULTS`: ``zeta=1``, ``d_star=inf``, ``eta=1``, ``q_star=2``, ``repulsive_power=2``,
-    ``repulsion='nearest'``, ``metric='euclidean'``, ``gradient='analytic'``, ``model='khatib'``,
-    ``saturate=None``; vortex model ``ka=25``, ``kr=30``, ``ko=5``, ``spacing=None`` (the map's
-    resolution), ``sample_radius=None`` (1.05 x each circle's radius).
+    Names and values are checked against the registry (:data:`gridfield.params.REGISTRY`); names a
+    potential does not read (the follower's ``step``, ``alpha``, ...) pass through validated.
+    Defaults (:data:`DEFAULTS`): ``zeta=1``, ``repulsive_power=2``, ``repulsion='nearest'``,
+    ``metric='euclidean'``, ``gradient='analytic'``, ``model='khatib'``, ``saturate=None``; and,
+    scaled to the map's length ``unit`` (its cell size) by :func:`gridfield.params.resolve`:
+    ``q_star`` = 4 cells, ``d_star`` = 2 ``q_star``, ``eta`` balanced so that the repulsion at
+    ``q_star / 2`` equals the largest attraction. Vortex model ``ka=25``, ``kr=30``, ``ko=5``,
+    ``spacing=None`` (the map's resolution), ``sample_radius=None`` (1.05 x each circle's radius).
+
+    Parameters
+    ----------
+    params : mapping, optional
+        Parameter name -> value; given values always win.
+    unit : float
+        The map's length unit (a grid's cell size) the scaled defaults are expressed in.
+
+    Returns
+    -------
+    dict
+        The potential parameters of :data:`DEFAULTS`, resolved, plus the other names given.
 
     Raises
     ------
@@ -224,8 +237,10 @@ def resolve_params(params: Mapping[str, Any] | None = None) -> dict[str, Any]:
     Examples
     --------
     >>> p = resolve_params({"eta": 2, "step": 0.1})
-    >>> p["eta"], p["q_star"], p["repulsion"], p["step"]
-    (2.0, 2.0, 'nearest', 0.1)
+    >>> p["eta"], p["q_star"], p["d_star"], p["repulsion"], p["step"]
+    (2.0, 4.0, 8.0, 'nearest', 0.1)
+    >>> resolve_params({}, unit=0.05)["q_star"]
+    0.2
     >>> resolve_params({"repulsion": "all"})
     Traceback (most recent call last):
     ...
@@ -235,31 +250,13 @@ def resolve_params(params: Mapping[str, Any] | None = None) -> dict[str, Any]:
     ...
     gridfield.errors.ParameterError: q_star must be a number > 0 (inf allowed), got 0
     """
-    given = dict(params or {})
-    for k in given:
-        if k not in PARAMETERS:
-            import difflib
+    from .params import resolve, validate
 
-            close = difflib.get_close_matches(k, PARAMETERS, n=1)
-            hint = f"did you mean {close[0]!r}? " if close else ""
-            raise ParameterError(f"unknown parameter {k!r}; {hint}known parameters: {', '.join(sorted(PARAMETERS))}")
-    p = {**DEFAULTS, **given}
-    p["zeta"] = _number("zeta", p["zeta"])
-    p["d_star"] = _number("d_star", p["d_star"], allow_inf=True)
-    p["eta"] = _number("eta", p["eta"])
-    p["q_star"] = _number("q_star", p["q_star"], strict=True, allow_inf=True)
-    p["repulsive_power"] = _number("repulsive_power", p["repulsive_power"])
-    p["repulsion"] = _choice("repulsion", p["repulsion"], REPULSIONS)
-    p["metric"] = _choice("metric", p["metric"], METRICS)
-    p["gradient"] = _choice("gradient", p["gradient"], GRADIENTS)
-    p["model"] = _choice("model", p["model"], MODELS)
-    if p["saturate"] is not None:
-        p["saturate"] = _number("saturate", p["saturate"], strict=True)
-    for k in ("ka", "kr", "ko"):
-        p[k] = _number(k, p[k])
-    for k in ("spacing", "sample_radius"):
-        if p[k] is not None:
-            p[k] = _number(k, p[k], strict=True)
+    given = dict(validate(params))
+    full = resolve(given, unit=unit)
+    p = {k: full[k] for k in DEFAULTS}
+    p.update(given)
+    p.update({k: full[k] for k in DEFAULTS})
     if p["model"] == "khatib" and p["gradient"] == "finite_difference" and p["repulsive_power"] != 2:
         raise ParameterError(
             f"gradient='finite_difference' differentiates the potential 0.5*eta*(1/D - 1/q_star)**2, whose "
@@ -804,7 +801,7 @@ def build_field(
     Examples
     --------
     >>> occ = np.zeros((4, 6), bool); occ[:, 0] = True
-    >>> f = build_field(GridMap(Grid((4, 6), 1.0), occ), (5.5, 1.5), {"zeta": 0.5, "q_star": 3})
+    >>> f = build_field(GridMap(Grid((4, 6), 1.0), occ), (5.5, 1.5), {"zeta": 0.5, "eta": 1, "q_star": 3})
     >>> round(float(f.potential[1, 2]), 6), round(float(f.grad_x[1, 2]), 6)
     (2.263889, -1.541667)
     >>> build_field(GridMap(Grid((4, 6), 1.0), occ), (0.5, 1.5))
@@ -812,10 +809,12 @@ def build_field(
     ...
     gridfield.errors.GridfieldError: goal (0.5, 1.5) lies inside an obstacle
     """
-    given = dict(params or {})
-    p = resolve_params(given)
     if not isinstance(gridmap, GridMap):
         raise ParameterError(f"build_field needs a GridMap, got {type(gridmap).__name__}")
+    from .params import validate
+
+    given = dict(validate(params))
+    p = resolve_params(given, unit=gridmap.grid.resolution)
     if p["model"] == "vortex":
         return _build_vortex(gridmap, goal, p)
     g = gridmap.check_point("goal", goal)

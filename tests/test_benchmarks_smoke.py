@@ -7,6 +7,7 @@ tests then check instead.
 
 from __future__ import annotations
 
+import math
 import sys
 import warnings
 from pathlib import Path
@@ -70,7 +71,7 @@ def test_cell_by_cell_reference_matches_gridfield(bench_modules):
     ref = np.asarray(peers.cell_by_cell_potential(10, 8, res, goal, obstacles, 1.0, 2.0, 3.0)).T
     occ = np.zeros((8, 10), bool)
     occ[3, 2] = True
-    field = build_field(GridMap(Grid((8, 10), res), occ), goal, {"zeta": 1.0, "eta": 2.0, "q_star": 3.0})
+    field = build_field(GridMap(Grid((8, 10), res), occ), goal, {"zeta": 1.0, "d_star": math.inf, "eta": 2.0, "q_star": 3.0})
     np.testing.assert_allclose(ref[~occ], field.potential[~occ], rtol=1e-12)
     assert np.isinf(ref[3, 2])
 

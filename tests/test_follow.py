@@ -208,16 +208,16 @@ def test_potential_increase_escape():
 # parameters
 # ----------------------------------------------------------------------------------------------
 @pytest.mark.parametrize(("kw", "match"), [
-    ({"step": 0}, "step must be > 0"),
+    ({"step": 0}, "step must be .*> 0"),
     ({"step": math.nan}, "step must be a finite number"),
-    ({"alpha": -1}, "alpha must be > 0"),
-    ({"alpha": (1, 2, 3)}, "alpha must be a number or a pair"),
-    ({"tolerance": 0}, "tolerance must be > 0"),
+    ({"alpha": -1}, "alpha must be .*> 0"),
+    ({"alpha": (1, 2, 3)}, "alpha must be a .*number or a pair"),
+    ({"tolerance": 0}, "tolerance must be .*> 0"),
     ({"step_rule": "fast"}, "step_rule must be one of 'normalized', 'scaled'"),
     ({"escape": "jump"}, "escape must be one of"),
     ({"max_iterations": 1.5}, "max_iterations must be an integer"),
     ({"progress_window": -1}, "progress_window must be an integer >= 0"),
-    ({"min_speed": -1}, "min_speed must be >= 0"),
+    ({"min_speed": -1}, "min_speed must be .*>= 0"),
 ])
 def test_parameter_errors(kw, match):
     with pytest.raises(ParameterError, match=match):
@@ -371,7 +371,7 @@ def test_follow_errors():
         follow(f, (7.6, 2.0))
     with pytest.raises(GridfieldError, match="outside the map"):
         follow(f, (-1.0, 2.0))
-    with pytest.raises(ParameterError, match="step must be > 0"):
+    with pytest.raises(ParameterError, match=r"step must be .*> 0"):
         follow(f, (2.0, 2.0), params={"step": -0.1})
 
 

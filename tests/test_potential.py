@@ -52,9 +52,12 @@ def blocks_map(border: str = "open") -> GridMap:
 # parameters
 # ------------------------------------------------------------------------------------------------
 def test_resolve_params_defaults_and_passthrough():
-    p = resolve_params(None)
-    assert p == {**DEFAULTS, "d_star": math.inf}
-    assert (p["zeta"], p["d_star"], p["eta"], p["q_star"], p["repulsive_power"]) == (1.0, math.inf, 1.0, 2.0, 2.0)
+    p = resolve_params(None, unit=0.5)
+    assert set(p) == set(DEFAULTS)
+    # scaled defaults: q_star 4 cells, d_star 2 q_star, eta balancing the force at q_star/2
+    assert (p["zeta"], p["d_star"], p["q_star"], p["repulsive_power"]) == (1.0, 4.0, 2.0, 2.0)
+    rep_at_half = p["eta"] * (1 / 1.0 - 1 / 2.0) / 1.0**2
+    assert rep_at_half == pytest.approx(p["zeta"] * p["d_star"])
     assert (p["repulsion"], p["metric"], p["gradient"], p["model"]) == ("nearest", "euclidean", "analytic", "khatib")
     q = resolve_params({"zeta": 3, "step": 0.1, "alpha": 2.0, "tolerance": 0.1})
     assert q["zeta"] == 3.0 and isinstance(q["zeta"], float)
@@ -238,7 +241,7 @@ def test_repulsive_other_metrics(metric, formula):
     occ = np.zeros((9, 9), bool)
     occ[4, 4] = True
     gm = GridMap(Grid((9, 9), 1.0), occ)
-    p = {"zeta": 0.0, "q_star": 10.0, "metric": metric}
+    p = {"zeta": 0.0, "eta": 1.0, "q_star": 10.0, "metric": metric}
     f = build_field(gm, (0.5, 0.5), p)
     r, c = np.indices((9, 9)) - 4
     with np.errstate(divide="ignore"):
@@ -278,7 +281,7 @@ def test_saturated_distance_seed004():
     assert np.any(U0[beyond] > 0)
     # the same through build_field (brushfire's own saturate) and for the sum mode
     for rep in ("nearest", "sum"):
-        f = build_field(gm, (13.0, 9.5), {"zeta": 0.0, "q_star": q, "saturate": R, "repulsion": rep})
+        f = build_field(gm, (13.0, 9.5), {"zeta": 0.0, "eta": 1.0, "q_star": q, "saturate": R, "repulsion": rep})
         np.testing.assert_allclose(f.potential[~gm.occupied], U1[~gm.occupied], rtol=1e-12)
         assert f.distance is not None and f.distance.saturate == R
 

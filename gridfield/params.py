@@ -1,0 +1,514 @@
+"""The one parameter registry: every planner parameter's type, default, scaling rule, range and meaning.
+
+Each concern is a frozen dataclass (:class:`Attraction`, :class:`Repulsion`, :class:`Model`,
+:class:`Vortex`, :class:`Follower`, :class:`Escape`, :class:`Navigation`) whose fields carry a
+:class:`Spec` in their metadata. :data:`REGISTRY` (name -> :class:`Spec`) is built from them, and
+everything else is generated from it: :func:`validate` (the check behind
+:func:`gridfield.planners.plan`), :func:`resolve` (defaults filled in, lengths scaled to the map),
+the command line's flags and their help (:func:`help_text`), the sweep-spec check and the docs.
+
+Adding a parameter is one field in one dataclass here, and reading it in the module that uses it.
+
+Length defaults scale with the map
+    A length whose default is ``None`` is resolved by :func:`resolve` from the map's length unit
+    ``unit`` (a grid map's cell size; an exact planner's world resolution), so a map at resolution
+    1 and the same map at 0.05 give the same path in cells:
+
+    - ``q_star`` = 4 cells; ``d_star`` = 2 ``q_star`` (conic attraction beyond it);
+    - ``step`` = 1 cell; ``tolerance`` = ``step`` (normalized rule) or 1 cell (scaled rule);
+    - ``escape_radius`` = 6 cells;
+    - ``eta`` is balanced: the repulsive force at distance ``q_star / 2`` from an obstacle equals
+      the largest attractive force ``zeta * min(d_star, 2 q_star)``, so that near a wall the
+      repulsion wins (at one cell from a wall, with the defaults, it is 12 times the attraction).
+
+    Values given by a world file's ``params`` or by the user always win.
+
+Examples
+--------
+>>> p = validate({"q_star": 0.5, "escape": "random_walk"})
+>>> p["q_star"], p["escape"]
+(0.5, 'random_walk')
+>>> validate({"step": "abc"})
+Traceback (most recent call last):
+...
+gridfield.errors.ParameterError: step must be a finite number > 0, got 'abc'
+>>> r = resolve({}, unit=0.05)
+>>> r["q_star"], r["d_star"], r["step"], r["tolerance"], r["escape_radius"]
+(0.2, 0.4, 0.05, 0.05, 0.30000000000000004)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import difflib
+import math
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from .errors import ParameterError
+
+__all__ = [
+    "GROUPS",
+    "REGISTRY",
+    "Attraction",
+    "Escape",
+    "Follower",
+    "Model",
+    "Navigation",
+    "Params",
+    "Repulsion",
+    "Spec",
+    "Vortex",
+    "help_text",
+    "parse",
+    "resolve",
+    "validate",
+]
+
+#: Planner names, for the "read by" column of each parameter.
+_POT = ("potential", "exact-potential")
+_GRID_NAV = ("wavefront", "wavefront-octile", "fmm", "harmonic")
+_ALL_FOLLOW = (*_POT, *_GRID_NAV, "sphere-nav")
+
+#: Cells (of the map's length unit) behind the scaled defaults.
+Q_STAR_CELLS = 4.0
+STEP_CELLS = 1.0
+ESCAPE_RADIUS_CELLS = 6.0
+D_STAR_PER_Q_STAR = 2.0
+
+
+@dataclass(frozen=True)
+class Spec:
+    """One parameter: how it is checked, its default, and what it means.
+
+    ``kind`` is ``number``, ``integer``, ``choice``, ``alpha`` (a number or a pair) or ``point``;
+    ``minimum``/``strict`` bound numbers (``strict``: ``> minimum``); ``allow_inf`` admits ``inf``;
+    ``allow_none`` admits ``None`` (``scale`` then says what ``None`` resolves to).
+    """
+
+    name: str
+    group: str
+    kind: str
+    default: Any
+    meaning: str
+    choices: tuple[Any, ...] = ()
+    minimum: float | None = None
+    strict: bool = False
+    allow_inf: bool = False
+    allow_none: bool = False
+    scale: str = ""
+    planners: tuple[str, ...] = ()
+    flag: bool = True
+
+    def allowed(self) -> str:
+        """The allowed values in words (``a number > 0``, ``one of 'a', 'b'``)."""
+        if self.kind == "choice":
+            return "one of " + ", ".join(repr(c) for c in self.choices)
+        if self.kind == "point":
+            return "two numbers (x, y)"
+        base = {"number": "a number" if self.allow_inf else "a finite number", "integer": "an integer",
+                "alpha": "a finite number or a pair (ax, ay)"}[self.kind]
+        if self.minimum is not None:
+            base += f" {'>' if self.strict else '>='} {self.minimum:g}"
+        if self.allow_inf:
+            base += " (inf allowed)"
+        return base
+
+    def check(self, value: Any) -> Any:
+        """``value`` validated and converted (``float``/``int``/``str``/tuple); raises ParameterError."""
+        if value is None:
+            if self.allow_none:
+                return None
+            raise ParameterError(f"{self.name} must be {self.allowed()}, got None")
+        if self.kind == "choice":
+            for c in self.choices:
+                if value == c and type(value) is not bool and (isinstance(c, str) == isinstance(value, str)):
+                    return c
+            raise ParameterError(f"{self.name} must be {self.allowed()}; got {_short(value)}")
+        if self.kind == "point":
+            try:
+                vals = [float(v) for v in value]
+            except (TypeError, ValueError):
+                vals = []
+            if len(vals) != 2 or not all(math.isfinite(v) for v in vals) or isinstance(value, str):
+                raise ParameterError(f"{self.name} must be {self.allowed()}, got {_short(value)}")
+            return (vals[0], vals[1])
+        if self.kind == "alpha" and isinstance(value, list | tuple):
+            if len(value) != 2:
+                raise ParameterError(f"{self.name} must be {self.allowed()}, got {_short(value)}")
+            a, b = (self._number(v, value) for v in value)
+            return a if a == b else (a, b)
+        return self._number(value, value)
+
+    def _number(self, v: Any, shown: Any) -> float | int:
+        bad = ParameterError(f"{self.name} must be {self.allowed()}, got {_short(shown)}")
+        if isinstance(v, bool) or (not isinstance(v, int | float) and not _is_numpy_number(v)):
+            raise bad
+        f = float(v)
+        if math.isnan(f) or (math.isinf(f) and not self.allow_inf):
+            raise bad
+        if self.minimum is not None and (f < self.minimum or (self.strict and f == self.minimum)):
+            raise bad
+        if self.kind == "integer":
+            if not f.is_integer():
+                raise bad
+            return int(f)
+        return f
+
+
+def _is_numpy_number(v: Any) -> bool:
+    import numbers
+
+    return isinstance(v, numbers.Real)
+
+
+def _short(v: Any, limit: int = 200) -> str:
+    text = repr(v)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _p(group: str, kind: str, default: Any, meaning: str, **kw: Any) -> Any:
+    """A dataclass field whose metadata is the parameter's :class:`Spec` (name filled in later)."""
+    return field(default=default, metadata={"spec": dict(group=group, kind=kind, default=default,
+                                                         meaning=meaning, **kw)})
+
+
+@dataclass(frozen=True)
+class Attraction:
+    """The attractive potential (Choset et al. ch. 4): quadratic within ``d_star`` of the goal, conic beyond."""
+
+    zeta: float = _p("attraction", "number", 1.0, "attractive gain", minimum=0.0, planners=_POT)
+    d_star: float | None = _p(
+        "attraction", "number", None, "goal distance where the attraction turns from quadratic to conic "
+        "(inf: quadratic everywhere)", minimum=0.0, allow_inf=True, allow_none=True,
+        scale=f"{D_STAR_PER_Q_STAR:g} x q_star", planners=_POT)
+
+
+@dataclass(frozen=True)
+class Repulsion:
+    """The repulsive potential ``0.5 eta (1/D - 1/q_star)^2`` within ``q_star`` of an obstacle."""
+
+    eta: float | None = _p("repulsion", "number", None, "repulsive gain", minimum=0.0, allow_none=True,
+                           scale="balanced: the repulsion at q_star/2 equals the largest attraction "
+                                 "zeta*min(d_star, 2 q_star)", planners=_POT)
+    q_star: float | None = _p("repulsion", "number", None, "obstacle distance of influence of the repulsion",
+                              minimum=0.0, strict=True, allow_inf=True, allow_none=True,
+                              scale=f"{Q_STAR_CELLS:g} cells", planners=(*_POT, *_GRID_NAV))
+    repulsive_power: float = _p("repulsion", "number", 2.0, "p in the repulsive force eta*(1/D - 1/q_star)/D**p "
+                                "(2: the gradient of the classic potential)", minimum=0.0, planners=_POT)
+    repulsion: str = _p("repulsion", "choice", "nearest", "'nearest' (one brushfire distance D) or 'sum' (over "
+                        "obstacles, each within q_star)", choices=("nearest", "sum"), planners=_POT)
+    metric: str = _p("repulsion", "choice", "euclidean", "brushfire metric behind D",
+                     choices=("euclidean", "chessboard", "taxicab"), planners=("potential",))
+    gradient: str = _p("repulsion", "choice", "analytic", "'analytic' (from the nearest-obstacle vector) or "
+                       "'finite_difference' (numpy.gradient of U)", choices=("analytic", "finite_difference"),
+                       planners=("potential",))
+    saturate: float | None = _p("repulsion", "number", None, "saturation radius of the distance (seed 004; "
+                                "none: no saturation)", minimum=0.0, strict=True, allow_none=True,
+                                planners=_POT, flag=False)
+
+
+@dataclass(frozen=True)
+class Model:
+    """Which potential model the potential planner builds."""
+
+    model: str = _p("model", "choice", "khatib", "'khatib' (attractive + repulsive) or 'vortex' (seed 003)",
+                    choices=("khatib", "vortex"), planners=("potential",), flag=False)
+
+
+@dataclass(frozen=True)
+class Vortex:
+    """Seed 003's vortex model (charges on a lattice)."""
+
+    ka: float = _p("vortex", "number", 25.0, "vortex model: attractive gain", minimum=0.0, planners=("potential",),
+                   flag=False)
+    kr: float = _p("vortex", "number", 30.0, "vortex model: repulsive charge at the start", minimum=0.0,
+                   planners=("potential",), flag=False)
+    ko: float = _p("vortex", "number", 5.0, "vortex model: obstacle charge per boundary sample", minimum=0.0,
+                   planners=("potential",), flag=False)
+    spacing: float | None = _p("vortex", "number", None, "vortex model: lattice spacing", minimum=0.0, strict=True,
+                               allow_none=True, scale="the map's resolution", planners=("potential",), flag=False)
+    sample_radius: float | None = _p("vortex", "number", None, "vortex model: radius of the circle the obstacle "
+                                     "charges are sampled on", minimum=0.0, strict=True, allow_none=True,
+                                     scale="1.05 x each circle's radius", planners=("potential",), flag=False)
+
+
+@dataclass(frozen=True)
+class Follower:
+    """The gradient-descent follower: step and stop rules."""
+
+    step_rule: str = _p("follower", "choice", "normalized", "'normalized' (x += step*F/|F|) or 'scaled' "
+                        "(x += alpha*F)", choices=("normalized", "scaled"), planners=_POT)
+    step: float | None = _p("follower", "number", None, "step length of the normalized follower", minimum=0.0,
+                            strict=True, allow_none=True, scale=f"{STEP_CELLS:g} cell", planners=_ALL_FOLLOW)
+    alpha: float = _p("follower", "alpha", 0.1, "gain of the gradient-scaled follower", minimum=0.0, strict=True,
+                      planners=_POT)
+    min_speed: float = _p("follower", "number", 0.0, "minimum step length of the scaled follower (seed 004)",
+                          minimum=0.0, planners=_POT)
+    tolerance: float | None = _p("follower", "number", None, "stop when within this distance of the goal",
+                                 minimum=0.0, strict=True, allow_none=True,
+                                 scale="step (normalized rule) or 1 cell (scaled rule)", planners=_ALL_FOLLOW)
+    max_iterations: int | None = _p("follower", "integer", 10_000, "give up after this many steps", minimum=0,
+                                    allow_none=True, planners=_ALL_FOLLOW)
+    sampling: str = _p("follower", "choice", "bilinear", "sampling of the gradient arrays",
+                       choices=("bilinear", "nearest"), planners=("potential",))
+    gradient_threshold: float = _p("follower", "number", 0.0, "local minimum when |F| falls below this (seed 004)",
+                                   minimum=0.0, planners=_POT)
+    progress_window: int = _p("follower", "integer", 200, "local minimum when the distance to the goal has not "
+                              "improved over this many steps (0: off)", minimum=0, planners=(*_POT, "sphere-nav"))
+
+
+@dataclass(frozen=True)
+class Escape:
+    """What the follower does at a local minimum."""
+
+    escape: str = _p("escape", "choice", "none", "at a local minimum: 'none' (stop), 'random_walk' (random jumps), "
+                     "'potential_increase' (seed 000's bonus) or 'navigation' (follow the octile wavefront from "
+                     "the goal until the descent resumes; reaches every reachable goal)",
+                     choices=("none", "random_walk", "potential_increase", "navigation"), planners=_POT)
+    escape_tries: int = _p("escape", "integer", 10, "how many escapes to try", minimum=0, planners=_POT)
+    escape_radius: float | None = _p("escape", "number", None, "maximum jump length of the random-walk escape",
+                                     minimum=0.0, strict=True, allow_none=True,
+                                     scale=f"{ESCAPE_RADIUS_CELLS:g} cells", planners=_POT)
+    seed: int | None = _p("escape", "integer", 0, "random seed of the random-walk escape", minimum=0,
+                          allow_none=True, planners=_POT)
+
+
+@dataclass(frozen=True)
+class Navigation:
+    """Navigation functions (wavefront, fmm, harmonic, sphere worlds)."""
+
+    connectivity: int = _p("navigation", "choice", 8, "neighbourhood of the wavefront", choices=(4, 8),
+                           planners=("wavefront", "wavefront-octile"), flag=False)
+    clearance_weight: float = _p("navigation", "number", 0.0, "weight of the clearance cost of the clearance-aware "
+                                 "wavefront (cost 1 + w * max(0, q_star - D) per cell)", minimum=0.0,
+                                 planners=_GRID_NAV, flag=False)
+    kappa: float | None = _p("navigation", "number", None, "sphere-world navigation function exponent",
+                             minimum=0.0, strict=True, allow_none=True,
+                             scale="the smallest of 2, 3, 4, 6, 8, ... that reaches the goal",
+                             planners=("sphere-nav",), flag=False)
+    workspace_center: tuple[float, float] | None = _p(
+        "navigation", "point", None, "centre of the sphere world's disc workspace", allow_none=True,
+        scale="the centre of the world's bounds", planners=("sphere-nav",), flag=False)
+    workspace_radius: float | None = _p(
+        "navigation", "number", None, "radius of the sphere world's disc workspace", minimum=0.0, strict=True,
+        allow_none=True, scale="the disc inscribed in the world's bounds", planners=("sphere-nav",), flag=False)
+
+
+#: The concerns, in the order help and docs list them.
+GROUPS: tuple[type, ...] = (Attraction, Repulsion, Model, Vortex, Follower, Escape, Navigation)
+
+
+def _build() -> dict[str, Spec]:
+    out: dict[str, Spec] = {}
+    for cls in GROUPS:
+        for f in dataclasses.fields(cls):
+            out[f.name] = Spec(name=f.name, **f.metadata["spec"])
+    return out
+
+
+#: name -> Spec, every parameter a planner may read.
+REGISTRY: dict[str, Spec] = _build()
+
+
+class Params(Mapping[str, Any]):
+    """A validated, read-only mapping of parameter values (only the names given, or resolved).
+
+    Examples
+    --------
+    >>> p = validate({"eta": 2})
+    >>> p["eta"], dict(p)
+    (2.0, {'eta': 2.0})
+    >>> p
+    Params(eta=2.0)
+    """
+
+    __slots__ = ("_d",)
+
+    def __init__(self, values: Mapping[str, Any]) -> None:
+        self._d = dict(values)
+
+    def __getitem__(self, key: str) -> Any:
+        return self._d[key]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._d)
+
+    def __len__(self) -> int:
+        return len(self._d)
+
+    def __repr__(self) -> str:
+        return "Params(" + ", ".join(f"{k}={v!r}" for k, v in self._d.items()) + ")"
+
+    def group(self, cls: type) -> Any:
+        """The values of one concern as its frozen dataclass (defaults for names not given)."""
+        names = {f.name for f in dataclasses.fields(cls)}
+        return cls(**{k: v for k, v in self._d.items() if k in names})
+
+
+def _unknown(name: str) -> ParameterError:
+    close = difflib.get_close_matches(name, REGISTRY, n=1)
+    hint = f"did you mean {close[0]!r}? " if close else ""
+    return ParameterError(f"unknown parameter {_short(name, 60)}; {hint}known parameters: "
+                          f"{', '.join(sorted(REGISTRY))}")
+
+
+def validate(params: Mapping[str, Any] | None) -> Params:
+    """Check names and values of ``params`` against :data:`REGISTRY`; return them converted.
+
+    Parameters
+    ----------
+    params : mapping or None
+        Parameter name -> value (numbers as numbers, options as strings).
+
+    Returns
+    -------
+    Params
+        The same names, values converted (``float``, ``int``, option strings, tuples).
+
+    Raises
+    ------
+    ParameterError
+        An unknown name (with a "did you mean"), or a value of the wrong type or out of range; the
+        message names the parameter, the value and what is allowed.
+
+    Examples
+    --------
+    >>> validate({"max_iterations": 10.0})["max_iterations"]
+    10
+    >>> validate({"max_iterations": "10"})
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: max_iterations must be an integer >= 0, got '10'
+    """
+    if params is None:
+        return Params({})
+    if isinstance(params, Params):
+        return params
+    if not isinstance(params, Mapping):
+        raise ParameterError(f"params must be a mapping of parameter names to values, got {type(params).__name__}")
+    out: dict[str, Any] = {}
+    for k, v in params.items():
+        if not isinstance(k, str) or k not in REGISTRY:
+            raise _unknown(str(k))
+        out[k] = REGISTRY[k].check(v)
+    return Params(out)
+
+
+def parse(name: str, text: str) -> Any:
+    """A command-line string as the value parameter ``name`` takes (then checked).
+
+    Examples
+    --------
+    >>> parse("q_star", "0.5"), parse("escape", "navigation"), parse("max_iterations", "20")
+    (0.5, 'navigation', 20)
+    >>> parse("kappa", "abc")
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: kappa must be a finite number > 0, got 'abc'
+    """
+    if name not in REGISTRY:
+        raise _unknown(name)
+    spec = REGISTRY[name]
+    t = text.strip()
+    if t.lower() in ("none", "null") and spec.allow_none:
+        return None
+    value: Any = t
+    if spec.kind in ("number", "integer", "alpha") or (spec.kind == "choice" and all(isinstance(c, int)
+                                                                                     for c in spec.choices)):
+        try:
+            value = float(t)
+            if value.is_integer() and spec.kind != "number":
+                value = int(value)
+        except ValueError:
+            if spec.kind == "alpha" and "," in t:
+                try:
+                    value = [float(s) for s in t.split(",")]
+                except ValueError:
+                    value = t
+    elif spec.kind == "point":
+        try:
+            value = [float(s) for s in t.split(",")]
+        except ValueError:
+            value = t
+    return spec.check(value)
+
+
+def resolve(params: Mapping[str, Any] | None, *, unit: float) -> dict[str, Any]:
+    """Every parameter with its default, lengths scaled to the map's length ``unit``.
+
+    Parameters
+    ----------
+    params : mapping or None
+        Given values (validated here); they always win over defaults.
+    unit : float
+        The map's length unit: a grid map's cell size, or an exact planner's world resolution.
+
+    Returns
+    -------
+    dict
+        Every name of :data:`REGISTRY`; ``q_star``, ``d_star``, ``eta``, ``step``, ``tolerance`` and
+        ``escape_radius`` resolved by the rules of the module docstring (the others keep ``None``
+        where ``None`` is their meaning).
+
+    Examples
+    --------
+    >>> r = resolve({"q_star": 2.0, "d_star": math.inf, "eta": 1.0}, unit=0.05)   # given: unchanged
+    >>> r["q_star"], r["d_star"], r["eta"], r["step"]
+    (2.0, inf, 1.0, 0.05)
+    >>> r = resolve({}, unit=1.0)
+    >>> r["eta"]   # zeta * d_star * q_star * (q_star / 2)**2 = 1 * 8 * 4 * 4
+    128.0
+    """
+    if not (isinstance(unit, int | float) and math.isfinite(unit) and unit > 0):
+        raise ParameterError(f"the map's length unit must be a finite number > 0, got {unit!r}")
+    given = validate(params)
+    p: dict[str, Any] = {name: spec.default for name, spec in REGISTRY.items()}
+    p.update(given)
+    if p["q_star"] is None:
+        p["q_star"] = Q_STAR_CELLS * unit
+    if p["d_star"] is None:
+        p["d_star"] = D_STAR_PER_Q_STAR * p["q_star"] if math.isfinite(p["q_star"]) else math.inf
+    if p["eta"] is None:
+        p["eta"] = balanced_eta(p["zeta"], p["d_star"], p["q_star"], p["repulsive_power"], unit)
+    if p["step"] is None:
+        p["step"] = STEP_CELLS * unit
+    if p["tolerance"] is None:
+        p["tolerance"] = p["step"] if p["step_rule"] == "normalized" else unit
+    if p["escape_radius"] is None:
+        p["escape_radius"] = ESCAPE_RADIUS_CELLS * unit
+    return p
+
+
+def balanced_eta(zeta: float, d_star: float, q_star: float, power: float, unit: float) -> float:
+    """The repulsive gain whose force at ``q_star / 2`` equals the attraction ``zeta * min(d_star, 2 q_star)``.
+
+    ``q_star = inf``: balanced at 2 units from the obstacle against ``zeta * min(d_star, 8 units)``.
+
+    Examples
+    --------
+    >>> balanced_eta(1.0, 8.0, 4.0, 2.0, 1.0)   # eta * (1/2 - 1/4) / 2**2 = 8
+    128.0
+    """
+    z = zeta if zeta > 0 else 1.0
+    if math.isfinite(q_star):
+        db, inv_q, cap = q_star / 2.0, 1.0 / q_star, 2.0 * q_star
+    else:
+        db, inv_q, cap = 2.0 * unit, 0.0, 8.0 * unit
+    attraction = z * min(d_star, cap)
+    return float(attraction / ((1.0 / db - inv_q) / db**power))
+
+
+def help_text(name: str) -> str:
+    """One line for ``--help``: meaning, default (or scaling rule), allowed values, planners.
+
+    Examples
+    --------
+    >>> help_text("q_star")
+    'obstacle distance of influence of the repulsion; default: 4 cells; a number > 0 (inf allowed); ...'
+    """
+    s = REGISTRY[name]
+    default = s.scale if (s.default is None and s.scale) else ("none" if s.default is None else repr(s.default))
+    text = f"{s.meaning}; default: {default}; {s.allowed()}; read by: {', '.join(s.planners)}"
+    return text.replace("%", "%%")

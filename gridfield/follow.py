@@ -15,7 +15,7 @@ Stop rules, checked in this order before every step
     ``reached``: the current point is closer than ``tolerance`` to the goal (the seed's
     ``norm(x - Xf) < 0.1``). The goal itself is then appended to the path, as the seed's
     ``P = [P Xf]`` does (unless that last hop is blocked; ``extra["goal_appended"]`` tells).
-    ``local_minimum``, three detectors:
+    ``local_minimum``, four detectors:
 
     - *oscillation*: the point is back within ``revisit_tolerance`` of the point two steps back
       (seed 000; default tolerance ``1e-6 * step``). The stall point is the one of the two
@@ -27,9 +27,20 @@ Stop rules, checked in this order before every step
     - *small gradient*: ``|F| <= gradient_threshold`` (seed 004), or ``F`` is zero or not
       finite. The stall point is the current point.
 
+    - *blocked*: the step would enter an obstacle (or leave a walled map) and so would every
+      fallback step (below): the force presses the follower onto an obstacle. The stall point
+      is the current point; ``extra["blocked_at"]`` holds the rejected full step.
+
     ``max_iterations``: the step budget is used up.
-    ``collision``: the next step would enter an obstacle or leave a walled map; the path ends
-    at the last free point and ``extra["collision_at"]`` holds the rejected point.
+
+Steps never enter an obstacle
+    Every move (step, fallback step, escape move, the appended goal) is checked with ``blocked``
+    before it is made. When the full step is blocked, the follower tries shorter and turned
+    steps, in the order of ``_SLIDES``: the step direction turned by 0, +-15, ..., +-75 degrees
+    (all within 75 degrees of the force, so each still descends), each at 1, 1/2, 1/4 and 1/8 of
+    the step length; it takes the first free one (it slides along the wall), and
+    ``extra["slid_steps"]`` counts them. So a normal run ends ``reached``, ``local_minimum`` or
+    ``max_iterations``; ``collision`` is left to callers for a start that is not free.
 
 A stalled run is never reported as ``reached``.
 
@@ -62,7 +73,7 @@ Grid fields
     cell containing the point, seed 003). :func:`grid_blocked` walks the cells a segment crosses
     exactly. **Open border**: what lies outside the grid is free space; the follower may leave
     the grid, and the field there is the field at the nearest point of the grid (clamping).
-    **Wall border**: leaving the grid is a ``collision``.
+    **Wall border**: leaving the grid is blocked, like entering an obstacle.
 
 Examples
 --------
@@ -240,6 +251,37 @@ def _xy(p: ArrayLike, name: str) -> Point:
     return float(a[0]), float(a[1])
 
 
+#: Fallback steps when the full step is blocked, in the order tried: the step direction turned by
+#: these angles (degrees; every one within 75 degrees of the force, so each is a descent
+#: direction), each at these fractions of the step length. The first free one is taken.
+_SLIDE_ANGLES = (0.0, 15.0, -15.0, 30.0, -30.0, 45.0, -45.0, 60.0, -60.0, 75.0, -75.0)
+_SLIDE_FACTORS = (1.0, 0.5, 0.25, 0.125)
+#: ``(cos, sin, factor)`` of every fallback step (the unturned full step, already blocked, left out).
+_SLIDES: tuple[tuple[float, float, float], ...] = tuple(
+    (math.cos(math.radians(a)), math.sin(math.radians(a)), f)
+    for a in _SLIDE_ANGLES for f in _SLIDE_FACTORS if (a, f) != (0.0, 1.0)
+)
+
+
+def _free_step(x: float, y: float, sx: float, sy: float,
+               blocked: Callable[[Point, Point], bool]) -> Point | None:
+    """The first free fallback of the blocked step ``(sx, sy)`` from ``(x, y)`` (see :data:`_SLIDES`).
+
+    Examples
+    --------
+    >>> wall = lambda p, q: q[0] > 1.0          # free for x <= 1
+    >>> _free_step(0.5, 0.0, 1.0, 0.0, wall)    # shortened to half
+    (1.0, 0.0)
+    >>> _free_step(1.0, 0.0, 1.0, 0.0, wall) is None   # pressed against the wall
+    True
+    """
+    for c, sn, f in _SLIDES:
+        q = (x + f * (c * sx - sn * sy), y + f * (sn * sx + c * sy))
+        if not blocked((x, y), q):
+            return q
+    return None
+
+
 def descend(
     force: Callable[[Point], tuple[float, float]],
     start: ArrayLike,
@@ -319,13 +361,14 @@ def descend(
 
     Examples
     --------
-    A wall across the bowl stops the follower:
+    A wall across the bowl stops the follower: it shortens its steps up to the wall (never
+    into it), then no descent step is free:
 
     >>> wall = lambda p, q: q[0] >= 2.0
     >>> pts, status, n, extra = descend(lambda p: (3.0 - p[0], 0.0), (0.0, 0.0), (3.0, 0.0),
     ...                                 step=0.5, tolerance=0.3, blocked=wall)
-    >>> status, pts[-1].tolist(), extra["collision_at"]
-    ('collision', [1.5, 0.0], [2.0, 0.0])
+    >>> status, extra["stop_reason"], bool(pts[:, 0].max() < 2.0), extra["blocked_at"][0] >= 2.0
+    ('local_minimum', 'blocked', True, True)
 
     A wrong parameter is named:
 
@@ -370,6 +413,8 @@ def descend(
     minima: list[list[float]] = []
     log: list[dict[str, Any]] = []
     tried = 0
+    slid = 0  # steps shortened or turned because the full step was blocked
+    pinned = False  # no free descent step from the current point
 
     def settle(outcome: str, where: list[float] | None = None) -> None:
         """Classify the pending escape (the last one) by how the follower stopped next."""
@@ -394,7 +439,11 @@ def descend(
         n = len(xs)
         reason = ""
         stall = -1
-        if n > 2 and sqrt((x - xs[-3]) * (x - xs[-3]) + (y - ys[-3]) * (y - ys[-3])) <= rev_tol:
+        if pinned:
+            reason = "blocked"
+            stall = n - 1
+            pinned = False
+        elif n > 2 and sqrt((x - xs[-3]) * (x - xs[-3]) + (y - ys[-3]) * (y - ys[-3])) <= rev_tol:
             reason = "oscillation"
             stall = n - 3 if fns[n - 3] <= fns[n - 2] else n - 2
             extra["oscillation"] = [[xs[n - 2], ys[n - 2]], [x, y]]
@@ -493,10 +542,13 @@ def descend(
                 sx, sy = min_speed * fx / fn, min_speed * fy / fn
             nx, ny = x + sx, y + sy
         if blocked is not None and blocked((x, y), (nx, ny)):
-            status = "collision"
-            extra["stop_reason"] = "blocked"
-            extra["collision_at"] = [nx, ny]
-            break
+            free = _free_step(x, y, nx - x, ny - y, blocked)
+            if free is None:  # no descent step is free: the force presses the follower onto an obstacle
+                extra["blocked_at"] = [nx, ny]
+                pinned = True
+                continue
+            nx, ny = free
+            slid += 1
         x, y = nx, ny
         append_x(x)
         append_y(y)
@@ -508,6 +560,7 @@ def descend(
             win_min, win_idx = math.inf, len(xs) - 1
 
     settle(status)
+    extra["slid_steps"] = slid
     if status == "reached" and append_goal and (x, y) != (gx, gy):
         ok = blocked is None or not blocked((x, y), (gx, gy))
         if ok:
@@ -948,6 +1001,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
     stall = np.full((N, 2), np.nan)
     osc = np.full((N, 2, 2), np.nan)
     coll = np.full((N, 2), np.nan)
+    slid = np.zeros(N, np.int64)
     last = np.zeros((N, 2))
     FX = np.empty(N)
     FY = np.empty(N)
@@ -1024,9 +1078,29 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         ob = out_b[:n]
         _blocked_many(occ, x0, y0, res, wall, X, Y, NX, NY, ob)
         hit = ob & ~bad
-        if hit.any():
-            coll[ids[hit], 0], coll[ids[hit], 1] = NX[hit], NY[hit]
-            finish(hit, 3, "blocked")
+        if hit.any():  # the fallback steps of descend, in the same order, for the blocked points
+            todo = np.flatnonzero(hit)
+            SX, SY = NX[todo] - X[todo], NY[todo] - Y[todo]
+            for c, sn, f in _SLIDES:
+                k = len(todo)
+                CX = X[todo] + f * (c * SX - sn * SY)
+                CY = Y[todo] + f * (sn * SX + c * SY)
+                cb = np.empty(k, np.bool_)
+                _blocked_many(occ, x0, y0, res, wall, X[todo], Y[todo], CX, CY, cb)
+                freed = ~cb
+                NX[todo[freed]], NY[todo[freed]] = CX[freed], CY[freed]
+                slid[ids[todo[freed]]] += 1
+                todo, SX, SY = todo[cb], SX[cb], SY[cb]
+                if not len(todo):
+                    break
+            pinned = np.zeros(n, np.bool_)
+            pinned[todo] = True
+            if len(todo):
+                idx = ids[pinned]
+                coll[idx, 0], coll[idx, 1] = NX[pinned], NY[pinned]
+                stall[idx, 0], stall[idx, 1] = X[pinned], Y[pinned]
+                finish(pinned, 2, "blocked")
+            hit = pinned
         move = ~(bad | hit)
         P2x, P2y, P1x, P1y = P1x, P1y, X, Y
         F2, F1 = F1, fn
@@ -1070,7 +1144,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         else:
             pts = np.array([S[i], last[i]]) if n_i else S[i][None, :]
         status = _CODES[code[i]]
-        extra: dict[str, Any] = {"stop_reason": reason[i], "sampling": setup.sampling}
+        extra: dict[str, Any] = {"stop_reason": reason[i], "slid_steps": int(slid[i]), "sampling": setup.sampling}
         if status == "reached":
             lx, ly = float(last[i, 0]), float(last[i, 1])
             if (lx, ly) != goal:
@@ -1085,8 +1159,8 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
             extra["local_minima"] = [stall[i].tolist()]
             if reason[i] == "oscillation":
                 extra["oscillation"] = osc[i].tolist()
-        elif status == "collision":
-            extra["collision_at"] = coll[i].tolist()
+            elif reason[i] == "blocked":
+                extra["blocked_at"] = coll[i].tolist()
         pts_list.append(pts)
         extras.append(extra)
     # clearance and the outside-the-map note for all paths at once

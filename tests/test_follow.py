@@ -134,10 +134,14 @@ def test_no_progress_window_and_max_iterations():
     assert (status, n) == ("max_iterations", 77)
 
 
-def test_collision_stops_before_the_obstacle():
+def test_blocked_follower_stops_before_the_obstacle():
     blocked = lambda p, q: q[0] > 1.05  # noqa: E731
     pts, status, _n, extra = descend(bowl(3.0, 0.0), (0.0, 0.0), (3.0, 0.0), step=0.1, tolerance=0.1, blocked=blocked)
-    assert status == "collision" and extra["collision_at"][0] > 1.05 and pts[-1, 0] <= 1.05
+    assert status == "local_minimum" and extra["stop_reason"] == "blocked"
+    assert extra["blocked_at"][0] > 1.05 and pts[:, 0].max() <= 1.05
+    # it shortened its last steps up to the wall: within an eighth of a step of it
+    assert pts[-1, 0] > 1.05 - 0.1 / 8 and extra["slid_steps"] >= 1
+    assert extra["stall_point"] == pts[-1].tolist()
 
 
 @given(cx=st.floats(-5, 5), cy=st.floats(-5, 5), gx=st.floats(-5, 5), gy=st.floats(-5, 5),
@@ -355,10 +359,12 @@ def test_grid_blocked_corner_and_degenerate_segments():
 # ----------------------------------------------------------------------------------------------
 # follow on grids
 # ----------------------------------------------------------------------------------------------
-def test_follow_bowl_with_wall_collides_or_goes_around():
+def test_follow_bowl_with_wall_slides_or_goes_around():
     f = bowl_field(wall_cols=(30, 32, 0, 16))  # a wall x in [7.5, 8) from y = 0 to 4
     p = follow(f, (2.0, 1.0), params={"step": 0.1})
-    assert p.status == "collision" and p.extra["collision_at"][0] >= 7.4
+    # the bowl pulls it onto the wall: it slides up along it and around its end at y = 4
+    assert p.status == "reached" and p.extra["slid_steps"] > 0
+    assert not f.map.occupied[tuple(f.map.grid.world_to_cell(p.points)[0].T)].any()
     assert p.planner == "potential" and p.params["step"] == 0.1
     p2 = follow(f, (2.0, 9.0), params={"step": 0.1})
     assert p2.status == "reached" and p2.end.tolist() == [10.0, 5.0]
@@ -375,11 +381,12 @@ def test_follow_errors():
         follow(f, (2.0, 2.0), params={"step": -0.1})
 
 
-def test_wall_border_leaving_is_collision():
+def test_wall_border_is_never_left():
     f = bowl_field(goal=(20.0, 5.0), shape=(40, 60), border="wall")
-    # the bowl's centre is beyond the grid's right edge (x = 15)
+    # the bowl's centre is beyond the grid's right edge (x = 15): the follower stops at the edge
     p = follow(f, (2.0, 5.0), params={"step": 0.2})
-    assert p.status == "collision" and p.extra["collision_at"][0] >= 15.0
+    assert p.status == "local_minimum" and p.extra["stop_reason"] == "blocked"
+    assert p.extra["blocked_at"][0] >= 15.0 and p.points[:, 0].max() < 15.0
 
 
 def test_plan_potential_seed000_segment(segment_world):

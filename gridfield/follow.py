@@ -1228,6 +1228,9 @@ def descent_successor(potential: NDArray[np.float64], free: NDArray[np.bool_]) -
     """Flat index of each cell's steepest-descent successor: its lowest free 8-neighbour if lower than
     itself (ties: the first in row-major neighbour order), else the cell itself (a sink; also obstacles).
 
+    A diagonal neighbour counts only when both cells beside the diagonal are free too: the move
+    between the centres passes their common corner, and the follower never touches an obstacle.
+
     Examples
     --------
     >>> u = np.array([[3.0, 2.0, 1.0], [4.0, 5.0, 0.5]])
@@ -1239,11 +1242,15 @@ def descent_successor(potential: NDArray[np.float64], free: NDArray[np.bool_]) -
     u = np.where(np.isnan(u), np.inf, u)
     rows, cols = u.shape
     pad = np.pad(u, 1, constant_values=np.inf)
+    fpad = np.pad(np.asarray(free, dtype=bool), 1, constant_values=False)
     best = u.copy()
     succ = np.arange(rows * cols, dtype=np.intp).reshape(rows, cols)
     r, c = np.indices((rows, cols))
     for dr, dc in _NEIGHBOURS:
         nb = pad[1 + dr: 1 + dr + rows, 1 + dc: 1 + dc + cols]
+        if dr and dc:  # a diagonal move passes the corner of both side cells: both must be free
+            side = fpad[1 + dr: 1 + dr + rows, 1: 1 + cols] & fpad[1: 1 + rows, 1 + dc: 1 + dc + cols]
+            nb = np.where(side, nb, np.inf)
         lower = nb < best
         best = np.where(lower, nb, best)
         succ = np.where(lower, (r + dr) * cols + (c + dc), succ)

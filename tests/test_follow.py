@@ -470,7 +470,11 @@ def _reference_sinks(u, free):
                         if (dr, dc) == (0, 0):
                             continue
                         rr, c2 = cr + dr, cc + dc
-                        if 0 <= rr < rows and 0 <= c2 < cols and free[rr, c2] and u[rr, c2] < best:
+                        if not (0 <= rr < rows and 0 <= c2 < cols and free[rr, c2]):
+                            continue
+                        if dr and dc and not (free[cr + dr, cc] and free[cr, cc + dc]):
+                            continue  # no squeezing past the corner of an obstacle cell
+                        if u[rr, c2] < best:
                             best, nxt = u[rr, c2], (rr, c2)
                 if nxt is None:
                     break

@@ -413,6 +413,8 @@ def main(argv: list[str] | None = None) -> int:
     if not tasks:
         ap.error(f"no Moving AI map+scenario folders or ROS map YAMLs under {args.maps_root}")
     tasks.sort(key=lambda t: -t["size"])  # largest first, so that the pool stays busy
+    from _common import machine_facts  # benchmarks/ is on sys.path when this runs as a script
+
     checkout, describe = gridfield_checkout()
     t0 = time.perf_counter()
     if args.workers > 1:
@@ -432,7 +434,7 @@ def main(argv: list[str] | None = None) -> int:
         f"- gridfield: `{describe}` imported from `{checkout}`",
         f"- command: `python benchmarks/potential_real.py {' '.join(argv if argv is not None else sys.argv[1:])}`",
         f"- date: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; {os.cpu_count()} cores, "
-        f"{args.workers} worker process(es)",
+        f"{args.workers} worker process(es); {machine_facts()}",
         f"- maps: {sum(m['kind'] == 'movingai' for m in results)} Moving AI, {sum(m['kind'] == 'ros' for m in results)} "
         f"ROS under `{args.maps_root}`; {args.per_map} scenarios / pairs per map (ROS pairs: {args.ros_pairs} "
         f"component, + {args.ros_unreachable} in different components), {len({(r['map'], r['query']) for r in runs})} "
@@ -458,8 +460,12 @@ def main(argv: list[str] | None = None) -> int:
         meta = {"label": args.label, "gridfield": describe, "checkout": checkout, "wall_seconds": wall,
                 "args": {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()}}
         maps = [{k: v for k, v in m.items() if k != "runs"} for m in results]
-        doc = _finite({"meta": meta, "maps": maps, "runs": runs})
-        args.json.write_text(json.dumps(doc, indent=1, default=_jsonable, allow_nan=False) + "\n")
+        def dump(x: Any) -> str:
+            return json.dumps(_finite(x), default=_jsonable, allow_nan=False)
+
+        # one run per line: small, and diffs of two dumps stay readable
+        args.json.write_text(f'{{"meta": {dump(meta)},\n"maps": [\n' + ",\n".join(dump(m) for m in maps)
+                             + '\n],\n"runs": [\n' + ",\n".join(dump(r) for r in runs) + "\n]}\n")
     return 0
 
 

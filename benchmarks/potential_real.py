@@ -5,7 +5,7 @@ Run ``python benchmarks/potential_real.py [--maps-root ../shared/maps] [--per-ma
 
 Every query goes through the public entry point ``gridfield.planners.plan("potential", gridmap,
 start, goal, params, cache=cache)`` (one ``cache`` dict per map, as a batch user would keep it: the
-brushfire is computed once per map), once per variant:
+brushfire is computed once per map; ``--no-cache``: none), once per variant:
 
 - ``defaults``: ``params={}``;
 - ``random_walk``: ``{"escape": "random_walk"}``;
@@ -150,7 +150,7 @@ def one_line(e: BaseException) -> str:
 
 
 def run_query(gm: Any, start: np.ndarray, goal: np.ndarray, variant: str, params: dict[str, Any],
-              optimal: float, cache: dict[Any, Any]) -> dict[str, Any]:
+              optimal: float, cache: dict[Any, Any] | None) -> dict[str, Any]:
     from gridfield.errors import ParameterError
     from gridfield.planners import plan
 
@@ -158,7 +158,7 @@ def run_query(gm: Any, start: np.ndarray, goal: np.ndarray, variant: str, params
                            "iterations": None, "stop_reason": None, "end": None, "message": None, "seconds": None}
     t0 = time.perf_counter()
     try:
-        path = plan("potential", gm, start, goal, params, cache=cache)
+        path = plan("potential", gm, start, goal, params, cache=cache)  # cache None: a fresh plan() per query
     except ParameterError as e:
         rec["seconds"] = time.perf_counter() - t0
         esc = params.get("escape")
@@ -194,7 +194,7 @@ def run_map(task: dict[str, Any]) -> dict[str, Any]:
     d = Path(task["path"])
     variants = {v: VARIANTS[v] for v in task["variants"]}
     queries: list[dict[str, Any]] = []
-    cache: dict[Any, Any] = {}
+    cache: dict[Any, Any] | None = None if task["no_cache"] else {}
     info: dict[str, Any] = {"name": task["name"], "kind": task["kind"], "family": task["family"]}
     try:
         if task["kind"] == "movingai":
@@ -365,7 +365,7 @@ def gridfield_checkout() -> tuple[str, str]:
 def find_tasks(root: Path, args: argparse.Namespace) -> list[dict[str, Any]]:
     tasks = []
     common = {"per_map": args.per_map, "variants": args.variants, "ros_pairs": args.ros_pairs,
-              "ros_unreachable": args.ros_unreachable}
+              "ros_unreachable": args.ros_unreachable, "no_cache": args.no_cache}
     mai = root / "movingai"
     if mai.is_dir():
         for d in sorted(p for p in mai.iterdir() if p.is_dir() and any(p.glob("*.map")) and any(p.glob("*.scen"))):
@@ -401,6 +401,8 @@ def main(argv: list[str] | None = None) -> int:
                     help="ROS pairs: goal in the start's free component (same) or anywhere (any)")
     ap.add_argument("--ros-unreachable", type=int, default=2,
                     help="extra ROS pairs per map with start and goal in different free components")
+    ap.add_argument("--no-cache", action="store_true",
+                    help="no plan() cache: every query builds its field from scratch, brushfire included (slower)")
     ap.add_argument("--label", default="", help="written into the header, e.g. before or after")
     ap.add_argument("--out", type=Path, default=None, help="also write the markdown report to this file")
     ap.add_argument("--json", type=Path, default=None, help="write every run to this JSON file")

@@ -36,7 +36,7 @@ optimum: ratios below 1 are expected), and whether ``path.extra`` carries a ``"h
 
 Output: one markdown table per variant, aggregated per map family (MANIFEST: dao, bg512, sc1,
 GPPC, rooms, random, maze, street, MAPF; ROS) and overall, then one row per map; with ``--json``
-every run. The header names the gridfield checkout that was imported and its
+every run (non-finite numbers, e.g. an unreachable optimum or d_star=inf, as null). The header names the gridfield checkout that was imported and its
 ``git describe --always --dirty``.
 """
 
@@ -69,6 +69,8 @@ VARIANTS: dict[str, dict[str, Any]] = {
 }
 STATUS_COLUMNS = ("reached", "local_minimum", "collision", "max_iterations", "no_path", "error")
 NOT_AVAILABLE = "n/a"
+#: resolved parameters kept per run in the JSON dump (the ones issue 12 makes scale with the map)
+RESOLVED = ("zeta", "d_star", "eta", "q_star", "step", "tolerance", "escape_radius", "max_iterations")
 
 #: Moving AI map folder -> family (MANIFEST.md §1); anything else is "movingai".
 FAMILIES = {
@@ -149,6 +151,28 @@ def one_line(e: BaseException) -> str:
     return f"{type(e).__name__}: {text[0] if text else ''}"[:300]
 
 
+def small_extras(extra: Any) -> dict[str, Any]:
+    """The scalar entries of ``path.extra`` (and points / short number tuples) for the JSON dump:
+    ``stop_reason``, ``collision_at``, ``stall_point``, escape counts, and whatever diagnosis a
+    later gridfield adds; arrays and logs are left out."""
+    out: dict[str, Any] = {}
+    for k, v in dict(extra).items():
+        if k in ("start", "goal"):
+            continue
+        if isinstance(v, str | bool | int | float | np.generic) or v is None:
+            out[str(k)] = v.item() if isinstance(v, np.generic) else v
+        elif isinstance(v, tuple | list | np.ndarray) and 0 < len(v) <= 4 and all(
+                isinstance(x, int | float | np.number) for x in v):
+            out[str(k)] = [float(x) for x in v]
+    return out
+
+
+def _plain(v: Any) -> Any:
+    if isinstance(v, np.generic):
+        return v.item()
+    return v if isinstance(v, str | bool | int | float) or v is None else str(v)
+
+
 def run_query(gm: Any, start: np.ndarray, goal: np.ndarray, variant: str, params: dict[str, Any],
               optimal: float, cache: dict[Any, Any] | None) -> dict[str, Any]:
     from gridfield.errors import ParameterError
@@ -178,6 +202,8 @@ def run_query(gm: Any, start: np.ndarray, goal: np.ndarray, variant: str, params
     extra = path.extra or {}
     rec["stop_reason"] = str(extra.get("stop_reason")) if extra.get("stop_reason") is not None else None
     rec["end"] = [float(v) for v in path.end] if len(path.points) else None
+    rec["extra"] = small_extras(extra)
+    rec["resolved"] = {k: _plain(path.params[k]) for k in RESOLVED if k in (path.params or {})}
     hint = extra.get("hint")
     rec["hint"] = str(hint) if hint else None
     if path.status == "reached" and np.isfinite(optimal) and optimal > 0:
@@ -292,6 +318,16 @@ SUMMARY_HEADERS = ["family", "maps", "runs", "reached", "local_minimum", "collis
                    "failures with hint", "failures without hint"]
 
 
+def resolved_in_cells(runs: list[dict[str, Any]], resolution: float) -> str:
+    """The resolved ``q_star / step / tolerance`` of the map's runs in cells ("a-b" when they vary)."""
+    parts = []
+    for k in ("q_star", "step", "tolerance"):
+        vals = sorted({r["resolved"][k] / resolution for r in runs
+                       if isinstance((r.get("resolved") or {}).get(k), int | float)})
+        parts.append("-" if not vals else f"{vals[0]:.3g}" if vals[0] == vals[-1] else f"{vals[0]:.3g}-{vals[-1]:.3g}")
+    return " / ".join(parts)
+
+
 def report(results: list[dict[str, Any]], variants: Sequence[str]) -> list[str]:
     lines: list[str] = []
     all_runs = [r for m in results for r in m["runs"]]
@@ -321,11 +357,12 @@ def report(results: list[dict[str, Any]], variants: Sequence[str]) -> list[str]:
     # one row per map, every variant side by side
     headers = ["map", "family", "W x H", "resolution", "queries", "seconds"]
     headers += [f"{v}: reached / lm / coll / maxit / no_path / err" for v in variants]
+    headers.append("resolved q_star / step / tolerance, in cells")
     rows = []
     for m in sorted(results, key=lambda m: (FAMILY_ORDER.index(m["family"]), m["name"].lower())):
         if m.get("error"):
             rows.append([m["name"], m["family"], "-", "-", "-", f"{m['seconds']:.1f}", f"map error: {m['error']}"]
-                        + [""] * (len(variants) - 1))
+                        + [""] * len(variants))
             continue
         nq = len({r["query"] for r in m["runs"]})
         row = [m["name"], m["family"], f"{m['shape'][1]}x{m['shape'][0]}", f"{m['resolution']:g}", str(nq),
@@ -336,6 +373,7 @@ def report(results: list[dict[str, Any]], variants: Sequence[str]) -> list[str]:
                 row.append(NOT_AVAILABLE)
             else:
                 row.append(" / ".join(str(s["counts"][c]) for c in STATUS_COLUMNS))
+        row.append(resolved_in_cells(m["runs"], m["resolution"]))
         rows.append(row)
     lines += ["### Per map", "", markdown_table(headers, rows, left=2), ""]
     disagree = [r for r in all_runs if r.get("components_agree") is False]

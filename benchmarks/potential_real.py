@@ -36,8 +36,8 @@ optimum: ratios below 1 are expected), and whether ``path.extra`` carries a ``"h
 
 Output: one markdown table per variant, aggregated per map family (MANIFEST: dao, bg512, sc1,
 GPPC, rooms, random, maze, street, MAPF; ROS) and overall, then one row per map; with ``--json``
-every run (non-finite numbers, e.g. an unreachable optimum or d_star=inf, as null). The header names the gridfield checkout that was imported and its
-``git describe --always --dirty``.
+every run (non-finite numbers, e.g. an unreachable optimum or ``d_star=inf``, as null). The header
+names the gridfield checkout that was imported and its ``git describe --always --dirty``.
 """
 
 from __future__ import annotations

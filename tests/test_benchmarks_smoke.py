@@ -109,3 +109,99 @@ def test_importtime_parsing(bench_modules):
     records = run.parse_importtime(text)
     assert [r.depth for r in records] == [2, 1, 0]
     assert run.import_chain(records, 0) == ["gridfield.world", "shapely", "shapely.lib"]
+
+
+# ----------------------------------------------------------------------------------------------
+# benchmarks/potential_real.py (issue 12): the potential planner on Moving AI and ROS maps
+# ----------------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def potential_real():
+    sys.path.insert(0, str(BENCH))
+    try:
+        import potential_real
+
+        yield potential_real
+    finally:
+        sys.path.remove(str(BENCH))
+
+
+def _two_room_ros_root(tmp_path: Path) -> Path:
+    """A maps root: the bundled 49x49 arena (Moving AI) and a 20x16 ROS map split by a wall at column 9."""
+    import shutil
+
+    import numpy as np
+
+    from gridfield.grid import Grid, GridMap
+    from gridfield.io import write_ros_map
+
+    root = tmp_path / "maps"
+    arena = root / "movingai" / "arena"
+    arena.mkdir(parents=True)
+    for f in ("arena.map", "arena.map.scen"):
+        shutil.copy(BENCH.parent / "maps" / "arena" / f, arena / f)
+    occ = np.zeros((16, 20), bool)
+    occ[[0, -1], :] = occ[:, [0, -1]] = True
+    occ[:, 9] = True  # two rooms: columns 1-8 and 10-18
+    occ[5:8, 4:6] = True
+    (root / "ros_maps" / "two_rooms").mkdir(parents=True)
+    write_ros_map(root / "ros_maps" / "two_rooms" / "map.yaml", GridMap(Grid((16, 20), 0.05, (-1.0, 2.0)), occ))
+    return root
+
+
+def test_ros_pairs_components(potential_real):
+    import numpy as np
+
+    free = np.ones((6, 9), bool)
+    free[:, 4] = False  # columns 0-3 and 5-8
+    pairs = potential_real.ros_pairs(free, 12, "same", 3)
+    assert len(pairs) == 15
+    for s, g, kind in pairs:
+        assert free[s] and free[g] and s != g
+        assert kind == ("reachable" if (s[1] < 4) == (g[1] < 4) else "unreachable")
+    assert [k for _, _, k in pairs] == ["reachable"] * 12 + ["unreachable"] * 3
+    assert pairs == potential_real.ros_pairs(free, 12, "same", 3)  # deterministic
+    assert potential_real.ros_pairs(np.ones((3, 3), bool), 2, "any", 5)[2:] == []  # one component: no extra
+
+
+def test_movingai_sample_spreads_over_buckets(potential_real):
+    import numpy as np
+
+    bucket = np.repeat(np.arange(10), 7)
+    no_path = np.zeros(70, bool)
+    no_path[33] = True
+    idx = potential_real.movingai_sample(bucket, no_path, 10)
+    assert idx[0] == 0 and idx[-1] == 69 and 33 in idx
+    assert sorted(set(bucket[idx].tolist())) == list(range(10))
+
+
+def test_potential_real_main_tiny(potential_real, tmp_path, capsys):
+    import json
+
+    from gridfield.path import STATUSES
+
+    root = _two_room_ros_root(tmp_path)
+    out, js = tmp_path / "r.md", tmp_path / "r.json"
+    code = potential_real.main(["--maps-root", str(root), "--per-map", "3", "--workers", "1", "--label", "before",
+                                "--out", str(out), "--json", str(js)])
+    assert code == 0
+    text = out.read_text()
+    assert text == capsys.readouterr().out
+    assert "## Potential planner on real maps (before)" in text
+    for heading in ("### `defaults`", "### `random_walk`", "### `navigation`", "### Per map", "| **overall** |"):
+        assert heading in text
+    runs = json.loads(js.read_text())["runs"]
+    assert len(runs) == (3 + 3 + 2) * 3  # (arena scenarios + ROS pairs + unreachable ROS pairs) x variants
+    assert {r["status"] for r in runs} <= set(STATUSES) | {"error", "n/a"}
+    ros = [r for r in runs if r["map"] == "two_rooms"]
+    # the octile wavefront reference: reachable exactly within one room, its length at least the straight line
+    for r in ros:
+        (sx, _), (gx, _) = r["start"], r["goal"]
+        same_room = (sx < -1.0 + 0.05 * 9) == (gx < -1.0 + 0.05 * 9)
+        assert r["kind"] == ("reachable" if same_room else "unreachable")
+        if same_room:
+            assert r["optimal"] >= ((sx - gx) ** 2 + (r["start"][1] - r["goal"][1]) ** 2) ** 0.5 - 1e-9
+        else:
+            assert r["optimal"] is None
+    for r in runs:
+        if r["status"] == "reached":
+            assert r["ratio"] == pytest.approx(r["length"] / r["optimal"])

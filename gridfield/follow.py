@@ -296,6 +296,7 @@ def descend(
     blocked: Callable[[Point, Point], bool] | None = None,
     potential: Callable[[Point], float] | None = None,
     attraction: Callable[[Point], tuple[float, float]] | None = None,
+    navigate: Callable[..., list[Point]] | None = None,
     gradient_threshold: float = 0.0,
     progress_window: int = 200,
     revisit_tolerance: float | None = None,
@@ -331,6 +332,9 @@ def descend(
         ``potential((x, y)) -> U``; needed by the ``potential_increase`` escape.
     attraction : callable, optional
         The attractive part of the force; needed by the ``potential_increase`` escape.
+    navigate : callable, optional
+        ``navigate((x, y), final=bool) -> [points]``: the moves of the ``navigation`` escape
+        (:class:`gridfield.escapes.NavigationEscape`); needed by that escape.
     gradient_threshold : float
         Local minimum when ``|F| <= gradient_threshold``.
     progress_window : int
@@ -397,6 +401,9 @@ def descend(
     if escape == "potential_increase" and (potential is None or attraction is None):
         raise ParameterError("escape='potential_increase' needs the potential and the attractive force "
                              "(pass potential= and attraction=)")
+    if escape == "navigation" and navigate is None:
+        raise ParameterError("escape='navigation' follows a grid navigation function: it needs navigate= "
+                             "(the grid follower, gridfield.follow.follow, provides it)")
     if escape == "random_walk" and not isinstance(rng, np.random.Generator):
         rng = np.random.default_rng(rng)
 
@@ -490,6 +497,12 @@ def descend(
                     if blocked is None or not blocked((x, y), q):
                         moves.append(q)
                         break
+            elif escape == "navigation":
+                assert navigate is not None
+                for q in navigate((x, y), final=tried >= escape_tries):
+                    if blocked is not None and blocked(moves[-1] if moves else (x, y), q):
+                        break  # (never: the moves join free cell centres) keep what is free
+                    moves.append(q)
             else:
                 assert potential is not None and attraction is not None
                 fx, fy = force((x, y))
@@ -519,6 +532,7 @@ def descend(
                 log.append(entry)
                 continue
             entry["to"] = [moves[-1][0], moves[-1][1]]
+            entry["points"] = [len(xs) - 1, len(xs) - 1 + len(moves)]  # the escape's stretch of the path
             log.append(entry)
             for q in moves:
                 xs.append(q[0])
@@ -575,6 +589,8 @@ def descend(
         extra["escapes_tried"] = tried
         extra["escapes_succeeded"] = sum(1 for e in log if e["outcome"] in ("reached", "other_minimum"))
         extra["escapes"] = log
+    if escape == "navigation":
+        extra["navigation_segments"] = [e["points"] for e in log if "points" in e]
     return np.column_stack([xs, ys]), status, it, extra
 
 
@@ -792,6 +808,8 @@ def _setup(field: Any, params: Mapping[str, Any] | None) -> _Setup:
         merged["step_rule"] = "scaled"
         nx, ny = _vortex_norms(field, merged)
         merged["alpha"] = (spacing / nx, spacing / ny)
+    if merged.get("max_iterations") is None:  # enough to cross every free cell once
+        merged["max_iterations"] = max(FOLLOW_DEFAULTS["max_iterations"], int(np.count_nonzero(~field.map.occupied)))
     p = resolve_follow_params(merged, unit=grid.resolution)
     out = dict(merged)
     out.update(p)
@@ -832,7 +850,8 @@ def _note_outside(extra: dict[str, Any], grid: Grid, pts: NDArray[np.float64]) -
         extra["outside_fraction"] = float(outside.mean())
 
 
-def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = None) -> Path:
+def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = None,
+           navigation: Any = None) -> Path:
     """Follow a Field's force from ``start`` to its goal with :func:`descend`.
 
     Parameters
@@ -842,6 +861,8 @@ def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = N
         World point in a free cell of the field's map.
     params : mapping, optional
         Follower parameters (:data:`FOLLOW_DEFAULTS`); the field's own params are the base.
+    navigation : gridfield.escapes.NavigationEscape, optional
+        The navigation escape's state to use for ``escape="navigation"`` (made here when omitted).
 
     Returns
     -------
@@ -871,13 +892,17 @@ def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = N
     p = setup.params
     force = grid_sampler(field, sampling=setup.sampling)
     blocked = grid_blocked(grid_map)
-    potential = attraction = None
+    potential = attraction = navigate = None
+    if p["escape"] == "navigation":
+        from .escapes import NavigationEscape
+
+        navigate = navigation if navigation is not None else NavigationEscape(field)
     if p["escape"] == "potential_increase":
         potential = grid_potential_sampler(field, sampling=setup.sampling)
         attraction = attraction_force(goal, p)
     t0 = time.perf_counter()
     pts, status, n, extra = descend(force, s, goal, blocked=blocked, potential=potential, attraction=attraction,
-                                    rng=np.random.default_rng(p["seed"]), **setup.kwargs)
+                                    navigate=navigate, rng=np.random.default_rng(p["seed"]), **setup.kwargs)
     seconds = time.perf_counter() - t0
     extra["sampling"] = setup.sampling
     _note_outside(extra, grid_map.grid, pts)
@@ -887,34 +912,81 @@ def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = N
                 min_clearance=_clearance(field, pts), extra=extra)
 
 
+#: Maps up to this many cells get the reachability check before any work (a labelling of the free
+#: space, about 30 ms at 2048^2); larger ones only when a run does not reach the goal.
+_REACH_FIRST_CELLS = 1 << 22
+
+
+def _same_component(gridmap: GridMap, start: Point, goal: Point, cache: dict[Any, Any] | None) -> bool:
+    """Whether ``start`` and ``goal`` lie in one 4-connected free region of the navigation map (a
+    diagonal move that cuts no corner is two orthogonal ones, so this is the wavefront's rule)."""
+    from scipy import ndimage
+
+    from .escapes import navigation_map
+
+    key = ("free_components", gridmap)
+    nm = navigation_map(gridmap)
+    lab = cache.get(key) if cache is not None else None
+    if lab is None:
+        lab = ndimage.label(~np.asarray(nm.occupied, dtype=bool))[0]
+        if cache is not None:
+            cache[key] = lab
+    a, b = nm.grid.cell_of(*start), nm.grid.cell_of(*goal)
+    return a is not None and b is not None and lab[a] != 0 and lab[a] == lab[b]
+
+
 def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: Mapping[str, Any], *,
                    cache: dict[Any, Any] | None = None) -> Path:
     """The ``potential`` planner: build the field (:func:`gridfield.potential.build_field`), follow it.
 
+    A goal that cannot be reached from the start (no free path joins them) ends as ``no_path`` at
+    once, with a hint. A run that does not reach the goal carries ``extra["hint"]`` and
+    ``extra["diagnosis"]`` (:func:`gridfield.diagnose.diagnose`).
+
     ``Path.seconds`` is the following time; ``extra["build_seconds"]`` the field's build time;
     ``Path.params`` the resolved potential and follower parameters. With a ``cache`` dict, the
-    brushfire of ``gridmap`` is computed once per (metric, saturation) and reused by later calls
-    (batch sweeps: many goals and gains on one map).
+    brushfire of ``gridmap`` (per metric and saturation) and its free regions are computed once and
+    reused by later calls (batch sweeps: many goals and gains on one map).
     """
+    from .diagnose import diagnose, unreachable_hint
+    from .escapes import NavigationEscape
     from .potential import build_field, field_distance_map, resolve_params
 
     params = dict(params or {})
+    s, g = _xy(start, "start"), _xy(goal, "goal")
     t0 = time.perf_counter()
+    resolved = resolve_params(params, unit=gridmap.grid.resolution)
+    vortex = resolved["model"] == "vortex"
+    if not vortex and gridmap.grid.rows * gridmap.grid.cols <= _REACH_FIRST_CELLS and not _same_component(gridmap, s, g, cache):
+        merged = {**resolved, **resolve_follow_params(params, unit=gridmap.grid.resolution)}
+        return Path(np.array([s]), "no_path", "potential", params=merged, seconds=0.0,
+                    extra={"stop_reason": "unreachable", "hint": unreachable_hint(s, g),
+                           "diagnosis": {"reachable": False}, "build_seconds": time.perf_counter() - t0})
     dmap = None
-    if cache is not None and params.get("model", "khatib") != "vortex":
-        p = resolve_params(params, unit=gridmap.grid.resolution)
-        key = ("brushfire", gridmap, p["metric"], p["saturate"])
+    if cache is not None and not vortex:
+        key = ("brushfire", gridmap, resolved["metric"], resolved["saturate"])
         if key not in cache:
-            cache[key] = field_distance_map(gridmap, p)
+            cache[key] = field_distance_map(gridmap, resolved)
         dmap = cache[key]
-    field = build_field(gridmap, goal, params, dmap=dmap)
+    field = build_field(gridmap, g, params, dmap=dmap)
     build = time.perf_counter() - t0
-    path = follow(field, start, params=params)
+    esc = None if vortex else NavigationEscape(field)
+    path = follow(field, s, params=params, navigation=esc)
     merged = dict(resolve_params(params, unit=gridmap.grid.resolution))
     merged.update(path.params)
     extra = dict(path.extra)
     extra["build_seconds"] = build
-    return replace(path, params=merged, extra=extra)
+    status = path.status
+    points = path.points
+    if status != "reached" and esc is not None:
+        diag = diagnose(path, field, esc)
+        if not math.isfinite(esc.value(s)):  # large maps: found unreachable only now
+            diag = {"reachable": False, "hint": unreachable_hint(s, g)}
+            status, points = "no_path", points[:1]
+            extra["stop_reason"] = "unreachable"
+        extra["hint"] = diag["hint"]
+        extra["diagnosis"] = diag
+    return replace(path, points=points, status=status, params=merged, extra=extra)
 
 
 # ----------------------------------------------------------------------------------------------

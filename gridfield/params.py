@@ -76,6 +76,7 @@ Q_STAR_CELLS = 4.0
 STEP_CELLS = 1.0
 ESCAPE_RADIUS_CELLS = 6.0
 D_STAR_PER_Q_STAR = 2.0
+MAX_ITERATIONS = 10_000
 
 
 @dataclass(frozen=True)
@@ -249,8 +250,9 @@ class Follower:
     tolerance: float | None = _p("follower", "number", None, "stop when within this distance of the goal",
                                  minimum=0.0, strict=True, allow_none=True,
                                  scale="step (normalized rule) or 1 cell (scaled rule)", planners=_ALL_FOLLOW)
-    max_iterations: int | None = _p("follower", "integer", 10_000, "give up after this many steps", minimum=0,
-                                    allow_none=True, planners=_ALL_FOLLOW)
+    max_iterations: int | None = _p("follower", "integer", None, "give up after this many steps", minimum=0,
+                                    allow_none=True, scale="10000, or the number of free cells if larger "
+                                    "(grid follower)", planners=_ALL_FOLLOW)
     sampling: str = _p("follower", "choice", "bilinear", "sampling of the gradient arrays",
                        choices=("bilinear", "nearest"), planners=("potential",))
     gradient_threshold: float = _p("follower", "number", 0.0, "local minimum when |F| falls below this (seed 004)",
@@ -478,6 +480,8 @@ def resolve(params: Mapping[str, Any] | None, *, unit: float) -> dict[str, Any]:
         p["tolerance"] = p["step"] if p["step_rule"] == "normalized" else unit
     if p["escape_radius"] is None:
         p["escape_radius"] = ESCAPE_RADIUS_CELLS * unit
+    if p["max_iterations"] is None:
+        p["max_iterations"] = MAX_ITERATIONS
     return p
 
 

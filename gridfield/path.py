@@ -50,7 +50,9 @@ class Path:
     params : mapping
         The parameters the planner ran with.
     seconds : float
-        Wall time of planning (not of building the fields).
+        Wall time of the query: through :func:`gridfield.planners.plan`, everything after loading
+        (building the fields and following; ``extra["field_seconds"]`` and
+        ``extra["follow_seconds"]`` split it); from a planner called directly, its own time.
     min_clearance : float
         Smallest distance to an obstacle along the path, as the planner measures it
         (NaN when the planner does not measure it).
@@ -62,8 +64,10 @@ class Path:
     >>> p = Path(np.array([[0.0, 0.0], [1.0, 0.0]]), "reached", "demo")
     >>> p.length, p.end.tolist()
     (1.0, [1.0, 0.0])
-    >>> sorted(p.to_json())[:4]
-    ['end', 'iterations', 'length', 'min_clearance']
+    >>> sorted(p.to_json())
+    ['end', 'field_seconds', 'follow_seconds', 'hint', 'iterations', 'length', 'min_clearance', 'params', 'path', 'planner', 'seconds', 'status']
+    >>> p
+    Path(planner='demo', status='reached', points=2, length=1, end=(1, 0), iterations=0)
     """
 
     points: NDArray[np.float64]
@@ -118,4 +122,13 @@ class Path:
             "min_clearance": clean(self.min_clearance),
             "params": clean(dict(self.params)),
             "seconds": clean(self.seconds),
+            "field_seconds": clean(self.extra.get("field_seconds", 0.0)),
+            "follow_seconds": clean(self.extra.get("follow_seconds", self.seconds)),
+            "hint": self.extra.get("hint"),
+            **({"optimal": clean(self.extra["optimal"])} if "optimal" in self.extra else {}),
         }
+
+    def __repr__(self) -> str:
+        x, y = self.end
+        return (f"Path(planner={self.planner!r}, status={self.status!r}, points={len(self.points)}, "
+                f"length={self.length:.6g}, end=({x:.6g}, {y:.6g}), iterations={self.iterations})")

@@ -12,6 +12,7 @@ from __future__ import annotations
 import functools
 import importlib
 import inspect
+import time
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any
 
@@ -119,16 +120,18 @@ def plan(
                 cache[key] = as_gridmap(target, resolution)
             gm = cache[key]
         s, g = gm.check_point("start", start), gm.check_point("goal", goal)
+        t0 = time.perf_counter()
         if cache is not None and _takes_cache(fn):
-            return _with_endpoints(fn(gm, s, g, merged, cache=cache), s, g)
-        return _with_endpoints(fn(gm, s, g, merged), s, g)
+            return _with_endpoints(fn(gm, s, g, merged, cache=cache), s, g, t0)
+        return _with_endpoints(fn(gm, s, g, merged), s, g, t0)
     world = target if isinstance(target, World) else target.world
     if not isinstance(world, World):
         raise GridfieldError(
             f"planner {planner!r} works on vector worlds; {getattr(target, 'source', '') or 'this map'} is a grid map"
         )
     s, g = world.check_point("start", start), world.check_point("goal", goal)
-    return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged), s, g)
+    t0 = time.perf_counter()
+    return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged), s, g, t0)
 
 
 @functools.cache
@@ -136,10 +139,19 @@ def _takes_cache(fn: Callable[..., Path]) -> bool:
     return "cache" in inspect.signature(fn).parameters
 
 
-def _with_endpoints(path: Path, start: np.ndarray, goal: np.ndarray) -> Path:
-    """Record the query in ``path.extra`` (``start``, ``goal``) so figures need not guess the goal."""
+def _with_endpoints(path: Path, start: np.ndarray, goal: np.ndarray, t0: float) -> Path:
+    """Record the query in ``path.extra`` (``start``, ``goal``) so figures need not guess the goal, and
+    its times: ``seconds`` becomes the whole query after loading (fields + following), with
+    ``extra["field_seconds"]`` (building the fields) and ``extra["follow_seconds"]`` (the planner's
+    own time) beside it."""
+    total = time.perf_counter() - t0
     extra = dict(path.extra)
     extra.setdefault("start", (float(start[0]), float(start[1])))
     extra.setdefault("goal", (float(goal[0]), float(goal[1])))
-    object.__setattr__(path, "extra", extra)  # the planner's own new Path: no copy (dataclasses.replace re-validates)
+    build = float(extra.get("build_seconds", 0.0))
+    extra["field_seconds"] = build
+    extra["follow_seconds"] = float(path.seconds)
+    # the planner's own new Path: no copy (dataclasses.replace would re-validate the points)
+    object.__setattr__(path, "extra", extra)
+    object.__setattr__(path, "seconds", max(total, build + float(path.seconds)))
     return path

@@ -12,7 +12,8 @@ from gridfield.cli import main
 from gridfield.io import bundled_map, read_world
 from gridfield.planners import plan
 
-KEYS = {"planner", "status", "path", "end", "length", "iterations", "min_clearance", "params", "seconds"}
+KEYS = {"planner", "status", "path", "end", "length", "iterations", "min_clearance", "params", "seconds",
+        "field_seconds", "follow_seconds", "hint"}
 STATUSES = {"reached", "local_minimum", "collision", "max_iterations", "no_path"}
 
 

@@ -1,0 +1,153 @@
+"""Why a potential-field run did not reach its goal, and what would help: :func:`diagnose`.
+
+Every run of the ``potential`` planner that does not reach the goal carries ``extra["hint"]``
+(one line, also printed by ``gridfield plan`` and drawn on its figure) and ``extra["diagnosis"]``:
+
+- ``reachable``: whether the goal can be reached from the start at all, by the octile wavefront
+  from the goal (:mod:`gridfield.escapes`; 8-connected moves that never cut a corner, and around an
+  open border). An unreachable goal ends the run as ``no_path`` before any step.
+- ``basin_share``: the share of the free cells whose discrete steepest descent on the potential
+  ends where the stall's does (:func:`gridfield.follow.basins`): how much of the map leads into the
+  same trap.
+- ``passage``: the narrowest point of the shortest path from the stall to the goal (its clearance,
+  the brushfire distance there, and where it is). When the repulsion's reach ``q_star`` is wider than
+  that clearance, the passage is closed by repulsion from both sides: the hint proposes a
+  ``q_star`` just below it.
+- the hint also names the escape that always works when the goal is reachable
+  (``--escape navigation``) and, for a follower pressed onto a wall (``stop_reason`` ``blocked``)
+  or out of steps, what happened there.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from .escapes import NavigationEscape
+
+__all__ = ["diagnose", "unreachable_hint"]
+
+
+def _fmt(v: float) -> str:
+    return f"{v:.3g}"
+
+
+def unreachable_hint(start: Any, goal: Any) -> str:
+    """The hint of a ``no_path`` run.
+
+    Examples
+    --------
+    >>> unreachable_hint((1.0, 2.0), (3.0, 4.0))
+    'the goal (3, 4) cannot be reached from the start (1, 2): no free path joins them on this map'
+    """
+    return (f"the goal ({_fmt(goal[0])}, {_fmt(goal[1])}) cannot be reached from the start "
+            f"({_fmt(start[0])}, {_fmt(start[1])}): no free path joins them on this map")
+
+
+def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None) -> dict[str, Any]:
+    """The diagnosis of a potential-field run that did not reach its goal (see the module docstring).
+
+    Parameters
+    ----------
+    path : Path
+        A ``potential`` run whose status is not ``reached``.
+    field : Field
+        The field it followed (``map``, ``potential``, ``goal``, ``distance``, ``params``).
+    escape : NavigationEscape, optional
+        Reused for its wavefront and basins when the caller has one.
+
+    Returns
+    -------
+    dict
+        ``hint`` (one line), ``reachable``, ``basin_share``, ``stall`` (the point examined) and,
+        when known, ``passage`` (``clearance``, ``at``) and ``suggest`` (parameter -> value).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gridfield.grid import Grid, GridMap
+    >>> from gridfield.potential import build_field
+    >>> from gridfield.follow import follow
+    >>> occ = np.zeros((9, 15), bool); occ[1:8, 7] = True     # a wall between start and goal
+    >>> f = build_field(GridMap(Grid((9, 15), 1.0, border="wall"), occ), (13.5, 4.5))
+    >>> p = follow(f, (1.5, 4.5))
+    >>> p.status
+    'local_minimum'
+    >>> d = diagnose(p, f)
+    >>> d["reachable"], d["hint"].endswith("--escape navigation reaches it")
+    (True, True)
+    """
+    esc = escape if escape is not None else NavigationEscape(field)
+    gm = field.map
+    grid = gm.grid
+    stall = path.extra.get("stall_point") or path.end.tolist()
+    stall = (float(stall[0]), float(stall[1]))
+    out: dict[str, Any] = {"stall": list(stall)}
+    value = esc.value(stall)
+    reachable = math.isfinite(value)
+    out["reachable"] = reachable
+    cell = grid.cell_of(*stall)
+    free = ~np.asarray(gm.occupied, dtype=bool)
+    goal_basin = False
+    if cell is not None and free[cell]:
+        sink = esc.sink
+        out["basin_share"] = float(np.count_nonzero(sink == sink[cell]) / max(np.count_nonzero(free), 1))
+        gcell = grid.cell_of(float(field.goal[0]), float(field.goal[1]))
+        goal_basin = gcell is not None and bool(sink[gcell] == sink[cell])
+    else:
+        out["basin_share"] = math.nan
+    reason = path.extra.get("stop_reason", "")
+    where = f"({_fmt(stall[0])}, {_fmt(stall[1])})"
+    if path.status == "max_iterations":
+        lead = f"the step budget ran out at {where}; raise --max-iterations"
+    elif reason == "blocked":
+        lead = (f"the force presses the follower onto the obstacle at {where} (no free step within 75 degrees "
+                "of it)")
+    elif goal_basin:
+        gap = math.hypot(stall[0] - float(field.goal[0]), stall[1] - float(field.goal[1]))
+        lead = (f"local minimum at {where}, {_fmt(gap)} from the goal: repulsion from obstacles near the goal "
+                "moves the potential's minimum off it")
+    else:
+        share = out["basin_share"]
+        trap = f" (its basin is {share:.0%} of the free space)" if math.isfinite(share) else ""
+        lead = f"local minimum of the potential at {where}{trap}"
+    tips: list[str] = []
+    q_star = float(field.params.get("q_star", math.nan)) if getattr(field, "params", None) else math.nan
+    if reachable:
+        passage = _narrowest(esc, field, stall)
+        if passage is not None:
+            clearance, at = passage
+            out["passage"] = {"clearance": clearance, "at": at}
+            res = grid.resolution
+            if math.isfinite(q_star) and q_star > clearance >= res:
+                new = round(0.9 * clearance, 12)
+                out["suggest"] = {"q_star": new}
+                tips.append(f"q_star {_fmt(q_star)} is wider than the half-width {_fmt(clearance)} of the passage "
+                            f"at ({_fmt(at[0])}, {_fmt(at[1])}); try --q-star {_fmt(new)}")
+        tips.append("the goal is reachable: --escape navigation reaches it")
+    else:
+        tips.append("the goal cannot be reached from here: no free path leads there")
+    out["hint"] = lead + "; " + "; ".join(tips)
+    return out
+
+
+def _narrowest(esc: NavigationEscape, field: Any, stall: tuple[float, float]) -> tuple[float, list[float]] | None:
+    """``(clearance, point)`` of the narrowest cell on the shortest path from ``stall`` to the goal."""
+    dmap = getattr(field, "distance", None)
+    if dmap is None:
+        return None
+    moves = esc.__class__(field)  # a fresh escape: its monotone rule must not see this query
+    moves.__dict__["nav"] = esc.nav
+    pts = np.asarray(moves(stall, final=True), dtype=float)
+    if len(pts) < 2:
+        return None
+    pts = pts[:-1]  # the goal point itself is not a passage
+    cells, inside = field.map.grid.world_to_cell(pts)
+    if not inside.any():
+        return None
+    cells = cells[inside]
+    d = np.asarray(dmap.distance)[cells[:, 0], cells[:, 1]]
+    k = int(np.argmin(d))
+    return float(d[k]), pts[inside][k].tolist()

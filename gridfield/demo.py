@@ -48,12 +48,9 @@ DEMO_PARTS = ("maps", "seed000", "convergence", "seed003", "turtlebot3", "arena"
 #: Columns of ``summary.csv`` (and of the rows :func:`run_demo` returns).
 SUMMARY_COLUMNS = ("part", "map", "planner", "status", "length", "steps", "ms", "note")
 
-#: Grid-map potential parameters (the ROS map is in metres at 0.05 m, the Moving AI map in cells).
-TURTLEBOT3_PARAMS = {"zeta": 1.0, "d_star": 1.0, "eta": 0.05, "q_star": 0.35, "step": 0.02, "tolerance": 0.05,
-                     "max_iterations": 2000}
+#: The grid maps run with gridfield's defaults, which scale with the map's cell size
+#: (gridfield.params: q_star 4 cells, d_star 2 q_star, balanced eta, step 1 cell).
 TURTLEBOT3_START, TURTLEBOT3_GOAL = (-2.0, -0.5), (2.0, 0.5)
-ARENA_PARAMS = {"zeta": 1.0, "d_star": 6.0, "eta": 20.0, "q_star": 3.0, "step": 0.25, "tolerance": 0.5,
-                "max_iterations": 2000}
 
 
 @dataclass
@@ -141,7 +138,9 @@ def _stall_note(path: Path) -> str:
     from .plot import _stall_points
 
     s = _stall_points(path)
-    return f"stalls at ({s[-1, 0]:.2f}, {s[-1, 1]:.2f})" if len(s) else ""
+    note = f"stalls at ({s[-1, 0]:.2f}, {s[-1, 1]:.2f})" if len(s) else ""
+    hint = path.extra.get("hint")
+    return f"{note}; hint: {hint}" if hint else note
 
 
 def _figure(nrows: int, ncols: int, size: tuple[float, float], **kw: Any) -> tuple[Any, Any]:
@@ -313,11 +312,15 @@ def _grid_map_part(run: _Run, part: str, gm: GridMap, start: Sequence[float], go
     fig, axes = _figure(2, 2, (13.0, 11.0))
     dmap = brushfire(gm, metric="euclidean")
     plot_brushfire(dmap, axes[0, 0], title="brushfire: distance to the nearest obstacle, GVD in red")
-    pot = run.plan(part, part, gm, "potential", start, goal, params, note=note)
+    shown = "default parameters" if not params else "params " + ", ".join(f"{k}={v}" for k, v in params.items())
+    pot = run.plan(part, part, gm, "potential", start, goal, params, note="; ".join(x for x in (note, shown) if x))
     field_ = build_field(gm, goal, dict(params))
-    plot_potential(field_, axes[0, 1], path=pot, title=f"potential: {pot.status}")
+    plot_potential(field_, axes[0, 1], path=pot, title=f"potential ({shown}): {pot.status}")
     plot_basins(basins(field_), axes[1, 0], title="basins of attraction")
     paths = [pot]
+    if not pot.reached:
+        paths.append(run.plan(part, part, gm, "potential", start, goal, {**params, "escape": "navigation"},
+                              note="escape navigation (the hint's advice)"))
     if run.have_planner(f"{part} wavefront path", "wavefront-octile"):
         paths.append(run.plan(part, part, gm, "wavefront-octile", start, goal, note=note))
     plot_map(gm, axes[1, 1], paths=paths, start=start, goal=goal, title="paths")
@@ -329,7 +332,7 @@ def _part_turtlebot3(run: _Run) -> None:
     from .io import bundled_map, read_ros_map
 
     gm = crop_to_known(read_ros_map(bundled_map("turtlebot3_world/map.yaml")))
-    _grid_map_part(run, "turtlebot3", gm, TURTLEBOT3_START, TURTLEBOT3_GOAL, TURTLEBOT3_PARAMS,
+    _grid_map_part(run, "turtlebot3", gm, TURTLEBOT3_START, TURTLEBOT3_GOAL, {},
                    "TurtleBot3 world (ROS map_server map, 0.05 m cells, cropped to the known area)")
 
 
@@ -340,9 +343,9 @@ def _part_arena(run: _Run) -> None:
     scen = read_scen(bundled_map("arena/arena.map.scen"), map_height=gm.shape[0])
     i = int(np.argmax(scen.optimal))
     start, goal = scen.start_xy[i].tolist(), scen.goal_xy[i].tolist()
-    _grid_map_part(run, "arena", gm, start, goal, ARENA_PARAMS,
+    _grid_map_part(run, "arena", gm, start, goal, {},
                    f"Moving AI 'arena' (49x49), scenario {i}: optimal octile length {scen.optimal[i]:g}",
-                   note=f"scenario {i}, optimal {scen.optimal[i]:g}; goal 1 cell from a wall, inside q_star")
+                   note=f"scenario {i}, optimal {scen.optimal[i]:g}")
 
 
 def _warm_up(run: _Run) -> None:
@@ -350,15 +353,26 @@ def _warm_up(run: _Run) -> None:
     planners' and not the JIT's."""
     if not (run.have("gridfield.potential") and run.have("gridfield.follow")):
         return
-    from .follow import plan_potential
+    from .brushfire import brushfire
+    from .follow import basins, plan_potential
+    from .planners import plan
+    from .potential import build_field
 
     t0 = time.perf_counter()
     occ = np.zeros((12, 12), bool)
     occ[5:7, 5:7] = True
-    for extra in ({}, {"repulsion": "sum", "repulsive_power": 3}):
-        plan_potential(GridMap(Grid((12, 12), 1.0), occ), np.array([1.5, 1.5]), np.array([10.5, 10.5]),
-                       {"q_star": 2.0, "step": 0.5, "tolerance": 0.5, **extra})
-    run.log(f"warm-up (numba kernels): {time.perf_counter() - t0:.1f} s")
+    occ[2:10, 8] = True
+    gm = GridMap(Grid((12, 12), 1.0), occ)
+    s, g = np.array([1.5, 1.5]), np.array([10.5, 10.5])
+    for extra in ({}, {"repulsion": "sum", "repulsive_power": 3}, {"escape": "navigation"},
+                  {"escape": "random_walk"}):
+        plan_potential(gm, s, g, {"q_star": 2.0, "step": 0.5, "tolerance": 0.5, **extra})
+    for name in ("wavefront-octile", "wavefront", "harmonic"):
+        plan(name, gm, s, g)
+    brushfire(gm, metric="euclidean")
+    basins(build_field(gm, g))
+    run.log(f"warm-up: {time.perf_counter() - t0:.1f} s compiling or loading the kernels on a 12 x 12 map "
+            "(not part of any time in the table)")
 
 
 #: part -> (function, modules it needs)

@@ -24,6 +24,7 @@ import math
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from .escapes import NavigationEscape
 
@@ -134,20 +135,60 @@ def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None) -> d
 
 
 def _narrowest(esc: NavigationEscape, field: Any, stall: tuple[float, float]) -> tuple[float, list[float]] | None:
-    """``(clearance, point)`` of the narrowest cell on the shortest path from ``stall`` to the goal."""
+    """``(clearance, point)`` of the passage every path from ``stall`` to the goal must squeeze through:
+    the bottleneck clearance ``b``, the largest ``t`` such that the free cells with brushfire distance
+    ``>= t`` still join the stall's cell to the goal's (4-connected; around an open border the
+    outside counts as wide open), found by bisection over the distance values. ``point`` is a cell of
+    clearance ``b`` in that region, the one closest to the way from the stall to the goal."""
+    from scipy import ndimage
+
     dmap = getattr(field, "distance", None)
     if dmap is None:
         return None
-    moves = esc.__class__(field)  # a fresh escape: its monotone rule must not see this query
-    moves.__dict__["nav"] = esc.nav
-    pts = np.asarray(moves(stall, final=True), dtype=float)
-    if len(pts) < 2:
+    gm = field.map
+    grid = gm.grid
+    a = grid.cell_of(*stall)
+    g = grid.cell_of(float(field.goal[0]), float(field.goal[1]))
+    if a is None or g is None:
         return None
-    pts = pts[:-1]  # the goal point itself is not a passage
-    cells, inside = field.map.grid.world_to_cell(pts)
-    if not inside.any():
+    free = ~np.asarray(gm.occupied, dtype=bool)
+    dist = np.where(free, np.asarray(dmap.distance, dtype=float), -np.inf)
+    if grid.border != "wall":  # the open space around the map
+        dist = np.pad(dist, 1, constant_values=np.inf)
+        a, g = (a[0] + 1, a[1] + 1), (g[0] + 1, g[1] + 1)
+    # the stall's own surroundings (within q_star) are the trap, not a passage: always open
+    q_star = float(field.params.get("q_star", 0.0)) if getattr(field, "params", None) else 0.0
+    reach = min(q_star, 3.0 * max(grid.rows, grid.cols) * grid.resolution) if math.isfinite(q_star) else 0.0
+    rr, cc = np.indices(dist.shape)
+    near = np.hypot(rr - a[0], cc - a[1]) * grid.resolution <= reach
+    near[g] = False  # a goal close to obstacles is a real narrowing (its repulsion displaces the minimum)
+    dist = np.where(near & (dist >= 0), np.inf, dist)
+    vals = np.unique(dist[np.isfinite(dist) & (dist >= 0)])
+    vals = vals[vals <= dist[g]]
+    if not len(vals):
         return None
-    cells = cells[inside]
-    d = np.asarray(dmap.distance)[cells[:, 0], cells[:, 1]]
-    k = int(np.argmin(d))
-    return float(d[k]), pts[inside][k].tolist()
+
+    def joined(t: float) -> NDArray[np.int32] | None:
+        lab = ndimage.label(dist >= t)[0]
+        return lab if lab[a] != 0 and lab[a] == lab[g] else None
+
+    lo, hi = 0, len(vals) - 1
+    if joined(float(vals[lo])) is None:
+        return None
+    while lo < hi:  # the largest index whose threshold still joins them
+        mid = (lo + hi + 1) // 2
+        if joined(float(vals[mid])) is not None:
+            lo = mid
+        else:
+            hi = mid - 1
+    b = float(vals[lo])
+    lab = joined(b)
+    assert lab is not None
+    rr, cc = np.nonzero((lab == lab[a]) & (dist == b))
+    if not len(rr):  # no cell of that clearance on the way: nothing narrows it
+        return None
+    off = 0 if grid.border == "wall" else 1
+    pts = grid.cell_to_world(np.stack([rr - off, cc - off], axis=1))
+    way = np.hypot(pts[:, 0] - stall[0], pts[:, 1] - stall[1]) + np.hypot(pts[:, 0] - float(field.goal[0]),
+                                                                           pts[:, 1] - float(field.goal[1]))
+    return b, pts[int(np.argmin(way))].tolist()

@@ -276,7 +276,8 @@ def plan_exact_potential(world: World, start: ArrayLike, goal: ArrayLike, params
         field.force, s, g, blocked=field.blocked, potential=potential, attraction=attraction,
         rng=np.random.default_rng(fp["seed"]),
         **{k: fp[k] for k in ("step_rule", "step", "alpha", "min_speed", "tolerance", "max_iterations",
-                              "gradient_threshold", "progress_window", "escape", "escape_tries", "escape_radius")},
+                              "gradient_threshold", "progress_window", "confine_window", "escape", "escape_tries",
+                              "escape_radius")},
     )
     seconds = time.perf_counter() - t0
     extra["build_seconds"] = build

@@ -24,6 +24,9 @@ Stop rules, checked in this order before every step
       ``1e-3 * step`` during the last ``progress_window`` steps (0 disables). On grids the
       follower rarely returns exactly to a point it visited, so this is the grid's main
       detector. The stall point is the point of that stretch with the smallest ``|F|``.
+    - *confined*: the last ``confine_window`` steps stayed within a box of side ``2 * step``
+      (a jitter about an equilibrium, which never exactly revisits a point). The stall point is
+      the point of that stretch with the smallest ``|F|``.
     - *small gradient*: ``|F| <= gradient_threshold`` (seed 004), or ``F`` is zero or not
       finite. The stall point is the current point.
 
@@ -148,6 +151,7 @@ FOLLOW_DEFAULTS: dict[str, Any] = {
     "sampling": "bilinear",
     "gradient_threshold": 0.0,
     "progress_window": 200,
+    "confine_window": 20,
     "escape": "none",
     "escape_tries": 10,
     "escape_radius": None,
@@ -299,6 +303,7 @@ def descend(
     navigate: Callable[..., list[Point]] | None = None,
     gradient_threshold: float = 0.0,
     progress_window: int = 200,
+    confine_window: int = 20,
     revisit_tolerance: float | None = None,
     escape: str = "none",
     escape_tries: int = 10,
@@ -339,6 +344,9 @@ def descend(
         Local minimum when ``|F| <= gradient_threshold``.
     progress_window : int
         Local minimum when the distance to the goal has not improved over this many steps (0: off).
+    confine_window : int
+        Local minimum when the last this many steps stayed within a box of 2 steps (a jitter about
+        an equilibrium that never exactly revisits a point; 0: off).
     revisit_tolerance : float, optional
         Oscillation when the point is this close to the point two steps back
         (default ``1e-6 * step``; for the scaled rule ``1e-6 * tolerance``).
@@ -390,6 +398,7 @@ def descend(
     max_iterations = _integer("max_iterations", max_iterations)
     gradient_threshold = _number("gradient_threshold", gradient_threshold, positive=True)
     progress_window = _integer("progress_window", progress_window)
+    confine_window = _integer("confine_window", confine_window)
     escape_tries = _integer("escape_tries", escape_tries)
     escape_radius = _number("escape_radius", escape_radius, positive=True, allow_zero=False)
     normalized = step_rule == "normalized"
@@ -421,6 +430,8 @@ def descend(
     log: list[dict[str, Any]] = []
     tried = 0
     slid = 0  # steps shortened or turned because the full step was blocked
+    since = 0  # index of the first point of the current descent (after the last escape move)
+    box = 2.0 * unit
     pinned = False  # no free descent step from the current point
 
     def settle(outcome: str, where: list[float] | None = None) -> None:
@@ -454,6 +465,12 @@ def descend(
             reason = "oscillation"
             stall = n - 3 if fns[n - 3] <= fns[n - 2] else n - 2
             extra["oscillation"] = [[xs[n - 2], ys[n - 2]], [x, y]]
+        elif (confine_window and n - since > confine_window
+              and max(xs[-confine_window - 1:]) - min(xs[-confine_window - 1:]) <= box
+              and max(ys[-confine_window - 1:]) - min(ys[-confine_window - 1:]) <= box):
+            reason = "confined"
+            k0 = n - confine_window - 1
+            stall = min(range(k0, n - 1), key=lambda k: fns[k] if fns[k] == fns[k] else math.inf)
         elif progress_window and it - best_it >= progress_window:
             reason = "no_progress"
             stall = win_idx
@@ -544,6 +561,7 @@ def descend(
             d = sqrt(dx * dx + dy * dy)
             best, best_it = d, it
             win_min, win_idx = math.inf, len(xs) - 1
+            since = len(xs) - 1
             continue
 
         # -- one step --------------------------------------------------------------------
@@ -805,6 +823,7 @@ def _setup(field: Any, params: Mapping[str, Any] | None) -> _Setup:
         spacing = float(merged.get("spacing", grid.resolution))
         merged.setdefault("sampling", "nearest")
         merged.setdefault("tolerance", 0.4)
+        merged.setdefault("confine_window", 0)  # seed 003's follower: no jitter rule
         merged["step_rule"] = "scaled"
         nx, ny = _vortex_norms(field, merged)
         merged["alpha"] = (spacing / nx, spacing / ny)
@@ -814,7 +833,7 @@ def _setup(field: Any, params: Mapping[str, Any] | None) -> _Setup:
     out = dict(merged)
     out.update(p)
     kwargs = {k: p[k] for k in ("step_rule", "step", "alpha", "min_speed", "tolerance", "max_iterations",
-                                "gradient_threshold", "progress_window", "escape", "escape_tries",
+                                "gradient_threshold", "progress_window", "confine_window", "escape", "escape_tries",
                                 "escape_radius")}
     return _Setup(out, kwargs, p["sampling"], vortex)
 
@@ -1047,6 +1066,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
     step, tol, max_it = kw["step"], kw["tolerance"], kw["max_iterations"]
     ax, ay = _alpha(kw["alpha"])
     min_speed, thr, window = kw["min_speed"], kw["gradient_threshold"], kw["progress_window"]
+    cw = kw["confine_window"]
     unit = step if normalized else tol
     rev_tol, min_gain = 1e-6 * unit, 1e-3 * unit
 
@@ -1064,6 +1084,12 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
     best_it = np.zeros(N, np.int64)
     win_min = np.full(N, np.inf)
     win_x, win_y = X.copy(), Y.copy()
+    # the last cw + 1 positions and their |F| (column = iteration mod cw + 1), for the confined rule
+    RX = np.empty((N, cw + 1))
+    RY = np.empty((N, cw + 1))
+    RF = np.full((N, cw + 1), np.nan)
+    RX[:, 0], RY[:, 0] = X, Y
+    box = 2.0 * unit
     hist_x = [X.copy()] if keep_paths else []
     hist_y = [Y.copy()] if keep_paths else []
     hist_ids = [ids.copy()] if keep_paths else []
@@ -1103,7 +1129,17 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
             osc[idx, 1, 0], osc[idx, 1, 1] = X[osc_m], Y[osc_m]
             finish(osc_m, 2, "oscillation")
         done |= osc_m
-        if window:
+        if cw and it >= cw:
+            cf_m = ~done & (np.ptp(RX, axis=1) <= box) & (np.ptp(RY, axis=1) <= box)
+            if cf_m.any():
+                order = (np.arange(it - cw, it) % (cw + 1))  # the stretch's points before the current one
+                fk = np.where(np.isnan(RF[cf_m][:, order]), np.inf, RF[cf_m][:, order])
+                k = order[np.argmin(fk, axis=1)]
+                rows = np.flatnonzero(cf_m)
+                idx = ids[cf_m]
+                stall[idx, 0], stall[idx, 1] = RX[rows, k], RY[rows, k]
+                finish(cf_m, 2, "confined")
+            done |= cf_m
             np_m = ~done & (it - best_it >= window)
             if np_m.any():
                 idx = ids[np_m]
@@ -1118,12 +1154,14 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
             ids, X, Y = ids[keep], X[keep], Y[keep]
             P1x, P1y, P2x, P2y, F1, F2 = P1x[keep], P1y[keep], P2x[keep], P2y[keep], F1[keep], F2[keep]
             best, best_it, win_min, win_x, win_y = best[keep], best_it[keep], win_min[keep], win_x[keep], win_y[keep]
+            RX, RY, RF = RX[keep], RY[keep], RF[keep]
             if not len(ids):
                 break
         n = len(ids)
         fx, fy = FX[:n], FY[:n]
         _force_many(gx, gy, occ, x0, y0, res, nearest, X, Y, fx, fy)
         fn = np.sqrt(fx * fx + fy * fy)
+        RF[:, it % (cw + 1)] = fn
         upd = fn < win_min
         win_min = np.where(upd, fn, win_min)
         win_x = np.where(upd, X, win_x)
@@ -1183,6 +1221,9 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
             ids, X, Y = ids[move], X[move], Y[move]
             P1x, P1y, P2x, P2y, F1, F2 = P1x[move], P1y[move], P2x[move], P2y[move], F1[move], F2[move]
             best, best_it, win_min, win_x, win_y = best[move], best_it[move], win_min[move], win_x[move], win_y[move]
+            RX, RY, RF = RX[move], RY[move], RF[move]
+        RX[:, it % (cw + 1)], RY[:, it % (cw + 1)] = X, Y
+        RF[:, it % (cw + 1)] = np.nan
         if keep_paths:  # X, Y, ids are fresh arrays every step (never written in place)
             hist_x.append(X)
             hist_y.append(Y)

@@ -259,6 +259,8 @@ class Follower:
                                    minimum=0.0, planners=_POT)
     progress_window: int = _p("follower", "integer", 200, "local minimum when the distance to the goal has not "
                               "improved over this many steps (0: off)", minimum=0, planners=(*_POT, "sphere-nav"))
+    confine_window: int = _p("follower", "integer", 20, "local minimum when the last this many steps stayed within "
+                             "a box of 2 steps (a jitter about an equilibrium; 0: off)", minimum=0, planners=_POT)
 
 
 @dataclass(frozen=True)

@@ -305,9 +305,23 @@ def _draw_paths(ax: Axes, paths: Sequence[Path], art: Artists, *, zorder: float 
             style.update(styles[i])
         (line,) = ax.plot(p.points[:, 0], p.points[:, 1], label=_path_label(p), zorder=zorder, **style)
         art.paths.append(line)
+        segs = p.extra.get("navigation_segments") if isinstance(p.extra, Mapping) else None
+        for k, (i0, i1) in enumerate(segs or ()):
+            (nav,) = ax.plot(p.points[i0: i1 + 1, 0], p.points[i0: i1 + 1, 1], color="magenta", linewidth=2.6,
+                             linestyle=(0, (2, 1)), zorder=zorder + 0.5,
+                             label="navigation escape" if k == 0 else None)
+            art.extra.setdefault("navigation", []).append(nav)
         s = _stall_points(p)
         if len(s):
             stalls.append(s)
+        hint = p.extra.get("hint") if isinstance(p.extra, Mapping) else None
+        if hint and "hint" not in art.extra:
+            import textwrap
+
+            art.extra["hint"] = ax.text(0.01, 0.01, "\n".join(textwrap.wrap(f"hint: {hint}", 90)),
+                                        transform=ax.transAxes, fontsize=7, va="bottom", ha="left",
+                                        zorder=zorder + 3, bbox={"facecolor": "white", "alpha": 0.85,
+                                                                 "edgecolor": "0.6"})
     if stalls:
         s = np.concatenate(stalls)
         art.markers["stall"] = ax.scatter(s[:, 0], s[:, 1], marker="X", s=90, color="red", edgecolor="white",

@@ -687,7 +687,7 @@ def test_cli_field_vortex_and_goal_option(tmp_path, capsys):
 @pytest.mark.parametrize(("extra", "words"), [
     (["--goal", "5", "12"], "inside an obstacle"),
     (["--goal", "50", "12"], "outside the map"),
-    (["--param", "zeta=nan"], "NaN"),
+    (["--param", "zeta=nan"], "nan"),
     (["--param", "q_star=0"], "q_star"),
     (["--repulsion", "everything"], "repulsion must be one of"),
     (["--param", "zetta=1"], "did you mean 'zeta'"),

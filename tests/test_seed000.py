@@ -126,7 +126,7 @@ def test_grid_stall_is_caught_by_the_progress_window_too(segment):
 
     gm = rasterize(segment, 0.05)
     f = build_field(gm, segment.goal, segment.params)
-    kw = {"step": 0.1, "tolerance": 0.1, "blocked": grid_blocked(gm)}
+    kw = {"step": 0.1, "tolerance": 0.1, "blocked": grid_blocked(gm), "confine_window": 0}
     runs = {}
     # revisit_tolerance=0 is the seed's exact test current_pos == P(:, end-2)
     for name, window, rt in (("window", 30, 0.0), ("exact_return", 0, 0.0), ("default", 200, None)):

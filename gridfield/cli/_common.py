@@ -10,28 +10,12 @@ from ..errors import ParameterError
 
 __all__ = ["add_map_arguments", "add_param_arguments", "collect_params", "load_gridmap", "load_target", "parse_value"]
 
-#: Planner parameters that get their own flag (``--d-star`` for ``d_star``); others via ``--param K=V``.
-PARAM_FLAGS: dict[str, type] = {
-    "zeta": float,
-    "d_star": float,
-    "eta": float,
-    "q_star": float,
-    "repulsive_power": float,
-    "repulsion": str,
-    "metric": str,
-    "gradient": str,
-    "step_rule": str,
-    "step": float,
-    "alpha": float,
-    "min_speed": float,
-    "tolerance": float,
-    "max_iterations": int,
-    "sampling": str,
-    "escape": str,
-    "escape_tries": int,
-    "escape_radius": float,
-    "seed": int,
-}
+
+def _flags() -> dict[str, str]:
+    """Parameter name -> help line, for the parameters that get their own flag (``--d-star``)."""
+    from ..params import REGISTRY, help_text
+
+    return {name: help_text(name) for name, spec in REGISTRY.items() if spec.flag}
 
 
 def add_map_arguments(p: argparse.ArgumentParser, *, name: str = "MAP") -> None:
@@ -91,35 +75,34 @@ def parse_value(text: str) -> Any:
 
 
 def add_param_arguments(p: argparse.ArgumentParser) -> None:
-    """One flag per common planner parameter, plus ``--param KEY=VALUE`` for the rest."""
-    g = p.add_argument_group("planner parameters (override the world file's 'params')")
-    for key, typ in PARAM_FLAGS.items():
-        g.add_argument(f"--{key.replace('_', '-')}", dest=f"param_{key}", type=typ if typ is not float else _finite_or_inf,
-                       default=None, metavar=key.upper())
+    """One flag per common planner parameter, plus ``--param KEY=VALUE`` for the rest; every help line
+    (meaning, default or scaling rule, allowed values, planners) comes from :mod:`gridfield.params`."""
+    from ..params import REGISTRY, help_text
+
+    g = p.add_argument_group(
+        "planner parameters (override the world file's 'params'; lengths in world units; defaults given "
+        "in cells scale with the map's cell size)")
+    for key, text in _flags().items():
+        g.add_argument(f"--{key.replace('_', '-')}", dest=f"param_{key}", default=None, metavar=key.upper(),
+                       help=text)
+    others = "; ".join(f"{name}: {help_text(name)}" for name, spec in REGISTRY.items() if not spec.flag)
     g.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
-                   help="any other planner parameter, e.g. --param kappa=3")
-
-
-def _finite_or_inf(text: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if math.isnan(v):
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}")
-    return v
+                   help=f"any other planner parameter: {others}")
 
 
 def collect_params(args: argparse.Namespace) -> dict[str, Any]:
-    """The parameters given on the command line (only those given)."""
+    """The parameters given on the command line (only those given), parsed and checked by the registry."""
+    from ..params import parse
+
     out: dict[str, Any] = {}
-    for key in PARAM_FLAGS:
+    for key in _flags():
         v = getattr(args, f"param_{key}", None)
         if v is not None:
-            out[key] = v
+            out[key] = parse(key, v)
     for item in getattr(args, "param", []) or []:
         if "=" not in item:
             raise ParameterError(f"--param expects KEY=VALUE, got {item!r}")
         k, v = item.split("=", 1)
-        out[k.strip().replace("-", "_")] = parse_value(v)
+        k = k.strip().replace("-", "_")
+        out[k] = parse(k, v)
     return out

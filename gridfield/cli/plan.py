@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from dataclasses import replace
 
 from ._common import add_map_arguments, add_param_arguments, collect_params, load_target
 
@@ -19,12 +20,42 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="start point (default: the world file's start)")
     p.add_argument("--goal", nargs=2, type=float, metavar=("X", "Y"),
                    help="goal point (default: the world file's goal)")
+    p.add_argument("--scenario", metavar="FILE",
+                   help="a Moving AI .scen file: take start and goal from its line --index (y flipped to "
+                        "gridfield's y-up), and report the scenario's optimal length")
+    p.add_argument("--index", type=int, default=None, metavar="N",
+                   help="which scenario of --scenario (0 = the first; default 0)")
     p.add_argument("--planner", default="potential", choices=list(PLANNERS), help="planner (default: potential)")
     p.add_argument("--json", action="store_true", help="print one JSON object (DESIGN's plan contract)")
     p.add_argument("--plot", metavar="F", help="save a figure of the map and the path")
     p.add_argument("--animate", metavar="F", help="save an animation of the follower (.gif, or .mp4 with ffmpeg)")
     add_param_arguments(p)
     return p
+
+
+def scenario(args: argparse.Namespace, target: object) -> tuple[list[float], list[float], float] | None:
+    """Start, goal and optimal length of ``--scenario FILE --index N``, checked against the map's size."""
+    from ..errors import ParameterError
+
+    if args.scenario is None:
+        if args.index is not None:
+            raise ParameterError("--index needs --scenario FILE")
+        return None
+    if args.start is not None or args.goal is not None:
+        raise ParameterError("give either --scenario or --start/--goal, not both")
+    from ..io import read_scen
+
+    grid = getattr(target, "grid", None)
+    height = grid.rows if grid is not None else None
+    scen = read_scen(args.scenario, map_height=height)
+    i = 0 if args.index is None else args.index
+    if not 0 <= i < len(scen):
+        raise ParameterError(f"{args.scenario}: --index {i} is out of range; the file has {len(scen)} scenarios "
+                             f"(0..{len(scen) - 1})")
+    if grid is not None and int(scen.width[i]) != grid.cols:
+        raise ParameterError(f"{args.scenario}: scenario {i} is for a map {int(scen.width[i])} wide, but {args.map} "
+                             f"is {grid.cols} wide")
+    return scen.start_xy[i].tolist(), scen.goal_xy[i].tolist(), float(scen.optimal[i])
 
 
 def endpoints(args: argparse.Namespace, target: object) -> tuple[list[float], list[float]]:
@@ -44,15 +75,25 @@ def run(args: argparse.Namespace) -> int:
     from ..planners import plan
 
     target = load_target(args)
-    start, goal = endpoints(args, target)
-    path = plan(args.planner, target, start, goal, collect_params(args), resolution=args.resolution)
+    scen = scenario(args, target)
+    params = collect_params(args)
+    if scen is not None:
+        start, goal, optimal = scen
+    else:
+        start, goal = endpoints(args, target)
+    path = plan(args.planner, target, start, goal, params, resolution=args.resolution)
+    if scen is not None:
+        path = replace(path, extra={**path.extra, "optimal": optimal})
     if args.json:
         json.dump(path.to_json(), sys.stdout)
         sys.stdout.write("\n")
     else:
         x, y = path.end
-        print(f"{path.planner}: {path.status} after {path.iterations} iterations, length {path.length:.4g}, "
+        opt = f" (optimal {path.extra['optimal']:.4g})" if "optimal" in path.extra else ""
+        print(f"{path.planner}: {path.status} after {path.iterations} iterations, length {path.length:.4g}{opt}, "
               f"end ({x:.4g}, {y:.4g}), min clearance {path.min_clearance:.4g}, {path.seconds * 1e3:.1f} ms")
+        if path.extra.get("hint"):
+            print(f"hint: {path.extra['hint']}")
     if args.plot or args.animate:
         from .. import plot as gplot
 

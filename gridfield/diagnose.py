@@ -182,13 +182,17 @@ def _narrowest(esc: NavigationEscape, field: Any, stall: tuple[float, float]) ->
         else:
             hi = mid - 1
     b = float(vals[lo])
-    lab = joined(b)
-    assert lab is not None
-    rr, cc = np.nonzero((lab == lab[a]) & (dist == b))
-    if not len(rr):  # no cell of that clearance on the way: nothing narrows it
+    # where: the narrowest cell of the shortest path through the cells of clearance >= b
+    from .grid import Grid, GridMap
+    from .navigation import extract_path, wavefront
+
+    wide = GridMap(Grid(dist.shape, 1.0, border="wall"), ~(dist >= b))
+    nav = wavefront(wide, (g[1] + 0.5, g[0] + 0.5), costs="octile", stop_at=(a[1] + 0.5, a[0] + 0.5))
+    cells = np.asarray(extract_path(nav, (a[1] + 0.5, a[0] + 0.5), method="descent").extra.get("cells", []))
+    if not len(cells):
+        return None
+    k = int(np.argmin(dist[cells[:, 0], cells[:, 1]]))
+    if dist[cells[k, 0], cells[k, 1]] != b:  # (never: the path must pass the bottleneck)
         return None
     off = 0 if grid.border == "wall" else 1
-    pts = grid.cell_to_world(np.stack([rr - off, cc - off], axis=1))
-    way = np.hypot(pts[:, 0] - stall[0], pts[:, 1] - stall[1]) + np.hypot(pts[:, 0] - float(field.goal[0]),
-                                                                           pts[:, 1] - float(field.goal[1]))
-    return b, pts[int(np.argmin(way))].tolist()
+    return b, grid.cell_to_world(np.array([[cells[k, 0] - off, cells[k, 1] - off]]))[0].tolist()

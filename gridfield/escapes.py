@@ -86,11 +86,25 @@ class NavigationEscape:
         self._last_value = math.inf
 
     @cached_property
+    def _frame(self) -> tuple[float, float, float]:
+        """``(x0, y0, res)`` of :func:`navigation_map`: the wavefront runs in its cell units, so that
+        its ties (and so the escape's path in cells) do not depend on the map's resolution."""
+        g = navigation_map(self.gridmap).grid
+        return float(g.origin[0]), float(g.origin[1]), float(g.resolution)
+
+    def _to_cells(self, point: Point) -> Point:
+        x0, y0, res = self._frame
+        return ((float(point[0]) - x0) / res, (float(point[1]) - y0) / res)
+
+    @cached_property
     def nav(self) -> Any:
-        """The octile wavefront from the goal on :func:`navigation_map` (computed on first use)."""
+        """The octile wavefront from the goal on :func:`navigation_map`, in cell units (unit cells,
+        origin at its lower-left corner); computed on first use."""
         from .navigation import wavefront
 
-        return wavefront(navigation_map(self.gridmap), self.goal, costs="octile")
+        nm = navigation_map(self.gridmap)
+        unit = GridMap(Grid(nm.grid.shape, 1.0, border="wall"), nm.occupied)
+        return wavefront(unit, self._to_cells(tuple(self.goal)), costs="octile")
 
     @cached_property
     def sink(self) -> NDArray[np.intp]:
@@ -100,18 +114,31 @@ class NavigationEscape:
         return basins(self.field).sink
 
     def value(self, point: Point) -> float:
-        """The navigation value (octile distance to the goal) at the cell containing ``point``."""
-        cell = self.nav.grid.cell_of(float(point[0]), float(point[1]))
+        """The navigation value (octile distance to the goal, in cells) at the cell containing ``point``."""
+        u, v = self._to_cells(point)
+        cell = self.nav.grid.cell_of(u, v)
         return math.inf if cell is None else float(self.nav.value[cell])
 
     def __call__(self, point: Point, *, final: bool = False) -> list[Point]:
         from .navigation import extract_path
 
+        lead: list[Point] = []
+        if self.nav.grid.cell_of(*self._to_cells(point)) is None:
+            # out in the open space around an open map: straight back to the ring around the grid
+            # (the segment stays outside the grid, so it is free)
+            g = self.gridmap.grid
+            half = 0.5 * g.resolution
+            xmin, ymin, xmax, ymax = g.bounds
+            point = (min(max(float(point[0]), xmin - half), xmax + half),
+                     min(max(float(point[1]), ymin - half), ymax + half))
+            lead = [point]
         v = self.value(point)
         if not math.isfinite(v):
             return []
-        path = extract_path(self.nav, point, method="descent")
-        chain = path.points[1:]
+        path = extract_path(self.nav, self._to_cells(point), method="descent")
+        x0, y0, res = self._frame
+        chain = path.points[1:] * res + np.array([x0, y0])
+        chain[-1] = self.goal  # exactly
         cells = np.asarray(path.extra["cells"])
         drive_all = final or v >= self._last_value
         self._last_value = v
@@ -126,4 +153,4 @@ class NavigationEscape:
             other = np.flatnonzero(inside & (sink != own) & (sink >= 0))
             if len(other):
                 chain = chain[: int(other[0]) + 1]
-        return [(float(x), float(y)) for x, y in chain]
+        return lead + [(float(x), float(y)) for x, y in chain]

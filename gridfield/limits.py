@@ -1,0 +1,138 @@
+"""The size guard: refuse inputs whose grids would not fit in memory, before allocating anything.
+
+Every grid gridfield builds is checked here first (:func:`check_cells`): a world rasterized at a
+fine resolution, an image (from its header, before decoding), an ``.npz`` array (from its header,
+before loading), the resolutions of ``compare``, arrays given to the API. Above the limit a
+:class:`~gridfield.errors.SizeLimitError` names the size in cells and bytes and how to raise the
+limit, in well under a second.
+
+The limit, in cells, is the first of:
+
+1. :func:`override` (the command line's ``--max-cells``),
+2. the environment variable ``GRIDFIELD_MAX_CELLS``,
+3. :func:`default_max_cells`: half the machine's physical memory divided by
+   :data:`BYTES_PER_CELL` (what a distance map, a potential and its gradients need per cell).
+
+Examples
+--------
+>>> check_cells((100, 200), "grid")
+20000
+>>> with override(1000):
+...     check_cells((100, 200), "world.yaml at resolution 0.1")
+Traceback (most recent call last):
+...
+gridfield.errors.SizeLimitError: world.yaml at resolution 0.1: 100 x 200 = 20000 cells would need about 1.3 MB ...
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import os
+from collections.abc import Iterator, Sequence
+
+from .errors import ParameterError, SizeLimitError
+
+__all__ = ["BYTES_PER_CELL", "ENV_VAR", "check_cells", "default_max_cells", "max_cells", "override"]
+
+#: Bytes per cell of the full pipeline: occupancy, brushfire (steps, distance, nearest obstacle,
+#: labels, GVD), potential and its two gradients, plus temporaries.
+BYTES_PER_CELL = 64
+
+#: Environment variable that sets the limit in cells.
+ENV_VAR = "GRIDFIELD_MAX_CELLS"
+
+_OVERRIDE: list[int] = []
+
+
+def _physical_memory() -> int | None:
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):  # not POSIX
+        return None
+
+
+def default_max_cells() -> int:
+    """Half the physical memory over :data:`BYTES_PER_CELL` (2**27 cells if the memory is unknown)."""
+    mem = _physical_memory()
+    if not mem or mem <= 0:
+        return 2**27
+    return max(10**6, mem // 2 // BYTES_PER_CELL)
+
+
+def parse_max_cells(value: object, where: str) -> int:
+    """A positive cell count from an option or the environment (``1e9`` and ``1_000_000`` allowed)."""
+    try:
+        if isinstance(value, bool):
+            raise ValueError
+        n = float(str(value).replace("_", "")) if isinstance(value, str) else float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        n = math.nan
+    if not (math.isfinite(n) and n >= 1):
+        raise ParameterError(f"{where} must be a positive number of cells, got {value!r}")
+    return int(n)
+
+
+def max_cells() -> int:
+    """The limit in force (see the module docstring)."""
+    if _OVERRIDE:
+        return _OVERRIDE[-1]
+    env = os.environ.get(ENV_VAR)
+    if env:
+        return parse_max_cells(env, ENV_VAR)
+    return default_max_cells()
+
+
+@contextlib.contextmanager
+def override(limit: int | float | str | None) -> Iterator[None]:
+    """Within the ``with`` block the limit is ``limit`` cells (``None``: no change)."""
+    if limit is None:
+        yield
+        return
+    _OVERRIDE.append(parse_max_cells(limit, "max_cells"))
+    try:
+        yield
+    finally:
+        _OVERRIDE.pop()
+
+
+def _bytes(n: float) -> str:
+    for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if n >= size:
+            return f"{n / size:.2g} {unit}" if n / size < 10 else f"{n / size:.0f} {unit}"
+    return f"{n:.0f} B"
+
+
+def check_cells(shape_or_count: Sequence[float] | float, what: str, *, bytes_per_cell: int = BYTES_PER_CELL) -> int:
+    """Raise :class:`SizeLimitError` if a grid of this shape (or cell count) exceeds the limit.
+
+    Parameters
+    ----------
+    shape_or_count : (rows, cols), any shape, or a number of cells
+        Non-integers (e.g. an extent over a resolution) are allowed: the count is what matters.
+    what : str
+        What is being sized, for the message (e.g. ``"map.png (image header)"``).
+    bytes_per_cell : int
+        For the message's byte estimate.
+
+    Returns
+    -------
+    int
+        The number of cells (when within the limit).
+    """
+    if isinstance(shape_or_count, int | float):
+        count = float(shape_or_count)
+        shape_text = ""
+    else:
+        dims = [float(d) for d in shape_or_count]
+        count = math.prod(dims) if dims else 1.0
+        shape_text = " x ".join(f"{d:.0f}" if d < 1e15 else f"{d:.3g}" for d in dims) + " = "
+    limit = max_cells()
+    if not count <= limit:  # NaN too
+        cells = f"{count:.0f}" if count < 1e15 else f"{count:.3g}"
+        raise SizeLimitError(
+            f"{what}: {shape_text}{cells} cells would need about {_bytes(count * bytes_per_cell)} of memory, more "
+            f"than the limit of {limit} cells; raise it with --max-cells N or the environment variable "
+            f"{ENV_VAR}=N (or use a coarser resolution / a smaller map)"
+        )
+    return int(count)

@@ -150,6 +150,8 @@ def _choice(name: str, value: Any, options: Sequence[str]) -> str:
 
 
 def _number(name: str, value: Any, *, positive: bool = False, allow_zero: bool = True) -> float:
+    if isinstance(value, str):  # issue 17: "0.1" is not a number (float() would take it)
+        raise ParameterError(f"{name} must be a number, got {value!r}")
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -162,7 +164,7 @@ def _number(name: str, value: Any, *, positive: bool = False, allow_zero: bool =
 
 
 def _integer(name: str, value: Any, *, minimum: int = 0) -> int:
-    if isinstance(value, bool):
+    if isinstance(value, bool | str):  # issue 17: "10" is not an integer (float() would take it)
         raise ParameterError(f"{name} must be an integer >= {minimum}, got {value!r}")
     try:
         f = float(value)

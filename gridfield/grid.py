@@ -340,9 +340,12 @@ class GridMap:
                     return p
         except (TypeError, ValueError):
             pass
-        p = np.asarray(point, dtype=np.float64).reshape(-1)
+        try:
+            p = np.asarray(point, dtype=np.float64).reshape(-1)
+        except (TypeError, ValueError):
+            raise ParameterError(f"{name} must be two numbers X Y, got {shorten(point)}") from None
         if p.shape != (2,):
-            raise ParameterError(f"{name} must be two numbers X Y, got {point!r}")
+            raise ParameterError(f"{name} must be two numbers X Y, got {shorten(point)}")
         check_finite(name, p)
         if not self.grid.contains(p)[0]:
             xmin, ymin, xmax, ymax = self.grid.bounds

@@ -27,8 +27,10 @@ import io as _io
 import math
 import os
 import re
+import struct
 import warnings
 import zipfile
+import zlib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path as FsPath
@@ -38,8 +40,9 @@ import numpy as np
 import yaml
 from numpy.typing import NDArray
 
-from .errors import GridfieldError, MapFormatError, ParameterError
+from .errors import GridfieldError, MapFormatError, ParameterError, shorten
 from .grid import BORDERS, Grid, GridMap
+from .limits import check_cells
 from .world import World, world_from_dict
 
 __all__ = [
@@ -229,6 +232,7 @@ def _pnm_header(p: FsPath, data: bytes) -> tuple[bytes, list[int], int]:
 def _read_pgm(p: FsPath, data: bytes) -> _Pixels:
     """Decode a ``P2`` (ASCII) or ``P5`` (binary) PGM, 8 or 16 bits, to grey levels 0..255."""
     magic, (width, height, maxval), pos = _pnm_header(p, data)
+    check_cells((height, width), f"{p} (PGM header)")
     n = width * height
     if magic == b"P5":
         itemsize = 1 if maxval < 256 else 2
@@ -263,11 +267,15 @@ def _read_pillow(p: FsPath, data: bytes) -> _Pixels:
     from PIL import Image, UnidentifiedImageError
 
     with warnings.catch_warnings():
-        # Maps can be large: a DecompressionBombWarning is no reason to fail (the hard limit,
-        # DecompressionBombError, still applies). Pillow's other notes are not for our users.
+        # Maps can be large: Pillow's decompression-bomb limit gives way to gridfield's own size
+        # guard, applied to the header's size before decoding. Pillow's other notes are not for our users.
         warnings.simplefilter("ignore")
+        bomb_limit = Image.MAX_IMAGE_PIXELS
         try:
+            Image.MAX_IMAGE_PIXELS = None
             with Image.open(_io.BytesIO(data)) as im:
+                width, height = im.size
+                check_cells((height, width), f"{p} (image header)")
                 im.load()
                 fmt = im.format or "image"
                 mode = im.mode
@@ -284,10 +292,15 @@ def _read_pillow(p: FsPath, data: bytes) -> _Pixels:
                 arr = np.asarray(im)
         except UnidentifiedImageError:
             raise MapFormatError(f"{p}: not a readable image (expected a PNG, PGM or BMP file)") from None
-        except Image.DecompressionBombError as e:
-            raise MapFormatError(f"{p}: image too large to load safely: {e}") from None
-        except (OSError, ValueError, SyntaxError, EOFError, TypeError) as e:
-            raise MapFormatError(f"{p}: cannot decode image: {e}") from None
+        except GridfieldError:
+            raise
+        except (OSError, ValueError, SyntaxError, EOFError, TypeError, IndexError, KeyError, struct.error,
+                zlib.error) as e:
+            raise MapFormatError(f"{p}: cannot decode image: {shorten(str(e))}") from None
+        except MemoryError:
+            raise MapFormatError(f"{p}: cannot decode image: out of memory") from None
+        finally:
+            Image.MAX_IMAGE_PIXELS = bomb_limit
     if mode.startswith("I"):
         pixels = arr.astype(np.float64) * (255.0 / 65535.0)
     elif arr.dtype == np.uint8:
@@ -632,7 +645,10 @@ def read_ros_map(
         occupied |= is_unknown
     if border is None:
         border = "wall" if unknown == "occupied" else "open"
-    grid = Grid(values.shape, prm.resolution, (ox, oy), border)
+    try:
+        grid = Grid(values.shape, prm.resolution, (ox, oy), border)
+    except ParameterError as e:
+        raise MapFormatError(f"{prm.yaml}: {e}") from None
     meta = {"format": "ros", "semantics": semantics, "mode": prm.mode, "unknown_fraction": float(is_unknown.mean())}
     return GridMap(grid, np.ascontiguousarray(occupied), source=str(yaml_path), meta=meta)
 
@@ -708,6 +724,7 @@ def read_movingai_map(path: PathLike, *, border: Literal["open", "wall"] = "wall
             raise MapFormatError(f"{p}: '{key}' must be a positive integer, got {v!r}")
         size[key] = int(v)
     h, w = size["height"], size["width"]
+    check_cells((h, w), f"{p} (Moving AI header)")
 
     first = map_line + 1
     while len(lines) > first and not lines[-1].strip():  # trailing blank lines / final newline
@@ -981,6 +998,23 @@ def write_npz(path: PathLike, arrays: Mapping[str, NDArray[Any]], grid: Grid) ->
     return p
 
 
+def _check_npz_headers(p: FsPath, z: Any) -> None:
+    """Size every array of an open ``.npz`` from its ``.npy`` header, before any is loaded."""
+    fmt = np.lib.format
+    for name in z.files:
+        member = name if name in z.zip.namelist() else f"{name}.npy"
+        with z.zip.open(member) as f:
+            version = fmt.read_magic(f)
+            if version == (1, 0):
+                shape, _, dtype = fmt.read_array_header_1_0(f)
+            elif version in ((2, 0), (3, 0)):
+                shape, _, dtype = fmt.read_array_header_2_0(f)
+            else:
+                raise MapFormatError(f"{p}: array {name!r} has an unknown .npy format version {version}")
+        check_cells(shape if len(shape) <= 2 else (shape[0], shape[1], math.prod(shape[2:])),
+                    f"{p}: array {name!r} (from its .npz header)", bytes_per_cell=max(int(dtype.itemsize), 1))
+
+
 def read_npz_arrays(path: PathLike) -> tuple[dict[str, NDArray[Any]], Grid]:
     """Read an ``.npz`` written by :func:`write_npz`: the arrays by name and their :class:`Grid`.
 
@@ -990,17 +1024,26 @@ def read_npz_arrays(path: PathLike) -> tuple[dict[str, NDArray[Any]], Grid]:
     p = _check_file(path)
     try:
         with open(p, "rb") as fh:
-            z = np.load(fh, allow_pickle=False)
-            if not isinstance(z, np.lib.npyio.NpzFile):
+            magic = fh.read(6)
+            if magic == b"\x93NUMPY":  # np.load would read the whole array before we could size it
                 raise MapFormatError(f"{p}: holds a single .npy array, not a gridfield .npz archive of named arrays")
+            if not magic.startswith(b"PK"):
+                raise MapFormatError(f"{p}: not a gridfield .npz file (not a zip archive)")
+            fh.seek(0)
+            z = np.load(fh, allow_pickle=False)
+            if not isinstance(z, np.lib.npyio.NpzFile):  # pragma: no cover - a zip is always an NpzFile
+                raise MapFormatError(f"{p}: not a gridfield .npz archive of named arrays")
             with z:
+                _check_npz_headers(p, z)
                 content = {k: z[k] for k in z.files}
-    except MapFormatError:
+    except GridfieldError:
         raise
     except (zipfile.BadZipFile, ValueError, OSError, EOFError, KeyError) as e:
-        raise MapFormatError(f"{p}: not a gridfield .npz file ({e})") from None
+        raise MapFormatError(f"{p}: not a gridfield .npz file ({shorten(str(e))})") from None
+    except MemoryError:
+        raise MapFormatError(f"{p}: damaged .npz file (an array too large for memory)") from None
     except Exception as e:  # zlib.error and friends: a damaged archive
-        raise MapFormatError(f"{p}: damaged .npz file ({type(e).__name__}: {e})") from None
+        raise MapFormatError(f"{p}: damaged .npz file ({type(e).__name__}: {shorten(str(e))})") from None
     for key in ("resolution", "origin"):
         if key not in content:
             raise MapFormatError(f"{p}: no '{key}' array; a gridfield .npz holds resolution and origin beside the arrays")
@@ -1176,7 +1219,8 @@ def read(path: PathLike, **options: Any) -> World | GridMap:
     reader: Callable[..., GridMap]
     if suffix in (".yaml", ".yml"):
         data = read_yaml(p)
-        if isinstance(data, dict) and "image" in data:
+        # a ROS map YAML names its image; one that lacks it still has ROS keys and no world bounds
+        if isinstance(data, dict) and ("image" in data or ("bounds" not in data and {"origin", "resolution"} & set(data))):
             reader, what = read_ros_map, "ROS map YAML"
         else:
             if options:

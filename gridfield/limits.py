@@ -10,8 +10,9 @@ The limit, in cells, is the first of:
 
 1. :func:`override` (the command line's ``--max-cells``),
 2. the environment variable ``GRIDFIELD_MAX_CELLS``,
-3. :func:`default_max_cells`: half the machine's physical memory divided by
-   :data:`BYTES_PER_CELL` (what a distance map, a potential and its gradients need per cell).
+3. :func:`default_max_cells`: a quarter of the machine's physical memory divided by
+   :data:`BYTES_PER_CELL` (what a distance map, a potential and its gradients need per cell),
+   leaving room for temporaries, decoding and other programs.
 
 Examples
 --------
@@ -53,11 +54,11 @@ def _physical_memory() -> int | None:
 
 
 def default_max_cells() -> int:
-    """Half the physical memory over :data:`BYTES_PER_CELL` (2**27 cells if the memory is unknown)."""
+    """A quarter of the physical memory over :data:`BYTES_PER_CELL` (2**26 cells if the memory is unknown)."""
     mem = _physical_memory()
     if not mem or mem <= 0:
-        return 2**27
-    return max(10**6, mem // 2 // BYTES_PER_CELL)
+        return 2**26
+    return max(10**6, mem // 4 // BYTES_PER_CELL)
 
 
 def parse_max_cells(value: object, where: str) -> int:

@@ -21,6 +21,9 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--batch-size", type=int, default=None, metavar="N",
                    help="runs per task (default: a few tasks per worker and map, at most 256 runs each)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    from ._common import add_max_cells_argument
+
+    add_max_cells_argument(p)
     return p
 
 

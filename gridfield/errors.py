@@ -114,9 +114,9 @@ def check_positive(name: str, value: float, *, allow_inf: bool = False) -> float
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a positive number, got {value!r}") from None
+        raise ParameterError(f"{name} must be a positive number, got {shorten(value)}") from None
     if math.isnan(v) or v <= 0 or (math.isinf(v) and not allow_inf):
-        raise ParameterError(f"{name} must be a positive{'' if allow_inf else ' finite'} number, got {value!r}")
+        raise ParameterError(f"{name} must be a positive{'' if allow_inf else ' finite'} number, got {shorten(value)}")
     return v
 
 
@@ -138,4 +138,4 @@ def check_finite(name: str, values: Iterable[float] | float) -> None:
         ok = False
     if not ok:
         shown = values if not isinstance(values, int | float) else vals[0]
-        raise ParameterError(f"{name} must be finite numbers, got {list(shown) if not isinstance(shown, int | float) else shown!r}")
+        raise ParameterError(f"{name} must be finite numbers, got {shorten(list(shown) if not isinstance(shown, int | float) else shown)}")

@@ -39,7 +39,7 @@ def _as_points(points: ArrayLike, name: str = "points") -> NDArray[np.float64]:
 
 def _check_shape(shape: object) -> tuple[int, int]:
     """``shape`` as two positive Python ints, or :class:`ParameterError`."""
-    msg = f"grid shape must be two positive integers (rows, cols), got {shape!r}"
+    msg = f"grid shape must be two positive integers (rows, cols), got {shorten(shape)}"
     try:
         dims = tuple(shape)  # type: ignore[call-overload]
     except TypeError:
@@ -121,7 +121,7 @@ class Grid:
         except TypeError:
             n_origin = -1
         if n_origin != 2:
-            raise ParameterError(f"origin must be two numbers (x, y), got {self.origin!r}")
+            raise ParameterError(f"origin must be two numbers (x, y), got {shorten(self.origin)}")
         check_finite("origin", self.origin)
         object.__setattr__(self, "origin", (float(self.origin[0]), float(self.origin[1])))
         if self.border not in BORDERS:

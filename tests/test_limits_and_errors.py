@@ -17,7 +17,14 @@ import pytest
 
 from gridfield.brushfire import brushfire
 from gridfield.cli import main
-from gridfield.errors import MESSAGE_LIMIT, ArgumentTypeError, GridfieldError, MapFormatError, ParameterError, SizeLimitError
+from gridfield.errors import (
+    MESSAGE_LIMIT,
+    ArgumentTypeError,
+    GridfieldError,
+    MapFormatError,
+    ParameterError,
+    SizeLimitError,
+)
 from gridfield.grid import Grid, GridMap
 from gridfield.io import bundled_map, read, read_world
 from gridfield.limits import check_cells, default_max_cells, max_cells, override
@@ -94,7 +101,7 @@ def test_npz_arrays_are_sized_from_their_header_before_loading(tmp_path: Path, l
     assert "'occupied'" in msg
     single = tmp_path / "single.npz"
     single.write_bytes(_npy(np.zeros((3, 3))))
-    with pytest.raises(MapFormatError, match="single .npy array"):
+    with pytest.raises(MapFormatError, match=r"single \.npy array"):
         read(single)
 
 
@@ -210,7 +217,7 @@ def test_ros_yaml_without_image_and_absurd_resolution(tmp_path: Path) -> None:
 
     Image.fromarray(np.full((4, 5), 255, np.uint8)).save(tmp_path / "m.png")
     (tmp_path / "huge.yaml").write_text("image: m.png\nresolution: 1e308\norigin: [0, 0, 0]\n")
-    with pytest.raises(MapFormatError, match="huge.yaml: .*largest floating-point number"):
+    with pytest.raises(MapFormatError, match=r"huge\.yaml: .*largest floating-point number"):
         read(tmp_path / "huge.yaml")
 
 

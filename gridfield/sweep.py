@@ -559,11 +559,14 @@ def _batches(runs: Sequence[Run], workers: int, batch_size: int | None) -> list[
     return out
 
 
-def _worker_init() -> None:
+def _worker_init(max_cells: int) -> None:
     import signal
+
+    from . import limits
 
     # Ctrl-C reaches the whole process group: the parent stops the workers, they need not say so.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    limits._OVERRIDE.append(max_cells)  # the submitter's size limit (e.g. its --max-cells)
 
 
 def _stop_pool(pool: Any) -> None:
@@ -590,7 +593,10 @@ def _local_results(batches: Sequence[list[Run]], workers: int) -> Iterator[list[
     # "spawn", not fork: numba's parallel kernels start an OpenMP thread pool, and a process that
     # forks after that aborts ("fork() called from a process already using GNU OpenMP").
     ctx = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_worker_init)
+    from .limits import max_cells
+
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_worker_init,
+                               initargs=(max_cells(),))
     try:
         futures = [pool.submit(run_batch, b) for b in batches]
         for fut in as_completed(futures):

@@ -1060,11 +1060,11 @@ def _check_npz_headers(p: FsPath, z: Any) -> None:
                     f"{p}: array {shorten(name)} (from its .npz header)", bytes_per_cell=max(int(dtype.itemsize), 1))
 
 
-def read_npz_arrays(path: PathLike) -> tuple[dict[str, NDArray[Any]], Grid]:
-    """Read an ``.npz`` written by :func:`write_npz`: the arrays by name and their :class:`Grid`.
+def _npz_content(path: PathLike) -> dict[str, NDArray[Any]]:
+    """Every array of a gridfield ``.npz`` by name, each sized from its header before it is loaded.
 
-    Entries of fewer than two dimensions (e.g. the goal and parameters that
-    :func:`gridfield.potential.save_field` adds) are returned too but do not set the grid's shape.
+    Raises :class:`MapFormatError` (or :class:`~gridfield.errors.SizeLimitError`) for anything
+    but a readable zip archive of ``.npy`` arrays within the size limit.
     """
     p = _check_file(path)
     try:
@@ -1089,6 +1089,17 @@ def read_npz_arrays(path: PathLike) -> tuple[dict[str, NDArray[Any]], Grid]:
         raise MapFormatError(f"{p}: damaged .npz file (an array too large for memory)") from None
     except Exception as e:  # zlib.error and friends: a damaged archive
         raise MapFormatError(f"{p}: damaged .npz file ({type(e).__name__}: {shorten(str(e))})") from None
+    return content
+
+
+def read_npz_arrays(path: PathLike) -> tuple[dict[str, NDArray[Any]], Grid]:
+    """Read an ``.npz`` written by :func:`write_npz`: the arrays by name and their :class:`Grid`.
+
+    Entries of fewer than two dimensions (e.g. the goal and parameters that
+    :func:`gridfield.potential.save_field` adds) are returned too but do not set the grid's shape.
+    """
+    content = _npz_content(path)
+    p = FsPath(path)
     for key in ("resolution", "origin"):
         if key not in content:
             raise MapFormatError(f"{p}: no '{key}' array; a gridfield .npz holds resolution and origin beside the arrays")

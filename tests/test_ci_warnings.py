@@ -15,6 +15,9 @@ import warnings
 def test_a_dependency_warning_about_itself():
     warnings.warn_explicit("unclosed transport", ResourceWarning, "distributed/comm/tcp.py", 1, module="distributed.comm.tcp")
 
+def test_a_resource_warning_at_garbage_collection():  # attributed to whatever code runs when GC happens
+    warnings.warn_explicit("unclosed socket", ResourceWarning, "gridfield/sweep.py", 1, module="gridfield.sweep")
+
 def test_a_warning_from_gridfield():
     warnings.warn_explicit("ours", RuntimeWarning, "gridfield/io.py", 1, module="gridfield.io")
 
@@ -33,6 +36,6 @@ def test_warning_filters_are_scoped_to_gridfield(tmp_path: Path) -> None:
     )
     out = proc.stdout
     assert proc.returncode == 1, out
-    assert "2 failed, 1 passed" in out
+    assert "2 failed, 2 passed" in out
     assert "FAILED test_probes.py::test_a_warning_from_gridfield" in out
     assert "FAILED test_probes.py::test_a_numpy_warning_in_a_test" in out

@@ -17,10 +17,22 @@ scenarios), the planners and a grid of parameter values (the Cartesian product i
       q_star: [1.0, 2.0]
       eta: [1.0]
 
-Each map is loaded and rasterized once per worker process and its brushfire distance map
-computed once, not per run. Runs go to a local process pool (all cores) by default, or to a
-Dask cluster (``scheduler=ADDRESS``, needs ``pip install gridfield[dask]``). Rows are appended
-to the CSV as runs finish; an interrupted sweep started again skips the runs already written.
+The whole spec is validated before anything runs: unknown keys (with a "did you mean"), the
+types and ranges of every value, every parameter combination (:func:`_validate_params`), each
+map's grid size against the memory limit (:mod:`gridfield.limits`), scenario files against their
+map's size.
+
+Runs of one map are grouped into batches (one task each). Each map is loaded and rasterized once
+per worker process and its brushfire distance map computed once, not per run. Batches go to a
+local process pool (all cores) by default, or to a Dask cluster (``scheduler=ADDRESS``, needs
+``pip install gridfield[dask]``), where the submitter reads each map once and ships it to the
+workers (they need not share its filesystem); a worker lost mid-sweep has its batches redone.
+
+The rows file is a journal: locked while a sweep writes it, each row written whole (one write of
+one line, flushed), repaired when opened (a partial last line left by a crash is cut off and its
+run done again; damaged or duplicate lines are dropped). An interrupted sweep (SIGINT, SIGTERM, a
+crash at any byte) started again therefore ends with exactly one row per run. Any failure of one
+run becomes that run's ``error: ...`` row.
 """
 
 from __future__ import annotations

@@ -179,8 +179,12 @@ def _pairs(entry: Mapping[str, Any], w: str) -> list[tuple[tuple[float, float], 
     return pairs
 
 
-def load_spec(path: str | os.PathLike[str]) -> tuple[list[Run], FsPath]:
+def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | None = None
+              ) -> tuple[list[Run], FsPath]:
     """Read and fully validate a sweep spec; return the list of runs and the output path.
+
+    ``output`` replaces the spec's ``output``. If another sweep is writing the output, this stops
+    at once (before any map is read).
 
     Everything is checked before a single run starts: unknown keys (with a "did you mean"),
     types and ranges of every value, every parameter combination for every planner, each map
@@ -202,7 +206,10 @@ def load_spec(path: str | os.PathLike[str]) -> tuple[list[Run], FsPath]:
         raise MapFormatError(f"{where}: a sweep spec must be a YAML mapping with maps, planners and params")
     _unknown_keys(spec, SPEC_KEYS, where)
     base = spec_path.parent
-    output = _spec_path(spec.get("output", spec_path.with_suffix(".csv").name), base, f"{where}: output")
+    if output is None:
+        output = _spec_path(spec.get("output", spec_path.with_suffix(".csv").name), base, f"{where}: output")
+    output = FsPath(output)
+    _Journal.check_unlocked(output)
     planners = spec.get("planners", ["potential"])
     if isinstance(planners, str):
         planners = [planners]
@@ -442,9 +449,25 @@ class _Journal:
             raise
         self._synced = time.monotonic()
 
+    @staticmethod
+    def check_unlocked(path: FsPath) -> None:
+        """Raise now if another sweep holds the lock on ``path`` (the lock itself is taken later)."""
+        try:
+            fd = os.open(path, os.O_RDONLY | getattr(os, "O_BINARY", 0))
+        except OSError:
+            return  # no file yet (or unreadable: opening it for the sweep will say so)
+        try:
+            _Journal._lock_fd(fd, path)
+        finally:
+            os.close(fd)
+
     def _lock(self) -> None:
+        self._lock_fd(self.fd, self.path)
+
+    @staticmethod
+    def _lock_fd(fd: int, path: FsPath) -> None:
         busy = GridfieldError(
-            f"{self.path}: another sweep is writing this rows file (it is locked); wait for it to finish, "
+            f"{path}: another sweep is writing this rows file (it is locked); wait for it to finish, "
             "or give this sweep another --out"
         )
         try:
@@ -453,12 +476,12 @@ class _Journal:
             import msvcrt
 
             try:
-                msvcrt.locking(self.fd, msvcrt.LK_NBLCK, 1)
+                msvcrt.locking(fd, msvcrt.LK_NBLCK, 1)
             except OSError:
                 raise busy from None
             return
         try:
-            fcntl.flock(self.fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
             raise busy from None
 

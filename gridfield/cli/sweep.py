@@ -35,9 +35,7 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError(f"--workers must be at least 1, got {args.workers}")
     if args.batch_size is not None and args.batch_size < 1:
         raise ParameterError(f"--batch-size must be at least 1, got {args.batch_size}")
-    runs, output = load_spec(args.spec)
-    if args.out:
-        output = Path(args.out)
+    runs, output = load_spec(args.spec, output=args.out)
     notes: list[str] = []
     try:
         rows = run_sweep(runs, output, workers=args.workers, scheduler=args.scheduler, batch_size=args.batch_size,

@@ -331,6 +331,9 @@ def _random_pairs(gm: Any, n: int, seed: int) -> list[Any]:
 _CACHE: dict[Any, Any] = {}
 _CACHE_MAPS = 4
 
+#: Seconds to wait for a Dask scheduler to answer.
+SCHEDULER_TIMEOUT = 10
+
 #: Longest error status written to a row.
 STATUS_LIMIT = 300
 
@@ -653,7 +656,14 @@ def _dask_results(batches: Sequence[list[Run]], scheduler: Any) -> Iterator[list
         raise GridfieldError("--scheduler needs Dask: pip install 'gridfield[dask]'") from None
     from .io import read
 
-    client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+    if isinstance(scheduler, Client):
+        client = scheduler
+    else:
+        try:
+            client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+        except (OSError, ValueError, TypeError) as e:  # TimeoutError is an OSError
+            raise GridfieldError(f"cannot connect to the Dask scheduler {shorten(scheduler)}: "
+                                 f"{_one_line(str(e) or type(e).__name__, 200)}") from None
     futures: list[Any] = []
     try:
         # The map's content travels with the tasks (workers need not see the submitter's files):

@@ -236,3 +236,10 @@ def test_a_bad_spec_is_one_line_and_exit_2_from_the_command_line(tmp_path: Path,
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "kappa" in err
     assert not (tmp_path / "spec.csv").exists()
+
+
+def test_an_unreachable_scheduler_is_one_line(tmp_path: Path, capsys) -> None:
+    spec = _spec(tmp_path, W)
+    assert main(["sweep", str(spec), "--scheduler", "nonsense://x", "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "cannot connect to the Dask scheduler 'nonsense://x': unknown address scheme" in err

@@ -1275,8 +1275,8 @@ def read(path: PathLike, **options: Any) -> World | GridMap:
     reader: Callable[..., GridMap]
     if suffix in (".yaml", ".yml"):
         data = read_yaml(p)
-        # a ROS map YAML names its image; one that lacks it still has ROS keys and no world bounds
-        if isinstance(data, dict) and ("image" in data or ("bounds" not in data and {"origin", "resolution"} & set(data))):
+        # a ROS map YAML names its image; one that lacks it still has an origin (a world has bounds instead)
+        if isinstance(data, dict) and ("image" in data or ("origin" in data and "bounds" not in data)):
             reader, what = read_ros_map, "ROS map YAML"
         else:
             if options:

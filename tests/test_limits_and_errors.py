@@ -188,8 +188,7 @@ def test_plan_json_into_a_closed_pipe_exits_quietly(tmp_path: Path) -> None:
                              "--resolution", "0.5", "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             env={**os.environ, "PYTHONPATH": str(ROOT)})
     assert proc.stdout is not None and proc.stderr is not None
-    proc.stdout.read(100)  # like `| head -c 100`
-    proc.stdout.close()
+    proc.stdout.close()  # like `| head -c 100` having read its bytes, before the plan is printed
     with proc.stderr:
         err = proc.stderr.read().decode()
     assert proc.wait(timeout=120) == 141

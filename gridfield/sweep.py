@@ -88,6 +88,9 @@ class Run:
 SPEC_KEYS = ("output", "maps", "planners", "params")
 MAP_KEYS = ("path", "resolution", "pairs", "random_pairs", "scenarios", "limit")
 
+#: Most runs one spec may expand to (each run is a row and a few hundred bytes of memory).
+MAX_RUNS = 10**8
+
 
 def _need(mapping: Mapping[str, Any], key: str, where: str) -> Any:
     if key not in mapping:
@@ -226,6 +229,10 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
     for n, v in zip(names, values, strict=True):
         if not v:
             raise MapFormatError(f"{where}: params.{n}: an empty list of values gives no runs")
+    n_combos = math.prod(len(v) for v in values)
+    if n_combos * len(planners) > MAX_RUNS:
+        raise MapFormatError(f"{where}: params: {n_combos:.3g} combinations x {len(planners)} planners exceed "
+                             f"{MAX_RUNS:g} runs; sweep fewer values")
     combos = []
     for combo in itertools.product(*values):
         params = dict(zip(names, combo, strict=True))
@@ -251,7 +258,8 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
         resolution = entry.get("resolution")
         if resolution is not None:
             try:
-                resolution = check_positive("resolution", resolution if not isinstance(resolution, bool) else "")
+                resolution = check_positive("resolution", resolution if isinstance(resolution, int | float) and not
+                                            isinstance(resolution, bool) else "")
             except ParameterError:
                 raise MapFormatError(f"{w}.resolution: must be a positive finite number, got {shorten(resolution)}") from None
         try:
@@ -278,6 +286,8 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
                 raise MapFormatError(f"{w}.random_pairs: expected a mapping {{n: N, seed: S}}, got {shorten(rp)}")
             _unknown_keys(rp, ("n", "seed"), f"{w}.random_pairs")
             n = _integer(rp.get("n", 10), f"{w}.random_pairs.n", minimum=1)
+            if n > MAX_RUNS:
+                raise MapFormatError(f"{w}.random_pairs.n: {n} pairs exceed {MAX_RUNS:g} runs")
             seed = _integer(rp.get("seed", 0), f"{w}.random_pairs.seed", minimum=0)
             try:
                 pairs += _random_pairs(gm, n, seed)
@@ -306,6 +316,8 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
             pairs.append((target.start, target.goal, math.nan))
         if not pairs:
             raise MapFormatError(f"{w}: no start/goal pairs (give pairs, random_pairs or scenarios)")
+        if len(runs) + len(planners) * len(combos) * len(pairs) > MAX_RUNS:
+            raise MapFormatError(f"{w}: the spec expands to more than {MAX_RUNS:g} runs; split the sweep")
         for planner, params, (s, g, opt) in itertools.product(planners, combos, pairs):
             runs.append(Run(str(map_path), resolution, planner, tuple(sorted(params.items())), s, g, opt))
     return runs, output

@@ -351,8 +351,12 @@ STATUS_LIMIT = 300
 
 
 def _map_cache(run: Run, target: Any = None) -> dict[Any, Any]:
-    """The plan cache of the run's map, holding the map (loaded here from its path unless shipped)."""
-    key = (run.map, run.resolution)
+    """The plan cache of the run's map, holding the map (loaded here from its path unless shipped).
+
+    A shipped map is keyed by its identity too: a long-lived cluster may see two sweeps whose maps
+    share a (relative) path but not their content. The cache holds the map, so the identity stays unique.
+    """
+    key = (run.map, run.resolution, None if target is None else id(target))
     cache = _CACHE.pop(key, None)
     if cache is None:
         if target is None:

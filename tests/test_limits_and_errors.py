@@ -259,3 +259,9 @@ def test_api_errors_name_the_argument_and_what_was_expected() -> None:
         with pytest.raises(GridfieldError, match=message) as e:
             call()
         assert isinstance(e.value, kind)
+
+
+def test_a_huge_command_line_value_gives_a_short_usage_error(capsys) -> None:
+    assert main(["info", SEED, "--resolution", "9" * 100000 + "x"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and len(err) < 2 * MESSAGE_LIMIT and "--resolution" in err

@@ -34,7 +34,7 @@ from collections.abc import Iterator, Sequence
 
 from .errors import ParameterError, SizeLimitError
 
-__all__ = ["BYTES_PER_CELL", "ENV_VAR", "check_cells", "default_max_cells", "max_cells", "override"]
+__all__ = ["BYTES_PER_CELL", "ENV_VAR", "check_cells", "default_max_cells", "max_cells", "override", "parse_max_cells"]
 
 #: Bytes per cell of the full pipeline: occupancy, brushfire (steps, distance, nearest obstacle,
 #: labels, GVD), potential and its two gradients, plus temporaries.
@@ -54,7 +54,18 @@ def _physical_memory() -> int | None:
 
 
 def default_max_cells() -> int:
-    """A quarter of the physical memory over :data:`BYTES_PER_CELL` (2**26 cells if the memory is unknown)."""
+    """A quarter of the physical memory over :data:`BYTES_PER_CELL` (2**26 cells if the memory is unknown).
+
+    Returns
+    -------
+    int
+        At least a million cells.
+
+    Examples
+    --------
+    >>> default_max_cells() >= 10**6
+    True
+    """
     mem = _physical_memory()
     if not mem or mem <= 0:
         return 2**26
@@ -62,7 +73,27 @@ def default_max_cells() -> int:
 
 
 def parse_max_cells(value: object, where: str) -> int:
-    """A positive cell count from an option or the environment (``1e9`` and ``1_000_000`` allowed)."""
+    """A positive cell count from an option or the environment (``1e9`` and ``1_000_000`` allowed).
+
+    Parameters
+    ----------
+    value : str or number
+    where : str
+        The option or variable it came from, for the message.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> parse_max_cells("1e9", "--max-cells"), parse_max_cells("2_000", "GRIDFIELD_MAX_CELLS")
+    (1000000000, 2000)
+    >>> parse_max_cells("lots", "--max-cells")
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: --max-cells must be a positive number of cells, got 'lots'
+    """
     try:
         if isinstance(value, bool):
             raise ValueError
@@ -75,7 +106,14 @@ def parse_max_cells(value: object, where: str) -> int:
 
 
 def max_cells() -> int:
-    """The limit in force (see the module docstring)."""
+    """The limit in force, in cells (see the module docstring).
+
+    Examples
+    --------
+    >>> with override("5e6"):
+    ...     max_cells()
+    5000000
+    """
     if _OVERRIDE:
         return _OVERRIDE[-1]
     env = os.environ.get(ENV_VAR)
@@ -86,7 +124,19 @@ def max_cells() -> int:
 
 @contextlib.contextmanager
 def override(limit: int | float | str | None) -> Iterator[None]:
-    """Within the ``with`` block the limit is ``limit`` cells (``None``: no change)."""
+    """Within the ``with`` block the limit is ``limit`` cells (``None``: no change).
+
+    Parameters
+    ----------
+    limit : int, float, str or None
+        Parsed by :func:`parse_max_cells`.
+
+    Examples
+    --------
+    >>> with override(100):
+    ...     check_cells((10, 10), "grid")
+    100
+    """
     if limit is None:
         yield
         return

@@ -402,7 +402,17 @@ def run_one(run: Run, target: Any = None) -> dict[str, Any]:
 
 
 def run_batch(runs: Sequence[Run], target: Any = None) -> list[dict[str, Any]]:
-    """Rows of several runs of one map (one task of a pool or a cluster)."""
+    """Rows of several runs of one map (one task of a pool or a cluster).
+
+    Parameters
+    ----------
+    runs : runs of one map (and resolution)
+    target : the map itself when shipped with the task (default: read from ``runs[k].map``)
+
+    Returns
+    -------
+    list of dict : one row per run (see :func:`run_one`), in order
+    """
     return [run_one(r, target) for r in runs]
 
 

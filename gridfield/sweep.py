@@ -623,14 +623,24 @@ def _batches(runs: Sequence[Run], workers: int, batch_size: int | None) -> list[
     return out
 
 
-def _worker_init(max_cells: int) -> None:
+def _worker_init(max_cells: int, parent: int) -> None:
     import signal
+    import threading
 
     from . import limits
 
     # Ctrl-C reaches the whole process group: the parent stops the workers, they need not say so.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     limits._OVERRIDE.append(max_cells)  # the submitter's size limit (e.g. its --max-cells)
+
+    # A parent killed outright (SIGKILL, a crash) cannot stop its workers, and they would wait on the
+    # task queue forever (each holds a writing end of it): they watch the parent and leave with it.
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="gridfield-parent-watch", daemon=True).start()
 
 
 def _stop_pool(pool: Any) -> None:
@@ -660,7 +670,7 @@ def _local_results(batches: Sequence[list[Run]], workers: int) -> Iterator[list[
     from .limits import max_cells
 
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_worker_init,
-                               initargs=(max_cells(),))
+                               initargs=(max_cells(), os.getpid()))
     try:
         futures = [pool.submit(run_batch, b) for b in batches]
         for fut in as_completed(futures):

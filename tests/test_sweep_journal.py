@@ -179,6 +179,35 @@ def test_sigterm_stops_the_workers_and_leaves_a_resumable_file(tmp_path: Path) -
     assert len(lines) == 151 and len(set(lines)) == 151
 
 
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc to list the worker processes")
+def test_workers_of_a_killed_sweep_leave_with_it_and_the_file_resumes(tmp_path: Path) -> None:
+    shutil.copy(bundled_map("seed000.yaml"), tmp_path / "seed000.yaml")
+    spec = tmp_path / "spec.yaml"
+    spec.write_text("output: rows.csv\nmaps: [{path: seed000.yaml, resolution: 0.5, random_pairs: {n: 120, seed: 2}}]\n"
+                    "planners: [potential]\n")
+    out = tmp_path / "rows.csv"
+    proc = subprocess.Popen([sys.executable, "-m", "gridfield", "sweep", str(spec), "--workers", "2", "--batch-size",
+                             "1", "--no-progress"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            env={**os.environ, "PYTHONPATH": str(ROOT)})
+    try:
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline and (not out.exists() or len(_lines(out)) < 4):
+            time.sleep(0.02)
+        workers = [p for p in _children(proc.pid) if "spawn_main" in Path(f"/proc/{p}/cmdline").read_text()]
+        assert workers
+        proc.kill()  # SIGKILL: nothing in the parent runs any more
+        proc.wait(timeout=60)
+    finally:
+        proc.kill()
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline and not all(_gone(p) for p in workers):
+        time.sleep(0.1)
+    assert all(_gone(p) for p in workers)
+    assert main(["sweep", str(spec), "--workers", "1", "--no-progress"]) == 0
+    lines = _lines(out)
+    assert len(lines) == 121 and len(set(lines)) == 121
+
+
 def _spec(tmp_path: Path, body: str) -> Path:
     shutil.copy(bundled_map("seed000.yaml"), tmp_path / "seed000.yaml")
     (tmp_path / "arena").mkdir(exist_ok=True)

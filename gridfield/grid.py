@@ -126,8 +126,8 @@ class Grid:
         object.__setattr__(self, "origin", (float(self.origin[0]), float(self.origin[1])))
         if self.border not in BORDERS:
             raise ParameterError(f"border must be one of {BORDERS}, got {shorten(self.border)}")
-        far = (self.origin[0] + self.shape[1] * self.resolution, self.origin[1] + self.shape[0] * self.resolution)
-        if not all(math.isfinite(v) for v in far):
+        if not (math.isfinite(self.origin[0] + self.shape[1] * self.resolution)
+                and math.isfinite(self.origin[1] + self.shape[0] * self.resolution)):
             raise ParameterError(
                 f"a {self.shape[0]} x {self.shape[1]} grid of resolution {self.resolution:g} at origin "
                 f"({self.origin[0]:g}, {self.origin[1]:g}) reaches beyond the largest floating-point number"

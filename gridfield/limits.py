@@ -28,6 +28,7 @@ gridfield.errors.SizeLimitError: world.yaml at resolution 0.1: 100 x 200 = 20000
 from __future__ import annotations
 
 import contextlib
+import functools
 import math
 import os
 from collections.abc import Iterator, Sequence
@@ -53,6 +54,7 @@ def _physical_memory() -> int | None:
         return None
 
 
+@functools.cache
 def default_max_cells() -> int:
     """A quarter of the physical memory over :data:`BYTES_PER_CELL` (2**26 cells if the memory is unknown).
 
@@ -105,6 +107,11 @@ def parse_max_cells(value: object, where: str) -> int:
     return int(n)
 
 
+def _env_or_default() -> int:
+    env = os.environ.get(ENV_VAR)
+    return parse_max_cells(env, ENV_VAR) if env else default_max_cells()
+
+
 def max_cells() -> int:
     """The limit in force, in cells (see the module docstring).
 
@@ -114,12 +121,7 @@ def max_cells() -> int:
     ...     max_cells()
     5000000
     """
-    if _OVERRIDE:
-        return _OVERRIDE[-1]
-    env = os.environ.get(ENV_VAR)
-    if env:
-        return parse_max_cells(env, ENV_VAR)
-    return default_max_cells()
+    return _OVERRIDE[-1] if _OVERRIDE else _env_or_default()
 
 
 @contextlib.contextmanager
@@ -171,6 +173,11 @@ def check_cells(shape_or_count: Sequence[float] | float, what: str, *, bytes_per
     int
         The number of cells (when within the limit).
     """
+    if type(shape_or_count) is tuple and len(shape_or_count) == 2 and type(shape_or_count[0]) is int and type(
+            shape_or_count[1]) is int:  # the common case (a Grid's shape), kept cheap
+        n = shape_or_count[0] * shape_or_count[1]
+        if n <= (_OVERRIDE[-1] if _OVERRIDE else _env_or_default()):
+            return n
     if isinstance(shape_or_count, int | float):
         count = float(shape_or_count)
         shape_text = ""
@@ -180,9 +187,13 @@ def check_cells(shape_or_count: Sequence[float] | float, what: str, *, bytes_per
         shape_text = " x ".join(f"{d:.0f}" if d < 1e15 else f"{d:.3g}" for d in dims) + " = "
     limit = max_cells()
     if not count <= limit:  # NaN too
-        cells = f"{count:.0f}" if count < 1e15 else f"{count:.3g}"
+        if not math.isfinite(count):
+            cells, memory = "more cells than a float can count", "unbounded memory"
+        else:
+            cells = f"{count:.0f} cells" if count < 1e15 else f"{count:.3g} cells"
+            memory = f"about {_bytes(count * bytes_per_cell)} of memory"
         raise SizeLimitError(
-            f"{what}: {shape_text}{cells} cells would need about {_bytes(count * bytes_per_cell)} of memory, more "
+            f"{what}: {shape_text}{cells} would need {memory}, more "
             f"than the limit of {limit} cells; raise it with --max-cells N or the environment variable "
             f"{ENV_VAR}=N (or use a coarser resolution / a smaller map)"
         )

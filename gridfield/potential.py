@@ -715,6 +715,9 @@ def vortex_lattice(bounds: Sequence[float], spacing: float, *, border: str = "op
     """
     spacing = _number("spacing", spacing, strict=True)
     xmin, ymin, xmax, ymax = (float(b) for b in bounds)
+    from .limits import check_cells
+
+    check_cells(((ymax - ymin) / spacing + 1, (xmax - xmin) / spacing + 1), f"vortex lattice at spacing {spacing:g}")
     nx = math.floor((xmax - xmin) / spacing + 1e-9) + 1
     ny = math.floor((ymax - ymin) / spacing + 1e-9) + 1
     return Grid((ny, nx), spacing, (xmin - spacing / 2, ymin - spacing / 2), border)  # type: ignore[arg-type]

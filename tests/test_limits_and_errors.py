@@ -171,8 +171,8 @@ def test_yaml_alias_bombs_are_refused_and_long_values_shortened(tmp_path: Path) 
         read(small)
     assert len(str(e.value)) <= MESSAGE_LIMIT
     long = tmp_path / "long.yaml"
-    long.write_text("bounds: [" + ", ".join(["1"] * 200000) + "]\n")
-    with pytest.raises(MapFormatError, match="200000 items") as e:
+    long.write_text("bounds: [" + ", ".join(["1"] * 5000) + "]\n")
+    with pytest.raises(MapFormatError, match="5000 items") as e:
         read(long)
     assert len(str(e.value)) <= MESSAGE_LIMIT
 

@@ -26,7 +26,9 @@ Runs of one map are grouped into batches (one task each). Each map is loaded and
 per worker process and its brushfire distance map computed once, not per run. Batches go to a
 local process pool (all cores) by default, or to a Dask cluster (``scheduler=ADDRESS``, needs
 ``pip install gridfield[dask]``), where the submitter reads each map once and ships it to the
-workers (they need not share its filesystem); a worker lost mid-sweep has its batches redone.
+workers (they need not share its filesystem). A worker lost mid-sweep (killed, out of memory) has
+its unfinished batches redone: by Dask on a cluster, in a fresh pool locally (up to
+:data:`POOL_RESTARTS` times).
 
 The rows file is a journal: locked while a sweep writes it, each row written whole (one write of
 one line, flushed), repaired when opened (a partial last line left by a crash is cut off and its
@@ -342,6 +344,9 @@ def _random_pairs(gm: Any, n: int, seed: int) -> list[Any]:
 #: most recently used last; only the last :data:`_CACHE_MAPS` maps are kept.
 _CACHE: dict[Any, Any] = {}
 _CACHE_MAPS = 4
+
+#: How often a local pool whose worker died is replaced before the sweep gives up.
+POOL_RESTARTS = 3
 
 #: Seconds to wait for a Dask scheduler to answer.
 SCHEDULER_TIMEOUT = 10
@@ -669,20 +674,32 @@ def _local_results(batches: Sequence[list[Run]], workers: int) -> Iterator[list[
     ctx = multiprocessing.get_context("spawn")
     from .limits import max_cells
 
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_worker_init,
-                               initargs=(max_cells(), os.getpid()))
-    try:
-        futures = [pool.submit(run_batch, b) for b in batches]
-        for fut in as_completed(futures):
-            try:
-                yield fut.result()
-            except BrokenProcessPool:
-                raise GridfieldError("a worker process died (killed, or out of memory?); the rows written so far "
-                                     "are kept: run the sweep again to resume") from None
-    except BaseException:
+    pending = list(batches)
+    for _ in range(POOL_RESTARTS + 1):
+        pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_worker_init,
+                                   initargs=(max_cells(), os.getpid()))
+        unfinished: list[list[Run]] = []
+        try:
+            futures = {pool.submit(run_batch, b): b for b in pending}
+            for fut in as_completed(futures):
+                try:
+                    rows = fut.result()
+                except BrokenProcessPool:  # a worker died: every batch not yet back is redone in a new pool
+                    unfinished.append(futures[fut])
+                    continue
+                yield rows
+        except BaseException:
+            _stop_pool(pool)
+            raise
+        if not unfinished:
+            pool.shutdown(wait=True)
+            return
         _stop_pool(pool)
-        raise
-    pool.shutdown(wait=True)
+        pending = unfinished
+    raise GridfieldError(
+        f"worker processes died {POOL_RESTARTS + 1} time(s) (killed, or out of memory?); the rows written so far "
+        "are kept: run the sweep again to resume (with fewer --workers if memory is short)"
+    )
 
 
 def _dask_results(batches: Sequence[list[Run]], scheduler: Any) -> Iterator[list[dict[str, Any]]]:

@@ -208,6 +208,36 @@ def test_workers_of_a_killed_sweep_leave_with_it_and_the_file_resumes(tmp_path: 
     assert len(lines) == 121 and len(set(lines)) == 121
 
 
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc to find the worker processes")
+def test_a_worker_killed_mid_sweep_is_replaced_and_no_row_is_lost(tmp_path: Path, monkeypatch) -> None:
+    shutil.copy(bundled_map("seed000.yaml"), tmp_path / "seed000.yaml")
+    spec = tmp_path / "spec.yaml"
+    spec.write_text("maps: [{path: seed000.yaml, resolution: 0.5, random_pairs: {n: 40, seed: 5}}]\n"
+                    "planners: [wavefront]\n")
+    runs, _ = load_spec(spec)
+    reference = run_sweep(runs, tmp_path / "reference.csv", workers=1, progress=False)
+    killed: list[int] = []
+    real_append = sweep_module._Journal.append
+
+    def append_then_kill(self, row):
+        if len(self.rows) == 3 and not killed:  # mid-sweep, from the parent: like the OOM killer
+            workers = [p for p in _children(os.getpid()) if "spawn_main" in Path(f"/proc/{p}/cmdline").read_text()]
+            os.kill(workers[0], signal.SIGKILL)
+            killed.append(workers[0])
+        return real_append(self, row)
+
+    monkeypatch.setattr(sweep_module._Journal, "append", append_then_kill)
+    rows = run_sweep(runs, tmp_path / "rows.csv", workers=2, batch_size=2, progress=False)
+    assert killed
+    lines = _lines(tmp_path / "rows.csv")
+    assert len(lines) == len(runs) + 1 and len(set(lines)) == len(lines)
+
+    def strip(rs):
+        return sorted((r["start_x"], r["start_y"], r["goal_x"], r["goal_y"], r["status"], r["length"]) for r in rs)
+
+    assert strip(rows) == strip(reference)
+
+
 def _spec(tmp_path: Path, body: str) -> Path:
     shutil.copy(bundled_map("seed000.yaml"), tmp_path / "seed000.yaml")
     (tmp_path / "arena").mkdir(exist_ok=True)

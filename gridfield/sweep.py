@@ -340,8 +340,8 @@ def _random_pairs(gm: Any, n: int, seed: int) -> list[Any]:
 # ----------------------------------------------------------------------------------------
 # Running
 # ----------------------------------------------------------------------------------------
-#: Per process: (map, resolution) -> {"target": the map, ...the plan cache of that map}, the
-#: most recently used last; only the last :data:`_CACHE_MAPS` maps are kept.
+#: Per process: (map, resolution, identity of a shipped map or None) -> {"target": the map, ...the
+#: plan cache of that map}, the most recently used last; only the last :data:`_CACHE_MAPS` are kept.
 _CACHE: dict[Any, Any] = {}
 _CACHE_MAPS = 4
 

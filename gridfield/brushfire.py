@@ -29,6 +29,7 @@ loads them in about half a second; compiling them (empty cache) takes several se
 from __future__ import annotations
 
 import itertools
+import math
 import os
 import threading
 from collections.abc import Callable, Sequence
@@ -41,7 +42,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import GridfieldError, ParameterError
+from .errors import ArgumentTypeError, GridfieldError, ParameterError, shorten
 from .grid import Grid, GridMap
 
 __all__ = ["BORDER_LABEL", "METRICS", "DistanceMap", "brushfire"]
@@ -447,6 +448,10 @@ def brushfire(
     >>> brushfire(GridMap(Grid((1, 5), 0.5), occ[1:2]), saturate=1.0).distance
     array([[0. , 0.5, inf, inf, inf]])
     """
+    if not isinstance(gridmap, GridMap):
+        hint = " (wrap an occupancy array: GridMap(Grid(occupied.shape, resolution), occupied))" if isinstance(
+            gridmap, np.ndarray) else ""
+        raise ArgumentTypeError(f"gridmap must be a GridMap, got {type(gridmap).__name__}{hint}")
     if isinstance(connectivity, bool) or connectivity not in (4, 8):
         raise ParameterError(f"connectivity must be 4 or 8, got {connectivity!r}")
     if metric is None:
@@ -460,10 +465,13 @@ def brushfire(
             raise ParameterError(f"saturate must be a positive finite distance, got {saturate!r}") from None
         if not (np.isfinite(saturate) and saturate > 0):
             raise ParameterError(f"saturate must be a positive finite distance, got {saturate!r}")
+    given_far = far
     try:
-        far = float(far)
+        far = float(far) if not isinstance(far, bool | str) else math.nan
     except (TypeError, ValueError):
-        raise ParameterError(f"far must be a number, got {far!r}") from None
+        far = math.nan
+    if math.isnan(far):
+        raise ParameterError(f"far must be a number (inf allowed), got {shorten(given_far)}")
     want_steps = _check_flag("compute_steps", compute_steps)
     want_nearest = _check_flag("compute_nearest", compute_nearest)
     want_label = True if compute_labels is None else _check_flag("compute_labels", compute_labels)

@@ -521,6 +521,10 @@ def convergence_study(
     hs = [check_positive("resolution", r) for r in resolutions]
     if not hs:
         raise ParameterError("give at least one resolution")
+    from .grid import Grid
+
+    for h in hs:  # every resolution's grid sized against the memory limit before any planner runs
+        Grid.covering(world.bounds, h, border=world.border)
     kind_exact = get_planner(exact_planner)[1]
     if kind_exact != "world":
         raise ParameterError(f"exact_planner must work on vector worlds; {exact_planner!r} is a grid planner")

@@ -11,11 +11,76 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 
-__all__ = ["GridfieldError", "MapFormatError", "ParameterError", "check_finite", "check_positive"]
+__all__ = [
+    "MESSAGE_LIMIT",
+    "ArgumentTypeError",
+    "GridfieldError",
+    "MapFormatError",
+    "ParameterError",
+    "SizeLimitError",
+    "check_finite",
+    "check_positive",
+    "shorten",
+]
+
+#: Longest error message kept whole; longer ones keep their start and end around a marker.
+MESSAGE_LIMIT = 600
+
+#: Longest repr of a value shown inside a message (see :func:`shorten`).
+VALUE_LIMIT = 200
+
+
+def shorten(value: object, limit: int = VALUE_LIMIT) -> str:
+    """``repr(value)``, cut to about ``limit`` characters for an error message.
+
+    Containers are cut before their repr is built, so that a huge (or alias-expanded) value
+    costs no more than its first items.
+
+    Examples
+    --------
+    >>> shorten([1.0, 2.0])
+    '[1.0, 2.0]'
+    >>> s = shorten(list(range(10**6)))
+    >>> len(s) < 260, s.endswith("(1000000 items)")
+    (True, True)
+    """
+    try:
+        if isinstance(value, list | tuple | dict | set | frozenset) and len(value) > 20:
+            items = iter(value.items() if isinstance(value, dict) else value)
+            head = [next(items) for _ in range(20)]
+            return shorten(head, limit)[:limit] + f"... ({len(value)} items)"
+        text = repr(value)
+    except Exception:  # a broken __repr__ must not hide the real error
+        return f"<{type(value).__name__}>"
+    if len(text) > limit:
+        text = text[: limit - 40] + f"... ({len(text)} characters)"
+    return text
+
+
+def _cap(message: str, limit: int = MESSAGE_LIMIT) -> str:
+    if len(message) <= limit:
+        return message
+    tail = limit // 5
+    head = limit - tail - 40
+    return f"{message[:head]} ...[{len(message) - head - tail} characters cut]... {message[-tail:]}"
 
 
 class GridfieldError(ValueError):
-    """Base class of every error caused by bad input to gridfield."""
+    """Base class of every error caused by bad input to gridfield.
+
+    A message longer than :data:`MESSAGE_LIMIT` characters is shortened (its start and end are
+    kept), so that no error can flood a terminal or a log.
+
+    Examples
+    --------
+    >>> len(str(GridfieldError("x" * 10**6))) <= MESSAGE_LIMIT
+    True
+    """
+
+    def __init__(self, *args: object) -> None:
+        if len(args) == 1 and isinstance(args[0], str):
+            args = (_cap(args[0]),)
+        super().__init__(*args)
 
 
 class MapFormatError(GridfieldError):
@@ -24,6 +89,14 @@ class MapFormatError(GridfieldError):
 
 class ParameterError(GridfieldError):
     """A parameter value is out of range, not finite, or of the wrong kind."""
+
+
+class ArgumentTypeError(ParameterError, TypeError):
+    """An argument of a gridfield function has the wrong type (also a :class:`TypeError`)."""
+
+
+class SizeLimitError(GridfieldError):
+    """An input would need more cells (memory) than the configured limit (see :mod:`gridfield.limits`)."""
 
 
 def check_positive(name: str, value: float, *, allow_inf: bool = False) -> float:
@@ -41,9 +114,9 @@ def check_positive(name: str, value: float, *, allow_inf: bool = False) -> float
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a positive number, got {value!r}") from None
+        raise ParameterError(f"{name} must be a positive number, got {shorten(value)}") from None
     if math.isnan(v) or v <= 0 or (math.isinf(v) and not allow_inf):
-        raise ParameterError(f"{name} must be a positive{'' if allow_inf else ' finite'} number, got {value!r}")
+        raise ParameterError(f"{name} must be a positive{'' if allow_inf else ' finite'} number, got {shorten(value)}")
     return v
 
 
@@ -65,4 +138,4 @@ def check_finite(name: str, values: Iterable[float] | float) -> None:
         ok = False
     if not ok:
         shown = values if not isinstance(values, int | float) else vals[0]
-        raise ParameterError(f"{name} must be finite numbers, got {list(shown) if not isinstance(shown, int | float) else shown!r}")
+        raise ParameterError(f"{name} must be finite numbers, got {shorten(list(shown) if not isinstance(shown, int | float) else shown)}")

@@ -175,6 +175,8 @@ def _choice(name: str, value: Any, options: Sequence[str]) -> str:
 
 
 def _number(name: str, value: Any, *, positive: bool = False, allow_zero: bool = True) -> float:
+    if isinstance(value, str):  # issue 17: "0.1" is not a number (float() would take it)
+        raise ParameterError(f"{name} must be a number, got {value!r}")
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -187,7 +189,7 @@ def _number(name: str, value: Any, *, positive: bool = False, allow_zero: bool =
 
 
 def _integer(name: str, value: Any, *, minimum: int = 0) -> int:
-    if isinstance(value, bool):
+    if isinstance(value, bool | str):  # issue 17: "10" is not an integer (float() would take it)
         raise ParameterError(f"{name} must be an integer >= {minimum}, got {value!r}")
     try:
         f = float(value)
@@ -598,6 +600,12 @@ def descend(
         if ok:
             xs.append(gx)
             ys.append(gy)
+        elif navigate is not None:  # the straight hop is blocked: down the navigation function instead
+            hop = navigate((x, y), final=True)
+            if hop and all(not blocked(a, b) for a, b in zip([(x, y), *hop[:-1]], hop, strict=True)):
+                xs.extend(q[0] for q in hop)
+                ys.extend(q[1] for q in hop)
+                ok = True
         extra["goal_appended"] = ok
     elif status == "reached":
         extra["goal_appended"] = False

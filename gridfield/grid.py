@@ -19,7 +19,8 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import GridfieldError, ParameterError, check_finite, check_positive
+from .errors import ArgumentTypeError, GridfieldError, ParameterError, check_finite, check_positive, shorten
+from .limits import check_cells
 
 __all__ = ["BORDERS", "Grid", "GridMap"]
 
@@ -38,7 +39,7 @@ def _as_points(points: ArrayLike, name: str = "points") -> NDArray[np.float64]:
 
 def _check_shape(shape: object) -> tuple[int, int]:
     """``shape`` as two positive Python ints, or :class:`ParameterError`."""
-    msg = f"grid shape must be two positive integers (rows, cols), got {shape!r}"
+    msg = f"grid shape must be two positive integers (rows, cols), got {shorten(shape)}"
     try:
         dims = tuple(shape)  # type: ignore[call-overload]
     except TypeError:
@@ -120,11 +121,18 @@ class Grid:
         except TypeError:
             n_origin = -1
         if n_origin != 2:
-            raise ParameterError(f"origin must be two numbers (x, y), got {self.origin!r}")
+            raise ParameterError(f"origin must be two numbers (x, y), got {shorten(self.origin)}")
         check_finite("origin", self.origin)
         object.__setattr__(self, "origin", (float(self.origin[0]), float(self.origin[1])))
         if self.border not in BORDERS:
-            raise ParameterError(f"border must be one of {BORDERS}, got {self.border!r}")
+            raise ParameterError(f"border must be one of {BORDERS}, got {shorten(self.border)}")
+        if not (math.isfinite(self.origin[0] + self.shape[1] * self.resolution)
+                and math.isfinite(self.origin[1] + self.shape[0] * self.resolution)):
+            raise ParameterError(
+                f"a {self.shape[0]} x {self.shape[1]} grid of resolution {self.resolution:g} at origin "
+                f"({self.origin[0]:g}, {self.origin[1]:g}) reaches beyond the largest floating-point number"
+            )
+        check_cells(self.shape, "grid")
 
     # -- derived geometry ---------------------------------------------------------------
     @property
@@ -171,6 +179,7 @@ class Grid:
         xmin, ymin, xmax, ymax = (float(b) for b in bounds)
         if not (xmax > xmin and ymax > ymin):
             raise ParameterError(f"bounds must be [xmin, ymin, xmax, ymax] with max > min, got {list(bounds)}")
+        check_cells(((ymax - ymin) / res, (xmax - xmin) / res), f"bounds {list(bounds)} at resolution {res:g}")
         # Tolerate floating noise: 25 / 0.1 = 250.00000000000003 must give 250 columns.
         cols = max(1, math.ceil((xmax - xmin) / res - 1e-9))
         rows = max(1, math.ceil((ymax - ymin) / res - 1e-9))
@@ -274,7 +283,23 @@ class GridMap:
     meta: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        occ = np.asarray(self.occupied)
+        if not isinstance(self.grid, Grid):
+            raise ArgumentTypeError(f"grid must be a gridfield Grid, got {type(self.grid).__name__}")
+        occ = self.occupied
+        if not isinstance(occ, np.ndarray):
+            try:
+                occ = np.asarray(occ)
+            except (TypeError, ValueError) as e:
+                raise ArgumentTypeError(f"occupied must be an array of booleans, got {type(self.occupied).__name__} "
+                                        f"({e})") from None
+        if occ.dtype != np.bool_:
+            if not np.issubdtype(occ.dtype, np.integer):
+                raise ArgumentTypeError(
+                    f"occupied must hold booleans (or the integers 0 and 1), got an array of dtype {occ.dtype}"
+                )
+            if occ.size and not bool(((occ == 0) | (occ == 1)).all()):
+                bad = occ[(occ != 0) & (occ != 1)].flat[0]
+                raise ParameterError(f"occupied must hold booleans (or the integers 0 and 1), found the value {bad}")
         if occ.shape != self.grid.shape:
             raise GridfieldError(f"occupancy array has shape {occ.shape}, but the grid has shape {self.grid.shape}")
         object.__setattr__(self, "occupied", occ.astype(bool, copy=False))
@@ -315,9 +340,12 @@ class GridMap:
                     return p
         except (TypeError, ValueError):
             pass
-        p = np.asarray(point, dtype=np.float64).reshape(-1)
+        try:
+            p = np.asarray(point, dtype=np.float64).reshape(-1)
+        except (TypeError, ValueError):
+            raise ParameterError(f"{name} must be two numbers X Y, got {shorten(point)}") from None
         if p.shape != (2,):
-            raise ParameterError(f"{name} must be two numbers X Y, got {point!r}")
+            raise ParameterError(f"{name} must be two numbers X Y, got {shorten(point)}")
         check_finite(name, p)
         if not self.grid.contains(p)[0]:
             xmin, ymin, xmax, ymax = self.grid.bounds

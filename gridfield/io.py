@@ -27,8 +27,10 @@ import io as _io
 import math
 import os
 import re
+import struct
 import warnings
 import zipfile
+import zlib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path as FsPath
@@ -38,8 +40,9 @@ import numpy as np
 import yaml
 from numpy.typing import NDArray
 
-from .errors import GridfieldError, MapFormatError, ParameterError
+from .errors import GridfieldError, MapFormatError, ParameterError, shorten
 from .grid import BORDERS, Grid, GridMap
+from .limits import check_cells
 from .world import World, world_from_dict
 
 __all__ = [
@@ -87,7 +90,7 @@ def bundled_map(name: str) -> FsPath:
         p = FsPath(str(base)) / name
         if p.exists():
             return p
-    raise MapFormatError(f"no bundled map named {name!r}")
+    raise MapFormatError(f"no bundled map named {shorten(name)}")
 
 
 # ----------------------------------------------------------------------------------------
@@ -97,7 +100,7 @@ def _check_file(path: PathLike) -> FsPath:
     try:
         p = FsPath(path)
     except TypeError:
-        raise MapFormatError(f"expected a file name, got {path!r}") from None
+        raise MapFormatError(f"expected a file name, got {shorten(path)}") from None
     if not p.exists():
         raise MapFormatError(f"{p}: no such file")
     if p.is_dir():
@@ -114,7 +117,7 @@ def _read_bytes(p: FsPath) -> bytes:
 
 def _choice(name: str, value: Any, choices: tuple[str, ...]) -> str:
     if value not in choices:
-        raise ParameterError(f"{name} must be one of {', '.join(map(repr, choices))}, got {value!r}")
+        raise ParameterError(f"{name} must be one of {', '.join(map(repr, choices))}, got {shorten(value)}")
     return value
 
 
@@ -124,6 +127,42 @@ def _decode_text(p: FsPath, data: bytes, what: str) -> str:
     except UnicodeDecodeError as e:
         line = data[: e.start].count(b"\n") + 1
         raise MapFormatError(f"{p}: line {line}: not a text {what} file (byte 0x{data[e.start]:02x} is not UTF-8)") from None
+
+
+#: A YAML document may expand (aliases followed) to at most this many values, and at most
+#: this many times its own number of values: more is an alias bomb, refused before it is built.
+YAML_EXPANDED_LIMIT = 10**6
+
+
+def _check_yaml_size(p: FsPath, root: Any) -> None:
+    """Refuse a YAML node graph whose aliases expand beyond :data:`YAML_EXPANDED_LIMIT` values."""
+    sizes: dict[int, int] = {}
+    order: list[Any] = []
+    stack = [root]
+    while stack:  # distinct nodes, depth first; children before parents in `order` reversed
+        node = stack.pop()
+        if id(node) in sizes:
+            continue
+        sizes[id(node)] = 0
+        order.append(node)
+        if isinstance(node, yaml.SequenceNode):
+            stack.extend(node.value)
+        elif isinstance(node, yaml.MappingNode):
+            stack.extend(n for pair in node.value for n in pair)
+    for node in reversed(order):
+        if isinstance(node, yaml.SequenceNode):
+            total = 1 + sum(sizes[id(n)] for n in node.value)
+        elif isinstance(node, yaml.MappingNode):
+            total = 1 + sum(sizes[id(n)] for pair in node.value for n in pair)
+        else:
+            total = 1
+        sizes[id(node)] = total
+    expanded = sizes[id(root)]
+    if expanded > max(YAML_EXPANDED_LIMIT, 10 * len(order)) and expanded > len(order):
+        raise MapFormatError(
+            f"{p}: YAML aliases expand its {len(order)} values to {expanded:.3g}; refused (more than "
+            f"{YAML_EXPANDED_LIMIT:g} values after expansion, an alias bomb?)"
+        )
 
 
 def read_yaml(path: PathLike) -> Any:
@@ -136,12 +175,21 @@ def read_yaml(path: PathLike) -> Any:
     except OSError as e:
         raise MapFormatError(f"{p}: cannot read: {e.strerror}") from None
     try:
-        data = yaml.safe_load(text)
+        loader = yaml.SafeLoader(text)
+        try:
+            node = loader.get_single_node()
+            if node is not None:
+                _check_yaml_size(p, node)
+            data = loader.construct_document(node) if node is not None else None
+        finally:
+            loader.dispose()
     except yaml.YAMLError as e:
         mark = getattr(e, "problem_mark", None)
         where = f" line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
         problem = getattr(e, "problem", None) or str(e).splitlines()[0]
-        raise MapFormatError(f"{p}:{where}: invalid YAML: {problem}") from None
+        raise MapFormatError(f"{p}:{where}: invalid YAML: {shorten(problem)}") from None
+    except RecursionError:
+        raise MapFormatError(f"{p}: invalid YAML: nested too deeply") from None
     if data is None:
         raise MapFormatError(f"{p}: the file is empty")
     return data
@@ -213,7 +261,7 @@ def _pnm_header(p: FsPath, data: bytes) -> tuple[bytes, list[int], int]:
             raise MapFormatError(f"{p}: truncated PGM header: the file ends before the {names[len(tokens)]}")
         if not tok.isdigit():
             shown = tok[:20].decode("latin-1")
-            raise MapFormatError(f"{p}: bad PGM header: expected the {names[len(tokens)]} (a number), found {shown!r}")
+            raise MapFormatError(f"{p}: bad PGM header: expected the {names[len(tokens)]} (a number), found {shorten(shown)}")
         tokens.append(int(tok))
     # exactly one whitespace character separates the header from binary data
     if pos < len(data) and data[pos] in _WS:
@@ -229,6 +277,7 @@ def _pnm_header(p: FsPath, data: bytes) -> tuple[bytes, list[int], int]:
 def _read_pgm(p: FsPath, data: bytes) -> _Pixels:
     """Decode a ``P2`` (ASCII) or ``P5`` (binary) PGM, 8 or 16 bits, to grey levels 0..255."""
     magic, (width, height, maxval), pos = _pnm_header(p, data)
+    check_cells((height, width), f"{p} (PGM header)")
     n = width * height
     if magic == b"P5":
         itemsize = 1 if maxval < 256 else 2
@@ -250,7 +299,7 @@ def _read_pgm(p: FsPath, data: bytes) -> _Pixels:
             ok = False
         if not ok:
             bad = next(t for t in body[:n] if not t.isdigit() or len(t) > 6)
-            raise MapFormatError(f"{p}: bad PGM pixel value {bad[:20].decode('latin-1')!r}; expected a number") from None
+            raise MapFormatError(f"{p}: bad PGM pixel value {shorten(bad[:20].decode('latin-1'))}; expected a number") from None
     if int(values.max()) > maxval:
         raise MapFormatError(f"{p}: PGM pixel value {int(values.max())} exceeds maxval {maxval}")
     grey = values.reshape(height, width).astype(np.float64)
@@ -263,11 +312,15 @@ def _read_pillow(p: FsPath, data: bytes) -> _Pixels:
     from PIL import Image, UnidentifiedImageError
 
     with warnings.catch_warnings():
-        # Maps can be large: a DecompressionBombWarning is no reason to fail (the hard limit,
-        # DecompressionBombError, still applies). Pillow's other notes are not for our users.
+        # Maps can be large: Pillow's decompression-bomb limit gives way to gridfield's own size
+        # guard, applied to the header's size before decoding. Pillow's other notes are not for our users.
         warnings.simplefilter("ignore")
+        bomb_limit = Image.MAX_IMAGE_PIXELS
         try:
+            Image.MAX_IMAGE_PIXELS = None
             with Image.open(_io.BytesIO(data)) as im:
+                width, height = im.size
+                check_cells((height, width), f"{p} (image header)")
                 im.load()
                 fmt = im.format or "image"
                 mode = im.mode
@@ -284,20 +337,25 @@ def _read_pillow(p: FsPath, data: bytes) -> _Pixels:
                 arr = np.asarray(im)
         except UnidentifiedImageError:
             raise MapFormatError(f"{p}: not a readable image (expected a PNG, PGM or BMP file)") from None
-        except Image.DecompressionBombError as e:
-            raise MapFormatError(f"{p}: image too large to load safely: {e}") from None
-        except (OSError, ValueError, SyntaxError, EOFError, TypeError) as e:
-            raise MapFormatError(f"{p}: cannot decode image: {e}") from None
+        except GridfieldError:
+            raise
+        except (OSError, ValueError, SyntaxError, EOFError, TypeError, IndexError, KeyError, struct.error,
+                zlib.error) as e:
+            raise MapFormatError(f"{p}: cannot decode image: {shorten(str(e))}") from None
+        except MemoryError:
+            raise MapFormatError(f"{p}: cannot decode image: out of memory") from None
+        finally:
+            Image.MAX_IMAGE_PIXELS = bomb_limit
     if mode.startswith("I"):
         pixels = arr.astype(np.float64) * (255.0 / 65535.0)
     elif arr.dtype == np.uint8:
         pixels = arr.astype(np.float64)
     else:
-        raise MapFormatError(f"{p}: unsupported image mode {mode!r}; save the map as 8-bit grey or RGB")
+        raise MapFormatError(f"{p}: unsupported image mode {shorten(mode)}; save the map as 8-bit grey or RGB")
     if pixels.ndim == 2:
         pixels = pixels[..., None]
     if pixels.ndim != 3 or pixels.shape[2] not in (1, 3, 4) or pixels.shape[0] == 0 or pixels.shape[1] == 0:
-        raise MapFormatError(f"{p}: unsupported image layout {arr.shape} (mode {mode!r})")
+        raise MapFormatError(f"{p}: unsupported image layout {arr.shape} (mode {shorten(mode)})")
     return _Pixels(np.clip(pixels, 0.0, 255.0), fmt)
 
 
@@ -319,9 +377,9 @@ def _check_unit(name: str, value: Any, where: str = "") -> float:
             raise TypeError
         v = float(value)
     except (TypeError, ValueError):
-        raise ParameterError(f"{prefix}{name} must be a number in [0, 1], got {value!r}") from None
+        raise ParameterError(f"{prefix}{name} must be a number in [0, 1], got {shorten(value)}") from None
     if not 0.0 <= v <= 1.0:
-        raise ParameterError(f"{prefix}{name} must be a number in [0, 1], got {value!r}")
+        raise ParameterError(f"{prefix}{name} must be a number in [0, 1], got {shorten(value)}")
     return v
 
 
@@ -331,7 +389,7 @@ def _as_bool01(name: str, value: Any, where: str = "") -> bool:
     if isinstance(value, int | np.integer) and value in (0, 1):
         return bool(value)
     prefix = f"{where}: " if where else ""
-    raise ParameterError(f"{prefix}{name} must be 0 or 1 (or false/true), got {value!r}")
+    raise ParameterError(f"{prefix}{name} must be 0 or 1 (or false/true), got {shorten(value)}")
 
 
 def read_bitmap(
@@ -427,7 +485,7 @@ def _ros_number(p: FsPath, key: str, value: Any) -> float:
             raise TypeError
         return float(value)
     except (TypeError, ValueError):
-        raise MapFormatError(f"{p}: '{key}' must be a number, got {value!r}") from None
+        raise MapFormatError(f"{p}: '{key}' must be a number, got {shorten(value)}") from None
 
 
 def _ros_params(yaml_path: PathLike) -> _RosParams:
@@ -443,37 +501,37 @@ def _ros_params(yaml_path: PathLike) -> _RosParams:
         )
     image = data["image"]
     if not isinstance(image, str) or not image.strip():
-        raise MapFormatError(f"{p}: 'image' must be the image file name, got {image!r}")
+        raise MapFormatError(f"{p}: 'image' must be the image file name, got {shorten(image)}")
     img = FsPath(image)
     if not img.is_absolute():
         img = p.parent / img
     if not img.exists():
-        raise MapFormatError(f"{p}: the image file {image!r} does not exist (looked for {img})")
+        raise MapFormatError(f"{p}: the image file {shorten(image)} does not exist (looked for {img})")
     if img.is_dir():
         raise MapFormatError(f"{p}: 'image' names a directory ({img}), expected an image file")
 
     res = _ros_number(p, "resolution", data["resolution"])
     if not (math.isfinite(res) and res > 0):
-        raise MapFormatError(f"{p}: 'resolution' must be a positive finite number, got {data['resolution']!r}")
+        raise MapFormatError(f"{p}: 'resolution' must be a positive finite number, got {shorten(data['resolution'])}")
 
     origin = data["origin"]
     if not isinstance(origin, list | tuple) or len(origin) != 3:
-        raise MapFormatError(f"{p}: 'origin' must be [x, y, yaw], got {origin!r}")
+        raise MapFormatError(f"{p}: 'origin' must be [x, y, yaw], got {shorten(origin)}")
     ox, oy, yaw = (_ros_number(p, "origin", v) for v in origin)
     if not all(math.isfinite(v) for v in (ox, oy, yaw)):
-        raise MapFormatError(f"{p}: 'origin' must hold finite numbers, got {origin!r}")
+        raise MapFormatError(f"{p}: 'origin' must hold finite numbers, got {shorten(origin)}")
 
     negate = data.get("negate", 0)
     if isinstance(negate, bool) or negate in (0, 1):
         neg = bool(negate)
     else:
-        raise MapFormatError(f"{p}: 'negate' must be 0 or 1, got {negate!r}")
+        raise MapFormatError(f"{p}: 'negate' must be 0 or 1, got {shorten(negate)}")
 
     occ_th = _ros_number(p, "occupied_thresh", data.get("occupied_thresh", 0.65))
     free_th = _ros_number(p, "free_thresh", data.get("free_thresh", 0.196))
     for key, v in (("occupied_thresh", occ_th), ("free_thresh", free_th)):
         if not 0.0 <= v <= 1.0:
-            raise MapFormatError(f"{p}: '{key}' must be in [0, 1], got {data.get(key)!r}")
+            raise MapFormatError(f"{p}: '{key}' must be in [0, 1], got {shorten(data.get(key))}")
     if not free_th < occ_th:
         raise MapFormatError(
             f"{p}: 'free_thresh' ({free_th:g}) must be smaller than 'occupied_thresh' ({occ_th:g})"
@@ -481,7 +539,7 @@ def _ros_params(yaml_path: PathLike) -> _RosParams:
 
     mode = data.get("mode", "trinary")
     if not isinstance(mode, str) or mode.strip().lower() not in ROS_MODES:
-        raise MapFormatError(f"{p}: 'mode' must be one of {', '.join(ROS_MODES)}, got {mode!r}")
+        raise MapFormatError(f"{p}: 'mode' must be one of {', '.join(ROS_MODES)}, got {shorten(mode)}")
     return _RosParams(p, img, res, (ox, oy, yaw), neg, occ_th, free_th, mode.strip().lower())
 
 
@@ -632,7 +690,10 @@ def read_ros_map(
         occupied |= is_unknown
     if border is None:
         border = "wall" if unknown == "occupied" else "open"
-    grid = Grid(values.shape, prm.resolution, (ox, oy), border)
+    try:
+        grid = Grid(values.shape, prm.resolution, (ox, oy), border)
+    except ParameterError as e:
+        raise MapFormatError(f"{prm.yaml}: {e}") from None
     meta = {"format": "ros", "semantics": semantics, "mode": prm.mode, "unknown_fraction": float(is_unknown.mean())}
     return GridMap(grid, np.ascontiguousarray(occupied), source=str(yaml_path), meta=meta)
 
@@ -693,7 +754,7 @@ def read_movingai_map(path: PathLike, *, border: Literal["open", "wall"] = "wall
         if len(parts) != 2 or parts[0].lower() not in ("type", "height", "width"):
             raise MapFormatError(
                 f"{p}: line {i + 1}: expected a header line 'type octile', 'height H', 'width W' or 'map', "
-                f"got {raw[:40]!r}"
+                f"got {shorten(raw[:40])}"
             )
         header[parts[0].lower()] = parts[1]
     if map_line is None:
@@ -705,9 +766,10 @@ def read_movingai_map(path: PathLike, *, border: Literal["open", "wall"] = "wall
     for key in ("height", "width"):
         v = header[key]
         if not v.isdigit() or int(v) <= 0:
-            raise MapFormatError(f"{p}: '{key}' must be a positive integer, got {v!r}")
+            raise MapFormatError(f"{p}: '{key}' must be a positive integer, got {shorten(v)}")
         size[key] = int(v)
     h, w = size["height"], size["width"]
+    check_cells((h, w), f"{p} (Moving AI header)")
 
     first = map_line + 1
     while len(lines) > first and not lines[-1].strip():  # trailing blank lines / final newline
@@ -733,7 +795,7 @@ def read_movingai_map(path: PathLike, *, border: Literal["open", "wall"] = "wall
     except UnicodeEncodeError as e:
         i, j = divmod(e.start, w)
         raise MapFormatError(
-            f"{p}: line {first + i + 1}, column {j + 1}: invalid map character {rows[i][j]!r}; "
+            f"{p}: line {first + i + 1}, column {j + 1}: invalid map character {shorten(rows[i][j])}; "
             "expected . G S (passable) or @ O T W (blocked)"
         ) from None
     codes = _MAI_LUT[chars]
@@ -741,7 +803,7 @@ def read_movingai_map(path: PathLike, *, border: Literal["open", "wall"] = "wall
     if invalid.size:
         i, j = divmod(int(invalid[0]), w)
         raise MapFormatError(
-            f"{p}: line {first + i + 1}, column {j + 1}: invalid map character {chr(chars[i, j])!r}; "
+            f"{p}: line {first + i + 1}, column {j + 1}: invalid map character {shorten(chr(chars[i, j]))}; "
             "expected . G S (passable) or @ O T W (blocked)"
         )
     occupied = np.ascontiguousarray((codes == 1)[::-1])
@@ -880,7 +942,7 @@ def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
                 try:
                     dtype(s)
                 except ValueError:
-                    raise MapFormatError(f"{p}: line {n}: {what} must be a number, got {s!r}") from None
+                    raise MapFormatError(f"{p}: line {n}: {what} must be a number, got {shorten(s)}") from None
             raise  # pragma: no cover - numpy and Python disagree
 
     ints = {k: column(k, np.int64, name) for k, name in ((0, "bucket"), (2, "width"), (3, "height"), (4, "start_x"),
@@ -898,7 +960,7 @@ def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
     if map_height is not None:
         mh = int(map_height)
         if mh <= 0:
-            raise ParameterError(f"map_height must be a positive integer, got {map_height!r}")
+            raise ParameterError(f"map_height must be a positive integer, got {shorten(map_height)}")
         if (k := first_bad(height != mh)) is not None:
             raise MapFormatError(f"{p}: line {line_no[k]}: scenario map height {height[k]} differs from map_height={mh}")
     h = height if map_height is None else np.full(height.shape, int(map_height))
@@ -959,13 +1021,13 @@ def write_npz(path: PathLike, arrays: Mapping[str, NDArray[Any]], grid: Grid) ->
     for name, value in arrays.items():
         if not isinstance(name, str) or not name.isidentifier() or name in _NPZ_RESERVED:
             raise ParameterError(
-                f"array name {name!r} is not allowed; use an identifier other than {', '.join(_NPZ_RESERVED)}"
+                f"array name {shorten(name)} is not allowed; use an identifier other than {', '.join(_NPZ_RESERVED)}"
             )
         a = np.asarray(value)
         if a.dtype == object:
-            raise ParameterError(f"array {name!r} has dtype object; only numeric and boolean arrays can be stored")
+            raise ParameterError(f"array {shorten(name)} has dtype object; only numeric and boolean arrays can be stored")
         if a.shape[:2] != grid.shape:
-            raise ParameterError(f"array {name!r} has shape {a.shape}, but the grid has shape {grid.shape}")
+            raise ParameterError(f"array {shorten(name)} has shape {a.shape}, but the grid has shape {grid.shape}")
         out[name] = a
     if not out:
         raise ParameterError("write_npz needs at least one array")
@@ -981,26 +1043,63 @@ def write_npz(path: PathLike, arrays: Mapping[str, NDArray[Any]], grid: Grid) ->
     return p
 
 
+def _check_npz_headers(p: FsPath, z: Any) -> None:
+    """Size every array of an open ``.npz`` from its ``.npy`` header, before any is loaded."""
+    fmt = np.lib.format
+    for name in z.files:
+        member = name if name in z.zip.namelist() else f"{name}.npy"
+        with z.zip.open(member) as f:
+            version = fmt.read_magic(f)
+            if version == (1, 0):
+                shape, _, dtype = fmt.read_array_header_1_0(f)
+            elif version in ((2, 0), (3, 0)):
+                shape, _, dtype = fmt.read_array_header_2_0(f)
+            else:
+                raise MapFormatError(f"{p}: array {shorten(name)} has an unknown .npy format version {version}")
+        check_cells(shape if len(shape) <= 2 else (shape[0], shape[1], math.prod(shape[2:])),
+                    f"{p}: array {shorten(name)} (from its .npz header)", bytes_per_cell=max(int(dtype.itemsize), 1))
+
+
+def _npz_content(path: PathLike) -> dict[str, NDArray[Any]]:
+    """Every array of a gridfield ``.npz`` by name, each sized from its header before it is loaded.
+
+    Raises :class:`MapFormatError` (or :class:`~gridfield.errors.SizeLimitError`) for anything
+    but a readable zip archive of ``.npy`` arrays within the size limit.
+    """
+    p = _check_file(path)
+    try:
+        with open(p, "rb") as fh:
+            magic = fh.read(6)
+            if magic == b"\x93NUMPY":  # np.load would read the whole array before we could size it
+                raise MapFormatError(f"{p}: holds a single .npy array, not a gridfield .npz archive of named arrays")
+            if not magic.startswith(b"PK"):
+                raise MapFormatError(f"{p}: not a gridfield .npz file (not a zip archive)")
+            fh.seek(0)
+            z = np.load(fh, allow_pickle=False)
+            if not isinstance(z, np.lib.npyio.NpzFile):  # pragma: no cover - a zip is always an NpzFile
+                raise MapFormatError(f"{p}: not a gridfield .npz archive of named arrays")
+            with z:
+                _check_npz_headers(p, z)
+                content = {k: z[k] for k in z.files}
+    except GridfieldError:
+        raise
+    except (zipfile.BadZipFile, ValueError, OSError, EOFError, KeyError) as e:
+        raise MapFormatError(f"{p}: not a gridfield .npz file ({shorten(str(e))})") from None
+    except MemoryError:
+        raise MapFormatError(f"{p}: damaged .npz file (an array too large for memory)") from None
+    except Exception as e:  # zlib.error and friends: a damaged archive
+        raise MapFormatError(f"{p}: damaged .npz file ({type(e).__name__}: {shorten(str(e))})") from None
+    return content
+
+
 def read_npz_arrays(path: PathLike) -> tuple[dict[str, NDArray[Any]], Grid]:
     """Read an ``.npz`` written by :func:`write_npz`: the arrays by name and their :class:`Grid`.
 
     Entries of fewer than two dimensions (e.g. the goal and parameters that
     :func:`gridfield.potential.save_field` adds) are returned too but do not set the grid's shape.
     """
-    p = _check_file(path)
-    try:
-        with open(p, "rb") as fh:
-            z = np.load(fh, allow_pickle=False)
-            if not isinstance(z, np.lib.npyio.NpzFile):
-                raise MapFormatError(f"{p}: holds a single .npy array, not a gridfield .npz archive of named arrays")
-            with z:
-                content = {k: z[k] for k in z.files}
-    except MapFormatError:
-        raise
-    except (zipfile.BadZipFile, ValueError, OSError, EOFError, KeyError) as e:
-        raise MapFormatError(f"{p}: not a gridfield .npz file ({e})") from None
-    except Exception as e:  # zlib.error and friends: a damaged archive
-        raise MapFormatError(f"{p}: damaged .npz file ({type(e).__name__}: {e})") from None
+    content = _npz_content(path)
+    p = FsPath(path)
     for key in ("resolution", "origin"):
         if key not in content:
             raise MapFormatError(f"{p}: no '{key}' array; a gridfield .npz holds resolution and origin beside the arrays")
@@ -1091,7 +1190,7 @@ def write_bitmap(path: PathLike, gridmap: GridMap) -> FsPath:
 
             Image.fromarray(img).save(p, format=suffix[1:].upper())
         else:
-            raise ParameterError(f"{p}: cannot write a bitmap with suffix {suffix!r}; use .png, .pgm or .bmp")
+            raise ParameterError(f"{p}: cannot write a bitmap with suffix {shorten(suffix)}; use .png, .pgm or .bmp")
     except OSError as e:
         raise GridfieldError(f"{p}: cannot write: {e.strerror or e}") from None
     return p
@@ -1127,7 +1226,7 @@ def write_ros_map(yaml_path: PathLike, gridmap: GridMap, *, image_name: str | No
     yp = FsPath(yaml_path)
     name = image_name if image_name is not None else yp.stem + ".pgm"
     if not isinstance(name, str) or not name or FsPath(name).is_absolute():
-        raise ParameterError(f"image_name must be a file name relative to the YAML's folder, got {image_name!r}")
+        raise ParameterError(f"image_name must be a file name relative to the YAML's folder, got {shorten(image_name)}")
     write_bitmap(yp.parent / name, gridmap)
     x0, y0 = gridmap.grid.origin
     doc = {
@@ -1176,7 +1275,8 @@ def read(path: PathLike, **options: Any) -> World | GridMap:
     reader: Callable[..., GridMap]
     if suffix in (".yaml", ".yml"):
         data = read_yaml(p)
-        if isinstance(data, dict) and "image" in data:
+        # a ROS map YAML names its image; one that lacks it still has an origin (a world has bounds instead)
+        if isinstance(data, dict) and ("image" in data or ("origin" in data and "bounds" not in data)):
             reader, what = read_ros_map, "ROS map YAML"
         else:
             if options:
@@ -1193,7 +1293,7 @@ def read(path: PathLike, **options: Any) -> World | GridMap:
         reader, what = read_npz, "gridfield .npz file"
     else:
         raise MapFormatError(
-            f"{p}: unknown map format {suffix!r}; expected a world or ROS map .yaml, a .png/.pgm/.bmp bitmap, "
+            f"{p}: unknown map format {shorten(suffix)}; expected a world or ROS map .yaml, a .png/.pgm/.bmp bitmap, "
             "a Moving AI .map or a gridfield .npz"
         )
     _check_options(reader, options, p, what)

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .errors import GridfieldError, ParameterError
+from .errors import ArgumentTypeError, GridfieldError, ParameterError, shorten
 from .grid import GridMap
 from .params import REGISTRY, validate
 from .path import Path
@@ -102,9 +102,15 @@ def plan(
     from .world import World
 
     fn, kind = get_planner(planner)
-    given = validate(params)
     if not isinstance(target, World | GridMap):
-        raise ParameterError(f"plan needs a World or a GridMap as target, got {type(target).__name__}")
+        raise ArgumentTypeError(
+            f"target must be a World (a vector world, e.g. gridfield.io.read_world) or a GridMap, "
+            f"got {type(target).__name__}"
+        )
+    if params is not None and not isinstance(params, Mapping):
+        raise ArgumentTypeError(f"params must be a mapping of parameter names to values, got {type(params).__name__}")
+    given = validate(params)
+    start, goal = _point("start", start), _point("goal", goal)
     base = dict(target.params) if isinstance(target, World) else (
         dict(target.world.params) if isinstance(target.world, World) else {})
     merged = dict(validate(base))
@@ -132,6 +138,17 @@ def plan(
     s, g = world.check_point("start", start), world.check_point("goal", goal)
     t0 = time.perf_counter()
     return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged), s, g, t0)
+
+
+def _point(name: str, value: Any) -> np.ndarray:
+    """A start/goal point as a float array of shape (2,), or a ParameterError saying what was expected."""
+    try:
+        p = np.asarray(value, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        p = None
+    if p is None or p.shape != (2,) or isinstance(value, str):
+        raise ParameterError(f"{name} must be two numbers (x, y), got {shorten(value)}")
+    return p
 
 
 @functools.cache

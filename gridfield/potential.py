@@ -587,6 +587,9 @@ def vortex_lattice(bounds: Sequence[float], spacing: float, *, border: str = "op
     """
     spacing = _number("spacing", spacing, strict=True)
     xmin, ymin, xmax, ymax = (float(b) for b in bounds)
+    from .limits import check_cells
+
+    check_cells(((ymax - ymin) / spacing + 1, (xmax - xmin) / spacing + 1), f"vortex lattice at spacing {spacing:g}")
     nx = math.floor((xmax - xmin) / spacing + 1e-9) + 1
     ny = math.floor((ymax - ymin) / spacing + 1e-9) + 1
     return Grid((ny, nx), spacing, (xmin - spacing / 2, ymin - spacing / 2), border)  # type: ignore[arg-type]
@@ -916,13 +919,10 @@ def save_field(path: str | os.PathLike[str], field: Field) -> None:
 
 def load_field(path: str | os.PathLike[str]) -> Field:
     """Read a :class:`Field` written by :func:`save_field` (see there for an example)."""
-    try:
-        with np.load(path, allow_pickle=False) as z:
-            content = {k: z[k] for k in z.files}
-    except FileNotFoundError:
-        raise MapFormatError(f"{path}: no such file") from None
-    except Exception as e:
-        raise MapFormatError(f"{path}: not a gridfield field .npz ({type(e).__name__}: {e})") from None
+    from .errors import SizeLimitError
+    from .io import _npz_content
+
+    content = _npz_content(path)  # issue 17: every array sized from its header first; no file left open
     missing = [k for k in ("occupied", "potential", "grad_x", "grad_y", "resolution", "origin", "goal", "params")
                if k not in content]
     if missing:
@@ -934,14 +934,16 @@ def load_field(path: str | os.PathLike[str]) -> Field:
         params = json.loads(str(content["params"]))
         meta = json.loads(str(content.get("distance_meta", "{}")))
         goal = content["goal"].astype(np.float64).reshape(2)
-    except (ValueError, TypeError, ParameterError) as e:
-        raise MapFormatError(f"{path}: damaged field file ({e})") from None
-    gridmap = GridMap(grid, content["occupied"].astype(bool), content.get("obstacle_id"), source=str(path))
-    dmap = None
-    if meta and "distance" in content:  # steps, labels, GVD, nearest: optional
-        dmap = DistanceMap(gridmap, int(meta["connectivity"]), str(meta["metric"]), content.get("steps"),
-                           content["distance"], content.get("nearest_row"), content.get("nearest_col"),
-                           content.get("label"), content.get("gvd"), meta.get("saturate"),
-                           float(meta.get("far", math.inf)))
-    return Field(gridmap, content["potential"], content["grad_x"], content["grad_y"], (goal[0], goal[1]), params,
-                 dmap)
+        gridmap = GridMap(grid, content["occupied"], content.get("obstacle_id"), source=str(path))
+        dmap = None
+        if meta and "distance" in content:  # steps, labels, GVD, nearest: optional
+            dmap = DistanceMap(gridmap, int(meta["connectivity"]), str(meta["metric"]), content.get("steps"),
+                               content["distance"], content.get("nearest_row"), content.get("nearest_col"),
+                               content.get("label"), content.get("gvd"), meta.get("saturate"),
+                               float(meta.get("far", math.inf)))
+        return Field(gridmap, content["potential"], content["grad_x"], content["grad_y"], (goal[0], goal[1]), params,
+                     dmap)
+    except SizeLimitError:
+        raise
+    except (ValueError, TypeError, KeyError, IndexError, AttributeError) as e:  # ParameterError included
+        raise MapFormatError(f"{path}: damaged field file ({type(e).__name__}: {e})") from None

@@ -35,7 +35,7 @@ import shapely
 from numpy.typing import NDArray
 from shapely.geometry.base import BaseGeometry
 
-from .errors import ParameterError, check_positive
+from .errors import ParameterError, check_positive, shorten
 from .grid import Grid, GridMap
 from .world import Obstacle, World
 
@@ -324,9 +324,9 @@ def rasterize(
     try:
         area = tuple(float(v) for v in area)  # type: ignore[assignment]
     except (TypeError, ValueError):
-        raise ParameterError(f"bounds must be [xmin, ymin, xmax, ymax], got {bounds!r}") from None
+        raise ParameterError(f"bounds must be [xmin, ymin, xmax, ymax], got {shorten(bounds)}") from None
     if len(area) != 4:
-        raise ParameterError(f"bounds must be [xmin, ymin, xmax, ymax], got {bounds!r}")
+        raise ParameterError(f"bounds must be [xmin, ymin, xmax, ymax], got {shorten(bounds)}")
     grid = Grid.covering(area, res, border=world.border)  # type: ignore[arg-type]
     occupied = np.zeros(grid.shape, bool)
     ids = np.zeros(grid.shape, np.int32)

@@ -17,10 +17,24 @@ scenarios), the planners and a grid of parameter values (the Cartesian product i
       q_star: [1.0, 2.0]
       eta: [1.0]
 
-Each map is loaded and rasterized once per worker process and its brushfire distance map
-computed once, not per run. Runs go to a local process pool (all cores) by default, or to a
-Dask cluster (``scheduler=ADDRESS``, needs ``pip install gridfield[dask]``). Rows are appended
-to the CSV as runs finish; an interrupted sweep started again skips the runs already written.
+The whole spec is validated before anything runs: unknown keys (with a "did you mean"), the
+types and ranges of every value, every parameter combination (:func:`_validate_params`), each
+map's grid size against the memory limit (:mod:`gridfield.limits`), scenario files against their
+map's size.
+
+Runs of one map are grouped into batches (one task each). Each map is loaded and rasterized once
+per worker process and its brushfire distance map computed once, not per run. Batches go to a
+local process pool (all cores) by default, or to a Dask cluster (``scheduler=ADDRESS``, needs
+``pip install gridfield[dask]``), where the submitter reads each map once and ships it to the
+workers (they need not share its filesystem). A worker lost mid-sweep (killed, out of memory) has
+its unfinished batches redone: by Dask on a cluster, in a fresh pool locally (up to
+:data:`POOL_RESTARTS` times).
+
+The rows file is a journal: locked while a sweep writes it, each row written whole (one write of
+one line, flushed), repaired when opened (a partial last line left by a crash is cut off and its
+run done again; damaged or duplicate lines are dropped). An interrupted sweep (SIGINT, SIGTERM, a
+crash at any byte) started again therefore ends with exactly one row per run. Any failure of one
+run becomes that run's ``error: ...`` row.
 """
 
 from __future__ import annotations
@@ -38,9 +52,9 @@ from typing import Any
 
 import numpy as np
 
-from .errors import GridfieldError, MapFormatError, ParameterError
+from .errors import GridfieldError, MapFormatError, ParameterError, check_positive, shorten
 
-__all__ = ["COLUMNS", "Run", "load_spec", "run_one", "run_sweep", "summarize"]
+__all__ = ["COLUMNS", "Run", "SweepInterrupted", "load_spec", "run_batch", "run_one", "run_sweep", "summarize"]
 
 #: Columns of the rows file, in order.
 COLUMNS = ("map", "planner", "params", "start_x", "start_y", "goal_x", "goal_y", "status", "length",
@@ -72,19 +86,109 @@ class Run:
 # ----------------------------------------------------------------------------------------
 # Spec
 # ----------------------------------------------------------------------------------------
+#: Keys of a spec's top level and of one ``maps`` entry.
+SPEC_KEYS = ("output", "maps", "planners", "params")
+MAP_KEYS = ("path", "resolution", "pairs", "random_pairs", "scenarios", "limit")
+
+#: Most runs one spec may expand to (each run is a row and a few hundred bytes of memory).
+MAX_RUNS = 10**8
+
+
 def _need(mapping: Mapping[str, Any], key: str, where: str) -> Any:
     if key not in mapping:
         raise MapFormatError(f"{where}: missing key {key!r}")
     return mapping[key]
 
 
-def load_spec(path: str | os.PathLike[str]) -> tuple[list[Run], FsPath]:
-    """Read a sweep spec; return the list of runs and the output path.
+def _unknown_keys(mapping: Mapping[Any, Any], known: Sequence[str], where: str) -> None:
+    import difflib
+
+    for key in mapping:
+        if key not in known:
+            close = difflib.get_close_matches(str(key), known, n=1)
+            hint = f"did you mean {close[0]!r}? " if close else ""
+            raise MapFormatError(f"{where}: unknown key {shorten(key)}; {hint}expected one of {', '.join(known)}")
+
+
+def _integer(value: Any, where: str, *, minimum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+        raise MapFormatError(f"{where}: must be an integer >= {minimum}, got {shorten(value)}")
+    return value
+
+
+def _spec_path(value: Any, base: FsPath, where: str) -> FsPath:
+    if not isinstance(value, str) or not value.strip():
+        raise MapFormatError(f"{where}: must be a file name, got {shorten(value)}")
+    p = FsPath(value)
+    return p if p.is_absolute() else base / p
+
+
+def _validate_params(planner: str, params: Mapping[str, Any]) -> dict[str, Any]:
+    """Check one planner's parameter combination (names and values) before any run starts.
+
+    The one place a sweep validates parameters: names and values through the parameter registry
+    (:func:`gridfield.params.validate`), then the potential's cross-parameter rules
+    (:func:`gridfield.potential.resolve_params`). Raises :class:`ParameterError` naming the
+    parameter and its value.
+
+    Examples
+    --------
+    >>> _validate_params("potential", {"eta": 2.0})
+    {'eta': 2.0}
+    >>> _validate_params("potential", {"eta": -1})
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: eta must be a finite number >= 0, got -1
+    """
+    from .planners import check_params
+    from .potential import resolve_params
+
+    p = check_params(params)
+    resolve_params(p)
+    try:
+        json.dumps(p, sort_keys=True, allow_nan=True)
+    except (TypeError, ValueError):
+        raise ParameterError(f"parameter values must be numbers, strings or booleans, got {shorten(p)}") from None
+    return p
+
+
+def _pairs(entry: Mapping[str, Any], w: str) -> list[tuple[tuple[float, float], tuple[float, float], float]]:
+    raw = entry.get("pairs") or []
+    if not isinstance(raw, list):
+        raise MapFormatError(f"{w}.pairs: expected a list of [[sx, sy], [gx, gy]], got {shorten(raw)}")
+    pairs = []
+    for j, pair in enumerate(raw):
+        try:
+            (sx, sy), (gx, gy) = pair
+            xy = [v if not isinstance(v, bool) else math.nan for v in (sx, sy, gx, gy)]
+            sx, sy, gx, gy = (float(v) for v in xy)
+            if not all(math.isfinite(v) for v in (sx, sy, gx, gy)):
+                raise ValueError
+        except (TypeError, ValueError):
+            raise MapFormatError(f"{w}.pairs[{j}]: expected [[sx, sy], [gx, gy]] (finite numbers), "
+                                 f"got {shorten(pair)}") from None
+        pairs.append(((sx, sy), (gx, gy), math.nan))
+    return pairs
+
+
+def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | None = None
+              ) -> tuple[list[Run], FsPath]:
+    """Read and fully validate a sweep spec; return the list of runs and the output path.
+
+    ``output`` replaces the spec's ``output``. If another sweep is writing the output, this stops
+    at once (before any map is read).
+
+    Everything is checked before a single run starts: unknown keys (with a "did you mean"),
+    types and ranges of every value, every parameter combination for every planner, each map
+    (read, and its grid sized against the memory limit), pairs, scenario files against their
+    map's size, and planners that need a vector world against grid maps.
 
     Raises :class:`MapFormatError` naming the spec file and the key at fault.
     """
-    from .grid import GridMap
+    from .grid import Grid, GridMap
     from .io import read, read_scen, read_yaml
+    from .planners import PLANNERS
+    from .rasterize import as_gridmap
     from .world import World
 
     spec_path = FsPath(path)
@@ -92,27 +196,41 @@ def load_spec(path: str | os.PathLike[str]) -> tuple[list[Run], FsPath]:
     where = str(spec_path)
     if not isinstance(spec, Mapping):
         raise MapFormatError(f"{where}: a sweep spec must be a YAML mapping with maps, planners and params")
+    _unknown_keys(spec, SPEC_KEYS, where)
     base = spec_path.parent
-    output = FsPath(spec.get("output", spec_path.with_suffix(".csv").name))
-    if not output.is_absolute():
-        output = base / output
+    if output is None:
+        output = _spec_path(spec.get("output", spec_path.with_suffix(".csv").name), base, f"{where}: output")
+    output = FsPath(output)
+    _Journal.check_unlocked(output)
     planners = spec.get("planners", ["potential"])
     if isinstance(planners, str):
         planners = [planners]
-    from .planners import PLANNERS, check_params
-
+    if not isinstance(planners, list) or not planners:
+        raise MapFormatError(f"{where}: planners must be a planner name or a non-empty list of them")
     for p in planners:
-        if p not in PLANNERS:
-            raise MapFormatError(f"{where}: planners: unknown planner {p!r}; expected one of {', '.join(PLANNERS)}")
+        if not isinstance(p, str) or p not in PLANNERS:
+            raise MapFormatError(f"{where}: planners: unknown planner {shorten(p)}; expected one of {', '.join(PLANNERS)}")
     grid = spec.get("params") or {}
     if not isinstance(grid, Mapping):
         raise MapFormatError(f"{where}: params must map parameter names to a value or a list of values")
-    names = sorted(grid)
+    names = sorted(grid, key=str)
     values = [v if isinstance(v, list) else [v] for v in (grid[n] for n in names)]
-    try:
-        combos = [check_params(dict(zip(names, combo, strict=True))) for combo in itertools.product(*values)]
-    except ParameterError as e:
-        raise MapFormatError(f"{where}: params: {e}") from None
+    for n, v in zip(names, values, strict=True):
+        if not v:
+            raise MapFormatError(f"{where}: params.{n}: an empty list of values gives no runs")
+    n_combos = math.prod(len(v) for v in values)
+    if n_combos * len(planners) > MAX_RUNS:
+        raise MapFormatError(f"{where}: params: {n_combos:.3g} combinations x {len(planners)} planners exceed "
+                             f"{MAX_RUNS:g} runs; sweep fewer values")
+    combos = []
+    for combo in itertools.product(*values):
+        params = dict(zip(names, combo, strict=True))
+        for planner in planners:
+            try:
+                _validate_params(planner, params)
+            except ParameterError as e:
+                raise MapFormatError(f"{where}: params ({planner}): {e}") from None
+        combos.append(params)
 
     maps = _need(spec, "maps", where)
     if not isinstance(maps, list) or not maps:
@@ -122,45 +240,80 @@ def load_spec(path: str | os.PathLike[str]) -> tuple[list[Run], FsPath]:
         w = f"{where}: maps[{i}]"
         if isinstance(entry, str):
             entry = {"path": entry}
-        map_path = FsPath(_need(entry, "path", w))
-        if not map_path.is_absolute():
-            map_path = base / map_path
+        if not isinstance(entry, Mapping):
+            raise MapFormatError(f"{w}: expected a map file name or a mapping with 'path', got {shorten(entry)}")
+        _unknown_keys(entry, MAP_KEYS, w)
+        map_path = _spec_path(_need(entry, "path", w), base, f"{w}.path")
         resolution = entry.get("resolution")
-        target = read(map_path)
-        pairs: list[tuple[tuple[float, float], tuple[float, float], float]] = []
-        for j, pair in enumerate(entry.get("pairs") or []):
+        if resolution is not None:
             try:
-                (sx, sy), (gx, gy) = pair
-                pairs.append(((float(sx), float(sy)), (float(gx), float(gy)), math.nan))
-            except (TypeError, ValueError):
-                raise MapFormatError(f"{w}.pairs[{j}]: expected [[sx, sy], [gx, gy]], got {pair!r}") from None
-        if entry.get("random_pairs"):
-            rp = entry["random_pairs"]
-            pairs += _random_pairs(target, resolution, int(rp.get("n", 10)), int(rp.get("seed", 0)))
-        if entry.get("scenarios"):
-            scen_path = FsPath(entry["scenarios"])
-            if not scen_path.is_absolute():
-                scen_path = base / scen_path
-            scen = read_scen(scen_path)
-            keep = ~scen.no_path
-            idx = np.flatnonzero(keep)[: int(entry.get("limit", len(scen.optimal)))]
+                resolution = check_positive("resolution", resolution if isinstance(resolution, int | float) and not
+                                            isinstance(resolution, bool) else "")
+            except ParameterError:
+                raise MapFormatError(f"{w}.resolution: must be a positive finite number, got {shorten(resolution)}") from None
+        try:
+            target = read(map_path)
+            # the grid every grid planner will use, sized against the memory limit before anything runs
+            gm = as_gridmap(target, resolution) if isinstance(target, GridMap) or entry.get("random_pairs") or (
+                entry.get("scenarios")) else None
+            if gm is None and isinstance(target, World):
+                res = resolution if resolution is not None else target.resolution
+                if res is not None:
+                    Grid.covering(target.bounds, res)
+                elif any(PLANNERS[p][2] == "grid" for p in planners):
+                    raise MapFormatError(f"{map_path}: a world without 'resolution'; give the map entry a resolution")
+        except GridfieldError as e:
+            raise MapFormatError(f"{w}: {e}") from None
+        if not isinstance(target, World) and not isinstance(getattr(target, "world", None), World):
+            exact = [p for p in planners if PLANNERS[p][2] == "world"]
+            if exact:
+                raise MapFormatError(f"{w}: planner {exact[0]!r} needs a vector world, but {map_path.name} is a grid map")
+        pairs = _pairs(entry, w)
+        rp = entry.get("random_pairs")
+        if rp is not None:
+            if not isinstance(rp, Mapping):
+                raise MapFormatError(f"{w}.random_pairs: expected a mapping {{n: N, seed: S}}, got {shorten(rp)}")
+            _unknown_keys(rp, ("n", "seed"), f"{w}.random_pairs")
+            n = _integer(rp.get("n", 10), f"{w}.random_pairs.n", minimum=1)
+            if n > MAX_RUNS:
+                raise MapFormatError(f"{w}.random_pairs.n: {n} pairs exceed {MAX_RUNS:g} runs")
+            seed = _integer(rp.get("seed", 0), f"{w}.random_pairs.seed", minimum=0)
+            try:
+                pairs += _random_pairs(gm, n, seed)
+            except GridfieldError as e:
+                raise MapFormatError(f"{w}.random_pairs: {e}") from None
+        if entry.get("limit") is not None and not entry.get("scenarios"):
+            raise MapFormatError(f"{w}.limit: limits the scenarios, but the entry has no 'scenarios'")
+        if entry.get("scenarios") is not None:
+            scen_path = _spec_path(entry["scenarios"], base, f"{w}.scenarios")
+            try:
+                scen = read_scen(scen_path)
+            except GridfieldError as e:
+                raise MapFormatError(f"{w}.scenarios: {e}") from None
+            assert gm is not None
+            wrong = np.flatnonzero((scen.width != gm.shape[1]) | (scen.height != gm.shape[0]))
+            if wrong.size:
+                k = int(wrong[0])
+                raise MapFormatError(
+                    f"{w}.scenarios: {scen_path.name}: scenario {k + 1} is for a {scen.width[k]} x {scen.height[k]} "
+                    f"map (width x height), but {map_path.name} is {gm.shape[1]} x {gm.shape[0]} cells"
+                )
+            limit = _integer(entry.get("limit", len(scen)), f"{w}.limit", minimum=1)
+            idx = np.flatnonzero(~scen.no_path)[:limit]
             pairs += [(tuple(scen.start_xy[k]), tuple(scen.goal_xy[k]), float(scen.optimal[k])) for k in idx]
         if not pairs and isinstance(target, World) and target.start and target.goal:
             pairs.append((target.start, target.goal, math.nan))
         if not pairs:
             raise MapFormatError(f"{w}: no start/goal pairs (give pairs, random_pairs or scenarios)")
-        if not isinstance(target, World | GridMap):  # pragma: no cover - read() returns one of the two
-            raise MapFormatError(f"{w}: not a map")
+        if len(runs) + len(planners) * len(combos) * len(pairs) > MAX_RUNS:
+            raise MapFormatError(f"{w}: the spec expands to more than {MAX_RUNS:g} runs; split the sweep")
         for planner, params, (s, g, opt) in itertools.product(planners, combos, pairs):
             runs.append(Run(str(map_path), resolution, planner, tuple(sorted(params.items())), s, g, opt))
     return runs, output
 
 
-def _random_pairs(target: Any, resolution: float | None, n: int, seed: int) -> list[Any]:
-    """``n`` random start/goal pairs in free cells of the map (reproducible with ``seed``)."""
-    from .rasterize import as_gridmap
-
-    gm = as_gridmap(target, resolution)
+def _random_pairs(gm: Any, n: int, seed: int) -> list[Any]:
+    """``n`` random start/goal pairs in free cells of the grid map (reproducible with ``seed``)."""
     free = np.flatnonzero(~gm.occupied.ravel())
     if free.size < 2:
         raise GridfieldError(f"{gm.source}: fewer than two free cells; cannot draw random start/goal pairs")
@@ -174,76 +327,402 @@ def _random_pairs(target: Any, resolution: float | None, n: int, seed: int) -> l
 # ----------------------------------------------------------------------------------------
 # Running
 # ----------------------------------------------------------------------------------------
+#: Per process: (map, resolution, identity of a shipped map or None) -> {"target": the map, ...the
+#: plan cache of that map}, the most recently used last; only the last :data:`_CACHE_MAPS` are kept.
 _CACHE: dict[Any, Any] = {}
+_CACHE_MAPS = 4
+
+#: How often a local pool whose worker died is replaced before the sweep gives up.
+POOL_RESTARTS = 3
+
+#: Seconds to wait for a Dask scheduler to answer.
+SCHEDULER_TIMEOUT = 10
+
+#: Longest error status written to a row.
+STATUS_LIMIT = 300
 
 
-def _target(run: Run) -> Any:
-    """The run's map, loaded (and for grid planners rasterized) once per process."""
-    key = (run.map, run.resolution)
-    if key not in _CACHE:
-        from .io import read
+def _map_cache(run: Run, target: Any = None) -> dict[Any, Any]:
+    """The plan cache of the run's map, holding the map (loaded here from its path unless shipped).
 
-        _CACHE[key] = read(run.map)
-    return _CACHE[key]
+    A shipped map is keyed by its identity too: a long-lived cluster may see two sweeps whose maps
+    share a (relative) path but not their content. The cache holds the map, so the identity stays unique.
+    """
+    key = (run.map, run.resolution, None if target is None else id(target))
+    cache = _CACHE.pop(key, None)
+    if cache is None:
+        if target is None:
+            from .io import read
+
+            target = read(run.map)
+        cache = {"target": target}
+    _CACHE[key] = cache  # most recently used last
+    while len(_CACHE) > _CACHE_MAPS:
+        _CACHE.pop(next(iter(_CACHE)))
+    return cache
 
 
-def run_one(run: Run) -> dict[str, Any]:
-    """Run one planner call; return its row. Bad input of a run becomes status ``error:...``."""
+def _one_line(text: str, limit: int = STATUS_LIMIT) -> str:
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def run_one(run: Run, target: Any = None) -> dict[str, Any]:
+    """Run one planner call; return its row. Any failure of the run becomes its status ``error: ...``.
+
+    ``target`` is the run's map when it is shipped with the task (a cluster); by default the map
+    is read from ``run.map`` (once per process).
+    """
     from .planners import plan
 
     t0 = time.perf_counter()
     try:
-        path = plan(run.planner, _target(run), run.start, run.goal, dict(run.params), resolution=run.resolution,
-                    cache=_CACHE)
+        cache = _map_cache(run, target)
+        path = plan(run.planner, cache["target"], run.start, run.goal, dict(run.params),
+                    resolution=run.resolution, cache=cache)
         status, length, steps = path.status, path.length, path.iterations
     except GridfieldError as e:
         status, length, steps = f"error: {e}", math.nan, 0
+    except Exception as e:  # a bug or a resource problem in one run must not abort the sweep
+        status, length, steps = f"error: {type(e).__name__}: {e}", math.nan, 0
     ms = (time.perf_counter() - t0) * 1e3
     return {
         "map": run.map, "planner": run.planner, "params": run.params_json,
         "start_x": run.start[0], "start_y": run.start[1], "goal_x": run.goal[0], "goal_y": run.goal[1],
-        "status": status, "length": length, "optimal": run.optimal, "steps": steps, "ms": round(ms, 3),
+        "status": _one_line(status), "length": length, "optimal": run.optimal, "steps": steps, "ms": round(ms, 3),
     }
 
 
-def _done_keys(output: FsPath) -> set[tuple[str, ...]]:
-    if not output.exists():
-        return set()
-    with output.open(newline="") as f:
-        return {
-            (r["map"], r["planner"], r["params"],
-             *(f"{float(r[k]):.9g}" for k in ("start_x", "start_y", "goal_x", "goal_y")))
-            for r in csv.DictReader(f)
-        }
+def run_batch(runs: Sequence[Run], target: Any = None) -> list[dict[str, Any]]:
+    """Rows of several runs of one map (one task of a pool or a cluster).
+
+    Parameters
+    ----------
+    runs : runs of one map (and resolution)
+    target : the map itself when shipped with the task (default: read from ``runs[k].map``)
+
+    Returns
+    -------
+    list of dict : one row per run (see :func:`run_one`), in order
+    """
+    return [run_one(r, target) for r in runs]
 
 
-def _local_results(runs: Sequence[Run], workers: int) -> Iterator[dict[str, Any]]:
-    if workers <= 1 or len(runs) <= 1:
-        yield from map(run_one, runs)
+# ----------------------------------------------------------------------------------------
+# The journal: the rows file, locked, repaired on open, appended one whole row at a time
+# ----------------------------------------------------------------------------------------
+def _row_key(fields: Mapping[str, str]) -> tuple[str, ...]:
+    return (fields["map"], fields["planner"], fields["params"],
+            *(f"{float(fields[k]):.9g}" for k in ("start_x", "start_y", "goal_x", "goal_y")))
+
+
+def _format_row(row: Mapping[str, Any]) -> bytes:
+    import io as _io
+
+    buf = _io.StringIO()
+    csv.writer(buf, lineterminator="\n").writerow(
+        [" ".join(str(row.get(c, "")).split()) if isinstance(row.get(c), str) else row.get(c, "") for c in COLUMNS])
+    return buf.getvalue().encode("utf-8")
+
+
+def _parse_row(line: str) -> dict[str, str] | None:
+    """The row on one complete line, or None when the line is damaged."""
+    try:
+        fields = next(csv.reader([line]))
+    except (csv.Error, StopIteration):
+        return None
+    if len(fields) != len(COLUMNS):
+        return None
+    row = dict(zip(COLUMNS, fields, strict=True))
+    try:
+        _row_key(row)
+        float(row["length"]), float(row["optimal"]), int(row["steps"]), float(row["ms"])
+        json.loads(row["params"])
+    except (ValueError, TypeError):
+        return None
+    if not row["status"] or not row["planner"]:
+        return None
+    return row
+
+
+class _Journal:
+    """The rows file of a sweep, held locked while the sweep runs.
+
+    On open it is repaired: a partial last line (a crash mid-write) is cut off, damaged or
+    duplicate lines are dropped (their runs are done again), and the header is written if
+    missing. Each row is then appended with a single ``write`` of the whole line to a file opened
+    in append mode, so that a crash at any byte leaves at most one partial last line.
+    """
+
+    def __init__(self, path: FsPath) -> None:
+        self.path = path
+        self.notes: list[str] = []
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            self.fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_APPEND | getattr(os, "O_BINARY", 0), 0o644)
+        except OSError as e:
+            raise GridfieldError(f"{path}: cannot open the rows file: {e.strerror or e}") from None
+        try:
+            self._lock()
+            self.rows, self.keys = self._recover()
+        except BaseException:
+            os.close(self.fd)
+            raise
+        self._synced = time.monotonic()
+
+    @staticmethod
+    def check_unlocked(path: FsPath) -> None:
+        """Raise now if another sweep holds the lock on ``path`` (the lock itself is taken later)."""
+        try:
+            fd = os.open(path, os.O_RDONLY | getattr(os, "O_BINARY", 0))
+        except OSError:
+            return  # no file yet (or unreadable: opening it for the sweep will say so)
+        try:
+            _Journal._lock_fd(fd, path)
+        finally:
+            os.close(fd)
+
+    def _lock(self) -> None:
+        self._lock_fd(self.fd, self.path)
+
+    @staticmethod
+    def _lock_fd(fd: int, path: FsPath) -> None:
+        busy = GridfieldError(
+            f"{path}: another sweep is writing this rows file (it is locked); wait for it to finish, "
+            "or give this sweep another --out"
+        )
+        try:
+            import fcntl
+        except ImportError:  # pragma: no cover - Windows
+            import msvcrt
+
+            try:
+                msvcrt.locking(fd, msvcrt.LK_NBLCK, 1)
+            except OSError:
+                raise busy from None
+            return
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            raise busy from None
+
+    def _read_all(self) -> bytes:
+        size = os.fstat(self.fd).st_size
+        chunks, pos = [], 0
+        while pos < size:
+            chunk = os.pread(self.fd, min(size - pos, 1 << 24), pos)
+            if not chunk:
+                break
+            chunks.append(chunk)
+            pos += len(chunk)
+        return b"".join(chunks)
+
+    def _write(self, data: bytes) -> None:
+        view = memoryview(data)
+        while view:
+            n = os.write(self.fd, view)
+            view = view[n:]
+
+    def _recover(self) -> tuple[list[dict[str, str]], set[tuple[str, ...]]]:
+        data = self._read_all()
+        end = data.rfind(b"\n") + 1
+        if end < len(data):  # a partial last line: the run it belonged to is done again
+            os.ftruncate(self.fd, end)
+            self.notes.append(f"removed a partial last line ({len(data) - end} bytes) left by an interrupted write")
+            data = data[:end]
+        header = ",".join(COLUMNS)
+        if not data:
+            self._write((header + "\n").encode())
+            return [], set()
+        text = data.decode("utf-8", errors="replace")
+        lines = [ln[:-1] if ln.endswith("\r") else ln for ln in text.split("\n")[:-1]]
+        if lines[0] != header:
+            raise GridfieldError(
+                f"{self.path}: not a rows file of this sweep version (its first line is {shorten(lines[0][:200])}, "
+                f"expected {header!r}); give another --out"
+            )
+        rows: list[dict[str, str]] = []
+        keys: set[tuple[str, ...]] = set()
+        damaged = duplicate = 0
+        for ln in lines[1:]:
+            row = _parse_row(ln)
+            if row is None:
+                damaged += 1
+                continue
+            key = _row_key(row)
+            if key in keys:
+                duplicate += 1
+                continue
+            keys.add(key)
+            rows.append(row)
+        if damaged or duplicate or data.endswith(b"\r\n"):
+            # rewrite the file with the good rows only (a crash here loses rows, which are then redone)
+            os.ftruncate(self.fd, 0)
+            self._write(b"".join([(header + "\n").encode(), *(_format_row(r) for r in rows)]))
+            os.fsync(self.fd)
+            if damaged:
+                self.notes.append(f"dropped {damaged} damaged line(s); their runs are done again")
+            if duplicate:
+                self.notes.append(f"dropped {duplicate} duplicate row(s)")
+        return rows, keys
+
+    def append(self, row: Mapping[str, Any]) -> bool:
+        """Write one row (whole, in one write); False if a row of that run is already there."""
+        line = _format_row(row)
+        parsed = _parse_row(line.decode("utf-8")[:-1])
+        if parsed is None:  # pragma: no cover - run_one always makes well-formed rows
+            raise GridfieldError(f"internal error: a sweep row cannot be written: {shorten(row)}")
+        key = _row_key(parsed)
+        if key in self.keys:
+            return False
+        self._write(line)
+        self.keys.add(key)
+        self.rows.append(parsed)
+        if time.monotonic() - self._synced > 1.0:
+            os.fsync(self.fd)
+            self._synced = time.monotonic()
+        return True
+
+    def close(self) -> None:
+        if self.fd >= 0:
+            try:
+                os.fsync(self.fd)
+            finally:
+                os.close(self.fd)  # releases the lock
+                self.fd = -1
+
+
+class SweepInterrupted(KeyboardInterrupt):
+    """The sweep was stopped by a signal (SIGINT or SIGTERM); the rows written so far are kept."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+# ----------------------------------------------------------------------------------------
+# Executors
+# ----------------------------------------------------------------------------------------
+def _batches(runs: Sequence[Run], workers: int, batch_size: int | None) -> list[list[Run]]:
+    """Runs grouped by map, cut into batches (a few per worker per map, at most 256 runs each)."""
+    groups: dict[tuple[str, Any], list[Run]] = {}
+    for r in runs:
+        groups.setdefault((r.map, r.resolution), []).append(r)
+    out = []
+    for group in groups.values():
+        size = batch_size or max(1, min(256, math.ceil(len(group) / (4 * max(workers, 1)))))
+        out += [group[k:k + size] for k in range(0, len(group), size)]
+    return out
+
+
+def _worker_init(max_cells: int, parent: int) -> None:
+    import signal
+    import threading
+
+    from . import limits
+
+    # Ctrl-C reaches the whole process group: the parent stops the workers, they need not say so.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    limits._OVERRIDE.append(max_cells)  # the submitter's size limit (e.g. its --max-cells)
+
+    # A parent killed outright (SIGKILL, a crash) cannot stop its workers, and they would wait on the
+    # task queue forever (each holds a writing end of it): they watch the parent and leave with it.
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="gridfield-parent-watch", daemon=True).start()
+
+
+def _stop_pool(pool: Any) -> None:
+    pool.shutdown(wait=False, cancel_futures=True)
+    procs = list((getattr(pool, "_processes", None) or {}).values())
+    for p in procs:
+        if p.is_alive():
+            p.terminate()
+    for p in procs:
+        p.join(timeout=5)
+        if p.is_alive():  # pragma: no cover - a worker stuck in a kernel ignoring SIGTERM
+            p.kill()
+            p.join(timeout=5)
+
+
+def _local_results(batches: Sequence[list[Run]], workers: int) -> Iterator[list[dict[str, Any]]]:
+    if workers <= 1 or len(batches) <= 1:
+        yield from map(run_batch, batches)
         return
     import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
 
-    # Runs of the same map go to the same chunk, so each worker loads few maps.
-    chunk = max(1, len(runs) // (workers * 4))
     # "spawn", not fork: numba's parallel kernels start an OpenMP thread pool, and a process that
     # forks after that aborts ("fork() called from a process already using GNU OpenMP").
     ctx = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-        yield from pool.map(run_one, runs, chunksize=chunk)
+    from .limits import max_cells
+
+    pending = list(batches)
+    for _ in range(POOL_RESTARTS + 1):
+        pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_worker_init,
+                                   initargs=(max_cells(), os.getpid()))
+        unfinished: list[list[Run]] = []
+        try:
+            futures = {pool.submit(run_batch, b): b for b in pending}
+            for fut in as_completed(futures):
+                try:
+                    rows = fut.result()
+                except BrokenProcessPool:  # a worker died: every batch not yet back is redone in a new pool
+                    unfinished.append(futures[fut])
+                    continue
+                yield rows
+        except BaseException:
+            _stop_pool(pool)
+            raise
+        if not unfinished:
+            pool.shutdown(wait=True)
+            return
+        _stop_pool(pool)
+        pending = unfinished
+    raise GridfieldError(
+        f"worker processes died {POOL_RESTARTS + 1} time(s) (killed, or out of memory?); the rows written so far "
+        "are kept: run the sweep again to resume (with fewer --workers if memory is short)"
+    )
 
 
-def _dask_results(runs: Sequence[Run], scheduler: Any) -> Iterator[dict[str, Any]]:
+def _dask_results(batches: Sequence[list[Run]], scheduler: Any) -> Iterator[list[dict[str, Any]]]:
     try:
         from distributed import Client, as_completed
     except ImportError:
         raise GridfieldError("--scheduler needs Dask: pip install 'gridfield[dask]'") from None
-    client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+    from .io import read
+
+    if isinstance(scheduler, Client):
+        client = scheduler
+    else:
+        try:
+            client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+        except (OSError, ValueError, TypeError) as e:  # TimeoutError is an OSError
+            raise GridfieldError(f"cannot connect to the Dask scheduler {shorten(scheduler)}: "
+                                 f"{_one_line(str(e) or type(e).__name__, 200)}") from None
+    futures: list[Any] = []
     try:
-        futures = client.map(run_one, list(runs), pure=False)
+        # The map's content travels with the tasks (workers need not see the submitter's files):
+        # each map is read here once and replicated to the workers, and each task is a batch of its runs.
+        shipped: dict[tuple[str, Any], Any] = {}
+        for b in batches:
+            key = (b[0].map, b[0].resolution)
+            if key not in shipped:
+                try:
+                    target = read(b[0].map)
+                except GridfieldError:
+                    target = None  # every run of the map reports the error in its row
+                shipped[key] = client.scatter(target, broadcast=True, hash=False) if target is not None else None
+            futures.append(client.submit(run_batch, b, shipped[key], pure=False))
         for fut in as_completed(futures):
             yield fut.result()
     finally:
+        if futures:
+            client.cancel(futures)
         if client is not scheduler:
             client.close()
 
@@ -255,8 +734,15 @@ def run_sweep(
     workers: int | None = None,
     scheduler: Any = None,
     progress: bool = True,
+    batch_size: int | None = None,
+    notes: list[str] | None = None,
 ) -> list[dict[str, Any]]:
     """Run the sweep, appending one row per run to ``output`` (CSV); skip runs already there.
+
+    The rows file is locked while the sweep runs (a second sweep on it stops at once), repaired
+    when opened (a partial last line from a crash is removed and its run done again), and each
+    row is written whole. SIGINT and SIGTERM stop the workers and raise :class:`SweepInterrupted`
+    with the file resumable.
 
     Parameters
     ----------
@@ -265,36 +751,58 @@ def run_sweep(
     workers : local processes (default: all cores)
     scheduler : a Dask scheduler address (or ``distributed.Client``) to run on instead
     progress : show a tqdm progress bar (on a terminal)
+    batch_size : runs per task (default: a few tasks per worker and map, at most 256 runs each)
+    notes : if given, what the repair of the rows file did is appended here (one line each)
 
     Returns
     -------
-    list of dict : every row of ``output`` after the sweep (old and new)
+    list of dict : every row of ``output`` after the sweep (old and new), one per run
     """
-    out = FsPath(output)
-    done = _done_keys(out)
-    todo = [r for r in runs if r.key not in done]
-    out.parent.mkdir(parents=True, exist_ok=True)
-    new_file = not out.exists()
-    if todo:
-        results = (_dask_results(todo, scheduler) if scheduler is not None
-                   else _local_results(todo, workers or os.cpu_count() or 1))
-        from tqdm.auto import tqdm
+    import signal
+    import threading
 
-        bar = tqdm(total=len(todo), desc="sweep", unit="run", disable=not progress, leave=False)
-        with out.open("a", newline="") as f:
-            writer = csv.DictWriter(f, fieldnames=COLUMNS)
-            if new_file:
-                writer.writeheader()
-            for row in results:
-                writer.writerow(row)
-                f.flush()
-                bar.update()
-        bar.close()
-    elif new_file:
-        with out.open("w", newline="") as f:
-            csv.DictWriter(f, fieldnames=COLUMNS).writeheader()
-    with out.open(newline="") as f:
-        return list(csv.DictReader(f))
+    if batch_size is not None and (isinstance(batch_size, bool) or not isinstance(batch_size, int) or batch_size < 1):
+        raise ParameterError(f"batch_size must be a positive integer, got {shorten(batch_size)}")
+    journal = _Journal(FsPath(output))
+    if notes is not None:
+        notes += [f"{output}: {n}" for n in journal.notes]
+    handlers: dict[int, Any] = {}
+
+    def stop(signum: int, frame: Any) -> None:
+        raise SweepInterrupted(signum)
+
+    if threading.current_thread() is threading.main_thread():
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            handlers[sig] = signal.signal(sig, stop)
+    try:
+        seen: set[tuple[str, ...]] = set()
+        todo = []
+        for r in runs:
+            if r.key not in journal.keys and r.key not in seen:
+                seen.add(r.key)
+                todo.append(r)
+        if todo:
+            n_workers = workers or os.cpu_count() or 1
+            batches = _batches(todo, n_workers, batch_size)
+            results = (_dask_results(batches, scheduler) if scheduler is not None
+                       else _local_results(batches, n_workers))
+            from tqdm.auto import tqdm
+
+            with tqdm(total=len(todo), desc="sweep", unit="run", disable=not progress, leave=False) as bar:
+                try:
+                    for rows in results:
+                        for row in rows:
+                            journal.append(row)
+                        bar.update(len(rows))
+                finally:
+                    close = getattr(results, "close", None)
+                    if close is not None:
+                        close()  # stops the workers now if the loop ended early
+        return [dict(r) for r in journal.rows]
+    finally:
+        for sig, old in handlers.items():
+            signal.signal(sig, old)
+        journal.close()
 
 
 def summarize(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:

@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.base import BaseGeometry
 
-from .errors import GridfieldError, MapFormatError
+from .errors import GridfieldError, MapFormatError, shorten
 from .grid import BORDERS
 
 __all__ = ["CIRCLE_SEGMENTS", "Obstacle", "World", "world_from_dict"]
@@ -176,7 +176,7 @@ class World:
         """Validate a start/goal point against the world; return it as ``(2,)`` or raise."""
         p = np.asarray(point, dtype=float).reshape(-1)
         if p.shape != (2,) or not np.all(np.isfinite(p)):
-            raise GridfieldError(f"{name} must be two finite numbers X Y, got {point!r}")
+            raise GridfieldError(f"{name} must be two finite numbers X Y, got {shorten(point)}")
         xmin, ymin, xmax, ymax = self.bounds
         if not (xmin <= p[0] <= xmax and ymin <= p[1] <= ymax):
             raise GridfieldError(
@@ -199,17 +199,17 @@ def _point(value: Any, what: str) -> tuple[float, float]:
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        raise MapFormatError(f"{what} must be a point [x, y], got {value!r}") from None
+        raise MapFormatError(f"{what} must be a point [x, y], got {shorten(value)}") from None
     if arr.shape != (2,):
-        raise MapFormatError(f"{what} must be a point [x, y], got {value!r}")
+        raise MapFormatError(f"{what} must be a point [x, y], got {shorten(value)}")
     if not np.all(np.isfinite(arr)):
-        raise MapFormatError(f"{what} must be finite numbers, got {value!r}")
+        raise MapFormatError(f"{what} must be finite numbers, got {shorten(value)}")
     return (float(arr[0]), float(arr[1]))
 
 
 def _points(value: Any, what: str) -> NDArray[np.float64]:
     if not isinstance(value, Sequence) or isinstance(value, str) or len(value) == 0:
-        raise MapFormatError(f"{what} must be a list of points [[x, y], ...], got {value!r}")
+        raise MapFormatError(f"{what} must be a list of points [[x, y], ...], got {shorten(value)}")
     return np.array([_point(v, f"{what}[{i}]") for i, v in enumerate(value)])
 
 
@@ -240,7 +240,7 @@ def _shape_from_vertices(pts: NDArray[np.float64], oid: int, what: str) -> Obsta
 def _obstacle(entry: Any, oid: int, what: str) -> Obstacle:
     if not isinstance(entry, Mapping) or len(entry) != 1:
         raise MapFormatError(
-            f"{what} must be a mapping with one key: polygon, circle, segment or rectangle; got {entry!r}"
+            f"{what} must be a mapping with one key: polygon, circle, segment or rectangle; got {shorten(entry)}"
         )
     (kind, value), = entry.items()
     if kind == "polygon":
@@ -252,14 +252,14 @@ def _obstacle(entry: Any, oid: int, what: str) -> Obstacle:
         return _shape_from_vertices(pts, oid, f"{what}.segment")
     if kind == "circle":
         if not isinstance(value, Mapping) or "center" not in value or "radius" not in value:
-            raise MapFormatError(f"{what}.circle must be {{center: [x, y], radius: r}}, got {value!r}")
+            raise MapFormatError(f"{what}.circle must be {{center: [x, y], radius: r}}, got {shorten(value)}")
         c = _point(value["center"], f"{what}.circle.center")
         try:
             r = float(value["radius"])
         except (TypeError, ValueError):
             r = math.nan
         if not (math.isfinite(r) and r > 0):
-            raise MapFormatError(f"{what}.circle.radius must be a positive number, got {value['radius']!r}")
+            raise MapFormatError(f"{what}.circle.radius must be a positive number, got {shorten(value['radius'])}")
         geom = Point(c).buffer(r, quad_segs=CIRCLE_SEGMENTS)
         return Obstacle(oid, "circle", geom, center=c, radius=r)
     if kind == "rectangle":
@@ -273,20 +273,20 @@ def _obstacle(entry: Any, oid: int, what: str) -> Obstacle:
             else:
                 raise MapFormatError(
                     f"{what}.rectangle must be [xmin, ymin, xmax, ymax], {{min: [x, y], max: [x, y]}} "
-                    f"or {{center: [x, y], size: [w, h]}}; got {value!r}"
+                    f"or {{center: [x, y], size: [w, h]}}; got {shorten(value)}"
                 )
         else:
             try:
                 xmin, ymin, xmax, ymax = (float(v) for v in value)
             except (TypeError, ValueError):
-                raise MapFormatError(f"{what}.rectangle must be [xmin, ymin, xmax, ymax], got {value!r}") from None
+                raise MapFormatError(f"{what}.rectangle must be [xmin, ymin, xmax, ymax], got {shorten(value)}") from None
             lo, hi = (xmin, ymin), (xmax, ymax)
         if not all(math.isfinite(v) for v in (*lo, *hi)) or hi[0] < lo[0] or hi[1] < lo[1]:
-            raise MapFormatError(f"{what}.rectangle needs finite min <= max, got {value!r}")
+            raise MapFormatError(f"{what}.rectangle needs finite min <= max, got {shorten(value)}")
         pts = np.array([lo, (hi[0], lo[1]), hi, (lo[0], hi[1])])
         return _shape_from_vertices(np.unique(pts, axis=0) if (hi[0] == lo[0] or hi[1] == lo[1]) else pts,
                                     oid, f"{what}.rectangle")
-    raise MapFormatError(f"{what}: unknown obstacle kind {kind!r}; expected polygon, circle, segment or rectangle")
+    raise MapFormatError(f"{what}: unknown obstacle kind {shorten(kind)}; expected polygon, circle, segment or rectangle")
 
 
 def _b_matrix(value: Any, first_id: int, what: str) -> list[Obstacle]:
@@ -342,18 +342,18 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
         bounds[2] > bounds[0] and bounds[3] > bounds[1]
     ):
         raise MapFormatError(
-            f"{_where(source, 'bounds')}: expected [xmin, ymin, xmax, ymax] with finite max > min, got {data['bounds']!r}"
+            f"{_where(source, 'bounds')}: expected [xmin, ymin, xmax, ymax] with finite max > min, got {shorten(data['bounds'])}"
         )
     border = data.get("border", "open")
     if border not in BORDERS:
-        raise MapFormatError(f"{_where(source, 'border')}: expected one of {list(BORDERS)}, got {border!r}")
+        raise MapFormatError(f"{_where(source, 'border')}: expected one of {list(BORDERS)}, got {shorten(border)}")
 
     obstacles: list[Obstacle] = []
     if "b_matrix" in data:
         obstacles += _b_matrix(data["b_matrix"], 1, _where(source, "b_matrix"))
     raw = data.get("obstacles") or []
     if not isinstance(raw, Sequence) or isinstance(raw, str):
-        raise MapFormatError(f"{_where(source, 'obstacles')}: expected a list of obstacles, got {raw!r}")
+        raise MapFormatError(f"{_where(source, 'obstacles')}: expected a list of obstacles, got {shorten(raw)}")
     next_id = max((o.id for o in obstacles), default=0) + 1
     for i, entry in enumerate(raw):
         obstacles.append(_obstacle(entry, next_id + i, _where(source, f"obstacles[{i}]")))
@@ -369,7 +369,7 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
         except (TypeError, ValueError):
             resolution = math.nan
         if not (math.isfinite(resolution) and resolution > 0):
-            raise MapFormatError(f"{_where(source, 'resolution')}: must be a positive number, got {data['resolution']!r}")
+            raise MapFormatError(f"{_where(source, 'resolution')}: must be a positive number, got {shorten(data['resolution'])}")
     params = data.get("params") or {}
     if not isinstance(params, Mapping):
         raise MapFormatError(f"{_where(source, 'params')}: expected a mapping of parameter names to values")

@@ -453,10 +453,12 @@ def test_world_units_and_nearest_point():
 def test_occupancy_of_any_layout_and_dtype():
     occ = random_occupancy(11, (40, 30), 0.1)
     ref = brushfire(GridMap(Grid((30, 40), 1.0), np.ascontiguousarray(occ.T)))
-    for variant in (occ.T, np.asfortranarray(occ.T), occ.T.astype(np.uint8), occ.T.astype(float)):
+    for variant in (occ.T, np.asfortranarray(occ.T), occ.T.astype(np.uint8), occ.T.astype(np.int64)):
         dm = brushfire(GridMap(Grid((30, 40), 1.0), variant))
         for name in ("steps", "distance", "nearest_row", "nearest_col", "label", "gvd"):
             assert np.array_equal(getattr(dm, name), getattr(ref, name)), name
+    with pytest.raises(TypeError, match="dtype float64"):  # issue 17: only booleans or the integers 0/1
+        GridMap(Grid((30, 40), 1.0), occ.T.astype(float))
 
 
 # ----------------------------------------------------------------------------------------------

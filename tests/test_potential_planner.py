@@ -285,9 +285,9 @@ def test_parse_follows_the_parameter_type():
 def test_plan_accepts_a_mapping_and_rejects_other_params():
     gm = GridMap(Grid((5, 5), 1.0), np.zeros((5, 5), bool))
     assert plan("potential", gm, (0.5, 0.5), (4.5, 4.5), {"q_star": 1.0}).reached
-    with pytest.raises(ParameterError, match="params must be a mapping"):
+    with pytest.raises(TypeError, match="params must be a mapping"):
         plan("potential", gm, (0.5, 0.5), (4.5, 4.5), [1, 2])  # type: ignore[arg-type]
-    with pytest.raises(ParameterError, match="needs a World or a GridMap"):
+    with pytest.raises(TypeError, match="target must be a World"):
         plan("potential", None, (0.5, 0.5), (4.5, 4.5))  # type: ignore[arg-type]
 
 

@@ -77,7 +77,7 @@ def test_rows_match_individual_plan_calls_and_resume_recomputes_nothing(tmp_path
     # resume: a second run computes nothing (run_one must not be called) and keeps the rows
     import gridfield.sweep as sweep_module
 
-    def boom(run):  # pragma: no cover - must not run
+    def boom(run, target=None):  # pragma: no cover - must not run
         raise AssertionError("resume recomputed a run")
 
     monkeypatch.setattr(sweep_module, "run_one", boom)
@@ -92,7 +92,7 @@ def test_interrupted_sweep_resumes_only_the_missing_runs(tmp_path: Path, monkeyp
 
     seen = []
     real = sweep_module.run_one
-    monkeypatch.setattr(sweep_module, "run_one", lambda r: seen.append(r.key) or real(r))
+    monkeypatch.setattr(sweep_module, "run_one", lambda r, t=None: seen.append(r.key) or real(r, t))
     rows = run_sweep(runs, output, workers=1, progress=False)
     assert len(seen) == len(runs) - 5
     assert {r.key for r in runs[:5]}.isdisjoint(seen)

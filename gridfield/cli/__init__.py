@@ -26,6 +26,9 @@ class _Parser(argparse.ArgumentParser):
     """argparse, but a usage error is one line on stderr (and exit code 2), like every other error."""
 
     def error(self, message: str) -> NoReturn:
+        from ..errors import _cap
+
+        message = " ".join(_cap(message).split())  # a huge or multi-line value stays one short line
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
@@ -59,8 +62,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not getattr(args, "_run", None):
         parser.print_help()
         return 2
+    from ..limits import override
+
     try:
-        return int(args._run(args) or 0)
+        with override(getattr(args, "max_cells", None)):
+            code = int(args._run(args) or 0)
+        sys.stdout.flush()  # a closed pipe (`gridfield plan --json | head -c 100`) shows here, not at exit
+        return code
+    except BrokenPipeError:
+        # The reader went away: stop quietly, as Unix tools do (and keep Python from complaining at exit).
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+        return 141  # 128 + SIGPIPE
     except GridfieldError as e:
         print(f"gridfield {args.command}: error: {e}", file=sys.stderr)
         return 2

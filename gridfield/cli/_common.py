@@ -8,7 +8,20 @@ from typing import Any
 
 from ..errors import ParameterError
 
-__all__ = ["add_map_arguments", "add_param_arguments", "collect_params", "load_gridmap", "load_target", "parse_value"]
+__all__ = [
+    "FIGURE_SUFFIXES",
+    "add_map_arguments",
+    "add_max_cells_argument",
+    "add_param_arguments",
+    "check_figure_file",
+    "collect_params",
+    "load_gridmap",
+    "load_target",
+    "parse_value",
+]
+
+#: File suffixes a figure option (``--plot F``) accepts: matplotlib's static formats.
+FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".svgz", ".jpg", ".jpeg", ".tif", ".tiff", ".webp", ".eps", ".ps")
 
 
 def _flags() -> dict[str, str]:
@@ -26,6 +39,44 @@ def add_map_arguments(p: argparse.ArgumentParser, *, name: str = "MAP") -> None:
                    help="cell size used to rasterize a vector world (default: the world file's 'resolution')")
     p.add_argument("--unknown", choices=("occupied", "free"), default=None,
                    help="how unknown cells of a ROS map are treated (default: occupied)")
+    add_max_cells_argument(p)
+
+
+def _max_cells(text: str) -> int:
+    from ..limits import parse_max_cells
+
+    try:
+        return parse_max_cells(text, "--max-cells")
+    except ParameterError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
+def add_max_cells_argument(p: argparse.ArgumentParser) -> None:
+    """``--max-cells N``: the size guard's limit (see :mod:`gridfield.limits`); the CLI applies it."""
+    p.add_argument("--max-cells", type=_max_cells, default=None, metavar="N",
+                   help="refuse grids of more than N cells (default: what a quarter of this machine's memory "
+                        "holds; also GRIDFIELD_MAX_CELLS)")
+
+
+def check_figure_file(file: str | None, option: str = "--plot") -> None:
+    """Refuse a figure file name whose suffix matplotlib cannot write (before any work is done).
+
+    Examples
+    --------
+    >>> check_figure_file("out.png")
+    >>> check_figure_file("out")
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: --plot out: the file name needs a figure suffix: .png, .pdf, ...
+    """
+    if file is None:
+        return
+    from pathlib import Path
+
+    suffix = Path(file).suffix.lower()
+    if suffix not in FIGURE_SUFFIXES:
+        what = f"suffix {suffix!r} is not a figure format" if suffix else "the file name needs a figure suffix"
+        raise ParameterError(f"{option} {file}: {what}: {', '.join(FIGURE_SUFFIXES)}")
 
 
 def load_target(args: argparse.Namespace) -> Any:

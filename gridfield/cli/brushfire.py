@@ -120,7 +120,9 @@ def run(args: argparse.Namespace) -> int:
     from ..brushfire import brushfire
     from ..grid import Grid, GridMap
     from ..io import write_npz
+    from ._common import check_figure_file
 
+    check_figure_file(args.plot)
     for f in (args.npz, args.plot):
         _check_output(f)
     gridmap = _load(args)

@@ -102,9 +102,15 @@ def _plot(file: str, rows: Sequence[Mapping[str, Any]], title: str) -> None:
              "length_error": "|length ratio - 1|"}
     errors = {names[k]: v for k, v in study_errors(rows).items()}
     h = [r["resolution"] for r in rows]
+    from ..errors import GridfieldError
+
     art = plot_convergence(h, errors, title=title)
-    art.figure.savefig(file, dpi=110, bbox_inches="tight")
-    plt.close(art.figure)
+    try:
+        art.figure.savefig(file, dpi=110, bbox_inches="tight")
+    except OSError as e:
+        raise GridfieldError(f"{file}: cannot write: {e.strerror or e}") from None
+    finally:
+        plt.close(art.figure)
 
 
 def _print_batch(result: Mapping[str, Any]) -> None:
@@ -124,8 +130,10 @@ def run(args: argparse.Namespace) -> int:
     from ..compare import batch_compare, convergence_study, study_orders
     from ..errors import ParameterError
     from ..world import World
+    from ._common import check_figure_file
     from .plan import endpoints
 
+    check_figure_file(args.plot)
     target = load_target(args)
     if not isinstance(target, World):
         raise ParameterError(f"{args.map} is a grid map; compare needs a vector world (a world YAML file)")

@@ -42,7 +42,9 @@ def run(args: argparse.Namespace) -> int:
 
     if args.planner not in EXPLORER_PLANNERS:
         raise ParameterError(f"--planner must be one of {', '.join(EXPLORER_PLANNERS)}, got {args.planner!r}")
+    from ._common import check_figure_file
 
+    check_figure_file(args.save, "--save")
     target = load_target(args)
     if args.save is None and not _interactive_backend():
         import matplotlib

@@ -83,7 +83,10 @@ def run(args: argparse.Namespace) -> int:
     from ..planners import check_params
     from ..potential import build_field, field_distance_map, resolve_params
     from ..rasterize import as_gridmap
+    from ._common import check_figure_file
 
+    for option in ("plot", "surface", "basins"):
+        check_figure_file(getattr(args, option), f"--{option}")
     for f in (args.npz, args.plot, args.surface, args.basins):
         _check_output(f)
     target = load_target(args)

@@ -23,6 +23,9 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                         "for a bitmap, the size of one pixel (default 1)")
     p.add_argument("--unknown", choices=("occupied", "free"), default=None,
                    help="how unknown (ROS) or transparent (bitmap) cells are treated (default: occupied)")
+    from ._common import add_max_cells_argument
+
+    add_max_cells_argument(p)
     return p
 
 

@@ -73,7 +73,9 @@ def endpoints(args: argparse.Namespace, target: object) -> tuple[list[float], li
 
 def run(args: argparse.Namespace) -> int:
     from ..planners import plan
+    from ._common import check_figure_file
 
+    check_figure_file(args.plot)
     target = load_target(args)
     scen = scenario(args, target)
     params = collect_params(args)

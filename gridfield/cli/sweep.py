@@ -18,21 +18,37 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--out", metavar="F", help="rows file (CSV; default: the spec's 'output')")
     p.add_argument("--workers", type=int, default=None, help="local processes (default: all cores)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="run on a Dask distributed scheduler instead")
+    p.add_argument("--batch-size", type=int, default=None, metavar="N",
+                   help="runs per task (default: a few tasks per worker and map, at most 256 runs each)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    from ._common import add_max_cells_argument
+
+    add_max_cells_argument(p)
     return p
 
 
 def run(args: argparse.Namespace) -> int:
     from ..errors import ParameterError
-    from ..sweep import load_spec, run_sweep, summarize
+    from ..sweep import SweepInterrupted, load_spec, run_sweep, summarize
 
     if args.workers is not None and args.workers < 1:
         raise ParameterError(f"--workers must be at least 1, got {args.workers}")
-    runs, output = load_spec(args.spec)
-    if args.out:
-        output = Path(args.out)
-    rows = run_sweep(runs, output, workers=args.workers, scheduler=args.scheduler,
-                     progress=not args.no_progress and sys.stderr.isatty())
+    if args.batch_size is not None and args.batch_size < 1:
+        raise ParameterError(f"--batch-size must be at least 1, got {args.batch_size}")
+    runs, output = load_spec(args.spec, output=args.out)
+    notes: list[str] = []
+    try:
+        rows = run_sweep(runs, output, workers=args.workers, scheduler=args.scheduler, batch_size=args.batch_size,
+                         progress=not args.no_progress and sys.stderr.isatty(), notes=notes)
+    except SweepInterrupted as e:
+        import signal
+
+        print(f"gridfield sweep: stopped by {signal.Signals(e.signum).name}; the rows written to {output} are kept: "
+              "run the same command again to resume", file=sys.stderr)
+        return 128 + e.signum
+    finally:
+        for note in notes:
+            print(f"gridfield sweep: {note}", file=sys.stderr)
     summary = summarize(rows)
     summary_path = output.with_name(output.stem + ".summary.csv")
     with summary_path.open("w", newline="") as f:

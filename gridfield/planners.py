@@ -38,6 +38,7 @@ PLANNERS: dict[str, tuple[str, str, str]] = {
     "fmm": ("gridfield.navigation", "plan_fmm", "grid"),
     "harmonic": ("gridfield.navigation", "plan_harmonic", "grid"),
     "sphere-nav": ("gridfield.navigation", "plan_sphere_nav", "world"),
+    "star-nav": ("gridfield.star", "plan_star_nav", "world"),
 }
 
 #: Every parameter name a planner may read, with its meaning (DESIGN "Names").
@@ -75,7 +76,8 @@ PARAMETERS: dict[str, str] = {
     # navigation functions
     "connectivity": "4 or 8 for the wavefront",
     "clearance_weight": "weight of the clearance cost of the clearance-aware wavefront",
-    "kappa": "sphere-world navigation function exponent",
+    "kappa": "sphere-world (sphere-nav) and star-world (star-nav) navigation function exponent",
+    "lambda": "star-nav: switch parameter of the star-to-sphere transformation (larger: closer to the identity)",
 }
 
 

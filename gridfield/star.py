@@ -474,7 +474,7 @@ def nav_function(sw: StarWorld, q: ArrayLike, *, kappa: float, lam: float) -> tu
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
     >>> phi, grad = nav_function(star_world(w, (8, 2)), [[8, 2], [8.5, 2], [4, 4]], kappa=3, lam=10)
     >>> phi.round(4).tolist()  # 0 at the goal, 1 inside the obstacle
-    [0.0, 0.1096, 1.0]
+    [0.0, 0.0564, 1.0]
     """
     from .navigation import _rk_phi_grad
 

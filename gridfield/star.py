@@ -49,6 +49,7 @@ figures (:func:`gridfield.plot.plot_star_world`).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 import warnings
@@ -96,6 +97,9 @@ STAR_PARAMETERS: dict[str, dict[str, Any]] = {
 KAPPA_LADDER = (3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0, 48.0, 64.0)
 
 
+SCALE_BETAS = True
+
+
 class StarNavWarning(UserWarning):
     """``kappa`` too small (spurious local minima detected) or ``lambda`` too small (``h_lambda`` folds)."""
 
@@ -139,6 +143,9 @@ class StarObstacle:
         Increasing angles of the vertices about the centre, the last one the first plus ``2 pi``.
     radius : float
         The disc's radius (NaN for polygons).
+    scale : float
+        ``beta_i = (g_i**2 - 1) / scale``: an upper bound of ``g_i**2 - 1`` over the workspace, so that
+        ``0 <= beta_i <= 1`` on the free space.
     """
 
     id: int
@@ -150,6 +157,7 @@ class StarObstacle:
     offsets: NDArray[np.float64] | None = None
     angles: NDArray[np.float64] | None = None
     radius: float = math.nan
+    scale: float = 1.0
 
     def gauge(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """``g(q)`` (``< 1`` inside, 1 on the boundary) and its gradient ``(N, 2)`` at points ``(N, 2)``."""
@@ -346,7 +354,8 @@ def star_world(world: Any, goal: ArrayLike, *, workspace_center: ArrayLike | Non
                 f"obstacle {ob.id} ({ob.kind}) is not strictly inside the workspace disc (centre ({c0[0]:g}, "
                 f"{c0[1]:g}), radius {r0:g}, the disc inscribed in the bounds); star-nav needs that"
             )
-        obstacles.append((ob, so))
+        reach = (math.hypot(*(so.center - c0)) + r0) / so.model_radius  # g_i <= reach on the workspace
+        obstacles.append((ob, dataclasses.replace(so, scale=max(1.0, reach * reach - 1.0) if SCALE_BETAS else 1.0)))
     for i, (a, _) in enumerate(obstacles):
         for b, _ in obstacles[i + 1:]:
             if _touch(a, b, shapely):
@@ -400,8 +409,8 @@ def star_betas(sw: StarWorld, q: ArrayLike) -> tuple[NDArray[np.float64], NDArra
     grads = [-2.0 * d0 / r0**2]
     for ob in sw.obstacles:
         g, dg = ob.gauge(p)
-        betas.append(g * g - 1.0)
-        grads.append(2.0 * g[:, None] * dg)
+        betas.append((g * g - 1.0) / ob.scale)
+        grads.append((2.0 / ob.scale) * g[:, None] * dg)
     return np.array(betas), np.array(grads)
 
 
@@ -442,12 +451,13 @@ def star_to_sphere(sw: StarWorld, q: ArrayLike, lam: float) -> tuple[NDArray[np.
             d = p - ob.center
             dist = np.hypot(d[:, 0], d[:, 1])
             u = d / dist[:, None]
-            g, gg = ob.gauge(p)
-            t = ob.center + (ob.model_radius * g)[:, None] * u
-            # J_T = r (u grad_g^T + g (I - u u^T) / dist)
+            nu = np.sqrt(1.0 + bi)  # T_i = p_i + r_i sqrt(1 + beta_i) u
+            gnu = gbi / (2.0 * nu[:, None])
+            t = ob.center + (ob.model_radius * nu)[:, None] * u
+            # J_T = r (u grad_nu^T + nu (I - u u^T) / dist)
             uu = u[:, :, None] * u[:, None, :]
-            jt = ob.model_radius * (u[:, :, None] * gg[:, None, :]
-                                    + (g / dist)[:, None, None] * (np.eye(2)[None] - uu))
+            jt = ob.model_radius * (u[:, :, None] * gnu[:, None, :]
+                                    + (nu / dist)[:, None, None] * (np.eye(2)[None] - uu))
             h = h + s[:, None] * (t - p)
             jac = jac + (t - p)[:, :, None] * gs[:, None, :] + s[:, None, None] * (jt - np.eye(2)[None])
             s_all[i] = s
@@ -514,8 +524,9 @@ def spurious_minima(sw: StarWorld, *, kappa: float, lam: float, n: int = 161) ->
     xs, ys, dx = _sample_lattice(sw, int(n))
     x, y = np.meshgrid(xs, ys)
     q = np.column_stack([x.ravel(), y.ravel()])
-    phi, _ = nav_function(sw, q, kappa=kappa, lam=lam)
-    phi = phi.reshape(x.shape)
+    # phi saturates at 1 far from the goal for a large kappa; compare kappa log gamma - log beta at h(q),
+    # an increasing function of phi (phi**kappa = 1 / (1 + beta / gamma**kappa)) that does not saturate
+    phi = _log_objective(sw, q, kappa, lam).reshape(x.shape)
     ok = (sw.clearance(q) > 2 * dx).reshape(x.shape) & sw.free(q).reshape(x.shape)
     pad = np.pad(phi, 1, constant_values=np.inf)
     okp = np.pad(ok, 1, constant_values=False)
@@ -529,6 +540,15 @@ def spurious_minima(sw: StarWorld, *, kappa: float, lam: float, n: int = 161) ->
             is_min &= okp[1 + dr:1 + dr + rows, 1 + dc:1 + dc + cols] & (phi < nb)
     is_min &= np.hypot(x - sw.goal[0], y - sw.goal[1]) > 2 * dx
     return np.column_stack([x[is_min], y[is_min]])
+
+
+def _log_objective(sw: StarWorld, q: NDArray[np.float64], kappa: float, lam: float) -> NDArray[np.float64]:
+    """``kappa log gamma(h) - log beta(h)`` (``inf`` outside the free space): increasing with ``phi``."""
+    h, _, _, free = star_to_sphere(sw, q, lam)
+    gamma, log_beta, _, _, valid = _model_terms(sw, np.where(free[:, None], h, sw.goal + 0.5 * sw.workspace_radius))
+    with np.errstate(divide="ignore"):
+        f = kappa * np.log(gamma) - log_beta
+    return np.where(free & valid, f, np.inf)
 
 
 def folds(sw: StarWorld, *, lam: float, n: int = 121) -> NDArray[np.float64]:
@@ -622,7 +642,7 @@ def follow_star_nav(sw: StarWorld, starts: ArrayLike, *, kappa: float, lam: floa
                                  2 * (h[:, 1] - goal[1]) / gamma - sy / kappa])
             direction = np.einsum("nab,na->nb", jac, b)
             nrm = np.hypot(direction[:, 0], direction[:, 1])
-            log_phi = np.log(gamma) - np.logaddexp(kappa * np.log(gamma), log_beta) / kappa
+            log_phi = kappa * np.log(gamma) - log_beta  # increasing with phi, never saturates
         stuck = ~(np.isfinite(nrm) & (nrm > 0)) | ~free
         if stuck.any():
             status[idx[stuck]] = np.where(free[stuck], "local_minimum", "collision")

@@ -90,14 +90,11 @@ STAR_PARAMETERS: dict[str, dict[str, Any]] = {
                          "spurious minimum detected (seed 002: 3)"},
     "lambda": {"default": 10.0, "range": (1e-6, 1e12),
                "meaning": "star-to-sphere switch parameter: larger keeps h_lambda closer to the identity "
-                          "away from the obstacles (seed 002: 1)"},
+                          "away from the obstacles (too small folds h_lambda; seed 002: 1, in its own scaling)"},
 }
 
 #: kappa values tried, in order, when ``kappa`` is not given (starting at seed 002's 3).
 KAPPA_LADDER = (3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0, 48.0, 64.0)
-
-
-SCALE_BETAS = True
 
 
 class StarNavWarning(UserWarning):
@@ -211,6 +208,29 @@ class StarWorld:
         for ob in self.obstacles:
             d = np.minimum(d, ob.boundary_distance(p))
         return d
+
+    def segment_hits(self, a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Whether the segments ``a[n] -> b[n]`` (``a`` free) touch an obstacle or leave the workspace (exact)."""
+        hit = ~self.free(b)
+        for ob in self.obstacles:
+            if ob.kind == "circle":
+                v = b - a
+                vv = np.einsum("ij,ij->i", v, v)
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    t = np.clip(np.where(vv > 0, np.einsum("ij,ij->i", ob.center - a, v) / vv, 0.0), 0.0, 1.0)
+                hit |= np.hypot(*(a + t[:, None] * v - ob.center).T) <= ob.radius
+                continue
+            assert ob.vertices is not None
+            p0, p1 = ob.vertices, np.roll(ob.vertices, -1, axis=0)
+
+            def orient(o: Any, x: Any, y: Any) -> Any:
+                return (x[..., 0] - o[..., 0]) * (y[..., 1] - o[..., 1]) - (x[..., 1] - o[..., 1]) * (y[..., 0] - o[..., 0])
+
+            A, B = a[:, None, :], b[:, None, :]
+            d1, d2 = orient(A, B, p0[None]), orient(A, B, p1[None])
+            d3, d4 = orient(p0[None], p1[None], A), orient(p0[None], p1[None], B)
+            hit |= np.any((d1 * d2 <= 0) & (d3 * d4 <= 0), axis=1)
+        return hit
 
     def free(self, q: ArrayLike) -> NDArray[np.bool_]:
         """Whether points ``(N, 2)`` lie strictly inside the workspace disc and outside every obstacle."""
@@ -354,8 +374,7 @@ def star_world(world: Any, goal: ArrayLike, *, workspace_center: ArrayLike | Non
                 f"obstacle {ob.id} ({ob.kind}) is not strictly inside the workspace disc (centre ({c0[0]:g}, "
                 f"{c0[1]:g}), radius {r0:g}, the disc inscribed in the bounds); star-nav needs that"
             )
-        reach = (math.hypot(*(so.center - c0)) + r0) / so.model_radius  # g_i <= reach on the workspace
-        obstacles.append((ob, dataclasses.replace(so, scale=max(1.0, reach * reach - 1.0) if SCALE_BETAS else 1.0)))
+        obstacles.append((ob, so))
     for i, (a, _) in enumerate(obstacles):
         for b, _ in obstacles[i + 1:]:
             if _touch(a, b, shapely):
@@ -365,7 +384,13 @@ def star_world(world: Any, goal: ArrayLike, *, workspace_center: ArrayLike | Non
     if g.shape != (2,) or not np.all(np.isfinite(g)):
         raise ParameterError(f"goal must be two finite numbers (x, y), got {goal!r}")
     _check_free(sw, "goal", g)
-    return StarWorld(sw.obstacles, c0, r0, g)
+    scaled = []
+    for so in sw.obstacles:
+        # g_i <= reach on the workspace, so beta_i = (g_i**2 - 1) / scale lies in [0, 1] on the free space:
+        # the products in the switches stay O(1) whatever the number of obstacles
+        reach = (math.hypot(*(so.center - c0)) + r0) / so.model_radius
+        scaled.append(dataclasses.replace(so, scale=max(1.0, reach * reach - 1.0)))
+    return StarWorld(tuple(scaled), c0, r0, g)
 
 
 def _touch(a: Any, b: Any, shapely: Any) -> bool:
@@ -399,8 +424,8 @@ def star_betas(sw: StarWorld, q: ArrayLike) -> tuple[NDArray[np.float64], NDArra
     >>> from gridfield.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
     >>> b, _ = star_betas(star_world(w, (8, 2)), [[4, 4], [5, 4], [6, 4]])
-    >>> b.round(3).tolist()  # workspace; the square: -1 at its centre, 0 on its edge, 3 outside
-    [[0.92, 0.96, 0.92], [-1.0, 0.0, 3.0]]
+    >>> b.round(3).tolist()  # workspace; the square: (g**2 - 1) / 40, 0 on its edge
+    [[0.92, 0.96, 0.92], [-0.025, 0.0, 0.075]]
     """
     p = np.atleast_2d(np.asarray(q, dtype=float))
     c0, r0 = sw.workspace_center, sw.workspace_radius
@@ -424,7 +449,7 @@ def star_to_sphere(sw: StarWorld, q: ArrayLike, lam: float) -> tuple[NDArray[np.
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
     >>> h, jac, s, free = star_to_sphere(star_world(w, (8, 2)), [[5, 5.5], [8, 2]], 10.0)
     >>> h.round(4).tolist()  # a point next to the square's corner, and the goal (fixed)
-    [[4.9894, 5.4841], [8.0, 2.0]]
+    [[4.6812, 5.0218], [8.0, 2.0]]
     """
     p = np.atleast_2d(np.asarray(q, dtype=float))
     n = len(p)
@@ -484,7 +509,7 @@ def nav_function(sw: StarWorld, q: ArrayLike, *, kappa: float, lam: float) -> tu
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
     >>> phi, grad = nav_function(star_world(w, (8, 2)), [[8, 2], [8.5, 2], [4, 4]], kappa=3, lam=10)
     >>> phi.round(4).tolist()  # 0 at the goal, 1 inside the obstacle
-    [0.0, 0.0564, 1.0]
+    [0.0, 0.0561, 1.0]
     """
     from .navigation import _rk_phi_grad
 
@@ -618,6 +643,8 @@ def follow_star_nav(sw: StarWorld, starts: ArrayLike, *, kappa: float, lam: floa
     ends = np.full(n, max_iterations, dtype=int)
     active = np.ones(n, bool)
     best = np.full(n, np.inf)
+    prev = np.full(n, np.inf)
+    hcur = np.full(n, float(step))  # per start: shrinks where phi did not decrease (chattering), regrows
     since = np.zeros(n, int)
     for it in range(1, max_iterations + 1):
         idx = np.flatnonzero(active)
@@ -649,6 +676,9 @@ def follow_star_nav(sw: StarWorld, starts: ArrayLike, *, kappa: float, lam: floa
             ends[idx[stuck]] = it - 1
             active[idx[stuck]] = False
         go = ~stuck
+        down = log_phi < prev[idx]
+        hcur[idx] = np.where(down, np.minimum(step, 1.5 * hcur[idx]), np.maximum(0.5 * hcur[idx], 1e-4 * step))
+        prev[idx] = log_phi
         better = log_phi < best[idx] - 1e-12
         best[idx[go & better]] = log_phi[go & better]
         since[idx[go & better]] = 0
@@ -662,9 +692,13 @@ def follow_star_nav(sw: StarWorld, starts: ArrayLike, *, kappa: float, lam: floa
         gi = idx[go]
         if gi.size:
             qg = q[go]
-            clear = sw.clearance(qg)
-            hstep = np.minimum(np.minimum(step, np.maximum(0.5 * clear, 1e-3 * step)), dgoal[go])
-            new = qg - hstep[:, None] * direction[go] / nrm[go][:, None]
+            unit = direction[go] / nrm[go][:, None]
+            hstep = np.minimum(hcur[gi], dgoal[go])
+            new = qg - hstep[:, None] * unit
+            hit = sw.segment_hits(qg, new)
+            if hit.any():  # near an obstacle: at most half the clearance, so the segment stays free
+                short = np.minimum(hstep[hit], np.maximum(0.5 * sw.clearance(qg[hit]), 1e-3 * step))
+                new[hit] = qg[hit] - short[:, None] * unit[hit]
             p[gi] = new
             out = ~sw.free(new)
             if out.any():
@@ -703,7 +737,7 @@ def plan_star_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float
     >>> w = read_world(bundled_map("star_two.yaml"))
     >>> p = plan_star_nav(w, np.array(w.start), np.array(w.goal), dict(w.params))
     >>> p.status, p.extra["kappa"], p.extra["lambda"]
-    ('reached', 3.0, 1.0)
+    ('reached', 3.0, 10.0)
     """
     t0 = time.perf_counter()
     kappa = _param(params, "kappa")

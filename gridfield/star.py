@@ -823,19 +823,21 @@ def star_figure_data(sw: StarWorld, *, kappa: float, lam: float, x: NDArray[np.f
                      phi: NDArray[np.float64] | None = None, lines: int = 21) -> dict[str, Any]:
     """The arrays of seed 002's star-world figures on the lattice ``x, y`` (meshgrid arrays):
 
-    ``humps``: ``max_i(-beta_i, 0)``, each obstacle's hump (1 at its centre, 0 on its boundary);
+    ``humps``: ``max_i(1 - g_i**2, 0)`` (``-beta_i`` before its scaling), each obstacle's hump (1 at its
+    centre, 0 on its boundary);
     ``attractive``: ``gamma**kappa`` (``gamma = |q - q_goal|**2 / r_0**2``); ``phi``: ``phi(h_lambda)``
     (``inf`` outside the free space); ``mapped_lines``: polylines of ``lines`` lattice lines of the free
     space mapped by ``h_lambda`` (NaN breaks them where they cross obstacles); ``model_discs``, the
     workspace, the goal, the obstacles' vertices (polygons) or discs.
     """
     q = np.column_stack([x.ravel(), y.ravel()])
-    betas, _ = star_betas(sw, q)
-    humps = np.clip(-betas[1:], 0.0, None).max(axis=0, initial=0.0).reshape(x.shape)
+    humps = np.zeros(len(q))
+    for ob in sw.obstacles:
+        humps = np.maximum(humps, 1.0 - ob.gauge(q)[0] ** 2)  # -beta_i before its scaling: 1 at the centre
+    humps = humps.reshape(x.shape)
     r0 = sw.workspace_radius
     gamma = ((x - sw.goal[0]) ** 2 + (y - sw.goal[1]) ** 2) / r0**2
-    inside_ws = np.hypot(x - sw.workspace_center[0], y - sw.workspace_center[1]) < r0
-    attractive = np.where(inside_ws, gamma**kappa, np.nan)
+    attractive = gamma**kappa
     if phi is None:
         phi_v, _ = nav_function(sw, q, kappa=kappa, lam=lam)
         phi = np.where(sw.free(q), phi_v, np.inf).reshape(x.shape)

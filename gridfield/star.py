@@ -23,7 +23,13 @@ The construction (all of it vectorized over query points ``q``, shape ``(N, 2)``
   the boundary, negative inside and positive outside; it is smooth (a quadratic) inside each cone
   and continuous (Lipschitz) across the rays through the vertices, where its gradient jumps: a
   polygon's own corners allow no smooth ``beta_i`` with a non-vanishing gradient, and the analytic
-  gradients below are the one-sided ones (discs are smooth everywhere);
+  gradients below are the one-sided ones (discs are smooth everywhere). It is *not* a smooth
+  (C^1) function of the plane for polygons;
+- in the switches each ``beta_i`` is divided by ``scale_i``, a bound of ``g_i**2 - 1`` over the
+  workspace (:attr:`StarObstacle.scale`), so that it lies in ``[0, 1]`` on the free space and the
+  products ``bar_beta_i`` stay O(1) however many obstacles there are (a positive multiple: same zero
+  set and signs); ``T_i`` uses the unscaled ``beta_i``, so that ``T_i`` is the radial gauge map and the
+  identity for a disc;
 - model disc of obstacle ``i``: centre ``p_i = q_i`` and radius ``r_i`` = the distance from ``q_i`` to
   the obstacle's boundary (so model discs lie inside their obstacles: disjoint, inside the
   workspace, away from the goal; for a disc ``r_i`` is its radius and ``T_i`` is the identity);
@@ -90,7 +96,7 @@ STAR_PARAMETERS: dict[str, dict[str, Any]] = {
                          "spurious minimum detected (seed 002: 3)"},
     "lambda": {"default": 10.0, "range": (1e-6, 1e12),
                "meaning": "star-to-sphere switch parameter: larger keeps h_lambda closer to the identity "
-                          "away from the obstacles (too small folds h_lambda; seed 002: 1, in its own scaling)"},
+                          "away from the obstacles (too small folds h_lambda; seed 002: 1)"},
 }
 
 #: kappa values tried, in order, when ``kappa`` is not given (starting at seed 002's 3).
@@ -141,8 +147,8 @@ class StarObstacle:
     radius : float
         The disc's radius (NaN for polygons).
     scale : float
-        ``beta_i = (g_i**2 - 1) / scale``: an upper bound of ``g_i**2 - 1`` over the workspace, so that
-        ``0 <= beta_i <= 1`` on the free space.
+        The switches use ``beta_i = (g_i**2 - 1) / scale``, ``scale`` an upper bound of ``g_i**2 - 1`` over
+        the workspace, so that ``0 <= beta_i <= 1`` on the free space.
     """
 
     id: int
@@ -416,8 +422,8 @@ def _check_free(sw: StarWorld, name: str, p: NDArray[np.float64]) -> None:
 # beta, the switches, h_lambda
 # ----------------------------------------------------------------------------------------------
 def star_betas(sw: StarWorld, q: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """``beta_j(q)`` for the workspace (``j = 0``) and each obstacle, shape ``(M + 1, N)``, and their
-    gradients, shape ``(M + 1, N, 2)``.
+    """``beta_j(q)`` for the workspace (``j = 0``) and each obstacle (scaled, as the switches use them),
+    shape ``(M + 1, N)``, and their gradients, shape ``(M + 1, N, 2)``.
 
     Examples
     --------
@@ -449,7 +455,7 @@ def star_to_sphere(sw: StarWorld, q: ArrayLike, lam: float) -> tuple[NDArray[np.
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
     >>> h, jac, s, free = star_to_sphere(star_world(w, (8, 2)), [[5, 5.5], [8, 2]], 10.0)
     >>> h.round(4).tolist()  # a point next to the square's corner, and the goal (fixed)
-    [[4.6812, 5.0218], [8.0, 2.0]]
+    [[4.8774, 5.3161], [8.0, 2.0]]
     """
     p = np.atleast_2d(np.asarray(q, dtype=float))
     n = len(p)
@@ -476,8 +482,8 @@ def star_to_sphere(sw: StarWorld, q: ArrayLike, lam: float) -> tuple[NDArray[np.
             d = p - ob.center
             dist = np.hypot(d[:, 0], d[:, 1])
             u = d / dist[:, None]
-            nu = np.sqrt(1.0 + bi)  # T_i = p_i + r_i sqrt(1 + beta_i) u
-            gnu = gbi / (2.0 * nu[:, None])
+            # T_i = p_i + r_i sqrt(1 + beta_i) u with the unscaled beta_i = g_i**2 - 1: sqrt(1 + beta_i) = g_i
+            nu, gnu = ob.gauge(p)
             t = ob.center + (ob.model_radius * nu)[:, None] * u
             # J_T = r (u grad_nu^T + nu (I - u u^T) / dist)
             uu = u[:, :, None] * u[:, None, :]
@@ -509,7 +515,7 @@ def nav_function(sw: StarWorld, q: ArrayLike, *, kappa: float, lam: float) -> tu
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
     >>> phi, grad = nav_function(star_world(w, (8, 2)), [[8, 2], [8.5, 2], [4, 4]], kappa=3, lam=10)
     >>> phi.round(4).tolist()  # 0 at the goal, 1 inside the obstacle
-    [0.0, 0.0561, 1.0]
+    [0.0, 0.0563, 1.0]
     """
     from .navigation import _rk_phi_grad
 
@@ -737,7 +743,7 @@ def plan_star_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float
     >>> w = read_world(bundled_map("star_two.yaml"))
     >>> p = plan_star_nav(w, np.array(w.start), np.array(w.goal), dict(w.params))
     >>> p.status, p.extra["kappa"], p.extra["lambda"]
-    ('reached', 3.0, 10.0)
+    ('reached', 3.0, 1.0)
     """
     t0 = time.perf_counter()
     kappa = _param(params, "kappa")

@@ -186,9 +186,12 @@ def test_jacobian_matches_finite_differences_and_has_a_positive_determinant(m) -
 def test_small_lambda_folds_and_is_warned_about() -> None:
     w = read_world(bundled_map("star_two.yaml"))
     sw = star.star_world(w, w.goal)
-    assert len(star.folds(sw, lam=0.1)) > 0 and len(star.folds(sw, lam=10.0)) == 0
-    with pytest.warns(star.StarNavWarning, match=r"lambda=0.1 is too small: h_lambda folds"):
-        plan("star-nav", w, w.start, w.goal, {"lambda": 0.1, "kappa": 3, "max_iterations": 5})
+    assert len(star.folds(sw, lam=0.3)) > 0 and len(star.folds(sw, lam=1.0)) == 0
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        plan("star-nav", w, w.start, w.goal, {"lambda": 0.3, "kappa": 3, "max_iterations": 5})
+    messages = [str(c.message) for c in caught if issubclass(c.category, star.StarNavWarning)]
+    assert any(m.startswith("lambda=0.3 is too small: h_lambda folds (Jacobian determinant <= 0)") for m in messages)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -255,8 +258,8 @@ def test_no_local_minimum_but_the_goal_for_a_large_enough_kappa(seed, m) -> None
 def test_small_kappa_leaves_a_spurious_minimum_detected_and_warned() -> None:
     w = read_world(bundled_map("star_two.yaml"))
     sw = star.star_world(w, w.goal)
-    assert len(star.spurious_minima(sw, kappa=1, lam=10)) > 0
-    assert len(star.spurious_minima(sw, kappa=3, lam=10)) == 0
+    assert len(star.spurious_minima(sw, kappa=1, lam=1)) > 0
+    assert len(star.spurious_minima(sw, kappa=3, lam=1)) == 0
     with pytest.warns(star.StarNavWarning, match=r"kappa=1 is too small: phi\(h_lambda\) has \d+ local minim"):
         plan("star-nav", w, w.start, w.goal, {"kappa": 1, "max_iterations": 10})
     with warnings.catch_warnings():
@@ -358,7 +361,7 @@ def test_cli_plan_json_reaches_the_goal(capsys) -> None:
     assert code == 0, err
     d = json.loads(out)
     assert d["status"] == "reached" and d["planner"] == "star-nav"
-    assert d["params"]["kappa"] == 3 and d["params"]["lambda"] == 10
+    assert d["params"]["kappa"] == 3 and d["params"]["lambda"] == 1  # seed 002's
 
 
 def test_cli_field_surface_writes_the_seed_figures(capsys, tmp_path) -> None:

@@ -275,3 +275,64 @@ def test_distance_matches_shapely(pts: list, wall: bool) -> None:
 def test_distance_is_zero_inside_and_on_obstacles() -> None:
     w = world_from_dict(MIXED)
     np.testing.assert_array_equal(w.distance([[1.5, 3], [1, 1], [8, 6], [9.25, 6], [7.5, 1.5], [10, 8]]), 0.0)
+
+
+# ----------------------------------------------------------------------------------------
+# vertex order (seed 001's VerticesSorter)
+# ----------------------------------------------------------------------------------------
+@given(st.lists(st.tuples(st.integers(-50, 50), st.integers(-50, 50)), min_size=3, max_size=12, unique=True),
+       st.randoms(use_true_random=False))
+def test_vertex_order_sort_recovers_a_convex_polygon_from_shuffled_vertices(pts, rnd) -> None:
+    hull = shapely.MultiPoint(pts).convex_hull
+    if not isinstance(hull, Polygon) or hull.area == 0:
+        return
+    v = [list(c) for c in hull.exterior.coords[:-1]]
+    rnd.shuffle(v)
+    w = world(bounds=[-60, -60, 60, 60], vertex_order="sort", obstacles=[{"polygon": v}])
+    assert w.obstacles[0].geometry.equals(hull)  # the same polygon, whatever order the file listed
+
+
+def test_vertex_order_per_file_and_per_polygon() -> None:
+    shuffled = [[1, 1], [2, 2], [2, 1], [1, 2]]  # a square listed as a bow-tie
+    with pytest.raises(MapFormatError, match=r"obstacles\[1\]\.polygon \(obstacle 2\) is not a simple polygon as "
+                                             r"given .*set vertex_order: sort"):
+        world(obstacles=[{"polygon": [[5, 5], [6, 5], [6, 6]]}, {"polygon": shuffled}])
+    square = shapely.box(1, 1, 2, 2)
+    assert world(vertex_order="sort", obstacles=[{"polygon": shuffled}]).obstacles[0].geometry.equals(square)
+    assert world(obstacles=[{"polygon": {"vertices": shuffled, "vertex_order": "sort"}}]).obstacles[0].geometry.equals(
+        square)
+    with pytest.raises(MapFormatError, match=r"not a simple polygon as given"):
+        world(vertex_order="sort", obstacles=[{"polygon": {"vertices": shuffled, "vertex_order": "as_given"}}])
+    # a non-convex polygon listed in order is kept as given
+    comb = [[0, 0], [5, 0], [5, 3], [4, 3], [4, 1], [3, 1], [3, 3], [2, 3], [2, 1], [1, 1], [1, 3], [0, 3]]
+    assert world(obstacles=[{"polygon": comb}]).obstacles[0].geometry.is_valid
+    # the seed 000 B matrix sorts too
+    b = [[1, 2, 2, 1], [1, 2, 1, 2], [1, 1, 1, 1]]
+    assert world(vertex_order="sort", b_matrix=b).obstacles[0].geometry.equals(square)
+    with pytest.raises(MapFormatError, match=r"vertex_order: expected one of \['as_given', 'sort'\], got 'sorted'"):
+        world(vertex_order="sorted", obstacles=[{"polygon": shuffled}])
+    with pytest.raises(MapFormatError, match=r"obstacles\[0\]\.polygon\.vertex_order: expected one of"):
+        world(obstacles=[{"polygon": {"vertices": shuffled, "vertex_order": 1}}])
+    with pytest.raises(MapFormatError, match=r"obstacles\[0\]\.polygon must be a list of points or a mapping"):
+        world(obstacles=[{"polygon": {"points": shuffled}}])
+    c = world(obstacles=[{"polygon": {"vertices": [[1, 1], [3, 1], [3, 3]], "center": [2.5, 1.5]}}]).obstacles[0]
+    assert c.star_center == (2.5, 1.5)
+
+
+def test_seed001_world_lists_vertices_out_of_order_and_reaches_the_goal() -> None:
+    import yaml
+
+    path = bundled_map("seed001.yaml")
+    data = yaml.safe_load(path.read_text())
+    assert data["vertex_order"] == "sort"
+    with pytest.raises(MapFormatError, match=r"set vertex_order: sort"):
+        world_from_dict({**data, "vertex_order": "as_given"})
+    w = read_world(path)
+    for ob, listed in zip(w.obstacles, data["obstacles"], strict=True):
+        assert ob.geometry.is_valid and ob.geometry.equals(shapely.MultiPoint(listed["polygon"]).convex_hull)
+    assert {k: w.params[k] for k in ("zeta", "d_star", "eta", "q_star")} == {"zeta": 0.8, "d_star": 2.0, "eta": 0.8,
+                                                                              "q_star": 2.0}  # seed 001's
+    from gridfield.planners import plan
+
+    p = plan("potential", w, w.start, w.goal)
+    assert p.reached and w.clearance(p.points) > 0

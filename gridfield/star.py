@@ -215,9 +215,11 @@ class StarWorld:
             d = np.minimum(d, ob.boundary_distance(p))
         return d
 
-    def segment_hits(self, a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
-        """Whether the segments ``a[n] -> b[n]`` (``a`` free) touch an obstacle or leave the workspace (exact)."""
-        hit = ~self.free(b)
+    def segment_hits(self, a: NDArray[np.float64], b: NDArray[np.float64],
+                     b_free: NDArray[np.bool_] | None = None) -> NDArray[np.bool_]:
+        """Whether the segments ``a[n] -> b[n]`` (``a`` free) touch an obstacle or leave the workspace (exact);
+        ``b_free``: :meth:`free` of ``b`` when known."""
+        hit = ~(self.free(b) if b_free is None else b_free)
         for ob in self.obstacles:
             if ob.kind == "circle":
                 v = b - a
@@ -434,15 +436,22 @@ def star_betas(sw: StarWorld, q: ArrayLike) -> tuple[NDArray[np.float64], NDArra
     [[0.92, 0.96, 0.92], [-0.025, 0.0, 0.075]]
     """
     p = np.atleast_2d(np.asarray(q, dtype=float))
+    return _betas_from(sw, p, [ob.gauge(p) for ob in sw.obstacles])
+
+
+def _betas_from(sw: StarWorld, p: NDArray[np.float64], gauges: list[tuple[NDArray[np.float64], NDArray[np.float64]]]
+                ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     c0, r0 = sw.workspace_center, sw.workspace_radius
     d0 = p - c0
     betas = [1.0 - np.einsum("ij,ij->i", d0, d0) / r0**2]
     grads = [-2.0 * d0 / r0**2]
-    for ob in sw.obstacles:
-        g, dg = ob.gauge(p)
+    for ob, (g, dg) in zip(sw.obstacles, gauges, strict=True):
         betas.append((g * g - 1.0) / ob.scale)
         grads.append((2.0 / ob.scale) * g[:, None] * dg)
     return np.array(betas), np.array(grads)
+
+
+_EYE = np.eye(2)
 
 
 def star_to_sphere(sw: StarWorld, q: ArrayLike, lam: float) -> tuple[NDArray[np.float64], ...]:
@@ -459,14 +468,15 @@ def star_to_sphere(sw: StarWorld, q: ArrayLike, lam: float) -> tuple[NDArray[np.
     """
     p = np.atleast_2d(np.asarray(q, dtype=float))
     n = len(p)
-    betas, gbetas = star_betas(sw, p)
+    gauges = [ob.gauge(p) for ob in sw.obstacles]
+    betas, gbetas = _betas_from(sw, p, gauges)
     free = np.all(betas > 0, axis=0)
     r0 = sw.workspace_radius
     dg = p - sw.goal
     gamma = np.einsum("ij,ij->i", dg, dg) / r0**2
     ggamma = 2.0 * dg / r0**2
     h = p.copy()
-    jac = np.broadcast_to(np.eye(2), (n, 2, 2)).copy()
+    jac = np.broadcast_to(_EYE, (n, 2, 2)).copy()
     m = len(sw.obstacles)
     s_all = np.zeros((m, n))
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
@@ -483,14 +493,14 @@ def star_to_sphere(sw: StarWorld, q: ArrayLike, lam: float) -> tuple[NDArray[np.
             dist = np.hypot(d[:, 0], d[:, 1])
             u = d / dist[:, None]
             # T_i = p_i + r_i sqrt(1 + beta_i) u with the unscaled beta_i = g_i**2 - 1: sqrt(1 + beta_i) = g_i
-            nu, gnu = ob.gauge(p)
+            nu, gnu = gauges[i]
             t = ob.center + (ob.model_radius * nu)[:, None] * u
             # J_T = r (u grad_nu^T + nu (I - u u^T) / dist)
             uu = u[:, :, None] * u[:, None, :]
             jt = ob.model_radius * (u[:, :, None] * gnu[:, None, :]
-                                    + (nu / dist)[:, None, None] * (np.eye(2)[None] - uu))
+                                    + (nu / dist)[:, None, None] * (_EYE[None] - uu))
             h = h + s[:, None] * (t - p)
-            jac = jac + (t - p)[:, :, None] * gs[:, None, :] + s[:, None, None] * (jt - np.eye(2)[None])
+            jac = jac + (t - p)[:, :, None] * gs[:, None, :] + s[:, None, None] * (jt - _EYE[None])
             s_all[i] = s
     h[~free] = np.nan
     jac[~free] = np.nan
@@ -701,12 +711,14 @@ def follow_star_nav(sw: StarWorld, starts: ArrayLike, *, kappa: float, lam: floa
             unit = direction[go] / nrm[go][:, None]
             hstep = np.minimum(hcur[gi], dgoal[go])
             new = qg - hstep[:, None] * unit
-            hit = sw.segment_hits(qg, new)
+            new_free = sw.free(new)
+            hit = sw.segment_hits(qg, new, new_free)
             if hit.any():  # near an obstacle: at most half the clearance, so the segment stays free
                 short = np.minimum(hstep[hit], np.maximum(0.5 * sw.clearance(qg[hit]), 1e-3 * step))
                 new[hit] = qg[hit] - short[:, None] * unit[hit]
+                new_free[hit] = sw.free(new[hit])
             p[gi] = new
-            out = ~sw.free(new)
+            out = ~new_free
             if out.any():
                 status[gi[out]] = "collision"
                 ends[gi[out]] = it

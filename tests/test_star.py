@@ -100,7 +100,7 @@ def test_beta_gradient_matches_finite_differences_away_from_vertex_rays() -> Non
     sw = star.star_world(w, random_free_points(rng, shapes, 1, 0.5)[0])
     q = random_free_points(rng, shapes, 200, 0.2)
     eps = 1e-6
-    b, g = star.star_betas(sw, q)
+    _, g = star.star_betas(sw, q)
     num = np.stack([(star.star_betas(sw, q + eps * e)[0] - star.star_betas(sw, q - eps * e)[0]) / (2 * eps)
                     for e in np.eye(2)], axis=-1)
     ok = np.all(np.abs(num - g) <= 1e-5 * (1 + np.abs(g)), axis=(0, 2))
@@ -172,7 +172,7 @@ def test_jacobian_matches_finite_differences_and_has_a_positive_determinant(m) -
     w, shapes, rng = random_star_world(20 + m, m)
     sw = star.star_world(w, random_free_points(rng, shapes, 1, 0.5)[0])
     q = random_free_points(rng, shapes, 2000, 0.02)
-    h, jac, _, free = star.star_to_sphere(sw, q, 10.0)
+    _, jac, _, free = star.star_to_sphere(sw, q, 10.0)
     assert free.all()
     det = jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0]
     assert det.min() > 0
@@ -373,5 +373,5 @@ def test_cli_field_surface_writes_the_seed_figures(capsys, tmp_path) -> None:
 
 
 def test_cli_star_nav_error_is_one_line(capsys) -> None:
-    code, out, err = run_cli(capsys, "plan", str(bundled_map("seed000.yaml")), "--planner", "star-nav")
+    code, _, err = run_cli(capsys, "plan", str(bundled_map("seed000.yaml")), "--planner", "star-nav")
     assert code == 2 and err.count("\n") == 1 and "star" in err

@@ -600,7 +600,7 @@ def folds(sw: StarWorld, *, lam: float, n: int = 121) -> NDArray[np.float64]:
     q = np.column_stack([x.ravel(), y.ravel()])
     _, jac, _, free = star_to_sphere(sw, q, lam)
     det = jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0]
-    return q[free & ~(det > 0)]
+    return q[free & np.logical_not(det > 0)]
 
 
 def _choose_kappa(sw: StarWorld, kappa: float | None, lam: float) -> tuple[float, list[tuple[float, int]]]:
@@ -686,7 +686,7 @@ def follow_star_nav(sw: StarWorld, starts: ArrayLike, *, kappa: float, lam: floa
             direction = np.einsum("nab,na->nb", jac, b)
             nrm = np.hypot(direction[:, 0], direction[:, 1])
             log_phi = kappa * np.log(gamma) - log_beta  # increasing with phi, never saturates
-        stuck = ~(np.isfinite(nrm) & (nrm > 0)) | ~free
+        stuck = np.logical_not(np.isfinite(nrm) & (nrm > 0)) | ~free
         if stuck.any():
             status[idx[stuck]] = np.where(free[stuck], "local_minimum", "collision")
             ends[idx[stuck]] = it - 1
@@ -852,7 +852,7 @@ def star_figure_data(sw: StarWorld, *, kappa: float, lam: float, x: NDArray[np.f
     humps = np.zeros(len(q))
     for ob in sw.obstacles:
         humps = np.maximum(humps, 1.0 - ob.gauge(q)[0] ** 2)  # -beta_i before its scaling: 1 at the centre
-    humps = humps.reshape(x.shape)
+    humps_grid = humps.reshape(x.shape)
     r0 = sw.workspace_radius
     gamma = ((x - sw.goal[0]) ** 2 + (y - sw.goal[1]) ** 2) / r0**2
     attractive = gamma**kappa
@@ -869,7 +869,7 @@ def star_figure_data(sw: StarWorld, *, kappa: float, lam: float, x: NDArray[np.f
             h, _, _, free = star_to_sphere(sw, pts, lam)
             mapped.append(np.where(free[:, None], h, np.nan))
     shapes = [ob.vertices if ob.kind == "polygon" else np.array([*ob.center, ob.radius]) for ob in sw.obstacles]
-    return {"x": x, "y": y, "humps": humps, "attractive": attractive, "phi": phi, "mapped_lines": mapped,
+    return {"x": x, "y": y, "humps": humps_grid, "attractive": attractive, "phi": phi, "mapped_lines": mapped,
             "model_discs": sw.model_discs, "workspace": (c0.tolist(), r0), "goal": sw.goal.copy(),
             "obstacles": shapes, "centers": np.array([ob.center for ob in sw.obstacles]).reshape(-1, 2),
             "kappa": kappa, "lambda": lam}

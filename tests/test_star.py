@@ -375,3 +375,12 @@ def test_cli_field_surface_writes_the_seed_figures(capsys, tmp_path) -> None:
 def test_cli_star_nav_error_is_one_line(capsys) -> None:
     code, _, err = run_cli(capsys, "plan", str(bundled_map("seed000.yaml")), "--planner", "star-nav")
     assert code == 2 and err.count("\n") == 1 and "star" in err
+
+
+def test_cli_warning_is_one_line(capsys) -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        code, out, err = run_cli(capsys, "plan", str(bundled_map("star_two.yaml")), "--planner", "star-nav",
+                                 "--param", "kappa=1")
+    assert code == 0 and "local_minimum" in out
+    assert err.startswith("gridfield plan: warning: kappa=1 is too small") and err.count("\n") == 1

@@ -3,7 +3,7 @@
 Each sub-command lives in its own module ``gridfield/cli/<name>.py`` exposing
 ``add_parser(subparsers)`` and ``run(args) -> int``; heavy imports happen inside ``run`` so
 that ``gridfield --help`` stays fast. Bad input (any :class:`~gridfield.errors.GridfieldError`,
-a missing file) becomes one line on stderr and exit code 2.
+a missing file) becomes one line on stderr and exit code 2; a warning is one line on stderr.
 """
 
 from __future__ import annotations
@@ -59,8 +59,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not getattr(args, "_run", None):
         parser.print_help()
         return 2
+    import warnings
+
+    def one_line_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+                         file: object = None, line: str | None = None) -> None:
+        print(f"gridfield {args.command}: warning: {message}", file=sys.stderr)
+
     try:
-        return int(args._run(args) or 0)
+        with warnings.catch_warnings():
+            warnings.showwarning = one_line_warning  # e.g. star-nav's "kappa is too small": one line, no source
+            return int(args._run(args) or 0)
     except GridfieldError as e:
         print(f"gridfield {args.command}: error: {e}", file=sys.stderr)
         return 2

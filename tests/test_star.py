@@ -384,3 +384,14 @@ def test_cli_warning_is_one_line(capsys) -> None:
                                  "--param", "kappa=1")
     assert code == 0 and "local_minimum" in out
     assert err.startswith("gridfield plan: warning: kappa=1 is too small") and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("seed", range(60, 66))
+def test_a_new_users_random_star_world_with_default_parameters(seed) -> None:
+    w, shapes, rng = random_star_world(seed, 2 + seed % 3)
+    start, goal = random_free_points(rng, shapes, 2, 0.1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # default lambda, kappa chosen: neither warning
+        p = plan("star-nav", w, start, goal)
+    assert p.reached
+    assert_collision_free(p.points, shapes)

@@ -1,8 +1,9 @@
 """Vector worlds: bounds, a border rule, and obstacles as exact shapely geometries.
 
 A world is what the exact planners work on and what the rasterizer turns into a grid.
-Obstacles may be polygons (convex or not, any orientation), circles, segments, rectangles
-or degenerate polygons (two vertices: a segment; one vertex: a point). Each carries a
+Obstacles may be polygons (convex or not, any orientation; at least 3 distinct vertices, listed in
+order or sorted with ``vertex_order: sort``), circles, segments, rectangles and points; in seed 000's
+``b_matrix`` an obstacle with two vertices is a segment and one with one vertex a point. Each carries a
 1-based ``id`` that survives rasterization (``GridMap.obstacle_id``), so that potentials
 can be summed per obstacle.
 

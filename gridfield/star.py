@@ -742,12 +742,14 @@ def plan_star_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float
     Parameters (``params``): ``kappa`` and ``lambda`` (:data:`STAR_PARAMETERS`); ``step`` (default 1/200
     of the workspace radius), ``tolerance`` (default ``step``), ``max_iterations``, ``progress_window``
     (200). Without ``kappa`` the values of :data:`KAPPA_LADDER` are tried and the first with no
-    spurious minimum detected (:func:`spurious_minima`) is used; with a ``kappa`` that leaves one, a
-    :class:`StarNavWarning` says so (the path may then end in a ``local_minimum``). A ``lambda`` for
-    which ``h_lambda`` folds (:func:`folds`) is also warned about.
+    spurious minimum detected (:func:`spurious_minima`) is used, and raised to the next values (twice
+    at most) when the path still ends in a ``local_minimum`` (one too close to an obstacle for the
+    lattice check); with a ``kappa`` that leaves one, a :class:`StarNavWarning` says so (the path may
+    then end in a ``local_minimum``). A ``lambda`` for which ``h_lambda`` folds (:func:`folds`) is also
+    warned about.
 
-    ``extra`` holds ``kappa``, ``lambda``, ``kappa_tried`` (kappa, minima found), the workspace and the
-    star centres.
+    ``extra`` holds ``kappa``, ``lambda``, ``kappa_tried`` (kappa, minima found), ``followed`` (kappa,
+    status of each descent), ``folds``, the workspace and the star centres.
 
     Examples
     --------
@@ -780,13 +782,22 @@ def plan_star_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float
     if max_it < 1 or window < 1:
         raise ParameterError(f"max_iterations and progress_window must be >= 1, got {max_it}, {window}")
     n_folds = _warn_folds(sw, lam)
+    given = kappa is not None
     kappa, tried = _choose_kappa(sw, kappa, lam)
-    (pts, status, its), = follow_star_nav(sw, start[None, :], kappa=kappa, lam=lam, step=step, tolerance=tol,
-                                          max_iterations=max_it, window=window)
+    followed = []
+    while True:
+        (pts, status, its), = follow_star_nav(sw, start[None, :], kappa=kappa, lam=lam, step=step, tolerance=tol,
+                                              max_iterations=max_it, window=window)
+        followed.append((kappa, status))
+        larger = [k for k in KAPPA_LADDER if k > kappa]
+        # a minimum too close to an obstacle for the lattice check: a chosen kappa is raised (twice at most)
+        if given or status != "local_minimum" or not larger or len(followed) > 2:
+            break
+        kappa = larger[0]
     used = dict(params)
     used["kappa"], used["lambda"] = kappa, lam
     clearance = float(world.distance(pts).min()) if len(sw.obstacles) else math.nan
-    extra = {"kappa": kappa, "lambda": lam, "kappa_tried": tried, "folds": n_folds,
+    extra = {"kappa": kappa, "lambda": lam, "kappa_tried": tried, "followed": followed, "folds": n_folds,
              "workspace_center": sw.workspace_center.tolist(), "workspace_radius": r0,
              "star_centers": {ob.id: ob.center.tolist() for ob in sw.obstacles}}
     return Path(pts, status, "star-nav", its, used, time.perf_counter() - t0, clearance, extra)

@@ -16,8 +16,9 @@ The construction (all of it vectorized over query points ``q``, shape ``(N, 2)``
 - obstacle ``i``: ``beta_i(q) = g_i(q)**2 - 1`` where ``g_i`` is the *gauge* (Minkowski functional)
   of the obstacle about its centre: ``g_i(q) = |q - q_i| / rho_i(theta)``, ``rho_i(theta)`` the distance
   from ``q_i`` to the boundary along the ray of angle ``theta`` (the radial function of a star-shaped
-  set; e.g. Rockafellar, *Convex Analysis*, sec. 15, for the gauge; Rimon & Koditschek 1992, sec. V,
-  for star-shaped obstacles given by such a function). For a polygon, inside the cone from ``q_i``
+  set: the gauge of Minkowski, e.g. Rockafellar, *Convex Analysis*, 1970, for convex sets, and the
+  radial description of star-shaped sets in Rimon & Koditschek, "The construction of analytic
+  diffeomorphisms for exact robot navigation on star worlds", Trans. AMS 327(1), 1991). For a polygon, inside the cone from ``q_i``
   over edge ``k`` (outward unit normal ``n_k``, ``c_k = n_k . (v_k - q_i) > 0``) the gauge is linear,
   ``g_i(q) = n_k . (q - q_i) / c_k``; for a disc ``g_i(q) = |q - q_i| / r``. So ``beta_i`` is exactly 0 on
   the boundary, negative inside and positive outside; it is smooth (a quadratic) inside each cone

@@ -395,3 +395,28 @@ def test_a_new_users_random_star_world_with_default_parameters(seed) -> None:
         p = plan("star-nav", w, start, goal)
     assert p.reached
     assert_collision_free(p.points, shapes)
+
+
+def test_plot_star_world_draws_the_four_panels() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from gridfield.plot import plot_star_world
+
+    w = read_world(bundled_map("star_two.yaml"))
+    sw = star.star_world(w, w.goal)
+    x, y = np.meshgrid(np.linspace(0, 20, 41), np.linspace(0, 20, 41))
+    data = star.star_figure_data(sw, kappa=3, lam=1, x=x, y=y, lines=7)
+    # the humps: 1 - g**2 at the star centres, 0 outside the obstacles
+    assert data["humps"].max() <= 1 and np.all(data["humps"][data["phi"] < 1] == 0)
+    p = plan("star-nav", w, w.start, w.goal)
+    arts = plot_star_world(data, path=p)
+    try:
+        assert len(arts) == 4 and len({a.ax for a in arts}) == 4
+        assert len(arts[2].extra["lattice"]) == 14  # 7 horizontal and 7 vertical lines, mapped
+        assert len(arts[2].obstacles) == 1 + len(sw.obstacles)  # workspace circle and model discs
+        assert len(arts[3].paths) == 1
+    finally:
+        plt.close(arts[0].figure)

@@ -15,6 +15,9 @@ folder. The parts:
     path deviation and stall-point error on log-log axes, with the observed orders;
 ``seed003``
     seed 003's two circles with the vortex field, ``Ko = 5`` (reaches) and ``Ko = 10`` (does not);
+``seed002``
+    seed 002's star-world navigation function (``star-nav``, kappa 3, lambda 1): the obstacle
+    functions' humps, the attractive part, the mapped space and the surface with the path;
 ``turtlebot3``, ``arena``
     a ROS map and a Moving AI map: brushfire, potential, basins and a wavefront path next to
     the potential path.
@@ -44,7 +47,7 @@ from .path import Path
 __all__ = ["DEMO_PARTS", "SUMMARY_COLUMNS", "DemoResult", "demo", "run_demo"]
 
 #: The demo's parts, in the order they run.
-DEMO_PARTS = ("maps", "seed000", "convergence", "seed003", "turtlebot3", "arena")
+DEMO_PARTS = ("maps", "seed000", "convergence", "seed003", "seed002", "turtlebot3", "arena")
 #: Columns of ``summary.csv`` (and of the rows :func:`run_demo` returns).
 SUMMARY_COLUMNS = ("part", "map", "planner", "status", "length", "steps", "ms", "note")
 
@@ -302,6 +305,24 @@ def _part_seed003(run: _Run) -> None:
     run.save(fig, "seed003_vortex.png")
 
 
+def _part_seed002(run: _Run) -> None:
+    from .io import bundled_map, read_world
+    from .plot import plot_star_world
+    from .star import star_figure_data, star_world
+
+    w = read_world(bundled_map("star_two.yaml"))
+    path = run.plan("seed002", "star_two", w, "star-nav", w.start, w.goal, note="star world, seed 002's kappa, lambda")  # type: ignore[arg-type]
+    sw = star_world(w, w.goal)  # type: ignore[arg-type]
+    xmin, ymin, xmax, ymax = w.bounds
+    n = 61 if run.quick else 121
+    x, y = np.meshgrid(np.linspace(xmin, xmax, n), np.linspace(ymin, ymax, n))
+    data = star_figure_data(sw, kappa=path.extra["kappa"], lam=path.extra["lambda"], x=x, y=y,
+                            lines=15 if run.quick else 21)
+    arts = plot_star_world(data, path=path, max_cells=30 if run.quick else 60, title=f"seed 002: star-world navigation function (star_two.yaml): "
+                                                  f"{path.status}, length {path.length:.2f}")
+    run.save(arts[0].figure, "seed002_star_world.png")
+
+
 def _grid_map_part(run: _Run, part: str, gm: GridMap, start: Sequence[float], goal: Sequence[float],
                    params: Mapping[str, Any], title: str, *, note: str = "") -> None:
     from .brushfire import brushfire
@@ -382,6 +403,7 @@ _PARTS: dict[str, tuple[Callable[[_Run], None], tuple[str, ...]]] = {
     "convergence": (_part_convergence, ("gridfield.compare", "gridfield.exact", "gridfield.rasterize",
                                          "gridfield.potential", "gridfield.follow")),
     "seed003": (_part_seed003, ("gridfield.rasterize", "gridfield.potential", "gridfield.follow")),
+    "seed002": (_part_seed002, ("gridfield.star",)),
     "turtlebot3": (_part_turtlebot3, ("gridfield.potential", "gridfield.follow")),
     "arena": (_part_arena, ("gridfield.potential", "gridfield.follow")),
 }
@@ -492,6 +514,7 @@ def run_demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, p
     ``steps`` (iterations), ``ms`` (wall time of the planner call) and a ``note``. The files are the
     figures (``maps.png``, ``seed000_paths.png``, ``seed000_segment_potential.png``,
     ``seed000_surface.png``, ``seed000_segment_basins.png``, ``convergence.png``, ``seed003_vortex.png``,
+    ``seed002_star_world.png``,
     ``turtlebot3.png``, ``arena.png``), the animation ``seed000_segment_follower.gif`` and
     ``summary.md`` / ``summary.csv``. ``parts`` and ``log`` are as in :func:`demo`, which also returns
     the files written and the steps skipped.

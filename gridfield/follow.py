@@ -24,8 +24,8 @@ Stop rules, checked in this order before every step
       ``1e-3 * step`` during the last ``progress_window`` steps (0 disables). On grids the
       follower rarely returns exactly to a point it visited, so this is the grid's main
       detector. The stall point is the point of that stretch with the smallest ``|F|``.
-    - *confined*: the last ``confine_window`` steps stayed within a box of side ``2 * step``
-      (a jitter about an equilibrium, which never exactly revisits a point). The stall point is
+    - *confined* (normalized rule): the last ``confine_window`` steps stayed within a box of side
+      ``2 * step`` (a jitter about an equilibrium, which never exactly revisits a point). The stall point is
       the point of that stretch with the smallest ``|F|``.
     - *small gradient*: ``|F| <= gradient_threshold`` (seed 004), or ``F`` is zero or not
       finite. The stall point is the current point.
@@ -401,6 +401,8 @@ def descend(
     gradient_threshold = _number("gradient_threshold", gradient_threshold, positive=True)
     progress_window = _integer("progress_window", progress_window)
     confine_window = _integer("confine_window", confine_window)
+    if step_rule != "normalized":  # scaled steps shrink where the field is weak: no fixed box to judge by
+        confine_window = 0
     escape_tries = _integer("escape_tries", escape_tries)
     escape_radius = _number("escape_radius", escape_radius, positive=True, allow_zero=False)
     normalized = step_rule == "normalized"
@@ -1074,7 +1076,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
     step, tol, max_it = kw["step"], kw["tolerance"], kw["max_iterations"]
     ax, ay = _alpha(kw["alpha"])
     min_speed, thr, window = kw["min_speed"], kw["gradient_threshold"], kw["progress_window"]
-    cw = kw["confine_window"]
+    cw = kw["confine_window"] if normalized else 0
     unit = step if normalized else tol
     rev_tol, min_gain = 1e-6 * unit, 1e-3 * unit
 

@@ -69,7 +69,7 @@ __all__ = [
 #: Planner names, for the "read by" column of each parameter.
 _POT = ("potential", "exact-potential")
 _GRID_NAV = ("wavefront", "wavefront-octile", "fmm", "harmonic")
-_ALL_FOLLOW = (*_POT, *_GRID_NAV, "sphere-nav")
+_ALL_FOLLOW = (*_POT, *_GRID_NAV, "sphere-nav", "star-nav")
 
 #: Cells (of the map's length unit) behind the scaled defaults.
 Q_STAR_CELLS = 4.0
@@ -260,7 +260,7 @@ class Follower:
     progress_window: int = _p("follower", "integer", 200, "local minimum when the distance to the goal has not "
                               "improved over this many steps (0: off)", minimum=0, planners=(*_POT, "sphere-nav"))
     confine_window: int = _p("follower", "integer", 20, "local minimum when the last this many steps stayed within "
-                             "a box of 2 steps (a jitter about an equilibrium; 0: off)", minimum=0, planners=_POT)
+                             "a box of 2 steps (a jitter about an equilibrium; normalized rule only; 0: off)", minimum=0, planners=_POT)
 
 
 @dataclass(frozen=True)
@@ -288,10 +288,16 @@ class Navigation:
     clearance_weight: float = _p("navigation", "number", 0.0, "weight of the clearance cost of the clearance-aware "
                                  "wavefront (cost 1 + w * max(0, q_star - D) per cell)", minimum=0.0,
                                  planners=_GRID_NAV, flag=False)
-    kappa: float | None = _p("navigation", "number", None, "sphere-world navigation function exponent",
-                             minimum=0.0, strict=True, allow_none=True,
-                             scale="the smallest of 2, 3, 4, 6, 8, ... that reaches the goal",
-                             planners=("sphere-nav",), flag=False)
+    kappa: float | None = _p("navigation", "number", None, "sphere-world (sphere-nav) and star-world (star-nav) "
+                             "navigation function exponent", minimum=0.0, strict=True, allow_none=True,
+                             scale="the smallest of a ladder (sphere-nav: 2, 3, 4, 6, 8, ...; star-nav: 3, 4, "
+                                   "6, ...) that reaches the goal, or leaves no detected spurious minimum",
+                             planners=("sphere-nav", "star-nav"), flag=False)
+    lam: float = field(default=10.0, metadata={"spec": dict(
+        group="navigation", kind="number", default=10.0, name_override="lambda",
+        meaning="star-nav: switch parameter of the star-to-sphere transformation (larger: closer to the "
+                "identity away from the obstacles; too small folds the map; seed 002: 1)",
+        minimum=0.0, strict=True, planners=("star-nav",), flag=False)})
     workspace_center: tuple[float, float] | None = _p(
         "navigation", "point", None, "centre of the sphere world's disc workspace", allow_none=True,
         scale="the centre of the world's bounds", planners=("sphere-nav",), flag=False)
@@ -308,7 +314,9 @@ def _build() -> dict[str, Spec]:
     out: dict[str, Spec] = {}
     for cls in GROUPS:
         for f in dataclasses.fields(cls):
-            out[f.name] = Spec(name=f.name, **f.metadata["spec"])
+            meta = dict(f.metadata["spec"])
+            name = meta.pop("name_override", f.name)  # ``lambda`` is a Python keyword: field ``lam``
+            out[name] = Spec(name=name, **meta)
     return out
 
 
@@ -347,8 +355,8 @@ class Params(Mapping[str, Any]):
 
     def group(self, cls: type) -> Any:
         """The values of one concern as its frozen dataclass (defaults for names not given)."""
-        names = {f.name for f in dataclasses.fields(cls)}
-        return cls(**{k: v for k, v in self._d.items() if k in names})
+        names = {f.metadata["spec"].get("name_override", f.name): f.name for f in dataclasses.fields(cls)}
+        return cls(**{names[k]: v for k, v in self._d.items() if k in names})
 
 
 def _unknown(name: str) -> ParameterError:

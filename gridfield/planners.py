@@ -39,6 +39,7 @@ PLANNERS: dict[str, tuple[str, str, str]] = {
     "fmm": ("gridfield.navigation", "plan_fmm", "grid"),
     "harmonic": ("gridfield.navigation", "plan_harmonic", "grid"),
     "sphere-nav": ("gridfield.navigation", "plan_sphere_nav", "world"),
+    "star-nav": ("gridfield.star", "plan_star_nav", "world"),
 }
 
 #: Every parameter name a planner may read, with its meaning (generated from :data:`gridfield.params.REGISTRY`).

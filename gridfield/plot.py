@@ -44,6 +44,7 @@ __all__ = [
     "plot_convergence",
     "plot_map",
     "plot_potential",
+    "plot_star_world",
     "plot_surface",
     "save_plan_animation",
     "save_plan_figure",
@@ -803,6 +804,119 @@ def plot_surface(
     ax.set_zlabel("U")
     ax.set_title(title if title is not None else "potential surface")
     return art
+
+
+def plot_star_world(
+    data: Mapping[str, Any],
+    fig: Figure | None = None,
+    *,
+    path: Path | None = None,
+    max_cells: int = 90,
+    title: str | None = None,
+) -> list[Artists]:
+    """Seed 002's star-world figures, in one figure of four panels.
+
+    1. the obstacle functions as "humps" (``-beta_i`` where positive: one per obstacle, 3-D);
+    2. the attractive part ``gamma**kappa`` (3-D), its minimum at the goal;
+    3. the mapped space: lattice lines of the free space mapped by ``h_lambda`` onto the model
+       sphere world, with the model circles and the workspace circle;
+    4. the navigation function ``phi(h_lambda(q))`` as a surface (3-D), with ``path`` on it.
+
+    Parameters
+    ----------
+    data : mapping
+        What :func:`gridfield.star.star_figure_data` returns (this function draws it, computing nothing).
+    fig : Figure, optional
+        Drawn into (cleared first); default: a new figure.
+    path : Path, optional
+        Drawn on the navigation-function surface (heights: the nearest lattice value).
+    max_cells : int
+        At most this many samples along each side of the 3-D surfaces.
+
+    Returns
+    -------
+    list of Artists
+        One per panel, in the order above.
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Circle
+
+    if int(max_cells) < 2:
+        raise ParameterError(f"max_cells must be at least 2, got {max_cells}")
+    if fig is None:
+        fig = plt.figure(figsize=(13.0, 10.5), layout="constrained")
+    else:
+        fig.clear()
+    x, y = np.asarray(data["x"]), np.asarray(data["y"])
+    stride = max(1, math.ceil(max(x.shape) / int(max_cells)))
+    xs, ys = x[::stride, ::stride], y[::stride, ::stride]
+    kappa, lam = float(data["kappa"]), float(data["lambda"])
+    arts: list[Artists] = []
+
+    def surface(pos: int, z: NDArray[np.float64], label: str, panel_title: str, cmap: str) -> Artists:
+        ax = fig.add_subplot(2, 2, pos, projection="3d")
+        ax.view_init(elev=38, azim=-62)
+        zz = np.asarray(z, dtype=float)[::stride, ::stride]
+        finite = np.isfinite(zz)
+        lo = float(zz[finite].min()) if finite.any() else 0.0
+        hi = float(zz[finite].max()) if finite.any() else 1.0
+        art = Artists(ax)
+        art.surface = ax.plot_surface(xs, ys, np.where(finite, zz, hi), cmap=cmap, vmin=lo, vmax=hi if hi > lo else lo + 1,
+                                      linewidth=0, antialiased=False, rstride=1, cstride=1, alpha=0.9)
+        art.mappable = art.surface
+        art.extra["stride"] = stride
+        ax.set_xlabel("x")
+        ax.set_ylabel("y")
+        ax.set_zlabel(label)
+        ax.set_title(panel_title)
+        return art
+
+    arts.append(surface(1, data["humps"], "-beta_i", "obstacle functions: one hump per obstacle", "magma"))
+    arts.append(surface(2, data["attractive"], "gamma^kappa", f"attractive part gamma^kappa (kappa = {kappa:g})",
+                        "viridis"))
+
+    ax = fig.add_subplot(2, 2, 3)
+    art = Artists(ax)
+    for i, line in enumerate(data["mapped_lines"]):
+        (ln,) = ax.plot(line[:, 0], line[:, 1], color="tab:blue" if i % 2 == 0 else "tab:orange", linewidth=0.6)
+        art.extra.setdefault("lattice", []).append(ln)
+    (c0, r0) = data["workspace"]
+    ws = Circle(c0, r0, fill=False, color="0.2", linewidth=1.2)
+    ax.add_patch(ws)
+    art.obstacles.append(ws)
+    for cx, cy, r in np.asarray(data["model_discs"]).reshape(-1, 3):
+        disc = Circle((cx, cy), r, facecolor=OCCUPIED_COLOR, edgecolor="tab:red", linewidth=1.2)
+        ax.add_patch(disc)
+        art.obstacles.append(disc)
+    for shape in data["obstacles"]:
+        shape = np.asarray(shape)
+        if shape.ndim == 2:
+            ring = np.vstack([shape, shape[:1]])
+            (ln,) = ax.plot(ring[:, 0], ring[:, 1], color="0.55", linestyle="--", linewidth=0.9)
+            art.extra.setdefault("outlines", []).append(ln)
+    g = np.asarray(data["goal"])
+    art.markers["goal"] = ax.scatter([g[0]], [g[1]], marker="*", s=160, color="tab:green", zorder=6, label="goal")
+    ax.set_aspect("equal")
+    ax.set_xlim(c0[0] - r0 * 1.05, c0[0] + r0 * 1.05)
+    ax.set_ylim(c0[1] - r0 * 1.05, c0[1] + r0 * 1.05)
+    ax.set_title(f"mapped space: free-space lattice under h_lambda (lambda = {lam:g}); model discs, star outlines dashed",
+                 fontsize=9)
+    arts.append(art)
+
+    phi = np.asarray(data["phi"], dtype=float)
+    art = surface(4, np.where(np.isfinite(phi), phi, 1.0), "phi", "navigation function phi(h_lambda(q))", "viridis")
+    if path is not None and len(path.points):
+        xv, yv = x[0], y[:, 0]
+        c = np.clip(np.searchsorted(xv, path.points[:, 0]), 0, len(xv) - 1)
+        r = np.clip(np.searchsorted(yv, path.points[:, 1]), 0, len(yv) - 1)
+        pz = np.where(np.isfinite(phi[r, c]), phi[r, c], 1.0) + 0.01
+        (line,) = art.ax.plot(path.points[:, 0], path.points[:, 1], pz, color="tab:red", linewidth=2.2, zorder=10,
+                              label=_path_label(path))
+        art.paths.append(line)
+    arts.append(art)
+    if title is not None:
+        fig.suptitle(title)
+    return arts
 
 
 # ----------------------------------------------------------------------------------------------

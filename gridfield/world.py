@@ -1,8 +1,9 @@
 """Vector worlds: bounds, a border rule, and obstacles as exact shapely geometries.
 
 A world is what the exact planners work on and what the rasterizer turns into a grid.
-Obstacles may be polygons (convex or not, any orientation), circles, segments, rectangles
-or degenerate polygons (two vertices: a segment; one vertex: a point). Each carries a
+Obstacles may be polygons (convex or not, any orientation; at least 3 distinct vertices, listed in
+order or sorted with ``vertex_order: sort``), circles, segments, rectangles and points; in seed 000's
+``b_matrix`` an obstacle with two vertices is a segment and one with one vertex a point. Each carries a
 1-based ``id`` that survives rasterization (``GridMap.obstacle_id``), so that potentials
 can be summed per obstacle.
 
@@ -26,7 +27,12 @@ from shapely.geometry.base import BaseGeometry
 from .errors import GridfieldError, MapFormatError, shorten
 from .grid import BORDERS
 
-__all__ = ["CIRCLE_SEGMENTS", "Obstacle", "World", "world_from_dict"]
+__all__ = ["CIRCLE_SEGMENTS", "VERTEX_ORDERS", "Obstacle", "World", "sort_vertices", "world_from_dict"]
+
+#: Values of the world file's ``vertex_order`` (per file, or per polygon): ``as_given`` (default) takes
+#: the vertices in the order listed; ``sort`` sorts them by angle around their centroid (seed 001's
+#: VerticesSorter), for files that list a polygon's vertices in any order.
+VERTEX_ORDERS = ("as_given", "sort")
 
 #: Segments per quarter circle used for the polygonal outline of a circle (``Obstacle.geometry``,
 #: used for display). The outline is inscribed; its largest gap to the true circle is
@@ -49,6 +55,9 @@ class Obstacle:
         Exact for polygons, segments and points; for circles a fine inscribed polygon outline
         (see :data:`CIRCLE_SEGMENTS`); use ``center`` and ``radius`` for exact circle geometry.
     center, radius : circle parameters (``None`` for other kinds)
+    star_center : (x, y) or None
+        For a polygon: the centre it is star-shaped about, when the world file gives one
+        (``polygon: {vertices: ..., center: [x, y]}``); the ``star-nav`` planner finds one otherwise.
     """
 
     id: int
@@ -56,6 +65,7 @@ class Obstacle:
     geometry: BaseGeometry
     center: tuple[float, float] | None = None
     radius: float | None = None
+    star_center: tuple[float, float] | None = None
 
     @property
     def vertices(self) -> NDArray[np.float64]:
@@ -213,7 +223,64 @@ def _points(value: Any, what: str) -> NDArray[np.float64]:
     return np.array([_point(v, f"{what}[{i}]") for i, v in enumerate(value)])
 
 
-def _shape_from_vertices(pts: NDArray[np.float64], oid: int, what: str) -> Obstacle:
+def sort_vertices(pts: ArrayLike) -> NDArray[np.float64]:
+    """Vertices sorted counter-clockwise by their angle around the centroid (mean) of the vertices.
+
+    Seed 001's VerticesSorter: a polygon whose vertices are listed in any order becomes the polygon
+    through them in angular order (a simple polygon when the vertices are in convex position, or more
+    generally when the polygon is star-shaped about their centroid). Ties in angle are broken by the
+    distance to the centroid.
+
+    Examples
+    --------
+    >>> sort_vertices([[0, 0], [1, 1], [1, 0], [0, 1]]).tolist()
+    [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+    """
+    p = np.asarray(pts, dtype=float).reshape(-1, 2)
+    rel = p - p.mean(axis=0)
+    order = np.lexsort((np.hypot(rel[:, 0], rel[:, 1]), np.arctan2(rel[:, 1], rel[:, 0])))
+    return p[order]
+
+
+def _vertex_order(value: Any, what: str) -> str:
+    if value not in VERTEX_ORDERS:
+        raise MapFormatError(f"{what}: expected one of {list(VERTEX_ORDERS)}, got {value!r}")
+    return str(value)
+
+
+def _polygon(pts: NDArray[np.float64], oid: int, what: str, order: str,
+             star_center: tuple[float, float] | None = None) -> Obstacle:
+    """A ``polygon:`` entry: at least 3 distinct, not all collinear vertices, simple in the given order."""
+    if len(pts) > 1 and np.array_equal(pts[0], pts[-1]):
+        pts = pts[:-1]  # a repeated closing vertex
+    n = len(np.unique(pts, axis=0))
+    if n < 3:
+        raise MapFormatError(
+            f"{what} (obstacle {oid}) has {n} distinct vertex{'es' if n != 1 else ''}; a polygon needs at least 3"
+            + (" (use segment: [[x1, y1], [x2, y2]] for a segment)" if n == 2 else " (use point: [x, y] for a point)")
+        )
+    rel = pts - pts[0]
+    d = rel[np.argmax(np.hypot(rel[:, 0], rel[:, 1]))]
+    if np.all(rel[:, 0] * d[1] - rel[:, 1] * d[0] == 0.0):
+        raise MapFormatError(f"{what} (obstacle {oid}): all vertices are collinear, the polygon has no area "
+                             "(use segment: for a segment)")
+    if order == "sort":
+        pts = sort_vertices(np.unique(pts, axis=0))
+    poly = Polygon(pts)
+    if not poly.is_valid:
+        reason = shapely.is_valid_reason(poly)
+        if order == "sort":
+            raise MapFormatError(f"{what} (obstacle {oid}) is not a simple polygon ({reason}) even with its vertices "
+                                 "sorted by angle around their centroid (vertex_order: sort); list them in order "
+                                 "around it")
+        raise MapFormatError(f"{what} (obstacle {oid}) is not a simple polygon as given ({reason}); list the "
+                             "vertices in order around it, or set vertex_order: sort to sort them by angle around "
+                             "their centroid")
+    return Obstacle(oid, "polygon", poly, star_center=star_center)
+
+
+def _shape_from_vertices(pts: NDArray[np.float64], oid: int, what: str, order: str = "as_given") -> Obstacle:
+    """A b_matrix obstacle or a rectangle: degenerate vertex lists become points and segments."""
     # drop a repeated closing vertex
     if len(pts) > 1 and np.array_equal(pts[0], pts[-1]):
         pts = pts[:-1]
@@ -230,21 +297,30 @@ def _shape_from_vertices(pts: NDArray[np.float64], oid: int, what: str) -> Obsta
         # the obstacle is the segment between the two extreme vertices
         t = rel @ d
         return Obstacle(oid, "segment", LineString([pts[np.argmin(t)], pts[np.argmax(t)]]))
-    poly = Polygon(pts)
-    if not poly.is_valid:
-        reason = shapely.is_valid_reason(poly)
-        raise MapFormatError(f"{what} is not a simple polygon ({reason}); list the vertices in order around it")
-    return Obstacle(oid, "polygon", poly)
+    return _polygon(pts, oid, what, order)
 
 
-def _obstacle(entry: Any, oid: int, what: str) -> Obstacle:
+def _obstacle(entry: Any, oid: int, what: str, order: str = "as_given") -> Obstacle:
     if not isinstance(entry, Mapping) or len(entry) != 1:
         raise MapFormatError(
-            f"{what} must be a mapping with one key: polygon, circle, segment or rectangle; got {shorten(entry)}"
+            f"{what} must be a mapping with one key: polygon, circle, segment, rectangle or point; got {shorten(entry)}"
         )
     (kind, value), = entry.items()
     if kind == "polygon":
-        return _shape_from_vertices(_points(value, f"{what}.polygon"), oid, f"{what}.polygon")
+        star_center = None
+        if isinstance(value, Mapping):
+            bad = sorted(set(value) - {"vertices", "center", "vertex_order"}, key=str)
+            if bad or "vertices" not in value:
+                raise MapFormatError(f"{what}.polygon must be a list of points or a mapping with 'vertices' and "
+                                     f"optional 'center' and 'vertex_order', got {value!r}")
+            if "vertex_order" in value:
+                order = _vertex_order(value["vertex_order"], f"{what}.polygon.vertex_order")
+            if value.get("center") is not None:
+                star_center = _point(value["center"], f"{what}.polygon.center")
+            value = value["vertices"]
+        return _polygon(_points(value, f"{what}.polygon"), oid, f"{what}.polygon", order, star_center)
+    if kind == "point":
+        return Obstacle(oid, "point", Point(_point(value, f"{what}.point")))
     if kind == "segment":
         pts = _points(value, f"{what}.segment")
         if len(pts) != 2:
@@ -286,10 +362,11 @@ def _obstacle(entry: Any, oid: int, what: str) -> Obstacle:
         pts = np.array([lo, (hi[0], lo[1]), hi, (lo[0], hi[1])])
         return _shape_from_vertices(np.unique(pts, axis=0) if (hi[0] == lo[0] or hi[1] == lo[1]) else pts,
                                     oid, f"{what}.rectangle")
-    raise MapFormatError(f"{what}: unknown obstacle kind {shorten(kind)}; expected polygon, circle, segment or rectangle")
+    raise MapFormatError(f"{what}: unknown obstacle kind {shorten(kind)}; expected polygon, circle, segment, rectangle "
+                         "or point")
 
 
-def _b_matrix(value: Any, first_id: int, what: str) -> list[Obstacle]:
+def _b_matrix(value: Any, first_id: int, what: str, order: str = "as_given") -> list[Obstacle]:
     try:
         b = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
@@ -309,7 +386,7 @@ def _b_matrix(value: Any, first_id: int, what: str) -> list[Obstacle]:
     obstacles = []
     for tag in dict.fromkeys(tags.astype(int).tolist()):  # order of first appearance
         pts = b[:2, tags == tag].T
-        obstacles.append(_shape_from_vertices(pts, int(tag), f"{what} obstacle {tag}"))
+        obstacles.append(_shape_from_vertices(pts, int(tag), f"{what} obstacle {tag}", order))
     return obstacles
 
 
@@ -318,7 +395,25 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
 
     Keys: ``bounds`` (required), ``border`` (``open`` default, or ``wall``), ``obstacles``
     (list), ``b_matrix`` (seed 000's three-row vertex matrix), ``start``, ``goal``, ``params``,
-    ``resolution`` (default cell size when the world is rasterized).
+    ``resolution`` (default cell size when the world is rasterized), ``vertex_order``.
+
+    A ``polygon`` obstacle is a list of at least 3 distinct vertices (not all collinear), or a mapping
+    ``{vertices: [...], center: [x, y], vertex_order: ...}`` (``center``: the point it is star-shaped
+    about, for ``star-nav``). ``vertex_order`` (per file, overridden per polygon) is ``as_given``
+    (default: the vertices must be listed in order around the polygon) or ``sort`` (they are sorted
+    by angle around their centroid, seed 001's VerticesSorter: :func:`sort_vertices`); it also applies
+    to the polygons of a ``b_matrix``, whose one- and two-vertex obstacles are points and segments.
+
+    Examples
+    --------
+    >>> w = world_from_dict({"bounds": [0, 0, 4, 4], "vertex_order": "sort",
+    ...                      "obstacles": [{"polygon": [[1, 1], [2, 2], [2, 1], [1, 2]]}]})
+    >>> w.obstacles[0].vertices.tolist()
+    [[1.0, 1.0], [2.0, 1.0], [2.0, 2.0], [1.0, 2.0]]
+    >>> world_from_dict({"bounds": [0, 0, 4, 4], "obstacles": [{"polygon": [[1, 1], [2, 2], [2, 1], [1, 2]]}]})
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.MapFormatError: obstacles[0].polygon (obstacle 1) is not a simple polygon as given ...
 
     Raises
     ------
@@ -328,7 +423,7 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
     if not isinstance(data, Mapping):
         raise MapFormatError(f"{source or 'world'}: a world file must be a YAML mapping with at least 'bounds'")
     known = {"bounds", "border", "obstacles", "b_matrix", "start", "goal", "params", "resolution", "name",
-             "description"}
+             "description", "vertex_order"}
     unknown = sorted(set(data) - known, key=str)
     if unknown:
         raise MapFormatError(f"{_where(source, unknown[0])}: unknown key; expected one of {sorted(known)}")
@@ -348,15 +443,16 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
     if border not in BORDERS:
         raise MapFormatError(f"{_where(source, 'border')}: expected one of {list(BORDERS)}, got {shorten(border)}")
 
+    order = _vertex_order(data.get("vertex_order", "as_given"), _where(source, "vertex_order"))
     obstacles: list[Obstacle] = []
     if "b_matrix" in data:
-        obstacles += _b_matrix(data["b_matrix"], 1, _where(source, "b_matrix"))
+        obstacles += _b_matrix(data["b_matrix"], 1, _where(source, "b_matrix"), order)
     raw = data.get("obstacles") or []
     if not isinstance(raw, Sequence) or isinstance(raw, str):
         raise MapFormatError(f"{_where(source, 'obstacles')}: expected a list of obstacles, got {shorten(raw)}")
     next_id = max((o.id for o in obstacles), default=0) + 1
     for i, entry in enumerate(raw):
-        obstacles.append(_obstacle(entry, next_id + i, _where(source, f"obstacles[{i}]")))
+        obstacles.append(_obstacle(entry, next_id + i, _where(source, f"obstacles[{i}]"), order))
     if not obstacles and border == "open":
         raise MapFormatError(
             f"{source or 'world'}: the world is empty (no obstacles and an open border); "

@@ -182,7 +182,7 @@ def test_obstacle_id_is_the_lowest_intersecting_id(data) -> None:
         elif kind == "rectangle" and np.all(p[0] != p[1]):
             entries.append({"rectangle": [*p.min(axis=0).tolist(), *p.max(axis=0).tolist()]})
         else:
-            entries.append({"polygon": [p[0].tolist()]})
+            entries.append({"point": p[0].tolist()})
     w = world_from_dict({"bounds": list(g.bounds), "obstacles": entries})
     m = rasterize(w, g.resolution)
     assert m.grid == g

@@ -39,11 +39,10 @@ def test_every_obstacle_kind() -> None:
         {"rectangle": [7, 7, 9, 8]},
         {"rectangle": {"min": [0.5, 8], "max": [1.5, 9]}},
         {"rectangle": {"center": [4, 8.5], "size": [2, 1]}},
-        {"polygon": [[2, 7]]},
     ])
     kinds = [(o.id, o.kind) for o in w.obstacles]
     assert kinds == [(1, "polygon"), (2, "circle"), (3, "segment"), (4, "polygon"), (5, "polygon"),
-                     (6, "polygon"), (7, "point")]
+                     (6, "polygon")]
     circle = w.obstacles[1]
     assert circle.center == (5.0, 5.0) and circle.radius == 1.5
     # the outline is inscribed in the exact circle, with 4 * CIRCLE_SEGMENTS vertices
@@ -53,17 +52,30 @@ def test_every_obstacle_kind() -> None:
     assert w.obstacles[2].geometry.equals(LineString([(6, 1), (8, 2)]))
     for ob, box in zip(w.obstacles[3:6], [(7, 7, 9, 8), (0.5, 8, 1.5, 9), (3, 8, 5, 9)], strict=True):
         assert ob.geometry.equals(shapely.box(*box))
-    assert w.obstacles[6].geometry.equals(Point(2, 7))
     assert w.border == "open" and w.start is None and w.goal is None
 
 
-def test_two_vertex_polygon_is_a_segment_and_collinear_polygons_too() -> None:
-    w = world(obstacles=[{"polygon": [[1, 1], [4, 5]]}, {"polygon": [[0, 0], [2, 0], [1, 0], [-1, 0]]},
-                         {"polygon": [[3, 3], [3, 3], [3, 3]]}, {"rectangle": [1, 1, 1, 3]}])
+def test_degenerate_b_matrix_obstacles_and_rectangles_are_points_and_segments() -> None:
+    # seed 000's B matrix: an obstacle with two vertices is a segment, one vertex a point, collinear a segment
+    w = world(b_matrix=[[1, 4, 0, 2, 1, -1, 3], [1, 5, 0, 0, 0, 0, 3], [1, 1, 2, 2, 2, 2, 3]],
+              obstacles=[{"rectangle": [1, 1, 1, 3]}])
     assert [o.kind for o in w.obstacles] == ["segment", "segment", "point", "segment"]
     assert w.obstacles[0].geometry.equals(LineString([(1, 1), (4, 5)]))
     assert w.obstacles[1].geometry.equals(LineString([(-1, 0), (2, 0)]))
     assert len(w.obstacles[1].vertices) == 2
+    assert w.obstacles[2].geometry.equals(Point(3, 3))
+
+
+@pytest.mark.parametrize(("vertices", "match"), [
+    ([[1, 1], [4, 5]], r"obstacles\[0\]\.polygon \(obstacle 1\) has 2 distinct vertexes; a polygon needs at least 3 "
+                       r"\(use segment"),
+    ([[2, 7]], r"has 1 distinct vertex; a polygon needs at least 3"),
+    ([[3, 3], [3, 3], [3, 3], [4, 4]], r"has 2 distinct vertexes"),
+    ([[0, 0], [2, 0], [1, 0], [-1, 0]], r"all vertices are collinear"),
+])
+def test_polygon_needs_three_distinct_vertices(vertices, match) -> None:
+    with pytest.raises(MapFormatError, match=match):
+        world(obstacles=[{"polygon": vertices}])
 
 
 def test_non_convex_polygon_and_closing_vertex() -> None:
@@ -123,9 +135,9 @@ SYMMETRIC_BOWTIE = [[0, 0], [1, 1], [1, 0], [0, 1]]  # zero signed area
         ({"bounds": [0, 0, 1, 1], "border": "wall", 3: 4}, r"3: unknown key"),
         ({"bounds": [0, 0, 1, 1], "border": "fence"}, r"border: expected one of \['open', 'wall'\], got 'fence'"),
         ({"bounds": [0, 0, 9, 9], "obstacles": [{"blob": [[1, 1]]}]}, r"obstacles\[0\]: unknown obstacle kind 'blob'"),
-        ({"bounds": [0, 0, 9, 9], "obstacles": [{"polygon": BOWTIE}]}, r"obstacles\[0\]\.polygon is not a simple polygon"),
+        ({"bounds": [0, 0, 9, 9], "obstacles": [{"polygon": BOWTIE}]}, r"obstacles\[0\]\.polygon \(obstacle 1\) is not a simple polygon as given .*set vertex_order: sort"),
         ({"bounds": [0, 0, 9, 9], "obstacles": [{"polygon": SYMMETRIC_BOWTIE}]},
-         r"obstacles\[0\]\.polygon is not a simple polygon"),
+         r"obstacles\[0\]\.polygon \(obstacle 1\) is not a simple polygon as given .*set vertex_order: sort"),
         ({"bounds": [0, 0, 9, 9], "obstacles": [{"polygon": [[1, 1], [2, "x"], [3, 1]]}]},
          r"obstacles\[0\]\.polygon\[1\] must be a point \[x, y\]"),
         ({"bounds": [0, 0, 9, 9], "obstacles": [{"circle": {"center": [1, 1], "radius": -1}}]},
@@ -176,7 +188,7 @@ def test_errors_name_the_source() -> None:
     with pytest.raises(MapFormatError, match=r"^worlds/a\.yaml: bounds: missing"):
         world_from_dict({"obstacles": []}, source="worlds/a.yaml")
     with pytest.raises(MapFormatError, match=r"^worlds/a\.yaml: obstacles\[1\]: unknown obstacle kind"):
-        world_from_dict({"bounds": [0, 0, 1, 1], "obstacles": [{"polygon": [[0, 0]]}, {"x": 1}]},
+        world_from_dict({"bounds": [0, 0, 1, 1], "obstacles": [{"polygon": [[0, 0], [1, 0], [0, 1]]}, {"x": 1}]},
                         source="worlds/a.yaml")
 
 
@@ -231,7 +243,7 @@ MIXED = {
         {"polygon": [[1, 1], [5, 1], [5, 2], [2, 2], [2, 5], [1, 5]]},
         {"circle": {"center": [8, 6], "radius": 1.25}},
         {"segment": [[6, 0], [9, 3]]},
-        {"polygon": [[10, 8]]},
+        {"point": [10, 8]},
         {"rectangle": [3, 6, 4, 8]},
     ],
 }
@@ -263,3 +275,64 @@ def test_distance_matches_shapely(pts: list, wall: bool) -> None:
 def test_distance_is_zero_inside_and_on_obstacles() -> None:
     w = world_from_dict(MIXED)
     np.testing.assert_array_equal(w.distance([[1.5, 3], [1, 1], [8, 6], [9.25, 6], [7.5, 1.5], [10, 8]]), 0.0)
+
+
+# ----------------------------------------------------------------------------------------
+# vertex order (seed 001's VerticesSorter)
+# ----------------------------------------------------------------------------------------
+@given(st.lists(st.tuples(st.integers(-50, 50), st.integers(-50, 50)), min_size=3, max_size=12, unique=True),
+       st.randoms(use_true_random=False))
+def test_vertex_order_sort_recovers_a_convex_polygon_from_shuffled_vertices(pts, rnd) -> None:
+    hull = shapely.MultiPoint(pts).convex_hull
+    if not isinstance(hull, Polygon) or hull.area == 0:
+        return
+    v = [list(c) for c in hull.exterior.coords[:-1]]
+    rnd.shuffle(v)
+    w = world(bounds=[-60, -60, 60, 60], vertex_order="sort", obstacles=[{"polygon": v}])
+    assert w.obstacles[0].geometry.equals(hull)  # the same polygon, whatever order the file listed
+
+
+def test_vertex_order_per_file_and_per_polygon() -> None:
+    shuffled = [[1, 1], [2, 2], [2, 1], [1, 2]]  # a square listed as a bow-tie
+    with pytest.raises(MapFormatError, match=r"obstacles\[1\]\.polygon \(obstacle 2\) is not a simple polygon as "
+                                             r"given .*set vertex_order: sort"):
+        world(obstacles=[{"polygon": [[5, 5], [6, 5], [6, 6]]}, {"polygon": shuffled}])
+    square = shapely.box(1, 1, 2, 2)
+    assert world(vertex_order="sort", obstacles=[{"polygon": shuffled}]).obstacles[0].geometry.equals(square)
+    assert world(obstacles=[{"polygon": {"vertices": shuffled, "vertex_order": "sort"}}]).obstacles[0].geometry.equals(
+        square)
+    with pytest.raises(MapFormatError, match=r"not a simple polygon as given"):
+        world(vertex_order="sort", obstacles=[{"polygon": {"vertices": shuffled, "vertex_order": "as_given"}}])
+    # a non-convex polygon listed in order is kept as given
+    comb = [[0, 0], [5, 0], [5, 3], [4, 3], [4, 1], [3, 1], [3, 3], [2, 3], [2, 1], [1, 1], [1, 3], [0, 3]]
+    assert world(obstacles=[{"polygon": comb}]).obstacles[0].geometry.is_valid
+    # the seed 000 B matrix sorts too
+    b = [[1, 2, 2, 1], [1, 2, 1, 2], [1, 1, 1, 1]]
+    assert world(vertex_order="sort", b_matrix=b).obstacles[0].geometry.equals(square)
+    with pytest.raises(MapFormatError, match=r"vertex_order: expected one of \['as_given', 'sort'\], got 'sorted'"):
+        world(vertex_order="sorted", obstacles=[{"polygon": shuffled}])
+    with pytest.raises(MapFormatError, match=r"obstacles\[0\]\.polygon\.vertex_order: expected one of"):
+        world(obstacles=[{"polygon": {"vertices": shuffled, "vertex_order": 1}}])
+    with pytest.raises(MapFormatError, match=r"obstacles\[0\]\.polygon must be a list of points or a mapping"):
+        world(obstacles=[{"polygon": {"points": shuffled}}])
+    c = world(obstacles=[{"polygon": {"vertices": [[1, 1], [3, 1], [3, 3]], "center": [2.5, 1.5]}}]).obstacles[0]
+    assert c.star_center == (2.5, 1.5)
+
+
+def test_seed001_world_lists_vertices_out_of_order_and_reaches_the_goal() -> None:
+    import yaml
+
+    path = bundled_map("seed001.yaml")
+    data = yaml.safe_load(path.read_text())
+    assert data["vertex_order"] == "sort"
+    with pytest.raises(MapFormatError, match=r"set vertex_order: sort"):
+        world_from_dict({**data, "vertex_order": "as_given"})
+    w = read_world(path)
+    for ob, listed in zip(w.obstacles, data["obstacles"], strict=True):
+        assert ob.geometry.is_valid and ob.geometry.equals(shapely.MultiPoint(listed["polygon"]).convex_hull)
+    assert {k: w.params[k] for k in ("zeta", "d_star", "eta", "q_star")} == {"zeta": 0.8, "d_star": 2.0, "eta": 0.8,
+                                                                              "q_star": 2.0}  # seed 001's
+    from gridfield.planners import plan
+
+    p = plan("potential", w, w.start, w.goal)
+    assert p.reached and w.clearance(p.points) > 0

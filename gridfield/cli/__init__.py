@@ -3,7 +3,7 @@
 Each sub-command lives in its own module ``gridfield/cli/<name>.py`` exposing
 ``add_parser(subparsers)`` and ``run(args) -> int``; heavy imports happen inside ``run`` so
 that ``gridfield --help`` stays fast. Bad input (any :class:`~gridfield.errors.GridfieldError`,
-a missing file) becomes one line on stderr and exit code 2.
+a missing file) becomes one line on stderr and exit code 2; a warning is one line on stderr.
 """
 
 from __future__ import annotations
@@ -62,10 +62,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not getattr(args, "_run", None):
         parser.print_help()
         return 2
+    import warnings
+
     from ..limits import override
 
+    def one_line_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+                         file: object = None, line: str | None = None) -> None:
+        print(f"gridfield {args.command}: warning: {message}", file=sys.stderr)
+
     try:
-        with override(getattr(args, "max_cells", None)):
+        with warnings.catch_warnings(), override(getattr(args, "max_cells", None)):
+            warnings.showwarning = one_line_warning  # e.g. star-nav's "kappa is too small": one line, no source
             code = int(args._run(args) or 0)
         sys.stdout.flush()  # a closed pipe (`gridfield plan --json | head -c 100`) shows here, not at exit
         return code

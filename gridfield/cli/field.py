@@ -11,7 +11,7 @@ from typing import Any
 from ._common import add_map_arguments, add_param_arguments, collect_params, load_target
 
 #: Planners whose field ``gridfield field`` builds: the potential field and the navigation functions.
-FIELD_PLANNERS = ("potential", "wavefront", "wavefront-octile", "fmm", "harmonic", "sphere-nav")
+FIELD_PLANNERS = ("potential", "wavefront", "wavefront-octile", "fmm", "harmonic", "sphere-nav", "star-nav")
 
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -29,7 +29,8 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--npz", metavar="F",
                    help="write occupied, distance, label, gvd, potential, grad_x, grad_y + resolution, origin")
     p.add_argument("--plot", metavar="F", help="save the potential (contours and force arrows) as a figure")
-    p.add_argument("--surface", metavar="F", help="save the potential as a 3-D surface figure")
+    p.add_argument("--surface", metavar="F", help="save the potential as a 3-D surface figure (star-nav: seed 002's "
+                                                  "four figures: beta humps, attractive part, mapped space, surface)")
     p.add_argument("--basins", metavar="F",
                    help="save the basins of attraction of steepest descent (goal basin and local minima)")
     add_param_arguments(p)
@@ -94,6 +95,15 @@ def run(args: argparse.Namespace) -> int:
     params = _world_params(target)
     params.update(collect_params(args))
     gridmap = as_gridmap(target, args.resolution)
+    if args.planner == "star-nav":
+        from ..star import star_nav_field
+
+        gridmap.check_point("goal", goal)
+        t0 = time.perf_counter()
+        nav = star_nav_field(gridmap, goal, check_params(params))
+        ms = (time.perf_counter() - t0) * 1e3
+        model = f"star-nav navigation function, kappa={nav.params['kappa']:g}, lambda={nav.params['lambda']:g}"
+        return _report(args, nav.to_field(), model, ms, 0.0, star_figure=nav.aux["figure"])
     if args.planner != "potential":
         from ..navigation import navigation_field
 
@@ -118,7 +128,8 @@ def run(args: argparse.Namespace) -> int:
     return _report(args, field, model, ms, ms_brushfire)
 
 
-def _report(args: argparse.Namespace, field: Any, model: str, ms: float, ms_brushfire: float) -> int:
+def _report(args: argparse.Namespace, field: Any, model: str, ms: float, ms_brushfire: float,
+            star_figure: dict[str, Any] | None = None) -> int:
     """Print the field's summary and write the files asked for."""
     import numpy as np
 
@@ -149,7 +160,10 @@ def _report(args: argparse.Namespace, field: Any, model: str, ms: float, ms_brus
         if args.plot:
             _save_figure(gplot.plot_potential(field, ax=None), args.plot)
             print(f"wrote {args.plot}")
-        if args.surface:
+        if args.surface and star_figure is not None:
+            _save_figure(gplot.plot_star_world(star_figure)[0], args.surface)
+            print(f"wrote {args.surface}")
+        elif args.surface:
             _save_figure(gplot.plot_surface(field, ax=None), args.surface)
             print(f"wrote {args.surface}")
         if args.basins:

@@ -12,6 +12,7 @@ scenarios), the planners and a grid of parameter values (the Cartesian product i
       - path: maps/arena/arena.map
         scenarios: maps/arena/arena.map.scen
         limit: 40
+        robot_radius: 0.5         # or robot: {polygon: [[x, y], ...]}; also allowed at the top level
     planners: [potential, wavefront-octile]
     params:                       # every combination is run
       q_star: [1.0, 2.0]
@@ -58,10 +59,15 @@ class Run:
     start: tuple[float, float]
     goal: tuple[float, float]
     optimal: float = math.nan
+    robot: tuple[Any, ...] = ()  # () a point, ("radius", r) or ("polygon", ((x, y), ...))
 
     @property
     def params_json(self) -> str:
-        return json.dumps(dict(self.params), sort_keys=True)
+        d: dict[str, Any] = dict(self.params)
+        if self.robot:
+            d["robot"] = {self.robot[0]: self.robot[1] if self.robot[0] == "radius" else
+                          [list(v) for v in self.robot[1]]}
+        return json.dumps(d, sort_keys=True)
 
     @property
     def key(self) -> tuple[str, str, str, str, str, str, str]:
@@ -126,7 +132,8 @@ def load_spec(path: str | os.PathLike[str]) -> tuple[list[Run], FsPath]:
         if not map_path.is_absolute():
             map_path = base / map_path
         resolution = entry.get("resolution")
-        target = read(map_path)
+        robot = _robot_key(entry, spec, w)
+        target = _with_robot(read(map_path), robot)
         pairs: list[tuple[tuple[float, float], tuple[float, float], float]] = []
         for j, pair in enumerate(entry.get("pairs") or []):
             try:
@@ -152,8 +159,31 @@ def load_spec(path: str | os.PathLike[str]) -> tuple[list[Run], FsPath]:
         if not isinstance(target, World | GridMap):  # pragma: no cover - read() returns one of the two
             raise MapFormatError(f"{w}: not a map")
         for planner, params, (s, g, opt) in itertools.product(planners, combos, pairs):
-            runs.append(Run(str(map_path), resolution, planner, tuple(sorted(params.items())), s, g, opt))
+            runs.append(Run(str(map_path), resolution, planner, tuple(sorted(params.items())), s, g, opt, robot))
     return runs, output
+
+
+def _robot_key(entry: Mapping[str, Any], spec: Mapping[str, Any], where: str) -> tuple[Any, ...]:
+    """A map entry's robot (``robot:`` or ``robot_radius:``, else the spec's) as plain hashable data."""
+    from .world import robot_from_value
+
+    source = entry if ("robot" in entry or "robot_radius" in entry) else spec
+    value = source.get("robot", source.get("robot_radius"))
+    if value is None:
+        return ()
+    r = robot_from_value(value, f"{where}: robot")
+    if r.radius is not None:
+        return ("radius", r.radius)
+    assert r.vertices is not None
+    return ("polygon", tuple(map(tuple, r.vertices.tolist())))
+
+
+def _with_robot(target: Any, robot: tuple[Any, ...]) -> Any:
+    if not robot:
+        return target
+    from .cspace import apply_robot
+
+    return apply_robot(target, robot[1] if robot[0] == "radius" else list(robot[1]))
 
 
 def _random_pairs(target: Any, resolution: float | None, n: int, seed: int) -> list[Any]:
@@ -179,11 +209,11 @@ _CACHE: dict[Any, Any] = {}
 
 def _target(run: Run) -> Any:
     """The run's map, loaded (and for grid planners rasterized) once per process."""
-    key = (run.map, run.resolution)
+    key = (run.map, run.resolution, run.robot)
     if key not in _CACHE:
         from .io import read
 
-        _CACHE[key] = read(run.map)
+        _CACHE[key] = _with_robot(read(run.map), run.robot)
     return _CACHE[key]
 
 

@@ -6,7 +6,14 @@ import argparse
 import json
 import sys
 
-from ._common import add_map_arguments, add_param_arguments, collect_params, load_target
+from ._common import (
+    add_map_arguments,
+    add_param_arguments,
+    add_robot_arguments,
+    collect_params,
+    load_target,
+    robot_target,
+)
 
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -23,6 +30,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print one JSON object (DESIGN's plan contract)")
     p.add_argument("--plot", metavar="F", help="save a figure of the map and the path")
     p.add_argument("--animate", metavar="F", help="save an animation of the follower (.gif, or .mp4 with ffmpeg)")
+    add_robot_arguments(p)
     add_param_arguments(p)
     return p
 
@@ -43,16 +51,28 @@ def endpoints(args: argparse.Namespace, target: object) -> tuple[list[float], li
 def run(args: argparse.Namespace) -> int:
     from ..planners import plan
 
-    target = load_target(args)
-    start, goal = endpoints(args, target)
+    workspace = load_target(args)
+    start, goal = endpoints(args, workspace)
+    target = robot_target(args, workspace, start=start, goal=goal)
     path = plan(args.planner, target, start, goal, collect_params(args), resolution=args.resolution)
+    robot = target is not workspace
+    if robot:
+        from ..cspace import workspace_clearance
+
+        clearance = workspace_clearance(workspace, path.points)
     if args.json:
-        json.dump(path.to_json(), sys.stdout)
+        out = path.to_json()
+        if robot:
+            out["robot"] = _robot_text(args, workspace)
+            out["workspace_clearance"] = clearance
+        json.dump(out, sys.stdout)
         sys.stdout.write("\n")
     else:
         x, y = path.end
         print(f"{path.planner}: {path.status} after {path.iterations} iterations, length {path.length:.4g}, "
               f"end ({x:.4g}, {y:.4g}), min clearance {path.min_clearance:.4g}, {path.seconds * 1e3:.1f} ms")
+        if robot:
+            print(f"robot {_robot_text(args, workspace)}: workspace clearance {clearance:.4g}")
     if args.plot or args.animate:
         from .. import plot as gplot
 
@@ -63,3 +83,10 @@ def run(args: argparse.Namespace) -> int:
             gplot.save_plan_animation(args.animate, target, path, resolution=args.resolution)
             print(f"wrote {args.animate}", file=sys.stderr if args.json else sys.stdout)
     return 0
+
+
+def _robot_text(args: argparse.Namespace, workspace: object) -> str:
+    from ._common import _robot_from_args
+
+    robot = _robot_from_args(args, workspace)
+    return robot.describe() if robot is not None else "point"

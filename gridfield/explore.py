@@ -185,7 +185,7 @@ class Explorer:
     >>> ex = Explorer(read_world(bundled_map("seed000.yaml")), resolution=0.25)
     >>> ex.set_robot(0.3); ex.compute_cspace()
     True
-    >>> ex.path.status, ex.cgridmap.occupied.sum() > ex.gridmap.occupied.sum()
+    >>> ex.path.status, bool(ex.cgridmap.occupied.sum() > ex.gridmap.occupied.sum())
     ('reached', True)
     >>> ex.close()
     """
@@ -522,7 +522,9 @@ class Explorer:
             self.world = dataclasses.replace(self.world, **ends)
             if self.gridmap is not None and isinstance(self.gridmap.world, World):
                 self.gridmap = self.gridmap.with_occupied(self.gridmap.occupied, world=self.world)
-        if self.cworld is not None:
+        if not (self.cspace_on and self.robot is not None):
+            self.cworld, self.cgridmap = self.world, self.gridmap
+        elif self.cworld is not None:
             self.cworld = dataclasses.replace(self.cworld, **ends)
             if self.cgridmap is not None and isinstance(self.cgridmap.world, World):
                 self.cgridmap = self.cgridmap.with_occupied(self.cgridmap.occupied, world=self.cworld)
@@ -536,6 +538,8 @@ class Explorer:
         if push:
             self._push()
         setattr(self, which, p)
+        if self.on_message is not None:
+            self.on_message(f"{which} set to ({p[0]:.4g}, {p[1]:.4g})")
         self._sync_endpoints()
         self._update_endpoints()
         self.recompute()

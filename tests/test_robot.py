@@ -331,3 +331,28 @@ def test_sweep_spec_robot_key(tmp_path):
     rows = run_sweep(runs, output, workers=1, progress=False)
     by_robot = {json.loads(r["params"]).get("robot", {}).get("radius", 0): r for r in rows}
     assert by_robot[0.5]["status"] == "reached" and float(by_robot[0.5]["length"]) > float(by_robot[0]["length"])
+
+
+def test_a_polygon_robot_on_the_exact_shortest_path_touches_but_never_overlaps(capsys):
+    tri = np.array([[-0.3, -0.2], [0.3, -0.2], [0.0, 0.4]])
+    out = run_json(["plan", str(bundled_map("seed000.yaml")), "--planner", "visibility", "--robot",
+                    "-0.3,-0.2 0.3,-0.2 0,0.4", "--json"], capsys)
+    assert out["status"] == "reached" and out["robot_clearance"] == pytest.approx(0.0, abs=1e-9)
+    pts = np.asarray(out["path"], dtype=float)
+    # densify the path: the body between vertices must stay out too
+    t = np.linspace(0, 1, 20)[:, None, None]
+    dense = (pts[:-1][None] * (1 - t) + pts[1:][None] * t).reshape(-1, 2)
+    bodies = shapely.polygons(dense[:, None, :] + tri[None])
+    union = read_world(bundled_map("seed000.yaml")).union()
+    assert shapely.area(shapely.intersection(bodies, union)).max() < 1e-9
+
+
+def test_robot_clearance_of_a_disc_on_a_grid_is_the_path_clearance_less_the_radius():
+    from gridfield.cspace import robot_clearance
+
+    rng = np.random.default_rng(3)
+    gm = GridMap(Grid((20, 25), 0.3), rng.random((20, 25)) < 0.05)
+    pts = rng.uniform((0.0, 0.0), (7.5, 6.0), size=(50, 2))
+    d = square_distance_to_occupied(gm, pts).min()
+    assert robot_clearance(gm, 0.1, pts) == pytest.approx(max(d - 0.1, 0.0))
+    assert robot_clearance(gm, [[0, 0], [1, 0], [0, 1]], pts) is None

@@ -57,14 +57,17 @@ def run(args: argparse.Namespace) -> int:
     path = plan(args.planner, target, start, goal, collect_params(args), resolution=args.resolution)
     robot = target is not workspace
     if robot:
-        from ..cspace import workspace_clearance
+        from ..cspace import robot_clearance, workspace_clearance
+        from ._common import _robot_from_args
 
         clearance = workspace_clearance(workspace, path.points)
+        body = robot_clearance(workspace, _robot_from_args(args, workspace), path.points)
     if args.json:
         out = path.to_json()
         if robot:
             out["robot"] = _robot_text(args, workspace)
             out["workspace_clearance"] = clearance
+            out["robot_clearance"] = body
         json.dump(out, sys.stdout)
         sys.stdout.write("\n")
     else:
@@ -72,7 +75,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"{path.planner}: {path.status} after {path.iterations} iterations, length {path.length:.4g}, "
               f"end ({x:.4g}, {y:.4g}), min clearance {path.min_clearance:.4g}, {path.seconds * 1e3:.1f} ms")
         if robot:
-            print(f"robot {_robot_text(args, workspace)}: workspace clearance {clearance:.4g}")
+            extra = "" if body is None else f", the robot's body {body:.4g}"
+            print(f"robot {_robot_text(args, workspace)}: clearance of the path {clearance:.4g}{extra}")
     if args.plot or args.animate:
         from .. import plot as gplot
 

@@ -356,3 +356,11 @@ def test_robot_clearance_of_a_disc_on_a_grid_is_the_path_clearance_less_the_radi
     d = square_distance_to_occupied(gm, pts).min()
     assert robot_clearance(gm, 0.1, pts) == pytest.approx(max(d - 0.1, 0.0))
     assert robot_clearance(gm, [[0, 0], [1, 0], [0, 1]], pts) is None
+
+
+def test_info_describes_the_configuration_space(capsys):
+    arena = bundled_map("arena/arena.map")
+    out = run_json(["info", str(arena), "--robot-radius", "1", "--json"], capsys)
+    assert out["robot"] == "disc of radius 1"
+    assert out["occupied_fraction"] == pytest.approx(apply_robot(read(arena), 1.0).occupied.mean())
+    assert "robot" not in run_json(["info", str(arena), "--json"], capsys)

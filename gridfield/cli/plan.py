@@ -66,8 +66,8 @@ def run(args: argparse.Namespace) -> int:
         out = path.to_json()
         if robot:
             out["robot"] = _robot_text(args, workspace)
-            out["workspace_clearance"] = clearance
-            out["robot_clearance"] = body
+            out["workspace_clearance"] = _json_number(clearance)
+            out["robot_clearance"] = None if body is None else _json_number(body)
         json.dump(out, sys.stdout)
         sys.stdout.write("\n")
     else:
@@ -94,3 +94,11 @@ def _robot_text(args: argparse.Namespace, workspace: object) -> str:
 
     robot = _robot_from_args(args, workspace)
     return robot.describe() if robot is not None else "point"
+
+
+def _json_number(v: float) -> float | str | None:
+    """A float for JSON the way Path.to_json writes them: inf as "inf", NaN as null."""
+    import math
+
+    v = float(v)
+    return v if math.isfinite(v) else (None if math.isnan(v) else ("inf" if v > 0 else "-inf"))

@@ -10,6 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import shapely
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 from shapely.geometry import Point
 
 from gridfield.cli import main
@@ -364,3 +366,22 @@ def test_info_describes_the_configuration_space(capsys):
     assert out["robot"] == "disc of radius 1"
     assert out["occupied_fraction"] == pytest.approx(apply_robot(read(arena), 1.0).occupied.mean())
     assert "robot" not in run_json(["info", str(arena), "--json"], capsys)
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), radius=st.floats(0.01, 2.0), h=st.sampled_from([0.25, 0.5, 1.0]),
+       wall=st.booleans())
+def test_property_disc_cspace_grid_equals_the_conservative_rasterization_of_the_exact_one(seed, radius, h, wall):
+    rng = np.random.default_rng(seed)
+    grid = Grid((7, 9), h, origin=(0.5, -1.0), border="wall" if wall else "open")
+    occ = rng.random(grid.shape) < 0.1
+    allc = np.argwhere(np.ones(grid.shape, bool))
+    boxes = cell_boxes(grid, allc)
+    union = shapely.union_all(cell_boxes(grid, np.argwhere(occ)))
+    if wall:
+        xmin, ymin, xmax, ymax = grid.bounds
+        union = union.union(shapely.box(xmin - 9, ymin - 9, xmax + 9, ymax + 9).difference(shapely.box(*grid.bounds)))
+    d = shapely.distance(boxes, union)
+    assume(not np.any(np.isclose(d, radius, rtol=1e-7)))  # no exact tie (the tolerance decides those)
+    out = apply_robot(GridMap(grid, occ), radius).occupied[allc[:, 0], allc[:, 1]]
+    np.testing.assert_array_equal(out, d <= radius)

@@ -716,6 +716,7 @@ class Explorer:
         self.show_3d = not self.show_3d
         self.ax.set_visible(not self.show_3d)
         self.ax3d.set_visible(self.show_3d)
+        self.cax.set_visible(self.field is not None and not self.show_3d)
         self._set_toggle_label("toggle_3d", self.show_3d)
         self._update_3d()
         self.figure.canvas.draw_idle()
@@ -881,7 +882,7 @@ class Explorer:
         self.field_image.set_norm(LogNorm(vmin=lo, vmax=hi))
         self.field_image.set_visible(True)
         self.colorbar.update_normal(self.field_image)
-        self.cax.set_visible(True)
+        self.cax.set_visible(not self.show_3d)  # the 3-D view has its own height axis
 
     def _hide_field(self) -> None:
         self.field_image.set_visible(False)

@@ -214,8 +214,9 @@ def test_3d_toggle_shows_the_potential_surface_with_the_path(ex):
     ex.set_goal(20.0, 3.0)
     xs, ys, _ = ex.surface.paths[0].get_data_3d()
     np.testing.assert_allclose((xs[-1], ys[-1]), ex.path.points[-1])
+    assert not ex.cax.get_visible()  # the surface has its own height axis
     key(ex, "3")
-    assert not ex.show_3d and ex.ax.get_visible() and not ex.ax3d.get_visible()
+    assert not ex.show_3d and ex.ax.get_visible() and not ex.ax3d.get_visible() and ex.cax.get_visible()
     assert "off" in ex.buttons["toggle_3d"].label.get_text()
 
 

@@ -101,7 +101,7 @@ def layout() -> dict[str, object]:
         return float(dx), float(height - dy)
 
     out = {"data": data, "draw_robot": button("toggle_robot_drawing"), "cspace": button("compute_cspace"),
-           "size": ex.figure.canvas.get_width_height()}
+           "toggle_3d": button("toggle_3d"), "size": ex.figure.canvas.get_width_height()}
     out["probe"] = (data(PROBE[0][0], PROBE[1][1]), data(PROBE[1][0], PROBE[0][1]))  # top-left, bottom-right
     return out
 
@@ -114,6 +114,15 @@ def red_pixels(png: bytes, box: tuple[tuple[float, float], tuple[float, float]])
     (x0, y0), (x1, y1) = box
     win = img[int(y0):int(y1), int(x0):int(x1)]
     return int((np.abs(win - np.array(RED)).sum(axis=2) < 60).sum())
+
+
+def changed_fraction(a: bytes, b: bytes) -> float:
+    import numpy as np
+    from PIL import Image
+
+    x = np.asarray(Image.open(io.BytesIO(a)).convert("RGB")).astype(int)
+    y = np.asarray(Image.open(io.BytesIO(b)).convert("RGB")).astype(int)
+    return float((np.abs(x - y).sum(axis=2) > 30).mean())
 
 
 def main() -> int:
@@ -179,6 +188,13 @@ def main() -> int:
             Path(args.screenshot).parent.mkdir(parents=True, exist_ok=True)
             page.screenshot(path=args.screenshot)
             print(f"C-space planned ({status.group(1)}); wrote {args.screenshot}")
+            # the 3-D toggle replaces the map by the potential surface in the browser too
+            flat = shot()
+            click(geo["toggle_3d"])  # type: ignore[arg-type]
+            page.wait_for_timeout(4000)
+            changed = changed_fraction(flat, shot())
+            print(f"3-D view: {changed:.0%} of the canvas changed")
+            assert changed > 0.2, "the 3-D toggle did not change the browser's picture"
             browser.close()
     except AssertionError as e:
         print(f"FAILED: {e}")

@@ -1,21 +1,37 @@
-"""An interactive explorer: click start and goal, draw obstacles, move sliders, watch the field and path.
+"""An interactive explorer: the seed 004 workflow on a matplotlib figure, in a window, a browser or Jupyter.
 
 :class:`Explorer` is a thin matplotlib layer over the library: every update calls
 :func:`gridfield.planners.plan` (and :func:`gridfield.potential.build_field` for the background
-of the potential planner), so what the explorer shows is exactly what ``gridfield plan`` computes.
+of the potential planner) on the map, or on its configuration space
+(:func:`gridfield.cspace.apply_robot`) once a robot is drawn and the C-space computed, so what the
+explorer shows is exactly what ``gridfield plan`` computes.
 
-Mouse and widgets
------------------
+Seed 004's workflow: draw obstacles, draw a convex robot, compute the configuration space (the
+C-obstacles are drawn in yellow beside the workspace obstacles), set the start and the goal,
+calculate the path, record a movie, show the 3-D potential.
+
+Mouse, buttons and keys
+-----------------------
 - left click on the map: sets the start, the next click the goal, then the start again, ...
-- "draw obstacle" button: while on, left clicks add polygon vertices and a right click (or the
-  button again) closes the polygon, adds it to the world as an obstacle and re-rasterizes;
-- sliders ``zeta``, ``eta``, ``q_star``, ``d_star`` (its right end means ``inf``) and ``step``;
-- radio buttons: the planner (``potential``, ``exact-potential``, ``wavefront-octile``, those
-  installed).
+  ("set start" / "set goal", keys ``1`` / ``2``, choose which the next click sets);
+- "draw obstacle" (``d``): left clicks add polygon vertices, a right click (or the button again)
+  closes the polygon, adds it as an obstacle and re-plans; ``escape`` abandons it;
+- "draw robot" (``b``): the same for the robot's convex outline; the first vertex is its
+  reference point (the black dot, the point planned for), which becomes the start;
+- "C-space" (``x``): plan in the robot's configuration space from now on;
+- "calculate path" (``enter``), "movie" (``m``: the next path is written as a GIF, and MP4 where
+  ffmpeg exists, to :attr:`Explorer.movie_file`), "3-D" (``3``: the potential surface with the
+  path, instead of the map), "undo" (``u``), "clear" (``n``: back to the map as loaded);
+- sliders for the current planner's own parameters (``zeta``, ``eta``, ``q_star``, ``d_star``,
+  whose right end means ``inf``, and ``step``; none for the wavefront), radio buttons for the
+  planner, and a colour bar of the potential.
 
-The explorer never calls ``plt.show()``; ``gridfield explore MAP`` does. It works headless
-(Agg), which is how it is tested: send events to ``explorer.figure.canvas`` or call the
-methods (:meth:`Explorer.set_start`, :meth:`Explorer.set_param`, :meth:`Explorer.add_polygon`, ...).
+The explorer never calls ``plt.show()``; ``gridfield explore MAP`` does (``--web`` serves it
+through matplotlib's WebAgg backend to a browser; in Jupyter use ``%matplotlib widget``). It works
+headless (Agg), which is how it is tested: every button and key has a method
+(:meth:`Explorer.set_start`, :meth:`Explorer.add_polygon`, :meth:`Explorer.set_robot`,
+:meth:`Explorer.compute_cspace`, :meth:`Explorer.toggle_movie`, :meth:`Explorer.toggle_3d`,
+:meth:`Explorer.undo`, :meth:`Explorer.clear`, ...).
 """
 
 from __future__ import annotations
@@ -23,7 +39,8 @@ from __future__ import annotations
 import dataclasses
 import importlib.util
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path as FsPath
 from typing import Any
 
 import numpy as np
@@ -32,14 +49,37 @@ from numpy.typing import ArrayLike, NDArray
 from .errors import GridfieldError, ParameterError
 from .grid import GridMap
 from .path import Path
-from .world import Obstacle, World
+from .world import Obstacle, Robot, World
 
-__all__ = ["EXPLORER_PLANNERS", "SLIDER_PARAMS", "Explorer", "available_planners"]
+__all__ = ["BUTTONS", "EXPLORER_PLANNERS", "PLANNER_SLIDERS", "SLIDER_PARAMS", "Explorer", "available_planners"]
 
 #: Planners the explorer offers, in order, when their module is installed.
 EXPLORER_PLANNERS = ("potential", "exact-potential", "wavefront-octile")
 #: Parameters with a slider.
 SLIDER_PARAMS = ("zeta", "eta", "q_star", "d_star", "step")
+#: The sliders each planner reads (the others are hidden while it is selected).
+PLANNER_SLIDERS: dict[str, tuple[str, ...]] = {
+    "potential": SLIDER_PARAMS,
+    "exact-potential": SLIDER_PARAMS,
+    "wavefront-octile": (),
+}
+#: Buttons: name -> (label, key). Each calls the method of the same name.
+BUTTONS: dict[str, tuple[str, str]] = {
+    "toggle_drawing": ("draw obstacle", "d"),
+    "toggle_robot_drawing": ("draw robot", "b"),
+    "compute_cspace": ("C-space", "x"),
+    "calculate_path": ("calculate path", "enter"),
+    "arm_start": ("set start", "1"),
+    "arm_goal": ("set goal", "2"),
+    "toggle_movie": ("movie: off", "m"),
+    "toggle_3d": ("3-D: off", "3"),
+    "undo": ("undo", "u"),
+    "clear": ("clear", "n"),
+}
+
+#: Colours: C-obstacles (seed 004 draws them yellow) and the robot.
+CSPACE_COLOR = "#f2d64b"
+ROBOT_COLOR = "#444444"
 
 
 def _module_available(name: str) -> bool:
@@ -69,15 +109,29 @@ def available_planners(*, world: bool = True) -> list[str]:
     return out
 
 
+@dataclasses.dataclass(frozen=True)
+class _State:
+    """What undo restores: the workspace, the robot, the C-space and the endpoints."""
+
+    world: World | None
+    gridmap: GridMap | None
+    robot: Robot | None
+    cspace_on: bool
+    cworld: World | None
+    cgridmap: GridMap | None
+    start: tuple[float, float] | None
+    goal: tuple[float, float] | None
+
+
 class Explorer:
-    """Interactive potential-field explorer on a matplotlib figure.
+    """Interactive potential-field explorer on a matplotlib figure (seed 004's workflow).
 
     Parameters
     ----------
     target : World or GridMap
-        The map. A world is rasterized at ``resolution`` (default: its own); drawn polygons are
-        added to the world and the grid is re-rasterized. A grid map without a world gets drawn
-        polygons burnt into its occupancy.
+        The map (the workspace). A world is rasterized at ``resolution`` (default: its own); drawn
+        polygons are added to the world and the grid is re-rasterized. A grid map without a world
+        gets drawn polygons burnt into its occupancy.
     params : mapping, optional
         Planner parameters overriding the world file's ``params``.
     planner : str
@@ -85,14 +139,29 @@ class Explorer:
     resolution : float, optional
     start, goal : (x, y), optional
         Default: the world's start and goal.
+    robot : Robot, float or (N, 2) array_like, optional
+        A robot to plan for from the start (its C-space is computed at once); default: the
+        world file's ``robot``, else none (a point) until one is drawn.
+    movie_file : path, optional
+        Where the "movie" toggle writes (``.gif``; an ``.mp4`` of the same name too when ffmpeg
+        is on the PATH). Default ``gridfield_movie.gif`` in the current folder.
+    on_message : callable, optional
+        Called with every status message (``gridfield explore --web`` prints them).
     figsize : (float, float)
 
     Attributes
     ----------
     figure, ax : the figure and the map axes
+    ax3d : the 3-D axes (shown instead of ``ax`` by :meth:`toggle_3d`)
+    colorbar : the colour bar of the potential
     sliders : dict of name to Slider
     radio : RadioButtons or None
-    draw_button : Button
+    buttons : dict of method name to Button (see :data:`BUTTONS`)
+    world, gridmap : the workspace (World or None, GridMap or None)
+    robot : Robot or None
+    cspace_on : bool
+        Whether planning happens in the robot's configuration space.
+    cworld, cgridmap : what the planners get: the C-space when on, else the workspace
     path : Path or None
         The latest planning result.
     field : Field or None
@@ -100,7 +169,9 @@ class Explorer:
     message : str
         The status line (the latest result or error).
     path_line : Line2D
-        The drawn path (the only line of ``ax.lines`` apart from the polygon being drawn).
+        The drawn path.
+    movie_written : list of pathlib.Path
+        The files the latest movie went to.
     n_updates : int
         How many times the field and path were recomputed.
 
@@ -110,6 +181,12 @@ class Explorer:
     >>> ex = Explorer(read_world(bundled_map("seed003_circles.yaml")), planner="potential")
     >>> ex.start, ex.goal
     ((0.0, 4.0), (0.0, -4.0))
+    >>> ex.close()
+    >>> ex = Explorer(read_world(bundled_map("seed000.yaml")), resolution=0.25)
+    >>> ex.set_robot(0.3); ex.compute_cspace()
+    True
+    >>> ex.path.status, bool(ex.cgridmap.occupied.sum() > ex.gridmap.occupied.sum())
+    ('reached', True)
     >>> ex.close()
     """
 
@@ -122,7 +199,10 @@ class Explorer:
         resolution: float | None = None,
         start: ArrayLike | None = None,
         goal: ArrayLike | None = None,
-        figsize: tuple[float, float] = (11.0, 7.0),
+        robot: Robot | float | ArrayLike | None = None,
+        movie_file: str | FsPath | None = None,
+        on_message: Callable[[str], Any] | None = None,
+        figsize: tuple[float, float] = (12.0, 7.5),
     ) -> None:
         import matplotlib.pyplot as plt
 
@@ -132,6 +212,7 @@ class Explorer:
             raise ParameterError(f"Explorer needs a World or a GridMap, got {type(target).__name__}")
         if planner not in EXPLORER_PLANNERS:
             raise ParameterError(f"planner must be one of {EXPLORER_PLANNERS}, got {planner!r}")
+        self.on_message = on_message
         self.world: World | None = target if isinstance(target, World) else (
             target.world if isinstance(target.world, World) else None)
         if isinstance(target, GridMap):
@@ -155,16 +236,32 @@ class Explorer:
             self.world = dataclasses.replace(self.world, start=self.start, goal=self.goal)
             if self.gridmap is not None and isinstance(self.gridmap.world, World):
                 self.gridmap = self.gridmap.with_occupied(self.gridmap.occupied, world=self.world)
+        from .cspace import as_robot
+
+        self.robot: Robot | None = as_robot(robot) if robot is not None else (w.robot if w is not None else None)
+        self.cspace_on = self.robot is not None
+        self.cworld, self.cgridmap = self.world, self.gridmap
+        self._rebuild_cspace()
+        self.movie = False
+        self.movie_file = FsPath(movie_file) if movie_file is not None else FsPath("gridfield_movie.gif")
+        self.movie_written: list[FsPath] = []
+        self.show_3d = False
+        self.history: list[_State] = []
+        self._initial = self._state()
         self.path: Path | None = None
         self.field: Any = None
         self.message = ""
         self.n_updates = 0
         self.drawing = False
+        self.draw_mode = "obstacle"
         self.vertices: list[tuple[float, float]] = []
         self._next_click = "start" if self.start is None else ("goal" if self.goal is None else "start")
 
         self.figure = plt.figure(figsize=figsize)
-        self.ax = self.figure.add_axes((0.06, 0.1, 0.6, 0.82))
+        self.ax = self.figure.add_axes((0.05, 0.09, 0.56, 0.84))
+        self.ax3d = self.figure.add_axes((0.05, 0.09, 0.56, 0.84), projection="3d")
+        self.ax3d.set_visible(False)
+        self.cax = self.figure.add_axes((0.625, 0.09, 0.012, 0.84))
         self._build_map_layer()
         self._build_widgets()
         self.canvas_ids = [
@@ -174,18 +271,19 @@ class Explorer:
         self.recompute()
 
     # -- construction ----------------------------------------------------------------------
-    def _rasterize(self) -> GridMap | None:
-        if self.world is None:
+    def _rasterize(self, world: World | None = None) -> GridMap | None:
+        world = self.world if world is None else world
+        if world is None:
             return self.gridmap
         try:
             from .rasterize import as_gridmap
         except ImportError:
             return None
-        res = self.resolution if self.resolution is not None else self.world.resolution
+        res = self.resolution if self.resolution is not None else world.resolution
         if res is None:
-            xmin, ymin, xmax, ymax = self.world.bounds
+            xmin, ymin, xmax, ymax = world.bounds
             res = max(xmax - xmin, ymax - ymin) / 200.0
-        return as_gridmap(self.world, res)
+        return as_gridmap(world, res)
 
     def _point(self, p: ArrayLike, name: str) -> tuple[float, float]:
         a = np.asarray(p, dtype=float).reshape(-1)
@@ -202,32 +300,44 @@ class Explorer:
     def _build_map_layer(self) -> None:
         from matplotlib.colors import ListedColormap
 
-        from .plot import OCCUPIED_COLOR, _draw_outlines, _frame
+        from .plot import OCCUPIED_COLOR, _frame
 
         ax = self.ax
         xmin, ymin, xmax, ymax = self._bounds()
         extent = (xmin, xmax, ymin, ymax)
         shape = self.gridmap.shape if self.gridmap is not None else (2, 2)
-        self.field_image = ax.imshow(np.ma.masked_array(np.zeros(shape), mask=True), origin="lower", extent=extent, cmap="viridis",
+        empty = np.ma.masked_array(np.zeros(shape), mask=True)
+        self.field_image = ax.imshow(empty, origin="lower", extent=extent, cmap="viridis",
                                      interpolation="nearest", zorder=0, vmin=0.0, vmax=1.0)
-        self.occupancy_image = ax.imshow(np.ma.masked_array(np.zeros(shape), mask=True), origin="lower", extent=extent,
+        self.cspace_image = ax.imshow(empty.copy(), origin="lower", extent=extent,
+                                      cmap=ListedColormap([CSPACE_COLOR]), vmin=0.5, vmax=1.5,
+                                      interpolation="nearest", zorder=0.9, alpha=0.85)
+        self.occupancy_image = ax.imshow(empty.copy(), origin="lower", extent=extent,
                                          cmap=ListedColormap([OCCUPIED_COLOR]), vmin=0.5, vmax=1.5,
                                          interpolation="nearest", zorder=1)
-        self._update_occupancy()
-        self.outlines = _draw_outlines(ax, self.world) if self.world is not None else []
-        self._outline_fn = _draw_outlines
+        self.outlines: list[Any] = []
+        self.cspace_outlines: list[Any] = []
+        self._drawn_outlines: list[Any] = []  # polygons burnt into a grid without a world
         (self.path_line,) = ax.plot([], [], color="tab:red", linewidth=2.0, zorder=5, label="path")
         (self.draft_line,) = ax.plot([], [], color="tab:orange", marker="o", linestyle="--", zorder=6)
-        empty = np.empty((0, 2))
-        self.start_marker = ax.scatter(empty[:, 0], empty[:, 1], marker="o", s=70, color="tab:green",
+        from matplotlib.patches import Polygon as MplPolygon
+
+        self.robot_patch = ax.add_patch(MplPolygon(np.zeros((3, 2)), closed=True, facecolor="white", alpha=0.8,
+                                                   edgecolor=ROBOT_COLOR, linewidth=1.5, zorder=6.5, visible=False))
+        none = np.empty((0, 2))
+        self.reference_marker = ax.scatter(none[:, 0], none[:, 1], s=22, color="black", zorder=7.5, label="robot")
+        self.start_marker = ax.scatter(none[:, 0], none[:, 1], marker="o", s=70, color="tab:green",
                                        edgecolor="black", zorder=7, label="start")
-        self.goal_marker = ax.scatter(empty[:, 0], empty[:, 1], marker="*", s=180, color="gold", edgecolor="black",
+        self.goal_marker = ax.scatter(none[:, 0], none[:, 1], marker="*", s=180, color="gold", edgecolor="black",
                                       zorder=7, label="goal")
-        self.stall_marker = ax.scatter(empty[:, 0], empty[:, 1], marker="X", s=90, color="red", edgecolor="white",
+        self.stall_marker = ax.scatter(none[:, 0], none[:, 1], marker="X", s=90, color="red", edgecolor="white",
                                        zorder=8, label="stall")
-        self._update_endpoints()
+        self._redraw_map()
         _frame(ax, self._bounds())
-        self.status_text = self.figure.text(0.06, 0.02, "", fontsize=9, family="monospace")
+        self.colorbar = self.figure.colorbar(self.field_image, cax=self.cax)
+        self.colorbar.set_label("U − min U (log scale)", fontsize=8)
+        self.cax.tick_params(labelsize=7)
+        self.status_text = self.figure.text(0.05, 0.02, "", fontsize=9, family="monospace")
         self.ax.set_title("click: start, then goal", fontsize=10)
 
     def _slider_range(self, name: str) -> tuple[float, float]:
@@ -257,7 +367,7 @@ class Explorer:
             if name == "d_star" and math.isinf(v):
                 v = hi
             lo, hi = min(lo, v), max(hi, v)  # the range always holds the value in use
-            sax = fig.add_axes((0.76, 0.56 - 0.055 * i, 0.17, 0.03))
+            sax = fig.add_axes((0.74, 0.69 - 0.045 * i, 0.2, 0.025))
             s = Slider(sax, name, lo, hi, valinit=v)
             s.on_changed(lambda val, n=name: self._on_slider(n, val))
             self.sliders[name] = s
@@ -269,15 +379,22 @@ class Explorer:
             choices = [*choices, self.planner] if self.planner in EXPLORER_PLANNERS else choices
         self.radio = None
         if choices:
-            rax = fig.add_axes((0.72, 0.68, 0.26, 0.04 + 0.05 * len(choices)))
+            rax = fig.add_axes((0.7, 0.76, 0.28, 0.03 + 0.045 * len(choices)))
             rax.set_title("planner", fontsize=9)
             self.radio = RadioButtons(rax, choices, active=choices.index(self.planner))
             self.radio.on_clicked(self.set_planner)
-        bax = fig.add_axes((0.72, 0.14, 0.26, 0.06))
-        self.draw_button = Button(bax, "draw obstacle")
-        self.draw_button.on_clicked(lambda _event: self.toggle_drawing())
+        self.buttons: dict[str, Any] = {}
+        for k, (method, (label, key)) in enumerate(BUTTONS.items()):
+            row, col = divmod(k, 2)
+            bax = fig.add_axes((0.69 + 0.148 * col, 0.4 - 0.068 * row, 0.14, 0.055))
+            b = Button(bax, f"{label} [{key}]")
+            b.label.set_fontsize(8)
+            b.on_clicked(lambda _event, m=method: getattr(self, m)())
+            self.buttons[method] = b
+        self.draw_button = self.buttons["toggle_drawing"]
+        self._update_sliders()
 
-    # -- state changes ---------------------------------------------------------------------
+    # -- parameters and planner ------------------------------------------------------------
     def _slider_value(self, name: str, val: float) -> float:
         if name == "d_star" and val >= self.sliders[name].valmax:
             return math.inf
@@ -292,6 +409,14 @@ class Explorer:
         self.params[name] = self._slider_value(name, val)
         self._show_slider_value(name)
         self.recompute()
+
+    def _update_sliders(self) -> None:
+        """Show (and let react) only the sliders the current planner reads."""
+        used = PLANNER_SLIDERS.get(self.planner, SLIDER_PARAMS)
+        for name, s in self.sliders.items():
+            on = name in used
+            s.ax.set_visible(on)
+            s.set_active(on)
 
     def set_param(self, name: str, value: float) -> None:
         """Set a parameter (moving its slider, if it has one) and recompute."""
@@ -310,7 +435,7 @@ class Explorer:
         self.recompute()
 
     def set_planner(self, name: str | None) -> None:
-        """Switch planner (radio button callback) and recompute."""
+        """Switch planner (radio button callback), show its sliders only, and recompute."""
         if name is None or name == self.planner:
             return
         if name not in EXPLORER_PLANNERS:
@@ -319,15 +444,53 @@ class Explorer:
         labels = [t.get_text() for t in self.radio.labels] if self.radio is not None else []
         if self.radio is not None and name in labels and self.radio.value_selected != name:
             self.radio.set_active(labels.index(name))  # calls back into set_planner, which returns early
+        self._update_sliders()
         self.recompute()
 
+    # -- undo ------------------------------------------------------------------------------
+    def _state(self) -> _State:
+        return _State(self.world, self.gridmap, self.robot, self.cspace_on, self.cworld, self.cgridmap,
+                      self.start, self.goal)
+
+    def _push(self) -> None:
+        self.history.append(self._state())
+
+    def _restore(self, s: _State) -> None:
+        self.world, self.gridmap, self.robot, self.cspace_on = s.world, s.gridmap, s.robot, s.cspace_on
+        self.cworld, self.cgridmap, self.start, self.goal = s.cworld, s.cgridmap, s.start, s.goal
+        self.drawing = False
+        self.vertices = []
+        self.draft_line.set_data([], [])
+        self._redraw_map()
+        self.recompute()
+
+    def undo(self) -> bool:
+        """Undo the latest obstacle, robot, C-space, endpoint or clear; returns whether there was one."""
+        if not self.history:
+            self._set_message("nothing to undo")
+            self.figure.canvas.draw_idle()
+            return False
+        self._restore(self.history.pop())
+        return True
+
+    def clear(self) -> None:
+        """Back to the map as loaded: no drawn obstacles, the initial robot and endpoints (undoable)."""
+        self._push()
+        self._restore(self._initial)
+
+    # -- endpoints -------------------------------------------------------------------------
     def _is_free(self, p: tuple[float, float]) -> str | None:
         """None when ``p`` is a valid start/goal, else why not."""
         try:
-            if self.gridmap is not None and self.planner != "exact-potential":
-                self.gridmap.check_point("point", p)
-            elif self.world is not None:
-                self.world.check_point("point", p)
+            if self.cspace_on and self.robot is not None:
+                from .cspace import check_robot_point
+
+                ws = self.world if self.world is not None else self.gridmap
+                check_robot_point(ws, self.robot, "point", p)
+            if self.cgridmap is not None and self.planner != "exact-potential":
+                self.cgridmap.check_point("point", p)
+            elif self.cworld is not None:
+                self.cworld.check_point("point", p)
         except GridfieldError as e:
             return str(e)
         return None
@@ -340,29 +503,67 @@ class Explorer:
         """Set the goal (if free) and recompute; returns whether it was accepted."""
         return self._set_endpoint("goal", (float(x), float(y)))
 
-    def _set_endpoint(self, which: str, p: tuple[float, float]) -> bool:
+    def arm_start(self) -> None:
+        """The next click on the map sets the start ("set start" button)."""
+        self._next_click = "start"
+        self._set_message("click on the map to set the start")
+        self.figure.canvas.draw_idle()
+
+    def arm_goal(self) -> None:
+        """The next click on the map sets the goal ("set goal" button)."""
+        self._next_click = "goal"
+        self._set_message("click on the map to set the goal")
+        self.figure.canvas.draw_idle()
+
+    def _sync_endpoints(self) -> None:
+        """The worlds carry start and goal too (the vortex model puts a charge at the start)."""
+        ends = {"start": self.start, "goal": self.goal}
+        if self.world is not None:
+            self.world = dataclasses.replace(self.world, **ends)
+            if self.gridmap is not None and isinstance(self.gridmap.world, World):
+                self.gridmap = self.gridmap.with_occupied(self.gridmap.occupied, world=self.world)
+        if not (self.cspace_on and self.robot is not None):
+            self.cworld, self.cgridmap = self.world, self.gridmap
+        elif self.cworld is not None:
+            self.cworld = dataclasses.replace(self.cworld, **ends)
+            if self.cgridmap is not None and isinstance(self.cgridmap.world, World):
+                self.cgridmap = self.cgridmap.with_occupied(self.cgridmap.occupied, world=self.cworld)
+
+    def _set_endpoint(self, which: str, p: tuple[float, float], *, push: bool = True) -> bool:
         why = self._is_free(p)
         if why is not None:
             self._set_message(f"{which} not set: {why.replace('point', which, 1)}")
             self.figure.canvas.draw_idle()
             return False
+        if push:
+            self._push()
         setattr(self, which, p)
-        if self.world is not None:
-            # the world carries start and goal too (the vortex model puts a charge at the start)
-            self.world = dataclasses.replace(self.world, **{which: p})
-            if self.gridmap is not None and isinstance(self.gridmap.world, World):
-                self.gridmap = self.gridmap.with_occupied(self.gridmap.occupied, world=self.world)
+        if self.on_message is not None:
+            self.on_message(f"{which} set to ({p[0]:.4g}, {p[1]:.4g})")
+        self._sync_endpoints()
         self._update_endpoints()
         self.recompute()
         return True
 
+    # -- drawing obstacles and the robot ---------------------------------------------------
     def toggle_drawing(self) -> None:
-        """Start drawing a polygon, or finish the one being drawn (button callback)."""
+        """Start drawing an obstacle polygon, or finish the one being drawn (button callback)."""
+        self._toggle_draw("obstacle")
+
+    def toggle_robot_drawing(self) -> None:
+        """Start drawing the robot's convex outline, or finish it (button callback)."""
+        self._toggle_draw("robot")
+
+    def _toggle_draw(self, mode: str) -> None:
         if not self.drawing:
             self.drawing = True
+            self.draw_mode = mode
             self.vertices = []
-            self.draw_button.label.set_text("finish obstacle")
-            self._set_message("drawing: left click adds a vertex, right click closes the polygon")
+            self.buttons["toggle_drawing" if mode == "obstacle" else "toggle_robot_drawing"].label.set_text(
+                f"finish {mode}")
+            self.draft_line.set_color("tab:orange" if mode == "obstacle" else ROBOT_COLOR)
+            first = " (the first vertex is the reference point)" if mode == "robot" else ""
+            self._set_message(f"drawing the {mode}: left click adds a vertex{first}, right click closes it")
         else:
             self.close_polygon()
         self.figure.canvas.draw_idle()
@@ -375,25 +576,32 @@ class Explorer:
         self.figure.canvas.draw_idle()
 
     def close_polygon(self) -> bool:
-        """Finish drawing: add the polygon (3 or more vertices) as an obstacle. Returns whether one was added."""
+        """Finish drawing: add the obstacle, or set the robot (3 or more vertices). Returns whether it was."""
         verts, self.vertices = self.vertices, []
+        mode = self.draw_mode
         self.drawing = False
-        self.draw_button.label.set_text("draw obstacle")
+        for m, (label, key) in BUTTONS.items():
+            if m in ("toggle_drawing", "toggle_robot_drawing"):
+                self.buttons[m].label.set_text(f"{label} [{key}]")
         self.draft_line.set_data([], [])
         if len(verts) < 3:
-            self._set_message("polygon discarded: it needs at least 3 vertices")
+            self._set_message(f"{mode} discarded: it needs at least 3 vertices")
             self.figure.canvas.draw_idle()
             return False
         try:
-            self.add_polygon(verts)
+            if mode == "robot":
+                ref = np.asarray(verts[0])
+                self.set_robot(np.asarray(verts) - ref, at=(float(ref[0]), float(ref[1])))
+            else:
+                self.add_polygon(verts)
         except GridfieldError as e:
-            self._set_message(f"polygon discarded: {e}")
+            self._set_message(f"{mode} discarded: {e}")
             self.figure.canvas.draw_idle()
             return False
         return True
 
     def add_polygon(self, vertices: Sequence[Sequence[float]] | NDArray[np.float64]) -> None:
-        """Add a polygon obstacle, re-rasterize and recompute.
+        """Add a polygon obstacle, re-rasterize (and rebuild the C-space) and recompute.
 
         Raises :class:`GridfieldError` for fewer than 3 vertices or a self-intersecting outline.
         """
@@ -407,6 +615,7 @@ class Explorer:
         if poly.area <= 0 or not poly.is_valid:
             raise GridfieldError(f"the polygon is not simple ({shapely.is_valid_reason(poly)}); "
                                  "click the vertices in order around it")
+        self._push()
         if self.world is not None:
             oid = max((o.id for o in self.world.obstacles), default=0) + 1
             self.world = dataclasses.replace(
@@ -416,20 +625,135 @@ class Explorer:
             from .rasterize import rasterize_geometry
 
             occ = self.gridmap.occupied | rasterize_geometry(poly, self.gridmap.grid)
-            self.gridmap = self.gridmap.with_occupied(occ)
-        self._update_occupancy()
-        for a in self.outlines:
-            a.remove()
-        from matplotlib.collections import PatchCollection
-        from matplotlib.patches import Polygon as MplPolygon
+            self.gridmap = self.gridmap.with_occupied(occ, meta={**self.gridmap.meta, "drawn": [
+                *self.gridmap.meta.get("drawn", []), v]})
+        self._rebuild_cspace()
+        self._redraw_map()
+        self.recompute()
+
+    def set_robot(self, robot: Robot | float | ArrayLike | None, *, at: tuple[float, float] | None = None) -> None:
+        """Set the robot: a radius, a convex polygon around its reference point, or None (a point).
+
+        With ``at``, the start moves there (the drawn robot's reference point) when it is free.
+        When the C-space is on it is rebuilt for the new robot. Raises :class:`ParameterError`
+        for a non-convex polygon.
+        """
+        from .cspace import as_robot
+
+        r = as_robot(robot)
+        self._push()
+        self.robot = r
+        if r is None:
+            self.cspace_on = False
+        self._rebuild_cspace()
+        self._redraw_map()
+        if at is not None and self._is_free(at) is None:
+            self.start = at
+            self._sync_endpoints()
+            self._update_endpoints()
+        self.recompute()
+        if r is not None and not self.cspace_on and self.path is not None:
+            self._set_message(f"robot: {r.describe()}; press 'C-space' to plan for it. " + self.message)
+            self.figure.canvas.draw_idle()
+
+    def compute_cspace(self) -> bool:
+        """Plan in the robot's configuration space from now on (seed 004's "Compute Q").
+
+        Returns False (with a message) when there is no robot yet.
+        """
+        if self.robot is None:
+            self._set_message("draw a robot first ('draw robot'), or pass --robot-radius / --robot")
+            self.figure.canvas.draw_idle()
+            return False
+        self._push()
+        self.cspace_on = True
+        self._rebuild_cspace()
+        self._redraw_map()
+        self.recompute()
+        return True
+
+    def _rebuild_cspace(self) -> None:
+        if not (self.cspace_on and self.robot is not None):
+            self.cworld, self.cgridmap = self.world, self.gridmap
+            return
+        from .cspace import apply_robot
 
         if self.world is not None:
-            self.outlines = self._outline_fn(self.ax, self.world)
+            self.cworld = apply_robot(self.world, self.robot)
+            assert isinstance(self.cworld, World)
+            self.cgridmap = self._rasterize(self.cworld) if self.gridmap is not None else None
         else:
-            self.outlines.append(self.ax.add_collection(
-                PatchCollection([MplPolygon(v, closed=True)], facecolor="none", edgecolor="tab:blue", linewidth=1.6,
-                                zorder=3)))
-        self.recompute()
+            self.cworld = None
+            self.cgridmap = apply_robot(self.gridmap, self.robot) if self.gridmap is not None else None  # type: ignore[assignment]
+
+    # -- toggles ---------------------------------------------------------------------------
+    def _set_toggle_label(self, method: str, on: bool) -> None:
+        label, key = BUTTONS[method]
+        self.buttons[method].label.set_text(f"{label.split(':')[0]}: {'on' if on else 'off'} [{key}]")
+
+    def toggle_movie(self, file: str | FsPath | None = None) -> bool:
+        """Arm (or disarm) the movie: the next calculated path is written to :attr:`movie_file`
+        (GIF; also MP4 when ffmpeg exists). Returns whether it is armed."""
+        if file is not None:
+            self.movie_file = FsPath(file)
+        self.movie = not self.movie
+        if self.movie:
+            from .plot import _check_animation_file
+
+            try:
+                _check_animation_file(self.movie_file.with_suffix(".gif"))
+            except GridfieldError as e:
+                self.movie = False
+                self._set_message(f"movie: {e}")
+        self._set_toggle_label("toggle_movie", self.movie)
+        if self.movie:
+            self._set_message(f"movie on: the next path goes to {self.movie_file.with_suffix('.gif')}")
+        self.figure.canvas.draw_idle()
+        return self.movie
+
+    def toggle_3d(self) -> bool:
+        """Show the potential as a 3-D surface with the path (instead of the map), or the map again."""
+        self.show_3d = not self.show_3d
+        self.ax.set_visible(not self.show_3d)
+        self.ax3d.set_visible(self.show_3d)
+        self.cax.set_visible(self.field is not None and not self.show_3d)
+        self._set_toggle_label("toggle_3d", self.show_3d)
+        self._update_3d()
+        self.figure.canvas.draw_idle()
+        return self.show_3d
+
+    def _update_3d(self) -> None:
+        if not self.show_3d:
+            return
+        from .plot import plot_surface
+
+        self.ax3d.cla()
+        self.surface = None
+        if self.field is None:
+            self.ax3d.text2D(0.5, 0.5, "the 3-D view shows the potential planner's field", ha="center",
+                             transform=self.ax3d.transAxes)
+            return
+        try:
+            self.surface = plot_surface(self.field, self.ax3d, path=self.path, title="potential surface")
+        except GridfieldError as e:
+            self.ax3d.text2D(0.5, 0.5, str(e), ha="center", transform=self.ax3d.transAxes)
+
+    def _write_movie(self) -> None:
+        from matplotlib import animation
+
+        from .plot import save_plan_animation
+
+        assert self.path is not None
+        target = self.cworld if self.planner == "exact-potential" else self.cgridmap
+        gif = self.movie_file.with_suffix(".gif")
+        files = [gif] + ([gif.with_suffix(".mp4")] if animation.writers.is_available("ffmpeg") else [])
+        written = []
+        for f in files:
+            save_plan_animation(f, target, self.path, field=self.field, goal=self.goal, robot_shape=self.robot)
+            written.append(f)
+        self.movie_written = written
+        self.movie = False
+        self._set_toggle_label("toggle_movie", False)
 
     # -- events ----------------------------------------------------------------------------
     def on_click(self, event: Any) -> None:
@@ -451,46 +775,98 @@ class Explorer:
             self._next_click = "goal" if which == "start" else "start"
 
     def on_key(self, event: Any) -> None:
-        """Keys: ``d`` toggles polygon drawing, ``escape`` abandons the polygon being drawn."""
-        if event.key == "d":
-            self.toggle_drawing()
-        elif event.key == "escape" and self.drawing:
+        """Keys: see :data:`BUTTONS`; ``escape`` abandons the polygon being drawn."""
+        if event.key == "escape" and self.drawing:
             self.vertices = []
             self.close_polygon()
+            return
+        for method, (_, key) in BUTTONS.items():
+            if event.key == key:
+                getattr(self, method)()
+                return
 
     # -- drawing ---------------------------------------------------------------------------
     def _set_message(self, text: str) -> None:
         self.message = text
-        self.status_text.set_text(text)
+        self.status_text.set_text(text if len(text) <= 150 else text[:147] + "...")
+        if self.on_message is not None:
+            self.on_message(text)
 
-    def _update_occupancy(self) -> None:
-        if self.gridmap is None:
-            return
-        occ = self.gridmap.occupied
-        self.occupancy_image.set_data(np.ma.masked_array(np.ones(occ.shape), mask=~occ))
+    def _redraw_map(self) -> None:
+        """Occupancy, C-space, obstacle outlines and the robot, from the current state."""
+        from .plot import _draw_outlines
+
+        if self.gridmap is not None:
+            occ = self.gridmap.occupied
+            self.occupancy_image.set_data(np.ma.masked_array(np.ones(occ.shape), mask=~occ))
+            grown = self.cgridmap.occupied & ~occ if (self.cspace_on and self.cgridmap is not None) else None
+            self.cspace_image.set_data(np.ma.masked_array(np.ones(occ.shape), mask=~grown if grown is not None
+                                                          else np.ones(occ.shape, bool)))
+        for a in (*self.outlines, *self.cspace_outlines):
+            a.remove()
+        self.outlines, self.cspace_outlines = [], []
+        if self.world is not None:
+            self.outlines = _draw_outlines(self.ax, self.world)
+        elif self.gridmap is not None and self.gridmap.meta.get("drawn"):
+            from matplotlib.collections import PatchCollection
+            from matplotlib.patches import Polygon as MplPolygon
+
+            self.outlines = [self.ax.add_collection(PatchCollection(
+                [MplPolygon(v, closed=True) for v in self.gridmap.meta["drawn"]], facecolor="none",
+                edgecolor="tab:blue", linewidth=1.6, zorder=3))]
+        if self.cspace_on and self.cworld is not None and self.cworld is not self.world:
+            self.cspace_outlines = self._draw_cspace_outlines(self.cworld)
+        self._update_endpoints()
+
+    def _draw_cspace_outlines(self, world: World) -> list[Any]:
+        import shapely
+        from matplotlib.collections import LineCollection
+
+        rings = []
+        for ob in world.obstacles:
+            for part in shapely.get_parts(ob.geometry):
+                if hasattr(part, "exterior"):
+                    rings.append(np.asarray(part.exterior.coords))
+                    rings += [np.asarray(r.coords) for r in part.interiors]
+                else:
+                    rings.append(np.asarray(part.coords).reshape(-1, 2))
+        if not rings:
+            return []
+        return [self.ax.add_collection(LineCollection(rings, colors="#b8860b", linewidths=1.2, linestyles="--",
+                                                      zorder=2.5))]
 
     def _update_endpoints(self) -> None:
         empty = np.empty((0, 2))
         self.start_marker.set_offsets(np.atleast_2d(self.start) if self.start is not None else empty)
         self.goal_marker.set_offsets(np.atleast_2d(self.goal) if self.goal is not None else empty)
+        if self.robot is not None and self.start is not None and not self.robot.is_point:
+            shape = self.robot.outline(self.start)
+            xy = np.asarray(shape.exterior.coords if hasattr(shape, "exterior") else shape.coords, dtype=float)
+            self.robot_patch.set_xy(xy)
+            self.robot_patch.set_visible(True)
+            self.reference_marker.set_offsets(np.atleast_2d(self.start))
+        else:
+            self.robot_patch.set_visible(False)
+            self.reference_marker.set_offsets(empty)
 
     def _update_field_image(self) -> None:
-        """Background: the log-scaled potential of the potential planner, else nothing."""
+        """Background and colour bar: the log-scaled potential of the potential planner, else nothing."""
         from matplotlib.colors import LogNorm
 
         self.field = None
-        if self.planner != "potential" or self.goal is None or self.gridmap is None:
-            self.field_image.set_visible(False)
+        gm = self.cgridmap
+        if self.planner != "potential" or self.goal is None or gm is None:
+            self._hide_field()
             return
         try:
             from .potential import build_field
         except ImportError:
-            self.field_image.set_visible(False)
+            self._hide_field()
             return
         try:
-            self.field = build_field(self.gridmap, np.asarray(self.goal), self.params)
+            self.field = build_field(gm, np.asarray(self.goal), self.params)
         except GridfieldError:
-            self.field_image.set_visible(False)
+            self._hide_field()
             return
         from .plot import _potential_scale
 
@@ -498,16 +874,27 @@ class Explorer:
         u = np.asarray(self.field.potential, dtype=float)
         finite = np.isfinite(u) & ~fmap.occupied
         if not finite.any():
-            self.field_image.set_visible(False)
+            self._hide_field()
             return
         z, lo, hi, _ = _potential_scale(u, finite, None, True)
         self.field_image.set_data(np.ma.masked_array(z, mask=~finite))
         self.field_image.set_extent(fmap.grid.extent)
         self.field_image.set_norm(LogNorm(vmin=lo, vmax=hi))
         self.field_image.set_visible(True)
+        self.colorbar.update_normal(self.field_image)
+        self.cax.set_visible(not self.show_3d)  # the 3-D view has its own height axis
+
+    def _hide_field(self) -> None:
+        self.field_image.set_visible(False)
+        self.cax.set_visible(False)
+
+    def calculate_path(self) -> Path | None:
+        """Re-plan now ("calculate path" button); the same as :meth:`recompute`."""
+        return self.recompute()
 
     def recompute(self) -> Path | None:
-        """Rebuild the field (background) and re-plan with the current start, goal, parameters and planner."""
+        """Rebuild the field (background) and re-plan with the current start, goal, parameters,
+        planner and configuration space; write the movie when it is armed."""
         from .planners import plan
 
         self.n_updates += 1
@@ -517,17 +904,25 @@ class Explorer:
             self.path_line.set_data([], [])
             self.stall_marker.set_offsets(np.empty((0, 2)))
             self._set_message(f"click on the map to set the {'start' if self.start is None else 'goal'}")
+            self._update_3d()
             self.figure.canvas.draw_idle()
             return None
-        target: World | GridMap | None = self.world if self.planner == "exact-potential" else self.gridmap
+        target: World | GridMap | None = self.cworld if self.planner == "exact-potential" else self.cgridmap
         try:
             if target is None:
                 raise GridfieldError(f"planner {self.planner!r} needs a vector world, and this map is a grid")
+            if self.cspace_on and self.robot is not None:
+                from .cspace import check_robot_point
+
+                ws = self.world if self.world is not None else self.gridmap
+                for name in ("start", "goal"):
+                    check_robot_point(ws, self.robot, name, getattr(self, name))  # type: ignore[arg-type]
             self.path = plan(self.planner, target, self.start, self.goal, self.params, resolution=None)
         except GridfieldError as e:
             self.path_line.set_data([], [])
             self.stall_marker.set_offsets(np.empty((0, 2)))
             self._set_message(f"{self.planner}: {e}")
+            self._update_3d()
             self.figure.canvas.draw_idle()
             return None
         from .plot import _stall_points
@@ -536,8 +931,17 @@ class Explorer:
         self.path_line.set_data(pts[:, 0], pts[:, 1])
         self.stall_marker.set_offsets(_stall_points(self.path))
         p = self.path
-        self._set_message(f"{p.planner}: {p.status}, {p.iterations} steps, length {p.length:.4g}, "
-                          f"{p.seconds * 1e3:.0f} ms")
+        robot = f", robot {self.robot.describe()}" if (self.cspace_on and self.robot is not None) else ""
+        text = (f"{p.planner}: {p.status}, {p.iterations} steps, length {p.length:.4g}, "
+                f"{p.seconds * 1e3:.0f} ms{robot}")
+        if self.movie:
+            try:
+                self._write_movie()
+                text += "; movie: " + ", ".join(str(f) for f in self.movie_written)
+            except GridfieldError as e:
+                text += f"; movie not written: {e}"
+        self._set_message(text)
+        self._update_3d()
         self.figure.canvas.draw_idle()
         return self.path
 

@@ -1326,6 +1326,7 @@ def save_plan_animation(
     fps: int = 20,
     max_frames: int = 120,
     dpi: int = 80,
+    robot_shape: Any = None,
 ) -> FsPath:
     """Animate a follower moving along ``path``: over its potential when one is given or can be
     built (a ``potential`` path whose goal is known), otherwise over the map.
@@ -1342,6 +1343,8 @@ def save_plan_animation(
         The goal the path was planned to (see :func:`save_plan_figure`).
     fps, max_frames : int
         Long paths are sampled down to ``max_frames`` evenly spaced frames (first and last kept).
+    robot_shape : Robot, optional
+        Its outline is drawn at each frame, its reference point on the path.
 
     Returns the file's path.
     """
@@ -1368,16 +1371,28 @@ def save_plan_animation(
     stall_marker = ax.scatter(stall[:, 0], stall[:, 1], marker="X", s=110, color="red", edgecolor="white",
                               zorder=10)
     title = ax.set_title(" ")
+    animated = [trail, robot, stall_marker, title]
+    body = None
+    if robot_shape is not None:
+        from matplotlib.patches import Polygon as MplPolygon
+
+        shape = robot_shape.outline((0.0, 0.0))
+        outline = np.asarray(shape.exterior.coords if hasattr(shape, "exterior") else shape.coords, dtype=float)
+        body = ax.add_patch(MplPolygon(outline + pts[0], closed=True, facecolor="tab:red", alpha=0.35,
+                                       edgecolor="black", zorder=8))
+        animated.append(body)
 
     def update(k: int) -> None:
         i = int(idx[k])
         trail.set_data(pts[: i + 1, 0], pts[: i + 1, 1])
         robot.set_offsets(pts[i : i + 1])
+        if body is not None:
+            body.set_xy(outline + pts[i])
         last = k == len(idx) - 1
         title.set_text(f"{path.planner}: step {i}/{len(pts) - 1}" + (f" — {path.status}" if last else ""))
         stall_marker.set_visible(last)
 
-    _write_animation(fig, update, len(idx), (trail, robot, stall_marker, title), p, int(fps))
+    _write_animation(fig, update, len(idx), animated, p, int(fps))
     return p
 
 

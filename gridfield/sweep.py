@@ -12,6 +12,7 @@ scenarios), the planners and a grid of parameter values (the Cartesian product i
       - path: maps/arena/arena.map
         scenarios: maps/arena/arena.map.scen
         limit: 40
+        robot_radius: 0.5         # or robot: {polygon: [[x, y], ...]}; also allowed at the top level
     planners: [potential, wavefront-octile]
     params:                       # every combination is run
       q_star: [1.0, 2.0]
@@ -72,10 +73,15 @@ class Run:
     start: tuple[float, float]
     goal: tuple[float, float]
     optimal: float = math.nan
+    robot: tuple[Any, ...] = ()  # () a point, ("radius", r) or ("polygon", ((x, y), ...))
 
     @property
     def params_json(self) -> str:
-        return json.dumps(dict(self.params), sort_keys=True)
+        d: dict[str, Any] = dict(self.params)
+        if self.robot:
+            d["robot"] = {self.robot[0]: self.robot[1] if self.robot[0] == "radius" else
+                          [list(v) for v in self.robot[1]]}
+        return json.dumps(d, sort_keys=True)
 
     @property
     def key(self) -> tuple[str, str, str, str, str, str, str]:
@@ -87,8 +93,8 @@ class Run:
 # Spec
 # ----------------------------------------------------------------------------------------
 #: Keys of a spec's top level and of one ``maps`` entry.
-SPEC_KEYS = ("output", "maps", "planners", "params")
-MAP_KEYS = ("path", "resolution", "pairs", "random_pairs", "scenarios", "limit")
+SPEC_KEYS = ("output", "maps", "planners", "params", "robot", "robot_radius")
+MAP_KEYS = ("path", "resolution", "pairs", "random_pairs", "scenarios", "limit", "robot", "robot_radius")
 
 #: Most runs one spec may expand to (each run is a row and a few hundred bytes of memory).
 MAX_RUNS = 10**8
@@ -245,6 +251,7 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
         _unknown_keys(entry, MAP_KEYS, w)
         map_path = _spec_path(_need(entry, "path", w), base, f"{w}.path")
         resolution = entry.get("resolution")
+        robot = _robot_key(entry, spec, w)
         if resolution is not None:
             try:
                 resolution = check_positive("resolution", resolution if isinstance(resolution, int | float) and not
@@ -252,7 +259,7 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
             except ParameterError:
                 raise MapFormatError(f"{w}.resolution: must be a positive finite number, got {shorten(resolution)}") from None
         try:
-            target = read(map_path)
+            target = _with_robot(read(map_path), robot)
             # the grid every grid planner will use, sized against the memory limit before anything runs
             gm = as_gridmap(target, resolution) if isinstance(target, GridMap) or entry.get("random_pairs") or (
                 entry.get("scenarios")) else None
@@ -308,8 +315,31 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
         if len(runs) + len(planners) * len(combos) * len(pairs) > MAX_RUNS:
             raise MapFormatError(f"{w}: the spec expands to more than {MAX_RUNS:g} runs; split the sweep")
         for planner, params, (s, g, opt) in itertools.product(planners, combos, pairs):
-            runs.append(Run(str(map_path), resolution, planner, tuple(sorted(params.items())), s, g, opt))
+            runs.append(Run(str(map_path), resolution, planner, tuple(sorted(params.items())), s, g, opt, robot))
     return runs, output
+
+
+def _robot_key(entry: Mapping[str, Any], spec: Mapping[str, Any], where: str) -> tuple[Any, ...]:
+    """A map entry's robot (``robot:`` or ``robot_radius:``, else the spec's) as plain hashable data."""
+    from .world import robot_from_value
+
+    source = entry if ("robot" in entry or "robot_radius" in entry) else spec
+    value = source.get("robot", source.get("robot_radius"))
+    if value is None:
+        return ()
+    r = robot_from_value(value, f"{where}: robot")
+    if r.radius is not None:
+        return ("radius", r.radius)
+    assert r.vertices is not None
+    return ("polygon", tuple(map(tuple, r.vertices.tolist())))
+
+
+def _with_robot(target: Any, robot: tuple[Any, ...]) -> Any:
+    if not robot:
+        return target
+    from .cspace import apply_robot
+
+    return apply_robot(target, robot[1] if robot[0] == "radius" else list(robot[1]))
 
 
 def _random_pairs(gm: Any, n: int, seed: int) -> list[Any]:
@@ -348,13 +378,13 @@ def _map_cache(run: Run, target: Any = None) -> dict[Any, Any]:
     A shipped map is keyed by its identity too: a long-lived cluster may see two sweeps whose maps
     share a (relative) path but not their content. The cache holds the map, so the identity stays unique.
     """
-    key = (run.map, run.resolution, None if target is None else id(target))
+    key = (run.map, run.resolution, run.robot, None if target is None else id(target))
     cache = _CACHE.pop(key, None)
     if cache is None:
         if target is None:
             from .io import read
 
-            target = read(run.map)
+            target = _with_robot(read(run.map), run.robot)
         cache = {"target": target}
     _CACHE[key] = cache  # most recently used last
     while len(_CACHE) > _CACHE_MAPS:
@@ -605,9 +635,9 @@ class SweepInterrupted(KeyboardInterrupt):
 # ----------------------------------------------------------------------------------------
 def _batches(runs: Sequence[Run], workers: int, batch_size: int | None) -> list[list[Run]]:
     """Runs grouped by map, cut into batches (a few per worker per map, at most 256 runs each)."""
-    groups: dict[tuple[str, Any], list[Run]] = {}
+    groups: dict[tuple[Any, ...], list[Run]] = {}
     for r in runs:
-        groups.setdefault((r.map, r.resolution), []).append(r)
+        groups.setdefault((r.map, r.resolution, r.robot), []).append(r)
     out = []
     for group in groups.values():
         size = batch_size or max(1, min(256, math.ceil(len(group) / (4 * max(workers, 1)))))
@@ -708,12 +738,12 @@ def _dask_results(batches: Sequence[list[Run]], scheduler: Any) -> Iterator[list
     try:
         # The map's content travels with the tasks (workers need not see the submitter's files):
         # each map is read here once and replicated to the workers, and each task is a batch of its runs.
-        shipped: dict[tuple[str, Any], Any] = {}
+        shipped: dict[tuple[Any, ...], Any] = {}
         for b in batches:
-            key = (b[0].map, b[0].resolution)
+            key = (b[0].map, b[0].resolution, b[0].robot)
             if key not in shipped:
                 try:
-                    target = read(b[0].map)
+                    target = _with_robot(read(b[0].map), b[0].robot)
                 except GridfieldError:
                     target = None  # every run of the map reports the error in its row
                 shipped[key] = client.scatter(target, broadcast=True, hash=False) if target is not None else None

@@ -27,7 +27,8 @@ from shapely.geometry.base import BaseGeometry
 from .errors import GridfieldError, MapFormatError, shorten
 from .grid import BORDERS
 
-__all__ = ["CIRCLE_SEGMENTS", "VERTEX_ORDERS", "Obstacle", "World", "sort_vertices", "world_from_dict"]
+__all__ = ["CIRCLE_SEGMENTS", "VERTEX_ORDERS", "Obstacle", "Robot", "World", "robot_from_value", "sort_vertices",
+           "world_from_dict"]
 
 #: Values of the world file's ``vertex_order`` (per file, or per polygon): ``as_given`` (default) takes
 #: the vertices in the order listed; ``sort`` sorts them by angle around their centroid (seed 001's
@@ -94,6 +95,112 @@ class Obstacle:
 
 
 @dataclass(frozen=True, eq=False)
+class Robot:
+    """The robot's shape, for planning in its configuration space (see :func:`gridfield.cspace.apply_robot`).
+
+    Exactly one of ``radius`` (a disc centred on the reference point) and ``vertices`` (a convex
+    polygon ``(N, 2)`` in the robot's frame, whose origin ``(0, 0)`` is the reference point, the
+    point the planners move) is given. The robot translates; it does not rotate.
+
+    Examples
+    --------
+    >>> Robot(radius=0.3).describe(), Robot(vertices=[[0, 0], [1, 0], [0, 1]]).extent
+    ('disc of radius 0.3', 1.0)
+    """
+
+    radius: float | None = None
+    vertices: NDArray[np.float64] | None = None
+
+    def __post_init__(self) -> None:
+        if (self.radius is None) == (self.vertices is None):
+            raise GridfieldError("a robot is either a disc (radius) or a convex polygon (vertices), exactly one")
+        if self.radius is not None:
+            try:
+                r = float(self.radius)
+            except (TypeError, ValueError):
+                r = math.nan
+            if not (math.isfinite(r) and r >= 0):
+                raise GridfieldError(f"the robot's radius must be a finite number >= 0, got {self.radius!r}")
+            object.__setattr__(self, "radius", r)
+        else:
+            v = np.asarray(self.vertices, dtype=float)
+            if v.ndim != 2 or v.shape[1] != 2 or len(v) < 1 or not np.all(np.isfinite(v)):
+                raise GridfieldError(f"the robot's polygon must be finite vertices [[x, y], ...], got {self.vertices!r}")
+            v = v.copy()
+            v.setflags(write=False)
+            object.__setattr__(self, "vertices", v)
+
+    @property
+    def extent(self) -> float:
+        """The largest distance from the reference point to a point of the robot."""
+        if self.radius is not None:
+            return float(self.radius)
+        assert self.vertices is not None
+        return float(np.max(np.hypot(self.vertices[:, 0], self.vertices[:, 1])))
+
+    @property
+    def is_point(self) -> bool:
+        """True for a robot of no size (radius 0, or a single vertex at the reference point)."""
+        return self.extent == 0.0
+
+    def describe(self) -> str:
+        """A short description for messages."""
+        if self.radius is not None:
+            return f"disc of radius {self.radius:g}"
+        assert self.vertices is not None
+        return "polygon " + " ".join(f"{x:g},{y:g}" for x, y in self.vertices.tolist())
+
+    def outline(self, at: ArrayLike = (0.0, 0.0)) -> BaseGeometry:
+        """The robot's shape placed with its reference point at ``at`` (a shapely geometry)."""
+        x, y = (float(v) for v in np.asarray(at, dtype=float).reshape(2))
+        if self.radius is not None:
+            return Point(x, y).buffer(self.radius, quad_segs=CIRCLE_SEGMENTS) if self.radius > 0 else Point(x, y)
+        assert self.vertices is not None
+        v = self.vertices + np.array([x, y])
+        if len(v) == 1:
+            return Point(v[0])
+        if len(v) == 2:
+            return LineString(v)
+        return shapely.convex_hull(shapely.multipoints(v))
+
+
+def robot_from_value(value: Any, what: str = "robot") -> Robot:
+    """A :class:`Robot` from a world file's ``robot:`` entry: a number (the radius),
+    ``{radius: R}`` or ``{polygon: [[x, y], ...]}`` (a convex polygon around the reference point).
+
+    Raises :class:`MapFormatError` naming ``what``.
+
+    Examples
+    --------
+    >>> robot_from_value({"radius": 0.5}).radius, robot_from_value(0.2).radius
+    (0.5, 0.2)
+    >>> robot_from_value({"polygon": [[0, 0], [1, 0], [0, 1]]}).vertices.shape
+    (3, 2)
+    """
+    if isinstance(value, bool):
+        raise MapFormatError(f"{what} must be a radius or {{radius: R}} or {{polygon: [[x, y], ...]}}, got {value!r}")
+    if isinstance(value, int | float):
+        value = {"radius": value}
+    if not isinstance(value, Mapping) or len(value) != 1 or next(iter(value)) not in ("radius", "polygon"):
+        raise MapFormatError(f"{what} must be {{radius: R}} or {{polygon: [[x, y], ...]}}, got {value!r}")
+    (kind, v), = value.items()
+    try:
+        if kind == "radius":
+            try:
+                r = float(v)
+            except (TypeError, ValueError):
+                raise MapFormatError(f"{what}.radius must be a number >= 0, got {v!r}") from None
+            return Robot(radius=r)
+        from .cspace import check_robot_polygon
+
+        return Robot(vertices=check_robot_polygon(_points(v, f"{what}.polygon"), f"{what}.polygon"))
+    except GridfieldError as e:
+        if isinstance(e, MapFormatError):
+            raise
+        raise MapFormatError(f"{what}: {e}") from None
+
+
+@dataclass(frozen=True, eq=False)
 class World:
     """A 2-D world of vector obstacles.
 
@@ -115,6 +222,7 @@ class World:
     params: Mapping[str, Any] = field(default_factory=dict)
     resolution: float | None = None
     source: str = ""
+    robot: Robot | None = None
 
     def distance(self, points: ArrayLike) -> NDArray[np.float64]:
         """Exact distance from each point to the nearest obstacle (the border counts when it is a wall)."""
@@ -395,7 +503,8 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
 
     Keys: ``bounds`` (required), ``border`` (``open`` default, or ``wall``), ``obstacles``
     (list), ``b_matrix`` (seed 000's three-row vertex matrix), ``start``, ``goal``, ``params``,
-    ``resolution`` (default cell size when the world is rasterized), ``vertex_order``.
+    ``resolution`` (default cell size when the world is rasterized), ``vertex_order``, ``robot`` (the
+    robot's shape, see :func:`robot_from_value`; the commands plan in its configuration space).
 
     A ``polygon`` obstacle is a list of at least 3 distinct vertices (not all collinear), or a mapping
     ``{vertices: [...], center: [x, y], vertex_order: ...}`` (``center``: the point it is star-shaped
@@ -423,7 +532,7 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
     if not isinstance(data, Mapping):
         raise MapFormatError(f"{source or 'world'}: a world file must be a YAML mapping with at least 'bounds'")
     known = {"bounds", "border", "obstacles", "b_matrix", "start", "goal", "params", "resolution", "name",
-             "description", "vertex_order"}
+             "description", "vertex_order", "robot"}
     unknown = sorted(set(data) - known, key=str)
     if unknown:
         raise MapFormatError(f"{_where(source, unknown[0])}: unknown key; expected one of {sorted(known)}")
@@ -474,6 +583,7 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
             continue
         if isinstance(v, int | float) and math.isnan(v):
             raise MapFormatError(f"{_where(source, 'params.' + str(k))}: must not be NaN")
+    robot = robot_from_value(data["robot"], _where(source, "robot")) if data.get("robot") is not None else None
     world = World(bounds=bounds, obstacles=tuple(obstacles), border=border, params=dict(params),
                   resolution=resolution, source=source)
     start = goal = None
@@ -484,7 +594,7 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
         goal = _point(data["goal"], _where(source, "goal"))
         _check_in_world(world, "goal", goal, source)
     return World(bounds=bounds, obstacles=tuple(obstacles), border=border, start=start, goal=goal,
-                 params=dict(params), resolution=resolution, source=source)
+                 params=dict(params), resolution=resolution, source=source, robot=robot)
 
 
 def _check_in_world(world: World, name: str, p: tuple[float, float], source: str) -> None:

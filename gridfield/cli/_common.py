@@ -13,11 +13,13 @@ __all__ = [
     "add_map_arguments",
     "add_max_cells_argument",
     "add_param_arguments",
+    "add_robot_arguments",
     "check_figure_file",
     "collect_params",
     "load_gridmap",
     "load_target",
     "parse_value",
+    "robot_target",
 ]
 
 #: File suffixes a figure option (``--plot F``) accepts: matplotlib's static formats.
@@ -141,6 +143,16 @@ def add_param_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"any other planner parameter: {others}")
 
 
+def _finite_or_inf(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if math.isnan(v):
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}")
+    return v
+
+
 def collect_params(args: argparse.Namespace) -> dict[str, Any]:
     """The parameters given on the command line (only those given), parsed and checked by the registry."""
     from ..params import parse
@@ -157,3 +169,57 @@ def collect_params(args: argparse.Namespace) -> dict[str, Any]:
         k = k.strip().replace("-", "_")
         out[k] = parse(k, v)
     return out
+
+
+# -- the robot's shape -------------------------------------------------------------------
+def add_robot_arguments(p: argparse.ArgumentParser) -> None:
+    """``--robot-radius R`` and ``--robot X,Y X,Y ...``: plan in the robot's configuration space."""
+    g = p.add_argument_group("robot shape (plan in its configuration space; default: the world file's "
+                             "'robot', else a point)")
+    mx = g.add_mutually_exclusive_group()
+    mx.add_argument("--robot-radius", type=_finite_or_inf, default=None, metavar="R", help="a disc robot of radius R")
+    mx.add_argument("--robot", nargs="+", default=None, metavar="X,Y",
+                    help="a convex polygon robot, its vertices around the reference point (the point planned for); "
+                         'quote them as one word when one starts with "-": --robot "-0.2,-0.1 0.3,-0.1 0.3,0.1"')
+
+
+def _robot_from_args(args: argparse.Namespace, target: Any) -> Any:
+    from ..world import Robot
+
+    radius = getattr(args, "robot_radius", None)
+    words = getattr(args, "robot", None)
+    if radius is not None:
+        return Robot(radius=radius)
+    if words:
+        from ..cspace import check_robot_polygon
+
+        vertices = []
+        for word in " ".join(words).replace(";", " ").split():
+            try:
+                x, y = (float(v) for v in word.split(","))
+            except ValueError:
+                raise ParameterError(f"--robot expects vertices X,Y (e.g. 0,0 0.4,0 0,0.3), got {word!r}") from None
+            if not (math.isfinite(x) and math.isfinite(y)):
+                raise ParameterError(f"--robot vertices must be finite, got {word!r}")
+            vertices.append((x, y))
+        return Robot(vertices=check_robot_polygon(vertices, "--robot"))
+    world = target if hasattr(target, "obstacles") else getattr(target, "world", None)
+    return getattr(world, "robot", None)
+
+
+def robot_target(args: argparse.Namespace, target: Any, **points: Any) -> Any:
+    """The map's configuration space for the robot given on the command line (or in the world file).
+
+    ``points`` (``start=(x, y)``, ``goal=...``; None skipped) are checked first: a start or goal
+    at which the robot collides is an error naming the distance. Without a robot: ``target``.
+    """
+    robot = _robot_from_args(args, target)
+    if robot is None:
+        return target
+    from ..cspace import apply_robot, check_robot_point
+
+    cspace = apply_robot(target, robot)
+    for name, point in points.items():
+        if point is not None:
+            check_robot_point(target, robot, name, point, cspace=cspace)
+    return cspace

@@ -8,7 +8,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from ._common import add_map_arguments
+from ._common import add_map_arguments, add_robot_arguments, robot_target
 
 _BITMAPS = (".png", ".pgm", ".bmp")
 
@@ -42,6 +42,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                         "+ resolution, origin, border to the .npz file F")
     p.add_argument("--plot", metavar="F",
                    help="save the distance heat map with iso-distance contours and the GVD (PNG, PDF, SVG, ...)")
+    add_robot_arguments(p)
     return p
 
 
@@ -68,7 +69,7 @@ def _load(args: argparse.Namespace) -> Any:
         target = read(args.map, **options)
     except TypeError as e:  # an option the format's reader does not take
         raise ParameterError(f"{args.map}: {e}") from None
-    return as_gridmap(target, None if bitmap else args.resolution)
+    return as_gridmap(robot_target(args, target), None if bitmap else args.resolution)
 
 
 def _save_plot(dmap: Any, file: str) -> None:

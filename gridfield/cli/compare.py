@@ -17,7 +17,14 @@ import sys
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from ._common import add_map_arguments, add_param_arguments, collect_params, load_target
+from ._common import (
+    add_map_arguments,
+    add_param_arguments,
+    add_robot_arguments,
+    collect_params,
+    load_target,
+    robot_target,
+)
 
 DEFAULT_RESOLUTIONS = (0.4, 0.2, 0.1, 0.05)
 
@@ -49,6 +56,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--no-progress", action="store_true", help="no progress bar in --batch mode")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="F", help="save error vs resolution on log-log axes (convergence mode)")
+    add_robot_arguments(p)
     add_param_arguments(p)
     return p
 
@@ -139,6 +147,7 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError(f"{args.map} is a grid map; compare needs a vector world (a world YAML file)")
     params = collect_params(args)
     if args.batch is not None:
+        target = robot_target(args, target)
         if args.batch < 1:
             raise ParameterError(f"--batch must be a positive number of pairs, got {args.batch}")
         if args.plot:
@@ -158,6 +167,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
 
     start, goal = endpoints(args, target)
+    target = robot_target(args, target, start=start, goal=goal)
     resolutions = args.resolutions if args.resolutions is not None else list(DEFAULT_RESOLUTIONS)
     rows = convergence_study(target, start, goal, resolutions, params=params, grid_planner=args.planner,
                              exact_planner=args.exact_planner)

@@ -1,20 +1,22 @@
-"""``gridfield explore``: the interactive explorer (click start/goal, draw obstacles, move sliders)."""
+"""``gridfield explore``: the interactive explorer (seed 004's workflow) in a window or a browser."""
 
 from __future__ import annotations
 
 import argparse
 import sys
 
-from ._common import add_map_arguments, add_param_arguments, collect_params, load_target
+from ._common import add_map_arguments, add_param_arguments, add_robot_arguments, collect_params, load_target
 
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = sub.add_parser(
-        "explore", help="open the interactive explorer on a map",
-        description="Open an interactive window: left clicks set the start and then the goal; the "
-                    "'draw obstacle' button lets clicks add polygon vertices (right click closes the polygon); "
-                    "sliders set zeta, eta, q_star, d_star and step; radio buttons switch the planner. "
-                    "Needs an interactive matplotlib backend (e.g. MPLBACKEND=TkAgg or QtAgg).")
+        "explore", help="open the interactive explorer on a map (a window, or a browser with --web)",
+        description="Open the interactive explorer (seed 004's workflow): left clicks set the start and then the "
+                    "goal; buttons (and keys) draw obstacles and the robot, compute the configuration space, "
+                    "calculate the path, record a movie, show the 3-D potential, undo and clear; sliders set the "
+                    "current planner's parameters; radio buttons switch the planner. Needs an interactive "
+                    "matplotlib backend (e.g. MPLBACKEND=TkAgg or QtAgg), or --web (a browser, no desktop "
+                    "toolkit: needs tornado, pip install gridfield[web]).")
     add_map_arguments(p)
     p.add_argument("--start", nargs=2, type=float, metavar=("X", "Y"), help="start point (default: the world's)")
     p.add_argument("--goal", nargs=2, type=float, metavar=("X", "Y"), help="goal point (default: the world's)")
@@ -23,6 +25,13 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="planner shown first: potential (default), exact-potential or wavefront-octile")
     p.add_argument("--save", metavar="F",
                    help="do not open a window: save a snapshot of the explorer (PNG) and exit (works headless)")
+    p.add_argument("--movie", metavar="F", default=None,
+                   help="file the 'movie' button writes (.gif, plus .mp4 when ffmpeg exists; default "
+                        "gridfield_movie.gif)")
+    p.add_argument("--web", action="store_true",
+                   help="serve the explorer to a browser (matplotlib's WebAgg on 127.0.0.1) instead of a window")
+    p.add_argument("--port", type=int, default=8988, metavar="P", help="port of --web (default 8988, or the next free)")
+    add_robot_arguments(p)
     add_param_arguments(p)
     return p
 
@@ -36,24 +45,52 @@ def _interactive_backend() -> bool:
         "module://matplotlib_inline")
 
 
+def _use_webagg(port: int) -> None:
+    """Switch matplotlib to WebAgg, serving on 127.0.0.1 only, without opening a browser."""
+    from ..errors import GridfieldError, ParameterError
+
+    if not 0 < port < 65536:
+        raise ParameterError(f"--port must be a port number 1..65535, got {port}")
+    try:
+        import tornado  # noqa: F401
+    except ImportError:
+        raise GridfieldError("--web needs tornado: pip install 'gridfield[web]' (or pip install tornado)") from None
+    import matplotlib
+
+    matplotlib.use("webagg", force=True)
+    matplotlib.rcParams["webagg.address"] = "127.0.0.1"
+    matplotlib.rcParams["webagg.port"] = port
+    matplotlib.rcParams["webagg.open_in_browser"] = False
+
+
 def run(args: argparse.Namespace) -> int:
     from ..errors import GridfieldError, ParameterError
     from ..explore import EXPLORER_PLANNERS, Explorer
+    from ._common import _robot_from_args
 
     if args.planner not in EXPLORER_PLANNERS:
         raise ParameterError(f"--planner must be one of {', '.join(EXPLORER_PLANNERS)}, got {args.planner!r}")
     from ._common import check_figure_file
+    if args.web and args.save is not None:
+        raise ParameterError("--web serves the explorer; --save writes a snapshot: give one of them")
 
     check_figure_file(args.save, "--save")
     target = load_target(args)
-    if args.save is None and not _interactive_backend():
+    if args.web:
+        _use_webagg(args.port)
+    elif args.save is None and not _interactive_backend():
         import matplotlib
 
         raise GridfieldError(
             f"matplotlib's backend {matplotlib.get_backend()!r} cannot open a window; set MPLBACKEND to an "
-            "interactive one (TkAgg, QtAgg) or pass --save F to write a snapshot instead")
+            "interactive one (TkAgg, QtAgg), pass --web to use a browser, or --save F to write a snapshot")
+
+    def log(text: str) -> None:
+        print(text, flush=True)
+
     explorer = Explorer(target, params=collect_params(args), planner=args.planner, resolution=args.resolution,
-                        start=args.start, goal=args.goal)
+                        start=args.start, goal=args.goal, robot=_robot_from_args(args, target),
+                        movie_file=args.movie, on_message=log if args.web else None)
     if args.save is not None:
         try:
             explorer.figure.savefig(args.save, dpi=100)
@@ -65,6 +102,16 @@ def run(args: argparse.Namespace) -> int:
         return 0
     import matplotlib.pyplot as plt
 
-    print(explorer.message, file=sys.stderr)
+    if args.web:
+        from matplotlib.backends.backend_webagg import WebAggApplication
+
+        try:
+            WebAggApplication.initialize()
+        except SystemExit:
+            raise GridfieldError(f"no free port near {args.port} on 127.0.0.1; pass another --port") from None
+        print(f"gridfield explorer: http://127.0.0.1:{WebAggApplication.port}/ (Ctrl+C stops the server)",
+              flush=True)
+    else:
+        print(explorer.message, file=sys.stderr)
     plt.show()
     return 0

@@ -8,7 +8,14 @@ import time
 from pathlib import Path
 from typing import Any
 
-from ._common import add_map_arguments, add_param_arguments, collect_params, load_target
+from ._common import (
+    add_map_arguments,
+    add_param_arguments,
+    add_robot_arguments,
+    collect_params,
+    load_target,
+    robot_target,
+)
 
 #: Planners whose field ``gridfield field`` builds: the potential field and the navigation functions.
 FIELD_PLANNERS = ("potential", "wavefront", "wavefront-octile", "fmm", "harmonic", "sphere-nav", "star-nav")
@@ -33,6 +40,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                                                   "four figures: beta humps, attractive part, mapped space, surface)")
     p.add_argument("--basins", metavar="F",
                    help="save the basins of attraction of steepest descent (goal basin and local minima)")
+    add_robot_arguments(p)
     add_param_arguments(p)
     return p
 
@@ -94,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
     goal = _goal(args, target)
     params = _world_params(target)
     params.update(collect_params(args))
-    gridmap = as_gridmap(target, args.resolution)
+    gridmap = as_gridmap(robot_target(args, target, goal=goal), args.resolution)
     if args.planner == "star-nav":
         from ..star import star_nav_field
 

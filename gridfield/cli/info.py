@@ -7,6 +7,8 @@ import json
 import sys
 from typing import Any
 
+from ._common import add_robot_arguments, robot_target
+
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = sub.add_parser(
@@ -26,6 +28,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     from ._common import add_max_cells_argument
 
     add_max_cells_argument(p)
+    add_robot_arguments(p)
     return p
 
 
@@ -41,7 +44,8 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
     options: dict[str, Any] = {"unknown": args.unknown}
     if suffix in ("png", "pgm", "bmp"):
         options["resolution"] = args.resolution
-    target = read(args.map, **options)
+    workspace = read(args.map, **options)
+    target = robot_target(args, workspace)
     if isinstance(target, World):
         from ..rasterize import as_gridmap
 
@@ -69,6 +73,11 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
         "source": str(args.map),
         "format": fmt,
     }
+    if target is not workspace:
+        from ._common import _robot_from_args
+
+        robot = _robot_from_args(args, workspace)
+        info["robot"] = robot.describe() if robot is not None else "point"
     return info, gm
 
 
@@ -94,6 +103,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"border:            {info['border']}")
     print(f"occupied fraction: {info['occupied_fraction']:.4f}")
     print(f"obstacles:         {info['obstacles']} ({what})")
+    if "robot" in info:
+        print(f"robot:             {info['robot']} (the grid is its configuration space)")
     if args.npz:
         print(f"wrote:             {args.npz}")
     return 0

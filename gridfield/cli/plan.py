@@ -7,7 +7,14 @@ import json
 import sys
 from dataclasses import replace
 
-from ._common import add_map_arguments, add_param_arguments, collect_params, load_target
+from ._common import (
+    add_map_arguments,
+    add_param_arguments,
+    add_robot_arguments,
+    collect_params,
+    load_target,
+    robot_target,
+)
 
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -29,6 +36,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print one JSON object (DESIGN's plan contract)")
     p.add_argument("--plot", metavar="F", help="save a figure of the map and the path")
     p.add_argument("--animate", metavar="F", help="save an animation of the follower (.gif, or .mp4 with ffmpeg)")
+    add_robot_arguments(p)
     add_param_arguments(p)
     return p
 
@@ -76,18 +84,31 @@ def run(args: argparse.Namespace) -> int:
     from ._common import check_figure_file
 
     check_figure_file(args.plot)
-    target = load_target(args)
-    scen = scenario(args, target)
+    workspace = load_target(args)
+    scen = scenario(args, workspace)
     params = collect_params(args)
     if scen is not None:
         start, goal, optimal = scen
     else:
-        start, goal = endpoints(args, target)
+        start, goal = endpoints(args, workspace)
+    target = robot_target(args, workspace, start=start, goal=goal)
     path = plan(args.planner, target, start, goal, params, resolution=args.resolution)
     if scen is not None:
         path = replace(path, extra={**path.extra, "optimal": optimal})
+    robot = target is not workspace
+    if robot:
+        from ..cspace import robot_clearance, workspace_clearance
+        from ._common import _robot_from_args
+
+        clearance = workspace_clearance(workspace, path.points)
+        body = robot_clearance(workspace, _robot_from_args(args, workspace), path.points)
     if args.json:
-        json.dump(path.to_json(), sys.stdout)
+        out = path.to_json()
+        if robot:
+            out["robot"] = _robot_text(args, workspace)
+            out["workspace_clearance"] = _json_number(clearance)
+            out["robot_clearance"] = None if body is None else _json_number(body)
+        json.dump(out, sys.stdout)
         sys.stdout.write("\n")
     else:
         x, y = path.end
@@ -96,6 +117,9 @@ def run(args: argparse.Namespace) -> int:
               f"end ({x:.4g}, {y:.4g}), min clearance {path.min_clearance:.4g}, {path.seconds * 1e3:.1f} ms")
         if path.extra.get("hint"):
             print(f"hint: {path.extra['hint']}")
+        if robot:
+            extra = "" if body is None else f", the robot's body {body:.4g}"
+            print(f"robot {_robot_text(args, workspace)}: clearance of the path {clearance:.4g}{extra}")
     if args.plot or args.animate:
         from .. import plot as gplot
 
@@ -106,3 +130,18 @@ def run(args: argparse.Namespace) -> int:
             gplot.save_plan_animation(args.animate, target, path, resolution=args.resolution)
             print(f"wrote {args.animate}", file=sys.stderr if args.json else sys.stdout)
     return 0
+
+
+def _robot_text(args: argparse.Namespace, workspace: object) -> str:
+    from ._common import _robot_from_args
+
+    robot = _robot_from_args(args, workspace)
+    return robot.describe() if robot is not None else "point"
+
+
+def _json_number(v: float) -> float | str | None:
+    """A float for JSON the way Path.to_json writes them: inf as "inf", NaN as null."""
+    import math
+
+    v = float(v)
+    return v if math.isfinite(v) else (None if math.isnan(v) else ("inf" if v > 0 else "-inf"))

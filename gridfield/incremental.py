@@ -360,11 +360,11 @@ class IncrementalBrushfire:
             box = self._box(r, c)
             w, _ = self._reach_window(k, box, 8)
             ob = np.array([rows, -1, cols, -1], np.int64)
-            n, far2 = k.orphan_box(*w, rows, cols, self._nr, self._nc, self._mark, ob)
+            n, _ = k.orphan_box(*w, rows, cols, self._nr, self._nc, self._mark, ob)
             if not n:
                 return None
             obox = (int(ob[0]), int(ob[1]), int(ob[2]), int(ob[3]))
-            margin = math.isqrt(int(far2)) + 4
+            margin = 2  # usually too small: the check then says how far the window must reach
             while True:
                 w2 = self._pad(obox, [margin] * 4)
                 wnr, wnc, wd2 = self._edt(k, self._occ8, w2, True)

@@ -210,7 +210,7 @@ def raise_check(b0, b1, e0, e1, r0, r1, c0, c1, rows, cols, nr, nc, mark, wd2): 
                 out = min(out, c1 - c)
             d2 = wd2[r - r0, c - c0]
             if d2 == NONE_D2:
-                if out < BIG:  # no obstacle in the window, but maybe outside: take the whole grid
+                if out < BIG:  # no obstacle in the window, but maybe outside: widen the window
                     return np.int64(-2)
                 continue
             if d2 >= out * out:

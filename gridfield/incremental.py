@@ -148,6 +148,7 @@ class IncrementalBrushfire:
         self._occ = np.array(gridmap.occupied, dtype=bool, order="C")
         self._occ8 = self._occ.view(np.uint8)
         self._ids = None if gridmap.obstacle_id is None else np.array(gridmap.obstacle_id, np.int32, order="C")
+        self._max_id = 0 if self._ids is None else int(self._ids.max(initial=0))  # the default id of new cells - 1
         assert d.nearest_row is not None and d.nearest_col is not None
         self._nr = np.ascontiguousarray(d.nearest_row, np.int32)
         self._nc = np.ascontiguousarray(d.nearest_col, np.int32)
@@ -167,6 +168,9 @@ class IncrementalBrushfire:
         self._wall = self._grid.border == "wall"
         #: The window changed by the last :meth:`update` (``None``: nothing changed).
         self.last_window: Window | None = None
+        #: Cells whose nearest obstacle the last :meth:`update` changed (a cell changed by both its
+        #: removals and its insertions counts twice).
+        self.last_changed = 0
 
     # -- state ------------------------------------------------------------------------
     @property
@@ -224,8 +228,8 @@ class IncrementalBrushfire:
             grid's shape. Cells already occupied (free) are ignored; a cell in both is an error.
         ids : int or array_like, optional
             Only for maps with world obstacle ids: the id of the newly occupied cells (one for all,
-            or one per cell of ``occupied`` in its order); default: one new id, the largest so far
-            plus one.
+            or one per cell of ``occupied`` in its order); default: one new id, the largest used so
+            far plus one.
 
         Returns
         -------
@@ -266,6 +270,7 @@ class IncrementalBrushfire:
         keep = self._occ[frr, frc]
         frr, frc = frr[keep], frc[keep]
         self.last_window = None
+        self.last_changed = 0
         if not len(orr) and not len(frr):
             return None
         k = _kernels()
@@ -279,8 +284,9 @@ class IncrementalBrushfire:
         if len(orr):
             if self._ids is not None:
                 if new_ids is None:
-                    new_ids = np.int32(int(self._ids.max(initial=0)) + 1)
+                    new_ids = np.int32(self._max_id + 1)
                 self._ids[orr, occ_c] = new_ids
+                self._max_id = max(self._max_id, int(np.max(new_ids)))
             box = self._lower(k, orr, occ_c)
             if box is not None:
                 boxes.append(box)
@@ -348,6 +354,7 @@ class IncrementalBrushfire:
             w, (wnr, wnc, wd2) = self._reach_window(k, box, margin)
             out = np.array([rows, -1, cols, -1], np.int64)
             n = k.lower_merge(*w, wnr, wnc, wd2, self._nr, self._nc, self._dist, self._res, out)
+            self.last_changed += int(n)
         finally:
             k.set_cells(r, c, self._mark, 0)
         return (int(out[0]), int(out[1]), int(out[2]), int(out[3])) if n else None
@@ -363,6 +370,7 @@ class IncrementalBrushfire:
             n, _ = k.orphan_box(*w, rows, cols, self._nr, self._nc, self._mark, ob)
             if not n:
                 return None
+            self.last_changed += int(n)
             obox = (int(ob[0]), int(ob[1]), int(ob[2]), int(ob[3]))
             margin = 2  # usually too small: the check then says how far the window must reach
             while True:
@@ -371,7 +379,8 @@ class IncrementalBrushfire:
                 worst = k.raise_check(*obox, *w2, rows, cols, self._nr, self._nc, self._mark, wd2)
                 if worst == -1:
                     break
-                margin = rows + cols if worst == -2 else max(2 * margin, int(worst) + 1)
+                # -2: some orphan found no obstacle in the window at all: widen it and look again
+                margin = 2 * margin + 2 if worst == -2 else max(2 * margin, int(worst) + 1)
             k.raise_apply(*obox, w2[0], w2[2], rows, cols, self._nr, self._nc, self._mark, wnr, wnc, wd2,
                           self._dist, self._res)
         finally:

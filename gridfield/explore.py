@@ -8,7 +8,9 @@ Mouse and widgets
 -----------------
 - left click on the map: sets the start, the next click the goal, then the start again, ...
 - "draw obstacle" button: while on, left clicks add polygon vertices and a right click (or the
-  button again) closes the polygon, adds it to the world as an obstacle and re-rasterizes;
+  button again) closes the polygon and adds it to the world as an obstacle; only the polygon is
+  rasterized and the distance map is updated where it changed (:mod:`gridfield.incremental`);
+  the key ``u`` removes the obstacle drawn last;
 - sliders ``zeta``, ``eta``, ``q_star``, ``d_star`` (its right end means ``inf``) and ``step``;
 - radio buttons: the planner (``potential``, ``exact-potential``, ``wavefront-octile``, those
   installed).
@@ -411,12 +413,9 @@ class Explorer:
             oid = max((o.id for o in self.world.obstacles), default=0) + 1
             self.world = dataclasses.replace(
                 self.world, obstacles=(*self.world.obstacles, Obstacle(oid, "polygon", poly)))
-            self.gridmap = self._rasterize()
+            self.gridmap = self._burn_polygon(poly, oid)  # incremental hook (see "incremental updates")
         elif self.gridmap is not None:
-            from .rasterize import rasterize_geometry
-
-            occ = self.gridmap.occupied | rasterize_geometry(poly, self.gridmap.grid)
-            self.gridmap = self.gridmap.with_occupied(occ)
+            self.gridmap = self._burn_polygon(poly, None)
         self._update_occupancy()
         for a in self.outlines:
             a.remove()
@@ -451,9 +450,12 @@ class Explorer:
             self._next_click = "goal" if which == "start" else "start"
 
     def on_key(self, event: Any) -> None:
-        """Keys: ``d`` toggles polygon drawing, ``escape`` abandons the polygon being drawn."""
+        """Keys: ``d`` toggles polygon drawing, ``escape`` abandons the polygon being drawn, ``u`` removes
+        the obstacle drawn last."""
         if event.key == "d":
             self.toggle_drawing()
+        elif event.key == "u" and not self.drawing:
+            self.remove_last_obstacle()
         elif event.key == "escape" and self.drawing:
             self.vertices = []
             self.close_polygon()
@@ -488,7 +490,7 @@ class Explorer:
             self.field_image.set_visible(False)
             return
         try:
-            self.field = build_field(self.gridmap, np.asarray(self.goal), self.params)
+            self.field = build_field(self.gridmap, np.asarray(self.goal), self.params, dmap=self._incremental_dmap())
         except GridfieldError:
             self.field_image.set_visible(False)
             return
@@ -523,7 +525,8 @@ class Explorer:
         try:
             if target is None:
                 raise GridfieldError(f"planner {self.planner!r} needs a vector world, and this map is a grid")
-            self.path = plan(self.planner, target, self.start, self.goal, self.params, resolution=None)
+            self.path = plan(self.planner, target, self.start, self.goal, self.params, resolution=None,
+                             cache=self._plan_cache(target))
         except GridfieldError as e:
             self.path_line.set_data([], [])
             self.stall_marker.set_offsets(np.empty((0, 2)))
@@ -540,6 +543,106 @@ class Explorer:
                           f"{p.seconds * 1e3:.0f} ms")
         self.figure.canvas.draw_idle()
         return self.path
+
+    # -- incremental updates (gridfield.incremental) ---------------------------------------
+    # Drawn or removed obstacles change the map in place: only the new polygon is rasterized, and
+    # an IncrementalBrushfire updates the distance map where it changed; the field background and
+    # the potential planner reuse it instead of running a full brushfire (see gridfield.incremental).
+    _incremental: Any = None
+    _incremental_for: GridMap | None = None
+
+    def _incremental_state(self) -> Any:
+        """The IncrementalBrushfire of ``self.gridmap`` (built, or rebuilt after another change of the map)."""
+        from .incremental import IncrementalBrushfire
+
+        if self._incremental is None or self._incremental_for is not self.gridmap:
+            assert self.gridmap is not None
+            self._incremental = IncrementalBrushfire(self.gridmap, compute_labels=False)
+            self._incremental_for = self.gridmap
+        return self._incremental
+
+    def _incremental_map(self) -> GridMap:
+        """The incremental state's map as the explorer's own (with its world)."""
+        m = self._incremental.gridmap
+        gm = GridMap(m.grid, m.occupied, m.obstacle_id, self.world if self.world is not None else None, m.source,
+                     dict(m.meta))
+        self._incremental_for = gm
+        return gm
+
+    def _burn_polygon(self, poly: Any, oid: int | None) -> GridMap:
+        """The map with the polygon's cells occupied (new cells get id ``oid``; overlapped cells keep
+        their lower id, as :func:`gridfield.rasterize.rasterize` gives them)."""
+        from .rasterize import rasterize_geometry
+
+        assert self.gridmap is not None
+        ib = self._incremental_state()
+        cells = rasterize_geometry(poly, self.gridmap.grid) & ~self.gridmap.occupied
+        ids = oid if oid is not None and self.gridmap.obstacle_id is not None else None
+        ib.update(occupied=cells, ids=ids)
+        return self._incremental_map()
+
+    def remove_obstacle(self, obstacle_id: int) -> None:
+        """Remove the world obstacle ``obstacle_id``: the map changes where it was (re-rasterized,
+        distance map updated incrementally) and the path is recomputed.
+
+        Raises :class:`ParameterError` when there is no world or no such obstacle.
+        """
+        if self.world is None or self.gridmap is None:
+            raise ParameterError("only obstacles of a vector world can be removed")
+        if all(o.id != obstacle_id for o in self.world.obstacles):
+            raise ParameterError(f"the world has no obstacle {obstacle_id!r}")
+        self.world = dataclasses.replace(self.world, obstacles=tuple(o for o in self.world.obstacles
+                                                                     if o.id != obstacle_id))
+        target = self._rasterize()
+        assert target is not None
+        ib = self._incremental_state()
+        old = self.gridmap
+        freed = old.occupied & ~target.occupied
+        # cells still occupied by another obstacle whose id now wins: freed and occupied again
+        moved = old.occupied & target.occupied & (old.obstacle_id != target.obstacle_id) if (
+            old.obstacle_id is not None and target.obstacle_id is not None) else np.zeros(old.shape, bool)
+        ib.update(freed=freed | moved)
+        if moved.any():
+            ib.update(occupied=np.argwhere(moved), ids=target.obstacle_id[moved])
+        self.gridmap = self._incremental_map()
+        self._update_occupancy()
+        for a in self.outlines:
+            a.remove()
+        self.outlines = self._outline_fn(self.ax, self.world)
+        self.recompute()
+
+    def remove_last_obstacle(self) -> bool:
+        """Remove the obstacle with the largest id (the one drawn last); returns whether there was one."""
+        if self.world is None or not self.world.obstacles:
+            self._set_message("no obstacle to remove")
+            self.figure.canvas.draw_idle()
+            return False
+        self.remove_obstacle(max(o.id for o in self.world.obstacles))
+        return True
+
+    def _incremental_dmap(self) -> Any:
+        """The incremental distance map, when the potential field would compute this very one
+        (Euclidean, no saturation; the per-obstacle sum only with world obstacle ids, as it then
+        needs no labels); else None."""
+        if self.planner != "potential" or self.gridmap is None:
+            return None
+        from .potential import resolve_params
+
+        try:
+            p = resolve_params(self.params)
+        except GridfieldError:
+            return None
+        if p["model"] != "khatib" or p["metric"] != "euclidean" or p["saturate"] is not None or (
+                p["repulsion"] != "nearest" and self.gridmap.obstacle_id is None):
+            return None
+        return self._incremental_state().distance_map
+
+    def _plan_cache(self, target: Any) -> dict[Any, Any] | None:
+        """A :func:`gridfield.planners.plan` cache holding the incremental distance map of ``target``."""
+        dmap = self._incremental_dmap() if target is self.gridmap else None
+        if dmap is None:
+            return None
+        return {("gridmap", target, None): target, ("brushfire", target, "euclidean", None): dmap}
 
     def close(self) -> None:
         """Close the figure."""

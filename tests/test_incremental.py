@@ -284,3 +284,78 @@ def test_update_field_refuses_what_it_cannot_reproduce():
         update_field(f, ib, (0, 9, 0, 1))
     with pytest.raises(ParameterError, match="needs a Field"):
         update_field("field", ib, None)
+
+
+# ----------------------------------------------------------------------------------------------
+# the explorer hook
+# ----------------------------------------------------------------------------------------------
+def test_explorer_draws_and_removes_obstacles_incrementally(monkeypatch):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.backend_bases import KeyEvent
+
+    import gridfield.potential as potential
+    from gridfield.explore import Explorer
+    from gridfield.io import bundled_map, read_world
+    from gridfield.rasterize import as_gridmap
+
+    ex = Explorer(read_world(bundled_map("seed000.yaml")), resolution=0.25)
+    try:
+        calls = []
+        real = potential.brushfire
+        monkeypatch.setattr(potential, "brushfire", lambda *a, **k: calls.append(1) or real(*a, **k))
+        ex.add_polygon([(14, 2), (17, 2), (17, 5), (14, 5)])
+        truth = as_gridmap(ex.world, 0.25)  # the world re-rasterized: what the explorer did before
+        np.testing.assert_array_equal(ex.gridmap.occupied, truth.occupied)
+        np.testing.assert_array_equal(ex.gridmap.obstacle_id, truth.obstacle_id)
+        assert ex.gridmap.world is ex.world
+        assert not calls  # neither the background field nor the planner ran a full brushfire
+        assert ex.field.distance is ex._incremental.distance_map
+        full = brushfire(ex.gridmap, metric="euclidean")
+        np.testing.assert_array_equal(ex.field.distance.distance, full.distance)
+        np.testing.assert_array_equal(ex.field.potential, build_field(ex.gridmap, ex.goal, ex.params).potential)
+        assert ex.path is not None and ex.path.status == "reached"
+        n_obstacles = len(ex.world.obstacles)
+        calls.clear()  # build_field above ran one
+        event = KeyEvent("key_press_event", ex.figure.canvas, "u")  # undo: remove the obstacle drawn last
+        ex.figure.canvas.callbacks.process("key_press_event", event)
+        assert len(ex.world.obstacles) == n_obstacles - 1
+        truth = as_gridmap(read_world(bundled_map("seed000.yaml")), 0.25)
+        np.testing.assert_array_equal(ex.gridmap.occupied, truth.occupied)
+        np.testing.assert_array_equal(ex.gridmap.obstacle_id, truth.obstacle_id)
+        np.testing.assert_array_equal(ex.field.distance.distance, brushfire(ex.gridmap, metric="euclidean").distance)
+        assert not calls
+        with pytest.raises(ParameterError, match="no obstacle 999"):
+            ex.remove_obstacle(999)
+    finally:
+        ex.close()
+        plt.close("all")
+
+
+def test_explorer_removing_an_overlapped_obstacle_hands_its_cells_to_the_other():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from gridfield.explore import Explorer
+    from gridfield.io import bundled_map, read_world
+    from gridfield.rasterize import as_gridmap
+
+    world = read_world(bundled_map("seed000.yaml"))
+    ex = Explorer(world, resolution=0.25)
+    try:
+        ex.add_polygon([(14, 2), (17, 2), (17, 5), (14, 5)])
+        ex.add_polygon([(16, 3), (19, 3), (19, 6), (16, 6)])  # overlaps the first: the lower id wins there
+        first = max(o.id for o in ex.world.obstacles) - 1
+        ex.remove_obstacle(first)  # its cells under the second polygon now belong to the second
+        truth = as_gridmap(ex.world, 0.25)
+        np.testing.assert_array_equal(ex.gridmap.occupied, truth.occupied)
+        np.testing.assert_array_equal(ex.gridmap.obstacle_id, truth.obstacle_id)
+        np.testing.assert_array_equal(ex._incremental.distance_map.distance,
+                                      brushfire(ex.gridmap, metric="euclidean").distance)
+    finally:
+        ex.close()
+        plt.close("all")

@@ -46,6 +46,8 @@ def expected_files() -> set[str]:
                   "turtlebot3.png", "arena.png"}
     if have(*CORE, "gridfield.compare", "gridfield.exact"):
         files.add("convergence.png")
+    if have(*CORE, "gridfield.incremental"):
+        files.add("moving_obstacle.gif")
     return files
 
 

@@ -359,3 +359,17 @@ def test_explorer_removing_an_overlapped_obstacle_hands_its_cells_to_the_other()
     finally:
         ex.close()
         plt.close("all")
+
+
+def test_demo_moving_obstacle_replans_to_the_goal(tmp_path):
+    from PIL import Image
+
+    from gridfield.demo import demo
+
+    result = demo(tmp_path, quick=True, parts=["moving"])
+    (row,) = result.rows
+    assert row["part"] == "moving" and row["status"] == "reached" and row["length"] > 20.0
+    gif = tmp_path / "moving_obstacle.gif"
+    assert gif in result.files
+    with Image.open(gif) as im:
+        assert im.n_frames == row["steps"] >= 10

@@ -5,7 +5,9 @@ occupancy grid and updates it when cells become occupied or free
 (:meth:`IncrementalBrushfire.update`); afterwards its distance, nearest obstacle, labels and GVD are
 *equal* to those of a full :func:`~gridfield.brushfire.brushfire` of the new occupancy: the same
 floats, the same nearest obstacle cell (ties included), the same labels and GVD.
-:func:`update_field` then recomputes a :class:`~gridfield.potential.Field` in the changed window only.
+:func:`update_field` then recomputes a :class:`~gridfield.potential.Field` in the changed window only,
+and :func:`update_navigation` recomputes a wavefront navigation function only when the change
+touches the region its search reached.
 
 How it works
 ------------
@@ -57,7 +59,7 @@ from .brushfire import BORDER_LABEL, DistanceMap, brushfire
 from .errors import GridfieldError, ParameterError
 from .grid import GridMap
 
-__all__ = ["IncrementalBrushfire", "Window", "update_field"]
+__all__ = ["IncrementalBrushfire", "Window", "update_field", "update_navigation"]
 
 #: A window of the grid: ``(r0, r1, c0, c1)``, rows ``r0:r1`` and columns ``c0:c1``.
 Window = tuple[int, int, int, int]
@@ -489,3 +491,70 @@ def update_field(field: Any, dmap: DistanceMap | IncrementalBrushfire, window: W
                              p["d_star"] == 0.0, _METRIC_CODE[dmap.metric], p["eta"], p["q_star"], ipow, sat,
                              far, field.potential, field.grad_x, field.grad_y)
     return out
+
+
+def update_navigation(nav: Any, gridmap: GridMap, window: Window | None) -> Any:
+    """A wavefront navigation function after a map change: the same values when the change does not
+    touch the region the search reached, else recomputed on the new map.
+
+    The search only ever looks at the cells next to the ones it reached (finite values), so when no
+    cell of ``window`` grown by one cell has a finite value, the change (occupancy, and with it the
+    Euclidean distance behind a clearance cost, all inside ``window``) cannot alter any value.
+
+    Parameters
+    ----------
+    nav : NavigationField
+        Of :func:`gridfield.navigation.wavefront` on the map before the change.
+    gridmap : GridMap
+        The map after the change (e.g. :attr:`IncrementalBrushfire.gridmap`).
+    window : tuple or None
+        Every cell whose occupancy or Euclidean distance changed lies inside, as returned by
+        :meth:`IncrementalBrushfire.update`; None: nothing changed.
+
+    Returns
+    -------
+    NavigationField
+        ``nav`` itself on the new map, or :func:`~gridfield.navigation.wavefront` of the new map with
+        ``nav``'s parameters (a search that was stopped early with ``stop_at`` is redone in full).
+
+    Raises
+    ------
+    ParameterError
+        For a navigation function of another kind, or a map of another grid.
+    GridfieldError
+        When the change occupies the goal.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gridfield.grid import Grid, GridMap
+    >>> from gridfield.navigation import wavefront
+    >>> occ = np.zeros((3, 9), bool); occ[:, 3] = True          # a wall: the right part is unreachable
+    >>> ib = IncrementalBrushfire(GridMap(Grid((3, 9), 1.0), occ), compute_labels=False)
+    >>> nav = wavefront(ib.gridmap, (0.5, 0.5))
+    >>> window = ib.update(occupied=[[1, 7]])                  # beyond the wall: the search never got there
+    >>> update_navigation(nav, ib.gridmap, window).value is nav.value
+    True
+    >>> window = ib.update(freed=[[1, 3]])                     # a door opens
+    >>> float(update_navigation(nav, ib.gridmap, window).value[1, 8])
+    9.0
+    """
+    import dataclasses
+
+    from .navigation import NavigationField, wavefront
+
+    if not isinstance(nav, NavigationField) or nav.kind != "wavefront":
+        raise ParameterError("update_navigation updates wavefront navigation functions; recompute "
+                             f"{getattr(nav, 'kind', type(nav).__name__)!r} fields with navigation_field")
+    if not isinstance(gridmap, GridMap) or gridmap.shape != nav.map.shape:
+        raise ParameterError("gridmap must be the changed map of the navigation function's grid")
+    if window is None:
+        return dataclasses.replace(nav, map=gridmap)
+    rows, cols = gridmap.shape
+    r0, r1, c0, c1 = (int(v) for v in window)
+    near = nav.value[max(0, r0 - 1):min(rows, r1 + 1), max(0, c0 - 1):min(cols, c1 + 1)]
+    if not np.isfinite(near).any():
+        return dataclasses.replace(nav, map=gridmap)
+    p = nav.params
+    return wavefront(gridmap, nav.goal, connectivity=p["connectivity"], costs=p["costs"],
+                     clearance_weight=p["clearance_weight"], q_star=p["q_star"])

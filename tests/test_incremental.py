@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from gridfield.brushfire import brushfire
 from gridfield.errors import ParameterError
 from gridfield.grid import Grid, GridMap
-from gridfield.incremental import IncrementalBrushfire, update_field
+from gridfield.incremental import IncrementalBrushfire, update_field, update_navigation
 from gridfield.potential import build_field
 
 
@@ -373,3 +373,38 @@ def test_demo_moving_obstacle_replans_to_the_goal(tmp_path):
     assert gif in result.files
     with Image.open(gif) as im:
         assert im.n_frames == row["steps"] >= 10
+
+
+# ----------------------------------------------------------------------------------------------
+# navigation functions follow
+# ----------------------------------------------------------------------------------------------
+@settings(max_examples=40, deadline=None)
+@given(st.integers(3, 24), st.integers(3, 24), st.integers(0, 2**31), st.sampled_from([0.0, 1.5]),
+       st.sampled_from(["unit", "octile"]), st.sampled_from([4, 8]))
+def test_update_navigation_equals_a_new_wavefront(rows, cols, seed, weight, costs, conn):
+    from gridfield.navigation import wavefront
+
+    rng = np.random.default_rng(seed)
+    occ = rng.random((rows, cols)) < 0.25
+    occ[0, 0] = False
+    ib = IncrementalBrushfire(GridMap(Grid((rows, cols), 1.0), occ), compute_labels=False)
+    nav = wavefront(ib.gridmap, (0.5, 0.5), connectivity=conn, costs=costs, clearance_weight=weight)
+    kept = 0
+    for _ in range(4):
+        cells = np.stack([rng.integers(0, rows, 2), rng.integers(0, cols, 2)], 1)
+        cells = cells[(cells[:, 0] > 0) | (cells[:, 1] > 0)]  # never the goal
+        window = ib.update(occupied=cells) if rng.random() < 0.5 else ib.update(freed=cells)
+        new = update_navigation(nav, ib.gridmap, window)
+        kept += new.value is nav.value
+        nav = new
+        full = wavefront(ib.gridmap, (0.5, 0.5), connectivity=conn, costs=costs, clearance_weight=weight)
+        np.testing.assert_array_equal(nav.value, full.value)
+        assert nav.map is ib.gridmap
+
+
+def test_update_navigation_refuses_other_kinds():
+    from gridfield.navigation import harmonic
+
+    gm = GridMap(Grid((6, 6), 1.0), np.zeros((6, 6), bool))
+    with pytest.raises(ParameterError, match="wavefront"):
+        update_navigation(harmonic(gm, (0.5, 0.5)), gm, None)

@@ -187,7 +187,7 @@ def plot(results: list[dict[str, Any]], path: Path) -> None:
     ax.set_xlabel("cells whose nearest obstacle changed")
     ax.set_ylabel("time per update [ms]")
     ax.set_title(f"incremental Euclidean brushfire, {results[0]['n']}x{results[0]['n']} maps")
-    ax.legend(fontsize=7, ncol=2)
+    ax.legend(fontsize=7, ncol=2, loc="center left")
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     fig.savefig(path)

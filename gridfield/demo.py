@@ -352,9 +352,9 @@ def _part_arena(run: _Run) -> None:
 #: The moving-obstacle part: potential parameters (nearest-obstacle repulsion, so the field can be
 #: updated in a window), the walker (a square of this side, walking up and down at x = its column)
 #: and how far the robot and the walker move per frame.
-MOVING_PARAMS = {"zeta": 1.0, "eta": 1.0, "q_star": 2.0, "repulsive_power": 2, "repulsion": "nearest",
+MOVING_PARAMS: dict[str, Any] = {"zeta": 1.0, "eta": 1.0, "q_star": 2.0, "repulsive_power": 2, "repulsion": "nearest",
                  "step": 0.1, "tolerance": 0.1, "max_iterations": 5000}
-MOVING_WALKER = {"side": 1.6, "x": 19.4, "y": (3.0, 17.0), "speed": 0.55}
+MOVING_WALKER: dict[str, Any] = {"side": 1.6, "x": 19.4, "y": (3.0, 17.0), "speed": 0.55}
 MOVING_ROBOT_SPEED = 0.5
 
 
@@ -388,7 +388,8 @@ def _part_moving(run: _Run) -> None:
     ib = IncrementalBrushfire(static, compute_labels=False)
     goal = np.asarray(w.goal, float)
     field = build_field(ib.gridmap, goal, MOVING_PARAMS, dmap=ib.distance_map)
-    side, wx, (y_lo, y_hi), speed = (MOVING_WALKER[k] for k in ("side", "x", "y", "speed"))
+    side, wx, speed = (float(MOVING_WALKER[k]) for k in ("side", "x", "speed"))
+    y_lo, y_hi = (float(v) for v in MOVING_WALKER["y"])
     pace = 2.0 if run.quick else 1.0  # quick: half the frames, twice the distance per frame
     speed *= pace
     robot_speed = MOVING_ROBOT_SPEED * pace

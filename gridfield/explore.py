@@ -603,6 +603,7 @@ class Explorer:
             old.obstacle_id is not None and target.obstacle_id is not None) else np.zeros(old.shape, bool)
         ib.update(freed=freed | moved)
         if moved.any():
+            assert target.obstacle_id is not None
             ib.update(occupied=np.argwhere(moved), ids=target.obstacle_id[moved])
         self.gridmap = self._incremental_map()
         self._update_occupancy()

@@ -156,7 +156,7 @@ class IncrementalBrushfire:
         self._nc = np.ascontiguousarray(d.nearest_col, np.int32)
         if self._nr is self._nc:  # never shared, but make sure
             self._nc = self._nc.copy()
-        self._dist = np.array(d.distance, np.float64, order="C")
+        self._dist = np.ascontiguousarray(d.distance, np.float64)  # the brushfire's own: no copy
         self._label = d.label
         self._gvd = d.gvd
         self._want_label = bool(compute_labels)
@@ -253,7 +253,7 @@ class IncrementalBrushfire:
             if len(both):
                 r, c = divmod(int(both[0]), shape[1])
                 raise ParameterError(f"cell ({r}, {c}) is both occupied and freed")
-        new_ids = None
+        new_ids: NDArray[Any] | None = None
         if ids is not None:
             if self._ids is None:
                 raise ParameterError("ids are only for maps with world obstacle ids (GridMap.obstacle_id)")
@@ -285,10 +285,9 @@ class IncrementalBrushfire:
                 self._ids[frr, frc] = 0
         if len(orr):
             if self._ids is not None:
-                if new_ids is None:
-                    new_ids = np.int32(self._max_id + 1)
-                self._ids[orr, occ_c] = new_ids
-                self._max_id = max(self._max_id, int(np.max(new_ids)))
+                given = np.asarray(self._max_id + 1 if new_ids is None else new_ids, np.int32)
+                self._ids[orr, occ_c] = given
+                self._max_id = max(self._max_id, int(given.max(initial=0)))
             box = self._lower(k, orr, occ_c)
             if box is not None:
                 boxes.append(box)
@@ -441,6 +440,8 @@ def update_field(field: Any, dmap: DistanceMap | IncrementalBrushfire, window: W
     ParameterError
         For a field this window update cannot reproduce (another model, per-obstacle sum,
         finite-difference gradient, another power), or a distance map of another grid or metric.
+    GridfieldError
+        When the change occupies the goal.
 
     Examples
     --------
@@ -470,6 +471,7 @@ def update_field(field: Any, dmap: DistanceMap | IncrementalBrushfire, window: W
                              f"an integer repulsive_power 0-4; rebuild this one with build_field (params {p!r})")
     if p["metric"] != dmap.metric:
         raise ParameterError(f"the field uses metric {p['metric']!r}, the distance map {dmap.metric!r}")
+    dmap.map.check_point("goal", field.goal)  # as build_field: the change may not cover the goal
     out = Field(dmap.map, field.potential, field.grad_x, field.grad_y, field.goal, p, dmap)
     if window is None:
         return out

@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from gridfield.brushfire import brushfire
-from gridfield.errors import ParameterError
+from gridfield.errors import GridfieldError, ParameterError
 from gridfield.grid import Grid, GridMap
 from gridfield.incremental import IncrementalBrushfire, update_field, update_navigation
 from gridfield.potential import build_field
@@ -284,6 +284,8 @@ def test_update_field_refuses_what_it_cannot_reproduce():
         update_field(f, ib, (0, 9, 0, 1))
     with pytest.raises(ParameterError, match="needs a Field"):
         update_field("field", ib, None)
+    with pytest.raises(GridfieldError, match=r"goal .* inside an obstacle"):
+        update_field(f, ib, ib.update(occupied=[[0, 0]]))
 
 
 # ----------------------------------------------------------------------------------------------

@@ -62,21 +62,32 @@ def window_edt(sites, r0, r1, c0, c1, wt, wb, wl, wr, inf, vr, g, rowv, s, t, va
     top = np.int64(-1) if wt else np.int64(-BIG)
     bottom = np.int64(rows) if wb else np.int64(BIG)
     h = r1 - r0
-    for j in range(n):  # column pass: nearest site row in the column (ties: the smaller row)
-        c = c0 + j
-        v = top
-        for i in range(h):
-            if sites[r0 + i, c]:
-                v = np.int64(r0 + i)
-            vr[i, j] = v
-        b = bottom
-        for i in range(h - 1, -1, -1):
-            r = np.int64(r0 + i)
-            if sites[r0 + i, c]:
-                b = r
-            a = vr[i, j]
-            if (b - r) < (r - a):
-                vr[i, j] = b
+    # column pass: nearest site row in each column (ties: the smaller row), swept row by row (the
+    # arrays are row-major): down, the nearest site at or above; up, the one below if strictly nearer
+    for i in range(h):
+        r = np.int64(r0 + i)
+        srow = sites[r0 + i]
+        vrow = vr[i]
+        if i == 0:
+            for j in range(n):
+                vrow[j] = r if srow[c0 + j] else top
+        else:
+            prev = vr[i - 1]
+            for j in range(n):
+                vrow[j] = r if srow[c0 + j] else prev[j]
+    below = g[:n]  # scratch: the nearest site at or below, per column (g is reused by the row pass)
+    for j in range(n):
+        below[j] = bottom
+    for i in range(h - 1, -1, -1):
+        r = np.int64(r0 + i)
+        srow = sites[r0 + i]
+        vrow = vr[i]
+        for j in range(n):
+            if srow[c0 + j]:
+                below[j] = r
+            b = below[j]
+            if (b - r) < (r - vrow[j]):
+                vrow[j] = b
     for i in range(h):  # row pass: lower envelope (the full transform's edt_1d)
         r = np.int64(r0 + i)
         g[0] = 0 if wl else inf

@@ -410,3 +410,22 @@ def test_update_navigation_refuses_other_kinds():
     gm = GridMap(Grid((6, 6), 1.0), np.zeros((6, 6), bool))
     with pytest.raises(ParameterError, match="wavefront"):
         update_navigation(harmonic(gm, (0.5, 0.5)), gm, None)
+
+
+def test_benchmark_main_tiny(capsys, tmp_path):
+    """benchmarks/incremental.py runs on a tiny map and prints its tables (no timing asserted)."""
+    import sys
+    from pathlib import Path
+
+    bench = Path(__file__).resolve().parent.parent / "benchmarks"
+    sys.path.insert(0, str(bench))
+    try:
+        import incremental as bench_incremental
+
+        assert bench_incremental.main(["--size", "96", "--blocks", "1", "5", "--placements", "2", "--repeat", "1",
+                                       "--plot", str(tmp_path / "p.png")]) == 0
+    finally:
+        sys.path.remove(str(bench))
+    out = capsys.readouterr().out
+    assert "| 1x1 |" in out and "| 5x5 |" in out and "labels + GVD" in out and "targets" in out
+    assert (tmp_path / "p.png").stat().st_size > 0

@@ -353,3 +353,139 @@ def khatib_window(r0, r1, c0, c1, occ, nr, nc, x0, y0, res, goal_x, goal_y, zeta
             U[r, c] = (u + 0.5 * eta * s * s if inside else u) if free else np.inf
             GX[r, c] = (gx - m * fc if inside else gx) if free else 0.0
             GY[r, c] = (gy - m * fr if inside else gy) if free else 0.0
+
+
+# ----------------------------------------------------------------------------------------------
+# component numbers kept in place (maps without world ids), when a change renumbers nothing
+# ----------------------------------------------------------------------------------------------
+@njit(**_OPTS)
+def first_cells(comp, first):  # pragma: no cover - compiled
+    """``first[k]``: raster index ``r * cols + c`` of the first cell of component ``k`` (``first`` holds
+    -1 on entry for ``k >= 1``)."""
+    rows, cols = comp.shape
+    for r in range(rows):
+        for c in range(cols):
+            k = comp[r, c]
+            if k > 0 and first[k] < 0:
+                first[k] = r * cols + c
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _ring_parts(occ, mark, r, c):  # pragma: no cover - compiled
+    """Number of 8-connected groups formed by the obstacle cells (``occ`` or ``mark``) among the 8
+    neighbours of ``(r, c)``, connected through those neighbours only."""
+    rows, cols = occ.shape
+    dr = (-1, -1, -1, 0, 1, 1, 1, 0)
+    dc = (-1, 0, 1, 1, 1, 0, -1, -1)
+    on = np.zeros(8, np.bool_)
+    parent = np.arange(8)
+    for i in range(8):
+        rr = r + dr[i]
+        cc = c + dc[i]
+        if 0 <= rr < rows and 0 <= cc < cols and (occ[rr, cc] or mark[rr, cc]):
+            on[i] = True
+    for i in range(8):
+        if not on[i]:
+            continue
+        for j in range(i + 1, 8):
+            if on[j] and abs(dr[i] - dr[j]) <= 1 and abs(dc[i] - dc[j]) <= 1:
+                a = i
+                while parent[a] != a:
+                    a = parent[a]
+                b = j
+                while parent[b] != b:
+                    b = parent[b]
+                if a != b:
+                    parent[max(a, b)] = min(a, b)
+    n = 0
+    for i in range(8):
+        if on[i] and parent[i] == i:
+            n += 1
+    return n
+
+
+@njit(**_OPTS)
+def remove_in_place(fr, fc, occ, mark, comp, first):  # pragma: no cover - compiled
+    """Take the cells ``fr, fc`` (marked in ``mark``, already free in ``occ``) out of their components
+    one by one, while provably no component splits or vanishes and the components keep their order
+    by first cell (so their numbers stay). Returns False as soon as that cannot be shown (the caller
+    then renumbers everything)."""
+    rows, cols = occ.shape
+    total = rows * cols
+    for k in range(fr.shape[0]):
+        r = fr[k]
+        c = fc[k]
+        t = comp[r, c]
+        if _ring_parts(occ, mark, r, c) != 1:  # would split the component, or it vanishes
+            return False
+        mark[r, c] = 0
+        comp[r, c] = 0
+        idx = r * cols + c
+        if first[t] == idx:  # the next cell of the component in raster order becomes its first
+            j = idx + 1
+            while j < total:
+                rr = j // cols
+                cc = j - rr * cols
+                if comp[rr, cc] == t:
+                    break
+                j += 1
+            if j >= first[t + 1]:
+                return False
+            first[t] = j
+    return True
+
+
+@njit(**_OPTS)
+def insert_in_place(nr_, nc_, mark, comp, first, qr, qc):  # pragma: no cover - compiled
+    """Give the new obstacle cells ``nr_, nc_`` (``mark == 1``, ``comp == 0``) the number of the one
+    component they join, spreading from the cells next to existing obstacles, while provably no two
+    components merge, no new one appears and the order by first cell stays. Returns False as soon as
+    that cannot be shown."""
+    rows, cols = comp.shape
+    n = nr_.shape[0]
+    tail = 0
+    for k in range(n):
+        r = nr_[k]
+        c = nc_[k]
+        for dr in range(-1, 2):
+            for dc in range(-1, 2):
+                rr = r + dr
+                cc = c + dc
+                if 0 <= rr < rows and 0 <= cc < cols and comp[rr, cc] > 0 and mark[r, c] == 1:
+                    mark[r, c] = 2
+                    qr[tail] = r
+                    qc[tail] = c
+                    tail += 1
+    head = 0
+    while head < tail:
+        r = qr[head]
+        c = qc[head]
+        head += 1
+        t = 0
+        for dr in range(-1, 2):
+            for dc in range(-1, 2):
+                rr = r + dr
+                cc = c + dc
+                if 0 <= rr < rows and 0 <= cc < cols:
+                    v = comp[rr, cc]
+                    if v > 0:
+                        if t == 0:
+                            t = v
+                        elif v != t:  # two components merge
+                            return False
+        comp[r, c] = t
+        idx = r * cols + c
+        if idx < first[t]:
+            if idx < first[t - 1]:
+                return False
+            first[t] = idx
+        for dr in range(-1, 2):
+            for dc in range(-1, 2):
+                rr = r + dr
+                cc = c + dc
+                if 0 <= rr < rows and 0 <= cc < cols and mark[rr, cc] == 1:
+                    mark[rr, cc] = 2
+                    qr[tail] = rr
+                    qc[tail] = cc
+                    tail += 1
+    return tail == n  # cells left over form components of their own

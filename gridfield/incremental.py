@@ -34,10 +34,14 @@ region need not be connected), the windows are transformed exactly, so nothing c
 
 Labels and GVD: with world obstacle ids (``GridMap.obstacle_id``) a cell's label is the id of its
 nearest obstacle, so labels and the GVD (a rule on 8-neighbours) are updated in the changed
-windows only. Without ids the labels are the 8-connected components numbered in raster order
-(as :func:`~gridfield.brushfire.brushfire` numbers them); one added or removed obstacle can renumber
-every component after it, so they are recomputed over the whole grid, lazily, the first time
-``label``/``gvd``/:attr:`IncrementalBrushfire.distance_map` is read after an update (compiled
+windows only. Without ids the labels are the 8-connected components numbered in raster order of
+their first cell (as :func:`~gridfield.brushfire.brushfire` numbers them). A change that provably
+keeps every number (new cells that all join one existing component, removed cells whose
+neighbours stay connected around them, first cells that keep their order) is applied in place, at
+a cost proportional to the change, and labels and GVD follow in the windows. Any other change (a
+new component, a merge, a split, a component that vanishes or moves past another in raster order)
+may renumber every component after it: then labels and GVD are recomputed over the whole grid,
+lazily, the first time :attr:`IncrementalBrushfire.distance_map` is read after the update (compiled
 passes, about as long as the labelling part of a full brushfire).
 
 Only the Euclidean metric is offered: its nearest obstacle is defined by a rule a window can
@@ -162,7 +166,8 @@ class IncrementalBrushfire:
         self._want_label = bool(compute_labels)
         self._want_gvd = bool(want_gvd)
         self._mark = np.zeros(shape, np.uint8)
-        self._comp: NDArray[np.int32] | None = None
+        self._comp: NDArray[np.int32] | None = None  # component numbers (maps without ids), see _components
+        self._first: NDArray[np.int64] | None = None
         self._labels_dirty = False
         self._gridmap: GridMap | None = gridmap
         self._dmap: DistanceMap | None = None
@@ -277,12 +282,16 @@ class IncrementalBrushfire:
             return None
         k = _kernels()
         boxes: list[Window] = []
+        # component numbers (maps without ids): kept in place while the change provably renumbers nothing
+        in_place = self._want_label and self._ids is None and not self._labels_dirty
         if len(frr):
             box = self._raise(k, frr, frc)
             if box is not None:
                 boxes.append(box)
             if self._ids is not None:
                 self._ids[frr, frc] = 0
+            if in_place:
+                in_place = self._components_removed(k, frr, frc)
         if len(orr):
             if self._ids is not None:
                 given = np.asarray(self._max_id + 1 if new_ids is None else new_ids, np.int32)
@@ -291,6 +300,8 @@ class IncrementalBrushfire:
             box = self._lower(k, orr, occ_c)
             if box is not None:
                 boxes.append(box)
+            if in_place:
+                in_place = self._components_added(k, orr, occ_c)
         window = None
         for b in boxes:
             window = _union(window, b)
@@ -298,7 +309,10 @@ class IncrementalBrushfire:
         self._dmap = None
         if self._want_label:
             if self._ids is not None:
-                self._local_labels(k, boxes)
+                self._local_labels(k, boxes, self._ids)
+            elif in_place:
+                assert self._comp is not None
+                self._local_labels(k, boxes, self._comp)
             else:
                 self._labels_dirty = True
         self.last_window = window
@@ -389,25 +403,70 @@ class IncrementalBrushfire:
         return obox
 
     # -- labels and GVD ---------------------------------------------------------------
-    def _local_labels(self, k: ModuleType, boxes: list[Window]) -> None:
-        assert self._label is not None and self._ids is not None
+    def _components(self, k: ModuleType) -> tuple[NDArray[np.int32], NDArray[np.int64]]:
+        """The component number of every obstacle cell and each component's first cell (raster index;
+        ``first[0] = -1`` and ``first[K + 1] = rows * cols`` as sentinels), computed when missing."""
+        if self._comp is None or self._first is None:
+            from . import _kernels_brushfire as kb
+
+            rows, cols = self._grid.shape
+            comp = np.empty((rows, cols), np.int32)
+            count = kb.label_components(self._occ8, comp)
+            first = np.full(count + 2, -1, np.int64)
+            k.first_cells(comp, first)
+            first[count + 1] = rows * cols
+            self._comp, self._first = comp, first
+        return self._comp, self._first
+
+    def _components_removed(self, k: ModuleType, r: NDArray[np.int64], c: NDArray[np.int64]) -> bool:
+        """Take the freed cells out of their components in place; False if that may renumber them."""
+        if self._comp is None:  # the numbers of the map before this change (already freed in occ)
+            k.set_cells(r, c, self._occ8, 1)
+            self._components(k)
+            k.set_cells(r, c, self._occ8, 0)
+        comp, first = self._components(k)
+        k.set_cells(r, c, self._mark, 1)
+        try:
+            ok = bool(k.remove_in_place(r, c, self._occ8, self._mark, comp, first))
+        finally:
+            k.set_cells(r, c, self._mark, 0)
+        if not ok:
+            self._comp = self._first = None
+        return ok
+
+    def _components_added(self, k: ModuleType, r: NDArray[np.int64], c: NDArray[np.int64]) -> bool:
+        """Join the new obstacle cells to their components in place; False if that may renumber them."""
+        if self._comp is None:
+            k.set_cells(r, c, self._occ8, 0)
+            self._components(k)
+            k.set_cells(r, c, self._occ8, 1)
+        comp, first = self._components(k)
+        k.set_cells(r, c, self._mark, 1)
+        try:
+            ok = bool(k.insert_in_place(r, c, self._mark, comp, first, np.empty(len(r), np.int64),
+                                        np.empty(len(r), np.int64)))
+        finally:
+            k.set_cells(r, c, self._mark, 0)
+        if not ok:
+            self._comp = self._first = None
+        return ok
+
+    def _local_labels(self, k: ModuleType, boxes: list[Window], ids: NDArray[np.int32]) -> None:
+        assert self._label is not None
         for b in boxes:
-            k.labels_window(*b, self._nr, self._nc, self._ids, BORDER_LABEL, self._label)
+            k.labels_window(*b, self._nr, self._nc, ids, BORDER_LABEL, self._label)
         if self._want_gvd:
             assert self._gvd is not None
             for b in boxes:
                 k.gvd_window(*self._pad(b, (1, 1, 1, 1)), self._label, self._dist, self._occ8, self._gvd)
 
     def _relabel(self) -> None:
-        from . import _kernels_brushfire as kb
-
         k = _kernels()
         rows, cols = self._grid.shape
-        if self._comp is None:
-            self._comp = np.empty((rows, cols), np.int32)
-        kb.label_components(self._occ8, self._comp)
+        self._comp = self._first = None
+        comp, _ = self._components(k)
         assert self._label is not None
-        k.gather_rows(0, rows, self._nr, self._nc, self._comp, BORDER_LABEL, self._label)
+        k.gather_rows(0, rows, self._nr, self._nc, comp, BORDER_LABEL, self._label)
         if self._want_gvd:
             assert self._gvd is not None
             k.gvd_window(0, rows, 0, cols, self._label, self._dist, self._occ8, self._gvd)

@@ -154,6 +154,26 @@ def test_updates_equal_a_full_recompute(scenario, as_mask):
             assert changed.any()
 
 
+@settings(max_examples=60, deadline=None)
+@given(st.integers(2, 30), st.integers(2, 30), st.sampled_from([0.1, 0.3, 0.5]), st.sampled_from(["open", "wall"]),
+       st.integers(0, 2**31))
+def test_components_grown_and_shrunk_keep_the_full_numbering(rows, cols, density, border, seed):
+    """Obstacles of a map without ids grow and shrink by a few cells at a time: most such changes keep
+    every component's number (updated in place), the others renumber (relabelled on read); either
+    way labels and GVD equal the full brushfire's after every step."""
+    rng = np.random.default_rng(seed)
+    occ = rng.random((rows, cols)) < density
+    ib = IncrementalBrushfire(GridMap(Grid((rows, cols), 1.0, border=border), occ))
+    for _ in range(8):
+        grow = rng.random() < 0.5
+        cand = np.argwhere(~ib.gridmap.occupied if grow else ib.gridmap.occupied)
+        if not len(cand):
+            continue
+        cells = cand[rng.integers(0, len(cand), rng.integers(1, 4))]
+        ib.update(occupied=cells) if grow else ib.update(freed=cells)
+        assert_equal_full(ib)
+
+
 @settings(max_examples=40, deadline=None)
 @given(st.integers(2, 30), st.integers(2, 30), st.sampled_from(["open", "wall"]), st.integers(0, 2**31))
 def test_against_brute_force_without_labels(rows, cols, border, seed):

@@ -405,34 +405,48 @@ def _ring_parts(occ, mark, r, c):  # pragma: no cover - compiled
 
 
 @njit(**_OPTS)
-def remove_in_place(fr, fc, occ, mark, comp, first):  # pragma: no cover - compiled
+def remove_in_place(fr, fc, occ, mark, comp, first, max_passes):  # pragma: no cover - compiled
     """Take the cells ``fr, fc`` (marked in ``mark``, already free in ``occ``) out of their components
-    one by one, while provably no component splits or vanishes and the components keep their order
-    by first cell (so their numbers stay). Returns False as soon as that cannot be shown (the caller
+    one by one, each only while provably no component splits or vanishes (its obstacle neighbours are
+    connected around it) and the components keep their order by first cell (so their numbers stay).
+    Cells that cannot go yet are retried after the others, for up to ``max_passes`` passes (peeling a
+    removed blob from its edge). Returns False when that cannot be shown for every cell (the caller
     then renumbers everything)."""
     rows, cols = occ.shape
     total = rows * cols
-    for k in range(fr.shape[0]):
-        r = fr[k]
-        c = fc[k]
-        t = comp[r, c]
-        if _ring_parts(occ, mark, r, c) != 1:  # would split the component, or it vanishes
-            return False
-        mark[r, c] = 0
-        comp[r, c] = 0
-        idx = r * cols + c
-        if first[t] == idx:  # the next cell of the component in raster order becomes its first
-            j = idx + 1
-            while j < total:
-                rr = j // cols
-                cc = j - rr * cols
-                if comp[rr, cc] == t:
-                    break
-                j += 1
-            if j >= first[t + 1]:
-                return False
+    left = fr.shape[0]
+    for _ in range(max_passes):
+        progress = False
+        for k in range(fr.shape[0]):
+            r = fr[k]
+            c = fc[k]
+            if not mark[r, c]:  # already taken out
+                continue
+            t = comp[r, c]
+            if _ring_parts(occ, mark, r, c) != 1:  # would split the component (for now), or it vanishes
+                continue
+            idx = r * cols + c
+            j = first[t]
+            if j == idx:  # the next cell of the component in raster order becomes its first
+                j = idx + 1
+                while j < total:
+                    rr = j // cols
+                    cc = j - rr * cols
+                    if comp[rr, cc] == t:
+                        break
+                    j += 1
+                if j >= first[t + 1]:
+                    return False
+            mark[r, c] = 0
+            comp[r, c] = 0
             first[t] = j
-    return True
+            left -= 1
+            progress = True
+        if left == 0:
+            return True
+        if not progress:
+            return False
+    return False
 
 
 @njit(**_OPTS)

@@ -427,7 +427,7 @@ class IncrementalBrushfire:
         comp, first = self._components(k)
         k.set_cells(r, c, self._mark, 1)
         try:
-            ok = bool(k.remove_in_place(r, c, self._occ8, self._mark, comp, first))
+            ok = bool(k.remove_in_place(r, c, self._occ8, self._mark, comp, first, 32))
         finally:
             k.set_cells(r, c, self._mark, 0)
         if not ok:

@@ -182,12 +182,16 @@ class IncrementalBrushfire:
     # -- state ------------------------------------------------------------------------
     @property
     def gridmap(self) -> GridMap:
+        """The current map (sharing this object's occupancy and id arrays)."""
         if self._gridmap is None:
             self._gridmap = GridMap(self._grid, self._occ, self._ids, None, self._source, dict(self._meta))
         return self._gridmap
 
     @property
     def distance_map(self) -> DistanceMap:
+        """The current distance map: equal to ``brushfire(self.gridmap, metric="euclidean",
+        compute_steps=False)`` (labels and GVD as asked for; relabelled here when an update renumbered
+        the components)."""
         if self._labels_dirty:
             self._relabel()
         if self._dmap is None:

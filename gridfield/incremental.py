@@ -487,7 +487,10 @@ def update_field(field: Any, dmap: DistanceMap | IncrementalBrushfire, window: W
         model, nearest-obstacle repulsion, analytic gradient, ``repulsive_power`` 0-4); its arrays
         are updated **in place**.
     dmap : DistanceMap or IncrementalBrushfire
-        The distance map after the change (Euclidean, same grid).
+        The distance map after the change (Euclidean, same grid). The field reads only the nearest
+        obstacles; an IncrementalBrushfire whose component labels an update renumbered relabels
+        them here (its ``distance_map``), so build it with ``compute_labels=False`` when only
+        fields are wanted.
     window : tuple or None
         ``(r0, r1, c0, c1)``: every cell whose occupancy or nearest obstacle changed lies inside,
         as returned by :meth:`IncrementalBrushfire.update`; None: nothing to do.

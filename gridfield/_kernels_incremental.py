@@ -450,6 +450,97 @@ def remove_in_place(fr, fc, occ, mark, comp, first, max_passes):  # pragma: no c
 
 
 @njit(**_OPTS)
+def remove_rest_in_place(fr, fc, mark, comp, first, r0, r1, c0, c1):  # pragma: no cover - compiled
+    """After :func:`remove_in_place` got stuck: take out the cells still marked (``fr, fc``) all at
+    once if, for every component they belong to, the component's cells next to them stay connected
+    to each other without them, through that component's cells inside the window ``r0:r1, c0:c1``
+    (a flood fill there). Then every remaining part of the component touches one of those cells, so
+    none is cut off. Returns False when that is not shown (a split, a vanished component, or a
+    connection only outside the window)."""
+    rows, cols = comp.shape
+    total = rows * cols
+    h = r1 - r0
+    w = c1 - c0
+    seen = np.zeros((h, w), np.bool_)
+    qr = np.empty(h * w, np.int64)
+    qc = np.empty(h * w, np.int64)
+    for k in range(fr.shape[0]):
+        r = fr[k]
+        c = fc[k]
+        if not mark[r, c]:
+            continue
+        t = comp[r, c]
+        # the cells of t next to the stuck cells, and one to start from
+        sr = -1
+        sc = -1
+        want = 0
+        for m in range(fr.shape[0]):
+            a = fr[m]
+            b = fc[m]
+            if not mark[a, b] or comp[a, b] != t:
+                continue
+            for dr in range(-1, 2):
+                for dc in range(-1, 2):
+                    aa = a + dr
+                    bb = b + dc
+                    if 0 <= aa < rows and 0 <= bb < cols and comp[aa, bb] == t and not mark[aa, bb]:
+                        if aa < r0 or aa >= r1 or bb < c0 or bb >= c1:
+                            return False
+                        if not seen[aa - r0, bb - c0]:
+                            seen[aa - r0, bb - c0] = True  # counted once (reset below)
+                            want += 1
+                            sr = aa
+                            sc = bb
+        if want == 0:  # the component would vanish
+            return False
+        # flood the component's other cells in the window from one contact; count the contacts met
+        visit = np.zeros((h, w), np.bool_)
+        qr[0] = sr
+        qc[0] = sc
+        visit[sr - r0, sc - c0] = True
+        head = 0
+        tail = 1
+        met = 0
+        while head < tail:
+            a = qr[head]
+            b = qc[head]
+            head += 1
+            if seen[a - r0, b - c0]:
+                met += 1
+            for dr in range(-1, 2):
+                for dc in range(-1, 2):
+                    aa = a + dr
+                    bb = b + dc
+                    if (r0 <= aa < r1 and c0 <= bb < c1 and not visit[aa - r0, bb - c0] and comp[aa, bb] == t
+                            and not mark[aa, bb]):
+                        visit[aa - r0, bb - c0] = True
+                        qr[tail] = aa
+                        qc[tail] = bb
+                        tail += 1
+        if met != want:
+            return False
+        seen[:, :] = False
+        # all fine for t: take its stuck cells out, and move its first cell on if it was one of them
+        for m in range(fr.shape[0]):
+            a = fr[m]
+            b = fc[m]
+            if mark[a, b] and comp[a, b] == t:
+                mark[a, b] = 0
+                comp[a, b] = 0
+        j = first[t]
+        if comp[j // cols, j - (j // cols) * cols] != t:
+            while j < total:
+                a = j // cols
+                if comp[a, j - a * cols] == t:
+                    break
+                j += 1
+            if j >= first[t + 1]:
+                return False
+            first[t] = j
+    return True
+
+
+@njit(**_OPTS)
 def insert_in_place(nr_, nc_, mark, comp, first, qr, qc):  # pragma: no cover - compiled
     """Give the new obstacle cells ``nr_, nc_`` (``mark == 1``, ``comp == 0``) the number of the one
     component they join, spreading from the cells next to existing obstacles, while provably no two

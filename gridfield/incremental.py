@@ -432,6 +432,11 @@ class IncrementalBrushfire:
         k.set_cells(r, c, self._mark, 1)
         try:
             ok = bool(k.remove_in_place(r, c, self._occ8, self._mark, comp, first, 32))
+            if not ok:  # stuck cells (a removed bridge, say): a flood fill in a window around them
+                box = self._box(r, c)
+                side = max(box[1] - box[0], box[3] - box[2])
+                ok = bool(k.remove_rest_in_place(r, c, self._mark, comp, first,
+                                                 *self._pad(box, [2 * side + 32] * 4)))
         finally:
             k.set_cells(r, c, self._mark, 0)
         if not ok:

@@ -36,11 +36,12 @@ Labels and GVD: with world obstacle ids (``GridMap.obstacle_id``) a cell's label
 nearest obstacle, so labels and the GVD (a rule on 8-neighbours) are updated in the changed
 windows only. Without ids the labels are the 8-connected components numbered in raster order of
 their first cell (as :func:`~gridfield.brushfire.brushfire` numbers them). A change that provably
-keeps every number (new cells that all join one existing component, removed cells whose
-neighbours stay connected around them, first cells that keep their order) is applied in place, at
-a cost proportional to the change, and labels and GVD follow in the windows. Any other change (a
-new component, a merge, a split, a component that vanishes or moves past another in raster order)
-may renumber every component after it: then labels and GVD are recomputed over the whole grid,
+keeps every number (new cells that all join one existing component; removed cells whose
+neighbours stay connected around them, or else through the component's cells in a window around
+the change, checked by a flood fill; first cells that keep their order) is applied in place, at a
+cost proportional to the change, and labels and GVD follow in the windows. Any other change (a
+new component, a merge, a split, a component that vanishes or moves past another in raster order,
+a connection only outside that window) may renumber every component after it: then labels and GVD are recomputed over the whole grid,
 lazily, the first time :attr:`IncrementalBrushfire.distance_map` is read after the update (compiled
 passes, about as long as the labelling part of a full brushfire).
 

@@ -28,7 +28,7 @@ Sections (``--only`` picks some; all by default):
     potential, each as a ratio to gridfield's equivalent on the peer's own example map.
 ``areas``
     The per-area scripts (``benchmarks/brushfire.py``, ``potential.py``, ``follow.py``,
-    ``navigation.py``, ``rasterize.py``), each run through its ``main`` in a subprocess; their
+    ``navigation.py``, ``rasterize.py``, ``incremental.py``), each run through its ``main`` in a subprocess; their
     output is included verbatim. A script that does not exist is reported as missing.
 
 Every time is a median of several runs (``--repeat``), and every ratio compares two things
@@ -65,7 +65,7 @@ import peers  # noqa: E402
 from end_to_end import Timing, timed  # noqa: E402
 
 SECTIONS = ("startup", "components", "end_to_end", "peers", "areas")
-AREA_SCRIPTS = ("brushfire", "potential", "follow", "navigation", "rasterize")
+AREA_SCRIPTS = ("brushfire", "potential", "follow", "navigation", "rasterize", "incremental")
 HEAVY = ("matplotlib", "numba", "scipy.sparse", "shapely", "skimage")
 HELP_TARGET_S = 0.5
 E2E_TARGET_RATIO = 3.0

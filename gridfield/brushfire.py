@@ -574,3 +574,12 @@ def brushfire(
         _run(_chunks(k.saturate_rows, rows, nthreads, distance, saturate, far), nthreads)
     return DistanceMap(gridmap, connectivity, metric, steps if want_steps else None, distance, nearest_row,
                        nearest_col, label, gvd, saturate, far)
+
+
+def __getattr__(name: str) -> Any:
+    """``gridfield.brushfire.IncrementalBrushfire``: lives in :mod:`gridfield.incremental` (imported on use)."""
+    if name == "IncrementalBrushfire":
+        from .incremental import IncrementalBrushfire
+
+        return IncrementalBrushfire
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -937,13 +937,14 @@ def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
         col = table[:, k]
         try:
             return col.astype(dtype)
-        except ValueError:
+        except (ValueError, OverflowError):
             for n, s in zip(line_no.tolist(), col.tolist(), strict=True):
                 try:
                     dtype(s)
-                except ValueError:
-                    raise MapFormatError(f"{p}: line {n}: {what} must be a number, got {shorten(s)}") from None
-            raise  # pragma: no cover - numpy and Python disagree
+                except (ValueError, OverflowError):
+                    raise MapFormatError(f"{p}: line {n}: {what} must be a number within range, "
+                                         f"got {shorten(s)}") from None
+            raise MapFormatError(f"{p}: a {what} is not a number within range") from None
 
     ints = {k: column(k, np.int64, name) for k, name in ((0, "bucket"), (2, "width"), (3, "height"), (4, "start_x"),
                                                          (5, "start_y"), (6, "goal_x"), (7, "goal_y"))}

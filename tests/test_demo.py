@@ -48,6 +48,8 @@ def expected_files() -> set[str]:
         files.add("convergence.png")
     if have("gridfield.star"):
         files.add("seed002_star_world.png")
+    if have(*CORE, "gridfield.incremental"):
+        files.add("moving_obstacle.gif")
     return files
 
 

@@ -942,7 +942,7 @@ def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
                 try:
                     dtype(s)
                 except (ValueError, OverflowError):
-                    raise MapFormatError(f"{p}: line {n}: {what} must be a number within range, "
+                    raise MapFormatError(f"{p}: line {n}: {what} must be a number (in range), "
                                          f"got {shorten(s)}") from None
             raise MapFormatError(f"{p}: a {what} is not a number within range") from None
 

@@ -317,8 +317,8 @@ def test_crlf_width_mismatch_reports_line(tmp_path):
     [
         ("version 1\n0\tm.map\t4\t3\t1\t0\t1\t0\n", r"line 2: expected 9 fields"),
         ("version 1\n0\tm.map\t4\t3\t1\t0\t1\t0\t0\n0\tm.map\t4\t3\ta\t0\t1\t0\t0\n", r"line 3: start_x must be a "
-                                                                                    r"number, got 'a'"),
-        ("version 1\n0\tm.map\t4\t3\t1\t0\t1\t0\tlong\n", r"line 2: optimal length must be a number, got 'long'"),
+                                                                                    r"number \(in range\), got 'a'"),
+        ("version 1\n0\tm.map\t4\t3\t1\t0\t1\t0\tlong\n", r"line 2: optimal length must be a number \(in range\), got 'long'"),
         ("version 1\n0\tm.map\t4\t3\t4\t0\t1\t0\t3\n", r"line 2: start \(4, 0\) or goal \(1, 0\) lies outside the "
                                                        r"4 x 3 map"),
         ("version 1\n0\tm.map\t4\t3\t1\t0\t1\t-1\t3\n", r"line 2: .* lies outside"),

@@ -26,12 +26,12 @@ on one map pay only for the two visibility passes and the search. Measured build
 512 x 512 Moving AI maps, beside the octile wavefront on the same queries: ``benchmarks/README.md``.
 
 Relation to the octile optimum (8-connected, no corner cutting, the length in Moving AI ``.scen``
-files): between cell centres, the any-angle optimum is never longer (an octile path is a feasible
-any-angle path) and at least ``octile / sqrt(2)`` (the any-angle path can be followed through
-4-connected moves). The bound ``octile / 1.0824`` -- the octile metric's worst overestimate of a
-straight line -- does *not* hold on every map: in a one-cell staircase corridor the any-angle path
-runs diagonally across corners where the octile path must take two orthogonal steps (ratio up to
-``sqrt(2)``); ``tests/test_anyangle.py`` has the example.
+files): between cell centres the any-angle optimum is never longer (an octile path is a feasible
+any-angle path) and never shorter than the straight line. The octile metric overestimates a straight
+line by at most 1.0824, but the octile *optimum* can exceed the any-angle optimum by more: in a
+one-cell staircase corridor the any-angle path runs diagonally across convex corners where the
+octile path needs two orthogonal steps (ratio ``sqrt(2)``; ``tests/test_anyangle.py``), and on the
+Moving AI maps ratios up to 1.21 (den312d) and 1.14 (Polyanya's arena lengths) occur.
 
 Examples
 --------
@@ -127,6 +127,7 @@ class AnyAngleGraph:
     _indptr: NDArray[np.int64] = field(repr=False)
     _indices: NDArray[np.int64] = field(repr=False)
     _weights: NDArray[np.float64] = field(repr=False)
+    _lazy: dict[str, Any] = field(default_factory=dict, repr=False)
 
     @property
     def n_nodes(self) -> int:
@@ -154,6 +155,49 @@ class AnyAngleGraph:
         if all(self._B[r + 1, c + 1] for r in rs for c in cs):
             raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}) lies inside an obstacle")
         return float(u), float(v)
+
+    def clearance(self, points: ArrayLike) -> float:
+        """Exact smallest distance from the polyline ``points`` (world, ``(N, 2)``) to the blocked
+        cells (and to the bounds for a wall border); 0 where it touches one.
+
+        The distance to a union of squares is the smallest distance to one of them: an STRtree of
+        the row runs of blocked cells (:func:`gridfield.gridpoly.blocked_runs`) finds it.
+
+        Examples
+        --------
+        >>> from gridfield.grid import Grid, GridMap
+        >>> occ = np.zeros((3, 3), bool); occ[1, 1] = True
+        >>> grid_graph(GridMap(Grid((3, 3), 1.0), occ)).clearance([[0, 0.5], [3, 0.5]])
+        0.5
+        """
+        import shapely
+
+        pts = np.asarray(points, dtype=float).reshape(-1, 2)
+        if len(pts) == 0:
+            return math.nan
+        tree = self._runs_tree()
+        best = math.inf
+        if tree is not None:
+            geom = shapely.linestrings(pts) if len(pts) > 1 else shapely.points(pts[0])
+            _, dist = tree.query_nearest(geom, return_distance=True)
+            best = float(dist.min()) if len(dist) else math.inf
+        if self.grid.border == "wall":
+            xmin, ymin, xmax, ymax = self.grid.bounds
+            dw = np.minimum.reduce([pts[:, 0] - xmin, xmax - pts[:, 0], pts[:, 1] - ymin, ymax - pts[:, 1]])
+            best = min(best, float(np.maximum(dw, 0.0).min()))
+        return best
+
+    def _runs_tree(self) -> Any:
+        if "tree" not in self._lazy:
+            import shapely
+
+            from .gridpoly import blocked_runs
+
+            rows, c0, c1 = blocked_runs(self._B[1:-1, 1:-1].astype(bool))
+            (x0, y0), h = self.grid.origin, self.grid.resolution
+            boxes = shapely.box(x0 + c0 * h, y0 + rows * h, x0 + c1 * h, y0 + (rows + 1) * h)
+            self._lazy["tree"] = shapely.STRtree(boxes) if len(boxes) else None
+        return self._lazy["tree"]
 
     def visible(self, p: ArrayLike, q: ArrayLike) -> bool:
         """Whether the straight segment ``p -> q`` (world points) lies in the free space.
@@ -284,12 +328,9 @@ def plan_anyangle(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: M
     seconds = time.perf_counter() - t0
     extra = {"nodes": graph.n_nodes, "edges": graph.n_edges, "graph_seconds": graph.seconds,
              "optimal_length": length, "pinch": "block"}
-    from .gridpoly import grid_world
-
-    world = grid_world(gridmap)
     if not math.isfinite(length):
         s = np.asarray(start, dtype=float).reshape(1, 2)
         return Path(s, "no_path", "visibility", iterations=graph.n_nodes, params=dict(params or {}),
-                    seconds=seconds, min_clearance=world.clearance(s), extra=extra)
+                    seconds=seconds, min_clearance=graph.clearance(s), extra=extra)
     return Path(pts, "reached", "visibility", iterations=graph.n_nodes, params=dict(params or {}), seconds=seconds,
-                min_clearance=world.clearance(pts), extra=extra)
+                min_clearance=graph.clearance(pts), extra=extra)

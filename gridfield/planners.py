@@ -40,6 +40,12 @@ PLANNERS: dict[str, tuple[str, str, str]] = {
     "sphere-nav": ("gridfield.navigation", "plan_sphere_nav", "world"),
 }
 
+#: World planners with their own implementation on grid maps (used when a grid map has no vector
+#: world): name -> (module, function), called like a grid planner.
+GRID_VARIANTS: dict[str, tuple[str, str]] = {
+    "visibility": ("gridfield.anyangle", "plan_anyangle"),
+}
+
 #: Every parameter name a planner may read, with its meaning (DESIGN "Names").
 PARAMETERS: dict[str, str] = {
     # potentials (Choset et al. ch. 4)
@@ -130,7 +136,9 @@ def plan(
     """Plan a path from ``start`` to ``goal`` with the named planner.
 
     A grid planner given a :class:`World` rasterizes it at ``resolution`` (or the world's own);
-    an exact planner given a :class:`GridMap` uses the world it was rasterized from, if any.
+    an exact planner given a :class:`GridMap` uses the world it was rasterized from, if any, else
+    the map's blocked cells as exact polygons (:func:`gridfield.gridpoly.grid_world`; on those,
+    ``visibility`` is the any-angle optimum of :mod:`gridfield.anyangle`, its graph cached per map).
     With a ``cache`` dict (kept by the caller across calls on the same ``target`` object), the
     rasterized grid, and for planners that take a ``cache`` their per-map work (the brushfire),
     are computed once and reused.
@@ -166,12 +174,32 @@ def plan(
             return _with_endpoints(fn(gm, s, g, merged, cache=cache), s, g)
         return _with_endpoints(fn(gm, s, g, merged), s, g)
     world = target if isinstance(target, World) else target.world
+    if not isinstance(world, World) and planner in GRID_VARIANTS:
+        module, func = GRID_VARIANTS[planner]
+        fn = getattr(importlib.import_module(module), func)
+        s, g = target.check_point("start", start), target.check_point("goal", goal)
+        return _with_endpoints(fn(target, s, g, merged, cache=cache), s, g)
     if not isinstance(world, World):
-        raise GridfieldError(
-            f"planner {planner!r} works on vector worlds; {getattr(target, 'source', '') or 'this map'} is a grid map"
-        )
-    s, g = world.check_point("start", start), world.check_point("goal", goal)
+        # a bitmap / ROS / Moving AI map: its blocked cells as exact polygons (gridfield.gridpoly),
+        # built once per map object; "visibility" then runs on the grid itself (gridfield.anyangle)
+        world = _grid_world(target, cache)
+        s, g = target.check_point("start", start), target.check_point("goal", goal)
+    else:
+        s, g = world.check_point("start", start), world.check_point("goal", goal)
+    if cache is not None and _takes_cache(fn):
+        return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged, cache=cache), s, g)
     return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged), s, g)
+
+
+def _grid_world(gm: GridMap, cache: dict[Any, Any] | None) -> World:
+    from .gridpoly import grid_world
+
+    if cache is None:
+        return grid_world(gm)
+    key = ("grid_world", gm)
+    if key not in cache:
+        cache[key] = grid_world(gm)
+    return cache[key]
 
 
 @functools.cache

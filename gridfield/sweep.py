@@ -16,6 +16,12 @@ scenarios), the planners and a grid of parameter values (the Cartesian product i
     params:                       # every combination is run
       q_star: [1.0, 2.0]
       eta: [1.0]
+    optimal_any_angle: true       # optional (also per map): column optimal_any_angle
+
+With ``optimal_any_angle: true`` every row also gets the exact any-angle optimum of its query
+(the visibility graph of a world, :mod:`gridfield.anyangle` on a grid map; computed once per query
+and worker process with the map's graph cached), beside ``optimal`` (the scenario file's octile
+optimum), and the summary the mean ``length_ratio_any_angle`` of the reached runs.
 
 Each map is loaded and rasterized once per worker process and its brushfire distance map
 computed once, not per run. Runs go to a local process pool (all cores) by default, or to a
@@ -44,7 +50,7 @@ __all__ = ["COLUMNS", "Run", "load_spec", "run_one", "run_sweep", "summarize"]
 
 #: Columns of the rows file, in order.
 COLUMNS = ("map", "planner", "params", "start_x", "start_y", "goal_x", "goal_y", "status", "length",
-           "optimal", "steps", "ms")
+           "optimal", "steps", "ms", "optimal_any_angle")
 
 
 @dataclass(frozen=True)
@@ -58,6 +64,7 @@ class Run:
     start: tuple[float, float]
     goal: tuple[float, float]
     optimal: float = math.nan
+    any_angle: bool = False  # fill the optimal_any_angle column
 
     @property
     def params_json(self) -> str:
@@ -114,6 +121,7 @@ def load_spec(path: str | os.PathLike[str]) -> tuple[list[Run], FsPath]:
     except ParameterError as e:
         raise MapFormatError(f"{where}: params: {e}") from None
 
+    any_angle_all = _flag(spec, "optimal_any_angle", where)
     maps = _need(spec, "maps", where)
     if not isinstance(maps, list) or not maps:
         raise MapFormatError(f"{where}: maps must be a non-empty list")
@@ -151,9 +159,17 @@ def load_spec(path: str | os.PathLike[str]) -> tuple[list[Run], FsPath]:
             raise MapFormatError(f"{w}: no start/goal pairs (give pairs, random_pairs or scenarios)")
         if not isinstance(target, World | GridMap):  # pragma: no cover - read() returns one of the two
             raise MapFormatError(f"{w}: not a map")
+        any_angle = any_angle_all or _flag(entry, "optimal_any_angle", w)
         for planner, params, (s, g, opt) in itertools.product(planners, combos, pairs):
-            runs.append(Run(str(map_path), resolution, planner, tuple(sorted(params.items())), s, g, opt))
+            runs.append(Run(str(map_path), resolution, planner, tuple(sorted(params.items())), s, g, opt, any_angle))
     return runs, output
+
+
+def _flag(mapping: Mapping[str, Any], key: str, where: str) -> bool:
+    value = mapping.get(key, False)
+    if not isinstance(value, bool):
+        raise MapFormatError(f"{where}: {key} must be true or false, got {value!r}")
+    return value
 
 
 def _random_pairs(target: Any, resolution: float | None, n: int, seed: int) -> list[Any]:
@@ -187,6 +203,19 @@ def _target(run: Run) -> Any:
     return _CACHE[key]
 
 
+def _any_angle_optimum(run: Run) -> float:
+    """The exact any-angle optimum of the run's query, once per query and process (graph cached)."""
+    key = ("optimal_any_angle", run.map, run.resolution, run.start, run.goal)
+    if key not in _CACHE:
+        solver_key = ("any_angle_solver", run.map, run.resolution)
+        if solver_key not in _CACHE:
+            from .compare import _optimum_fn
+
+            _CACHE[solver_key] = _optimum_fn(_target(run))
+        _CACHE[key] = _CACHE[solver_key](np.asarray(run.start, dtype=float), np.asarray(run.goal, dtype=float))
+    return float(_CACHE[key])
+
+
 def run_one(run: Run) -> dict[str, Any]:
     """Run one planner call; return its row. Bad input of a run becomes status ``error:...``."""
     from .planners import plan
@@ -199,10 +228,17 @@ def run_one(run: Run) -> dict[str, Any]:
     except GridfieldError as e:
         status, length, steps = f"error: {e}", math.nan, 0
     ms = (time.perf_counter() - t0) * 1e3
+    any_angle = math.nan
+    if run.any_angle:
+        try:
+            any_angle = _any_angle_optimum(run)
+        except GridfieldError:
+            pass
     return {
         "map": run.map, "planner": run.planner, "params": run.params_json,
         "start_x": run.start[0], "start_y": run.start[1], "goal_x": run.goal[0], "goal_y": run.goal[1],
         "status": status, "length": length, "optimal": run.optimal, "steps": steps, "ms": round(ms, 3),
+        "optimal_any_angle": any_angle,
     }
 
 
@@ -318,10 +354,14 @@ def summarize(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
         reached = [r for r in rs if r["status"] == "reached"]
         ratios = [float(r["length"]) / float(r["optimal"]) for r in reached
                   if math.isfinite(float(r["optimal"])) and float(r["optimal"]) > 0]
+        any_ratios = [float(r["length"]) / float(r["optimal_any_angle"]) for r in reached
+                      if math.isfinite(float(r.get("optimal_any_angle") or "nan"))
+                      and float(r["optimal_any_angle"]) > 0]
         out.append({
             "map": m, "planner": p, "params": par, "runs": len(rs),
             "success_rate": len(reached) / len(rs),
             "length_ratio": float(np.mean(ratios)) if ratios else math.nan,
+            "length_ratio_any_angle": float(np.mean(any_ratios)) if any_ratios else math.nan,
             "ms_median": float(np.median([float(r["ms"]) for r in rs])),
         })
     return out

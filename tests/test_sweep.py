@@ -198,3 +198,38 @@ def test_bundled_example_sweep_runs_from_the_command_line(tmp_path: Path, capsys
     assert len(octile) == 2
     for s in octile:  # the Moving AI scenarios' published optimal lengths
         assert float(s["success_rate"]) == 1.0 and float(s["length_ratio"]) == pytest.approx(1.0, abs=1e-6)
+
+
+def test_optimal_any_angle_column_on_a_moving_ai_map(tmp_path: Path) -> None:
+    """The any-angle optimum of each scenario: never above the file's octile optimum, equal to a
+    direct plan('visibility') call, and the any-angle potential planner's ratio to it is >= 1."""
+    spec = _spec(tmp_path, """
+output: runs.csv
+maps:
+  - path: arena/arena.map
+    scenarios: arena/arena.map.scen
+    limit: 6
+    optimal_any_angle: true
+planners: [wavefront-octile, visibility]
+""")
+    runs, output = load_spec(spec)
+    assert all(r.any_angle for r in runs)
+    rows = run_sweep(runs, output, workers=1, progress=False)
+    from gridfield.io import read_movingai_map
+
+    m = read_movingai_map(tmp_path / "arena" / "arena.map")
+    for r in rows:
+        opt, any_opt = float(r["optimal"]), float(r["optimal_any_angle"])
+        assert any_opt <= opt + 1e-4
+        start, goal = (float(r["start_x"]), float(r["start_y"])), (float(r["goal_x"]), float(r["goal_y"]))
+        assert any_opt == pytest.approx(plan("visibility", m, start, goal).length, abs=1e-9)
+        if r["planner"] == "visibility":
+            assert float(r["length"]) == pytest.approx(any_opt, abs=1e-6)
+        else:
+            assert float(r["length"]) >= any_opt - 1e-9
+    s = {x["planner"]: x for x in summarize(rows)}
+    assert s["visibility"]["length_ratio_any_angle"] == pytest.approx(1.0, abs=1e-6)
+    assert s["wavefront-octile"]["length_ratio_any_angle"] >= 1.0
+    with pytest.raises(MapFormatError, match="optimal_any_angle must be true or false"):
+        (tmp_path / "bad").mkdir()
+        load_spec(_spec(tmp_path / "bad", "maps: [seed000.yaml]\noptimal_any_angle: yes please\n"))

@@ -39,10 +39,11 @@ def run(args: argparse.Namespace) -> int:
         w = csv.DictWriter(f, fieldnames=list(summary[0]) if summary else ["map"])
         w.writeheader()
         w.writerows(summary)
-    print(f"{'map':30} {'planner':18} {'runs':>5} {'success':>8} {'len/opt':>8} {'ms med':>8}  params")
+    print(f"{'map':30} {'planner':18} {'runs':>5} {'success':>8} {'len/opt':>8} {'len/any':>8} {'ms med':>8}  params")
     for s in summary:
         ratio = "" if math.isnan(s["length_ratio"]) else f"{s['length_ratio']:.4f}"
+        any_ratio = "" if math.isnan(s["length_ratio_any_angle"]) else f"{s['length_ratio_any_angle']:.4f}"
         print(f"{Path(s['map']).name[:30]:30} {s['planner']:18} {s['runs']:5d} {s['success_rate']:8.1%} "
-              f"{ratio:>8} {s['ms_median']:8.2f}  {s['params']}")
+              f"{ratio:>8} {any_ratio:>8} {s['ms_median']:8.2f}  {s['params']}")
     print(f"wrote {len(rows)} rows to {output} and the summary to {summary_path}")
     return 0

@@ -34,10 +34,9 @@ def _axis_free(B, y, xa, xb, horizontal):
         m = int(y)
         for c in range(c0, c1 + 1):
             if horizontal:
-                both = B[m, c + 1] and B[m + 1, c + 1]
-            else:
-                both = B[c + 1, m] and B[c + 1, m + 1]
-            if both:
+                if B[m, c + 1] and B[m + 1, c + 1]:
+                    return False
+            elif B[c + 1, m] and B[c + 1, m + 1]:
                 return False
         for k in range(c0 + 1, c1 + 1):
             if horizontal:

@@ -46,6 +46,7 @@ the visibility-graph optimum.
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import math
 import sys
@@ -601,10 +602,8 @@ def convergence_study(
         return block_downsample(base, factors[i])
 
     if kind_grid == "grid":  # untimed warm-up: numba compiles on the first call
-        try:
+        with contextlib.suppress(GridfieldError):
             plan(grid_planner, grid_at(int(np.argmax(hs))), s, g, params)
-        except GridfieldError:
-            pass
     rows = []
     for i, h in enumerate(hs):
         t0 = time.perf_counter()

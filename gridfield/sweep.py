@@ -31,6 +31,7 @@ to the CSV as runs finish; an interrupted sweep started again skips the runs alr
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import itertools
 import json
@@ -230,10 +231,8 @@ def run_one(run: Run) -> dict[str, Any]:
     ms = (time.perf_counter() - t0) * 1e3
     any_angle = math.nan
     if run.any_angle:
-        try:
+        with contextlib.suppress(GridfieldError):
             any_angle = _any_angle_optimum(run)
-        except GridfieldError:
-            pass
     return {
         "map": run.map, "planner": run.planner, "params": run.params_json,
         "start_x": run.start[0], "start_y": run.start[1], "goal_x": run.goal[0], "goal_y": run.goal[1],

@@ -208,7 +208,7 @@ def test_staircase_breaks_the_octile_metric_bound():
     for k in range(n):
         occ[k, k] = occ[k, k + 1] = False
     gm = GridMap(Grid(occ.shape, 1.0, border="wall"), occ)
-    pts, length = grid_graph(gm).shortest_path((0.5, 0.5), (n - 0.5, n - 1 + 0.5))
+    _, length = grid_graph(gm).shortest_path((0.5, 0.5), (n - 0.5, n - 0.5))
     oct_len = octile(occ, True, (0, 0), (n - 1, n - 1))
     assert length == pytest.approx(brute_force(occ, True, (0.5, 0.5), (n - 0.5, n - 0.5)), abs=1e-9)
     assert oct_len == 2 * (n - 1)

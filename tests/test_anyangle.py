@@ -307,3 +307,33 @@ def test_movingai_scenarios_within_octile_bounds(name):
             shapely.prepare(union)
             pinches = pinch_points(occ, True)
         assert admissible(p.points[:-1], p.points[1:], union, pinches).all()
+
+
+@settings(max_examples=25)
+@given(st.integers(20, 70), st.integers(20, 70), st.sampled_from([0.05, 0.15, 0.3, 0.5]),
+       st.integers(0, 2**32 - 1), st.booleans())
+def test_occlusion_culling_changes_nothing(rows, cols, p, seed, wall):
+    """The nearest-first search with occlusion culling finds exactly the pairs and the distances of
+    walking every taut pair (grids large enough for its early stop to happen)."""
+    from gridfield import _kernels_anyangle as k
+    from gridfield.anyangle import _buckets, _padded_blocked, convex_corners
+
+    rng = np.random.default_rng(seed)
+    occ = rng.random((rows, cols)) < p
+    if p == 0.5:  # long walls with gaps, so that some corners see far
+        occ[:, ::9] = rng.random((rows, len(range(0, cols, 9)))) < 0.8
+    gm = GridMap(Grid((rows, cols), 1.0, border="wall" if wall else "open"), occ)
+    B = _padded_blocked(gm)
+    vx, vy, qx, qy = convex_corners(B)
+    blocks = _buckets(vx, vy, gm.shape)
+    plain = set(zip(*k.visibility_edges(B, vx, vy, qx, qy), strict=True))
+    culled = set(zip(*k.visibility_edges_culled(B, vx, vy, qx, qy, *blocks), strict=True))
+    assert culled == plain
+    for _ in range(5):
+        # lattice points, half-integers and generic points
+        px, py = rng.integers(0, 2 * cols + 1) / 2, rng.integers(0, 2 * rows + 1) / 2
+        if rng.random() < 0.3:
+            px, py = rng.uniform(0, cols), rng.uniform(0, rows)
+        a = k.visible_from(B, px, py, vx, vy, qx, qy)
+        b = k.visible_from_culled(B, k.run_extents(B), px, py, vx, vy, qx, qy, *blocks)
+        np.testing.assert_array_equal(a, b)

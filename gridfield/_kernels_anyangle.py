@@ -422,14 +422,8 @@ def _occlude_poly(D, part, px, py, xs, ys, npts):
         far = max(far, ex * ex + ey * ey)
     nb = D.size
     scale = nb / 4.0
-    if lo_axis:
-        b0 = int(math.floor(lo_abs * scale + 0.5))
-    else:
-        b0 = int(math.floor(lo_abs * scale + 1e-6)) + 1
-    if hi_axis:
-        b1 = int(math.floor(hi_abs * scale + 0.5)) - 1
-    else:
-        b1 = int(math.ceil(hi_abs * scale - 1e-6)) - 2
+    b0 = int(math.floor(lo_abs * scale + 0.5)) if lo_axis else int(math.floor(lo_abs * scale + 1e-6)) + 1
+    b1 = int(math.floor(hi_abs * scale + 0.5)) - 1 if hi_axis else int(math.ceil(hi_abs * scale - 1e-6)) - 2
     newly = 0
     for b in range(b0, b1 + 1):
         bb = b % nb

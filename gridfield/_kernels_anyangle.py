@@ -541,6 +541,38 @@ def _axis_run(B, px, py, s, horizontal):
 
 
 @njit(**_OPTS)
+def _block_hidden(D, px, py, x0, y0, size, scale):
+    """Whether every corner in the block ``[x0, x0 + size] x [y0, y0 + size]`` is hidden: every bin
+    its angular extent touches is blocked nearer than the block. Blocks level with ``p`` (corners on
+    an axis through it use the axis runs, not the bins) are never hidden."""
+    x1 = x0 + size
+    y1 = y0 + size
+    if x0 <= px <= x1 or y0 <= py <= y1:
+        return False
+    ddx = max(x0 - px, 0.0, px - x1)
+    ddy = max(y0 - py, 0.0, py - y1)
+    dmin2 = ddx * ddx + ddy * ddy
+    ac = _pseudo_angle(0.5 * (x0 + x1) - px, 0.5 * (y0 + y1) - py)
+    lo = 10.0
+    hi = -10.0
+    for k in range(4):
+        rel = _pseudo_angle((x0 if k & 1 == 0 else x1) - px, (y0 if k < 2 else y1) - py) - ac
+        if rel >= 2.0:
+            rel -= 4.0
+        elif rel < -2.0:
+            rel += 4.0
+        lo = min(lo, rel)
+        hi = max(hi, rel)
+    nb = D.size
+    b0 = int(math.floor((ac + lo) * scale)) - 1  # every bin touched, with one to spare on each side
+    b1 = int(math.floor((ac + hi) * scale)) + 1
+    for b in range(b0, b1 + 1):
+        if not D[b % nb] < dmin2:
+            return False
+    return True
+
+
+@njit(**_OPTS)
 def _visible_set(B, ext, px, py, self_q, vx, vy, qx, qy, bstart, bverts, nbx, nby, bsize, jmin, D, out_j, out_d):
     """Corners seen from ``p`` along taut directions, nearest blocks first, with occlusion culling.
 
@@ -652,7 +684,8 @@ def _visible_set(B, ext, px, py, self_q, vx, vy, qx, qy, bstart, bverts, nbx, nb
                 step = 1
             xx = bx - ring
             while xx <= bx + ring:
-                if 0 <= xx < nbx:
+                if 0 <= xx < nbx and bstart[yy * nbx + xx] < bstart[yy * nbx + xx + 1] and (
+                        ring < 2 or not _block_hidden(D, px, py, xx * bsize, yy * bsize, bsize, scale)):
                     blk = yy * nbx + xx
                     for e in range(bstart[blk], bstart[blk + 1]):
                         j = bverts[e]

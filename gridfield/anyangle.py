@@ -53,6 +53,7 @@ from __future__ import annotations
 import hashlib
 import math
 import time
+import weakref
 from collections import OrderedDict
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -185,8 +186,11 @@ class AnyAngleGraph:
         best = math.inf
         if tree is not None:
             geom = shapely.linestrings(pts) if len(pts) > 1 else shapely.points(pts[0])
-            _, dist = tree.query_nearest(geom, return_distance=True)
-            best = float(dist.min()) if len(dist) else math.inf
+            if len(tree.query(geom, predicate="intersects")):
+                best = 0.0  # touches a blocked cell (optimal paths wrap round corners): no nearest search
+            else:
+                _, dist = tree.query_nearest(geom, return_distance=True)
+                best = float(dist.min()) if len(dist) else math.inf
         if self.grid.border == "wall":
             xmin, ymin, xmax, ymax = self.grid.bounds
             dw = np.minimum.reduce([pts[:, 0] - xmin, xmax - pts[:, 0], pts[:, 1] - ymin, ymax - pts[:, 1]])
@@ -252,7 +256,17 @@ class AnyAngleGraph:
         return np.vstack([s_w, mid, g_w]), float(best * h)
 
 
+_KEYS: weakref.WeakKeyDictionary[GridMap, tuple[Any, ...]] = weakref.WeakKeyDictionary()
+
+
 def _content_key(gm: GridMap) -> tuple[Any, ...]:
+    key = _KEYS.get(gm)
+    if key is None:
+        key = _KEYS[gm] = _hash_key(gm)
+    return key
+
+
+def _hash_key(gm: GridMap) -> tuple[Any, ...]:
     digest = hashlib.blake2b(np.ascontiguousarray(gm.occupied, dtype=bool).tobytes(), digest_size=16).hexdigest()
     g = gm.grid
     return ("anyangle", g.shape, g.resolution, g.origin, g.border, digest)
@@ -353,5 +367,7 @@ def plan_anyangle(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: M
         s = np.asarray(start, dtype=float).reshape(1, 2)
         return Path(s, "no_path", "visibility", iterations=graph.n_nodes, params=dict(params or {}),
                     seconds=seconds, min_clearance=graph.clearance(s), extra=extra)
+    # inner vertices are corners of blocked cells: such a path touches an obstacle (clearance 0)
+    clearance = 0.0 if len(pts) > 2 else graph.clearance(pts)
     return Path(pts, "reached", "visibility", iterations=graph.n_nodes, params=dict(params or {}), seconds=seconds,
-                min_clearance=graph.clearance(pts), extra=extra)
+                min_clearance=clearance, extra=extra)

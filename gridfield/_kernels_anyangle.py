@@ -271,9 +271,7 @@ def astar(indptr, indices, weights, vx, vy, start_d, goal_d, gx, gy):
 # Visibility from one point with occlusion culling (exact)
 # ----------------------------------------------------------------------------------------
 #: Angular bins of the occlusion table (over the pseudo-angle, see :func:`_pseudo_angle`).
-N_BINS = 2048
-#: When at most this many bins are still open, rays are cast through them to find their occluders.
-PROBE_BINS = 256
+N_BINS = 1024
 
 
 @njit(**_OPTS)
@@ -566,10 +564,12 @@ def _block_hidden(D, px, py, x0, y0, size, scale):
     nb = D.size
     b0 = int(math.floor((ac + lo) * scale)) - 1  # every bin touched, with one to spare on each side
     b1 = int(math.floor((ac + hi) * scale)) + 1
+    hidden = True
     for b in range(b0, b1 + 1):
-        if not D[b % nb] < dmin2:
-            return False
-    return True
+        if D[b % nb] >= dmin2:
+            hidden = False
+            break
+    return hidden
 
 
 @njit(**_OPTS)
@@ -581,8 +581,8 @@ def _visible_set(B, ext, px, py, self_q, vx, vy, qx, qy, bstart, bverts, nbx, nb
     ``nbx * nby`` blocks). A walk that fails records what stopped it (:func:`_occlude_hit`; ``ext``
     from :func:`run_extents`) in the occlusion table ``D`` (squared distance beyond which each angular
     bin is blocked); a corner whose bin is blocked before it is skipped without a walk (its segment
-    would enter a blocked cell or pass the pinch point); when few bins are left open, rays cast through
-    them find their occluders (directions with no candidate to walk to); and the
+    would enter a blocked cell or pass the pinch point), as is a whole block of corners hidden that
+    way (:func:`_block_hidden`); and the
     search stops when every bin is blocked nearer than the next ring of blocks. Only corners
     ``j >= jmin`` are reported; with ``jmin > 0`` the corners must be numbered row by row (lattice
     ``y`` then ``x``) and ``p`` be corner ``jmin - 1``, so that directions pointing down hold none. Returns how many were written to ``out_j``/``out_d``.
@@ -620,50 +620,14 @@ def _visible_set(B, ext, px, py, self_q, vx, vy, qx, qy, bstart, bverts, nbx, nb
     rmax = max(bx, nbx - 1 - bx, by, nby - 1 - by)
     xs = np.empty(6)
     ys = np.empty(6)
-    probed = np.zeros(nb, np.uint8)
     part = np.empty((nb, 4))
     for b in range(nb):
         part[b, 0] = -1.0
         part[b, 1] = np.inf
         part[b, 2] = 2.0
         part[b, 3] = np.inf
-    rows = B.shape[0] - 2
-    cols = B.shape[1] - 2
     m = 0
     for ring in range(rmax + 1):
-        if ring >= 1 and 0 < n_inf <= PROBE_BINS:
-            # directions no walk has been blocked in yet (often: no candidate there): cast rays
-            for b in range(nb):
-                if D[b] != np.inf or probed[b]:
-                    continue
-                probed[b] = 1
-                for frac in (0.1, 0.5, 0.9):
-                    a = (b + frac) / scale
-                    q = int(a)
-                    f = a - q
-                    if q == 0:
-                        ux, uy = 1.0 - f, f
-                    elif q == 1:
-                        ux, uy = -f, 1.0 - f
-                    elif q == 2:
-                        ux, uy = f - 1.0, -f
-                    else:
-                        ux, uy = f, f - 1.0
-                    t = np.inf  # half a cell into the padding ring (a wall border's ring stops it)
-                    if ux > 0:
-                        t = min(t, (cols + 0.5 - px) / ux)
-                    elif ux < 0:
-                        t = min(t, (-0.5 - px) / ux)
-                    if uy > 0:
-                        t = min(t, (rows + 0.5 - py) / uy)
-                    elif uy < 0:
-                        t = min(t, (-0.5 - py) / uy)
-                    if not (t > 0 and t < np.inf):
-                        continue
-                    hit = _walk_hit(B, px, py, min(max(px + t * ux, -0.5), cols + 0.5),
-                                    min(max(py + t * uy, -0.5), rows + 0.5))
-                    if hit != -1:
-                        n_inf -= _occlude_hit(D, part, px, py, B, hit, ext, xs, ys)
         if ring >= 2 and n_inf == 0:
             near = (ring - 1) * bsize
             near2 = near * near

@@ -19,6 +19,7 @@ are in ``benchmarks/README.md`` ("Any-angle optimum on grid maps").
 from __future__ import annotations
 
 import argparse
+import itertools
 import math
 import statistics
 import sys
@@ -73,7 +74,7 @@ def bench_map(folder: Path, n_queries: int) -> dict:
         o = plan("wavefront-octile", m, s, g, cache=cache)
         t_oct.append(time.perf_counter() - t0)
         opt = float(scen.optimal[k])
-        segs_ok = all(graph.visible(a, b) for a, b in zip(pts[:-1], pts[1:], strict=True))
+        segs_ok = all(graph.visible(a, b) for a, b in itertools.pairwise(pts))
         if not (math.isfinite(length) and length <= opt + tol[k] and length >= math.dist(s, g) - 1e-9
                 and segs_ok and abs(p.length - length) <= 1e-9 and o.status == "reached"):
             bad += 1

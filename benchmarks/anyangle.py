@@ -2,7 +2,8 @@
 
 Run ``python benchmarks/anyangle.py [--root ../shared/maps/movingai] [--maps NAME ...] [--queries 50]``.
 For each map: the graph is built once in this process (timed; numba kernels warmed up on a tiny map
-first), then ``--queries`` scenarios spread evenly over the ``.scen`` file are answered, each by
+first; wall-clock and process CPU seconds, the latter less sensitive to other jobs on a shared
+machine), then ``--queries`` scenarios spread evenly over the ``.scen`` file are answered, each by
 
 - ``any-angle query``: :meth:`AnyAngleGraph.shortest_path` with the graph cached (the two visibility
   passes from start and goal, then A*);
@@ -54,9 +55,9 @@ def bench_map(folder: Path, n_queries: int) -> dict:
     scen = read_scen(next(folder.glob("*.scen")))
     m = read_movingai_map(map_file)
     cache: dict = {}
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     graph = grid_graph(m, cache=cache)
-    build = time.perf_counter() - t0
+    build, build_cpu = time.perf_counter() - t0, time.process_time() - c0
     ok_idx = np.flatnonzero(~scen.no_path & (scen.optimal > 0))
     idx = ok_idx[np.linspace(0, len(ok_idx) - 1, min(n_queries, len(ok_idx))).astype(int)]
     tol = scen.tolerance()
@@ -82,6 +83,7 @@ def bench_map(folder: Path, n_queries: int) -> dict:
     ms = lambda v: statistics.median(v) * 1e3  # noqa: E731
     return {
         "map": folder.name, "shape": m.shape, "corners": graph.n_nodes, "edges": graph.n_edges, "build_s": build,
+        "build_cpu_s": build_cpu,
         "queries": len(idx), "query_ms": ms(t_q), "query_max_ms": max(t_q) * 1e3, "plan_ms": ms(t_plan),
         "octile_ms": ms(t_oct), "ratio_median": statistics.median(ratios), "ratio_max": max(ratios), "bad": bad,
     }
@@ -94,14 +96,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--queries", type=int, default=50, help="scenarios per map (spread over the file)")
     args = ap.parse_args(argv)
     _warm_up()
-    print("| map | size | convex corners | graph edges | graph build s | queries | any-angle query ms (median / max) "
+    print("| map | size | convex corners | graph edges | graph build s (wall / CPU) | queries | any-angle query ms (median / max) "
           "| plan('visibility') ms | plan('wavefront-octile') ms | octile / any-angle (median / max) | failed checks |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     failed = 0
     for name in args.maps:
         r = bench_map(args.root / name, args.queries)
         failed += r["bad"]
-        print(f"| {r['map']} | {r['shape'][1]} x {r['shape'][0]} | {r['corners']} | {r['edges']} | {r['build_s']:.2f} "
+        print(f"| {r['map']} | {r['shape'][1]} x {r['shape'][0]} | {r['corners']} | {r['edges']} | {r['build_s']:.2f} / {r['build_cpu_s']:.2f} "
               f"| {r['queries']} | {r['query_ms']:.2f} / {r['query_max_ms']:.1f} | {r['plan_ms']:.2f} "
               f"| {r['octile_ms']:.1f} | {r['ratio_median']:.4f} / {r['ratio_max']:.4f} | {r['bad']} |", flush=True)
     return 1 if failed else 0

@@ -337,3 +337,19 @@ def test_occlusion_culling_changes_nothing(rows, cols, p, seed, wall):
         a = k.visible_from(B, px, py, vx, vy, qx, qy)
         b = k.visible_from_culled(B, k.run_extents(B), px, py, vx, vy, qx, qy, *blocks)
         np.testing.assert_array_equal(a, b)
+
+
+def test_benchmark_script_runs_and_checks(capsys):
+    """benchmarks/anyangle.py on two small maps: its table, and none of its correctness checks fails."""
+    import sys
+
+    bench = Path(__file__).resolve().parent.parent / "benchmarks"
+    sys.path.insert(0, str(bench))
+    try:
+        import anyangle as bench_anyangle
+    finally:
+        sys.path.remove(str(bench))
+    rc = bench_anyangle.main(["--root", str(SHARED_MAPS / "movingai"), "--maps", "den312d", "arena", "--queries", "5"])
+    out = capsys.readouterr().out
+    assert rc == 0
+    assert "| den312d | 65 x 81 |" in out and "| arena |" in out

@@ -127,3 +127,33 @@ def test_batch_compare_on_a_grid_map():
     assert r["planners"]["visibility"]["length_ratio"]["max"] == pytest.approx(1.0, abs=1e-12)
     ratios = [row["wavefront-octile"]["length_ratio"] for row in r["rows"]]
     assert all(x >= 1.0 - 1e-12 for x in ratios if not math.isnan(x))
+
+
+@given(gridmaps(), st.integers(0, 2**32 - 1))
+def test_exact_potential_distance_is_the_distance_to_the_blocked_squares(gm, seed):
+    """The exact field's nearest-obstacle distance on a grid world equals a brute force over every
+    blocked square (and the border wall): the distance to a union of squares is the smallest one."""
+    from gridfield.exact import ExactField
+
+    if not gm.occupied.any():
+        return
+    w = grid_world(gm)
+    xmin, ymin, xmax, ymax = gm.grid.bounds
+    rng = np.random.default_rng(seed)
+    pts = rng.uniform([xmin, ymin], [xmax, ymax], size=(20, 2))
+    pts = pts[gm.is_free(pts)]
+    if len(pts) == 0:
+        return
+    field = ExactField(w, pts[0], {"repulsion": "nearest"})
+    h = gm.grid.resolution
+    r, c = np.nonzero(gm.occupied)
+    x0 = xmin + c * h
+    y0 = ymin + r * h
+    for x, y in pts:
+        dx = np.maximum.reduce([x0 - x, np.zeros_like(x0), x - (x0 + h)])
+        dy = np.maximum.reduce([y0 - y, np.zeros_like(y0), y - (y0 + h)])
+        ref = float(np.hypot(dx, dy).min())
+        if gm.grid.border == "wall":
+            ref = min(ref, x - xmin, xmax - x, y - ymin, ymax - y)
+        got = min(d for d, _, _ in field.closest((float(x), float(y))))
+        assert got == pytest.approx(ref, abs=1e-9)

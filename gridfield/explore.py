@@ -519,7 +519,9 @@ class Explorer:
             self._set_message(f"click on the map to set the {'start' if self.start is None else 'goal'}")
             self.figure.canvas.draw_idle()
             return None
-        target: World | GridMap | None = self.world if self.planner == "exact-potential" else self.gridmap
+        # exact-potential on a grid map runs on its exact polygons (gridfield.gridpoly, through plan)
+        target: World | GridMap | None = (self.world if self.planner == "exact-potential" and self.world is not None
+                                          else self.gridmap)
         try:
             if target is None:
                 raise GridfieldError(f"planner {self.planner!r} needs a vector world, and this map is a grid")

@@ -613,8 +613,8 @@ def convergence_study(
         try:
             path = plan(grid_planner, gm if kind_grid == "grid" else world, s, g, params)
         except GridfieldError as e:
-            row = {"resolution": h, "cells": int(gm.grid.rows * gm.grid.cols), "build_ms": 1e3 * raster_s,
-                   "plan_ms": math.nan}
+            row: dict[str, Any] = {"resolution": h, "cells": int(gm.grid.rows * gm.grid.cols),
+                                   "build_ms": 1e3 * raster_s, "plan_ms": math.nan}
             row.update(_error_row(f"error: {e}"))
             row["exact_status"], row["exact_length"], row["optimal_length"] = exact.status, exact.length, optimal
             rows.append({k: row[k] for k in STUDY_COLUMNS})

@@ -166,7 +166,7 @@ def block_downsample(gridmap: GridMap, factor: int) -> GridMap:
     R, C = -(-rows // k), -(-cols // k)
     pad = np.full((R * k, C * k), gridmap.grid.border == "wall", dtype=bool)
     pad[:rows, :cols] = gridmap.occupied
-    occ = pad.reshape(R, k, C, k).any(axis=(1, 3))
+    occ = np.asarray(pad.reshape(R, k, C, k).any(axis=(1, 3)), dtype=bool)
     grid = Grid((R, C), gridmap.grid.resolution * k, gridmap.grid.origin, gridmap.grid.border)
     src = f"{gridmap.source} (x{k} blocks)" if gridmap.source else ""
     return GridMap(grid, occ, source=src, meta=dict(gridmap.meta))

@@ -182,6 +182,7 @@ def plan(
     if not isinstance(world, World):
         # a bitmap / ROS / Moving AI map: its blocked cells as exact polygons (gridfield.gridpoly),
         # built once per map object; "visibility" then runs on the grid itself (gridfield.anyangle)
+        assert isinstance(target, GridMap)  # a World is its own world
         world = _grid_world(target, cache)
         s, g = target.check_point("start", start), target.check_point("goal", goal)
     else:

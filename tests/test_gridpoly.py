@@ -157,3 +157,28 @@ def test_exact_potential_distance_is_the_distance_to_the_blocked_squares(gm, see
             ref = min(ref, x - xmin, xmax - x, y - ymin, ymax - y)
         got = min(d for d, _, _ in field.closest((float(x), float(y))))
         assert got == pytest.approx(ref, abs=1e-9)
+
+
+def test_cli_plan_and_compare_on_a_moving_ai_map(capsys):
+    import json
+
+    from gridfield.cli import main
+    from gridfield.io import bundled_map, read_movingai_map
+
+    arena = str(bundled_map("arena/arena.map"))
+    rc = main(["plan", arena, "--planner", "visibility", "--start", "1.5", "37.5", "--goal", "45.5", "3.5", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert rc == 0 and out["status"] == "reached" and out["planner"] == "visibility"
+    m = read_movingai_map(arena)
+    world = grid_world(m)
+    assert not collides(world, np.asarray(out["path"]))
+    rc = main(["compare", arena, "--start", "1.5", "37.5", "--goal", "45.5", "3.5", "--planner", "wavefront-octile",
+               "--exact-planner", "visibility", "--json"])
+    data = json.loads(capsys.readouterr().out)
+    assert rc == 0
+    assert [r["resolution"] for r in data["rows"]] == [8.0, 4.0, 2.0, 1.0]
+    last = data["rows"][-1]
+    assert last["status"] == "reached" and last["exact_length"] == pytest.approx(out["length"], abs=1e-9)
+    assert last["length_ratio_optimal"] >= 1.0 and not last["collides"]
+    rc = main(["compare", arena, "--start", "1.5", "37.5", "--goal", "45.5", "3.5", "--resolutions", "1.5"])
+    assert rc == 2 and "multiples of the map's resolution" in capsys.readouterr().err

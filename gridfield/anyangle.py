@@ -161,6 +161,11 @@ class AnyAngleGraph:
         rs = (int(v) - 1, int(v)) if v == math.floor(v) else (math.floor(v),)
         if all(self._B[r + 1, c + 1] for r in rs for c in cs):
             raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}) lies inside an obstacle")
+        if len(cs) == 2 and len(rs) == 2:
+            sw, se, nw, ne = (self._B[rs[i] + 1, cs[j] + 1] for i, j in ((0, 0), (0, 1), (1, 0), (1, 1)))
+            if (sw and ne and not se and not nw) or (se and nw and not sw and not ne):
+                raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}) lies on a pinch point where two blocked cells "
+                                     "touch: which side it is on is ambiguous; move it off the point")
         return float(u), float(v)
 
     def clearance(self, points: ArrayLike) -> float:
@@ -232,7 +237,8 @@ class AnyAngleGraph:
         Raises
         ------
         GridfieldError
-            when a point is not finite, outside the map or inside a blocked cell.
+            when a point is not finite, outside the map, inside a blocked cell or on a pinch point
+            (a corner between two diagonally touching blocked cells: its side is ambiguous).
         """
         k = _kernels()
         sx, sy = self._lattice(start, "start")

@@ -191,6 +191,11 @@ def test_random_grids_match_brute_force_and_octile_bounds(case):
     # points off the centres, anywhere in their cells (1/4 lattice: on edges and corners too)
     s2 = (a[1] + da[0] / 4, a[0] + da[1] / 4)
     t2 = (b[1] + db[0] / 4, b[0] + db[1] / 4)
+    pinches = {tuple(c) for c in pinch_points(occ, wall).tolist()}
+    if s2 in pinches or t2 in pinches:
+        with pytest.raises(GridfieldError, match="pinch point"):
+            g.shortest_path(s2, t2)
+        return
     pts2, length2 = g.shortest_path(s2, t2)
     ref2 = brute_force(occ, wall, s2, t2)
     if math.isinf(ref2):
@@ -224,6 +229,8 @@ def test_pinch_points_block_passage():
     gm = GridMap(Grid(occ.shape, 1.0, border="wall"), occ)
     g = grid_graph(gm)
     assert not g.visible((1.5, 2.5), (2.5, 1.5))
+    with pytest.raises(GridfieldError, match="pinch point"):
+        g.shortest_path((2.0, 2.0), (0.5, 0.5))
     pts, length = g.shortest_path((0.5, 3.5), (3.5, 0.5))
     assert math.isinf(length) and len(pts) == 0
     gm_open = GridMap(Grid(occ.shape, 1.0, border="open"), occ)

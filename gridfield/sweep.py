@@ -252,6 +252,11 @@ def _done_keys(output: FsPath) -> set[tuple[str, ...]]:
         }
 
 
+def _header(output: FsPath) -> tuple[str, ...]:
+    with output.open(newline="") as f:
+        return tuple(next(csv.reader(f), COLUMNS))
+
+
 def _local_results(runs: Sequence[Run], workers: int) -> Iterator[dict[str, Any]]:
     if workers <= 1 or len(runs) <= 1:
         yield from map(run_one, runs)
@@ -316,8 +321,10 @@ def run_sweep(
         from tqdm.auto import tqdm
 
         bar = tqdm(total=len(todo), desc="sweep", unit="run", disable=not progress, leave=False)
+        # a rows file written before a column was added keeps its own header (extra keys dropped)
+        fields = COLUMNS if new_file else _header(out)
         with out.open("a", newline="") as f:
-            writer = csv.DictWriter(f, fieldnames=COLUMNS)
+            writer = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
             if new_file:
                 writer.writeheader()
             for row in results:

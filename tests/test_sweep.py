@@ -233,3 +233,17 @@ planners: [wavefront-octile, visibility]
     with pytest.raises(MapFormatError, match="optimal_any_angle must be true or false"):
         (tmp_path / "bad").mkdir()
         load_spec(_spec(tmp_path / "bad", "maps: [seed000.yaml]\noptimal_any_angle: yes please\n"))
+
+
+def test_resume_of_a_rows_file_without_the_any_angle_column(tmp_path: Path) -> None:
+    """A rows file from before the optimal_any_angle column: resuming appends rows under its header."""
+    runs, output = load_spec(_spec(tmp_path, SPEC))
+    old_cols = [c for c in COLUMNS if c != "optimal_any_angle"]
+    first = run_sweep(runs[:3], output, workers=1, progress=False)
+    with output.open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=old_cols, extrasaction="ignore")
+        w.writeheader()
+        w.writerows(first)
+    rows = run_sweep(runs, output, workers=1, progress=False)
+    assert len(rows) == len(runs) and all(set(r) == set(old_cols) for r in rows)
+    assert summarize(rows)  # the summary copes with the missing column

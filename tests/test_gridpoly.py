@@ -182,3 +182,20 @@ def test_cli_plan_and_compare_on_a_moving_ai_map(capsys):
     assert last["length_ratio_optimal"] >= 1.0 and not last["collides"]
     rc = main(["compare", arena, "--start", "1.5", "37.5", "--goal", "45.5", "3.5", "--resolutions", "1.5"])
     assert rc == 2 and "multiples of the map's resolution" in capsys.readouterr().err
+
+
+def test_exact_potential_clearance_through_the_tree_equals_the_world_clearance():
+    """plan('exact-potential') on a grid world with many pieces measures its clearance through the
+    cached STRtree; the world's own obstacle-by-obstacle clearance is the reference."""
+    rng = np.random.default_rng(3)
+    occ = rng.random((30, 30)) < 0.12
+    occ[2, 2] = occ[27, 27] = False
+    gm = GridMap(Grid((30, 30), 1.0, border="wall"), occ)
+    world = grid_world(gm)
+    assert len(world.obstacles) > 8
+    p = plan("exact-potential", gm, (2.5, 2.5), (27.5, 27.5), {"step": 0.2, "q_star": 1.5, "max_iterations": 3000})
+    assert p.min_clearance == pytest.approx(world.clearance(p.points), abs=1e-12)
+    from gridfield.exact import _clearance
+
+    free_line = np.array([[2.5, 2.5], [2.6, 2.6]])
+    assert _clearance(world, free_line) == pytest.approx(world.clearance(free_line), abs=1e-12)

@@ -46,6 +46,7 @@ the visibility-graph optimum.
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import math
 import sys
@@ -436,13 +437,70 @@ def _spacing_for(*paths: Path, resolution: float) -> float:
     return max(min(steps) / 4.0, 1e-9)
 
 
-def _optimum(world: World, start: NDArray[np.float64], goal: NDArray[np.float64]) -> float:
-    from .visibility import visibility_graph
+def _optimum_fn(world: Any) -> Callable[[NDArray[np.float64], NDArray[np.float64]], float]:
+    """``(start, goal) -> exact optimum length`` (NaN for a bad point) on a World or a GridMap: the
+    any-angle graph of the grid for a grid map or a world made from one (gridfield.gridpoly), else the
+    visibility graph of the world."""
+    from .grid import GridMap
+    from .gridpoly import source_grid
 
-    try:
-        return float(visibility_graph(world).shortest_path(start, goal)[1])
-    except GridfieldError:
-        return math.nan
+    if isinstance(world, GridMap):
+        gm = world if not isinstance(world.world, World) else None
+        world = world.world
+    else:
+        gm = source_grid(world)
+    if gm is not None:
+        from .anyangle import grid_graph
+
+        solver: Any = grid_graph(gm)
+    else:
+        from .visibility import visibility_graph
+
+        solver = visibility_graph(world)
+
+    def optimum(s: NDArray[np.float64], g: NDArray[np.float64]) -> float:
+        try:
+            return float(solver.shortest_path(s, g)[1])
+        except GridfieldError:
+            return math.nan
+
+    return optimum
+
+
+def _optimum(world: World, start: NDArray[np.float64], goal: NDArray[np.float64]) -> float:
+    return _optimum_fn(world)(start, goal)
+
+
+def _as_world(target: Any, what: str) -> tuple[World, Any]:
+    """A vector world as is, or a grid map's exact polygons (gridfield.gridpoly) and the map."""
+    from .grid import GridMap
+
+    if isinstance(target, World):
+        return target, None
+    if isinstance(target, GridMap):
+        if isinstance(target.world, World):
+            return target.world, None
+        from .gridpoly import grid_world
+
+        return grid_world(target), target
+    raise ParameterError(f"{what} needs a vector World or a GridMap, got {type(target).__name__}")
+
+
+def _grid_factor(base: Any, h: float) -> int:
+    """The integer block factor of resolution ``h`` on a grid map, or ParameterError."""
+    res = base.grid.resolution
+    k = int(round(h / res))
+    if k < 1 or abs(k * res - h) > 1e-9 * h:
+        raise ParameterError(f"on a grid map the resolutions must be multiples of the map's resolution {res:g} "
+                             f"(coarser grids are block-downsampled), got {h:g}")
+    return k
+
+
+def _error_row(status: str) -> dict[str, Any]:
+    nan = math.nan
+    return {"status": status, "exact_status": "", "status_agree": False, "length": nan, "exact_length": nan,
+            "optimal_length": nan, "length_ratio": nan, "length_ratio_optimal": nan, "hausdorff": nan,
+            "frechet": nan, "end_error": nan, "min_clearance": nan, "collides": False}
 
 
 def _compare_row(world: World, grid: Path, exact: Path, optimal: float, resolution: float) -> dict[str, Any]:
@@ -480,9 +538,16 @@ def convergence_study(
     The exact planner runs once; the grid planner once per resolution on the conservative
     rasterization of ``world``. Both get the world's ``params`` updated by ``params``.
 
+    On a grid map (a :class:`~gridfield.grid.GridMap` without a vector world) the exact planner
+    runs on the map's blocked cells as exact polygons (:func:`gridfield.gridpoly.grid_world`) and
+    the grid planner on the map itself at its resolution and on block-downsampled copies
+    (:func:`gridfield.gridpoly.block_downsample`, conservative) at the coarser resolutions, which
+    must be multiples of the map's. A resolution at which the start or goal falls in a blocked
+    coarse cell gives a row with status ``"error: ..."`` and NaN metrics.
+
     Parameters
     ----------
-    world : World
+    world : World or GridMap
     start, goal : (2,) array_like
     resolutions : sequence of float
         Cell sizes, each > 0.
@@ -516,8 +581,7 @@ def convergence_study(
     from .planners import get_planner, plan
     from .rasterize import rasterize
 
-    if not isinstance(world, World):
-        raise ParameterError(f"convergence_study needs a vector World, got {type(world).__name__}")
+    world, base = _as_world(world, "convergence_study")
     hs = [check_positive("resolution", r) for r in resolutions]
     if not hs:
         raise ParameterError("give at least one resolution")
@@ -525,6 +589,7 @@ def convergence_study(
 
     for h in hs:  # every resolution's grid sized against the memory limit before any planner runs
         Grid.covering(world.bounds, h, border=world.border)
+    factors = [_grid_factor(base, h) for h in hs] if base is not None else []
     kind_exact = get_planner(exact_planner)[1]
     if kind_exact != "world":
         raise ParameterError(f"exact_planner must work on vector worlds; {exact_planner!r} is a grid planner")
@@ -533,15 +598,31 @@ def convergence_study(
     g = world.check_point("goal", goal)
     exact = plan(exact_planner, world, s, g, params)
     optimal = _optimum(world, s, g)
+    def grid_at(i: int) -> Any:
+        if base is None:
+            return rasterize(world, hs[i])
+        from .gridpoly import block_downsample
+
+        return block_downsample(base, factors[i])
+
     if kind_grid == "grid":  # untimed warm-up: numba compiles on the first call
-        plan(grid_planner, rasterize(world, max(hs)), s, g, params)
+        with contextlib.suppress(GridfieldError):
+            plan(grid_planner, grid_at(int(np.argmax(hs))), s, g, params)
     rows = []
-    for h in hs:
+    for i, h in enumerate(hs):
         t0 = time.perf_counter()
-        gm = rasterize(world, h)
+        gm = grid_at(i)
         raster_s = time.perf_counter() - t0
         # a world planner on the grid side only tests the plumbing
-        path = plan(grid_planner, gm if kind_grid == "grid" else world, s, g, params)
+        try:
+            path = plan(grid_planner, gm if kind_grid == "grid" else world, s, g, params)
+        except GridfieldError as e:
+            row: dict[str, Any] = {"resolution": h, "cells": int(gm.grid.rows * gm.grid.cols),
+                                   "build_ms": 1e3 * raster_s, "plan_ms": math.nan}
+            row.update(_error_row(f"error: {e}"))
+            row["exact_status"], row["exact_length"], row["optimal_length"] = exact.status, exact.length, optimal
+            rows.append({k: row[k] for k in STUDY_COLUMNS})
+            continue
         build_s = raster_s + float(path.extra.get("build_seconds", 0.0))
         row = {"resolution": h, "cells": int(gm.grid.rows * gm.grid.cols), "build_ms": 1e3 * build_s,
                "plan_ms": 1e3 * float(path.extra.get("follow_seconds", path.seconds))}
@@ -635,11 +716,14 @@ def batch_compare(
     """Plan many random start/goal pairs on one world and compare planners with the optimum.
 
     Pairs are drawn uniformly in the bounds, both points at least one cell from every obstacle
-    (and free on the grid), connected in the world; the visibility graph gives the optimum.
+    (and free on the grid), connected in the world; the visibility graph gives the optimum. On a
+    grid map the exact planners use its exact polygons (:func:`gridfield.gridpoly.grid_world`), the
+    optimum is the any-angle one (:mod:`gridfield.anyangle`) and the grid planners run on the map
+    downsampled to ``resolution`` (a multiple of the map's).
 
     Parameters
     ----------
-    world : World
+    world : World or GridMap
     n_pairs : int
     resolution : float
         Cell size of the grid planners.
@@ -669,10 +753,8 @@ def batch_compare(
     """
     from .planners import get_planner, plan
     from .rasterize import rasterize
-    from .visibility import visibility_graph
 
-    if not isinstance(world, World):
-        raise ParameterError(f"batch_compare needs a vector World, got {type(world).__name__}")
+    world, base = _as_world(world, "batch_compare")
     if isinstance(n_pairs, bool) or not isinstance(n_pairs, int | np.integer) or n_pairs < 1:
         raise ParameterError(f"n_pairs must be a positive integer, got {n_pairs!r}")
     h = check_positive("resolution", resolution)
@@ -683,14 +765,13 @@ def batch_compare(
             kinds[name] = get_planner(name)[1]
         except GridfieldError as e:
             skipped[name] = str(e)
-    gm = rasterize(world, h)
-    vg = visibility_graph(world)
+    if base is None:
+        gm = rasterize(world, h)
+    else:
+        from .gridpoly import block_downsample
 
-    def optimum(s: NDArray[np.float64], g: NDArray[np.float64]) -> float:
-        try:
-            return vg.shortest_path(s, g)[1]
-        except GridfieldError:
-            return math.nan
+        gm = block_downsample(base, _grid_factor(base, h))
+    optimum = _optimum_fn(world)
 
     rng = np.random.default_rng(seed)
     pairs = _random_pairs(world, gm, int(n_pairs), rng, h, optimum)

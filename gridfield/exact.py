@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import math
 import time
+import weakref
 from collections.abc import Callable, Mapping
 from typing import Any
 
@@ -110,12 +111,8 @@ class ExactField:
         self.saturate = p["saturate"]
         circles = [ob for ob in world.obstacles if ob.kind == "circle"]
         self._circles = [(float(ob.center[0]), float(ob.center[1]), float(ob.radius)) for ob in circles]  # type: ignore[index,arg-type]
-        self._geoms = np.array([ob.geometry for ob in world.obstacles if ob.kind != "circle"], dtype=object)
-        self._tree = shapely.STRtree(self._geoms) if len(self._geoms) > _TREE_MIN else None
-        union = shapely.union_all(self._geoms) if len(self._geoms) else None
-        if union is not None:
-            shapely.prepare(union)
-        self._union = union
+        self._geoms, tree, self._union = _geometry(world)
+        self._tree = tree if len(self._geoms) > _TREE_MIN else None
         self._wall = world.border == "wall"
         self._attr = attraction_force(self.goal, p)
 
@@ -219,6 +216,52 @@ class ExactField:
         return False
 
 
+#: Per world: its non-circle geometries, their STRtree and their prepared union (None when there are none).
+#: Built once per world (a grid map's world has thousands of pieces; the union takes seconds).
+_GEOMETRY: weakref.WeakKeyDictionary[World, tuple[Any, Any, Any]] = weakref.WeakKeyDictionary()
+
+
+def _geometry(world: World) -> tuple[Any, Any, Any]:
+    if world not in _GEOMETRY:
+        geoms = np.array([ob.geometry for ob in world.obstacles if ob.kind != "circle"], dtype=object)
+        tree = shapely.STRtree(geoms) if len(geoms) else None
+        union = shapely.union_all(geoms) if len(geoms) else None
+        if union is not None:
+            shapely.prepare(union)
+        _GEOMETRY[world] = (geoms, tree, union)
+    return _GEOMETRY[world]
+
+
+def _check_point(world: World, name: str, point: ArrayLike) -> np.ndarray:
+    """``world.check_point``, with a fast path for a point clear of the cached union (no circles)."""
+    p = np.asarray(point, dtype=float).reshape(-1)
+    if p.shape == (2,) and np.all(np.isfinite(p)) and not any(ob.kind == "circle" for ob in world.obstacles):
+        xmin, ymin, xmax, ymax = world.bounds
+        union = _geometry(world)[2]
+        if xmin <= p[0] <= xmax and ymin <= p[1] <= ymax and (
+                union is None or not shapely.intersects(union, shapely.points(p))):
+            return p
+    return world.check_point(name, point)
+
+
+def _clearance(world: World, pts: np.ndarray) -> float:
+    """``world.clearance(pts)``; without circles and with many obstacles, through the cached STRtree."""
+    geoms, tree, union = _geometry(world)
+    if len(geoms) <= _TREE_MIN or len(pts) < 2 or any(ob.kind == "circle" for ob in world.obstacles):
+        return world.clearance(pts)
+    line = shapely.linestrings(pts)
+    if shapely.intersects(union, line):
+        best = 0.0
+    else:
+        _, dist = tree.query_nearest(line, return_distance=True)
+        best = float(dist.min()) if len(dist) else math.inf
+    if world.border == "wall":
+        xmin, ymin, xmax, ymax = world.bounds
+        dw = np.minimum.reduce([pts[:, 0] - xmin, xmax - pts[:, 0], pts[:, 1] - ymin, ymax - pts[:, 1]])
+        best = min(best, float(np.maximum(dw, 0.0).min()))
+    return best
+
+
 def _default_step(world: World) -> float:
     if world.resolution is not None:
         return float(world.resolution)
@@ -260,8 +303,8 @@ def plan_exact_potential(world: World, start: ArrayLike, goal: ArrayLike, params
     """
     if not isinstance(world, World):
         raise ParameterError(f"the exact planner needs a World, got {type(world).__name__}")
-    s = world.check_point("start", start)
-    g = world.check_point("goal", goal)
+    s = _check_point(world, "start", start)
+    g = _check_point(world, "goal", goal)
     params = dict(params or {})
     t0 = time.perf_counter()
     field = ExactField(world, g, params)
@@ -285,4 +328,4 @@ def plan_exact_potential(world: World, start: ArrayLike, goal: ArrayLike, params
     merged.update(fp)
     merged.pop("sampling", None)
     return Path(pts, status, "exact-potential", iterations=n, params=merged, seconds=seconds,
-                min_clearance=world.clearance(pts), extra=extra)
+                min_clearance=_clearance(world, pts), extra=extra)

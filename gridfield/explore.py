@@ -907,7 +907,9 @@ class Explorer:
             self._update_3d()
             self.figure.canvas.draw_idle()
             return None
-        target: World | GridMap | None = self.cworld if self.planner == "exact-potential" else self.cgridmap
+        # exact-potential on a grid map runs on its exact polygons (gridfield.gridpoly, through plan)
+        target: World | GridMap | None = (self.cworld if self.planner == "exact-potential" and self.cworld is not None
+                                          else self.cgridmap)
         try:
             if target is None:
                 raise GridfieldError(f"planner {self.planner!r} needs a vector world, and this map is a grid")

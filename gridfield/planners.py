@@ -42,6 +42,12 @@ PLANNERS: dict[str, tuple[str, str, str]] = {
     "star-nav": ("gridfield.star", "plan_star_nav", "world"),
 }
 
+#: World planners with their own implementation on grid maps (used when a grid map has no vector
+#: world): name -> (module, function), called like a grid planner.
+GRID_VARIANTS: dict[str, tuple[str, str]] = {
+    "visibility": ("gridfield.anyangle", "plan_anyangle"),
+}
+
 #: Every parameter name a planner may read, with its meaning (generated from :data:`gridfield.params.REGISTRY`).
 PARAMETERS: dict[str, str] = {name: spec.meaning for name, spec in REGISTRY.items()}
 
@@ -86,7 +92,9 @@ def plan(
     """Plan a path from ``start`` to ``goal`` with the named planner.
 
     A grid planner given a :class:`World` rasterizes it at ``resolution`` (or the world's own);
-    an exact planner given a :class:`GridMap` uses the world it was rasterized from, if any.
+    an exact planner given a :class:`GridMap` uses the world it was rasterized from, if any, else
+    the map's blocked cells as exact polygons (:func:`gridfield.gridpoly.grid_world`; on those,
+    ``visibility`` is the any-angle optimum of :mod:`gridfield.anyangle`, its graph cached per map).
     With a ``cache`` dict (kept by the caller across calls on the same ``target`` object), the
     rasterized grid, and for planners that take a ``cache`` their per-map work (the brushfire),
     are computed once and reused.
@@ -132,11 +140,23 @@ def plan(
             return _with_endpoints(fn(gm, s, g, merged, cache=cache), s, g, t0)
         return _with_endpoints(fn(gm, s, g, merged), s, g, t0)
     world = target if isinstance(target, World) else target.world
+    if not isinstance(world, World) and planner in GRID_VARIANTS:
+        module, func = GRID_VARIANTS[planner]
+        fn = getattr(importlib.import_module(module), func)
+        s, g = target.check_point("start", start), target.check_point("goal", goal)
+        t0 = time.perf_counter()
+        return _with_endpoints(fn(target, s, g, merged, cache=cache), s, g, t0)
     if not isinstance(world, World):
-        raise GridfieldError(
-            f"planner {planner!r} works on vector worlds; {getattr(target, 'source', '') or 'this map'} is a grid map"
-        )
-    s, g = world.check_point("start", start), world.check_point("goal", goal)
+        # a bitmap / ROS / Moving AI map: its blocked cells as exact polygons (gridfield.gridpoly),
+        # built once per map object; "visibility" then runs on the grid itself (gridfield.anyangle)
+        assert isinstance(target, GridMap)  # a World is its own world
+        world = _grid_world(target, cache)
+        s, g = target.check_point("start", start), target.check_point("goal", goal)
+    else:
+        s, g = world.check_point("start", start), world.check_point("goal", goal)
+    if cache is not None and _takes_cache(fn):
+        t0 = time.perf_counter()
+        return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged, cache=cache), s, g, t0)
     t0 = time.perf_counter()
     return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged), s, g, t0)
 
@@ -150,6 +170,17 @@ def _point(name: str, value: Any) -> np.ndarray:
     if p is None or p.shape != (2,) or isinstance(value, str):
         raise ParameterError(f"{name} must be two numbers (x, y), got {shorten(value)}")
     return p
+
+
+def _grid_world(gm: GridMap, cache: dict[Any, Any] | None) -> World:
+    from .gridpoly import grid_world
+
+    if cache is None:
+        return grid_world(gm)
+    key = ("grid_world", gm)
+    if key not in cache:
+        cache[key] = grid_world(gm)
+    return cache[key]
 
 
 @functools.cache

@@ -734,12 +734,15 @@ def _cached_graph(world: World, pinch: str) -> VisibilityGraph:
     return per_world[pinch]
 
 
-def plan_visibility(world: World, start: ArrayLike, goal: ArrayLike, params: Mapping[str, Any] | None = None) -> Path:
+def plan_visibility(world: World, start: ArrayLike, goal: ArrayLike, params: Mapping[str, Any] | None = None,
+                    *, cache: dict[Any, Any] | None = None) -> Path:
     """Exact shortest path by the visibility graph (planner ``"visibility"``).
 
     Uses the ``block`` pinch rule; the graph of a world is built once and cached while the world
     lives. ``params`` are recorded but not used (the optimum has no parameters). The path's
     ``min_clearance`` is exact (:meth:`World.clearance`): 0 wherever it touches an obstacle.
+    A world made from a grid map (:func:`gridfield.gridpoly.grid_world`) is solved on the grid by
+    :func:`gridfield.anyangle.plan_anyangle` (the same optimum, much faster; ``cache`` is passed on).
 
     Returns a :class:`~gridfield.path.Path` with status ``"reached"``, or ``"no_path"`` (one
     point, the start) when the goal cannot be reached.
@@ -752,6 +755,13 @@ def plan_visibility(world: World, start: ArrayLike, goal: ArrayLike, params: Map
     >>> p.status, round(p.length, 4), len(p.points)
     ('reached', 22.3868, 4)
     """
+    from .gridpoly import source_grid
+
+    gm = source_grid(world)
+    if gm is not None:
+        from .anyangle import plan_anyangle
+
+        return plan_anyangle(gm, start, goal, params, cache=cache)
     t0 = time.perf_counter()
     vg = _cached_graph(world, "block")
     pts, length = vg.shortest_path(start, goal)

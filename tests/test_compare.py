@@ -378,8 +378,8 @@ def test_cli_compare_batch(capsys):
 
 
 def test_cli_compare_errors(capsys):
-    rc = main(["compare", str(bundled_map("turtlebot3_world/map.yaml"))])
-    assert rc == 2 and "compare needs a vector world" in capsys.readouterr().err
+    rc = main(["compare", str(bundled_map("turtlebot3_world/map.yaml"))])  # a grid map: fine, but no start
+    assert rc == 2 and "names no start; pass --start X Y" in capsys.readouterr().err
     rc = main(["compare", str(bundled_map("seed000.yaml")), "--start", "8", "14"])
     assert rc == 2 and "start (8, 14) lies inside obstacle 1" in capsys.readouterr().err
     rc = main(["compare", str(bundled_map("seed000.yaml")), "--batch", "2", "--plot", "x.png"])

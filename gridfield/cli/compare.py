@@ -1,4 +1,6 @@
-"""``gridfield compare``: a grid planner against the exact-geometry planner on a vector world.
+"""``gridfield compare``: a grid planner against the exact-geometry planner on a vector world or a
+grid map (bitmap, ROS, Moving AI: the exact planners run on its blocked cells as exact polygons, the
+grid planner at the map's resolution and on conservatively block-downsampled copies).
 
 Two modes:
 
@@ -27,6 +29,8 @@ from ._common import (
 )
 
 DEFAULT_RESOLUTIONS = (0.4, 0.2, 0.1, 0.05)
+#: On a grid map: the map's resolution times these block factors (coarsest first, like the default).
+GRID_FACTORS = (8, 4, 2, 1)
 
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -36,10 +40,11 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     world_planners = [k for k, v in PLANNERS.items() if v[2] == "world"]
     p = sub.add_parser("compare", help="compare a grid planner with the exact planner (convergence, batch)",
                        description="Run a grid planner at several resolutions against the exact-geometry "
-                                   "planner on a vector world and report path length ratios, Hausdorff and "
+                                   "planner on a vector world or a grid map (exact polygons of its blocked cells; "
+                                   "the grid at its resolution and block-downsampled x2, x4, x8) and report path length ratios, Hausdorff and "
                                    "Frechet distances, stall-point errors and clearances; or, with --batch N, "
                                    "success rates and length ratios over N random start/goal pairs.")
-    add_map_arguments(p, name="WORLD")
+    add_map_arguments(p, name="MAP")
     p.add_argument("--start", nargs=2, type=float, metavar=("X", "Y"),
                    help="start point (default: the world file's start)")
     p.add_argument("--goal", nargs=2, type=float, metavar=("X", "Y"),
@@ -91,8 +96,9 @@ def _print_table(rows: Sequence[Mapping[str, Any]], orders: Mapping[str, float],
     print(f"{'resolution':>10} {'cells':>9} {'build ms':>9} {'plan ms':>8} {'status':>14} {'exact':>14} "
           f"{'len/exact':>9} {'len/opt':>8} {'Hausdorff':>9} {'Frechet':>8} {'stall err':>9} {'clearance':>9}")
     for r in rows:
-        print(f"{r['resolution']:>10g} {r['cells']:>9d} {r['build_ms']:>9.1f} {r['plan_ms']:>8.1f} "
-              f"{r['status']:>14} {r['exact_status']:>14} {_fmt(r['length_ratio'], '9.4f')} "
+        status = "error" if r["status"].startswith("error") else r["status"]  # the message is in --json
+        print(f"{r['resolution']:>10g} {r['cells']:>9d} {r['build_ms']:>9.1f} {_fmt(r['plan_ms'], '8.1f')} "
+              f"{status:>14} {r['exact_status']:>14} {_fmt(r['length_ratio'], '9.4f')} "
               f"{_fmt(r['length_ratio_optimal'], '8.4f')} {_fmt(r['hausdorff'], '9.4f')} {_fmt(r['frechet'], '8.4f')} "
               f"{_fmt(r['end_error'], '9.4f')} {_fmt(r['min_clearance'], '9.4f')}"
               + ("  COLLIDES" if r["collides"] else ""))
@@ -143,8 +149,7 @@ def run(args: argparse.Namespace) -> int:
 
     check_figure_file(args.plot)
     target = load_target(args)
-    if not isinstance(target, World):
-        raise ParameterError(f"{args.map} is a grid map; compare needs a vector world (a world YAML file)")
+    grid_res = None if isinstance(target, World) or isinstance(target.world, World) else target.grid.resolution
     params = collect_params(args)
     if args.batch is not None:
         target = robot_target(args, target)
@@ -152,7 +157,8 @@ def run(args: argparse.Namespace) -> int:
             raise ParameterError(f"--batch must be a positive number of pairs, got {args.batch}")
         if args.plot:
             raise ParameterError("--plot draws the convergence study; leave it out with --batch")
-        resolution = args.resolution if args.resolution is not None else target.resolution
+        resolution = args.resolution if args.resolution is not None else (
+            grid_res if grid_res is not None else target.resolution)
         if resolution is None:
             raise ParameterError(f"{args.map} sets no resolution; pass --resolution R with --batch")
         result = batch_compare(target, args.batch, resolution=resolution, params=params, seed=args.pair_seed,
@@ -168,7 +174,12 @@ def run(args: argparse.Namespace) -> int:
 
     start, goal = endpoints(args, target)
     target = robot_target(args, target, start=start, goal=goal)
-    resolutions = args.resolutions if args.resolutions is not None else list(DEFAULT_RESOLUTIONS)
+    if args.resolutions is not None:
+        resolutions = args.resolutions
+    elif grid_res is not None:  # a grid map: its own resolution and block-downsampled copies
+        resolutions = [grid_res * k for k in GRID_FACTORS]
+    else:
+        resolutions = list(DEFAULT_RESOLUTIONS)
     rows = convergence_study(target, start, goal, resolutions, params=params, grid_planner=args.planner,
                              exact_planner=args.exact_planner)
     orders = study_orders(rows)

@@ -1,0 +1,113 @@
+"""Any-angle optimum on Moving AI maps (``gridfield.anyangle``) beside the octile wavefront.
+
+Run ``python benchmarks/anyangle.py [--root ../shared/maps/movingai] [--maps NAME ...] [--queries 50]``.
+For each map: the graph is built once in this process (timed; numba kernels warmed up on a tiny map
+first; wall-clock and process CPU seconds, the latter less sensitive to other jobs on a shared
+machine), then ``--queries`` scenarios spread evenly over the ``.scen`` file are answered, each by
+
+- ``any-angle query``: :meth:`AnyAngleGraph.shortest_path` with the graph cached (the two visibility
+  passes from start and goal, then A*);
+- ``plan('visibility')``: the public call on the map with a cache (query + result checks + clearance);
+- ``plan('wavefront-octile')``: the octile wavefront from the goal and its descent, the same query.
+
+The three run interleaved query by query, so that load from other jobs on the machine hits them
+alike. Every answer is checked: never longer than the file's octile optimum (within the file's
+printed precision), never shorter than the straight line, every path segment free
+(:meth:`AnyAngleGraph.visible`). Prints one markdown row per map; the numbers of the committed run
+are in ``benchmarks/README.md`` ("Any-angle optimum on grid maps").
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import math
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+DEFAULT_ROOT = HERE.parent.parent / "shared" / "maps" / "movingai"
+DEFAULT_MAPS = ("AR0011SR", "16room_000", "random512-10-0")
+
+
+def _warm_up() -> None:
+    from gridfield.anyangle import grid_graph
+    from gridfield.grid import Grid, GridMap
+    from gridfield.planners import plan
+
+    occ = np.zeros((12, 12), bool)
+    occ[3:9, 5] = True
+    gm = GridMap(Grid((12, 12), 1.0, border="wall"), occ)
+    grid_graph(gm, cache={}).shortest_path((0.5, 5.5), (11.5, 5.5))
+    plan("wavefront-octile", gm, (0.5, 5.5), (11.5, 5.5))
+
+
+def bench_map(folder: Path, n_queries: int) -> dict:
+    from gridfield.anyangle import grid_graph
+    from gridfield.io import read_movingai_map, read_scen
+    from gridfield.planners import plan
+
+    map_file = next(folder.glob("*.map"))
+    scen = read_scen(next(folder.glob("*.scen")))
+    m = read_movingai_map(map_file)
+    cache: dict = {}
+    t0, c0 = time.perf_counter(), time.process_time()
+    graph = grid_graph(m, cache=cache)
+    build, build_cpu = time.perf_counter() - t0, time.process_time() - c0
+    ok_idx = np.flatnonzero(~scen.no_path & (scen.optimal > 0))
+    idx = ok_idx[np.linspace(0, len(ok_idx) - 1, min(n_queries, len(ok_idx))).astype(int)]
+    tol = scen.tolerance()
+    t_q, t_plan, t_oct, ratios = [], [], [], []
+    bad = 0
+    for k in idx:
+        s, g = scen.start_xy[k], scen.goal_xy[k]
+        t0 = time.perf_counter()
+        pts, length = graph.shortest_path(s, g)
+        t_q.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        p = plan("visibility", m, s, g, cache=cache)
+        t_plan.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        o = plan("wavefront-octile", m, s, g, cache=cache)
+        t_oct.append(time.perf_counter() - t0)
+        opt = float(scen.optimal[k])
+        segs_ok = all(graph.visible(a, b) for a, b in itertools.pairwise(pts))
+        if not (math.isfinite(length) and length <= opt + tol[k] and length >= math.dist(s, g) - 1e-9
+                and segs_ok and abs(p.length - length) <= 1e-9 and o.status == "reached"):
+            bad += 1
+        ratios.append(opt / length)
+    ms = lambda v: statistics.median(v) * 1e3  # noqa: E731
+    return {
+        "map": folder.name, "shape": m.shape, "corners": graph.n_nodes, "edges": graph.n_edges, "build_s": build,
+        "build_cpu_s": build_cpu,
+        "queries": len(idx), "query_ms": ms(t_q), "query_max_ms": max(t_q) * 1e3, "plan_ms": ms(t_plan),
+        "octile_ms": ms(t_oct), "ratio_median": statistics.median(ratios), "ratio_max": max(ratios), "bad": bad,
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--root", type=Path, default=DEFAULT_ROOT, help="folder of the Moving AI map folders")
+    ap.add_argument("--maps", nargs="+", default=list(DEFAULT_MAPS), help="map folder names")
+    ap.add_argument("--queries", type=int, default=50, help="scenarios per map (spread over the file)")
+    args = ap.parse_args(argv)
+    _warm_up()
+    print("| map | size | convex corners | graph edges | graph build s (wall / CPU) | queries | any-angle query ms (median / max) "
+          "| plan('visibility') ms | plan('wavefront-octile') ms | octile / any-angle (median / max) | failed checks |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    failed = 0
+    for name in args.maps:
+        r = bench_map(args.root / name, args.queries)
+        failed += r["bad"]
+        print(f"| {r['map']} | {r['shape'][1]} x {r['shape'][0]} | {r['corners']} | {r['edges']} | {r['build_s']:.2f} / {r['build_cpu_s']:.2f} "
+              f"| {r['queries']} | {r['query_ms']:.2f} / {r['query_max_ms']:.1f} | {r['plan_ms']:.2f} "
+              f"| {r['octile_ms']:.1f} | {r['ratio_median']:.4f} / {r['ratio_max']:.4f} | {r['bad']} |", flush=True)
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

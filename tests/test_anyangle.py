@@ -1,0 +1,362 @@
+"""Any-angle optimum on grid maps (gridfield.anyangle) against independent references.
+
+- a brute force written here: every cell corner (but pinch points) as a vertex, every pair tested
+  with shapely's exact predicates against the union of the blocked squares, Dijkstra in plain Python;
+- an octile (8-connected, no corner cutting) Dijkstra written here: any-angle <= octile (an octile
+  path is a feasible any-angle path); the other bound of the issue, any-angle >= octile / 1.0824, is
+  false in general (``test_staircase_breaks_the_octile_metric_bound``);
+- Polyanya's published Euclidean lengths of the 160 arena.map queries (shared/maps/polygon);
+- the octile optima printed in Moving AI scenario files, on a sample of scenarios per map.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from shapely.geometry import box
+
+from gridfield.anyangle import grid_graph, plan_anyangle
+from gridfield.errors import GridfieldError
+from gridfield.grid import Grid, GridMap
+from gridfield.io import read_movingai_map, read_scen
+from gridfield.planners import plan
+
+# shared/ beside the repository (a worktree may sit one level deeper: look further up)
+SHARED_MAPS = next((d / "shared" / "maps" for d in Path(__file__).resolve().parents[1:4]
+                    if (d / "shared" / "maps").is_dir()), Path(__file__).resolve().parents[2] / "shared" / "maps")
+SQRT2 = math.sqrt(2.0)
+
+
+# ----------------------------------------------------------------------------------------
+# Independent references
+# ----------------------------------------------------------------------------------------
+def padded(occ: np.ndarray, wall: bool) -> np.ndarray:
+    B = np.full((occ.shape[0] + 2, occ.shape[1] + 2), wall)
+    B[1:-1, 1:-1] = occ
+    return B
+
+
+def obstacles(occ: np.ndarray, wall: bool):
+    """Union of the blocked unit squares (and a frame round the map for a wall border)."""
+    rows, cols = occ.shape
+    # one box per horizontal run of blocked cells (their union is the union of the squares)
+    edge = np.diff(np.pad(occ.astype(np.int8), ((0, 0), (1, 1))), axis=1)
+    r0, c0 = np.nonzero(edge == 1)
+    _, c1 = np.nonzero(edge == -1)
+    shapes = list(shapely.box(c0, r0, c1, r0 + 1))
+    if wall:
+        shapes.append(box(-5, -5, cols + 5, rows + 5).difference(box(0, 0, cols, rows)))
+    return shapely.union_all(shapes) if shapes else shapely.GeometryCollection()
+
+
+def pinch_points(occ: np.ndarray, wall: bool) -> np.ndarray:
+    """Corners whose two diagonally opposite cells are blocked and the other two free."""
+    B = padded(occ, wall)
+    sw, se, nw, ne = B[:-1, :-1], B[:-1, 1:], B[1:, :-1], B[1:, 1:]
+    pinch = (sw & ne & ~se & ~nw) | (se & nw & ~sw & ~ne)
+    y, x = np.nonzero(pinch)
+    return np.column_stack([x, y]).astype(float)
+
+
+def admissible(p: np.ndarray, q: np.ndarray, union, pinches: np.ndarray) -> np.ndarray:
+    """Segments p[i] -> q[i] that miss the obstacles' interior and pass through no pinch point."""
+    lines = shapely.linestrings(np.stack([p, q], axis=1))
+    ok = ~shapely.relate_pattern(lines, union, "T********") if not union.is_empty else np.ones(len(p), bool)
+    for c in pinches:
+        ok &= ~shapely.relate_pattern(lines, shapely.points(c), "T********")  # through it, not ending on it
+    return ok
+
+
+def brute_force(occ: np.ndarray, wall: bool, s, g) -> float:
+    rows, cols = occ.shape
+    union = obstacles(occ, wall)
+    pinches = pinch_points(occ, wall)
+    X, Y = np.meshgrid(np.arange(cols + 1.0), np.arange(rows + 1.0))
+    pts = np.column_stack([X.ravel(), Y.ravel()])
+    if len(pinches):
+        keep = ~(np.abs(pts[:, None, :] - pinches[None]).sum(axis=2) == 0).any(axis=1)
+        pts = pts[keep]
+    pts = np.vstack([np.asarray(s, float), np.asarray(g, float), pts])
+    n = len(pts)
+    i, j = np.triu_indices(n, 1)
+    ok = admissible(pts[i], pts[j], union, pinches)
+    adj: list[list[tuple[int, float]]] = [[] for _ in range(n)]
+    for a, b in zip(i[ok].tolist(), j[ok].tolist(), strict=True):
+        d = math.dist(pts[a], pts[b])
+        adj[a].append((b, d))
+        adj[b].append((a, d))
+    dist = [math.inf] * n
+    dist[0] = 0.0
+    heap = [(0.0, 0)]
+    while heap:
+        d, u = heapq.heappop(heap)
+        if d > dist[u]:
+            continue
+        if u == 1:
+            return d
+        for v, w in adj[u]:
+            if d + w < dist[v]:
+                dist[v] = d + w
+                heapq.heappush(heap, (d + w, v))
+    return math.inf
+
+
+def octile(occ: np.ndarray, wall: bool, s_cell, g_cell) -> float:
+    """8-connected Dijkstra between cell centres, diagonal only when both side cells are free."""
+    B = padded(occ, wall)
+    start = (s_cell[0] + 1, s_cell[1] + 1)
+    goal = (g_cell[0] + 1, g_cell[1] + 1)
+    dist = {start: 0.0}
+    heap = [(0.0, start)]
+    while heap:
+        d, (r, c) = heapq.heappop(heap)
+        if (r, c) == goal:
+            return d
+        if d > dist[(r, c)]:
+            continue
+        for dr in (-1, 0, 1):
+            for dc in (-1, 0, 1):
+                if (dr, dc) == (0, 0):
+                    continue
+                rr, cc = r + dr, c + dc
+                if not (0 <= rr < B.shape[0] and 0 <= cc < B.shape[1]) or B[rr, cc]:
+                    continue
+                if dr and dc and (B[r + dr, c] or B[r, c + dc]):
+                    continue
+                if not (1 <= rr <= occ.shape[0] and 1 <= cc <= occ.shape[1]):
+                    continue  # an open border's outside is free, but the octile search stays on the map
+                nd = d + (SQRT2 if dr and dc else 1.0)
+                if nd < dist.get((rr, cc), math.inf):
+                    dist[(rr, cc)] = nd
+                    heapq.heappush(heap, (nd, (rr, cc)))
+    return math.inf
+
+
+def check_path(pts: np.ndarray, occ: np.ndarray, wall: bool) -> None:
+    union = obstacles(occ, wall)
+    ok = admissible(pts[:-1], pts[1:], union, pinch_points(occ, wall))
+    assert ok.all(), f"segments {np.flatnonzero(~ok).tolist()} of {pts.tolist()} leave the free space"
+
+
+# ----------------------------------------------------------------------------------------
+# Random small grids
+# ----------------------------------------------------------------------------------------
+@st.composite
+def grids(draw):
+    rows = draw(st.integers(6, 10))
+    cols = draw(st.integers(6, 10))
+    p = draw(st.sampled_from([0.15, 0.3, 0.45]))
+    seed = draw(st.integers(0, 2**32 - 1))
+    occ = np.random.default_rng(seed).random((rows, cols)) < p
+    free = np.argwhere(~occ)
+    if len(free) < 2:
+        occ[0, 0] = occ[-1, -1] = False
+        free = np.argwhere(~occ)
+    a = free[draw(st.integers(0, len(free) - 1))]
+    b = free[draw(st.integers(0, len(free) - 1))]
+    # points anywhere in the free cell, on a 1/4 lattice (exact in binary), centres included
+    da = draw(st.tuples(st.integers(0, 3), st.integers(0, 3)))
+    db = draw(st.tuples(st.integers(0, 3), st.integers(0, 3)))
+    wall = draw(st.booleans())
+    return occ, wall, a, b, da, db
+
+
+@settings(max_examples=40)
+@given(grids())
+def test_random_grids_match_brute_force_and_octile_bounds(case):
+    occ, wall, a, b, da, db = case
+    gm = GridMap(Grid(occ.shape, 1.0, border="wall" if wall else "open"), occ)
+    g = grid_graph(gm)
+    # cell centres: the brute force, and the octile bounds
+    s, t = (a[1] + 0.5, a[0] + 0.5), (b[1] + 0.5, b[0] + 0.5)
+    pts, length = g.shortest_path(s, t)
+    ref = brute_force(occ, wall, s, t)
+    oct_len = octile(occ, wall, a, b)
+    if math.isinf(ref):
+        assert math.isinf(length) and math.isinf(oct_len)
+    else:
+        assert length == pytest.approx(ref, abs=1e-9)
+        assert length <= oct_len + 1e-9  # an octile path is an any-angle path
+        assert length >= math.dist(s, t) - 1e-12
+        assert pts[0].tolist() == list(s) and pts[-1].tolist() == list(t)
+        assert float(np.hypot(*np.diff(pts, axis=0).T).sum()) == pytest.approx(length, abs=1e-9)
+        check_path(pts, occ, wall)
+    # points off the centres, anywhere in their cells (1/4 lattice: on edges and corners too)
+    s2 = (a[1] + da[0] / 4, a[0] + da[1] / 4)
+    t2 = (b[1] + db[0] / 4, b[0] + db[1] / 4)
+    pinches = {tuple(c) for c in pinch_points(occ, wall).tolist()}
+    if s2 in pinches or t2 in pinches:
+        with pytest.raises(GridfieldError, match="pinch point"):
+            g.shortest_path(s2, t2)
+        return
+    pts2, length2 = g.shortest_path(s2, t2)
+    ref2 = brute_force(occ, wall, s2, t2)
+    if math.isinf(ref2):
+        assert math.isinf(length2)
+    else:
+        assert length2 == pytest.approx(ref2, abs=1e-9)
+        check_path(pts2, occ, wall)
+
+
+def test_staircase_breaks_the_octile_metric_bound():
+    """A one-cell staircase: the any-angle path runs diagonally across convex corners where the
+    octile path needs two orthogonal steps, so octile / any-angle exceeds 1.0824 (here sqrt(2))."""
+    n = 8
+    occ = np.ones((n, n + 1), bool)
+    for k in range(n):
+        occ[k, k] = occ[k, k + 1] = False
+    gm = GridMap(Grid(occ.shape, 1.0, border="wall"), occ)
+    _, length = grid_graph(gm).shortest_path((0.5, 0.5), (n - 0.5, n - 0.5))
+    oct_len = octile(occ, True, (0, 0), (n - 1, n - 1))
+    assert length == pytest.approx(brute_force(occ, True, (0.5, 0.5), (n - 0.5, n - 0.5)), abs=1e-9)
+    assert oct_len == 2 * (n - 1)
+    assert oct_len / length > 1.0824
+    assert oct_len / length <= SQRT2 + 1e-12
+
+
+def test_pinch_points_block_passage():
+    """Two cells touching at a corner close the only gap: the path must go round (or not exist)."""
+    occ = np.zeros((4, 4), bool)
+    occ[0:2, 1] = True      # a wall from the bottom up to y = 2 in column 1 ...
+    occ[2:4, 2] = True      # ... and one from y = 2 to the top in column 2: they touch at (2, 2)
+    gm = GridMap(Grid(occ.shape, 1.0, border="wall"), occ)
+    g = grid_graph(gm)
+    assert not g.visible((1.5, 2.5), (2.5, 1.5))
+    with pytest.raises(GridfieldError, match="pinch point"):
+        g.shortest_path((2.0, 2.0), (0.5, 0.5))
+    pts, length = g.shortest_path((0.5, 3.5), (3.5, 0.5))
+    assert math.isinf(length) and len(pts) == 0
+    gm_open = GridMap(Grid(occ.shape, 1.0, border="open"), occ)
+    pts, length = grid_graph(gm_open).shortest_path((0.5, 3.5), (3.5, 0.5))
+    assert length == pytest.approx(brute_force(occ, False, (0.5, 3.5), (3.5, 0.5)), abs=1e-9)
+    check_path(pts, occ, False)
+
+
+def test_world_units_and_errors():
+    occ = np.zeros((4, 4), bool)
+    occ[1:3, 1:3] = True
+    gm = GridMap(Grid((4, 4), 0.5, origin=(10.0, -3.0), border="wall"), occ)
+    p = plan("visibility", gm, (10.25, -2.75), (11.75, -1.25))
+    # in lattice units (0.5, 0.5) -> (3.5, 3.5) round the 2 x 2 block: via corner (1, 3) or (3, 1)
+    ref = brute_force(occ, True, (0.5, 0.5), (3.5, 3.5)) * 0.5
+    assert p.status == "reached" and p.length == pytest.approx(ref, abs=1e-12)
+    assert p.min_clearance == 0.0  # it touches a corner
+    assert p.extra["goal"] == (11.75, -1.25)
+    with pytest.raises(GridfieldError, match="inside an obstacle"):
+        plan("visibility", gm, (10.75, -2.25), (11.75, -1.25))
+    with pytest.raises(GridfieldError, match="outside"):
+        grid_graph(gm).shortest_path((0.0, 0.0), (11.75, -1.25))
+
+
+def test_cache_is_per_map_content():
+    occ = np.zeros((5, 5), bool)
+    occ[2, 1:4] = True
+    a = GridMap(Grid((5, 5), 1.0), occ)
+    b = GridMap(Grid((5, 5), 1.0), occ.copy())
+    cache: dict = {}
+    assert grid_graph(a, cache=cache) is grid_graph(b, cache=cache)
+    c = GridMap(Grid((5, 5), 1.0), ~occ)
+    assert grid_graph(c, cache=cache) is not grid_graph(a, cache=cache)
+    p1 = plan("visibility", a, (2.5, 0.5), (2.5, 4.5), cache=cache)
+    assert p1.extra["nodes"] == 4 and p1.length == pytest.approx(1 + 2 * math.hypot(1.5, 1.5), abs=1e-12)
+
+
+# ----------------------------------------------------------------------------------------
+# Published any-angle lengths and Moving AI scenarios
+# ----------------------------------------------------------------------------------------
+def test_polyanya_arena_lengths():
+    """All 160 arena.map queries against Polyanya's lengths (corner points, upstream tolerance 1e-4)."""
+    import json
+
+    cases = json.loads((SHARED_MAPS / "polygon" / "polyanya_arena" / "arena_cases.json").read_text())
+    m = read_movingai_map(SHARED_MAPS / "movingai" / "arena" / "arena.map")
+    H = m.shape[0]
+    g = grid_graph(m)
+    got = np.array([g.shortest_path((q["start"][0], H - q["start"][1]), (q["goal"][0], H - q["goal"][1]))[1]
+                    for q in cases["queries"]])
+    want = np.array([q["expected_length"] for q in cases["queries"]])
+    assert len(want) == 160
+    np.testing.assert_allclose(got, want, atol=1e-4, rtol=0)
+
+
+MAPS = ["den312d", "mapf_random-32-32-10", "AR0011SR", "16room_000", "Berlin_0_256", "brc202d"]
+
+
+@pytest.mark.parametrize("name", MAPS)
+def test_movingai_scenarios_within_octile_bounds(name):
+    folder = SHARED_MAPS / "movingai" / name
+    map_file = next(folder.glob("*.map"))
+    scen = read_scen(next(folder.glob("*.scen")))
+    m = read_movingai_map(map_file)
+    occ = m.occupied
+    rng = np.random.default_rng(16)
+    idx = rng.choice(np.flatnonzero(~scen.no_path), size=12, replace=False)
+    cache: dict = {}
+    union = None
+    for k in idx:
+        p = plan_anyangle(m, scen.start_xy[k], scen.goal_xy[k], cache=cache)
+        opt, tol = float(scen.optimal[k]), float(scen.tolerance()[k])
+        assert p.status == "reached"
+        assert p.length <= opt + tol
+        # no constant lower bound holds on every map (staircases); on these maps the octile optimum
+        # is at most 1.25 times the any-angle one (max seen on the samples: 1.21, den312d)
+        assert p.length >= opt / 1.25
+        assert p.length >= math.dist(scen.start_xy[k], scen.goal_xy[k]) - 1e-12
+        if union is None:
+            union = obstacles(occ, True)
+            shapely.prepare(union)
+            pinches = pinch_points(occ, True)
+        assert admissible(p.points[:-1], p.points[1:], union, pinches).all()
+
+
+@settings(max_examples=25)
+@given(st.integers(20, 70), st.integers(20, 70), st.sampled_from([0.05, 0.15, 0.3, 0.5]),
+       st.integers(0, 2**32 - 1), st.booleans(), st.sampled_from([3, 4, 8, 32]))
+def test_occlusion_culling_changes_nothing(rows, cols, p, seed, wall, block):
+    """The nearest-first search with occlusion culling finds exactly the pairs and the distances of
+    walking every taut pair (small blocks on these grids, so that its early stop happens)."""
+    from gridfield import _kernels_anyangle as k
+    from gridfield.anyangle import _buckets, _padded_blocked, convex_corners
+
+    rng = np.random.default_rng(seed)
+    occ = rng.random((rows, cols)) < p
+    if p == 0.5:  # long walls with gaps, so that some corners see far
+        occ[:, ::9] = rng.random((rows, len(range(0, cols, 9)))) < 0.8
+    gm = GridMap(Grid((rows, cols), 1.0, border="wall" if wall else "open"), occ)
+    B = _padded_blocked(gm)
+    vx, vy, qx, qy = convex_corners(B)
+    blocks = _buckets(vx, vy, gm.shape, block)  # small blocks: many rings, so the early stop happens
+    plain = set(zip(*k.visibility_edges(B, vx, vy, qx, qy), strict=True))
+    culled = set(zip(*k.visibility_edges_culled(B, vx, vy, qx, qy, *blocks), strict=True))
+    assert culled == plain
+    for _ in range(5):
+        # lattice points, half-integers and generic points
+        px, py = rng.integers(0, 2 * cols + 1) / 2, rng.integers(0, 2 * rows + 1) / 2
+        if rng.random() < 0.3:
+            px, py = rng.uniform(0, cols), rng.uniform(0, rows)
+        a = k.visible_from(B, px, py, vx, vy, qx, qy)
+        b = k.visible_from_culled(B, k.run_extents(B), px, py, vx, vy, qx, qy, *blocks)
+        np.testing.assert_array_equal(a, b)
+
+
+def test_benchmark_script_runs_and_checks(capsys):
+    """benchmarks/anyangle.py on two small maps: its table, and none of its correctness checks fails."""
+    import sys
+
+    bench = Path(__file__).resolve().parent.parent / "benchmarks"
+    sys.path.insert(0, str(bench))
+    try:
+        import anyangle as bench_anyangle
+    finally:
+        sys.path.remove(str(bench))
+    rc = bench_anyangle.main(["--root", str(SHARED_MAPS / "movingai"), "--maps", "den312d", "arena", "--queries", "5"])
+    out = capsys.readouterr().out
+    assert rc == 0
+    assert "| den312d | 65 x 81 |" in out and "| arena |" in out

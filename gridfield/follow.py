@@ -5,7 +5,7 @@ callables, ``force(p) -> (fx, fy)`` and ``blocked(p, q) -> bool``, so the grid f
 (:func:`follow`, fields sampled from gradient arrays) and the exact planner
 (:func:`gridfield.exact.plan_exact_potential`, forces from exact obstacle distances) share it.
 
-Step rules (DESIGN "Names")
+Step rules (names: Choset et al. ch. 4; registry: gridfield.params)
     ``normalized``: ``x += step * F/|F|`` (seed 000).
     ``scaled``: ``x += alpha * F``; with ``min_speed > 0`` a step shorter than ``min_speed`` is
     stretched to ``min_speed`` along ``F`` (seed 004). ``alpha`` may be a pair ``(ax, ay)`` (used by

@@ -11,7 +11,7 @@ Supported inputs (:func:`read` picks by file name):
 
 Writers: :func:`write_bitmap`, :func:`write_ros_map`, :func:`write_npz`.
 
-Orientation (see ``DESIGN.md``): images are stored top row first; every image reader flips
+Orientation (see ``ARCHITECTURE.md``, "Conventions"): images are stored top row first; every image reader flips
 them so that the image's top row becomes the highest y (row ``rows - 1``), exactly as ROS
 map_server does. A Moving AI map's first map line is likewise the top of the world.
 
@@ -66,7 +66,7 @@ __all__ = [
 
 PathLike = str | os.PathLike[str]
 
-#: Array names DESIGN gives to the fields an ``.npz`` file may hold (others are allowed too).
+#: Array names gridfield gives to the fields an ``.npz`` file may hold (others are allowed too).
 NPZ_ARRAY_NAMES = ("occupied", "steps", "distance", "label", "gvd", "potential", "grad_x", "grad_y")
 _NPZ_RESERVED = ("resolution", "origin", "border")
 
@@ -815,7 +815,7 @@ def read_movingai_map(path: PathLike, *, border: Literal["open", "wall"] = "wall
 class Scenarios:
     """The scenarios of a Moving AI ``.scen`` file, one array entry per scenario.
 
-    Coordinates are converted to gridfield's conventions (see ``DESIGN.md``): a scenario
+    Coordinates are converted to gridfield's conventions (see ``ARCHITECTURE.md``, "Conventions"): a scenario
     cell ``(x, y)`` (their y grows downward) of a map of height H is the world point
     ``(x + 0.5, H - 1 - y + 0.5)`` and the cell ``(row, col) = (H - 1 - y, x)``.
 
@@ -1000,7 +1000,7 @@ def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
 def write_npz(path: PathLike, arrays: Mapping[str, NDArray[Any]], grid: Grid) -> FsPath:
     """Write named arrays and their grid geometry to an ``.npz`` file (compressed).
 
-    The file holds each array under its name (DESIGN's names: ``occupied``, ``steps``,
+    The file holds each array under its name (gridfield's names: ``occupied``, ``steps``,
     ``distance``, ``label``, ``gvd``, ``potential``, ``grad_x``, ``grad_y``; others are
     allowed), plus ``resolution`` (scalar), ``origin`` ``[x, y]`` and ``border`` (a string).
     Every array must have the grid's shape (extra trailing axes are allowed). The file is

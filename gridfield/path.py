@@ -98,7 +98,7 @@ class Path:
         return self.status == "reached"
 
     def to_json(self) -> dict[str, Any]:
-        """The JSON object of ``gridfield plan --json`` (DESIGN's public contract)."""
+        """The JSON object of ``gridfield plan --json`` (the public contract in README.md)."""
 
         def clean(v: Any) -> Any:
             if isinstance(v, float | np.floating):

@@ -6,7 +6,7 @@ Every function here takes arrays (a :class:`~gridfield.grid.Grid`, a
 **cell centres**; gradients are in world units (``dU/dx``, ``dU/dy``). The force a follower uses is
 ``-(grad_x, grad_y)``.
 
-The models (names from DESIGN / Choset et al. ch. 4):
+The models (names from Choset et al. ch. 4):
 
 attractive (goal ``g``, ``d = |q - g|``)
     ``d_star = inf``: quadratic ``0.5*zeta*d**2`` everywhere.
@@ -103,7 +103,7 @@ __all__ = [
     "vortex_lattice",
 ]
 
-#: Defaults of the parameters :func:`build_field` reads (DESIGN "Names" for their meaning).
+#: Defaults of the parameters :func:`build_field` reads (meanings and scaling rules: :mod:`gridfield.params`).
 #: ``saturate=None``: no saturation. ``spacing=None``: the map's resolution. ``sample_radius=None``:
 #: 1.05 x each circle's radius (seed 003's 2.1 for radius 2). ``ka``, ``kr``, ``ko``: seed 003.
 DEFAULTS: dict[str, Any] = {
@@ -880,7 +880,7 @@ def _json_value(v: Any) -> Any:
 def save_field(path: str | os.PathLike[str], field: Field) -> None:
     """Write a :class:`Field` to an ``.npz`` file that :func:`load_field` reads back.
 
-    The file holds DESIGN's arrays by name (``occupied``, ``potential``, ``grad_x``, ``grad_y``,
+    The file holds gridfield's arrays by name (``occupied``, ``potential``, ``grad_x``, ``grad_y``,
     and when the field has a distance map ``steps``, ``distance``, ``label``, ``gvd``,
     ``nearest_row``, ``nearest_col``), plus ``resolution``, ``origin``, ``border``, ``goal`` and
     ``params`` (a JSON string; ``inf`` is written as ``Infinity``).

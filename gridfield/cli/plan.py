@@ -1,4 +1,4 @@
-"""``gridfield plan``: plan one path and report it (text or DESIGN's JSON)."""
+"""``gridfield plan``: plan one path and report it (text or the JSON of README.md)."""
 
 from __future__ import annotations
 
@@ -33,7 +33,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--index", type=int, default=None, metavar="N",
                    help="which scenario of --scenario (0 = the first; default 0)")
     p.add_argument("--planner", default="potential", choices=list(PLANNERS), help="planner (default: potential)")
-    p.add_argument("--json", action="store_true", help="print one JSON object (DESIGN's plan contract)")
+    p.add_argument("--json", action="store_true", help="print one JSON object (the plan contract in README.md)")
     p.add_argument("--plot", metavar="F", help="save a figure of the map and the path")
     p.add_argument("--animate", metavar="F", help="save an animation of the follower (.gif, or .mp4 with ffmpeg)")
     add_robot_arguments(p)

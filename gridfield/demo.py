@@ -197,8 +197,6 @@ def _part_maps(run: _Run) -> None:
     from .io import bundled_map, read
     from .plot import plot_map
 
-    if not run.have("gridfield.rasterize"):
-        run.need("maps: occupancy of the vector worlds (outlines only)", "gridfield.rasterize")
     fig, axes = _figure(2, 3, (15.0, 9.0))
     for ax, (name, title) in zip(axes.ravel(), BUNDLED, strict=True):
         target = read(bundled_map(name))
@@ -225,12 +223,10 @@ def _part_seed000(run: _Run) -> None:
     worlds = {key: read_world(bundled_map(f"{key}.yaml")) for key in ("seed000", "seed000_segment")}
     grid_paths: dict[str, Path] = {}
     exact_paths: dict[str, Path] = {}
-    have_exact = run.have_planner("seed000 exact paths", "exact-potential")
     for key, w in worlds.items():
         gm = as_gridmap(w, res)
         grid_paths[key] = run.plan("seed000", key, gm, "potential", w.start, w.goal, note=f"grid h={res:g}")  # type: ignore[arg-type]
-        if have_exact:
-            exact_paths[key] = run.plan("seed000", key, w, "exact-potential", w.start, w.goal, note="exact geometry")  # type: ignore[arg-type]
+        exact_paths[key] = run.plan("seed000", key, w, "exact-potential", w.start, w.goal, note="exact geometry")  # type: ignore[arg-type]
     if exact_paths:
         fig, axes = _figure(1, 2, (14.0, 5.6))
         for ax, key in zip(axes.ravel(), worlds, strict=True):
@@ -346,8 +342,7 @@ def _grid_map_part(run: _Run, part: str, gm: GridMap, start: Sequence[float], go
     if not pot.reached:
         paths.append(run.plan(part, part, gm, "potential", start, goal, {**params, "escape": "navigation"},
                               note="escape navigation (the hint's advice)"))
-    if run.have_planner(f"{part} wavefront path", "wavefront-octile"):
-        paths.append(run.plan(part, part, gm, "wavefront-octile", start, goal, note=note))
+    paths.append(run.plan(part, part, gm, "wavefront-octile", start, goal, note=note))
     plot_map(gm, axes[1, 1], paths=paths, start=start, goal=goal, title="paths")
     fig.suptitle(title)
     run.save(fig, f"{part}.png")
@@ -518,8 +513,6 @@ def _part_moving(run: _Run) -> None:
 def _warm_up(run: _Run) -> None:
     """Load (or compile) the numba kernels on a tiny map, so that the timings in the table are the
     planners' and not the JIT's."""
-    if not (run.have("gridfield.potential") and run.have("gridfield.follow")):
-        return
     from .brushfire import brushfire
     from .follow import basins, plan_potential
     from .planners import plan
@@ -641,9 +634,7 @@ def demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, parts
     _warm_up(run)
     with matplotlib.rc_context({"figure.max_open_warning": 0}):
         for name in parts:
-            fn, modules = _PARTS[name]
-            if not run.need(name, *modules):
-                continue
+            fn, _modules = _PARTS[name]
             t0 = time.perf_counter()
             n_files = len(run.result.files)
             fn(run)

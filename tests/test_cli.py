@@ -24,6 +24,15 @@ def test_python_dash_m_and_version() -> None:
 
 
 def test_every_documented_command_is_there() -> None:
+    """Each command of README's synopsis is a sub-command, listed with its own help line."""
+    import argparse
+    import re
+
+    from gridfield.cli import build_parser
+
+    documented = ["demo", "info", "brushfire", "field", "plan", "compare", "explore", "sweep"]
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    assert list(sub.choices) == documented
     res = subprocess.run([sys.executable, "-m", "gridfield", "--help"], capture_output=True, text=True, check=True)
-    for cmd in ("demo", "info", "brushfire", "field", "plan", "compare", "explore", "sweep"):
-        assert cmd in res.stdout
+    listed = re.findall(r"^    (\w+)\s+\S", res.stdout, flags=re.M)
+    assert listed == documented

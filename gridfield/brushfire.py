@@ -110,6 +110,14 @@ class DistanceMap:
     saturate: float | None = None
     far: float = np.inf
 
+    def __repr__(self) -> str:
+        parts = [f"shape={self.grid.shape}", f"metric={self.metric!r}"]
+        d = self.distance[np.isfinite(self.distance)]
+        if d.size:
+            parts.append(f"max distance={float(d.max()):.6g}")
+        parts.append("labels" if self.label is not None else "no labels")
+        return f"DistanceMap({', '.join(parts)})"
+
     @property
     def grid(self) -> Grid:
         return self.map.grid

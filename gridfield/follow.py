@@ -1337,6 +1337,9 @@ class Basins:
     sink: NDArray[np.intp]
     goal_cell: tuple[int, int]
 
+    def __repr__(self) -> str:
+        return f"Basins(shape={self.grid.shape}, basins={len(self.minima)}, goal_fraction={self.goal_fraction:.3g})"
+
     @property
     def goal_fraction(self) -> float:
         """Fraction of the free cells that descend to the goal."""

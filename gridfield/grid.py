@@ -282,6 +282,13 @@ class GridMap:
     source: str = ""
     meta: dict = field(default_factory=dict)
 
+    def __repr__(self) -> str:
+        g = self.grid
+        occ = float(np.count_nonzero(self.occupied)) / max(g.rows * g.cols, 1)
+        src = f", source={self.source!r}" if self.source else ""
+        return (f"GridMap(shape={g.shape}, resolution={g.resolution:g}, origin={g.origin}, border={g.border!r}, "
+                f"occupied={occ:.1%}{src})")
+
     def __post_init__(self) -> None:
         if not isinstance(self.grid, Grid):
             raise ArgumentTypeError(f"grid must be a gridfield Grid, got {type(self.grid).__name__}")

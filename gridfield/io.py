@@ -858,6 +858,10 @@ class Scenarios:
     digits: int
     source: str = ""
 
+    def __repr__(self) -> str:
+        name = str(self.map_name[0]) if len(self) else ""
+        return f"Scenarios({len(self)} scenarios for {name!r}, version {self.version!r})"
+
     def __len__(self) -> int:
         return len(self.optimal)
 

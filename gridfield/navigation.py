@@ -136,6 +136,11 @@ class NavigationField:
     params: Mapping[str, Any] = field(default_factory=dict)
     aux: Mapping[str, Any] = field(default_factory=dict)
 
+    def __repr__(self) -> str:
+        reach = int(np.count_nonzero(self.reachable))
+        return (f"NavigationField(kind={self.kind!r}, shape={self.map.grid.shape}, "
+                f"goal=({float(self.goal[0]):.6g}, {float(self.goal[1]):.6g}), reachable cells={reach})")
+
     @property
     def grid(self) -> Grid:
         return self.map.grid

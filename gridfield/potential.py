@@ -167,6 +167,11 @@ class Field:
     params: dict
     distance: DistanceMap | None = None
 
+    def __repr__(self) -> str:
+        model = self.params.get("model", "khatib") if self.params else "khatib"
+        return (f"Field(shape={self.map.grid.shape}, resolution={self.map.grid.resolution:g}, "
+                f"goal=({self.goal[0]:.6g}, {self.goal[1]:.6g}), model={model!r})")
+
     def __post_init__(self) -> None:
         for name in ("potential", "grad_x", "grad_y"):
             a = getattr(self, name)

@@ -464,6 +464,11 @@ def _obstacle_labels(dmap: DistanceMap) -> NDArray[np.int32]:
     """
     occ = dmap.map.occupied
     ids = dmap.map.obstacle_id if dmap.map.obstacle_id is not None else dmap.label
+    if ids is None:
+        raise ParameterError(
+            "the per-obstacle repulsion (mode/repulsion 'sum') needs obstacle labels, but this distance map "
+            "was computed without them and its map has no obstacle ids: use brushfire(..., compute_labels=True) "
+            "(or gridfield.potential.field_distance_map with repulsion='sum')")
     lab = np.where(occ, ids, 0).astype(np.int32, copy=False)
     if lab.size and (lab[occ] <= 0).any():
         _, inverse = np.unique(ids[occ], return_inverse=True)

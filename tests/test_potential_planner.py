@@ -398,3 +398,17 @@ def test_scenario_errors(capsys):
     assert "out of range" in capsys.readouterr().err
     assert main(["plan", str(REPO / "maps" / "seed000.yaml"), "--scenario", str(m / "arena.map.scen")]) == 2
     assert "error:" in capsys.readouterr().err
+
+
+def test_sum_repulsion_without_labels_is_a_clear_error():
+    from gridfield.brushfire import brushfire
+    from gridfield.potential import repulsive
+
+    occ = np.zeros((8, 8), bool)
+    occ[3:5, 3:5] = True
+    d = brushfire(GridMap(Grid((8, 8), 1.0), occ), compute_labels=False, compute_gvd=False)
+    with pytest.raises(ParameterError, match="needs obstacle labels"):
+        repulsive(d, mode="sum")
+    labelled = brushfire(GridMap(Grid((8, 8), 1.0), occ))
+    U, _, _ = repulsive(labelled, mode="sum", eta=1.0, q_star=3.0)
+    assert np.isfinite(U[~occ]).all() and U[2, 2] > 0 and U[0, 0] == 0  # sqrt 2 and sqrt 18 from it

@@ -1150,6 +1150,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
                 stall[idx, 0], stall[idx, 1] = RX[rows, k], RY[rows, k]
                 finish(cf_m, 2, "confined")
             done |= cf_m
+        if window:
             np_m = ~done & (it - best_it >= window)
             if np_m.any():
                 idx = ids[np_m]

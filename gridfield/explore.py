@@ -15,16 +15,30 @@ Mouse, buttons and keys
 - left click on the map: sets the start, the next click the goal, then the start again, ...
   ("set start" / "set goal", keys ``1`` / ``2``, choose which the next click sets);
 - "draw obstacle" (``d``): left clicks add polygon vertices, a right click (or the button again)
-  closes the polygon, adds it as an obstacle and re-plans; ``escape`` abandons it;
+  closes the polygon, adds it as an obstacle and re-plans; ``escape`` abandons it (only the new
+  polygon is rasterized, and the distance map is updated where it changed, see below);
 - "draw robot" (``b``): the same for the robot's convex outline; the first vertex is its
   reference point (the black dot, the point planned for), which becomes the start;
 - "C-space" (``x``): plan in the robot's configuration space from now on;
 - "calculate path" (``enter``), "movie" (``m``: the next path is written as a GIF, and MP4 where
   ffmpeg exists, to :attr:`Explorer.movie_file`), "3-D" (``3``: the potential surface with the
   path, instead of the map), "undo" (``u``), "clear" (``n``: back to the map as loaded);
+  :meth:`Explorer.remove_obstacle` removes any world obstacle (undoable);
 - sliders for the current planner's own parameters (``zeta``, ``eta``, ``q_star``, ``d_star``,
   whose right end means ``inf``, and ``step``; none for the wavefront), radio buttons for the
   planner, and a colour bar of the potential.
+
+Maps that change
+----------------
+The brushfire the potential planner and its background use is an
+:class:`gridfield.incremental.IncrementalBrushfire` of the planning map, updated by the cells that
+changed since its last use (a drawn or removed obstacle, undo, clear), so drawing an obstacle
+runs no full brushfire; cells another obstacle also covers stay occupied with that obstacle's id.
+In C-space mode the configuration space is still rebuilt in full (Minkowski sum and
+rasterization) after every change, and only its brushfire is updated incrementally. A change of
+more than :attr:`Explorer.INCREMENTAL_MAX_FRACTION` of the cells (e.g. turning the C-space on),
+the chessboard/taxicab metrics, ``saturate``, the vortex model and the per-obstacle sum on a map
+without obstacle ids use the full brushfire.
 
 The explorer never calls ``plt.show()``; ``gridfield explore MAP`` does (``--web`` serves it
 through matplotlib's WebAgg backend to a browser; in Jupyter use ``%matplotlib widget``). It works
@@ -130,8 +144,8 @@ class Explorer:
     ----------
     target : World or GridMap
         The map (the workspace). A world is rasterized at ``resolution`` (default: its own); drawn
-        polygons are added to the world and the grid is re-rasterized. A grid map without a world
-        gets drawn polygons burnt into its occupancy.
+        polygons are added to the world and burnt into the grid (only the polygon is rasterized).
+        A grid map without a world gets drawn polygons burnt into its occupancy.
     params : mapping, optional
         Planner parameters overriding the world file's ``params``.
     planner : str
@@ -601,7 +615,7 @@ class Explorer:
         return True
 
     def add_polygon(self, vertices: Sequence[Sequence[float]] | NDArray[np.float64]) -> None:
-        """Add a polygon obstacle, re-rasterize (and rebuild the C-space) and recompute.
+        """Add a polygon obstacle, burn its cells into the map (rebuild the C-space when on) and recompute.
 
         Raises :class:`GridfieldError` for fewer than 3 vertices or a self-intersecting outline.
         """

@@ -15,16 +15,30 @@ Mouse, buttons and keys
 - left click on the map: sets the start, the next click the goal, then the start again, ...
   ("set start" / "set goal", keys ``1`` / ``2``, choose which the next click sets);
 - "draw obstacle" (``d``): left clicks add polygon vertices, a right click (or the button again)
-  closes the polygon, adds it as an obstacle and re-plans; ``escape`` abandons it;
+  closes the polygon, adds it as an obstacle and re-plans; ``escape`` abandons it (only the new
+  polygon is rasterized, and the distance map is updated where it changed, see below);
 - "draw robot" (``b``): the same for the robot's convex outline; the first vertex is its
   reference point (the black dot, the point planned for), which becomes the start;
 - "C-space" (``x``): plan in the robot's configuration space from now on;
 - "calculate path" (``enter``), "movie" (``m``: the next path is written as a GIF, and MP4 where
   ffmpeg exists, to :attr:`Explorer.movie_file`), "3-D" (``3``: the potential surface with the
   path, instead of the map), "undo" (``u``), "clear" (``n``: back to the map as loaded);
+  :meth:`Explorer.remove_obstacle` removes any world obstacle (undoable);
 - sliders for the current planner's own parameters (``zeta``, ``eta``, ``q_star``, ``d_star``,
   whose right end means ``inf``, and ``step``; none for the wavefront), radio buttons for the
   planner, and a colour bar of the potential.
+
+Maps that change
+----------------
+The brushfire the potential planner and its background use is an
+:class:`gridfield.incremental.IncrementalBrushfire` of the planning map, updated by the cells that
+changed since its last use (a drawn or removed obstacle, undo, clear), so drawing an obstacle
+runs no full brushfire; cells another obstacle also covers stay occupied with that obstacle's id.
+In C-space mode the configuration space is still rebuilt in full (Minkowski sum and
+rasterization) after every change, and only its brushfire is updated incrementally. A change of
+more than :attr:`Explorer.INCREMENTAL_MAX_FRACTION` of the cells (e.g. turning the C-space on),
+the chessboard/taxicab metrics, ``saturate``, the vortex model and the per-obstacle sum on a map
+without obstacle ids use the full brushfire.
 
 The explorer never calls ``plt.show()``; ``gridfield explore MAP`` does (``--web`` serves it
 through matplotlib's WebAgg backend to a browser; in Jupyter use ``%matplotlib widget``). It works
@@ -130,8 +144,8 @@ class Explorer:
     ----------
     target : World or GridMap
         The map (the workspace). A world is rasterized at ``resolution`` (default: its own); drawn
-        polygons are added to the world and the grid is re-rasterized. A grid map without a world
-        gets drawn polygons burnt into its occupancy.
+        polygons are added to the world and burnt into the grid (only the polygon is rasterized).
+        A grid map without a world gets drawn polygons burnt into its occupancy.
     params : mapping, optional
         Planner parameters overriding the world file's ``params``.
     planner : str
@@ -601,7 +615,7 @@ class Explorer:
         return True
 
     def add_polygon(self, vertices: Sequence[Sequence[float]] | NDArray[np.float64]) -> None:
-        """Add a polygon obstacle, re-rasterize (and rebuild the C-space) and recompute.
+        """Add a polygon obstacle, burn its cells into the map (rebuild the C-space when on) and recompute.
 
         Raises :class:`GridfieldError` for fewer than 3 vertices or a self-intersecting outline.
         """
@@ -618,15 +632,12 @@ class Explorer:
         self._push()
         if self.world is not None:
             oid = max((o.id for o in self.world.obstacles), default=0) + 1
-            self.world = dataclasses.replace(
-                self.world, obstacles=(*self.world.obstacles, Obstacle(oid, "polygon", poly)))
-            self.gridmap = self._rasterize()
+            ob = Obstacle(oid, "polygon", poly)
+            self.world = dataclasses.replace(self.world, obstacles=(*self.world.obstacles, ob))
+            if self.gridmap is not None:
+                self.gridmap = self._burn_obstacle(ob)  # only the new polygon is rasterized
         elif self.gridmap is not None:
-            from .rasterize import rasterize_geometry
-
-            occ = self.gridmap.occupied | rasterize_geometry(poly, self.gridmap.grid)
-            self.gridmap = self.gridmap.with_occupied(occ, meta={**self.gridmap.meta, "drawn": [
-                *self.gridmap.meta.get("drawn", []), v]})
+            self.gridmap = self._burn_obstacle(Obstacle(0, "polygon", poly), drawn=v)
         self._rebuild_cspace()
         self._redraw_map()
         self.recompute()
@@ -864,7 +875,7 @@ class Explorer:
             self._hide_field()
             return
         try:
-            self.field = build_field(gm, np.asarray(self.goal), self.params)
+            self.field = build_field(gm, np.asarray(self.goal), self.params, dmap=self._incremental_dmap())
         except GridfieldError:
             self._hide_field()
             return
@@ -919,7 +930,9 @@ class Explorer:
                 ws = self.world if self.world is not None else self.gridmap
                 for name in ("start", "goal"):
                     check_robot_point(ws, self.robot, name, getattr(self, name))  # type: ignore[arg-type]
-            self.path = plan(self.planner, target, self.start, self.goal, self.params, resolution=None)
+            dmap = self._incremental_dmap() if target is self.cgridmap else None
+            self.path = plan(self.planner, target, self.start, self.goal, self.params, resolution=None,
+                             cache=self._plan_cache(target, dmap))
         except GridfieldError as e:
             self.path_line.set_data([], [])
             self.stall_marker.set_offsets(np.empty((0, 2)))
@@ -946,6 +959,157 @@ class Explorer:
         self._update_3d()
         self.figure.canvas.draw_idle()
         return self.path
+
+    # -- incremental updates (gridfield.incremental) ---------------------------------------
+    # A drawn obstacle is rasterized alone and burnt into the map; a removed one frees its cells
+    # (those another obstacle also covers stay occupied with that obstacle's id). The brushfire of
+    # the map the planners get (``cgridmap``) is an IncrementalBrushfire, brought up to date with
+    # whatever changed since its last use (a drawn or removed obstacle, undo, clear, the C-space)
+    # by the cells that differ; the field background and the potential planner reuse its distance
+    # map instead of running a full brushfire.
+    _incremental: Any = None
+    _incremental_for: GridMap | None = None
+    #: An update that changes more than this fraction of the cells rebuilds the brushfire instead.
+    INCREMENTAL_MAX_FRACTION = 0.125
+
+    def _burn_obstacle(self, ob: Obstacle, *, drawn: NDArray[np.float64] | None = None) -> GridMap:
+        """The workspace map with ``ob``'s cells occupied, rasterized as :func:`gridfield.rasterize.rasterize`
+        does (cells already occupied keep their lower id); ``drawn``: the outline to keep in the meta
+        of a map without a world."""
+        from .rasterize import _obstacle_mask, _tolerance
+
+        gm = self.gridmap
+        assert gm is not None
+        new = np.zeros(gm.shape, bool)
+        hit = _obstacle_mask(gm.grid, ob, _tolerance(gm.grid))
+        if hit is not None:
+            (r0, r1, c0, c1), mask = hit
+            sl = (slice(r0, r1 + 1), slice(c0, c1 + 1))
+            new[sl] = mask & ~gm.occupied[sl]
+        ids = None
+        if gm.obstacle_id is not None:
+            ids = gm.obstacle_id.copy()
+            ids[new] = ob.id if ob.id > 0 else int(ids.max(initial=0)) + 1
+        meta = dict(gm.meta)
+        if drawn is not None:
+            meta["drawn"] = [*meta.get("drawn", []), drawn]
+        world = self.world if isinstance(gm.world, World) else gm.world
+        return GridMap(gm.grid, gm.occupied | new, ids, world, gm.source, meta)
+
+    def _unburn_obstacle(self, ob: Obstacle) -> GridMap:
+        """The workspace map without ``ob`` (already removed from ``self.world``): its cells are freed,
+        or given to the lowest-id remaining obstacle that covers them (only those are rasterized)."""
+        from .rasterize import _obstacle_mask, _tolerance
+
+        gm = self.gridmap
+        assert gm is not None and gm.obstacle_id is not None and self.world is not None
+        mine = gm.occupied & (gm.obstacle_id == ob.id)
+        occ, ids = gm.occupied & ~mine, np.where(mine, 0, gm.obstacle_id).astype(np.int32)
+        if mine.any():
+            rows, cols = np.nonzero(mine)
+            box = (rows.min(), rows.max(), cols.min(), cols.max())
+            eps = _tolerance(gm.grid)
+            for other in sorted(self.world.obstacles, key=lambda o: o.id):  # ascending: the lowest id wins
+                hit = _obstacle_mask(gm.grid, other, eps)
+                if hit is None:
+                    continue
+                (r0, r1, c0, c1), mask = hit
+                if r0 > box[1] or r1 < box[0] or c0 > box[3] or c1 < box[2]:
+                    continue
+                sl = (slice(r0, r1 + 1), slice(c0, c1 + 1))
+                take = mask & mine[sl] & ~occ[sl]
+                ids[sl][take] = other.id
+                occ[sl] |= take
+        return GridMap(gm.grid, occ, ids, self.world, gm.source, dict(gm.meta))
+
+    def remove_obstacle(self, obstacle_id: int) -> None:
+        """Remove the world obstacle ``obstacle_id`` (undoable): its cells are freed, the brushfire is
+        updated where they were (:mod:`gridfield.incremental`), the C-space rebuilt if on, and the
+        path recomputed.
+
+        Raises :class:`ParameterError` when there is no world or no such obstacle.
+        """
+        if self.world is None or self.gridmap is None or self.gridmap.obstacle_id is None:
+            raise ParameterError("only obstacles of a vector world can be removed")
+        gone = [o for o in self.world.obstacles if o.id == obstacle_id]
+        if not gone:
+            raise ParameterError(f"the world has no obstacle {obstacle_id!r}")
+        self._push()
+        self.world = dataclasses.replace(self.world, obstacles=tuple(o for o in self.world.obstacles
+                                                                     if o.id != obstacle_id))
+        self.gridmap = self._unburn_obstacle(gone[0])
+        self._rebuild_cspace()
+        self._redraw_map()
+        self.recompute()
+
+    def remove_last_obstacle(self) -> bool:
+        """Remove the obstacle with the largest id (the one drawn last); returns whether there was one."""
+        if self.world is None or not self.world.obstacles:
+            self._set_message("no obstacle to remove")
+            self.figure.canvas.draw_idle()
+            return False
+        self.remove_obstacle(max(o.id for o in self.world.obstacles))
+        return True
+
+    def _incremental_sync(self, target: GridMap) -> Any:
+        """The IncrementalBrushfire of ``target``: the one kept, updated by the cells where its map and
+        ``target`` differ (occupancy or id), or a new one (the first time, another grid, or a change
+        of more than :attr:`INCREMENTAL_MAX_FRACTION` of the cells)."""
+        from .incremental import IncrementalBrushfire
+
+        ib = self._incremental
+        if ib is not None and self._incremental_for is target:
+            return ib
+        cur = ib.gridmap if ib is not None else None
+        if (cur is None or cur.grid != target.grid or
+                (cur.obstacle_id is None) != (target.obstacle_id is None)):
+            ib = None
+        else:
+            freed = cur.occupied & ~target.occupied
+            added = target.occupied & ~cur.occupied
+            if cur.obstacle_id is not None and target.obstacle_id is not None:
+                moved = cur.occupied & target.occupied & (cur.obstacle_id != target.obstacle_id)
+            else:
+                moved = np.zeros(target.shape, bool)
+            n = int(np.count_nonzero(freed)) + int(np.count_nonzero(added)) + int(np.count_nonzero(moved))
+            if n > self.INCREMENTAL_MAX_FRACTION * target.occupied.size:
+                ib = None
+            else:
+                out, into = freed | moved, added | moved
+                if out.any():
+                    ib.update(freed=out)
+                if into.any():
+                    ids = target.obstacle_id[into] if target.obstacle_id is not None else None
+                    ib.update(occupied=into, ids=ids)
+        if ib is None:
+            ib = IncrementalBrushfire(target, compute_labels=False)
+        self._incremental, self._incremental_for = ib, target
+        return ib
+
+    def _incremental_dmap(self) -> Any:
+        """The incremental distance map of the planning map, when the potential field would compute
+        this very one (Khatib model, Euclidean, no saturation; the per-obstacle sum only with world
+        obstacle ids, as it then needs no labels); else None (the full brushfire runs)."""
+        gm = self.cgridmap
+        if self.planner != "potential" or gm is None or self.goal is None:
+            return None
+        from .potential import resolve_params
+
+        try:
+            p = resolve_params(self.params, unit=gm.grid.resolution)
+        except GridfieldError:
+            return None
+        if p["model"] != "khatib" or p["metric"] != "euclidean" or p["saturate"] is not None or (
+                p["repulsion"] != "nearest" and gm.obstacle_id is None):
+            return None
+        return self._incremental_sync(gm).distance_map
+
+    def _plan_cache(self, target: Any, dmap: Any) -> dict[Any, Any] | None:
+        """A :func:`gridfield.planners.plan` cache holding ``dmap``, the brushfire of ``target``
+        (:func:`gridfield.follow.plan_potential`'s key: map, metric, saturation)."""
+        if dmap is None or target is not self.cgridmap:
+            return None
+        return {("gridmap", target, None): target, ("brushfire", target, "euclidean", None): dmap}
 
     def close(self) -> None:
         """Close the figure."""

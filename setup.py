@@ -5,11 +5,13 @@ Adding a kernel module is one line: put ``gridfield/_kernels_NAME.pyx`` in the t
 benchmarks/README.md.
 """
 
+from pathlib import Path
+
 from Cython.Build import cythonize
 from setuptools import Extension, setup
 
 #: The compiled modules, gridfield/<name>.pyx each.
-KERNELS = ["_kernels_brushfire", "_kernels_follow", "_kernels_potential"]
+KERNELS = ["_kernels_brushfire", "_kernels_follow", "_kernels_navigation", "_kernels_potential"]
 #: Those with OpenMP loops (``prange``).
 OPENMP = {"_kernels_potential"}
 
@@ -21,7 +23,9 @@ _CFLAGS = ["-O3", "-ffp-contract=off", "-fno-math-errno", "-fno-trapping-math"]
 
 def _extension(name: str) -> Extension:
     omp = ["-fopenmp"] if name in OPENMP else []
-    return Extension(f"gridfield.{name}", [f"gridfield/{name}.pyx"], extra_compile_args=_CFLAGS + omp,
+    return Extension(f"gridfield.{name}", [f"gridfield/{name}.pyx"], include_dirs=["gridfield"],
+                     depends=[str(h) for h in Path("gridfield").glob("*.h")],
+                     extra_compile_args=_CFLAGS + omp,
                      extra_link_args=omp, define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")])
 
 

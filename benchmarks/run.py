@@ -115,13 +115,9 @@ def _git(*args: str) -> str:
 
 def machine_facts() -> list[str]:
     """Bullet lines describing the machine and the software measured."""
-    try:
-        import numba
+    from gridfield import _kernels_potential
 
-        layer = numba.config.THREADING_LAYER
-        threads = numba.config.NUMBA_NUM_THREADS
-    except Exception:  # pragma: no cover - numba is a core dependency
-        layer, threads = "?", "?"
+    threads = _kernels_potential.get_num_threads()
     load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
     commit = _git("rev-parse", "--short", "HEAD")
     dirty = " (with uncommitted changes)" if _git("status", "--porcelain", "--untracked-files=no") else ""
@@ -132,9 +128,9 @@ def machine_facts() -> list[str]:
         f"- load average (1, 5, 15 min) at start: {load}",
         f"- Python {platform.python_version()} ({sys.executable})",
         f"- gridfield {_version('gridfield')} at commit {commit or '?'}{dirty}",
-        "- numpy {}, scipy {}, numba {} (threading layer setting {!r}, {} threads), scikit-image {}, "
-        "opencv-python-headless {}, scikit-fmm {}".format(
-            np.__version__, _version("scipy"), _version("numba"), layer, threads, _version("scikit-image"),
+        "- numpy {}, scipy {}, gridfield's kernels compiled ahead of time (Cython; OpenMP {} threads), "
+        "scikit-image {}, opencv-python-headless {}, scikit-fmm {}".format(
+            np.__version__, _version("scipy"), threads, _version("scikit-image"),
             _version("opencv-python-headless"), _version("scikit-fmm")),
         f"- peers: roboticstoolbox-python {_version('roboticstoolbox-python')}, "
         f"python-motion-planning {_version('python-motion-planning')}",

@@ -529,7 +529,7 @@ def convergence_study(
     g = world.check_point("goal", goal)
     exact = plan(exact_planner, world, s, g, params)
     optimal = _optimum(world, s, g)
-    if kind_grid == "grid":  # untimed warm-up: numba compiles on the first call
+    if kind_grid == "grid":  # untimed warm-up: first-call costs (imports, caches)
         plan(grid_planner, rasterize(world, max(hs)), s, g, params)
     rows = []
     for h in hs:

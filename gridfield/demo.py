@@ -346,8 +346,8 @@ def _part_arena(run: _Run) -> None:
 
 
 def _warm_up(run: _Run) -> None:
-    """Load (or compile) the numba kernels on a tiny map, so that the timings in the table are the
-    planners' and not the JIT's."""
+    """Load the compiled kernels and warm the caches on a tiny map, so that the timings in the table
+    are the planners' and not the first call's."""
     if not (run.have("gridfield.potential") and run.have("gridfield.follow")):
         return
     from .follow import plan_potential
@@ -358,7 +358,7 @@ def _warm_up(run: _Run) -> None:
     for extra in ({}, {"repulsion": "sum", "repulsive_power": 3}):
         plan_potential(GridMap(Grid((12, 12), 1.0), occ), np.array([1.5, 1.5]), np.array([10.5, 10.5]),
                        {"q_star": 2.0, "step": 0.5, "tolerance": 0.5, **extra})
-    run.log(f"warm-up (numba kernels): {time.perf_counter() - t0:.1f} s")
+    run.log(f"warm-up (kernels): {time.perf_counter() - t0:.1f} s")
 
 
 #: part -> (function, modules it needs)

@@ -226,8 +226,8 @@ def _local_results(runs: Sequence[Run], workers: int) -> Iterator[dict[str, Any]
 
     # Runs of the same map go to the same chunk, so each worker loads few maps.
     chunk = max(1, len(runs) // (workers * 4))
-    # "spawn", not fork: numba's parallel kernels start an OpenMP thread pool, and a process that
-    # forks after that aborts ("fork() called from a process already using GNU OpenMP").
+    # "spawn", not fork: the potential kernels start an OpenMP thread pool, and a process that
+    # forks after that can hang or abort ("fork() called from a process already using GNU OpenMP").
     ctx = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
         yield from pool.map(run_one, runs, chunksize=chunk)

@@ -55,11 +55,12 @@ def _run(cmd: list[str]) -> float:
     return time.perf_counter() - t0
 
 
-def measure(repeat: int, demo: bool) -> tuple[float, dict[str, tuple[float, float]]]:
-    """The floor's warm median and, per command, (first, warm median) seconds."""
+def measure(repeat: int, demo: bool, only: tuple[str, ...] | None = None) -> tuple[float, dict[str, tuple[float, float]]]:
+    """The floor's warm median and, per command (those named in ``only``, default all), (first, warm
+    median) seconds."""
     out = Path(tempfile.mkdtemp(prefix="gridfield-startup-"))
     try:
-        cmds = commands(out, demo)
+        cmds = {k: v for k, v in commands(out, demo).items() if only is None or k in only}
         times: dict[str, list[float]] = {name: [] for name in ["floor", *cmds]}
         for i in range(repeat):
             times["floor"].append(_run(FLOOR))

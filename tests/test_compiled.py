@@ -18,6 +18,11 @@ PACKAGE = Path(gridfield.__file__).parent
 REPO = Path(__file__).resolve().parent.parent
 
 
+#: Kernel modules still in numba (merged into main after the Cython port; to be ported). Listed
+#: here so that a new plain-Python kernel cannot slip in unnoticed.
+NOT_YET_PORTED = {"_kernels_anyangle", "_kernels_incremental"}
+
+
 def _kernel_sources() -> set[str]:
     return {p.stem for p in (REPO / "gridfield").glob("_kernels_*.pyx")}
 
@@ -34,8 +39,8 @@ def test_every_kernel_source_is_built_by_setup_py():
 def test_no_kernel_is_plain_python():
     """No ``_kernels_*.py`` beside the compiled modules (it would shadow or replace them)."""
     found = {m.name for m in pkgutil.iter_modules([str(PACKAGE)]) if m.name.startswith("_kernels_")}
-    assert found == _kernel_sources()
-    assert not list(PACKAGE.glob("_kernels_*.py"))
+    assert found == _kernel_sources() | NOT_YET_PORTED
+    assert {p.stem for p in PACKAGE.glob("_kernels_*.py")} == NOT_YET_PORTED
 
 
 @pytest.mark.parametrize("name", sorted({p.stem for p in (Path(__file__).resolve().parent.parent / "gridfield")

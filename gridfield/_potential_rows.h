@@ -13,7 +13,15 @@
 #include <math.h>
 #include <stdint.h>
 
-static inline void gf_attractive_row(int64_t r, int64_t cols, double x0, double y0, double res, double goal_x,
+/* On x86-64 with GCC, the row loops are compiled twice (AVX2 and baseline SSE2) and the loader picks
+ * one for the CPU (ifunc): AVX2 brings no FMA (its own target), so the results stay bit-identical. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+#define GF_ROW_FN __attribute__((target_clones("avx2", "default"))) static
+#else
+#define GF_ROW_FN static inline
+#endif
+
+GF_ROW_FN void gf_attractive_row(int64_t r, int64_t cols, double x0, double y0, double res, double goal_x,
                                      double goal_y, double zeta, double d_star, double ds2, int conic,
                                      double *restrict U, double *restrict GX, double *restrict GY) {
     const double dy = y0 + ((double)r + 0.5) * res - goal_y;
@@ -35,7 +43,7 @@ static inline void gf_attractive_row(int64_t r, int64_t cols, double x0, double 
 
 /* DEN: the expression of 1/D**ipow from inv_d, inv_d2 (as in the reference kernel). */
 #define GF_KHATIB_ROW(NAME, DEN)                                                                              \
-    static inline void NAME(int64_t r, int64_t cols, const uint8_t *restrict occ, const int32_t *restrict nr,  \
+    GF_ROW_FN void NAME(int64_t r, int64_t cols, const uint8_t *restrict occ, const int32_t *restrict nr,  \
                             const int32_t *restrict nc, double x0, double y0, double res, double goal_x,      \
                             double goal_y, double zeta, double d_star, double ds2, int conic, int metric,     \
                             double eta, double q_star, double inv_q, double sat, double far,                  \

@@ -12,7 +12,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 
 from hypothesis import HealthCheck, settings
 
-# Property tests run on a 2-core CI machine next to numba compiles: no per-example deadline.
+# Property tests run on a 2-core CI machine shared with other jobs: no per-example deadline.
 settings.register_profile(
     "gridfield", deadline=None, max_examples=60, suppress_health_check=[HealthCheck.too_slow]
 )

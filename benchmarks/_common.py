@@ -167,7 +167,7 @@ def peak_memory(fn: Callable[[], Any]) -> tuple[int, int]:
 
 
 def machine_facts() -> str:
-    """One line: CPU model and count, Python, numpy, numba and its threads, load average."""
+    """One line: CPU model and count, Python, numpy, the compiled kernels' threads, load average."""
     import numpy as np
 
     cpu = platform.processor() or platform.machine()
@@ -179,13 +179,10 @@ def machine_facts() -> str:
     except OSError:
         pass
     parts = [f"{cpu}, {os.cpu_count()} cores", f"Python {platform.python_version()}", f"numpy {np.__version__}"]
-    try:
-        import numba
+    from gridfield import _kernels_potential
 
-        parts.append(f"numba {numba.__version__} ({numba.config.NUMBA_NUM_THREADS} threads, "
-                     f"{numba.config.THREADING_LAYER} layer)")
-    except ImportError:
-        pass
+    parts.append(f"gridfield kernels compiled ahead of time (Cython, OpenMP {_kernels_potential.get_num_threads()} "
+                 "threads)")
     try:
         load = os.getloadavg()
         parts.append(f"load average {load[0]:.1f} at start")

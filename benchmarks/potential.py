@@ -23,9 +23,9 @@ import statistics
 import time
 from collections.abc import Callable
 
-import numba
 import numpy as np
 
+from gridfield import _kernels_potential as _kp
 from gridfield._kernels_potential import _khatib_kernel
 from gridfield.brushfire import brushfire
 from gridfield.grid import Grid, GridMap
@@ -71,8 +71,8 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args()
     if args.threads:
-        numba.set_num_threads(args.threads)
-    print(f"numba threads: {numba.get_num_threads()}, median of {args.repeat} rounds")
+        _kp.set_num_threads(args.threads)
+    print(f"kernel threads: {_kp.get_num_threads()}, median of {args.repeat} rounds")
     print("| grid | what | median ms | ratio to np.copyto |")
     print("|---|---|---|---|")
     for n in args.sizes:

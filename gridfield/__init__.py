@@ -4,7 +4,7 @@ Pipeline (each stage one module, data flows one way)::
 
     io -> world / grid -> rasterize -> brushfire -> potential -> follow -> plot / compare
 
-Heavy modules (matplotlib, numba kernels) are imported only when used.
+Heavy modules (matplotlib, scipy.ndimage, the compiled kernels) are imported only when used.
 """
 
 from ._version import __version__

@@ -21,12 +21,85 @@ import math
 import numpy as np
 from numba import njit
 
-from ._kernels_brushfire import BIG, edt_1d
-from ._kernels_potential import _attraction, _rep_distance
+from ._kernels_brushfire import BIG
 
 _OPTS = {"cache": True, "nogil": True, "error_model": "numpy"}
 #: Squared distance meaning "no site" (larger than any squared distance on a grid).
 NONE_D2 = np.int64(1) << np.int64(62)
+
+
+# The two scalar helpers of the fused Khatib kernel, kept here in numba while this module is not yet
+# ported to Cython (gridfield._kernels_potential is compiled; its helpers are C-level only). Same
+# expressions as gridfield/_potential_rows.h, so khatib_window stays bit-identical to a full build.
+# edt_1d likewise: the numba original of gridfield._kernels_brushfire.edt_1d (numba cannot call the
+# compiled one).
+@njit(cache=True, nogil=True, error_model="numpy")
+def edt_1d(g, n, inf, s, t, val, arg):  # pragma: no cover - compiled
+    """Lower envelope of ``f_i(x) = (x - i)**2 + g[i]**2`` over the sites ``i`` in ``0..n+1`` with
+    ``g[i] < inf``, for ``x`` in ``1..n``: ``val[x - 1]`` (squared distance) and ``arg[x - 1]``
+    (winning site). Returns False if there is no site."""
+    q = -1
+    for u in range(n + 2):
+        gu = g[u]
+        if gu >= inf:
+            continue
+        fu = gu * gu
+        while q >= 0:
+            sq = s[q]
+            tq = t[q]
+            gs = g[sq]
+            if (tq - sq) * (tq - sq) + gs * gs <= (tq - u) * (tq - u) + fu:
+                break
+            q -= 1
+        if q < 0:
+            q = 0
+            s[0] = u
+            t[0] = 1
+        else:
+            sq = s[q]
+            gs = g[sq]
+            # first x where u is strictly nearer than s[q] (floor division of an integer ratio)
+            w = 1 + (u * u - sq * sq + fu - gs * gs) // (2 * (u - sq))
+            if w <= n:
+                q += 1
+                s[q] = u
+                t[q] = w
+    if q < 0:
+        return False
+    for x in range(n, 0, -1):
+        sq = s[q]
+        gs = g[sq]
+        val[x - 1] = (x - sq) * (x - sq) + gs * gs
+        arg[x - 1] = sq
+        if x == t[q]:
+            q -= 1
+    return True
+
+
+@njit(inline="always", cache=True, nogil=True, error_model="numpy")
+def _rep_distance(fr, fc, res, metric, sat, far):  # pragma: no cover - compiled
+    """``(D, |offset| in cells)`` for a nearest obstacle cell ``(fr, fc)`` cells away, after saturation."""
+    length = math.sqrt(fr * fr + fc * fc)
+    if metric == 0:
+        dist = length * res
+    elif metric == 1:
+        dist = max(abs(fr), abs(fc)) * res
+    else:
+        dist = (abs(fr) + abs(fc)) * res
+    return (far if dist >= sat else dist), length
+
+
+@njit(inline="always", cache=True, nogil=True, error_model="numpy")
+def _attraction(d2, zeta, d_star, ds2, conic):  # pragma: no cover - compiled
+    """``(U, k)`` of the attractive potential at squared distance ``d2`` from the goal, with
+    ``grad U = k * (p - goal)``: quadratic within ``d_star`` (``ds2 = d_star**2``; ``inf``: everywhere,
+    ``0``: the goal only), beyond it conic (``conic``: ``zeta*d``, the ``d_star = 0`` case) or the
+    combined ``d_star*zeta*d - 0.5*zeta*d_star**2``. Selects, no jumps, so that callers' loops vectorize."""
+    d = math.sqrt(d2)
+    quad = d2 <= ds2
+    u = 0.5 * zeta * d2 if quad else (zeta * d if conic else zeta * d_star * d - 0.5 * zeta * ds2)
+    k = zeta if quad else (zeta / d if conic else zeta * d_star / d)
+    return u, k
 
 
 @njit(cache=True, nogil=True, inline="always")

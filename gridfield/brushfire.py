@@ -16,14 +16,14 @@ space that is not part of the map: the wavefront simply stops at the edge.
 
 Implementation
 --------------
-Compiled (numba) kernels, see :mod:`gridfield._kernels_brushfire`. Chessboard and taxicab: the
+Compiled kernels (Cython, built at install), see :mod:`gridfield._kernels_brushfire`. Chessboard and taxicab: the
 two-pass raster transform with a 3x3 mask, carrying the nearest obstacle cell along with the
 distance (on large grids in strips, each on a window with a margin, verified; see :class:`_Chamfer`).
 Euclidean: the separable exact transform (per column, then the lower envelope per row; Meijster et
 al. 2000) with the nearest obstacle cell. All are exact. Connected obstacle components: union-find
 in strips. The kernels release the GIL and run on a small thread pool (``threads``). They are
-compiled on first use and cached on disk (numba ``cache=True``): the first call in a fresh process
-loads them in about half a second; compiling them (empty cache) takes several seconds.
+compiled ahead of time, at install: nothing is compiled at run time, and importing them takes a few
+milliseconds.
 """
 
 from __future__ import annotations
@@ -150,7 +150,7 @@ _KERNELS: ModuleType | None = None
 
 
 def _kernels() -> ModuleType:
-    """The numba kernels, imported (and compiled or loaded from the cache) on first use."""
+    """The compiled kernels, imported on first use."""
     global _KERNELS
     if _KERNELS is None:
         from . import _kernels_brushfire
@@ -201,12 +201,12 @@ def _pool() -> ThreadPoolExecutor:
 
 
 def _run(tasks: Sequence[Callable[[], object]], nthreads: int, first: Callable[[], object] | None = None) -> None:
-    """Run ``tasks`` (numba kernels that release the GIL) on ``nthreads`` threads, this one included;
+    """Run ``tasks`` (compiled kernels that release the GIL) on ``nthreads`` threads, this one included;
     this thread runs ``first`` before it joins the others on ``tasks``.
 
     Each thread takes the next task as soon as it is free, so a thread that the OS does not schedule
     (another job on the core) holds up at most the task it has in hand; with a static split of the
-    work (numba's ``prange``) the whole pass would wait for it.
+    work (an OpenMP ``prange``) the whole pass would wait for it.
     """
     if nthreads <= 1 or len(tasks) + (first is not None) <= 1:
         if first is not None:

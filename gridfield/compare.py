@@ -605,7 +605,7 @@ def convergence_study(
 
         return block_downsample(base, factors[i])
 
-    if kind_grid == "grid":  # untimed warm-up: numba compiles on the first call
+    if kind_grid == "grid":  # untimed warm-up: first-call costs (imports, caches)
         with contextlib.suppress(GridfieldError):
             plan(grid_planner, grid_at(int(np.argmax(hs))), s, g, params)
     rows = []

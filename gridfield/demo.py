@@ -511,8 +511,8 @@ def _part_moving(run: _Run) -> None:
 
 
 def _warm_up(run: _Run) -> None:
-    """Load (or compile) the numba kernels on a tiny map, so that the timings in the table are the
-    planners' and not the JIT's."""
+    """Load the compiled kernels and warm the caches on a tiny map, so that the timings in the table
+    are the planners' and not the first call's."""
     from .brushfire import brushfire
     from .follow import basins, plan_potential
     from .planners import plan
@@ -531,7 +531,7 @@ def _warm_up(run: _Run) -> None:
         plan(name, gm, s, g)
     brushfire(gm, metric="euclidean")
     basins(build_field(gm, g))
-    run.log(f"warm-up: {time.perf_counter() - t0:.1f} s compiling or loading the kernels on a 12 x 12 map "
+    run.log(f"warm-up: {time.perf_counter() - t0:.1f} s loading the kernels and warming the caches on a 12 x 12 map "
             "(not part of any time in the table)")
 
 

@@ -76,8 +76,8 @@ def _kernels() -> Any:
 
 @functools.cache
 def _warm_followers() -> None:
-    """Load the compiled followers once per process (numba's first cache load takes up to a second),
-    so that :attr:`Path.seconds` measures the path, not the start-up."""
+    """Load the compiled followers once per process (importing the extension module, a few
+    milliseconds), so that :attr:`Path.seconds` measures the path, not the start-up."""
     k = _kernels()
     one = np.zeros((1, 1))
     free = np.ones((1, 1), bool)

@@ -61,8 +61,8 @@ vortex (seed 003)
     See :func:`vortex_field`.
 
 Obstacle cells hold ``potential = +inf`` and zero gradients in every model. All returned arrays
-are float64, computed in float64: the fused kernel (numba, branch-free so that it vectorizes,
-``error_model="numpy"``) streams its outputs at ``np.copyto`` speed, so float32 could only gain by
+are float64, computed in float64: the fused kernel (compiled ahead of time, branch-free so that it
+vectorizes, IEEE division semantics) streams its outputs at ``np.copyto`` speed, so float32 could only gain by
 halving the bytes, at the cost of precision where ``U`` spans many orders of magnitude near
 obstacles. Grids below 2048 x 2048 cells are computed on the calling thread only.
 """
@@ -79,7 +79,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import ndimage
 
 from . import _kernels_potential as _kp
 from .brushfire import DistanceMap, brushfire
@@ -479,6 +478,8 @@ def _obstacle_labels(dmap: DistanceMap) -> NDArray[np.int32]:
 def _sum_repulsion(dmap: DistanceMap, eta: float, q_star: float, power: float, sat: float, far: float,
                    U: NDArray[np.float64], GX: NDArray[np.float64], GY: NDArray[np.float64]) -> None:
     """Add one repulsive term per obstacle (and the wall) to U, GX, GY in place."""
+    from scipy import ndimage  # here, not at import: it costs about 0.3 s and only this model needs it
+
     grid = dmap.grid
     rows, cols = grid.shape
     res = grid.resolution

@@ -686,8 +686,8 @@ def _local_results(batches: Sequence[list[Run]], workers: int) -> Iterator[list[
     from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
 
-    # "spawn", not fork: numba's parallel kernels start an OpenMP thread pool, and a process that
-    # forks after that aborts ("fork() called from a process already using GNU OpenMP").
+    # "spawn", not fork: the potential kernels start an OpenMP thread pool, and a process that
+    # forks after that can hang or abort ("fork() called from a process already using GNU OpenMP").
     ctx = multiprocessing.get_context("spawn")
     from .limits import max_cells
 

@@ -1,0 +1,396 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
+"""Compiled kernels of the grid follower: field sampling and exact segment-vs-cell walks.
+
+Only kernels live here (scalar point samplers shared by :func:`gridfield.follow.follow` and
+:func:`gridfield.follow.follow_many`, and their many-point loops); the follower's logic is in
+:mod:`gridfield.follow`. Arrays follow the grid conventions: ``occ[row, col]`` with row 0 at the
+lowest y, cell ``(j, i)`` covering ``[x0 + i*res, x0 + (i+1)*res)``.
+
+Cython, compiled at install (see "Building the kernels" in ``benchmarks/README.md``). Arrays are
+C-contiguous; ``occ`` is a ``bool`` (or ``uint8``) array, the fields ``float64``. Indices are
+clamped or checked before every access, so bounds checks are off.
+"""
+
+from libc.math cimport floor, isfinite, INFINITY
+
+__all__ = [
+    "_bilinear2",
+    "_blocked_many",
+    "_cell_blocked",
+    "_cell_index",
+    "_cell_values",
+    "_force_at",
+    "_force_many",
+    "_nearest2",
+    "_segment_blocked",
+    "entry_point",
+]
+
+ctypedef const unsigned char[:, ::1] occ_t
+ctypedef const double[:, ::1] arr_t
+
+
+cdef inline Py_ssize_t _imin(Py_ssize_t a, Py_ssize_t b) noexcept nogil:
+    return a if a < b else b
+
+
+cdef inline Py_ssize_t _imax(Py_ssize_t a, Py_ssize_t b) noexcept nogil:
+    return a if a > b else b
+
+
+cdef inline long long _cidx(double v, double origin, double res) noexcept nogil:
+    # the rule of gridfield.grid._scalar_index (Grid.world_to_cell), in the same IEEE double arithmetic
+    cdef long long i = <long long>floor((v - origin) / res)
+    if v >= origin + <double>(i + 1) * res:
+        i += 1
+    if v < origin + <double>i * res:
+        i -= 1
+    return i
+
+
+cdef inline void _c_bilinear2(arr_t a, arr_t b, occ_t occ, double x0, double y0, double res, double x, double y,
+                              double* ra, double* rb) noexcept nogil:
+    cdef Py_ssize_t rows = occ.shape[0], cols = occ.shape[1]
+    cdef double u = (x - x0) / res - 0.5
+    cdef double v = (y - y0) / res - 0.5
+    if not (u >= 0.0):  # also NaN
+        u = 0.0
+    if u > cols - 1.0:
+        u = cols - 1.0
+    if not (v >= 0.0):
+        v = 0.0
+    if v > rows - 1.0:
+        v = rows - 1.0
+    cdef Py_ssize_t i0 = <Py_ssize_t>u
+    cdef Py_ssize_t j0 = <Py_ssize_t>v
+    cdef Py_ssize_t i1 = _imin(i0 + 1, cols - 1)
+    cdef Py_ssize_t j1 = _imin(j0 + 1, rows - 1)
+    cdef double fu = u - i0
+    cdef double fv = v - j0
+    cdef double sa = 0.0, sb = 0.0, sw = 0.0, w
+    w = (1.0 - fu) * (1.0 - fv)
+    if w > 0.0 and not occ[j0, i0]:
+        sa += w * a[j0, i0]
+        sb += w * b[j0, i0]
+        sw += w
+    w = fu * (1.0 - fv)
+    if w > 0.0 and not occ[j0, i1]:
+        sa += w * a[j0, i1]
+        sb += w * b[j0, i1]
+        sw += w
+    w = (1.0 - fu) * fv
+    if w > 0.0 and not occ[j1, i0]:
+        sa += w * a[j1, i0]
+        sb += w * b[j1, i0]
+        sw += w
+    w = fu * fv
+    if w > 0.0 and not occ[j1, i1]:
+        sa += w * a[j1, i1]
+        sb += w * b[j1, i1]
+        sw += w
+    if sw > 0.0:
+        ra[0] = sa / sw
+        rb[0] = sb / sw
+        return
+    # every corner with weight is occupied: the nearest free corner, if any, else 0
+    cdef double best = 4.0, dd
+    cdef Py_ssize_t jj, ii, p, q
+    ra[0] = 0.0
+    rb[0] = 0.0
+    for p in range(2):
+        jj = j0 if p == 0 else j1
+        for q in range(2):
+            ii = i0 if q == 0 else i1
+            if not occ[jj, ii]:
+                dd = (ii - u) * (ii - u) + (jj - v) * (jj - v)
+                if dd < best:
+                    best = dd
+                    ra[0] = a[jj, ii]
+                    rb[0] = b[jj, ii]
+
+
+cdef inline void _c_nearest2(arr_t a, arr_t b, occ_t occ, double x0, double y0, double res, double x, double y,
+                             double* ra, double* rb) noexcept nogil:
+    cdef Py_ssize_t rows = occ.shape[0], cols = occ.shape[1]
+    ra[0] = 0.0
+    rb[0] = 0.0
+    if not (isfinite(x) and isfinite(y)):
+        return
+    cdef Py_ssize_t i = <Py_ssize_t>_imin(_imax(<Py_ssize_t>_cidx(x, x0, res), 0), cols - 1)
+    cdef Py_ssize_t j = <Py_ssize_t>_imin(_imax(<Py_ssize_t>_cidx(y, y0, res), 0), rows - 1)
+    if occ[j, i]:
+        return
+    ra[0] = a[j, i]
+    rb[0] = b[j, i]
+
+
+cdef inline void _c_force(arr_t gx, arr_t gy, occ_t occ, double x0, double y0, double res, bint nearest,
+                          double x, double y, double* fx, double* fy) noexcept nogil:
+    cdef double vx, vy
+    if nearest:
+        _c_nearest2(gx, gy, occ, x0, y0, res, x, y, &vx, &vy)
+    else:
+        _c_bilinear2(gx, gy, occ, x0, y0, res, x, y, &vx, &vy)
+    fx[0] = -vx
+    fy[0] = -vy
+
+
+def _bilinear2(arr_t a, arr_t b, occ_t occ, double x0, double y0, double res, double x, double y):
+    """Bilinear interpolation of two arrays among the free corner cells (renormalized), clamped."""
+    cdef double ra, rb
+    _c_bilinear2(a, b, occ, x0, y0, res, x, y, &ra, &rb)
+    return ra, rb
+
+
+def _nearest2(arr_t a, arr_t b, occ_t occ, double x0, double y0, double res, double x, double y):
+    """Values of two arrays in the cell containing the point (clamped to the grid); 0 on obstacles."""
+    cdef double ra, rb
+    _c_nearest2(a, b, occ, x0, y0, res, x, y, &ra, &rb)
+    return ra, rb
+
+
+def _force_at(arr_t gx, arr_t gy, occ_t occ, double x0, double y0, double res, bint nearest, double x, double y):
+    """``-(grad_x, grad_y)`` sampled at one point (``nearest`` cell, else bilinear)."""
+    cdef double fx, fy
+    _c_force(gx, gy, occ, x0, y0, res, nearest, x, y, &fx, &fy)
+    return fx, fy
+
+
+def _force_many(arr_t gx, arr_t gy, occ_t occ, double x0, double y0, double res, bint nearest,
+                const double[::1] xs, const double[::1] ys, double[::1] fx, double[::1] fy):
+    """:func:`_force_at` at many points, into ``fx``, ``fy``."""
+    cdef Py_ssize_t k
+    with nogil:
+        for k in range(xs.shape[0]):
+            _c_force(gx, gy, occ, x0, y0, res, nearest, xs[k], ys[k], &fx[k], &fy[k])
+
+
+def _cell_index(double v, double origin, double res):
+    """World coordinate -> cell index, the rule of :meth:`gridfield.grid.Grid.world_to_cell` (the very
+    rule of :func:`gridfield.grid._scalar_index`, compiled)."""
+    return _cidx(v, origin, res)
+
+
+def _cell_values(arr_t a, double x0, double y0, double res, const double[::1] xs, const double[::1] ys,
+                 double[::1] out, unsigned char[::1] inside):
+    """``a`` at the cells containing the points, clamped to the grid; whether each point is inside."""
+    cdef Py_ssize_t rows = a.shape[0], cols = a.shape[1], k
+    cdef long long i, j
+    with nogil:
+        for k in range(xs.shape[0]):
+            i = _cidx(xs[k], x0, res)
+            j = _cidx(ys[k], y0, res)
+            inside[k] = 0 <= i < cols and 0 <= j < rows
+            out[k] = a[_imin(_imax(<Py_ssize_t>j, 0), rows - 1), _imin(_imax(<Py_ssize_t>i, 0), cols - 1)]
+
+
+cdef inline bint _c_cell_blocked(occ_t occ, bint wall, long long i, long long j) noexcept nogil:
+    if i < 0 or j < 0 or i >= occ.shape[1] or j >= occ.shape[0]:
+        return wall
+    return occ[j, i] != 0
+
+
+def _cell_blocked(occ_t occ, bint wall, long long i, long long j):
+    """Whether cell ``(j, i)`` is occupied; outside the grid: ``wall``."""
+    return _c_cell_blocked(occ, wall, i, j)
+
+
+cdef inline long long _lclamp(double v, long long hi) noexcept nogil:
+    cdef long long f = <long long>floor(v)
+    if f < 0:
+        f = 0
+    if f > hi:
+        f = hi
+    return f
+
+
+cdef bint _c_segment_blocked(occ_t occ, double x0, double y0, double res, bint wall, double xa, double ya,
+                             double xb, double yb) noexcept nogil:
+    if not (isfinite(xa) and isfinite(ya) and isfinite(xb) and isfinite(yb)):
+        return True
+    cdef long long rows = occ.shape[0], cols = occ.shape[1]
+    cdef double u0 = (xa - x0) / res
+    cdef double v0 = (ya - y0) / res
+    cdef double u1 = (xb - x0) / res
+    cdef double v1 = (yb - y0) / res
+    # cells by the grid's own rule (GridMap.is_free agrees); the walk's crossings use u, v
+    cdef long long i = _cidx(xa, x0, res)
+    cdef long long j = _cidx(ya, y0, res)
+    cdef long long ie = _cidx(xb, x0, res)
+    cdef long long je = _cidx(yb, y0, res)
+    cdef bint out_a = i < 0 or j < 0 or i >= cols or j >= rows
+    cdef bint out_b = ie < 0 or je < 0 or ie >= cols or je >= rows
+    cdef double du, dv, t0, t1, p, q, ua, va, ub, vb
+    cdef int k
+    if wall and (out_a or out_b):
+        return True
+    if out_a or out_b:  # open border: only the part inside the grid can be blocked (Liang-Barsky clip)
+        du = u1 - u0
+        dv = v1 - v0
+        t0 = 0.0
+        t1 = 1.0
+        for k in range(4):
+            if k == 0:
+                p = -du
+                q = u0
+            elif k == 1:
+                p = du
+                q = cols - u0
+            elif k == 2:
+                p = -dv
+                q = v0
+            else:
+                p = dv
+                q = rows - v0
+            if p == 0.0:
+                if q < 0.0:
+                    return False
+            elif p < 0.0:
+                t0 = max(t0, q / p)
+            else:
+                t1 = min(t1, q / p)
+        if t0 > t1:
+            return False
+        ua = u0 + t0 * du
+        va = v0 + t0 * dv
+        ub = u0 + t1 * du
+        vb = v0 + t1 * dv
+        if out_a:
+            u0 = ua
+            v0 = va
+            i = _lclamp(ua, cols - 1)
+            j = _lclamp(va, rows - 1)
+        if out_b:
+            u1 = ub
+            v1 = vb
+            ie = _lclamp(ub, cols - 1)
+            je = _lclamp(vb, rows - 1)
+    if _c_cell_blocked(occ, wall, i, j):
+        return True
+    du = u1 - u0
+    dv = v1 - v0
+    cdef long long si = 1 if du > 0 else -1
+    cdef long long sj = 1 if dv > 0 else -1
+    cdef double tmx, tdx, tmy, tdy
+    if du > 0:
+        tmx = (i + 1 - u0) / du
+        tdx = 1.0 / du
+    elif du < 0:
+        tmx = (u0 - i) / -du
+        tdx = -1.0 / du
+    else:
+        tmx = INFINITY
+        tdx = INFINITY
+    if dv > 0:
+        tmy = (j + 1 - v0) / dv
+        tdy = 1.0 / dv
+    elif dv < 0:
+        tmy = (v0 - j) / -dv
+        tdy = -1.0 / dv
+    else:
+        tmy = INFINITY
+        tdy = INFINITY
+    cdef long long n = (ie - i if ie >= i else i - ie) + (je - j if je >= j else j - je), s
+    for s in range(n + 2):
+        if i == ie and j == je:
+            return False
+        if tmx > 1.0 and tmy > 1.0:
+            return False
+        if tmx < tmy:
+            i += si
+            tmx += tdx
+        elif tmy < tmx:
+            j += sj
+            tmy += tdy
+        else:  # through a corner: the two side cells touch the segment
+            if _c_cell_blocked(occ, wall, i + si, j) or _c_cell_blocked(occ, wall, i, j + sj):
+                return True
+            i += si
+            j += sj
+            tmx += tdx
+            tmy += tdy
+        if _c_cell_blocked(occ, wall, i, j):
+            return True
+    return False
+
+
+def _segment_blocked(occ_t occ, double x0, double y0, double res, bint wall, double xa, double ya, double xb,
+                     double yb):
+    """Whether the segment crosses (or touches at a corner) an occupied cell, or a wall outside the grid.
+
+    An exact cell walk (Amanatides & Woo): every cell whose interior the segment crosses is checked;
+    where the segment passes exactly through a cell corner, both side cells are checked too.
+    """
+    return _c_segment_blocked(occ, x0, y0, res, wall, xa, ya, xb, yb)
+
+
+def _blocked_many(occ_t occ, double x0, double y0, double res, bint wall, const double[::1] xa,
+                  const double[::1] ya, const double[::1] xb, const double[::1] yb, unsigned char[::1] out):
+    """:func:`_segment_blocked` for many segments, into ``out`` (``bool``)."""
+    cdef Py_ssize_t k
+    with nogil:
+        for k in range(xa.shape[0]):
+            out[k] = _c_segment_blocked(occ, x0, y0, res, wall, xa[k], ya[k], xb[k], yb[k])
+
+
+# ----------------------------------------------------------------------------------------------
+# bound scalar samplers: the arrays' buffers are taken once, each call passes only the point
+# ----------------------------------------------------------------------------------------------
+cdef class _BoundSampler:
+    """``kern(*args)`` of a scalar sampler whose arrays were bound at creation (see :func:`entry_point`):
+    the array arguments of each call must be the very objects bound (checked by identity; any other
+    array goes through the plain function)."""
+    cdef object fn
+    cdef object oa, ob, oocc
+    cdef arr_t a, b
+    cdef occ_t occ
+    cdef int kind  # 0 force, 1 bilinear2, 2 nearest2, 3 segment
+
+    def __init__(self, fn, int kind, a, b, occ):
+        self.fn = fn
+        self.kind = kind
+        self.oocc = occ
+        self.occ = occ
+        if kind != 3:
+            self.oa = a
+            self.ob = b
+            self.a = a
+            self.b = b
+
+    def __call__(self, *args):
+        cdef double fx, fy
+        cdef Py_ssize_t n = len(args)
+        if self.kind == 0:
+            if n == 9 and args[0] is self.oa and args[1] is self.ob and args[2] is self.oocc:
+                _c_force(self.a, self.b, self.occ, args[3], args[4], args[5], args[6], args[7], args[8], &fx, &fy)
+                return fx, fy
+        elif self.kind == 1 or self.kind == 2:
+            if n == 8 and args[0] is self.oa and args[1] is self.ob and args[2] is self.oocc:
+                if self.kind == 1:
+                    _c_bilinear2(self.a, self.b, self.occ, args[3], args[4], args[5], args[6], args[7], &fx, &fy)
+                else:
+                    _c_nearest2(self.a, self.b, self.occ, args[3], args[4], args[5], args[6], args[7], &fx, &fy)
+                return fx, fy
+        elif n == 9 and args[0] is self.oocc:
+            return _c_segment_blocked(self.occ, args[1], args[2], args[3], args[4], args[5], args[6], args[7],
+                                      args[8])
+        return self.fn(*args)
+
+
+def entry_point(dispatcher, *args):
+    """A fast callable for repeated calls of a scalar kernel with the same arrays.
+
+    Calls ``dispatcher(*args)`` once (so that bad arguments fail here), then returns a callable with
+    ``dispatcher``'s signature that takes the arrays' buffers once: later calls with the same array
+    objects pay only for the scalar arguments. Other kernels are returned as they are.
+    """
+    dispatcher(*args)
+    if dispatcher is _force_at:
+        return _BoundSampler(dispatcher, 0, args[0], args[1], args[2])
+    if dispatcher is _bilinear2:
+        return _BoundSampler(dispatcher, 1, args[0], args[1], args[2])
+    if dispatcher is _nearest2:
+        return _BoundSampler(dispatcher, 2, args[0], args[1], args[2])
+    if dispatcher is _segment_blocked:
+        return _BoundSampler(dispatcher, 3, None, None, args[0])
+    return dispatcher

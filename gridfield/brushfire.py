@@ -37,7 +37,7 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from functools import partial
 from types import ModuleType
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -531,13 +531,14 @@ def brushfire(
         strips = _Strips(k, occ8, flat[:-1].reshape(shape), 1 if nthreads <= 1 else min(rows, 8 * nthreads))
         tasks += strips.tasks()
     if separate_steps and want_steps:  # the steps by the connectivity's metric, the distance by another
-        chamfers.append(_Chamfer(k, occ8, wall, step8, steps, distance, res, False, None, nthreads))
+        chamfers.append(_Chamfer(k, occ8, wall, step8, cast("NDArray[np.int32]", steps), distance, res, False, None,
+                                 nthreads))
     if metric == "euclidean":
         key: NDArray[np.int32] | NDArray[np.float64] = distance  # what orders the cells for the GVD
         vr = np.empty(shape, np.int32)  # column pass result, becomes nearest_row
         tasks += _chunks(k.column_block, cols, nthreads, occ8, wall, vr, min_size=64)
     else:
-        key = np.empty(shape, np.int32) if separate_steps else steps
+        key = np.empty(shape, np.int32) if separate_steps else cast("NDArray[np.int32]", steps)
         nearest = None
         if want_nearest or want_label:  # labels are looked up at the nearest obstacle
             nearest_row, nearest_col = np.empty(shape, np.int32), np.empty(shape, np.int32)

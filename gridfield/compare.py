@@ -684,7 +684,7 @@ def _random_pairs(world: World, gm: Any, n: int, rng: np.random.Generator, margi
                   optimum: Callable[[NDArray[np.float64], NDArray[np.float64]], float]
                   ) -> list[tuple[NDArray[np.float64], NDArray[np.float64], float]]:
     xmin, ymin, xmax, ymax = world.bounds
-    pairs = []
+    pairs: list[tuple[NDArray[np.float64], NDArray[np.float64], float]] = []
     tries = 0
     while len(pairs) < n:
         tries += 1

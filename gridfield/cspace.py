@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import cast
 
 import numpy as np
 import shapely
@@ -715,7 +716,8 @@ def apply_robot(target: World | GridMap, robot: Robot | float | ArrayLike | None
     if isinstance(target, World):
         if r is None or r.is_point:
             return dataclasses.replace(target, robot=None)
-        grown = inflate_world(target, r.radius) if r.radius is not None else cspace_world(target, r.vertices)
+        grown = (inflate_world(target, r.radius) if r.radius is not None
+                 else cspace_world(target, cast("NDArray[np.float64]", r.vertices)))
         return dataclasses.replace(grown, obstacles=(*grown.obstacles, *_wall_strips(target, r)), robot=None)
     if not isinstance(target, GridMap):
         raise ParameterError(f"apply_robot needs a World or a GridMap, got {type(target).__name__}")

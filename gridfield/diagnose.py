@@ -94,7 +94,7 @@ def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None) -> d
     goal_basin = False
     if cell is not None and free[cell]:
         sink = esc.sink
-        out["basin_share"] = float(np.count_nonzero(sink == sink[cell]) / max(np.count_nonzero(free), 1))
+        out["basin_share"] = float(np.count_nonzero(sink == sink[cell]) / max(int(np.count_nonzero(free)), 1))
         gcell = grid.cell_of(float(field.goal[0]), float(field.goal[1]))
         goal_basin = gcell is not None and bool(sink[gcell] == sink[cell])
     else:

@@ -604,7 +604,7 @@ def descend(
             ys.append(gy)
         elif navigate is not None:  # the straight hop is blocked: down the navigation function instead
             hop = navigate((x, y), final=True)
-            if hop and all(not blocked(a, b) for a, b in zip([(x, y), *hop[:-1]], hop, strict=True)):
+            if hop and blocked is not None and all(not blocked(a, b) for a, b in zip([(x, y), *hop[:-1]], hop, strict=True)):
                 xs.extend(q[0] for q in hop)
                 ys.extend(q[1] for q in hop)
                 ok = True

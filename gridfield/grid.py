@@ -13,8 +13,9 @@ Conventions (written once, used everywhere in gridfield):
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Literal, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -41,7 +42,7 @@ def _check_shape(shape: object) -> tuple[int, int]:
     """``shape`` as two positive Python ints, or :class:`ParameterError`."""
     msg = f"grid shape must be two positive integers (rows, cols), got {shorten(shape)}"
     try:
-        dims = tuple(shape)  # type: ignore[call-overload]
+        dims = tuple(cast("Iterable[object]", shape))
     except TypeError:
         raise ParameterError(msg) from None
     if len(dims) != 2:
@@ -246,7 +247,7 @@ class Grid:
         x0, y0 = self.origin
         xs = x0 + (np.arange(self.cols) + 0.5) * self.resolution
         ys = y0 + (np.arange(self.rows) + 0.5) * self.resolution
-        return xs, ys
+        return np.asarray(xs, dtype=np.float64), np.asarray(ys, dtype=np.float64)
 
 
 @dataclass(frozen=True, eq=False)

@@ -324,17 +324,18 @@ def _read_pillow(p: FsPath, data: bytes) -> _Pixels:
                 im.load()
                 fmt = im.format or "image"
                 mode = im.mode
+                img: Image.Image = im
                 if mode == "P":
-                    im = im.convert("RGBA" if "transparency" in im.info else "RGB")
+                    img = img.convert("RGBA" if "transparency" in im.info else "RGB")
                 elif mode == "PA":
-                    im = im.convert("RGBA")
+                    img = img.convert("RGBA")
                 elif mode == "1":
-                    im = im.convert("L")
+                    img = img.convert("L")
                 elif mode == "LA":
-                    im = im.convert("RGBA")
+                    img = img.convert("RGBA")
                 elif mode in ("RGBX", "CMYK", "YCbCr", "LAB", "HSV"):
-                    im = im.convert("RGB")
-                arr = np.asarray(im)
+                    img = img.convert("RGB")
+                arr = np.asarray(img)
         except UnidentifiedImageError:
             raise MapFormatError(f"{p}: not a readable image (expected a PNG, PGM or BMP file)") from None
         except GridfieldError:
@@ -1022,7 +1023,7 @@ def write_npz(path: PathLike, arrays: Mapping[str, NDArray[Any]], grid: Grid) ->
     """
     if not isinstance(grid, Grid):
         raise ParameterError(f"grid must be a gridfield Grid, got {type(grid).__name__}")
-    out: dict[str, NDArray[Any]] = {}
+    out: dict[str, Any] = {}  # arrays; Any so that **out is not matched against savez's allow_pickle
     for name, value in arrays.items():
         if not isinstance(name, str) or not name.isidentifier() or name in _NPZ_RESERVED:
             raise ParameterError(

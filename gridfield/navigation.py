@@ -35,7 +35,7 @@ import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any, Literal
+from typing import Any, Literal, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -69,7 +69,7 @@ SQRT2 = math.sqrt(2.0)
 
 @functools.cache
 def _kernels() -> Any:
-    from . import _kernels_navigation
+    from . import _kernels_navigation  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _kernels_navigation
 
@@ -1064,7 +1064,7 @@ def _common(params: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def _plan_grid(nav: NavigationField, start: NDArray[np.float64], params: Mapping[str, Any], name: str,
-               field_seconds: float, method: str = "auto") -> Path:
+               field_seconds: float, method: Literal["auto", "descent", "gradient"] = "auto") -> Path:
     p = extract_path(nav, start, method=method, step=params.get("step"), tolerance=params.get("tolerance"),
                      max_iterations=params.get("max_iterations"), planner=name)
     extra = dict(p.extra)
@@ -1190,7 +1190,7 @@ def navigation_field(gridmap: GridMap, goal: ArrayLike, planner_name: str,
         c0, r0 = _workspace(world, p.get("workspace_center"), p.get("workspace_radius"))
         _check_sphere_world(discs, c0, r0)
         g = np.asarray(goal, dtype=float).reshape(-1)
-        world.check_point("goal", g)
+        cast(Any, world).check_point("goal", g)  # GridMap.world is typed object (no import cycle)
         kappa = float(p.get("kappa", len(discs) + 1))
         phi, grad = sphere_nav_function(discs, g, kappa=kappa, workspace_center=c0, workspace_radius=r0,
                                         grid=gridmap.grid)

@@ -213,7 +213,7 @@ def _occupancy_layer(ax: Axes, gm: GridMap, *, alpha: float = 1.0, zorder: float
     from matplotlib.colors import ListedColormap
 
     if free_color is None:
-        data = np.ma.masked_array(np.ones(gm.shape), mask=~gm.occupied)
+        data: NDArray[Any] = np.ma.masked_array(np.ones(gm.shape), mask=~gm.occupied)
         cmap = ListedColormap([OCCUPIED_COLOR])
         vmin, vmax = 0.5, 1.5
     else:
@@ -230,7 +230,8 @@ def _draw_outlines(ax: Axes, world: World, *, color: str = OUTLINE_COLOR, zorder
     from matplotlib.patches import Circle
     from matplotlib.patches import Polygon as MplPolygon
 
-    patches, segments, points = [], [], []
+    patches: list[Any] = []  # matplotlib Circle and Polygon patches
+    segments, points = [], []
     for ob in world.obstacles:
         if ob.kind == "circle" and ob.center is not None and ob.radius is not None:
             patches.append(Circle(ob.center, ob.radius))
@@ -342,7 +343,8 @@ def _draw_endpoints(ax: Axes, art: Artists, start: NDArray[np.float64] | None, g
 def _legend(ax: Axes, art: Artists, *, loc: str = "best", fontsize: float = 8.0) -> None:
     handles, labels = ax.get_legend_handles_labels()
     if handles:
-        art.legend = ax.legend(handles, labels, loc=loc, fontsize=fontsize, framealpha=0.85)
+        art.legend = ax.legend(handles, labels, loc=loc, fontsize=fontsize,  # type: ignore[call-overload]
+                              framealpha=0.85)
 
 
 def _finite_levels(lo: float, hi: float, n: int) -> NDArray[np.float64]:
@@ -516,7 +518,7 @@ def plot_brushfire(
         inv = inv.reshape(lab.shape)
         import matplotlib as mpl
 
-        base = mpl.colormaps["tab20"].colors
+        base = mpl.colormaps["tab20"].colors  # type: ignore[attr-defined]  # a ListedColormap
         lcmap = ListedColormap([base[i % len(base)] for i in range(len(uniq))])
         art.extra["labels"] = ax.imshow(np.ma.masked_array(inv, mask=occ | (lab == 0)), origin="lower",
                                         extent=grid.extent, cmap=lcmap, vmin=-0.5, vmax=len(uniq) - 0.5,
@@ -778,7 +780,7 @@ def plot_surface(
         cap = umin + 1.0
     if ax is None:
         ax = _new_axes(None, projection="3d", figsize=(7.5, 6.0))
-        ax.view_init(elev=38, azim=-62)
+        ax.view_init(elev=38, azim=-62)  # type: ignore[attr-defined]  # a 3-D Axes
     elif getattr(ax, "name", "") != "3d":
         raise ParameterError("plot_surface needs a 3-D axes: create it with fig.add_subplot(projection='3d')")
     art = Artists(ax)
@@ -786,7 +788,7 @@ def plot_surface(
     xs, ys = grid.cell_centers()
     z = np.clip(np.where(finite, u, cap), umin, cap)[::stride, ::stride]
     x, y = np.meshgrid(xs[::stride], ys[::stride])
-    art.surface = ax.plot_surface(x, y, z, cmap=cmap, vmin=umin, vmax=cap, linewidth=0, antialiased=False,
+    art.surface = ax.plot_surface(x, y, z, cmap=cmap, vmin=umin, vmax=cap, linewidth=0, antialiased=False,  # type: ignore[attr-defined]  # matplotlib stubs: a 3-D Axes / Agg canvas / Polygon patch at runtime
                                   rstride=1, cstride=1, alpha=0.9)
     art.mappable = art.surface
     art.extra["stride"] = stride
@@ -798,10 +800,10 @@ def plot_surface(
         (line,) = ax.plot(path.points[:, 0], path.points[:, 1], pz, color="tab:red", linewidth=2.2, zorder=10,
                           label=_path_label(path))
         art.paths.append(line)
-    ax.set_zlim(umin, cap)
+    ax.set_zlim(umin, cap)  # type: ignore[attr-defined]  # matplotlib stubs: a 3-D Axes / Agg canvas / Polygon patch at runtime
     ax.set_xlabel("x")
     ax.set_ylabel("y")
-    ax.set_zlabel("U")
+    ax.set_zlabel("U")  # type: ignore[attr-defined]  # matplotlib stubs: a 3-D Axes / Agg canvas / Polygon patch at runtime
     ax.set_title(title if title is not None else "potential surface")
     return art
 
@@ -855,7 +857,7 @@ def plot_star_world(
 
     def surface(pos: int, z: NDArray[np.float64], label: str, panel_title: str, cmap: str) -> Artists:
         ax = fig.add_subplot(2, 2, pos, projection="3d")
-        ax.view_init(elev=38, azim=-62)
+        ax.view_init(elev=38, azim=-62)  # type: ignore[attr-defined]  # a 3-D Axes
         zz = np.asarray(z, dtype=float)[::stride, ::stride]
         finite = np.isfinite(zz)
         lo = float(zz[finite].min()) if finite.any() else 0.0
@@ -1106,7 +1108,7 @@ def plot_convergence(
     1
     >>> import matplotlib.pyplot as plt; plt.close("all")
     """
-    seq = list(resolutions)
+    seq: list[Any] = list(resolutions)
     if errors is None:
         if not seq or not all(isinstance(r, Mapping) for r in seq):
             raise ParameterError("plot_convergence needs resolutions and an errors mapping, or a list of row dicts")
@@ -1296,15 +1298,15 @@ def _write_animation(fig: Figure, update: Callable[[int], None], n_frames: int, 
     for a in animated:
         a.set_animated(True)
     canvas.draw()
-    background = canvas.copy_from_bbox(fig.bbox)
+    background = canvas.copy_from_bbox(fig.bbox)  # type: ignore[attr-defined]  # matplotlib stubs: a 3-D Axes / Agg canvas / Polygon patch at runtime
     frames = []
     palette = None
     for k in range(n_frames):
         update(k)
-        canvas.restore_region(background)
+        canvas.restore_region(background)  # type: ignore[attr-defined]  # matplotlib stubs: a 3-D Axes / Agg canvas / Polygon patch at runtime
         for a in animated:
             fig.draw_artist(a)
-        rgb = Image.fromarray(np.asarray(canvas.buffer_rgba())[..., :3])
+        rgb = Image.fromarray(np.asarray(canvas.buffer_rgba())[..., :3])  # type: ignore[attr-defined]  # matplotlib stubs: a 3-D Axes / Agg canvas / Polygon patch at runtime
         if palette is None:
             palette = rgb.quantize(colors=255, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
         frames.append(rgb.quantize(palette=palette, dither=Image.Dither.NONE))
@@ -1387,7 +1389,7 @@ def save_plan_animation(
         trail.set_data(pts[: i + 1, 0], pts[: i + 1, 1])
         robot.set_offsets(pts[i : i + 1])
         if body is not None:
-            body.set_xy(outline + pts[i])
+            body.set_xy(outline + pts[i])  # type: ignore[attr-defined]  # matplotlib stubs: a 3-D Axes / Agg canvas / Polygon patch at runtime
         last = k == len(idx) - 1
         title.set_text(f"{path.planner}: step {i}/{len(pts) - 1}" + (f" — {path.status}" if last else ""))
         stall_marker.set_visible(last)

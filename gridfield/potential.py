@@ -75,12 +75,12 @@ import math
 import os
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import _kernels_potential as _kp
+from . import _kernels_potential as _kp  # type: ignore[attr-defined]  # a compiled extension, no stubs
 from .brushfire import DistanceMap, brushfire
 from .errors import GridfieldError, MapFormatError, ParameterError
 from .grid import Grid, GridMap
@@ -615,7 +615,7 @@ def _circles_of(obj: Any) -> NDArray[np.float64]:
             raise ParameterError(
                 f"the vortex model (seed 003) samples charges on circles; obstacle {bad[0].id} is a {bad[0].kind}"
             )
-        return np.array([(*ob.center, ob.radius) for ob in obj.obstacles], dtype=np.float64).reshape(-1, 3)
+        return np.array([(*cast("tuple[float, float]", ob.center), ob.radius) for ob in obj.obstacles], dtype=np.float64).reshape(-1, 3)
     c = np.asarray(obj, dtype=np.float64)
     if c.ndim != 2 or c.shape[1] != 3 or not np.all(np.isfinite(c)) or np.any(c[:, 2] <= 0):
         raise ParameterError(f"circles must be rows (cx, cy, radius) with radius > 0, got {obj!r}")
@@ -737,7 +737,7 @@ def _np_gradient(V: NDArray[np.float64], h: float) -> tuple[NDArray[np.float64],
     if min(V.shape) < 2:
         raise ParameterError(f"the vortex lattice needs at least 2 x 2 nodes, got {V.shape}")
     gy, gx = np.gradient(V, h, h)
-    return gy, gx
+    return np.asarray(gy, dtype=np.float64), np.asarray(gx, dtype=np.float64)
 
 
 def _circle_occupancy(grid: Grid, circles: NDArray[np.float64]) -> NDArray[np.bool_]:

@@ -219,8 +219,8 @@ def _geometry_mask(grid: Grid, win: tuple[int, int, int, int], geom: BaseGeometr
     ye = _edges(r0, r1, grid.origin[1], res)
     boundary, fill = _segments_of(geom)
     if len(fill):
-        xc = grid.origin[0] + (np.arange(c0, c1 + 1) + 0.5) * res
-        yc = grid.origin[1] + (np.arange(r0, r1 + 1) + 0.5) * res
+        xc = np.asarray(grid.origin[0] + (np.arange(c0, c1 + 1) + 0.5) * res, dtype=np.float64)
+        yc = np.asarray(grid.origin[1] + (np.arange(r0, r1 + 1) + 0.5) * res, dtype=np.float64)
         mask = _fill_centres(fill, xc, yc)
     else:
         mask = np.zeros((r1 - r0 + 1, c1 - c0 + 1), bool)

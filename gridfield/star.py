@@ -62,7 +62,7 @@ import time
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -455,7 +455,8 @@ def _betas_from(sw: StarWorld, p: NDArray[np.float64], gauges: list[tuple[NDArra
 _EYE = np.eye(2)
 
 
-def star_to_sphere(sw: StarWorld, q: ArrayLike, lam: float) -> tuple[NDArray[np.float64], ...]:
+def star_to_sphere(sw: StarWorld, q: ArrayLike, lam: float
+                   ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
     """``h_lambda(q)`` ``(N, 2)``, its Jacobian ``(N, 2, 2)`` (``J[n, a, b] = d h_a / d q_b``), the
     switches ``s_i`` ``(M, N)`` and the free mask ``(N,)``; NaN outside the free space.
 
@@ -590,7 +591,7 @@ def _log_objective(sw: StarWorld, q: NDArray[np.float64], kappa: float, lam: flo
     gamma, log_beta, _, _, valid = _model_terms(sw, np.where(free[:, None], h, sw.goal + 0.5 * sw.workspace_radius))
     with np.errstate(divide="ignore"):
         f = kappa * np.log(gamma) - log_beta
-    return np.where(free & valid, f, np.inf)
+    return np.where(free & cast("NDArray[np.bool_]", valid), f, np.inf)
 
 
 def folds(sw: StarWorld, *, lam: float, n: int = 121) -> NDArray[np.float64]:

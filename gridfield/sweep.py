@@ -84,7 +84,7 @@ class Run:
         return json.dumps(d, sort_keys=True)
 
     @property
-    def key(self) -> tuple[str, str, str, str, str, str, str]:
+    def key(self) -> tuple[str, ...]:
         """Identity of the run in the rows file (used to resume)."""
         return (self.map, self.planner, self.params_json, *(f"{v:.9g}" for v in (*self.start, *self.goal)))
 
@@ -254,7 +254,7 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
         robot = _robot_key(entry, spec, w)
         if resolution is not None:
             try:
-                resolution = check_positive("resolution", resolution if isinstance(resolution, int | float) and not
+                resolution = check_positive("resolution", resolution if isinstance(resolution, int | float) and not  # type: ignore[arg-type]  # "" is rejected by check_positive on purpose
                                             isinstance(resolution, bool) else "")
             except ParameterError:
                 raise MapFormatError(f"{w}.resolution: must be a positive finite number, got {shorten(resolution)}") from None
@@ -527,7 +527,7 @@ class _Journal:
             import msvcrt
 
             try:
-                msvcrt.locking(fd, msvcrt.LK_NBLCK, 1)
+                msvcrt.locking(fd, msvcrt.LK_NBLCK, 1)  # type: ignore[attr-defined]  # msvcrt: Windows only
             except OSError:
                 raise busy from None
             return
@@ -830,8 +830,8 @@ def run_sweep(
                         close()  # stops the workers now if the loop ended early
         return [dict(r) for r in journal.rows]
     finally:
-        for sig, old in handlers.items():
-            signal.signal(sig, old)
+        for signum, old in handlers.items():
+            signal.signal(signum, old)
         journal.close()
 
 

@@ -588,7 +588,7 @@ def visibility_graph(world: World, *, pinch: str = "block") -> VisibilityGraph:
     edge_tree = shapely.STRtree(edges_geom)
     vtree = cKDTree(rv) if len(rv) else None
     special = np.zeros(len(rv), dtype=bool)
-    if len(rv):
+    if vtree is not None:
         counts = np.asarray([len(g) for g in vtree.query_ball_point(rv, tol)])
         special |= counts > 1
         vi, ej = edge_tree.query(shapely.points(rv), predicate="dwithin", distance=tol)

@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import shapely
@@ -216,7 +216,7 @@ class World:
 
     bounds: tuple[float, float, float, float]
     obstacles: tuple[Obstacle, ...]
-    border: str = "open"
+    border: Literal["open", "wall"] = "open"
     start: tuple[float, float] | None = None
     goal: tuple[float, float] | None = None
     params: Mapping[str, Any] = field(default_factory=dict)

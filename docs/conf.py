@@ -54,5 +54,6 @@ sphinx_gallery_conf = {
     "abort_on_example_error": True,
     "min_reported_time": 1,
     "show_memory": False,
+    "capture_repr": (),  # the last expression (an Artists record) is not printed
     "plot_gallery": "True",
 }

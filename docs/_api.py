@@ -20,6 +20,19 @@ def _is_code(obj: object) -> bool:
     return not isinstance(obj, types.GenericAlias) and (inspect.isclass(obj) or callable(obj))
 
 
+def _comment_of(module: types.ModuleType, name: str) -> str:
+    """The ``#:`` comment lines just above ``name = ...`` in the module's source (autodoc's convention)."""
+    src = inspect.getsource(module).splitlines()
+    for i, line in enumerate(src):
+        if line.startswith(f"{name} = "):
+            notes = []
+            while i > 0 and src[i - 1].startswith("#:"):
+                i -= 1
+                notes.insert(0, src[i][2:].strip())
+            return " ".join(notes)
+    return ""
+
+
 def _page(name: str) -> str:
     module = importlib.import_module(f"gridfield.{name}")
     names = list(getattr(module, "__all__", []))
@@ -37,7 +50,7 @@ def _page(name: str) -> str:
         elif _is_code(obj):
             lines += [f".. autofunction:: {n}", ""]
         elif isinstance(obj, types.GenericAlias):
-            lines += [f".. py:data:: {n}", "", f"   Type alias: ``{obj}``.", ""]
+            lines += [f".. py:data:: {n}", "", f"   {_comment_of(module, n)}", "", f"   Type alias: ``{obj}``.", ""]
         else:
             lines += [f".. autodata:: {n}", "   :no-value:", ""]
     return "\n".join(lines)

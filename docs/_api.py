@@ -1,0 +1,71 @@
+"""Write docs/api/*.rst: one page per public gridfield module, listing its ``__all__``."""
+
+from __future__ import annotations
+
+import importlib
+import inspect
+import types
+from pathlib import Path
+
+# Every public module (private ``_kernels_*`` and the ``cli`` package are implementation details).
+MODULES = [
+    "io", "world", "grid", "limits", "rasterize", "cspace", "brushfire", "incremental", "potential",
+    "params", "follow", "escapes", "diagnose", "navigation", "star", "exact", "visibility", "gridpoly",
+    "anyangle", "planners", "path", "compare", "sweep", "plot", "demo", "explore", "errors",
+]
+
+
+def _is_code(obj: object) -> bool:
+    """A class or a function (not a type alias such as ``tuple[int, int]``, nor a constant)."""
+    return not isinstance(obj, types.GenericAlias) and (inspect.isclass(obj) or callable(obj))
+
+
+def _comment_of(module: types.ModuleType, name: str) -> str:
+    """The ``#:`` comment lines just above ``name = ...`` in the module's source (autodoc's convention)."""
+    src = inspect.getsource(module).splitlines()
+    for i, line in enumerate(src):
+        if line.startswith(f"{name} = "):
+            notes = []
+            while i > 0 and src[i - 1].startswith("#:"):
+                i -= 1
+                notes.insert(0, src[i][2:].strip())
+            return " ".join(notes)
+    return ""
+
+
+def _page(name: str) -> str:
+    module = importlib.import_module(f"gridfield.{name}")
+    names = list(getattr(module, "__all__", []))
+    title = f"gridfield.{name}"
+    lines = [title, "=" * len(title), "", f".. automodule:: gridfield.{name}", "   :no-members:", ""]
+    documented = [n for n in names if _is_code(getattr(module, n))]
+    if documented:
+        lines += [".. currentmodule:: " + f"gridfield.{name}", "", ".. autosummary::", ""]
+        lines += [f"   {n}" for n in documented] + [""]
+    for n in names:
+        obj = getattr(module, n)
+        if inspect.isclass(obj):
+            directive = "autoexception" if issubclass(obj, BaseException) else "autoclass"
+            lines += [f".. {directive}:: {n}", "   :members:", ""]
+        elif _is_code(obj):
+            lines += [f".. autofunction:: {n}", ""]
+        elif isinstance(obj, types.GenericAlias):
+            lines += [f".. py:data:: {n}", "", f"   {_comment_of(module, n)}", "", f"   Type alias: ``{obj}``.", ""]
+        else:
+            lines += [f".. autodata:: {n}", "   :no-value:", ""]
+    return "\n".join(lines)
+
+
+def write_api_pages(out: Path) -> None:
+    """Write one ``.rst`` page per module and an index page; rewrite a file only when it changes."""
+    out.mkdir(exist_ok=True)
+    pages = {f"{name}.rst": _page(name) for name in MODULES}
+    toc = "\n".join(f"   {name}" for name in MODULES)
+    pages["index.rst"] = (
+        "API reference\n=============\n\nOne page per public module, generated from its ``__all__``\n"
+        f"(``docs/_api.py``).\n\n.. toctree::\n   :maxdepth: 1\n\n{toc}\n"
+    )
+    for fname, text in pages.items():
+        path = out / fname
+        if not path.exists() or path.read_text() != text:
+            path.write_text(text)

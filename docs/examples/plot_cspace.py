@@ -1,0 +1,25 @@
+"""
+Seed 004: the configuration space of a robot
+============================================
+
+A triangular robot translating among seed 000's polygons: its C-obstacles are the Minkowski sums
+of the obstacles with the reflected robot (:func:`gridfield.cspace.apply_robot`), and the planners
+move its reference point through the free part of that space.
+"""
+
+import matplotlib.pyplot as plt
+
+from gridfield.cspace import apply_robot
+from gridfield.io import bundled_map, read_world
+from gridfield.planners import plan
+from gridfield.plot import plot_map
+
+world = read_world(bundled_map("seed000.yaml"))
+robot = [(0.0, 0.0), (0.8, 0.0), (0.0, 0.6)]
+cspace = apply_robot(world, robot)
+path = plan("visibility", cspace, world.start, world.goal)
+print(path.status, round(path.length, 3))
+
+fig, axes = plt.subplots(1, 2, figsize=(12, 4.8), layout="constrained")
+plot_map(world, axes[0], resolution=0.1, start=world.start, goal=world.goal, title="workspace")
+plot_map(cspace, axes[1], resolution=0.1, paths=[path], title="configuration space and shortest path")

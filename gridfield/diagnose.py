@@ -117,7 +117,7 @@ def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None) -> d
     tips: list[str] = []
     q_star = float(field.params.get("q_star", math.nan)) if getattr(field, "params", None) else math.nan
     if reachable:
-        passage = _narrowest(esc, field, stall)
+        passage = _narrowest(field, stall)
         if passage is not None:
             clearance, at = passage
             out["passage"] = {"clearance": clearance, "at": at}
@@ -134,7 +134,7 @@ def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None) -> d
     return out
 
 
-def _narrowest(esc: NavigationEscape, field: Any, stall: tuple[float, float]) -> tuple[float, list[float]] | None:
+def _narrowest(field: Any, stall: tuple[float, float]) -> tuple[float, list[float]] | None:
     """``(clearance, point)`` of the passage every path from ``stall`` to the goal must squeeze through:
     the bottleneck clearance ``b``, the largest ``t`` such that the free cells with brushfire distance
     ``>= t`` still join the stall's cell to the goal's (4-connected; around an open border the

@@ -1001,7 +1001,7 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     build = time.perf_counter() - t0
     esc = None if vortex else NavigationEscape(field)
     path = follow(field, s, params=params, navigation=esc)
-    merged = dict(resolve_params(params, unit=gridmap.grid.resolution))
+    merged = dict(resolved)
     merged.update(path.params)
     extra = dict(path.extra)
     extra["build_seconds"] = build

@@ -18,7 +18,6 @@ __all__ = [
     "collect_params",
     "load_gridmap",
     "load_target",
-    "parse_value",
     "robot_target",
 ]
 
@@ -101,30 +100,6 @@ def load_gridmap(args: argparse.Namespace) -> Any:
     from ..rasterize import as_gridmap
 
     return as_gridmap(load_target(args), getattr(args, "resolution", None))
-
-
-def parse_value(text: str) -> Any:
-    """Parse a ``--param`` value: int, float (``inf`` allowed), bool, or string.
-
-    Examples
-    --------
-    >>> parse_value("3"), parse_value("0.5"), parse_value("inf"), parse_value("sum")
-    (3, 0.5, inf, 'sum')
-    """
-    low = text.strip().lower()
-    if low in ("true", "false"):
-        return low == "true"
-    try:
-        return int(text)
-    except ValueError:
-        pass
-    try:
-        v = float(text)
-    except ValueError:
-        return text
-    if math.isnan(v):
-        raise ParameterError(f"parameter value must not be NaN, got {text!r}")
-    return v
 
 
 def add_param_arguments(p: argparse.ArgumentParser) -> None:

@@ -11,7 +11,8 @@ from Cython.Build import cythonize
 from setuptools import Extension, setup
 
 #: The compiled modules, gridfield/<name>.pyx each.
-KERNELS = ["_kernels_brushfire", "_kernels_follow", "_kernels_navigation", "_kernels_potential"]
+KERNELS = ["_kernels_brushfire", "_kernels_follow", "_kernels_incremental", "_kernels_navigation",
+           "_kernels_potential"]
 #: Those with OpenMP loops (``prange``).
 OPENMP = {"_kernels_potential"}
 
@@ -24,7 +25,7 @@ _CFLAGS = ["-O3", "-ffp-contract=off", "-fno-math-errno", "-fno-trapping-math"]
 def _extension(name: str) -> Extension:
     omp = ["-fopenmp"] if name in OPENMP else []
     return Extension(f"gridfield.{name}", [f"gridfield/{name}.pyx"], include_dirs=["gridfield"],
-                     depends=[str(h) for h in Path("gridfield").glob("*.h")],
+                     depends=[str(h) for h in sorted(Path("gridfield").glob("*.h")) + sorted(Path("gridfield").glob("*.pxd"))],
                      extra_compile_args=_CFLAGS + omp,
                      extra_link_args=omp, define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")])
 

@@ -21,7 +21,7 @@ cdef extern from "_potential_rows.h" nogil:
     # the row loops, in C so that the compiler vectorizes them (see the header)
     void gf_attractive_row(int64_t r, int64_t cols, double x0, double y0, double res, double goal_x, double goal_y,
                            double zeta, double d_star, double ds2, int conic, double* U, double* GX, double* GY)
-    void gf_khatib_row(int64_t r, int64_t cols, const uint8_t* occ, const int32_t* nr, const int32_t* nc, double x0,
+    void gf_khatib_row(int64_t r, int64_t c0, int64_t c1, const uint8_t* occ, const int32_t* nr, const int32_t* nc, double x0,
                        double y0, double res, double goal_x, double goal_y, double zeta, double d_star, double ds2,
                        int conic, int metric, double eta, double q_star, double inv_q, int ipow, double sat,
                        double far, double* U, double* GX, double* GY)
@@ -90,7 +90,7 @@ def _khatib_kernel(occ_t occ, idx_t nr, idx_t nc, double x0, double y0, double r
     cdef double ds2 = d_star * d_star
     cdef double inv_q = 1.0 / q_star
     for r in prange(rows, nogil=True, schedule="static", num_threads=_threads):
-        gf_khatib_row(r, cols, &occ[r, 0], &nr[r, 0], &nc[r, 0], x0, y0, res, goal_x, goal_y, zeta, d_star, ds2,
+        gf_khatib_row(r, 0, cols, &occ[r, 0], &nr[r, 0], &nc[r, 0], x0, y0, res, goal_x, goal_y, zeta, d_star, ds2,
                       conic, metric, eta, q_star, inv_q, ipow, sat, far, &U[r, 0], &GX[r, 0], &GY[r, 0])
 
 

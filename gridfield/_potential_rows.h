@@ -41,17 +41,20 @@ GF_ROW_FN void gf_attractive_row(int64_t r, int64_t cols, double x0, double y0, 
     }
 }
 
-/* DEN: the expression of 1/D**ipow from inv_d, inv_d2 (as in the reference kernel). */
+/* DEN: the expression of 1/D**ipow from inv_d, inv_d2 (as in the reference kernel). Columns c0..c1-1 of
+ * row r; the row arrays start at column 0 (the full kernel passes 0, cols; the incremental window
+ * update of gridfield/_kernels_incremental.pyx a column range). */
 #define GF_KHATIB_ROW(NAME, DEN)                                                                              \
-    GF_ROW_FN void NAME(int64_t r, int64_t cols, const uint8_t *restrict occ, const int32_t *restrict nr,  \
+    GF_ROW_FN void NAME(int64_t r, int64_t c0, int64_t c1, const uint8_t *restrict occ,                     \
+                            const int32_t *restrict nr,                                                       \
                             const int32_t *restrict nc, double x0, double y0, double res, double goal_x,      \
                             double goal_y, double zeta, double d_star, double ds2, int conic, int metric,     \
                             double eta, double q_star, double inv_q, double sat, double far,                  \
                             double *restrict U, double *restrict GX, double *restrict GY) {                   \
         const double dy = y0 + ((double)r + 0.5) * res - goal_y;                                             \
         const double rf = (double)(int32_t)r;                                                                 \
-        const int n = (int)cols;                                                                              \
-        for (int c = 0; c < n; c++) {                                                                         \
+        const int n = (int)c1;                                                                                \
+        for (int c = (int)c0; c < n; c++) {                                                                   \
             /* attractive */                                                                                  \
             const double dx = x0 + ((double)c + 0.5) * res - goal_x;                                         \
             const double d2 = dx * dx + dy * dy;                                                              \
@@ -93,29 +96,29 @@ GF_KHATIB_ROW(gf_khatib_row_p2, inv_d2)
 GF_KHATIB_ROW(gf_khatib_row_p3, inv_d2 * inv_d)
 GF_KHATIB_ROW(gf_khatib_row_p4, inv_d2 * inv_d2)
 
-static inline void gf_khatib_row(int64_t r, int64_t cols, const uint8_t *occ, const int32_t *nr, const int32_t *nc,
+static inline void gf_khatib_row(int64_t r, int64_t c0, int64_t c1, const uint8_t *occ, const int32_t *nr, const int32_t *nc,
                                  double x0, double y0, double res, double goal_x, double goal_y, double zeta,
                                  double d_star, double ds2, int conic, int metric, double eta, double q_star,
                                  double inv_q, int ipow, double sat, double far, double *U, double *GX, double *GY) {
     switch (ipow) {
     case 0:
-        gf_khatib_row_p0(r, cols, occ, nr, nc, x0, y0, res, goal_x, goal_y, zeta, d_star, ds2, conic, metric, eta,
+        gf_khatib_row_p0(r, c0, c1, occ, nr, nc, x0, y0, res, goal_x, goal_y, zeta, d_star, ds2, conic, metric, eta,
                          q_star, inv_q, sat, far, U, GX, GY);
         break;
     case 1:
-        gf_khatib_row_p1(r, cols, occ, nr, nc, x0, y0, res, goal_x, goal_y, zeta, d_star, ds2, conic, metric, eta,
+        gf_khatib_row_p1(r, c0, c1, occ, nr, nc, x0, y0, res, goal_x, goal_y, zeta, d_star, ds2, conic, metric, eta,
                          q_star, inv_q, sat, far, U, GX, GY);
         break;
     case 2:
-        gf_khatib_row_p2(r, cols, occ, nr, nc, x0, y0, res, goal_x, goal_y, zeta, d_star, ds2, conic, metric, eta,
+        gf_khatib_row_p2(r, c0, c1, occ, nr, nc, x0, y0, res, goal_x, goal_y, zeta, d_star, ds2, conic, metric, eta,
                          q_star, inv_q, sat, far, U, GX, GY);
         break;
     case 3:
-        gf_khatib_row_p3(r, cols, occ, nr, nc, x0, y0, res, goal_x, goal_y, zeta, d_star, ds2, conic, metric, eta,
+        gf_khatib_row_p3(r, c0, c1, occ, nr, nc, x0, y0, res, goal_x, goal_y, zeta, d_star, ds2, conic, metric, eta,
                          q_star, inv_q, sat, far, U, GX, GY);
         break;
     default:
-        gf_khatib_row_p4(r, cols, occ, nr, nc, x0, y0, res, goal_x, goal_y, zeta, d_star, ds2, conic, metric, eta,
+        gf_khatib_row_p4(r, c0, c1, occ, nr, nc, x0, y0, res, goal_x, goal_y, zeta, d_star, ds2, conic, metric, eta,
                          q_star, inv_q, sat, far, U, GX, GY);
         break;
     }

@@ -17,10 +17,9 @@ import gridfield
 PACKAGE = Path(gridfield.__file__).parent
 REPO = Path(__file__).resolve().parent.parent
 
-
-#: Kernel modules still in numba (merged into main after the Cython port; to be ported). Listed
-#: here so that a new plain-Python kernel cannot slip in unnoticed.
-NOT_YET_PORTED = {"_kernels_anyangle", "_kernels_incremental"}
+#: Every kernel module of the package, all compiled (a new one is added to setup.py's KERNELS and here).
+KERNELS = {"_kernels_anyangle", "_kernels_brushfire", "_kernels_follow", "_kernels_incremental",
+           "_kernels_navigation", "_kernels_potential"}
 
 
 def _kernel_sources() -> set[str]:
@@ -32,19 +31,17 @@ def test_every_kernel_source_is_built_by_setup_py():
     tree = ast.parse((REPO / "setup.py").read_text())
     listed = next(ast.literal_eval(node.value) for node in ast.walk(tree)
                   if isinstance(node, ast.Assign) and any(getattr(t, "id", None) == "KERNELS" for t in node.targets))
-    assert set(listed) == _kernel_sources()
-    assert len(_kernel_sources()) >= 4
+    assert set(listed) == _kernel_sources() == KERNELS
 
 
 def test_no_kernel_is_plain_python():
     """No ``_kernels_*.py`` beside the compiled modules (it would shadow or replace them)."""
     found = {m.name for m in pkgutil.iter_modules([str(PACKAGE)]) if m.name.startswith("_kernels_")}
-    assert found == _kernel_sources() | NOT_YET_PORTED
-    assert {p.stem for p in PACKAGE.glob("_kernels_*.py")} == NOT_YET_PORTED
+    assert found == KERNELS
+    assert not list(PACKAGE.glob("_kernels_*.py"))
 
 
-@pytest.mark.parametrize("name", sorted({p.stem for p in (Path(__file__).resolve().parent.parent / "gridfield")
-                                         .glob("_kernels_*.pyx")}))
+@pytest.mark.parametrize("name", sorted(KERNELS))
 def test_kernel_module_is_a_compiled_extension(name):
     mod = importlib.import_module(f"gridfield.{name}")
     assert mod.__file__ is not None
@@ -58,6 +55,31 @@ def test_planning_imports_no_jit_compiler():
             "from gridfield.follow import plan_potential; occ = np.zeros((12, 12), bool); occ[5:7, 5:7] = True; "
             "plan_potential(GridMap(Grid((12, 12), 1.0), occ), np.array([1.5, 1.5]), np.array([10.5, 10.5]), "
             "{'q_star': 2.0, 'step': 0.5, 'tolerance': 0.5}); "
+            "print(sorted(m for m in ('numba', 'llvmlite', 'pyximport') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=REPO)
+    assert out.stdout.strip() == "[]"
+
+
+def test_no_module_of_the_package_imports_numba():
+    """numba left the package: no module imports it (nor llvmlite), at top level or inside a function."""
+    offenders = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            names = ([a.name for a in node.names] if isinstance(node, ast.Import)
+                     else [node.module or ""] if isinstance(node, ast.ImportFrom) and not node.level else [])
+            offenders += [f"{path.name}: {n}" for n in names if n.split(".")[0] in ("numba", "llvmlite")]
+    assert offenders == []
+
+
+def test_incremental_and_anyangle_import_no_jit_compiler():
+    """An incremental update, a potential window update and an any-angle plan run without numba."""
+    code = ("import sys, numpy as np; from gridfield.grid import Grid, GridMap; "
+            "from gridfield.incremental import IncrementalBrushfire, update_field; "
+            "from gridfield.potential import build_field; from gridfield.anyangle import grid_graph; "
+            "occ = np.zeros((12, 12), bool); occ[5:7, 3:9] = True; gm = GridMap(Grid((12, 12), 1.0), occ); "
+            "ib = IncrementalBrushfire(gm); f = build_field(ib.gridmap, (10.5, 10.5), {'q_star': 2.0}, "
+            "dmap=ib.distance_map); f = update_field(f, ib, ib.update(occupied=[[2, 2]], freed=[[5, 3]])); "
+            "pts, length = grid_graph(gm).shortest_path((1.5, 1.5), (10.5, 10.5)); assert 13 < length < 14; "
             "print(sorted(m for m in ('numba', 'llvmlite', 'pyximport') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=REPO)
     assert out.stdout.strip() == "[]"

@@ -1,7 +1,8 @@
 """Any-angle optimum on Moving AI maps (``gridfield.anyangle``) beside the octile wavefront.
 
-Run ``python benchmarks/anyangle.py [--root ../shared/maps/movingai] [--maps NAME ...] [--queries 50]``.
-For each map: the graph is built once in this process (timed; numba kernels warmed up on a tiny map
+Run ``python benchmarks/anyangle.py [--root ../shared/maps/movingai] [--maps NAME ...] [--queries 50]
+[--compare-numba OLD.py]``.
+For each map: the graph is built once in this process (timed; kernels warmed up on a tiny map
 first; wall-clock and process CPU seconds, the latter less sensitive to other jobs on a shared
 machine), then ``--queries`` scenarios spread evenly over the ``.scen`` file are answered, each by
 
@@ -15,6 +16,12 @@ alike. Every answer is checked: never longer than the file's octile optimum (wit
 printed precision), never shorter than the straight line, every path segment free
 (:meth:`AnyAngleGraph.visible`). Prints one markdown row per map; the numbers of the committed run
 are in ``benchmarks/README.md`` ("Any-angle optimum on grid maps").
+
+``--compare-numba OLD.py``: then, per map, the graph build (``--rounds`` times, alternated) and the
+same queries (interleaved query by query) with the compiled kernels and with the numba kernels of an
+older checkout (``git show 3fd2f69:gridfield/_kernels_anyangle.py > /tmp/old.py``; needs numba, in the
+``bench`` extra), side by side; the two graphs must have the same edges and the two answers the same
+length, bit for bit.
 """
 
 from __future__ import annotations
@@ -89,13 +96,74 @@ def bench_map(folder: Path, n_queries: int) -> dict:
     }
 
 
+def load_numba(path: Path):
+    """The numba kernel module of an older checkout, loaded from ``path`` inside the package."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(f"gridfield._old_{path.stem}", path)
+    if spec is None or spec.loader is None:
+        raise SystemExit(f"error: cannot load {path}")
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def compare_numba(folder: Path, n_queries: int, old, rounds: int) -> dict:
+    """Build and query times with the compiled kernels (``None``) and ``old``, side by side."""
+    import gridfield.anyangle as aa
+    from gridfield.io import read_movingai_map, read_scen
+
+    own = aa._kernels
+
+    def use(k) -> None:
+        aa._kernels = own if k is None else (lambda: k)
+
+    m = read_movingai_map(next(folder.glob("*.map")))
+    scen = read_scen(next(folder.glob("*.scen")))
+    build: dict = {None: [], "old": []}
+    graphs = {}
+    try:
+        for _ in range(rounds):
+            for key, k in ((None, None), ("old", old)):
+                use(k)
+                c0 = time.process_time()
+                graphs[key] = aa._build(m)
+                build[key].append(time.process_time() - c0)
+        if not np.array_equal(graphs[None].edges, graphs["old"].edges):
+            raise SystemExit(f"error: {folder.name}: the two graphs differ")
+        graph = graphs[None]
+        ok_idx = np.flatnonzero(~scen.no_path & (scen.optimal > 0))
+        idx = ok_idx[np.linspace(0, len(ok_idx) - 1, min(n_queries, len(ok_idx))).astype(int)]
+        query: dict = {None: [], "old": []}
+        for kq in idx:
+            s, g = scen.start_xy[kq], scen.goal_xy[kq]
+            lengths = []
+            for key, k in ((None, None), ("old", old)):
+                use(k)
+                t0 = time.perf_counter()
+                lengths.append(graph.shortest_path(s, g)[1])
+                query[key].append(time.perf_counter() - t0)
+            if lengths[0] != lengths[1]:
+                raise SystemExit(f"error: {folder.name}: query {kq} lengths differ: {lengths}")
+    finally:
+        use(None)
+    med = statistics.median
+    return {"map": folder.name, "build": med(build[None]), "build_old": med(build["old"]),
+            "query_ms": med(query[None]) * 1e3, "query_old_ms": med(query["old"]) * 1e3, "queries": len(idx)}
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--root", type=Path, default=DEFAULT_ROOT, help="folder of the Moving AI map folders")
     ap.add_argument("--maps", nargs="+", default=list(DEFAULT_MAPS), help="map folder names")
     ap.add_argument("--queries", type=int, default=50, help="scenarios per map (spread over the file)")
+    ap.add_argument("--compare-numba", type=Path, default=None, metavar="OLD.py",
+                    help="also time this numba _kernels_anyangle.py side by side (needs numba)")
+    ap.add_argument("--rounds", type=int, default=3, help="graph builds per kernel module with --compare-numba")
     args = ap.parse_args(argv)
     _warm_up()
+    old = None if args.compare_numba is None else load_numba(args.compare_numba)
     print("| map | size | convex corners | graph edges | graph build s (wall / CPU) | queries | any-angle query ms (median / max) "
           "| plan('visibility') ms | plan('wavefront-octile') ms | octile / any-angle (median / max) | failed checks |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
@@ -106,6 +174,22 @@ def main(argv: list[str] | None = None) -> int:
         print(f"| {r['map']} | {r['shape'][1]} x {r['shape'][0]} | {r['corners']} | {r['edges']} | {r['build_s']:.2f} / {r['build_cpu_s']:.2f} "
               f"| {r['queries']} | {r['query_ms']:.2f} / {r['query_max_ms']:.1f} | {r['plan_ms']:.2f} "
               f"| {r['octile_ms']:.1f} | {r['ratio_median']:.4f} / {r['ratio_max']:.4f} | {r['bad']} |", flush=True)
+    if old is not None:
+        import gridfield.anyangle as aa
+
+        own = aa._kernels
+        aa._kernels = lambda: old  # warm-up (numba cache load) of the old kernels
+        _warm_up()
+        aa._kernels = own
+        print(f"\ncompiled kernels vs numba ({args.compare_numba}), side by side: graph build (CPU s, median of "
+              f"{args.rounds}) and query (ms, median, interleaved)\n")
+        print("| map | build compiled | build numba | ratio | queries | query compiled | query numba | ratio |")
+        print("|---|---:|---:|---:|---:|---:|---:|---:|")
+        for name in args.maps:
+            r = compare_numba(args.root / name, args.queries, old, args.rounds)
+            print(f"| {r['map']} | {r['build']:.3f} | {r['build_old']:.3f} | {r['build'] / r['build_old']:.2f} "
+                  f"| {r['queries']} | {r['query_ms']:.3f} | {r['query_old_ms']:.3f} "
+                  f"| {r['query_ms'] / r['query_old_ms']:.2f} |", flush=True)
     return 1 if failed else 0
 
 

@@ -1,7 +1,7 @@
 """Incremental brushfire (:class:`gridfield.incremental.IncrementalBrushfire`) beside a full brushfire.
 
 Run ``python benchmarks/incremental.py [--size 4096] [--maps maze random] [--blocks 1 2 5 10 20 40 80]
-[--placements 8] [--repeat 3] [--plot benchmarks/incremental.png]``.
+[--placements 8] [--repeat 3] [--plot benchmarks/incremental.png] [--compare-numba OLD.py]``.
 
 On each map (``n x n``, wall border) a square block of ``k x k`` cells is made occupied at a random
 place and then freed again, ``placements`` places per block size; every update is timed, and so is
@@ -16,6 +16,11 @@ Then the costs the distance updates do not cover: the labels and GVD of a map wi
 (in place when no component is renumbered, else recomputed over the grid when read, see
 :mod:`gridfield.incremental`), the same with world ids (updated in the window), and the potential field window update (:func:`update_field`) beside a full
 :func:`gridfield.potential.build_field`.
+
+``--compare-numba OLD.py``: also time the numba kernels of an older checkout (e.g.
+``git show 3fd2f69:gridfield/_kernels_incremental.py > /tmp/old.py``; needs numba, in the ``bench``
+extra) on the same updates, interleaved update by update with the compiled ones, and print the two
+side by side.
 
 Targets (the issue): on 4096^2 maps a 20 x 20 block updates distance + nearest obstacle at least
 50 times faster than a full brushfire, and a 1-cell change at least 500 times faster.
@@ -41,6 +46,7 @@ sys.path.insert(0, str(HERE.parent))
 from _common import machine_facts, markdown_table  # noqa: E402
 from brushfire import maze_map  # noqa: E402
 
+import gridfield.incremental as incremental  # noqa: E402
 from gridfield.brushfire import brushfire  # noqa: E402
 from gridfield.grid import Grid, GridMap  # noqa: E402
 from gridfield.incremental import IncrementalBrushfire, update_field  # noqa: E402
@@ -67,7 +73,27 @@ def block(n: int, k: int, rng: np.random.Generator) -> np.ndarray:
     return np.stack([rr.ravel(), cc.ravel()], 1)
 
 
-def run_map(name: str, n: int, blocks: Sequence[int], placements: int, repeat: int) -> dict[str, Any]:
+def load_numba(path: Path) -> Any:
+    """The numba kernel module of an older checkout, loaded from ``path`` inside the package (its
+    relative imports resolve to the compiled modules)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(f"gridfield._old_{path.stem}", path)
+    if spec is None or spec.loader is None:
+        raise SystemExit(f"error: cannot load {path}")
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def use(kernels: Any) -> None:
+    """Make :mod:`gridfield.incremental` call ``kernels`` (None: its own compiled module)."""
+    incremental._KERNELS = kernels
+
+
+def run_map(name: str, n: int, blocks: Sequence[int], placements: int, repeat: int,
+            old: Any = None) -> dict[str, Any]:
     occ = MAPS[name](n)
     gm = GridMap(Grid((n, n), 0.05, border="wall"), occ)
     ib = IncrementalBrushfire(gm, compute_labels=False)
@@ -79,13 +105,19 @@ def run_map(name: str, n: int, blocks: Sequence[int], placements: int, repeat: i
     rng = np.random.default_rng(1)
     cells = {k: [block(n, k, rng) for _ in range(placements)] for k in blocks}
     cells = {k: [c[~occ[c[:, 0], c[:, 1]]] for c in v] for k, v in cells.items()}  # the free ones
-    ib.update(occupied=cells[blocks[0]][0])  # warm-up of the update kernels
-    ib.update(freed=cells[blocks[0]][0])
+    variants = [None] if old is None else [None, old]
+    for v in variants:
+        use(v)
+        ib.update(occupied=cells[blocks[0]][0])  # warm-up of the update kernels
+        ib.update(freed=cells[blocks[0]][0])
     full_ms: list[float] = []
     ins: dict[int, list[float]] = {k: [] for k in blocks}
     rem: dict[int, list[float]] = {k: [] for k in blocks}
+    old_ins: dict[int, list[float]] = {k: [] for k in blocks}
+    old_rem: dict[int, list[float]] = {k: [] for k in blocks}
     changed_ins: dict[int, list[int]] = {k: [] for k in blocks}
     changed_rem: dict[int, list[int]] = {k: [] for k in blocks}
+    flip = False
     for _ in range(repeat):  # one full recompute, then every update, per round
         gc.collect()
         full_ms.append(_ms(full))
@@ -93,10 +125,24 @@ def run_map(name: str, n: int, blocks: Sequence[int], placements: int, repeat: i
             for c in cells[k]:
                 if not len(c):
                     continue
-                ins[k].append(_ms(lambda c=c: ib.update(occupied=c)))
-                changed_ins[k].append(ib.last_changed)
-                rem[k].append(_ms(lambda c=c: ib.update(freed=c)))
-                changed_rem[k].append(ib.last_changed)
+                # the same update with each kernel module, back to back, in alternating order (the
+                # second one finds the window's memory in the cache: ~10-20 % faster)
+                flip = not flip
+                for v in (variants[::-1] if flip else variants):
+                    use(v)
+                    ti = _ms(lambda c=c: ib.update(occupied=c))
+                    ci = ib.last_changed
+                    tr = _ms(lambda c=c: ib.update(freed=c))
+                    cr = ib.last_changed
+                    if v is None:
+                        ins[k].append(ti)
+                        rem[k].append(tr)
+                        changed_ins[k].append(ci)
+                        changed_rem[k].append(cr)
+                    else:
+                        old_ins[k].append(ti)
+                        old_rem[k].append(tr)
+    use(None)
     # the map is back to where it started: check it once against a full recompute
     ref = full()
     assert np.array_equal(ref.distance, ib.distance_map.distance)
@@ -110,7 +156,9 @@ def run_map(name: str, n: int, blocks: Sequence[int], placements: int, repeat: i
                      "changed_ins": int(statistics.median(changed_ins[k])),
                      "changed_rem": int(statistics.median(changed_rem[k])),
                      "ins_ms": mi, "rem_ms": mr, "ins_max": max(ins[k]), "rem_max": max(rem[k]),
-                     "x_ins": med_full / mi, "x_rem": med_full / mr})
+                     "x_ins": med_full / mi, "x_rem": med_full / mr,
+                     "old_ins": statistics.median(old_ins[k]) if old_ins[k] else None,
+                     "old_rem": statistics.median(old_rem[k]) if old_rem[k] else None})
     return {"name": name, "n": n, "blocked": float(occ.mean()), "full_ms": med_full, "full_min": min(full_ms),
             "full_max": max(full_ms), "rows": rows,
             "points": [(ci, t, "insert") for k in blocks for ci, t in zip(changed_ins[k], ins[k], strict=True)]
@@ -205,6 +253,22 @@ def plot(results: list[dict[str, Any]], path: Path) -> None:
     plt.close(fig)
 
 
+def extras_side_by_side(n: int, repeat: int, old: Any, rounds: int = 3) -> list[list[str]]:
+    """:func:`extras` with the compiled and the old kernels, alternated ``rounds`` times (medians)."""
+    got: dict[int, list[list[list[str]]]] = {0: [], 1: []}
+    for r in range(rounds):
+        for i, v in (((0, None), (1, old)) if r % 2 == 0 else ((1, old), (0, None))):
+            use(v)
+            got[i].append(extras(n, repeat))
+    use(None)
+    out = []
+    for j, row in enumerate(got[0][0]):
+        new = statistics.median(float(r[j][1]) for r in got[0])
+        was = statistics.median(float(r[j][1]) for r in got[1])
+        out.append([row[0].split(" (")[0], f"{new:.2f}", f"{was:.2f}", f"{new / was:.2f}"])
+    return out
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--size", type=int, default=4096)
@@ -214,8 +278,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--plot", type=Path, default=None, help="write the cost plot here (PNG)")
     ap.add_argument("--no-extras", action="store_true", help="skip the labels and field rows")
+    ap.add_argument("--compare-numba", type=Path, default=None, metavar="OLD.py",
+                    help="also time this numba _kernels_incremental.py side by side (needs numba)")
     a = ap.parse_args(argv)
-    results = [run_map(m, a.size, a.blocks, a.placements, a.repeat) for m in a.maps]
+    old = None if a.compare_numba is None else load_numba(a.compare_numba)
+    results = [run_map(m, a.size, a.blocks, a.placements, a.repeat, old) for m in a.maps]
     print(f"machine: {machine_facts()}\n")
     for res in results:
         print(f"#### {res['name']} map, {res['n']}x{res['n']} ({res['blocked']:.0%} blocked), wall border; "
@@ -233,6 +300,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"#### labels, GVD and the potential field ({a.size}x{a.size} maze, 20x20 block, medians)\n")
         print(markdown_table(["what", "incremental ms", "full ms", "speed-up"], extras(a.size, a.repeat)))
         print()
+    if old is not None:
+        print(f"#### compiled kernels vs numba ({a.compare_numba}), same updates, interleaved in alternating order; medians in ms\n")
+        table = [[res["name"], f"{r['k']}x{r['k']}", f"{r['ins_ms']:.3f}", f"{r['old_ins']:.3f}",
+                  f"{r['ins_ms'] / r['old_ins']:.2f}", f"{r['rem_ms']:.3f}", f"{r['old_rem']:.3f}",
+                  f"{r['rem_ms'] / r['old_rem']:.2f}"] for res in results for r in res["rows"]]
+        print(markdown_table(["map", "block", "insert", "insert numba", "ratio", "remove", "remove numba", "ratio"],
+                             table))
+        print()
+        if not a.no_extras:
+            print(markdown_table(["what (20x20 block, maze)", "compiled ms", "numba ms", "ratio"],
+                                 extras_side_by_side(a.size, a.repeat, old)))
+            print()
     print("#### targets\n")
     for res in results:
         for r in res["rows"]:

@@ -40,10 +40,10 @@ import numpy as np
 import yaml
 from numpy.typing import NDArray
 
-from .errors import GridfieldError, MapFormatError, ParameterError, shorten
-from .grid import BORDERS, Grid, GridMap
-from .limits import check_cells
-from .world import World, world_from_dict
+from ..errors import GridfieldError, MapFormatError, ParameterError, shorten
+from ..grid import BORDERS, Grid, GridMap
+from ..limits import check_cells
+from ..world import World, world_from_dict
 
 __all__ = [
     "NPZ_ARRAY_NAMES",
@@ -85,7 +85,7 @@ def bundled_map(name: str) -> FsPath:
     """
     from importlib import resources
 
-    candidates = [resources.files("gridfield") / "maps", FsPath(__file__).resolve().parent.parent / "maps"]
+    candidates = [resources.files("gridfield") / "maps", FsPath(__file__).resolve().parents[2] / "maps"]
     for base in candidates:
         p = FsPath(str(base)) / name
         if p.exists():

@@ -40,9 +40,9 @@ from typing import Any, Literal, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import GridfieldError, ParameterError
-from .grid import Grid, GridMap
-from .path import Path
+from ..errors import GridfieldError, ParameterError
+from ..grid import Grid, GridMap
+from ..path import Path
 
 __all__ = [
     "KINDS",
@@ -69,7 +69,7 @@ SQRT2 = math.sqrt(2.0)
 
 @functools.cache
 def _kernels() -> Any:
-    from . import _kernels_navigation  # type: ignore[attr-defined]  # a compiled extension, no stubs
+    from .. import _kernels_navigation  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _kernels_navigation
 
@@ -182,13 +182,13 @@ class NavigationField:
     def clearance(self) -> NDArray[np.float64]:
         """Euclidean brushfire distance of each cell centre to the nearest obstacle cell centre (computed
         once per field; used for :attr:`Path.min_clearance`)."""
-        from .brushfire import brushfire
+        from ..brushfire import brushfire
 
         return brushfire(self.map, metric="euclidean").distance
 
     def to_field(self) -> Any:
         """The same arrays as a :class:`gridfield.potential.Field` (for its follower and plots)."""
-        from .potential import Field
+        from ..potential import Field
 
         return Field(self.map, self.value, self.grad_x, self.grad_y, (float(self.goal[0]), float(self.goal[1])),
                      {"navigation": self.kind, **dict(self.params)})
@@ -282,7 +282,7 @@ def clearance_cost(gridmap: GridMap, clearance_weight: float, q_star: float | No
     >>> clearance_cost(GridMap(Grid((1, 5), 1.0), occ), 2.0, q_star=4.0)
     array([[inf, 2.5, 2. , 1.5, 1. ]])
     """
-    from .brushfire import brushfire
+    from ..brushfire import brushfire
 
     w = _check_weight(clearance_weight)
     res = gridmap.grid.resolution

@@ -40,6 +40,25 @@ def fmm(
 
     Requires the optional dependency scikit-fmm (``pip install gridfield[fmm]``).
 
+    Parameters
+    ----------
+    gridmap : GridMap
+    goal : (x, y)
+        Goal point (world coordinates), in a free cell.
+    clearance_weight : float
+        0 (default) for the geodesic distance; otherwise the travel cost with speed
+        ``1 / clearance_cost`` (see :func:`clearance_cost`).
+    q_star : float, optional
+        Distance of influence of the clearance cost (default 5 cells).
+    order : {2, 1}
+        Order of scikit-fmm's finite differences.
+
+    Returns
+    -------
+    NavigationField
+        ``kind="fmm"``; ``value`` is ``inf`` on obstacles and on cells the front never reaches;
+        ``aux["cost"]`` holds the cell costs when ``clearance_weight > 0``.
+
     Examples
     --------
     >>> import numpy as np
@@ -81,6 +100,21 @@ def plan_fmm(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[np.floa
              params: Mapping[str, Any]) -> Path:
     """Planner ``fmm``: fast-marching geodesic distance followed along its gradient (``step``, at most
     one cell, default half a cell; ``tolerance``; ``max_iterations``; optional ``clearance_weight``/``q_star``).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+    start, goal : ndarray, shape (2,)
+        World points in free cells (checked by :func:`gridfield.planners.plan`).
+    params : mapping
+        Validated planner parameters (:mod:`gridfield.params`); read here: ``clearance_weight``,
+        ``q_star``, ``step``, ``tolerance``, ``max_iterations``.
+
+    Returns
+    -------
+    Path
+        From :func:`extract_path`: ``points`` from ``start`` to ``goal``, ``status``, ``params`` (the
+        given ones and the field's), ``extra`` with ``value``, ``grid_length`` and ``field_seconds``.
 
     Examples
     --------

@@ -233,6 +233,21 @@ def plan_harmonic(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[np
     """Planner ``harmonic``: harmonic navigation function (:func:`harmonic`) and steepest descent over
     the 8 neighbour cells.
 
+    Parameters
+    ----------
+    gridmap : GridMap
+    start, goal : ndarray, shape (2,)
+        World points in free cells (checked by :func:`gridfield.planners.plan`).
+    params : mapping
+        Validated planner parameters (:mod:`gridfield.params`); none is read here (the field
+        uses :func:`harmonic`'s defaults, the descent has no parameter).
+
+    Returns
+    -------
+    Path
+        From :func:`extract_path`: ``points`` from ``start`` to ``goal``, ``status``, ``params`` (the
+        given ones and the field's), ``extra`` with ``value``, ``grid_length`` and ``field_seconds``.
+
     Examples
     --------
     >>> from gridfield.grid import Grid, GridMap

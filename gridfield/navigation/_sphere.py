@@ -233,6 +233,24 @@ def plan_sphere_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.flo
     of :data:`KAPPA_LADDER` are tried in turn and the first that reaches the goal is kept
     (``extra["kappa"]``).
 
+    Parameters
+    ----------
+    world : World
+        A world whose obstacles are all circles.
+    start, goal : ndarray, shape (2,)
+        World points in the free space of the sphere world.
+    params : mapping
+        ``kappa``, ``workspace_center``, ``workspace_radius``, ``step``, ``tolerance``,
+        ``max_iterations``, ``progress_window``; all optional.
+
+    Returns
+    -------
+    Path
+        ``status`` ``"reached"``, ``"local_minimum"``, ``"collision"`` or ``"max_iterations"``;
+        ``params`` with the ``kappa`` used; ``extra`` with ``kappa``, ``tried`` (each kappa and its
+        status), ``workspace_center`` and ``workspace_radius``; ``min_clearance`` from the world's exact
+        distance.
+
     Examples
     --------
     >>> from gridfield.world import world_from_dict

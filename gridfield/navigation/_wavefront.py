@@ -43,6 +43,19 @@ def clearance_cost(gridmap: GridMap, clearance_weight: float, q_star: float | No
     costmap used by navfn. A step between cells costs its length times the mean of the two cell costs.
     Obstacle cells get ``inf``.
 
+    Parameters
+    ----------
+    gridmap : GridMap
+    clearance_weight : float
+        Extra cost next to an obstacle (finite, >= 0; 0 gives cost 1 on every free cell).
+    q_star : float, optional
+        Distance of influence (world units, > 0); default 5 cells.
+
+    Returns
+    -------
+    ndarray of float64, shape ``gridmap.shape``
+        The cell costs: >= 1 on free cells, ``inf`` on obstacle cells.
+
     Examples
     --------
     >>> import numpy as np
@@ -165,6 +178,21 @@ def plan_wavefront(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[n
 
     ``Path.seconds`` is the path extraction; the wavefront's own time is ``extra["field_seconds"]``.
 
+    Parameters
+    ----------
+    gridmap : GridMap
+    start, goal : ndarray, shape (2,)
+        World points in free cells (checked by :func:`gridfield.planners.plan`).
+    params : mapping
+        Validated planner parameters (:mod:`gridfield.params`); read here: ``connectivity``,
+        ``clearance_weight``, ``q_star``.
+
+    Returns
+    -------
+    Path
+        From :func:`extract_path`: ``points`` from ``start`` to ``goal``, ``status``, ``params`` (the
+        given ones and the field's), ``extra`` with ``value``, ``grid_length`` and ``field_seconds``.
+
     Examples
     --------
     >>> from gridfield.grid import Grid, GridMap
@@ -181,6 +209,21 @@ def plan_wavefront_octile(gridmap: GridMap, start: NDArray[np.float64], goal: ND
                           params: Mapping[str, Any]) -> Path:
     """Planner ``wavefront-octile``: octile-cost wavefront (Moving AI metric) and its descent: a shortest
     8-connected path without corner cutting.
+
+    Parameters
+    ----------
+    gridmap : GridMap
+    start, goal : ndarray, shape (2,)
+        World points in free cells (checked by :func:`gridfield.planners.plan`).
+    params : mapping
+        Validated planner parameters (:mod:`gridfield.params`); read here: ``connectivity``,
+        ``clearance_weight``, ``q_star``.
+
+    Returns
+    -------
+    Path
+        From :func:`extract_path`: ``points`` from ``start`` to ``goal``, ``status``, ``params`` (the
+        given ones and the field's), ``extra`` with ``value``, ``grid_length`` and ``field_seconds``.
 
     Examples
     --------

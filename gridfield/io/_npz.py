@@ -152,7 +152,7 @@ def read_npz_arrays(path: PathLike) -> tuple[dict[str, NDArray[Any]], Grid]:
     """Read an ``.npz`` written by :func:`write_npz`: the arrays by name and their :class:`Grid`.
 
     Entries of fewer than two dimensions (e.g. the goal and parameters that
-    :func:`gridfield.potential.save_field` adds) are returned too but do not set the grid's shape.
+    :func:`save_field` adds) are returned too but do not set the grid's shape.
 
     Parameters
     ----------

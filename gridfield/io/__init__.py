@@ -9,7 +9,9 @@ Supported inputs (:func:`read` picks by file name):
 - Moving AI ``.map``: :func:`read_movingai_map`; scenarios ``.scen``: :func:`read_scen`
 - ``.npz`` arrays written by gridfield: :func:`read_npz`, :func:`read_npz_arrays`
 
-Writers: :func:`write_bitmap`, :func:`write_ros_map`, :func:`write_npz`.
+Writers: :func:`write_bitmap`, :func:`write_ros_map`, :func:`write_npz`. Fields of
+:mod:`gridfield.potential` (arrays, goal, parameters, distance map): :func:`save_field` and
+:func:`load_field`.
 
 Orientation (see ``ARCHITECTURE.md``, "Conventions"): images are stored top row first; every image reader flips
 them so that the image's top row becomes the highest y (row ``rows - 1``), exactly as ROS
@@ -82,7 +84,11 @@ def bundled_map(name: str) -> FsPath:
     -------
     pathlib.Path
         The file's path: in the installed package when it is there, else in the source tree's ``maps/``.
-        :class:`~gridfield.errors.MapFormatError` when no bundled map has that name.
+
+    Raises
+    ------
+    MapFormatError
+        When no bundled map has that name.
 
     Examples
     --------

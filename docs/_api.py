@@ -33,11 +33,29 @@ def _comment_of(module: types.ModuleType, name: str) -> str:
     return ""
 
 
+def _home(obj: object) -> str | None:
+    """The public module (of ``MODULES``) that defines ``obj``, a package for its private submodules."""
+    where = getattr(obj, "__module__", None) or ""
+    for name in MODULES:
+        full = f"gridfield.{name}"
+        if where == full or where.startswith(full + "."):
+            return name
+    return None
+
+
 def _page(name: str) -> str:
     module = importlib.import_module(f"gridfield.{name}")
     names = list(getattr(module, "__all__", []))
     title = f"gridfield.{name}"
     lines = [title, "=" * len(title), "", f".. automodule:: gridfield.{name}", "   :no-members:", ""]
+    # a name another public module defines (and this one re-exports) is documented once, on its home page
+    elsewhere = {n: home for n in names if _is_code(getattr(module, n)) and (home := _home(getattr(module, n)))
+                 not in (None, name)}
+    names = [n for n in names if n not in elsewhere]
+    if elsewhere:
+        refs = ", ".join(f":{'class' if inspect.isclass(getattr(module, n)) else 'func'}:`gridfield.{home}.{n}`"
+                         for n, home in elsewhere.items())
+        lines += [f"Also importable from ``gridfield.{name}`` (documented where they are defined): {refs}.", ""]
     documented = [n for n in names if _is_code(getattr(module, n))]
     if documented:
         lines += [".. currentmodule:: " + f"gridfield.{name}", "", ".. autosummary::", ""]

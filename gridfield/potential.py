@@ -70,9 +70,7 @@ obstacles. Grids below 2048 x 2048 cells are computed on the calling thread only
 from __future__ import annotations
 
 import contextlib
-import json
 import math
-import os
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, cast
@@ -82,8 +80,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _kernels_potential as _kp  # type: ignore[attr-defined]  # a compiled extension, no stubs
 from .brushfire import DistanceMap, brushfire
-from .errors import GridfieldError, MapFormatError, ParameterError
+from .errors import GridfieldError, ParameterError
 from .grid import Grid, GridMap
+from .io import load_field, save_field  # re-exported: the .npz I/O of fields lives in gridfield.io
 
 __all__ = [
     "DEFAULTS",
@@ -875,86 +874,3 @@ def _build_vortex(gridmap: GridMap, goal: ArrayLike, p: dict[str, Any]) -> Field
                          sample_radius=p["sample_radius"])
     return Field(field.map, field.potential, field.grad_x, field.grad_y, field.goal, {**p, "spacing": spacing},
                  field.distance)
-
-
-# ----------------------------------------------------------------------------------------------
-# .npz round trip
-# ----------------------------------------------------------------------------------------------
-_DMAP_ARRAYS = ("steps", "distance", "nearest_row", "nearest_col", "label", "gvd")
-
-
-def _json_value(v: Any) -> Any:
-    """numpy scalars (and anything else json does not know) as plain values."""
-    return v.item() if isinstance(v, np.generic) else str(v)
-
-
-def save_field(path: str | os.PathLike[str], field: Field) -> None:
-    """Write a :class:`Field` to an ``.npz`` file that :func:`load_field` reads back.
-
-    The file holds gridfield's arrays by name (``occupied``, ``potential``, ``grad_x``, ``grad_y``,
-    and when the field has a distance map ``steps``, ``distance``, ``label``, ``gvd``,
-    ``nearest_row``, ``nearest_col``), plus ``resolution``, ``origin``, ``border``, ``goal`` and
-    ``params`` (a JSON string; ``inf`` is written as ``Infinity``).
-
-    Examples
-    --------
-    >>> import tempfile, pathlib
-    >>> occ = np.zeros((3, 3), bool); occ[1, 1] = True
-    >>> f = build_field(GridMap(Grid((3, 3), 1.0), occ), (0.5, 0.5))
-    >>> with tempfile.TemporaryDirectory() as d:
-    ...     save_field(pathlib.Path(d) / "f.npz", f)
-    ...     g = load_field(pathlib.Path(d) / "f.npz")
-    >>> np.array_equal(g.potential, f.potential), g.goal, g.params == f.params
-    (True, (0.5, 0.5), True)
-    """
-    grid = field.grid
-    arrays: dict[str, Any] = {"occupied": field.map.occupied, "potential": field.potential,
-                              "grad_x": field.grad_x, "grad_y": field.grad_y}
-    meta: dict[str, Any] = {}
-    if field.distance is not None:
-        d = field.distance
-        arrays.update({k: getattr(d, k) for k in _DMAP_ARRAYS if getattr(d, k) is not None})
-        meta = {"connectivity": d.connectivity, "metric": d.metric, "saturate": d.saturate, "far": d.far}
-    if field.map.obstacle_id is not None:
-        arrays["obstacle_id"] = field.map.obstacle_id
-    try:
-        with open(path, "wb") as fh:
-            np.savez_compressed(
-                fh, **arrays, resolution=np.float64(grid.resolution), origin=np.asarray(grid.origin, np.float64),
-                border=np.asarray(grid.border), goal=np.asarray(field.goal, np.float64),
-                params=np.asarray(json.dumps(field.params, default=_json_value)), distance_meta=np.asarray(json.dumps(meta)),
-            )
-    except OSError as e:
-        raise GridfieldError(f"{path}: cannot write: {e.strerror or e}") from None
-
-
-def load_field(path: str | os.PathLike[str]) -> Field:
-    """Read a :class:`Field` written by :func:`save_field` (see there for an example)."""
-    from .errors import SizeLimitError
-    from .io import _npz_content
-
-    content = _npz_content(path)  # issue 17: every array sized from its header first; no file left open
-    missing = [k for k in ("occupied", "potential", "grad_x", "grad_y", "resolution", "origin", "goal", "params")
-               if k not in content]
-    if missing:
-        raise MapFormatError(f"{path}: not a field file written by save_field (missing {', '.join(missing)})")
-    try:
-        origin = content["origin"].astype(np.float64).reshape(2)
-        grid = Grid(content["occupied"].shape, float(content["resolution"]), (float(origin[0]), float(origin[1])),
-                    str(content.get("border", "open")))  # type: ignore[arg-type]
-        params = json.loads(str(content["params"]))
-        meta = json.loads(str(content.get("distance_meta", "{}")))
-        goal = content["goal"].astype(np.float64).reshape(2)
-        gridmap = GridMap(grid, content["occupied"], content.get("obstacle_id"), source=str(path))
-        dmap = None
-        if meta and "distance" in content:  # steps, labels, GVD, nearest: optional
-            dmap = DistanceMap(gridmap, int(meta["connectivity"]), str(meta["metric"]), content.get("steps"),
-                               content["distance"], content.get("nearest_row"), content.get("nearest_col"),
-                               content.get("label"), content.get("gvd"), meta.get("saturate"),
-                               float(meta.get("far", math.inf)))
-        return Field(gridmap, content["potential"], content["grad_x"], content["grad_y"], (goal[0], goal[1]), params,
-                     dmap)
-    except SizeLimitError:
-        raise
-    except (ValueError, TypeError, KeyError, IndexError, AttributeError) as e:  # ParameterError included
-        raise MapFormatError(f"{path}: damaged field file ({type(e).__name__}: {e})") from None

@@ -18,6 +18,7 @@ from scipy.sparse.csgraph import dijkstra
 from gridfield import navigation as nv
 from gridfield.errors import GridfieldError, ParameterError
 from gridfield.grid import Grid, GridMap
+from gridfield.navigation import _field, _sphere  # private helpers tested directly
 from gridfield.world import world_from_dict
 
 SQRT2 = math.sqrt(2.0)
@@ -457,7 +458,7 @@ def test_sphere_nav_function_values_and_boundary():
     ang = np.linspace(0, 2 * np.pi, 50)
     for cx, cy, r in [*DISCS, (0.0, 0.0, -6.0)]:
         rr = abs(r) + (1e-10 if r > 0 else -1e-10)
-        ph, _, _ = nv._rk_phi_grad(cx + rr * np.cos(ang), cy + rr * np.sin(ang), np.array([4.0, -2.0]), DISCS,
+        ph, _, _ = _sphere._rk_phi_grad(cx + rr * np.cos(ang), cy + rr * np.sin(ang), np.array([4.0, -2.0]), DISCS,
                                    np.zeros(2), 6.0, 4.0)
         assert ph.min() > 0.999
     (gr, gc), = grid.world_to_cell([4.05, -1.95])[0]
@@ -469,15 +470,15 @@ def test_sphere_nav_gradient_matches_finite_differences():
     goal = np.array([4.0, -2.0])
     c0 = np.array([0.0, 0.0])
     pts = rng.uniform(-5.5, 5.5, size=(400, 2))
-    gamma, log_beta, _, _, valid = nv._rk_terms(pts[:, 0], pts[:, 1], goal, DISCS, c0, 6.0)
+    gamma, log_beta, _, _, valid = _sphere._rk_terms(pts[:, 0], pts[:, 1], goal, DISCS, c0, 6.0)
     pts = pts[valid & (np.sqrt(gamma) > 0.3)]
     for kappa in (2.0, 5.0):
-        phi, gx, gy = nv._rk_phi_grad(pts[:, 0], pts[:, 1], goal, DISCS, c0, 6.0, kappa)
+        phi, gx, gy = _sphere._rk_phi_grad(pts[:, 0], pts[:, 1], goal, DISCS, c0, 6.0, kappa)
         h = 1e-6
-        fx = (nv._rk_phi_grad(pts[:, 0] + h, pts[:, 1], goal, DISCS, c0, 6.0, kappa)[0]
-              - nv._rk_phi_grad(pts[:, 0] - h, pts[:, 1], goal, DISCS, c0, 6.0, kappa)[0]) / (2 * h)
-        fy = (nv._rk_phi_grad(pts[:, 0], pts[:, 1] + h, goal, DISCS, c0, 6.0, kappa)[0]
-              - nv._rk_phi_grad(pts[:, 0], pts[:, 1] - h, goal, DISCS, c0, 6.0, kappa)[0]) / (2 * h)
+        fx = (_sphere._rk_phi_grad(pts[:, 0] + h, pts[:, 1], goal, DISCS, c0, 6.0, kappa)[0]
+              - _sphere._rk_phi_grad(pts[:, 0] - h, pts[:, 1], goal, DISCS, c0, 6.0, kappa)[0]) / (2 * h)
+        fy = (_sphere._rk_phi_grad(pts[:, 0], pts[:, 1] + h, goal, DISCS, c0, 6.0, kappa)[0]
+              - _sphere._rk_phi_grad(pts[:, 0], pts[:, 1] - h, goal, DISCS, c0, 6.0, kappa)[0]) / (2 * h)
         np.testing.assert_allclose(gx, fx, rtol=1e-5, atol=1e-8)
         np.testing.assert_allclose(gy, fy, rtol=1e-5, atol=1e-8)
         # closed form phi = gamma / (gamma^k + beta)^(1/k)
@@ -628,8 +629,8 @@ def test_min_clearance_equals_brushfire(border):
         d = brushfire(gm, metric="euclidean").distance
         cl, _ = gm.grid.world_to_cell(pts)
         expect = d[cl[:, 0], cl[:, 1]].min()
-        assert nv._min_clearance(nav, pts) == pytest.approx(expect, abs=1e-12)
-        assert nv._min_clearance(nav, pts[:1]) == pytest.approx(d[cl[0, 0], cl[0, 1]], abs=1e-12)
+        assert _field._min_clearance(nav, pts) == pytest.approx(expect, abs=1e-12)
+        assert _field._min_clearance(nav, pts[:1]) == pytest.approx(d[cl[0, 0], cl[0, 1]], abs=1e-12)
 
 
 @given(st.floats(-3, 3), st.floats(-3, 3), st.sampled_from([0.1, 0.25, 0.3, 1.0, 1 / 3]),
@@ -639,11 +640,11 @@ def test_goal_cell_fast_path_agrees_with_world_to_cell(x, y, res, x0, y0):
     for px, py in ((x, y), (x0 + round(x / res) * res, y0 + round(y / res) * res)):  # incl. exact boundaries
         cells, inside = gm.grid.world_to_cell([px, py])
         if inside[0]:
-            _, cell = nv._goal_cell(gm, (px, py))
+            _, cell = _field._goal_cell(gm, (px, py))
             assert cell == tuple(int(v) for v in cells[0])
         else:
             with pytest.raises(GridfieldError, match="outside the map"):
-                nv._goal_cell(gm, (px, py))
+                _field._goal_cell(gm, (px, py))
 
 
 def test_goal_errors_name_the_problem():

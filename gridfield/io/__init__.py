@@ -1,0 +1,174 @@
+"""Reading and writing maps, worlds and arrays (I/O only; no computation).
+
+Supported inputs (:func:`read` picks by file name):
+
+- world YAML (``bounds``/``obstacles``): :func:`read_world`
+- ROS map_server YAML (``image``/``resolution``/``origin``): :func:`read_ros_map`
+  (and :func:`ros_occupancy_values` for the raw OccupancyGrid values)
+- bitmaps PNG, PGM (``P2`` ASCII and ``P5`` binary), BMP: :func:`read_bitmap`
+- Moving AI ``.map``: :func:`read_movingai_map`; scenarios ``.scen``: :func:`read_scen`
+- ``.npz`` arrays written by gridfield: :func:`read_npz`, :func:`read_npz_arrays`
+
+Writers: :func:`write_bitmap`, :func:`write_ros_map`, :func:`write_npz`. Fields of
+:mod:`gridfield.potential` (arrays, goal, parameters, distance map): :func:`save_field` and
+:func:`load_field`.
+
+Orientation (see ``ARCHITECTURE.md``, "Conventions"): images are stored top row first; every image reader flips
+them so that the image's top row becomes the highest y (row ``rows - 1``), exactly as ROS
+map_server does. A Moving AI map's first map line is likewise the top of the world.
+
+Every problem with an input file is raised as :class:`~gridfield.errors.MapFormatError`
+naming the file (and the line, key or value at fault); errors of the underlying libraries
+(Pillow, numpy, PyYAML) never escape.
+
+Layout of the package (one format per module): ``_common`` (file checks), ``_yaml`` (YAML and
+world files, with the alias-bomb guard), ``_bitmap``, ``_ros``, ``_movingai``, ``_npz`` (also the
+fields' :func:`save_field` / :func:`load_field`); this ``__init__`` re-exports their public names and
+holds :func:`read`, which picks the reader by file name, and :func:`bundled_map`. The submodules are
+private: import from ``gridfield.io``.
+"""
+
+from __future__ import annotations
+
+import inspect
+from collections.abc import Callable, Mapping
+from pathlib import Path as FsPath
+from typing import Any
+
+from ..errors import MapFormatError, ParameterError, shorten
+from ..grid import GridMap
+from ..world import World, world_from_dict
+from ._bitmap import UNKNOWN_CHOICES as UNKNOWN_CHOICES
+from ._bitmap import read_bitmap, write_bitmap
+from ._common import PathLike as PathLike
+from ._common import _check_file
+from ._movingai import Scenarios, read_movingai_map, read_scen
+from ._npz import NPZ_ARRAY_NAMES, load_field, read_npz, read_npz_arrays, save_field, write_npz
+from ._ros import ROS_MODES as ROS_MODES
+from ._ros import SEMANTICS as SEMANTICS
+from ._ros import read_ros_map, ros_occupancy_values, write_ros_map
+from ._yaml import YAML_EXPANDED_LIMIT as YAML_EXPANDED_LIMIT
+from ._yaml import read_world, read_yaml
+
+__all__ = [
+    "NPZ_ARRAY_NAMES",
+    "Scenarios",
+    "bundled_map",
+    "load_field",
+    "read",
+    "read_bitmap",
+    "read_movingai_map",
+    "read_npz",
+    "read_npz_arrays",
+    "read_ros_map",
+    "read_scen",
+    "read_world",
+    "read_yaml",
+    "ros_occupancy_values",
+    "save_field",
+    "write_bitmap",
+    "write_npz",
+    "write_ros_map",
+]
+
+
+def bundled_map(name: str) -> FsPath:
+    """Path of a map shipped with gridfield (``maps/`` in the source tree, ``gridfield/maps`` in a wheel).
+
+    Parameters
+    ----------
+    name : str
+        File name relative to the maps folder, e.g. ``"seed000.yaml"`` or ``"arena/arena.map"``.
+
+    Returns
+    -------
+    pathlib.Path
+        The file's path: in the installed package when it is there, else in the source tree's ``maps/``.
+
+    Raises
+    ------
+    MapFormatError
+        When no bundled map has that name.
+
+    Examples
+    --------
+    >>> bundled_map("seed000.yaml").name
+    'seed000.yaml'
+    """
+    from importlib import resources
+
+    candidates = [resources.files("gridfield") / "maps", FsPath(__file__).resolve().parents[2] / "maps"]
+    for base in candidates:
+        p = FsPath(str(base)) / name
+        if p.exists():
+            return p
+    raise MapFormatError(f"no bundled map named {shorten(name)}")
+
+
+# ----------------------------------------------------------------------------------------
+# dispatch
+# ----------------------------------------------------------------------------------------
+def _check_options(reader: Callable[..., Any], options: Mapping[str, Any], p: FsPath, what: str) -> None:
+    accepted = [n for n, prm in inspect.signature(reader).parameters.items() if prm.kind is prm.KEYWORD_ONLY]
+    bad = sorted(set(options) - set(accepted))
+    if bad:
+        takes = f"it takes {', '.join(accepted)}" if accepted else "it takes no options"
+        verb = "do not apply" if len(bad) > 1 else "does not apply"
+        raise ParameterError(f"{p}: option{'s' if len(bad) > 1 else ''} {', '.join(bad)} {verb} to a {what}; {takes}")
+
+
+def read(path: PathLike, **options: Any) -> World | GridMap:
+    """Read any supported map or world file; a world YAML gives a :class:`World`, the rest a :class:`GridMap`.
+
+    ``options`` go to the format's reader (e.g. ``unknown="free"`` for ROS maps, ``resolution``
+    for bitmaps). Options whose value is ``None`` mean "the default" and are dropped; an
+    option the format's reader does not take raises :class:`ParameterError`.
+
+    Parameters
+    ----------
+    path : str or path-like
+        ``.yaml``/``.yml`` (a world, or a ROS map when it names an ``image`` or has an ``origin`` but no
+        ``bounds``), ``.png``/``.pgm``/``.bmp``, ``.map`` (Moving AI) or ``.npz`` (gridfield).
+    **options
+        Keyword options of the format's reader (:func:`read_ros_map`, :func:`read_bitmap`,
+        :func:`read_movingai_map`; a world file and ``.npz`` take none).
+
+    Returns
+    -------
+    World or GridMap
+        What the format's reader returns.
+
+    Examples
+    --------
+    >>> type(read(bundled_map("seed000.yaml"))).__name__, read(bundled_map("arena/arena.map")).shape
+    ('World', (49, 49))
+    """
+    p = _check_file(path)
+    options = {k: v for k, v in options.items() if v is not None}
+    suffix = p.suffix.lower()
+    reader: Callable[..., GridMap]
+    if suffix in (".yaml", ".yml"):
+        data = read_yaml(p)
+        # a ROS map YAML names its image; one that lacks it still has an origin (a world has bounds instead)
+        if isinstance(data, dict) and ("image" in data or ("origin" in data and "bounds" not in data)):
+            reader, what = read_ros_map, "ROS map YAML"
+        else:
+            if options:
+                raise ParameterError(
+                    f"{p}: option{'s' if len(options) > 1 else ''} {', '.join(sorted(options))} "
+                    f"{'do' if len(options) > 1 else 'does'} not apply to a world file (a world is rasterized later, e.g. by gridfield.rasterize.as_gridmap)"
+                )
+            return world_from_dict(data, source=str(p))
+    elif suffix in (".png", ".pgm", ".bmp"):
+        reader, what = read_bitmap, "bitmap"
+    elif suffix == ".map":
+        reader, what = read_movingai_map, "Moving AI map"
+    elif suffix == ".npz":
+        reader, what = read_npz, "gridfield .npz file"
+    else:
+        raise MapFormatError(
+            f"{p}: unknown map format {shorten(suffix)}; expected a world or ROS map .yaml, a .png/.pgm/.bmp bitmap, "
+            "a Moving AI .map or a gridfield .npz"
+        )
+    _check_options(reader, options, p, what)
+    return reader(p, **options)

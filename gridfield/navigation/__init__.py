@@ -1,0 +1,138 @@
+"""Navigation functions: potentials whose only minimum is the goal (Choset et al. sec. 4.5-4.6).
+
+Four constructions, each returned as a :class:`NavigationField` (the value array and its grid):
+
+- :func:`wavefront` -- the grid navigation function: the exact shortest-path cost to the goal cell
+  over 4- or 8-connected moves, with unit costs or octile costs (1 and sqrt 2), optionally raised near
+  obstacles (``clearance_weight``). Diagonal moves never cut a corner: a diagonal step is allowed only
+  when both orthogonally adjacent cells are free (the Moving AI rule). Computed by Dijkstra with a
+  bucket queue in a compiled kernel; :func:`extract_path` follows it down to the goal.
+- :func:`fmm` -- the Euclidean geodesic distance by fast marching (scikit-fmm, optional extra
+  ``gridfield[fmm]``), followed along its interpolated gradient: near-any-angle paths.
+- :func:`harmonic` -- a solution of Laplace's equation (goal 0, obstacles and border 1), solved with a
+  sparse preconditioned conjugate-gradient method. Far from the goal the harmonic function underflows;
+  the field is continued by nested "shells" in log scale (see :func:`harmonic`).
+- :func:`sphere_nav_function` -- the Rimon-Koditschek navigation function of a sphere world (disc
+  obstacles inside a disc workspace), with its analytic gradient.
+
+The planners ``wavefront``, ``wavefront-octile``, ``fmm``, ``harmonic`` and ``sphere-nav`` of
+:mod:`gridfield.planners` are :func:`plan_wavefront`, :func:`plan_wavefront_octile`, :func:`plan_fmm`,
+:func:`plan_harmonic` and :func:`plan_sphere_nav`; :func:`navigation_field` gives the field of any of
+them (``gridfield field``).
+
+Units: every value array is in world units (lengths, or costs measured as lengths), and every point
+crosses the public boundary as world coordinates ``(x, y)``; arrays are indexed ``[row, col]`` with
+row 0 the lowest y, as everywhere in gridfield. What lies outside the grid is never traversed by
+the grid navigation functions, whatever the grid's ``border`` (the harmonic one treats it as a wall
+at value 1).
+
+Layout of the package (one construction per module, all of them sharing ``_field``): ``_field``
+(:class:`NavigationField`, :func:`extract_path`, the shared checks and the planner adapter),
+``_wavefront`` (:func:`wavefront`, :func:`clearance_cost`), ``_fmm``, ``_harmonic``, ``_sphere``
+(sphere worlds); this ``__init__`` re-exports their public names and holds :func:`navigation_field`,
+the one function that knows every construction. The submodules are private: import from
+``gridfield.navigation``. (They carry a leading underscore also because ``wavefront``, ``fmm`` and
+``harmonic`` are the names of functions of the package, which a submodule of the same name would
+shadow.)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, cast
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..errors import ParameterError
+from ..grid import GridMap
+
+# Besides __all__, the names of the single-file module that callers use stay importable from here
+# (``X as X`` marks a re-export), among them the sphere-world terms gridfield.star reuses until star
+# worlds move into this package (as ``navigation/star.py``).
+from ._field import COSTS as COSTS
+from ._field import KINDS, NavigationField, _common, extract_path
+from ._field import SQRT2 as SQRT2
+from ._field import upwind_gradient as upwind_gradient
+from ._fmm import fmm, plan_fmm
+from ._harmonic import MIC_OMEGA as MIC_OMEGA
+from ._harmonic import SOLVERS as SOLVERS
+from ._harmonic import harmonic, plan_harmonic
+from ._sphere import KAPPA_LADDER as KAPPA_LADDER
+from ._sphere import _check_sphere_world, _discs_of, _workspace, plan_sphere_nav, sphere_nav_function
+from ._sphere import _rk_phi_grad as _rk_phi_grad
+from ._sphere import _rk_terms as _rk_terms
+from ._wavefront import clearance_cost, plan_wavefront, plan_wavefront_octile, wavefront
+
+__all__ = [
+    "KINDS",
+    "NavigationField",
+    "clearance_cost",
+    "extract_path",
+    "fmm",
+    "harmonic",
+    "navigation_field",
+    "plan_fmm",
+    "plan_harmonic",
+    "plan_sphere_nav",
+    "plan_wavefront",
+    "plan_wavefront_octile",
+    "sphere_nav_function",
+    "wavefront",
+]
+
+
+def navigation_field(gridmap: GridMap, goal: ArrayLike, planner_name: str,
+                     params: Mapping[str, Any] | None = None) -> NavigationField:
+    """The field behind a navigation-function planner (for ``gridfield field``).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+    goal : (x, y)
+    planner_name : {"wavefront", "wavefront-octile", "fmm", "harmonic", "sphere-nav"}
+    params : mapping
+        Planner parameters (``connectivity``, ``clearance_weight``, ``q_star``, ``kappa``); others ignored.
+        ``sphere-nav`` needs the map to have been rasterized from a world of circles; without ``kappa``
+        it uses the number of obstacles + 1.
+
+    Returns
+    -------
+    NavigationField
+        With ``potential`` (= ``value``), ``grad_x`` and ``grad_y`` arrays of the grid's shape.
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid, GridMap
+    >>> nav = navigation_field(GridMap(Grid((1, 3), 1.0), np.zeros((1, 3), bool)), (0.5, 0.5), "wavefront", {})
+    >>> nav.potential, nav.grad_x
+    (array([[0., 1., 2.]]), array([[0., 1., 1.]]))
+    """
+    p = dict(params or {})
+    if planner_name == "wavefront":
+        return wavefront(gridmap, goal, connectivity=p.get("connectivity", 8), costs="unit", **_common(p))
+    if planner_name == "wavefront-octile":
+        return wavefront(gridmap, goal, connectivity=p.get("connectivity", 8), costs="octile", **_common(p))
+    if planner_name == "fmm":
+        return fmm(gridmap, goal, **_common(p))
+    if planner_name == "harmonic":
+        return harmonic(gridmap, goal)
+    if planner_name == "sphere-nav":
+        world = gridmap.world
+        if world is None:
+            raise ParameterError("the sphere-nav field needs a vector world of circles; this map is a grid")
+        discs = _discs_of(world)
+        c0, r0 = _workspace(world, p.get("workspace_center"), p.get("workspace_radius"))
+        _check_sphere_world(discs, c0, r0)
+        g = np.asarray(goal, dtype=float).reshape(-1)
+        cast(Any, world).check_point("goal", g)  # GridMap.world is typed object (no import cycle)
+        kappa = float(p.get("kappa", len(discs) + 1))
+        phi, grad = sphere_nav_function(discs, g, kappa=kappa, workspace_center=c0, workspace_radius=r0,
+                                        grid=gridmap.grid)
+        (gr, gc), = gridmap.grid.world_to_cell(g)[0]
+        return NavigationField(gridmap, phi, g, (int(gr), int(gc)), "sphere-nav",
+                               {"kappa": kappa, "workspace_center": c0.tolist(), "workspace_radius": r0},
+                               {"grad_x": grad[0], "grad_y": grad[1]})
+    raise ParameterError(
+        f"unknown navigation planner {planner_name!r}; expected one of wavefront, wavefront-octile, fmm, harmonic, sphere-nav"
+    )

@@ -4,7 +4,7 @@
 follower drives down the octile wavefront from the goal (:func:`gridfield.navigation.wavefront`,
 the exact shortest-path cost over 8-connected moves that never cut a corner) from the stall point,
 cell centre by cell centre, until it enters a cell whose discrete steepest descent on the potential
-ends somewhere else than the stall's does (another basin of :func:`gridfield.follow.basins`); there
+ends somewhere else than the stall's does (another basin of :func:`gridfield.basins.basins`); there
 the potential descent resumes. Two rules make it complete:
 
 - each escape must start at a lower navigation value than the one before; when it does not (the
@@ -108,8 +108,8 @@ class NavigationEscape:
 
     @cached_property
     def sink(self) -> NDArray[np.intp]:
-        """Each grid cell's discrete descent sink on the potential (:func:`gridfield.follow.basins`)."""
-        from .follow import basins
+        """Each grid cell's discrete descent sink on the potential (:func:`gridfield.basins.basins`)."""
+        from .basins import basins
 
         return basins(self.field).sink
 

@@ -158,14 +158,16 @@ def vortex_field(
 
     xs, ys = lattice.cell_centers()
     X, Y = np.meshgrid(xs, ys)
-    with np.errstate(divide="ignore"):
-        Vr = kr / np.hypot(X - start_xy[0], Y - start_xy[1])
+    Vr = np.zeros_like(X)
+    if kr:  # (kr = 0: no charge, not 0 / 0 at a node on the start)
+        with np.errstate(divide="ignore"):
+            Vr = kr / np.hypot(X - start_xy[0], Y - start_xy[1])
     Va = 0.5 * ka * ((X - goal_xy[0]) ** 2 + (Y - goal_xy[1]) ** 2)
     n_th = math.floor(2.0 / (0.1 * h) + 1e-9) + 1
     th = np.arange(n_th) * (0.1 * h) * np.pi
     Vo = np.zeros_like(X)
     with np.errstate(divide="ignore"):
-        for cx, cy, r in cir:
+        for cx, cy, r in cir if ko else ():  # (ko = 0: no charges, not 0 / 0 at a node on a sample)
             rad = sample_radius if sample_radius is not None else 1.05 * r
             for xo, yo in zip(cx + rad * np.cos(th), cy + rad * np.sin(th), strict=True):
                 Vo += ko / np.hypot(X - xo, Y - yo)

@@ -47,6 +47,16 @@ class Basins:
         Flat index of the sink each cell descends to (-1 on obstacles).
     goal_cell : (int, int)
         ``(row, col)`` of the cell containing the goal.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> from gridfield.grid import GridMap
+    >>> g = Grid((1, 4), 1.0)
+    >>> b = basins(SimpleNamespace(map=GridMap(g, np.zeros(g.shape, bool)), potential=np.array([[0.0, 1.0, 2.0, 0.5]]),
+    ...                            goal=(0.5, 0.5)))
+    >>> b, b.goal_cell, b.sink.tolist()
+    (Basins(shape=(1, 4), basins=2, goal_fraction=0.5), (0, 0), [[0, 0, 3, 3]])
     """
 
     grid: Grid
@@ -74,6 +84,18 @@ def descent_successor(potential: NDArray[np.float64], free: NDArray[np.bool_]) -
 
     A diagonal neighbour counts only when both cells beside the diagonal are free too: the move
     between the centres passes their common corner, and the follower never touches an obstacle.
+
+    Parameters
+    ----------
+    potential : ndarray, shape (rows, cols)
+        The potential at the cell centres (NaN counts as ``+inf``).
+    free : ndarray of bool, the same shape
+        The free cells; obstacle cells are never entered.
+
+    Returns
+    -------
+    ndarray of intp, shape (rows * cols,)
+        The successor's flat (row-major) index per cell.
 
     Examples
     --------
@@ -108,6 +130,16 @@ def basins(field: Any) -> Basins:
     Each free cell moves to its lowest 8-neighbour while that is lower (:func:`descent_successor`);
     the sink of every cell is found by pointer jumping (``succ = succ[succ]``, at most
     ``log2(cells) + 1`` rounds).
+
+    Parameters
+    ----------
+    field : Field
+        Anything with ``map`` (GridMap), ``potential`` (array of the grid's shape) and ``goal``.
+
+    Returns
+    -------
+    Basins
+        Labels (1: the goal's basin), sinks and the sinks' world points.
 
     Examples
     --------

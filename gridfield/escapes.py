@@ -49,6 +49,15 @@ def navigation_map(gridmap: GridMap) -> GridMap:
     """The map the navigation escape and the reachability check search: ``gridmap`` itself for a
     ``wall`` border, else ``gridmap`` inside a one-cell free ring (open space around the grid).
 
+    Parameters
+    ----------
+    gridmap : GridMap
+
+    Returns
+    -------
+    GridMap
+        With a ``wall`` border (the ring, when added, is the only way around the grid).
+
     Examples
     --------
     >>> import numpy as np
@@ -77,6 +86,21 @@ class NavigationEscape:
     Call it as ``escape(point, final=...)``: the moves (world points, the first one the stall
     point's own cell centre) to drive from ``point``, or ``[]`` when the goal cannot be reached
     from there. ``final=True`` drives all the way to the goal.
+
+    Examples
+    --------
+    A wall between a local minimum (the cell at (1.5, 1.5)) and the goal: the escape drives over
+    the wall's end until the descent on the potential leads to the goal:
+
+    >>> from types import SimpleNamespace
+    >>> occ = np.zeros((3, 4), bool); occ[0:2, 2] = True
+    >>> gm = GridMap(Grid((3, 4), 1.0, border="wall"), occ)
+    >>> u = np.array([[1.0, 0.5, np.inf, 0.0], [0.5, 0.2, np.inf, 0.1], [1.0, 0.8, 0.6, 0.3]])
+    >>> esc = NavigationEscape(SimpleNamespace(map=gm, potential=u, goal=(3.5, 0.5)))
+    >>> esc.value((1.5, 1.5)) > esc.value((3.5, 1.5))
+    True
+    >>> [tuple(q) for q in esc((1.5, 1.5))]
+    [(1.5, 2.5), (2.5, 2.5), (3.5, 2.5)]
     """
 
     def __init__(self, field: Any) -> None:

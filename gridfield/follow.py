@@ -133,7 +133,6 @@ def resolve_follow_params(params: Mapping[str, Any] | None = None, *, unit: floa
     return out
 
 
-
 @dataclass(frozen=True)
 class _Setup:
     params: dict[str, Any]
@@ -159,7 +158,6 @@ def _setup(field: Any, params: Mapping[str, Any] | None) -> _Setup:
                                 "gradient_threshold", "progress_window", "confine_window", "escape", "escape_tries",
                                 "escape_radius")}
     return _Setup(out, kwargs, p["sampling"], vortex)
-
 
 
 def _note_outside(extra: dict[str, Any], grid: Grid, pts: NDArray[np.float64]) -> None:
@@ -267,6 +265,33 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     ``Path.params`` the resolved potential and follower parameters. With a ``cache`` dict, the
     brushfire of ``gridmap`` (per metric and saturation) and its free regions are computed once and
     reused by later calls (batch sweeps: many goals and gains on one map).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+    start, goal : (x, y)
+        World points in free cells (:func:`gridfield.planners.plan` checks them).
+    params : mapping
+        Potential and follower parameters (:mod:`gridfield.params`); the map's scaled defaults
+        fill in the rest.
+    cache : dict, optional
+        Shared between calls on the same map.
+
+    Returns
+    -------
+    Path
+        ``planner="potential"``, status ``reached``, ``local_minimum``, ``max_iterations`` or
+        ``no_path``.
+
+    Examples
+    --------
+    >>> occ = np.zeros((10, 10), bool); occ[4:6, 0:7] = True
+    >>> gm = GridMap(Grid((10, 10), 1.0), occ)
+    >>> p = plan_potential(gm, (2.5, 1.5), (2.5, 8.5), {})
+    >>> p.status, p.extra["stop_reason"], "hint" in p.extra
+    ('local_minimum', 'oscillation', True)
+    >>> plan_potential(gm, (2.5, 1.5), (2.5, 8.5), {"escape": "navigation"}).status
+    'reached'
     """
     from .diagnose import diagnose, unreachable_hint
     from .escapes import NavigationEscape
@@ -307,7 +332,6 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
         extra["hint"] = diag["hint"]
         extra["diagnosis"] = diag
     return replace(path, points=points, status=status, params=merged, extra=extra)
-
 
 
 # ----------------------------------------------------------------------------------------------

@@ -516,6 +516,17 @@ def finite_difference_gradient(
     where only one is (and at the grid edges, as :func:`numpy.gradient` does), 0 where neither is
     and on non-finite cells themselves.
 
+    Parameters
+    ----------
+    U : ndarray, shape ``grid.shape``
+        Values at the cell centres; ``inf`` (obstacles) and NaN cells are skipped.
+    grid : Grid
+        Gives the spacing.
+
+    Returns
+    -------
+    grad_x, grad_y : ndarray of float64, shape ``grid.shape``
+
     Examples
     --------
     >>> U = np.array([[np.inf, 1.0, 2.0, 4.0]])
@@ -608,6 +619,11 @@ def build_field(
     dmap : DistanceMap, optional
         A brushfire of ``gridmap`` to reuse (its metric must agree with ``params["metric"]`` when
         that is given); computed with ``metric`` and ``saturate`` when omitted.
+
+    Returns
+    -------
+    Field
+        The potential and its gradient arrays, the resolved parameters and the distance map.
 
     Raises
     ------

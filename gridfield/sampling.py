@@ -68,6 +68,17 @@ def grid_sampler(field: Any, *, sampling: str = "bilinear") -> Callable[[Point],
     ``bilinear`` interpolates among the free corner cells only (renormalized weights) and clamps to
     the grid; ``nearest`` takes the cell containing the point (clamped); obstacle cells give 0.
 
+    Parameters
+    ----------
+    field : Field
+        From :func:`gridfield.potential.build_field` (anything with ``map``, ``grad_x``, ``grad_y``).
+    sampling : {"bilinear", "nearest"}
+
+    Returns
+    -------
+    callable
+        ``force((x, y)) -> (fx, fy)``, one compiled call per point (the arrays are bound once).
+
     Examples
     --------
     >>> from types import SimpleNamespace
@@ -134,7 +145,30 @@ def sample_force(field: Any, points: ArrayLike, *, sampling: str = "bilinear") -
 
 
 def grid_potential_sampler(field: Any, *, sampling: str = "bilinear") -> Callable[[Point], float]:
-    """``potential(p) -> U`` sampled like :func:`grid_sampler` (free corners only)."""
+    """``potential(p) -> U``: a Field's potential at world points, sampled like :func:`grid_sampler`.
+
+    Only free corner cells enter the bilinear interpolation (obstacle cells hold ``+inf``); the
+    potential-increase escape of :func:`gridfield.descent.descend` reads it.
+
+    Parameters
+    ----------
+    field : Field
+        Anything with ``map`` and ``potential``.
+    sampling : {"bilinear", "nearest"}
+
+    Returns
+    -------
+    callable
+        ``potential((x, y)) -> U``.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> gm = GridMap(Grid((1, 3), 1.0), np.array([[False, False, True]]))
+    >>> u = grid_potential_sampler(SimpleNamespace(map=gm, potential=np.array([[1.0, 3.0, np.inf]])))
+    >>> u((1.0, 0.5)), u((2.0, 0.5))   # halfway between 1 and 3; next to the obstacle: its cell left out
+    (2.0, 3.0)
+    """
     check("sampling", sampling)
     u = np.ascontiguousarray(field.potential, dtype=np.float64)
     occ, x0, y0, res = _grid_args(field.map)
@@ -151,6 +185,15 @@ def grid_blocked(gridmap: GridMap) -> Callable[[Point, Point], bool]:
 
     The cells are walked exactly (a segment through a cell corner checks both side cells). Outside
     an open-border grid is free.
+
+    Parameters
+    ----------
+    gridmap : GridMap
+
+    Returns
+    -------
+    callable
+        ``blocked((x, y), (x2, y2)) -> bool``.
 
     Examples
     --------
@@ -172,12 +215,22 @@ def grid_blocked(gridmap: GridMap) -> Callable[[Point, Point], bool]:
     return blocked
 
 
-
 def attraction_force(goal: ArrayLike, params: Mapping[str, Any]) -> Callable[[Point], tuple[float, float]]:
     """``attraction(p) -> (fx, fy)``: the attractive force of the potential models at a point.
 
     ``model="khatib"``: ``-grad`` of :mod:`gridfield.potential`'s quadratic / combined / conic
     attractive potential (``zeta``, ``d_star``); ``model="vortex"``: ``-ka * (p - goal)``.
+
+    Parameters
+    ----------
+    goal : (x, y)
+    params : mapping
+        Resolved parameters: ``model``, and ``zeta``, ``d_star`` (khatib) or ``ka`` (vortex).
+
+    Returns
+    -------
+    callable
+        ``attraction((x, y)) -> (fx, fy)``.
 
     Examples
     --------
@@ -208,7 +261,6 @@ def attraction_force(goal: ArrayLike, params: Mapping[str, Any]) -> Callable[[Po
         return -d_star * zeta * dx / d, -d_star * zeta * dy / d
 
     return attr
-
 
 
 def _distance_at(field: Any, points: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:

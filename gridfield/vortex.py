@@ -43,6 +43,19 @@ def vortex_lattice(bounds: Sequence[float], spacing: float, *, border: str = "op
     gridfield :class:`Grid` that is 26 x 26 cells of size 0.4 with origin ``(-5.2, -5.2)``: the
     grid covers half a spacing beyond the bounds on each side.
 
+    Parameters
+    ----------
+    bounds : (xmin, ymin, xmax, ymax)
+        The first and last nodes along each axis (the last one where the colon range ends).
+    spacing : float
+        Node spacing (> 0).
+    border : {"open", "wall"}
+
+    Returns
+    -------
+    Grid
+        Cell size ``spacing``, cell centres on the nodes.
+
     Examples
     --------
     >>> g = vortex_lattice((-5, -5, 5, 5), 0.4)
@@ -118,6 +131,11 @@ def vortex_field(
         Radius of the charge circles (default 1.05 x each circle's radius: the seed's 2.1).
     spacing : float, optional
         Lattice spacing; only with ``grid=None`` (else it must equal ``grid.resolution``).
+
+    Returns
+    -------
+    Field
+        ``model="vortex"`` in its params; ``distance`` is the Euclidean brushfire of its map.
 
     Examples
     --------
@@ -208,7 +226,6 @@ def _circle_occupancy(grid: Grid, circles: NDArray[np.float64]) -> NDArray[np.bo
     return occ
 
 
-
 def _build_vortex(gridmap: GridMap, goal: ArrayLike, p: dict[str, Any]) -> Field:
     """The vortex model's Field for :func:`gridfield.potential.build_field`: the lattice of the map's world."""
     from .potential import Field
@@ -257,7 +274,6 @@ def _vortex_norms(field: Any, params: Mapping[str, Any]) -> tuple[float, float]:
         raise GridfieldError(f"the vortex field's force components have matrix norms {nx:g}, {ny:g}; "
                              "cannot scale the steps (seed 003's follower divides by them)")
     return nx, ny
-
 
 
 def _vortex_follower(field: Any, params: Mapping[str, Any]) -> dict[str, Any]:

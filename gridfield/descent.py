@@ -89,6 +89,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .errors import ParameterError
+from .escapes import navigation_moves, potential_increase, random_jump
 from .grid import _as_xy
 from .params import REGISTRY, check
 
@@ -98,10 +99,6 @@ __all__ = ["ESCAPES", "STEP_RULES", "descend"]
 STEP_RULES: tuple[str, ...] = REGISTRY["step_rule"].choices
 ESCAPES: tuple[str, ...] = REGISTRY["escape"].choices
 
-#: Rejected random-walk jumps (blocked) before a try counts as failed.
-_JUMP_SAMPLES = 100
-#: Sub-steps of the potential-increase escape before it gives up.
-_ESCAPE_SUBSTEPS = 60
 Point = tuple[float, float]
 
 
@@ -362,46 +359,17 @@ def descend(
             tried += 1
             again = sum(1 for e in log if math.hypot(e["from"][0] - where[0], e["from"][1] - where[1]) <= same_radius)
             entry: dict[str, Any] = {"from": where, "at_iteration": it, "kind": escape, "outcome": None}
-            moves: list[Point] = []
+            moves: list[Point]
             if escape == "random_walk":
                 assert isinstance(rng, np.random.Generator)
-                for _ in range(_JUMP_SAMPLES):
-                    r = escape_radius * (1.0 - rng.random())
-                    th = 2.0 * math.pi * rng.random()
-                    q = (x + r * math.cos(th), y + r * math.sin(th))
-                    if blocked is None or not blocked((x, y), q):
-                        moves.append(q)
-                        break
+                moves = random_jump(x, y, escape_radius, rng, blocked)
             elif escape == "navigation":
                 assert navigate is not None
-                for q in navigate((x, y), final=tried >= escape_tries):
-                    if blocked is not None and blocked(moves[-1] if moves else (x, y), q):
-                        break  # (never: the moves join free cell centres) keep what is free
-                    moves.append(q)
+                moves = navigation_moves(navigate, x, y, final=tried >= escape_tries, blocked=blocked)
             else:
                 assert potential is not None and attraction is not None
-                fx, fy = force((x, y))
-                fax, fay = attraction((x, y))
-                ux = float(fx) - float(fax) + 0.05 * float(fax)
-                uy = float(fy) - float(fay) + 0.05 * float(fay)
-                un = math.hypot(ux, uy)
-                u0 = float(potential((x, y)))
-                bar = 1.25 ** (again + 1) * u0
-                entry["required_potential"] = bar
-                if un > 0 and math.isfinite(un):
-                    px, py, eps = x, y, unit
-                    for _ in range(_ESCAPE_SUBSTEPS):
-                        q = (px + eps * ux / un, py + eps * uy / un)
-                        if blocked is not None and blocked((px, py), q):
-                            moves = []
-                            break
-                        moves.append(q)
-                        px, py = q
-                        eps *= 1.25
-                        if float(potential(q)) >= bar:
-                            break
-                    else:
-                        moves = []
+                moves, entry["required_potential"] = potential_increase(
+                    x, y, force, attraction, potential, first_step=unit, repeat=again, blocked=blocked)
             if not moves:
                 entry["outcome"] = "no_jump"
                 log.append(entry)

@@ -203,7 +203,7 @@ def descend(
     revisit_tolerance : float, optional
         Oscillation when the point is this close to the point two steps back
         (default ``1e-6 * step``; for the scaled rule ``1e-6 * tolerance``).
-    escape : {"none", "random_walk", "potential_increase"}
+    escape : {"none", "random_walk", "potential_increase", "navigation"}
     escape_tries : int
     escape_radius : float
         Maximum jump length ``a`` of the random walk.

@@ -1,10 +1,18 @@
-"""The navigation escape: leave a local minimum along the grid's navigation function.
+"""The escapes from a local minimum: the moves :func:`gridfield.descent.descend` makes when it stalls.
 
+``random_walk`` (:func:`random_jump`) and ``potential_increase`` (:func:`potential_increase`, seed
+000's bonus question) see the field only through callables, like ``descend``; ``navigation``
+(:class:`NavigationEscape`, its moves taken by :func:`navigation_moves`) follows the grid's
+navigation function. How many tries, and when an escape counts as a success, is ``descend``'s
+rule (:mod:`gridfield.descent`).
+
+The navigation escape
+---------------------
 ``escape="navigation"`` (:func:`gridfield.follow.follow`): at a local minimum of the potential the
 follower drives down the octile wavefront from the goal (:func:`gridfield.navigation.wavefront`,
 the exact shortest-path cost over 8-connected moves that never cut a corner) from the stall point,
 cell centre by cell centre, until it enters a cell whose discrete steepest descent on the potential
-ends somewhere else than the stall's does (another basin of :func:`gridfield.follow.basins`); there
+ends somewhere else than the stall's does (another basin of :func:`gridfield.basins.basins`); there
 the potential descent resumes. Two rules make it complete:
 
 - each escape must start at a lower navigation value than the one before; when it does not (the
@@ -32,6 +40,7 @@ Examples
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from functools import cached_property
 from typing import Any
 
@@ -40,14 +49,163 @@ from numpy.typing import NDArray
 
 from .grid import Grid, GridMap
 
-__all__ = ["NavigationEscape", "navigation_map"]
+__all__ = ["NavigationEscape", "navigation_map", "navigation_moves", "potential_increase", "random_jump"]
 
 Point = tuple[float, float]
+Blocked = Callable[[Point, Point], bool] | None
+
+#: Rejected random-walk jumps (blocked) before a try counts as failed.
+_JUMP_SAMPLES = 100
+#: Sub-steps of the potential-increase escape before it gives up.
+_ESCAPE_SUBSTEPS = 60
+
+
+def random_jump(x: float, y: float, radius: float, rng: np.random.Generator, blocked: Blocked = None) -> list[Point]:
+    """The random-walk escape's jump from ``(x, y)``: a length ``r ~ U(0, radius]`` in a uniform direction.
+
+    A blocked jump is drawn again, up to 100 times (two draws from ``rng`` per jump: length, then
+    angle).
+
+    Parameters
+    ----------
+    x, y : float
+        The stall point.
+    radius : float
+        The longest jump (``escape_radius``).
+    rng : numpy.random.Generator
+    blocked : callable, optional
+        ``blocked(p, q) -> bool``; ``None``: nothing blocks.
+
+    Returns
+    -------
+    list of (float, float)
+        The one point jumped to, or ``[]`` when every draw was blocked.
+
+    Examples
+    --------
+    >>> (q,) = random_jump(0.0, 0.0, 2.0, np.random.default_rng(0))
+    >>> 0.0 < math.hypot(*q) <= 2.0
+    True
+    >>> random_jump(0.0, 0.0, 2.0, np.random.default_rng(0), blocked=lambda p, q: True)
+    []
+    """
+    for _ in range(_JUMP_SAMPLES):
+        r = radius * (1.0 - rng.random())
+        th = 2.0 * math.pi * rng.random()
+        q = (x + r * math.cos(th), y + r * math.sin(th))
+        if blocked is None or not blocked((x, y), q):
+            return [q]
+    return []
+
+
+def potential_increase(x: float, y: float, force: Callable[[Point], tuple[float, float]],
+                       attraction: Callable[[Point], tuple[float, float]], potential: Callable[[Point], float], *,
+                       first_step: float, repeat: int = 0, blocked: Blocked = None) -> tuple[list[Point], float]:
+    """Seed 000's ``Path_generator_esc``: climb out of a local minimum along the repulsion.
+
+    From the stall point move along ``F_rep + 0.05 * F_attr`` (``F_rep = F - F_attr``) with a step
+    that starts at ``first_step`` and grows by 1.25 per sub-step, until the potential is at least
+    ``1.25**(repeat + 1)`` times the minimum's (the seed's 25 %; a repeated escape from the same
+    minimum must climb higher, or it would retrace the same jump). At most 60 sub-steps; a blocked
+    sub-step fails the escape.
+
+    Parameters
+    ----------
+    x, y : float
+        The stall point.
+    force, attraction : callable
+        ``(x, y) -> (fx, fy)``: the whole force and its attractive part.
+    potential : callable
+        ``(x, y) -> U``.
+    first_step : float
+        The first sub-step's length (``descend``'s step).
+    repeat : int
+        Escapes tried before from the same minimum.
+    blocked : callable, optional
+
+    Returns
+    -------
+    moves : list of (float, float)
+        The sub-steps' points, ``[]`` when the escape failed.
+    required : float
+        The potential the escape had to reach.
+
+    Examples
+    --------
+    A repulsion that pushes to +x out of a bowl ``U = x^2`` with no attraction:
+
+    >>> moves, required = potential_increase(0.1, 0.0, lambda p: (1.0, 0.0), lambda p: (0.0, 0.0),
+    ...                                      lambda p: p[0] ** 2, first_step=0.1)
+    >>> round(required, 4), len(moves), moves[-1][0] ** 2 >= required
+    (0.0125, 1, True)
+    """
+    fx, fy = force((x, y))
+    fax, fay = attraction((x, y))
+    ux = float(fx) - float(fax) + 0.05 * float(fax)
+    uy = float(fy) - float(fay) + 0.05 * float(fay)
+    un = math.hypot(ux, uy)
+    u0 = float(potential((x, y)))
+    bar = 1.25 ** (repeat + 1) * u0
+    moves: list[Point] = []
+    if un > 0 and math.isfinite(un):
+        px, py, eps = x, y, first_step
+        for _ in range(_ESCAPE_SUBSTEPS):
+            q = (px + eps * ux / un, py + eps * uy / un)
+            if blocked is not None and blocked((px, py), q):
+                return [], bar
+            moves.append(q)
+            px, py = q
+            eps *= 1.25
+            if float(potential(q)) >= bar:
+                return moves, bar
+        return [], bar
+    return moves, bar
+
+
+def navigation_moves(navigate: Callable[..., list[Point]], x: float, y: float, *, final: bool,
+                     blocked: Blocked = None) -> list[Point]:
+    """The navigation escape's moves from ``(x, y)``: ``navigate``'s points, up to the first blocked one.
+
+    Parameters
+    ----------
+    navigate : callable
+        ``navigate((x, y), final=bool) -> [points]`` (a :class:`NavigationEscape`).
+    x, y : float
+        The stall point.
+    final : bool
+        Drive all the way to the goal (the last try).
+    blocked : callable, optional
+
+    Returns
+    -------
+    list of (float, float)
+
+    Examples
+    --------
+    >>> navigation_moves(lambda p, final: [(1.0, 0.0), (2.0, 0.0), (3.0, 0.0)], 0.0, 0.0, final=True,
+    ...                  blocked=lambda p, q: q[0] > 2.5)
+    [(1.0, 0.0), (2.0, 0.0)]
+    """
+    moves: list[Point] = []
+    for q in navigate((x, y), final=final):
+        if blocked is not None and blocked(moves[-1] if moves else (x, y), q):
+            break  # (never with NavigationEscape: its moves join free cell centres) keep what is free
+        moves.append(q)
+    return moves
 
 
 def navigation_map(gridmap: GridMap) -> GridMap:
     """The map the navigation escape and the reachability check search: ``gridmap`` itself for a
     ``wall`` border, else ``gridmap`` inside a one-cell free ring (open space around the grid).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+
+    Returns
+    -------
+    GridMap
+        With a ``wall`` border (the ring, when added, is the only way around the grid).
 
     Examples
     --------
@@ -77,6 +235,21 @@ class NavigationEscape:
     Call it as ``escape(point, final=...)``: the moves (world points, the first one the stall
     point's own cell centre) to drive from ``point``, or ``[]`` when the goal cannot be reached
     from there. ``final=True`` drives all the way to the goal.
+
+    Examples
+    --------
+    A wall between a local minimum (the cell at (1.5, 1.5)) and the goal: the escape drives over
+    the wall's end until the descent on the potential leads to the goal:
+
+    >>> from types import SimpleNamespace
+    >>> occ = np.zeros((3, 4), bool); occ[0:2, 2] = True
+    >>> gm = GridMap(Grid((3, 4), 1.0, border="wall"), occ)
+    >>> u = np.array([[1.0, 0.5, np.inf, 0.0], [0.5, 0.2, np.inf, 0.1], [1.0, 0.8, 0.6, 0.3]])
+    >>> esc = NavigationEscape(SimpleNamespace(map=gm, potential=u, goal=(3.5, 0.5)))
+    >>> esc.value((1.5, 1.5)) > esc.value((3.5, 1.5))
+    True
+    >>> [tuple(q) for q in esc((1.5, 1.5))]
+    [(1.5, 2.5), (2.5, 2.5), (3.5, 2.5)]
     """
 
     def __init__(self, field: Any) -> None:
@@ -108,8 +281,8 @@ class NavigationEscape:
 
     @cached_property
     def sink(self) -> NDArray[np.intp]:
-        """Each grid cell's discrete descent sink on the potential (:func:`gridfield.follow.basins`)."""
-        from .follow import basins
+        """Each grid cell's discrete descent sink on the potential (:func:`gridfield.basins.basins`)."""
+        from .basins import basins
 
         return basins(self.field).sink
 

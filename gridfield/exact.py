@@ -60,10 +60,12 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike
 
+from .descent import descend
 from .errors import GridfieldError, ParameterError
-from .follow import attraction_force, descend, resolve_follow_params
+from .follow import resolve_follow_params
 from .path import Path
 from .potential import resolve_params
+from .sampling import attraction_force
 from .world import World
 
 __all__ = ["ExactField", "plan_exact_potential"]

@@ -1,117 +1,59 @@
-"""The gradient-descent follower: step rules, stop rules, local-minimum escapes, basins of attraction.
+"""The grid follower: follow a Field from one start or many, and the ``potential`` planner.
 
-One core, :func:`descend`, holds the step and stop logic. It sees the field only through two
-callables, ``force(p) -> (fx, fy)`` and ``blocked(p, q) -> bool``, so the grid follower
-(:func:`follow`, fields sampled from gradient arrays) and the exact planner
-(:func:`gridfield.exact.plan_exact_potential`, forces from exact obstacle distances) share it.
+:func:`follow` runs the follower's rules (:func:`gridfield.descent.descend`, the specification:
+step rules, stop rules, escapes) on a :class:`~gridfield.potential.Field` sampled by
+:mod:`gridfield.sampling`; :func:`follow_many` runs the same rules vectorized over many starts and
+is tested equal to it; :func:`plan_potential` builds the field and follows it. Seed 003's vortex
+follower (steps scaled by the force arrays' norms) is set up by :mod:`gridfield.vortex`.
 
-Step rules (names: Choset et al. ch. 4; registry: gridfield.params)
-    ``normalized``: ``x += step * F/|F|`` (seed 000).
-    ``scaled``: ``x += alpha * F``; with ``min_speed > 0`` a step shorter than ``min_speed`` is
-    stretched to ``min_speed`` along ``F`` (seed 004). ``alpha`` may be a pair ``(ax, ay)`` (used by
-    seed 003's follower, whose x and y steps are scaled by different constants).
-
-Stop rules, checked in this order before every step
-    ``reached``: the current point is closer than ``tolerance`` to the goal (the seed's
-    ``norm(x - Xf) < 0.1``). The goal itself is then appended to the path, as the seed's
-    ``P = [P Xf]`` does (unless that last hop is blocked; ``extra["goal_appended"]`` tells).
-    ``local_minimum``, four detectors:
-
-    - *oscillation*: the point is back within ``revisit_tolerance`` of the point two steps back
-      (seed 000; default tolerance ``1e-6 * step``). The stall point is the one of the two
-      alternating points with the smaller ``|F|``; both are in ``extra["oscillation"]``.
-    - *no progress*: the best distance to the goal has not improved by more than
-      ``1e-3 * step`` during the last ``progress_window`` steps (0 disables). On grids the
-      follower rarely returns exactly to a point it visited, so this is the grid's main
-      detector. The stall point is the point of that stretch with the smallest ``|F|``.
-    - *confined* (normalized rule): the last ``confine_window`` steps stayed within a box of side
-      ``2 * step`` (a jitter about an equilibrium, which never exactly revisits a point). The stall point is
-      the point of that stretch with the smallest ``|F|``.
-    - *small gradient*: ``|F| <= gradient_threshold`` (seed 004), or ``F`` is zero or not
-      finite. The stall point is the current point.
-
-    - *blocked*: the step would enter an obstacle (or leave a walled map) and so would every
-      fallback step (below): the force presses the follower onto an obstacle. The stall point
-      is the current point; ``extra["blocked_at"]`` holds the rejected full step.
-
-    ``max_iterations``: the step budget is used up.
-
-Steps never enter an obstacle
-    Every move (step, fallback step, escape move, the appended goal) is checked with ``blocked``
-    before it is made. When the full step is blocked, the follower tries shorter and turned
-    steps, in the order of ``_SLIDES``: the step direction turned by 0, +-15, ..., +-75 degrees
-    (all within 75 degrees of the force, so each still descends), each at 1, 1/2, 1/4 and 1/8 of
-    the step length; it takes the first free one (it slides along the wall), and
-    ``extra["slid_steps"]`` counts them. So a normal run ends ``reached``, ``local_minimum`` or
-    ``max_iterations``; ``collision`` is left to callers for a start that is not free.
-
-A stalled run is never reported as ``reached``.
-
-Escapes (seed 000's bonus question), tried when a local minimum is detected
-    ``random_walk``: jump a length ``r ~ U(0, escape_radius]`` in a uniformly random direction,
-    resampling (up to 100 times) until the straight jump is not blocked, then resume descending.
-    ``potential_increase``: the seed's ``Path_generator_esc``: from the stall point move along
-    ``F_rep + 0.05 * F_attr`` with a step that starts at ``step`` and grows by 1.25 per sub-step
-    until the potential is at least 25 % above the local minimum's (at most 60 sub-steps; a
-    blocked sub-step fails the escape). The k-th escape from the same minimum requires an
-    increase by ``1.25**k`` (the seed's rule is deterministic, so repeating it unchanged would
-    retrace the same jump).
-
-    Each jump costs one try of ``escape_tries``. An escape *succeeds* when the follower's next
-    stop is the goal or a stall at another local minimum (farther than
-    ``max(3 * step, tolerance)`` from the one it left). ``extra`` counts ``escapes_tried`` and
-    ``escapes_succeeded`` and logs each escape.
-
-    Measured on the seed 000 segment world (step 0.1; ``benchmarks/follow.py --escapes 50``,
-    table in ``benchmarks/README.md``): one random jump escapes about one time in three (exact
-    planner 17/50 seeds, grid at h = 0.05 19/50); with up to 10 tries 49/50 runs reach the goal
-    (about 36 % of all jumps succeed). The seed's potential-increase escape reaches the goal with
-    its first jump on the exact field, and with the third on the grid.
-
-Grid fields
-    :func:`grid_sampler` samples ``F = -grad U`` from a :class:`~gridfield.potential.Field`'s
-    gradient arrays: ``bilinear`` interpolation between the four surrounding cell centres that are
-    *free* (obstacle cells' weights are dropped and the rest renormalized, so obstacle cells'
-    zero gradients never blend in), clamped to the grid (no extrapolation); or ``nearest`` (the
-    cell containing the point, seed 003). :func:`grid_blocked` walks the cells a segment crosses
-    exactly. **Open border**: what lies outside the grid is free space; the follower may leave
-    the grid, and the field there is the field at the nearest point of the grid (clamping).
-    **Wall border**: leaving the grid is blocked, like entering an obstacle.
+The names that moved out of this module (``descend``, the samplers, ``basins``) are still
+importable from here.
 
 Examples
 --------
-A quadratic bowl ``U = |x - g|^2 / 2`` with a normalized step:
+A quadratic bowl ``U = |x - g|^2 / 2`` on an empty 8 x 8 grid:
 
->>> pts, status, n, extra = descend(lambda p: (3.0 - p[0], 1.0 - p[1]), (0.0, 1.0), (3.0, 1.0),
-...                                 step=0.5, tolerance=0.3)
->>> status, n, pts[-1].tolist()
-('reached', 6, [3.0, 1.0])
+>>> from types import SimpleNamespace
+>>> g = Grid((8, 8), 1.0)
+>>> X, Y = np.meshgrid(*g.cell_centers())
+>>> f = SimpleNamespace(map=GridMap(g, np.zeros(g.shape, bool)), grad_x=X - 6.5, grad_y=Y - 6.5,
+...                     goal=(6.5, 6.5), potential=None, params={}, distance=None)
+>>> p = follow(f, (1.5, 1.5))
+>>> p.status, p.end.tolist()
+('reached', [6.5, 6.5])
 """
 
 from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._kernels_follow import (
-    _bilinear2,
-    _blocked_many,
-    _cell_values,
-    _force_at,
-    _force_many,
-    _nearest2,
-    _segment_blocked,
-)
-from ._kernels_follow import entry_point as _direct
+from ._kernels_follow import _blocked_many, _force_many
+from .basins import Basins, basins, descent_successor
+from .descent import _SLIDES, ESCAPES, STEP_RULES, Point, _gains, descend
 from .errors import GridfieldError, ParameterError
-from .grid import Grid, GridMap, _as_points
+from .grid import Grid, GridMap, _as_xy
+from .params import check
 from .path import Path
+from .sampling import (
+    SAMPLINGS,
+    _clearance,
+    _distance_at,
+    _field_arrays,
+    _grid_args,
+    attraction_force,
+    grid_blocked,
+    grid_potential_sampler,
+    grid_sampler,
+    sample_force,
+)
+from .vortex import _vortex_follower
 
 __all__ = [
     "ESCAPES",
@@ -133,10 +75,6 @@ __all__ = [
     "sample_force",
 ]
 
-STEP_RULES = ("normalized", "scaled")
-ESCAPES = ("none", "random_walk", "potential_increase", "navigation")
-SAMPLINGS = ("bilinear", "nearest")
-
 #: Follower parameters and their defaults (the registry's, :mod:`gridfield.params`). ``None``
 #: lengths scale with the map: ``step`` 1 cell (exact planner: see :mod:`gridfield.exact`),
 #: ``tolerance`` ``step`` for the normalized rule or 1 cell for the scaled rule, ``escape_radius``
@@ -157,58 +95,6 @@ FOLLOW_DEFAULTS: dict[str, Any] = {
     "escape_radius": None,
     "seed": 0,
 }
-
-#: Rejected random-walk jumps (blocked) before a try counts as failed.
-_JUMP_SAMPLES = 100
-#: Sub-steps of the potential-increase escape before it gives up.
-_ESCAPE_SUBSTEPS = 60
-Point = tuple[float, float]
-
-
-# ----------------------------------------------------------------------------------------------
-# Parameters
-# ----------------------------------------------------------------------------------------------
-def _choice(name: str, value: Any, options: Sequence[str]) -> str:
-    if value not in options:
-        raise ParameterError(f"{name} must be one of {', '.join(map(repr, options))}; got {value!r}")
-    return str(value)
-
-
-def _number(name: str, value: Any, *, positive: bool = False, allow_zero: bool = True) -> float:
-    if isinstance(value, str):  # issue 17: "0.1" is not a number (float() would take it)
-        raise ParameterError(f"{name} must be a number, got {value!r}")
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a number, got {value!r}") from None
-    if isinstance(value, bool) or math.isnan(v) or math.isinf(v):
-        raise ParameterError(f"{name} must be a finite number, got {value!r}")
-    if positive and not (v > 0 or (allow_zero and v == 0)):
-        raise ParameterError(f"{name} must be {'>= 0' if allow_zero else '> 0'}, got {value!r}")
-    return v
-
-
-def _integer(name: str, value: Any, *, minimum: int = 0) -> int:
-    if isinstance(value, bool | str):  # issue 17: "10" is not an integer (float() would take it)
-        raise ParameterError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    try:
-        f = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be an integer >= {minimum}, got {value!r}") from None
-    if not math.isfinite(f) or f != int(f) or f < minimum:
-        raise ParameterError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(f)
-
-
-def _alpha(value: Any) -> tuple[float, float]:
-    if isinstance(value, Sequence | np.ndarray) and not isinstance(value, str):
-        vals = list(value)
-        if len(vals) != 2:
-            raise ParameterError(f"alpha must be a number or a pair (ax, ay), got {value!r}")
-        ax, ay = (_number("alpha", v, positive=True, allow_zero=False) for v in vals)
-        return ax, ay
-    a = _number("alpha", value, positive=True, allow_zero=False)
-    return a, a
 
 
 def resolve_follow_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0) -> dict[str, Any]:
@@ -240,577 +126,11 @@ def resolve_follow_params(params: Mapping[str, Any] | None = None, *, unit: floa
     """
     from .params import resolve
 
-    full = resolve(params, unit=_number("unit", unit, positive=True, allow_zero=False))
+    full = resolve(params, unit=check("unit", unit, minimum=0.0, strict=True))
     out = {k: full[k] for k in FOLLOW_DEFAULTS}
     if out["max_iterations"] is None:
         out["max_iterations"] = FOLLOW_DEFAULTS["max_iterations"]
     return out
-
-
-# ----------------------------------------------------------------------------------------------
-# The core
-# ----------------------------------------------------------------------------------------------
-def _xy(p: ArrayLike, name: str) -> Point:
-    a = np.asarray(p, dtype=float).reshape(-1)
-    if a.shape != (2,) or not np.all(np.isfinite(a)):
-        raise ParameterError(f"{name} must be two finite numbers (x, y), got {p!r}")
-    return float(a[0]), float(a[1])
-
-
-#: Fallback steps when the full step is blocked, in the order tried: the step direction turned by
-#: these angles (degrees; every one within 75 degrees of the force, so each is a descent
-#: direction), each at these fractions of the step length. The first free one is taken.
-_SLIDE_ANGLES = (0.0, 15.0, -15.0, 30.0, -30.0, 45.0, -45.0, 60.0, -60.0, 75.0, -75.0)
-_SLIDE_FACTORS = (1.0, 0.5, 0.25, 0.125)
-#: ``(cos, sin, factor)`` of every fallback step (the unturned full step, already blocked, left out).
-_SLIDES: tuple[tuple[float, float, float], ...] = tuple(
-    (math.cos(math.radians(a)), math.sin(math.radians(a)), f)
-    for a in _SLIDE_ANGLES for f in _SLIDE_FACTORS if (a, f) != (0.0, 1.0)
-)
-
-
-def _free_step(x: float, y: float, sx: float, sy: float,
-               blocked: Callable[[Point, Point], bool]) -> Point | None:
-    """The first free fallback of the blocked step ``(sx, sy)`` from ``(x, y)`` (see :data:`_SLIDES`).
-
-    Examples
-    --------
-    >>> wall = lambda p, q: q[0] > 1.0          # free for x <= 1
-    >>> _free_step(0.5, 0.0, 1.0, 0.0, wall)    # shortened to half
-    (1.0, 0.0)
-    >>> _free_step(1.0, 0.0, 1.0, 0.0, wall) is None   # pressed against the wall
-    True
-    """
-    for c, sn, f in _SLIDES:
-        q = (x + f * (c * sx - sn * sy), y + f * (sn * sx + c * sy))
-        if not blocked((x, y), q):
-            return q
-    return None
-
-
-def descend(
-    force: Callable[[Point], tuple[float, float]],
-    start: ArrayLike,
-    goal: ArrayLike,
-    *,
-    step_rule: str = "normalized",
-    step: float = 0.1,
-    alpha: float | tuple[float, float] = 0.1,
-    min_speed: float = 0.0,
-    tolerance: float = 0.1,
-    max_iterations: int = 10_000,
-    blocked: Callable[[Point, Point], bool] | None = None,
-    potential: Callable[[Point], float] | None = None,
-    attraction: Callable[[Point], tuple[float, float]] | None = None,
-    navigate: Callable[..., list[Point]] | None = None,
-    gradient_threshold: float = 0.0,
-    progress_window: int = 200,
-    confine_window: int = 20,
-    revisit_tolerance: float | None = None,
-    escape: str = "none",
-    escape_tries: int = 10,
-    escape_radius: float = 6.0,
-    rng: np.random.Generator | int | None = None,
-    append_goal: bool = True,
-) -> tuple[NDArray[np.float64], str, int, dict[str, Any]]:
-    """Follow the force field ``force`` from ``start`` until a stop rule fires.
-
-    Parameters
-    ----------
-    force : callable
-        ``force((x, y)) -> (fx, fy)``, the force ``F = -grad U`` at a point.
-    start, goal : (2,) array_like
-        World points.
-    step_rule : {"normalized", "scaled"}
-    step : float
-        Step length of the normalized rule (> 0); also the length unit of the stop rules.
-    alpha : float or (float, float)
-        Gain of the scaled rule (> 0), or one gain per axis.
-    min_speed : float
-        Minimum step length of the scaled rule (0: none).
-    tolerance : float
-        Reached when closer than this to the goal.
-    max_iterations : int
-        Step budget (escape moves count as steps).
-    blocked : callable, optional
-        ``blocked((x, y), (x2, y2)) -> bool``: whether the straight move enters an obstacle or
-        leaves a walled map. ``None``: nothing blocks.
-    potential : callable, optional
-        ``potential((x, y)) -> U``; needed by the ``potential_increase`` escape.
-    attraction : callable, optional
-        The attractive part of the force; needed by the ``potential_increase`` escape.
-    navigate : callable, optional
-        ``navigate((x, y), final=bool) -> [points]``: the moves of the ``navigation`` escape
-        (:class:`gridfield.escapes.NavigationEscape`); needed by that escape.
-    gradient_threshold : float
-        Local minimum when ``|F| <= gradient_threshold``.
-    progress_window : int
-        Local minimum when the distance to the goal has not improved over this many steps (0: off).
-    confine_window : int
-        Local minimum when the last this many steps stayed within a box of 2 steps (a jitter about
-        an equilibrium that never exactly revisits a point; 0: off).
-    revisit_tolerance : float, optional
-        Oscillation when the point is this close to the point two steps back
-        (default ``1e-6 * step``; for the scaled rule ``1e-6 * tolerance``).
-    escape : {"none", "random_walk", "potential_increase"}
-    escape_tries : int
-    escape_radius : float
-        Maximum jump length ``a`` of the random walk.
-    rng : numpy.random.Generator or int, optional
-        Random source of the random-walk escape (an int seeds a new Generator).
-    append_goal : bool
-        Append the goal to the path when reached.
-
-    Returns
-    -------
-    points : ndarray, shape (N, 2)
-    status : str
-        ``reached``, ``local_minimum``, ``collision`` or ``max_iterations``.
-    iterations : int
-        Moves made (steps and escape moves; the appended goal is not counted).
-    extra : dict
-        ``stop_reason``; ``stall_point`` and ``local_minima`` (every stall point met, escaped or
-        not); ``oscillation`` (the two alternating points); ``collision_at``; ``goal_appended``;
-        ``escapes_tried``, ``escapes_succeeded`` and ``escapes`` (a log) when escaping.
-
-    Examples
-    --------
-    A wall across the bowl stops the follower: it shortens its steps up to the wall (never
-    into it), then no descent step is free:
-
-    >>> wall = lambda p, q: q[0] >= 2.0
-    >>> pts, status, n, extra = descend(lambda p: (3.0 - p[0], 0.0), (0.0, 0.0), (3.0, 0.0),
-    ...                                 step=0.5, tolerance=0.3, blocked=wall)
-    >>> status, extra["stop_reason"], bool(pts[:, 0].max() < 2.0), extra["blocked_at"][0] >= 2.0
-    ('local_minimum', 'blocked', True, True)
-
-    A wrong parameter is named:
-
-    >>> descend(lambda p: (1.0, 0.0), (0, 0), (1, 0), step=0)
-    Traceback (most recent call last):
-    ...
-    gridfield.errors.ParameterError: step must be > 0, got 0
-    """
-    step_rule = _choice("step_rule", step_rule, STEP_RULES)
-    escape = _choice("escape", escape, ESCAPES)
-    step = _number("step", step, positive=True, allow_zero=False)
-    ax, ay = _alpha(alpha)
-    min_speed = _number("min_speed", min_speed, positive=True)
-    tolerance = _number("tolerance", tolerance, positive=True, allow_zero=False)
-    max_iterations = _integer("max_iterations", max_iterations)
-    gradient_threshold = _number("gradient_threshold", gradient_threshold, positive=True)
-    progress_window = _integer("progress_window", progress_window)
-    confine_window = _integer("confine_window", confine_window)
-    if step_rule != "normalized":  # scaled steps shrink where the field is weak: no fixed box to judge by
-        confine_window = 0
-    escape_tries = _integer("escape_tries", escape_tries)
-    escape_radius = _number("escape_radius", escape_radius, positive=True, allow_zero=False)
-    normalized = step_rule == "normalized"
-    unit = step if normalized else tolerance
-    rev_tol = 1e-6 * unit if revisit_tolerance is None else _number("revisit_tolerance", revisit_tolerance,
-                                                                        positive=True)
-    min_gain = 1e-3 * unit
-    same_radius = max(3.0 * unit, tolerance)
-    if escape == "potential_increase" and (potential is None or attraction is None):
-        raise ParameterError("escape='potential_increase' needs the potential and the attractive force "
-                             "(pass potential= and attraction=)")
-    if escape == "navigation" and navigate is None:
-        raise ParameterError("escape='navigation' follows a grid navigation function: it needs navigate= "
-                             "(the grid follower, gridfield.follow.follow, provides it)")
-    if escape == "random_walk" and not isinstance(rng, np.random.Generator):
-        rng = np.random.default_rng(rng)
-
-    x, y = _xy(start, "start")
-    gx, gy = _xy(goal, "goal")
-    xs, ys = [x], [y]
-    fns: list[float] = []  # |F| at xs[i], ys[i]
-    it = 0
-    best = math.sqrt((x - gx) * (x - gx) + (y - gy) * (y - gy))
-    best_it = 0
-    win_min, win_idx = math.inf, 0  # smallest |F| since the last improvement, and where
-    status = ""
-    extra: dict[str, Any] = {}
-    minima: list[list[float]] = []
-    log: list[dict[str, Any]] = []
-    tried = 0
-    slid = 0  # steps shortened or turned because the full step was blocked
-    since = 0  # index of the first point of the current descent (after the last escape move)
-    box = 2.0 * unit
-    pinned = False  # no free descent step from the current point
-
-    def settle(outcome: str, where: list[float] | None = None) -> None:
-        """Classify the pending escape (the last one) by how the follower stopped next."""
-        if log and log[-1]["outcome"] is None:
-            if outcome == "local_minimum" and where is not None:
-                frm = log[-1]["from"]
-                near = math.hypot(where[0] - frm[0], where[1] - frm[1]) <= same_radius
-                outcome = "same_minimum" if near else "other_minimum"
-            log[-1]["outcome"] = outcome
-
-    fx = fy = fn = 0.0
-    sqrt = math.sqrt
-    isinf = math.isinf
-    append_x, append_y = xs.append, ys.append
-    dx, dy = x - gx, y - gy
-    d = sqrt(dx * dx + dy * dy)
-    while True:
-        if d < tolerance:
-            status = "reached"
-            extra["stop_reason"] = "goal"
-            break
-        n = len(xs)
-        reason = ""
-        stall = -1
-        if pinned:
-            reason = "blocked"
-            stall = n - 1
-            pinned = False
-        elif n > 2 and sqrt((x - xs[-3]) * (x - xs[-3]) + (y - ys[-3]) * (y - ys[-3])) <= rev_tol:
-            reason = "oscillation"
-            stall = n - 3 if fns[n - 3] <= fns[n - 2] else n - 2
-            extra["oscillation"] = [[xs[n - 2], ys[n - 2]], [x, y]]
-        elif (confine_window and n - since > confine_window
-              and max(xs[-confine_window - 1:]) - min(xs[-confine_window - 1:]) <= box
-              and max(ys[-confine_window - 1:]) - min(ys[-confine_window - 1:]) <= box):
-            reason = "confined"
-            k0 = n - confine_window - 1
-            stall = min(range(k0, n - 1), key=lambda k: fns[k] if fns[k] == fns[k] else math.inf)
-        elif progress_window and it - best_it >= progress_window:
-            reason = "no_progress"
-            stall = win_idx
-        else:
-            if it >= max_iterations:
-                status = "max_iterations"
-                extra["stop_reason"] = "max_iterations"
-                break
-            fx, fy = force((x, y))
-            fx, fy = float(fx), float(fy)
-            fn = sqrt(fx * fx + fy * fy)
-            if len(fns) < n:
-                fns.append(fn)
-            else:  # recomputed at the same point after a failed escape
-                fns[n - 1] = fn
-            if fn < win_min:
-                win_min, win_idx = fn, n - 1
-            if not (fn > gradient_threshold) or isinf(fn):
-                reason = "small_gradient" if fn == fn and not isinf(fn) else "undefined_force"
-                stall = n - 1
-
-        if reason:
-            where = [xs[stall], ys[stall]]
-            minima.append(where)
-            settle("local_minimum", where)
-            if escape == "none" or tried >= escape_tries:
-                status = "local_minimum"
-                extra["stop_reason"] = reason
-                extra["stall_point"] = where
-                break
-            tried += 1
-            again = sum(1 for e in log if math.hypot(e["from"][0] - where[0], e["from"][1] - where[1]) <= same_radius)
-            entry: dict[str, Any] = {"from": where, "at_iteration": it, "kind": escape, "outcome": None}
-            moves: list[Point] = []
-            if escape == "random_walk":
-                assert isinstance(rng, np.random.Generator)
-                for _ in range(_JUMP_SAMPLES):
-                    r = escape_radius * (1.0 - rng.random())
-                    th = 2.0 * math.pi * rng.random()
-                    q = (x + r * math.cos(th), y + r * math.sin(th))
-                    if blocked is None or not blocked((x, y), q):
-                        moves.append(q)
-                        break
-            elif escape == "navigation":
-                assert navigate is not None
-                for q in navigate((x, y), final=tried >= escape_tries):
-                    if blocked is not None and blocked(moves[-1] if moves else (x, y), q):
-                        break  # (never: the moves join free cell centres) keep what is free
-                    moves.append(q)
-            else:
-                assert potential is not None and attraction is not None
-                fx, fy = force((x, y))
-                fax, fay = attraction((x, y))
-                ux = float(fx) - float(fax) + 0.05 * float(fax)
-                uy = float(fy) - float(fay) + 0.05 * float(fay)
-                un = math.hypot(ux, uy)
-                u0 = float(potential((x, y)))
-                bar = 1.25 ** (again + 1) * u0
-                entry["required_potential"] = bar
-                if un > 0 and math.isfinite(un):
-                    px, py, eps = x, y, unit
-                    for _ in range(_ESCAPE_SUBSTEPS):
-                        q = (px + eps * ux / un, py + eps * uy / un)
-                        if blocked is not None and blocked((px, py), q):
-                            moves = []
-                            break
-                        moves.append(q)
-                        px, py = q
-                        eps *= 1.25
-                        if float(potential(q)) >= bar:
-                            break
-                    else:
-                        moves = []
-            if not moves:
-                entry["outcome"] = "no_jump"
-                log.append(entry)
-                continue
-            entry["to"] = [moves[-1][0], moves[-1][1]]
-            entry["points"] = [len(xs) - 1, len(xs) - 1 + len(moves)]  # the escape's stretch of the path
-            log.append(entry)
-            for q in moves:
-                xs.append(q[0])
-                ys.append(q[1])
-                fns.append(math.nan)
-                it += 1
-            x, y = moves[-1]
-            dx, dy = x - gx, y - gy
-            d = sqrt(dx * dx + dy * dy)
-            best, best_it = d, it
-            win_min, win_idx = math.inf, len(xs) - 1
-            since = len(xs) - 1
-            continue
-
-        # -- one step --------------------------------------------------------------------
-        if normalized:
-            nx = x + step * fx / fn
-            ny = y + step * fy / fn
-        else:
-            sx, sy = ax * fx, ay * fy
-            if min_speed > 0.0 and sqrt(sx * sx + sy * sy) < min_speed:
-                sx, sy = min_speed * fx / fn, min_speed * fy / fn
-            nx, ny = x + sx, y + sy
-        if blocked is not None and blocked((x, y), (nx, ny)):
-            free = _free_step(x, y, nx - x, ny - y, blocked)
-            if free is None:  # no descent step is free: the force presses the follower onto an obstacle
-                extra["blocked_at"] = [nx, ny]
-                pinned = True
-                continue
-            nx, ny = free
-            slid += 1
-        x, y = nx, ny
-        append_x(x)
-        append_y(y)
-        it += 1
-        dx, dy = x - gx, y - gy
-        d = sqrt(dx * dx + dy * dy)
-        if d < best - min_gain:
-            best, best_it = d, it
-            win_min, win_idx = math.inf, len(xs) - 1
-
-    settle(status)
-    extra["slid_steps"] = slid
-    if status == "reached" and append_goal and (x, y) != (gx, gy):
-        ok = blocked is None or not blocked((x, y), (gx, gy))
-        if ok:
-            xs.append(gx)
-            ys.append(gy)
-        elif navigate is not None:  # the straight hop is blocked: down the navigation function instead
-            hop = navigate((x, y), final=True)
-            if hop and blocked is not None and all(not blocked(a, b) for a, b in zip([(x, y), *hop[:-1]], hop, strict=True)):
-                xs.extend(q[0] for q in hop)
-                ys.extend(q[1] for q in hop)
-                ok = True
-        extra["goal_appended"] = ok
-    elif status == "reached":
-        extra["goal_appended"] = False
-    if minima:
-        extra["local_minima"] = minima
-    if escape != "none":
-        extra["escapes_tried"] = tried
-        extra["escapes_succeeded"] = sum(1 for e in log if e["outcome"] in ("reached", "other_minimum"))
-        extra["escapes"] = log
-    if escape == "navigation":
-        extra["navigation_segments"] = [e["points"] for e in log if "points" in e]
-    return np.column_stack([xs, ys]), status, it, extra
-
-
-# ----------------------------------------------------------------------------------------------
-# Grid samplers (kernels in gridfield._kernels_follow; shared by follow and follow_many)
-# ----------------------------------------------------------------------------------------------
-def _grid_args(gridmap: GridMap) -> tuple[NDArray[np.bool_], float, float, float]:
-    g = gridmap.grid
-    occ = np.ascontiguousarray(gridmap.occupied, dtype=np.bool_)
-    return occ, float(g.origin[0]), float(g.origin[1]), float(g.resolution)
-
-
-def _field_arrays(field: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    return (np.ascontiguousarray(field.grad_x, dtype=np.float64),
-            np.ascontiguousarray(field.grad_y, dtype=np.float64))
-
-
-def grid_sampler(field: Any, *, sampling: str = "bilinear") -> Callable[[Point], tuple[float, float]]:
-    """``force(p) -> (fx, fy)``: the force ``-grad U`` of a Field at world points, from its arrays.
-
-    ``bilinear`` interpolates among the free corner cells only (renormalized weights) and clamps to
-    the grid; ``nearest`` takes the cell containing the point (clamped); obstacle cells give 0.
-
-    Examples
-    --------
-    >>> from types import SimpleNamespace
-    >>> gm = GridMap(Grid((2, 3), 1.0), np.array([[False, False, True], [False, False, False]]))
-    >>> gx = np.array([[1.0, 3.0, 0.0], [1.0, 3.0, 5.0]])
-    >>> f = grid_sampler(SimpleNamespace(map=gm, grad_x=gx, grad_y=np.zeros((2, 3))))
-    >>> f((1.0, 1.0))   # halfway between the centres 0.5 and 1.5: -(1 + 3) / 2
-    (-2.0, -0.0)
-    >>> f((2.0, 0.5))   # the obstacle cell (row 0, col 2) is left out
-    (-3.0, -0.0)
-    """
-    _choice("sampling", sampling, SAMPLINGS)
-    gx, gy = _field_arrays(field)
-    occ, x0, y0, res = _grid_args(field.map)
-    nearest = sampling == "nearest"
-    kern = _direct(_force_at, gx, gy, occ, x0, y0, res, nearest, x0, y0)
-
-    def force(p: Point) -> tuple[float, float]:
-        return kern(gx, gy, occ, x0, y0, res, nearest, p[0], p[1])
-
-    return force
-
-
-def sample_force(field: Any, points: ArrayLike, *, sampling: str = "bilinear") -> NDArray[np.float64]:
-    """The force ``-grad U`` of a Field at many world points at once, sampled like :func:`grid_sampler`.
-
-    One compiled pass over the points: use it rather than a Python loop over ``grid_sampler`` calls
-    when the points are known together (a quiver plot, a batch of robot positions, a trajectory).
-
-    Parameters
-    ----------
-    field : Field
-        From :func:`gridfield.potential.build_field` (anything with ``map``, ``grad_x``, ``grad_y``).
-    points : array_like, shape (N, 2) or (2,)
-        World points ``(x, y)``; they must be finite. Points outside the grid are clamped to it.
-    sampling : {"bilinear", "nearest"}
-
-    Returns
-    -------
-    ndarray, shape (N, 2)
-        ``(fx, fy)`` per point; 0 in obstacle cells.
-
-    Examples
-    --------
-    >>> from types import SimpleNamespace
-    >>> gm = GridMap(Grid((2, 3), 1.0), np.array([[False, False, True], [False, False, False]]))
-    >>> gx = np.array([[1.0, 3.0, 0.0], [1.0, 3.0, 5.0]])
-    >>> sample_force(SimpleNamespace(map=gm, grad_x=gx, grad_y=np.zeros((2, 3))), [[1.0, 1.0], [2.0, 0.5]])
-    array([[-2., -0.],
-           [-3., -0.]])
-    """
-    _choice("sampling", sampling, SAMPLINGS)
-    pts = _as_points(points)
-    if not np.isfinite(pts).all():
-        k = int(np.flatnonzero(~np.isfinite(pts).all(axis=1))[0])
-        raise ParameterError(f"points must be finite; point {k} is {pts[k].tolist()}")
-    gx, gy = _field_arrays(field)
-    occ, x0, y0, res = _grid_args(field.map)
-    xs, ys = np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1])
-    fx, fy = np.empty(len(pts)), np.empty(len(pts))
-    if len(pts):
-        _force_many(gx, gy, occ, x0, y0, res, sampling == "nearest", xs, ys, fx, fy)
-    return np.stack([fx, fy], axis=1)
-
-
-def grid_potential_sampler(field: Any, *, sampling: str = "bilinear") -> Callable[[Point], float]:
-    """``potential(p) -> U`` sampled like :func:`grid_sampler` (free corners only)."""
-    _choice("sampling", sampling, SAMPLINGS)
-    u = np.ascontiguousarray(field.potential, dtype=np.float64)
-    occ, x0, y0, res = _grid_args(field.map)
-    kern = _direct(_nearest2 if sampling == "nearest" else _bilinear2, u, u, occ, x0, y0, res, x0, y0)
-
-    def potential(p: Point) -> float:
-        return kern(u, u, occ, x0, y0, res, p[0], p[1])[0]
-
-    return potential
-
-
-def grid_blocked(gridmap: GridMap) -> Callable[[Point, Point], bool]:
-    """``blocked(p, q)``: whether the segment ``p -> q`` crosses an occupied cell or leaves a walled map.
-
-    The cells are walked exactly (a segment through a cell corner checks both side cells). Outside
-    an open-border grid is free.
-
-    Examples
-    --------
-    >>> occ = np.zeros((3, 3), bool); occ[1, 1] = True
-    >>> b = grid_blocked(GridMap(Grid((3, 3), 1.0), occ))
-    >>> b((0.5, 0.5), (2.5, 0.5)), b((0.5, 0.5), (2.5, 2.5)), b((0.5, 1.5), (-1.0, 1.5))
-    (False, True, False)
-    >>> bw = grid_blocked(GridMap(Grid((3, 3), 1.0, border="wall"), occ))
-    >>> bw((0.5, 1.5), (-1.0, 1.5))
-    True
-    """
-    occ, x0, y0, res = _grid_args(gridmap)
-    wall = gridmap.grid.border == "wall"
-    kern = _direct(_segment_blocked, occ, x0, y0, res, wall, x0, y0, x0, y0)
-
-    def blocked(p: Point, q: Point) -> bool:
-        return kern(occ, x0, y0, res, wall, p[0], p[1], q[0], q[1])
-
-    return blocked
-
-
-# ----------------------------------------------------------------------------------------------
-# Following a Field
-# ----------------------------------------------------------------------------------------------
-def attraction_force(goal: ArrayLike, params: Mapping[str, Any]) -> Callable[[Point], tuple[float, float]]:
-    """``attraction(p) -> (fx, fy)``: the attractive force of the potential models at a point.
-
-    ``model="khatib"``: ``-grad`` of :mod:`gridfield.potential`'s quadratic / combined / conic
-    attractive potential (``zeta``, ``d_star``); ``model="vortex"``: ``-ka * (p - goal)``.
-
-    Examples
-    --------
-    >>> f = attraction_force((0.0, 0.0), {"zeta": 2.0, "d_star": 1.0})
-    >>> f((0.5, 0.0)), f((4.0, 0.0))
-    ((-1.0, -0.0), (-2.0, -0.0))
-    """
-    gx, gy = _xy(goal, "goal")
-    if params.get("model", "khatib") == "vortex":
-        ka = float(params.get("ka", 25.0))
-
-        def vortex_attr(p: Point) -> tuple[float, float]:
-            return -ka * (p[0] - gx), -ka * (p[1] - gy)
-
-        return vortex_attr
-    zeta = float(params.get("zeta", 1.0))
-    d_star = float(params.get("d_star", math.inf))
-
-    def attr(p: Point) -> tuple[float, float]:
-        dx, dy = p[0] - gx, p[1] - gy
-        d = math.sqrt(dx * dx + dy * dy)
-        if d == 0.0:
-            return 0.0, 0.0
-        if d_star == 0.0:  # pure conic (potential.py's separate case)
-            return -zeta * dx / d, -zeta * dy / d
-        if d <= d_star:
-            return -zeta * dx, -zeta * dy
-        return -d_star * zeta * dx / d, -d_star * zeta * dy / d
-
-    return attr
-
-
-def _vortex_norms(field: Any, params: Mapping[str, Any]) -> tuple[float, float]:
-    """Matrix 2-norms of seed 003's force components ``fX``, ``fY`` over the whole lattice.
-
-    The seed's arrays are defined everywhere, inside the circles too, while a Field holds zeros on
-    obstacle cells; the norms are therefore taken from the same field rebuilt on the lattice without
-    occupancy (when the field's map carries its world), else from the field's own arrays.
-    """
-    from .world import World
-
-    world = getattr(field.map, "world", None)
-    gx, gy = field.grad_x, field.grad_y
-    if isinstance(world, World) and world.start is not None:
-        from .potential import vortex_field
-
-        open_map = GridMap(field.map.grid, np.zeros(field.map.grid.shape, bool))
-        full = vortex_field(open_map, world, world.start, field.goal, ka=float(params.get("ka", 25.0)),
-                            kr=float(params.get("kr", 30.0)), ko=float(params.get("ko", 5.0)),
-                            sample_radius=params.get("sample_radius"))
-        gx, gy = full.grad_x, full.grad_y
-    nx = float(np.linalg.norm(np.asarray(gx, dtype=float), 2))
-    ny = float(np.linalg.norm(np.asarray(gy, dtype=float), 2))
-    if not (nx > 0 and ny > 0 and math.isfinite(nx) and math.isfinite(ny)):
-        raise GridfieldError(f"the vortex field's force components have matrix norms {nx:g}, {ny:g}; "
-                             "cannot scale the steps (seed 003's follower divides by them)")
-    return nx, ny
 
 
 @dataclass(frozen=True)
@@ -828,15 +148,7 @@ def _setup(field: Any, params: Mapping[str, Any] | None) -> _Setup:
     grid: Grid = field.map.grid
     vortex = merged.get("model", "khatib") == "vortex"
     if vortex:
-        # Seed 003's nearest-node follower: x += spacing * (Fx / ||fX||_2, Fy / ||fY||_2), where
-        # ||.||_2 is the matrix 2-norm (largest singular value) of each force component's array.
-        spacing = float(merged.get("spacing", grid.resolution))
-        merged.setdefault("sampling", "nearest")
-        merged.setdefault("tolerance", 0.4)
-        merged.setdefault("confine_window", 0)  # seed 003's follower: no jitter rule
-        merged["step_rule"] = "scaled"
-        nx, ny = _vortex_norms(field, merged)
-        merged["alpha"] = (spacing / nx, spacing / ny)
+        merged = _vortex_follower(field, merged)
     if merged.get("max_iterations") is None:  # enough to cross every free cell once
         merged["max_iterations"] = max(FOLLOW_DEFAULTS["max_iterations"], int(np.count_nonzero(~field.map.occupied)))
     p = resolve_follow_params(merged, unit=grid.resolution)
@@ -846,29 +158,6 @@ def _setup(field: Any, params: Mapping[str, Any] | None) -> _Setup:
                                 "gradient_threshold", "progress_window", "confine_window", "escape", "escape_tries",
                                 "escape_radius")}
     return _Setup(out, kwargs, p["sampling"], vortex)
-
-
-def _distance_at(field: Any, points: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """Brushfire (Euclidean) distance of the cells containing the points (clamped to the grid), and
-    whether each point lies inside the grid."""
-    dmap = getattr(field, "distance", None)
-    if dmap is None:
-        from .brushfire import brushfire
-
-        dmap = brushfire(field.map, metric="euclidean")
-    dist = np.ascontiguousarray(dmap.distance, dtype=np.float64)
-    grid: Grid = field.map.grid
-    pts = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
-    out = np.empty(len(pts))
-    inside = np.empty(len(pts), np.bool_)
-    _cell_values(dist, grid.origin[0], grid.origin[1], grid.resolution, pts[:, 0].copy(), pts[:, 1].copy(), out,
-                 inside)
-    return out, inside
-
-
-def _clearance(field: Any, points: NDArray[np.float64]) -> float:
-    """Smallest brushfire distance at the cells of the path's points."""
-    return float(np.min(_distance_at(field, points)[0])) if len(points) else math.nan
 
 
 def _note_outside(extra: dict[str, Any], grid: Grid, pts: NDArray[np.float64]) -> None:
@@ -917,7 +206,7 @@ def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = N
     setup = _setup(field, params)
     grid_map: GridMap = field.map
     s = grid_map.check_point("start", start)
-    goal = _xy(field.goal, "goal")
+    goal = _as_xy(field.goal, "goal")
     p = setup.params
     force = grid_sampler(field, sampling=setup.sampling)
     blocked = grid_blocked(grid_map)
@@ -976,13 +265,40 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     ``Path.params`` the resolved potential and follower parameters. With a ``cache`` dict, the
     brushfire of ``gridmap`` (per metric and saturation) and its free regions are computed once and
     reused by later calls (batch sweeps: many goals and gains on one map).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+    start, goal : (x, y)
+        World points in free cells (:func:`gridfield.planners.plan` checks them).
+    params : mapping
+        Potential and follower parameters (:mod:`gridfield.params`); the map's scaled defaults
+        fill in the rest.
+    cache : dict, optional
+        Shared between calls on the same map.
+
+    Returns
+    -------
+    Path
+        ``planner="potential"``, status ``reached``, ``local_minimum``, ``max_iterations`` or
+        ``no_path``.
+
+    Examples
+    --------
+    >>> occ = np.zeros((10, 10), bool); occ[4:6, 0:7] = True
+    >>> gm = GridMap(Grid((10, 10), 1.0), occ)
+    >>> p = plan_potential(gm, (2.5, 1.5), (2.5, 8.5), {})
+    >>> p.status, p.extra["stop_reason"], "hint" in p.extra
+    ('local_minimum', 'oscillation', True)
+    >>> plan_potential(gm, (2.5, 1.5), (2.5, 8.5), {"escape": "navigation"}).status
+    'reached'
     """
     from .diagnose import diagnose, unreachable_hint
     from .escapes import NavigationEscape
     from .potential import build_field, field_distance_map, resolve_params
 
     params = dict(params or {})
-    s, g = _xy(start, "start"), _xy(goal, "goal")
+    s, g = _as_xy(start, "start"), _as_xy(goal, "goal")
     t0 = time.perf_counter()
     resolved = resolve_params(params, unit=gridmap.grid.resolution)
     vortex = resolved["model"] == "vortex"
@@ -1067,14 +383,14 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
             grid_map.check_point("start", S[i])
         except GridfieldError as e:
             raise type(e)(f"starts[{i}]: {e}") from None
-    goal = _xy(field.goal, "goal")
+    goal = _as_xy(field.goal, "goal")
     gx, gy = _field_arrays(field)
     occ, x0, y0, res = _grid_args(grid_map)
     nearest = setup.sampling == "nearest"
     wall = grid_map.grid.border == "wall"
     normalized = kw["step_rule"] == "normalized"
     step, tol, max_it = kw["step"], kw["tolerance"], kw["max_iterations"]
-    ax, ay = _alpha(kw["alpha"])
+    ax, ay = _gains(kw["alpha"])
     min_speed, thr, window = kw["min_speed"], kw["gradient_threshold"], kw["progress_window"]
     cw = kw["confine_window"] if normalized else 0
     unit = step if normalized else tol
@@ -1309,126 +625,3 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         paths.append(Path(pts, status, "potential", iterations=int(end_it[i]), params=p, seconds=per,
                           min_clearance=float(clear[i]), extra=extra))
     return paths
-
-
-# ----------------------------------------------------------------------------------------------
-# Basins of attraction
-# ----------------------------------------------------------------------------------------------
-@dataclass(frozen=True, eq=False)
-class Basins:
-    """Where discrete steepest descent on a potential array ends, for every free cell.
-
-    Attributes
-    ----------
-    grid : Grid
-    label : ndarray of int32, the grid's shape
-        0 on obstacles, 1 for cells whose descent ends where the goal cell's descent ends,
-        ``k >= 2`` for the other sinks (local minima), numbered by increasing potential.
-    minima : ndarray, shape (K, 2)
-        World point (cell centre) of the sink of label ``k`` at row ``k - 1``.
-    sink : ndarray of intp, the grid's shape
-        Flat index of the sink each cell descends to (-1 on obstacles).
-    goal_cell : (int, int)
-        ``(row, col)`` of the cell containing the goal.
-    """
-
-    grid: Grid
-    label: NDArray[np.int32]
-    minima: NDArray[np.float64]
-    sink: NDArray[np.intp]
-    goal_cell: tuple[int, int]
-
-    def __repr__(self) -> str:
-        return f"Basins(shape={self.grid.shape}, basins={len(self.minima)}, goal_fraction={self.goal_fraction:.3g})"
-
-    @property
-    def goal_fraction(self) -> float:
-        """Fraction of the free cells that descend to the goal."""
-        free = self.label > 0
-        return float((self.label[free] == 1).mean()) if free.any() else math.nan
-
-
-_NEIGHBOURS = ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1))
-
-
-def descent_successor(potential: NDArray[np.float64], free: NDArray[np.bool_]) -> NDArray[np.intp]:
-    """Flat index of each cell's steepest-descent successor: its lowest free 8-neighbour if lower than
-    itself (ties: the first in row-major neighbour order), else the cell itself (a sink; also obstacles).
-
-    A diagonal neighbour counts only when both cells beside the diagonal are free too: the move
-    between the centres passes their common corner, and the follower never touches an obstacle.
-
-    Examples
-    --------
-    >>> u = np.array([[3.0, 2.0, 1.0], [4.0, 5.0, 0.5]])
-    >>> descent_successor(u, np.ones(u.shape, bool)).reshape(u.shape)
-    array([[1, 5, 5],
-           [1, 5, 5]])
-    """
-    u = np.where(free, np.asarray(potential, dtype=float), np.inf)
-    u = np.where(np.isnan(u), np.inf, u)
-    rows, cols = u.shape
-    pad = np.pad(u, 1, constant_values=np.inf)
-    fpad = np.pad(np.asarray(free, dtype=bool), 1, constant_values=False)
-    best = u.copy()
-    succ = np.arange(rows * cols, dtype=np.intp).reshape(rows, cols)
-    r, c = np.indices((rows, cols))
-    for dr, dc in _NEIGHBOURS:
-        nb = pad[1 + dr: 1 + dr + rows, 1 + dc: 1 + dc + cols]
-        if dr and dc:  # a diagonal move passes the corner of both side cells: both must be free
-            side = fpad[1 + dr: 1 + dr + rows, 1: 1 + cols] & fpad[1: 1 + rows, 1 + dc: 1 + dc + cols]
-            nb = np.where(side, nb, np.inf)
-        lower = nb < best
-        best = np.where(lower, nb, best)
-        succ = np.where(lower, (r + dr) * cols + (c + dc), succ)
-    succ = np.where(free, succ, np.arange(rows * cols).reshape(rows, cols))
-    return succ.reshape(-1)
-
-
-def basins(field: Any) -> Basins:
-    """Basins of attraction of discrete steepest descent on ``field.potential`` (no loop over cells).
-
-    Each free cell moves to its lowest 8-neighbour while that is lower (:func:`descent_successor`);
-    the sink of every cell is found by pointer jumping (``succ = succ[succ]``, at most
-    ``log2(cells) + 1`` rounds).
-
-    Examples
-    --------
-    >>> from types import SimpleNamespace
-    >>> g = Grid((1, 7), 1.0)
-    >>> u = np.array([[2.0, 1.0, 2.0, 3.0, 1.5, 0.0, 1.0]])
-    >>> f = SimpleNamespace(map=GridMap(g, np.zeros(g.shape, bool)), potential=u, goal=(5.5, 0.5))
-    >>> b = basins(f)
-    >>> b.label.tolist(), b.minima.tolist()
-    ([[2, 2, 2, 1, 1, 1, 1]], [[5.5, 0.5], [1.5, 0.5]])
-    """
-    grid: Grid = field.map.grid
-    free = ~np.asarray(field.map.occupied, dtype=bool)
-    succ = descent_successor(np.asarray(field.potential, dtype=float), free)
-    for _ in range(math.ceil(math.log2(max(succ.size, 2))) + 1):
-        nxt = succ[succ]
-        if np.array_equal(nxt, succ):
-            break
-        succ = nxt
-    flat_free = free.reshape(-1)
-    sink = np.where(flat_free, succ, -1)
-    cells, _ = grid.world_to_cell(np.asarray(field.goal, dtype=float))
-    gr = int(np.clip(cells[0, 0], 0, grid.rows - 1))
-    gc = int(np.clip(cells[0, 1], 0, grid.cols - 1))
-    goal_flat = gr * grid.cols + gc
-    goal_sink = int(succ[goal_flat]) if flat_free[goal_flat] else -1
-    sinks = np.unique(sink[flat_free])
-    u = np.asarray(field.potential, dtype=float).reshape(-1)
-    others = sinks[sinks != goal_sink]
-    others = others[np.lexsort((others, u[others]))]
-    order = np.concatenate([[goal_sink], others]) if goal_sink >= 0 else others
-    lab_of = np.zeros(grid.rows * grid.cols + 1, np.int32)  # last slot: obstacles (-1)
-    start_label = 1 if goal_sink >= 0 else 2
-    lab_of[order] = np.arange(start_label, start_label + len(order), dtype=np.int32)
-    label = lab_of[sink].reshape(grid.shape)
-    label[~free] = 0
-    rr, cc = np.divmod(order, grid.cols)
-    minima = grid.cell_to_world(np.stack([rr, cc], axis=1)) if len(order) else np.zeros((0, 2))
-    if goal_sink < 0:  # the goal lies in an obstacle cell: no basin 1
-        minima = np.vstack([np.full((1, 2), np.nan), minima])
-    return Basins(grid, label, minima, sink.reshape(grid.shape), (gr, gc))

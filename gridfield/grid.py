@@ -38,6 +38,32 @@ def _as_points(points: ArrayLike, name: str = "points") -> NDArray[np.float64]:
     return p
 
 
+def _as_xy(point: object, name: str) -> tuple[float, float]:
+    """A point given as an argument (start, goal, ...) as two finite floats ``(x, y)``.
+
+    The one point parser of the public functions: a string, anything but two numbers, NaN or
+    ``inf`` is a :class:`ParameterError` naming the argument.
+
+    Examples
+    --------
+    >>> _as_xy([1, 2.5], "start"), _as_xy(np.array([[3.0, 4.0]]), "goal")
+    ((1.0, 2.5), (3.0, 4.0))
+    >>> _as_xy((1.0, float("nan")), "goal")
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: goal must be two finite numbers (x, y), got (1.0, nan)
+    """
+    try:
+        raw = np.asarray(point)
+        ok = raw.dtype.kind in "iuf" and raw.size == 2
+        a = raw.astype(np.float64, copy=False).reshape(2) if ok else None
+    except (TypeError, ValueError):
+        a = None
+    if a is None or not (math.isfinite(a[0]) and math.isfinite(a[1])):
+        raise ParameterError(f"{name} must be two finite numbers (x, y), got {shorten(point)}")
+    return float(a[0]), float(a[1])
+
+
 def _check_shape(shape: object) -> tuple[int, int]:
     """``shape`` as two positive Python ints, or :class:`ParameterError`."""
     msg = f"grid shape must be two positive integers (rows, cols), got {shorten(shape)}"

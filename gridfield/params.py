@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import dataclasses
 import difflib
+import functools
 import math
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
@@ -60,6 +61,7 @@ __all__ = [
     "Repulsion",
     "Spec",
     "Vortex",
+    "check",
     "help_text",
     "parse",
     "resolve",
@@ -156,6 +158,66 @@ class Spec:
                 raise bad
             return int(f)
         return f
+
+
+@functools.lru_cache(maxsize=256)
+def _argument_spec(name: str, argument: str | None, limits: tuple[tuple[str, Any], ...]) -> Spec:
+    """The Spec that checks a function argument (see :func:`check`); built once per signature."""
+    lim = dict(limits)
+    base = REGISTRY.get(name)
+    if base is None:
+        kind = lim.pop("kind", "number")
+        return Spec(name=argument or name, group="", kind=kind, default=None, meaning="", **lim)
+    return dataclasses.replace(base, name=argument or name, allow_none=False, **lim)
+
+
+def check(name: str, value: Any, *, argument: str | None = None, **limits: Any) -> Any:
+    """A function argument checked by the registry's rules: the one argument checker.
+
+    The functions that take a parameter as an argument (:func:`gridfield.descent.descend`, the
+    arrays of :mod:`gridfield.potential`, the samplers, ...) check it with the :class:`Spec` of
+    the registry entry ``name``, so a value means the same everywhere and every message has the
+    registry's wording (parameter, value, what is allowed). ``None`` is refused: a function
+    argument holds a value, not "resolve the default".
+
+    Parameters
+    ----------
+    name : str
+        The registry entry (:data:`REGISTRY`); or, for an argument that is no planner parameter
+        (``unit``, ``revisit_tolerance``), any name, with ``kind`` and the bounds in ``limits``.
+    value : object
+        The argument's value.
+    argument : str, optional
+        The argument's own name when it differs from the entry's (``mode`` for ``repulsion``);
+        the message names it.
+    **limits
+        :class:`Spec` fields that override the entry's (``minimum``, ``strict``, ``allow_inf``,
+        ``kind``, ``choices``).
+
+    Returns
+    -------
+    object
+        The value converted (``float``, ``int``, the option string, a pair as a tuple).
+
+    Raises
+    ------
+    ParameterError
+        naming the argument, the value and what is allowed.
+
+    Examples
+    --------
+    >>> check("step", 0.5), check("max_iterations", 10.0), check("repulsion", "sum", argument="mode")
+    (0.5, 10, 'sum')
+    >>> check("unit", 0, minimum=0.0, strict=True)
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: unit must be a finite number > 0, got 0
+    >>> check("repulsion", "all", argument="mode")
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: mode must be one of 'nearest', 'sum'; got 'all'
+    """
+    return _argument_spec(name, argument, tuple(sorted(limits.items()))).check(value)
 
 
 def _is_numpy_number(v: Any) -> bool:

@@ -19,8 +19,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .errors import ArgumentTypeError, GridfieldError, ParameterError, shorten
-from .grid import GridMap
+from .errors import ArgumentTypeError, GridfieldError, ParameterError
+from .grid import GridMap, _as_xy
 from .params import REGISTRY, validate
 from .path import Path
 
@@ -163,13 +163,7 @@ def plan(
 
 def _point(name: str, value: Any) -> np.ndarray:
     """A start/goal point as a float array of shape (2,), or a ParameterError saying what was expected."""
-    try:
-        p = np.asarray(value, dtype=np.float64).reshape(-1)
-    except (TypeError, ValueError):
-        p = None
-    if p is None or p.shape != (2,) or isinstance(value, str):
-        raise ParameterError(f"{name} must be two numbers (x, y), got {shorten(value)}")
-    return p
+    return np.array(_as_xy(value, name))
 
 
 def _grid_world(gm: GridMap, cache: dict[Any, Any] | None) -> World:

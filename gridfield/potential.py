@@ -71,9 +71,9 @@ from __future__ import annotations
 
 import contextlib
 import math
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
-from typing import Any, cast
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -81,8 +81,10 @@ from numpy.typing import ArrayLike, NDArray
 from . import _kernels_potential as _kp  # type: ignore[attr-defined]  # a compiled extension, no stubs
 from .brushfire import DistanceMap, brushfire
 from .errors import GridfieldError, ParameterError
-from .grid import Grid, GridMap
+from .grid import Grid, GridMap, _as_xy
 from .io import load_field, save_field  # re-exported: the .npz I/O of fields lives in gridfield.io
+from .params import REGISTRY, check
+from .vortex import _build_vortex, vortex_field, vortex_lattice
 
 __all__ = [
     "DEFAULTS",
@@ -121,9 +123,10 @@ DEFAULTS: dict[str, Any] = {
     "spacing": None,
     "sample_radius": None,
 }
-REPULSIONS = ("nearest", "sum")
-GRADIENTS = ("analytic", "finite_difference")
-MODELS = ("khatib", "vortex")
+#: The options of ``repulsion``, ``gradient`` and ``model`` (the registry's choices).
+REPULSIONS: tuple[str, ...] = REGISTRY["repulsion"].choices
+GRADIENTS: tuple[str, ...] = REGISTRY["gradient"].choices
+MODELS: tuple[str, ...] = REGISTRY["model"].choices
 _METRIC_CODE = {"euclidean": 0, "chessboard": 1, "taxicab": 2}
 
 
@@ -186,26 +189,6 @@ class Field:
 # ----------------------------------------------------------------------------------------------
 # parameters
 # ----------------------------------------------------------------------------------------------
-def _number(name: str, value: Any, *, minimum: float = 0.0, strict: bool = False, allow_inf: bool = False) -> float:
-    what = f"{'> ' if strict else '>= '}{minimum:g}"
-    kind = f"a number {what}" + (" (inf allowed)" if allow_inf else " and finite")
-    if isinstance(value, bool | str) or value is None:
-        raise ParameterError(f"{name} must be {kind}, got {value!r}")
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be {kind}, got {value!r}") from None
-    if math.isnan(v) or (math.isinf(v) and not allow_inf) or v < minimum or (strict and v == minimum):
-        raise ParameterError(f"{name} must be {kind}, got {value!r}")
-    return v
-
-
-def _choice(name: str, value: Any, options: Sequence[str]) -> str:
-    if value not in options:
-        raise ParameterError(f"{name} must be one of {', '.join(map(repr, options))}; got {value!r}")
-    return str(value)
-
-
 def resolve_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0) -> dict[str, Any]:
     """Validate potential parameters and fill in the defaults, lengths scaled to the map.
 
@@ -333,13 +316,6 @@ def _khatib_arrays(
 # ----------------------------------------------------------------------------------------------
 # array functions
 # ----------------------------------------------------------------------------------------------
-def _goal_xy(goal: ArrayLike) -> tuple[float, float]:
-    g = np.asarray(goal, dtype=np.float64).reshape(-1)
-    if g.shape != (2,) or not np.all(np.isfinite(g)):
-        raise ParameterError(f"goal must be two finite numbers (x, y), got {goal!r}")
-    return float(g[0]), float(g[1])
-
-
 def attractive(
     grid: Grid, goal: ArrayLike, *, zeta: float = 1.0, d_star: float = math.inf
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
@@ -368,9 +344,9 @@ def attractive(
     >>> U.tolist(), gx.tolist(), gy.tolist()
     ([[0.0, 1.0, 3.0, 5.0]], [[0.0, 2.0, 2.0, 2.0]], [[0.0, 0.0, 0.0, 0.0]])
     """
-    gx0, gy0 = _goal_xy(goal)
-    zeta = _number("zeta", zeta)
-    d_star = _number("d_star", d_star, allow_inf=True)
+    gx0, gy0 = _as_xy(goal, "goal")
+    zeta = check("zeta", zeta)
+    d_star = check("d_star", d_star)
     return _khatib_arrays(None, None, None, grid, (gx0, gy0), zeta, d_star, "euclidean", 0.0, 1.0, 2.0,
                           math.inf, math.inf)
 
@@ -433,15 +409,15 @@ def repulsive(
     >>> float(U[0, 0]), float(gx[0, 0])
     (inf, 0.0)
     """
-    eta = _number("eta", eta)
-    q_star = _number("q_star", q_star, strict=True, allow_inf=True)
-    power = _number("repulsive_power", power)
-    mode = _choice("mode", mode, REPULSIONS)
-    gradient = _choice("gradient", gradient, GRADIENTS)
+    eta = check("eta", eta)
+    q_star = check("q_star", q_star)
+    power = check("repulsive_power", power, argument="power")
+    mode = check("repulsion", mode, argument="mode")
+    gradient = check("gradient", gradient)
     if gradient == "finite_difference" and power != 2:
         raise ParameterError(f"gradient='finite_difference' needs power=2 (the gradient of U), got power={power:g}")
     if saturate is not None:
-        saturate = _number("saturate", saturate, strict=True)
+        saturate = check("saturate", saturate)
     sat, far = _saturation(dmap, saturate)
     grid = dmap.grid
     occ = dmap.map.occupied
@@ -539,6 +515,17 @@ def finite_difference_gradient(
     where only one is (and at the grid edges, as :func:`numpy.gradient` does), 0 where neither is
     and on non-finite cells themselves.
 
+    Parameters
+    ----------
+    U : ndarray, shape ``grid.shape``
+        Values at the cell centres; ``inf`` (obstacles) and NaN cells are skipped.
+    grid : Grid
+        Gives the spacing.
+
+    Returns
+    -------
+    grad_x, grad_y : ndarray of float64, shape ``grid.shape``
+
     Examples
     --------
     >>> U = np.array([[np.inf, 1.0, 2.0, 4.0]])
@@ -577,178 +564,6 @@ def finite_difference_gradient(
         g[~finite] = 0.0
         out.append(g)
     return out[0], out[1]
-
-
-# ----------------------------------------------------------------------------------------------
-# seed 003: the vortex field
-# ----------------------------------------------------------------------------------------------
-def vortex_lattice(bounds: Sequence[float], spacing: float, *, border: str = "open") -> Grid:
-    """The grid whose cell **centres** are seed 003's lattice nodes ``xmin:spacing:xmax`` (MATLAB colon).
-
-    Seed 003 samples its field at ``X = -5:0.4:5`` (26 nodes per axis, both ends included). As a
-    gridfield :class:`Grid` that is 26 x 26 cells of size 0.4 with origin ``(-5.2, -5.2)``: the
-    grid covers half a spacing beyond the bounds on each side.
-
-    Examples
-    --------
-    >>> g = vortex_lattice((-5, -5, 5, 5), 0.4)
-    >>> g.shape, g.origin, round(float(g.cell_centers()[0][-1]), 12)
-    ((26, 26), (-5.2, -5.2), 5.0)
-    """
-    spacing = _number("spacing", spacing, strict=True)
-    xmin, ymin, xmax, ymax = (float(b) for b in bounds)
-    from .limits import check_cells
-
-    check_cells(((ymax - ymin) / spacing + 1, (xmax - xmin) / spacing + 1), f"vortex lattice at spacing {spacing:g}")
-    nx = math.floor((xmax - xmin) / spacing + 1e-9) + 1
-    ny = math.floor((ymax - ymin) / spacing + 1e-9) + 1
-    return Grid((ny, nx), spacing, (xmin - spacing / 2, ymin - spacing / 2), border)  # type: ignore[arg-type]
-
-
-def _circles_of(obj: Any) -> NDArray[np.float64]:
-    from .world import World
-
-    if isinstance(obj, World):
-        bad = [ob for ob in obj.obstacles if ob.kind != "circle"]
-        if bad:
-            raise ParameterError(
-                f"the vortex model (seed 003) samples charges on circles; obstacle {bad[0].id} is a {bad[0].kind}"
-            )
-        return np.array([(*cast("tuple[float, float]", ob.center), ob.radius) for ob in obj.obstacles], dtype=np.float64).reshape(-1, 3)
-    c = np.asarray(obj, dtype=np.float64)
-    if c.ndim != 2 or c.shape[1] != 3 or not np.all(np.isfinite(c)) or np.any(c[:, 2] <= 0):
-        raise ParameterError(f"circles must be rows (cx, cy, radius) with radius > 0, got {obj!r}")
-    return c
-
-
-def vortex_field(
-    grid: Grid | GridMap | None,
-    circles: Any,
-    start: ArrayLike,
-    goal: ArrayLike,
-    *,
-    ka: float = 25.0,
-    kr: float = 30.0,
-    ko: float = 5.0,
-    sample_radius: float | None = None,
-    spacing: float | None = None,
-) -> Field:
-    """Seed 003's field: start repulsion, goal attraction, boundary charges with a rotational term.
-
-    On the lattice nodes (the cell centres of ``grid``):
-
-    - ``Vr = kr / |q - start|``, ``Va = 0.5*ka*|q - goal|**2``,
-    - ``Vo = sum_i ko / |q - s_i|`` over samples ``s_i`` on a circle of radius ``sample_radius``
-      around each obstacle circle's centre, at angles ``th = (0 : 0.1*spacing : 2)*pi`` (MATLAB
-      colon, so 0 and 2*pi both appear: the sample at angle 0 counts twice, as in the seed),
-    - gradients by :func:`numpy.gradient` at the lattice spacing (MATLAB ``gradient``):
-      ``fX = -dVr/dx - dVa/dx - dVo/dx - dVo/dy``, ``fY = -dVr/dy - dVa/dy - dVo/dy + dVo/dx``.
-
-    The returned :class:`Field` has ``potential = Vr + Va + Vo`` and ``(grad_x, grad_y) = -(fX, fY)``
-    (the force is ``-grad`` as for every Field; the rotational part has no potential). Obstacle
-    cells (conservative rasterization of the circles on the lattice cells) hold ``+inf`` and zero
-    gradients. The seed writes the samples as ``xo - cx`` (centred on ``(-cx, -cy)``); here they are
-    centred on ``(cx, cy)``, which is the same set for the seed's mirror-symmetric pair of circles.
-
-    Parameters
-    ----------
-    grid : Grid, GridMap or None
-        The lattice (its cell centres are the nodes). A GridMap also supplies the occupancy.
-        ``None``: :func:`vortex_lattice` of the world's bounds at ``spacing``.
-    circles : World or array of rows (cx, cy, radius)
-        A World must hold only circles.
-    start, goal : (x, y)
-    ka, kr, ko : float
-        Gains (>= 0); the seed's 25, 30, 5 converge, ``ko = 10`` does not.
-    sample_radius : float, optional
-        Radius of the charge circles (default 1.05 x each circle's radius: the seed's 2.1).
-    spacing : float, optional
-        Lattice spacing; only with ``grid=None`` (else it must equal ``grid.resolution``).
-
-    Examples
-    --------
-    >>> f = vortex_field(Grid((13, 13), 0.5, (-3.25, -3.25)), [[0.0, 0.0, 1.0]], (0, 3), (0, -3), ko=1.0)
-    >>> f.grid.shape, float(f.potential[6, 6]), bool(np.isfinite(f.potential[0, 0]))
-    ((13, 13), inf, True)
-    """
-    from .world import World
-
-    cir = _circles_of(circles)
-    start_xy, goal_xy = _goal_xy(start), _goal_xy(goal)
-    ka, kr, ko = _number("ka", ka), _number("kr", kr), _number("ko", ko)
-    if sample_radius is not None:
-        sample_radius = _number("sample_radius", sample_radius, strict=True)
-    gridmap: GridMap | None = grid if isinstance(grid, GridMap) else None
-    if grid is None:
-        if not isinstance(circles, World):
-            raise ParameterError("vortex_field needs a grid or a World (for its bounds) when grid is None")
-        if spacing is None:
-            raise ParameterError("vortex_field needs spacing (the lattice spacing) when grid is None")
-        lattice = vortex_lattice(circles.bounds, spacing, border=circles.border)
-    else:
-        lattice = grid.grid if isinstance(grid, GridMap) else grid
-        if spacing is not None and not math.isclose(_number("spacing", spacing, strict=True), lattice.resolution):
-            raise ParameterError(f"spacing {spacing:g} differs from the grid's resolution {lattice.resolution:g}")
-    h = lattice.resolution
-    if gridmap is None:
-        if isinstance(circles, World):
-            from .rasterize import rasterize
-
-            gridmap = rasterize(circles, h, bounds=lattice.bounds)
-            if gridmap.grid.shape != lattice.shape:  # pragma: no cover - Grid.covering rounding
-                raise GridfieldError(f"lattice {lattice.shape} and rasterized grid {gridmap.grid.shape} differ")
-            gridmap = GridMap(lattice, gridmap.occupied, gridmap.obstacle_id, circles, circles.source)
-        else:
-            gridmap = GridMap(lattice, _circle_occupancy(lattice, cir))
-
-    xs, ys = lattice.cell_centers()
-    X, Y = np.meshgrid(xs, ys)
-    with np.errstate(divide="ignore"):
-        Vr = kr / np.hypot(X - start_xy[0], Y - start_xy[1])
-    Va = 0.5 * ka * ((X - goal_xy[0]) ** 2 + (Y - goal_xy[1]) ** 2)
-    n_th = math.floor(2.0 / (0.1 * h) + 1e-9) + 1
-    th = np.arange(n_th) * (0.1 * h) * np.pi
-    Vo = np.zeros_like(X)
-    with np.errstate(divide="ignore"):
-        for cx, cy, r in cir:
-            rad = sample_radius if sample_radius is not None else 1.05 * r
-            for xo, yo in zip(cx + rad * np.cos(th), cy + rad * np.sin(th), strict=True):
-                Vo += ko / np.hypot(X - xo, Y - yo)
-    with np.errstate(invalid="ignore"):
-        fyr, fxr = _np_gradient(Vr, h)
-        fya, fxa = _np_gradient(Va, h)
-        fyo, fxo = _np_gradient(Vo, h)
-        fX = -fxr - fxa - fxo - fyo
-        fY = -fyr - fya - fyo + fxo
-        U = Vr + Va + Vo
-    occ = gridmap.occupied
-    U[occ] = np.inf
-    gx, gy = -fX, -fY
-    gx[occ] = 0.0
-    gy[occ] = 0.0
-    params = resolve_params({"model": "vortex", "ka": ka, "kr": kr, "ko": ko, "spacing": h,
-                             "sample_radius": sample_radius})
-    return Field(gridmap, U, gx, gy, goal_xy, params, brushfire(gridmap, metric="euclidean"))
-
-
-def _np_gradient(V: NDArray[np.float64], h: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """``(dV/dy, dV/dx)`` like MATLAB's ``gradient`` (central inside, one-sided at the edges)."""
-    if min(V.shape) < 2:
-        raise ParameterError(f"the vortex lattice needs at least 2 x 2 nodes, got {V.shape}")
-    gy, gx = np.gradient(V, h, h)
-    return np.asarray(gy, dtype=np.float64), np.asarray(gx, dtype=np.float64)
-
-
-def _circle_occupancy(grid: Grid, circles: NDArray[np.float64]) -> NDArray[np.bool_]:
-    """Cells whose closed square meets a closed disc."""
-    xs, ys = grid.cell_centers()
-    half = grid.resolution / 2
-    occ = np.zeros(grid.shape, bool)
-    for cx, cy, r in circles:
-        dx = np.maximum(np.abs(xs - cx) - half, 0.0)
-        dy = np.maximum(np.abs(ys - cy) - half, 0.0)
-        occ |= dx[None, :] ** 2 + dy[:, None] ** 2 <= r * r
-    return occ
 
 
 # ----------------------------------------------------------------------------------------------
@@ -804,6 +619,11 @@ def build_field(
         A brushfire of ``gridmap`` to reuse (its metric must agree with ``params["metric"]`` when
         that is given); computed with ``metric`` and ``saturate`` when omitted.
 
+    Returns
+    -------
+    Field
+        The potential and its gradient arrays, the resolved parameters and the distance map.
+
     Raises
     ------
     ParameterError
@@ -853,24 +673,3 @@ def build_field(
     return Field(gridmap, U, GX, GY, goal_xy, p, dmap)
 
 
-def _build_vortex(gridmap: GridMap, goal: ArrayLike, p: dict[str, Any]) -> Field:
-    from .world import World
-
-    world = gridmap.world
-    if not isinstance(world, World) or world.start is None:
-        raise ParameterError(
-            "the vortex model (seed 003) needs a world file with circle obstacles and a start point "
-            f"({gridmap.source or 'this map'} has {'no start' if isinstance(world, World) else 'no vector world'})"
-        )
-    spacing = p["spacing"] if p["spacing"] is not None else gridmap.grid.resolution
-    lattice = vortex_lattice(world.bounds, spacing, border=world.border)
-    _circles_of(world)  # reject non-circles before rasterizing
-    from .rasterize import rasterize
-
-    raster = rasterize(world, spacing, bounds=lattice.bounds)
-    lattice_map = GridMap(lattice, raster.occupied, raster.obstacle_id, world, world.source)
-    g = lattice_map.check_point("goal", goal)
-    field = vortex_field(lattice_map, world, world.start, g, ka=p["ka"], kr=p["kr"], ko=p["ko"],
-                         sample_radius=p["sample_radius"])
-    return Field(field.map, field.potential, field.grad_x, field.grad_y, field.goal, {**p, "spacing": spacing},
-                 field.distance)

@@ -1,0 +1,287 @@
+"""The field at points: the force and potential of a grid Field, segment blocking, the attraction.
+
+:func:`grid_sampler` samples ``F = -grad U`` from a :class:`~gridfield.potential.Field`'s
+gradient arrays: ``bilinear`` interpolation between the four surrounding cell centres that are
+*free* (obstacle cells' weights are dropped and the rest renormalized, so obstacle cells'
+zero gradients never blend in), clamped to the grid (no extrapolation); or ``nearest`` (the
+cell containing the point, seed 003). :func:`grid_blocked` walks the cells a segment crosses
+exactly. **Open border**: what lies outside the grid is free space; the follower may leave
+the grid, and the field there is the field at the nearest point of the grid (clamping).
+**Wall border**: leaving the grid is blocked, like entering an obstacle.
+
+The kernels are compiled (:mod:`gridfield._kernels_follow`); :func:`grid_sampler`,
+:func:`grid_potential_sampler` and :func:`grid_blocked` return callables for one point at a time
+(what :func:`gridfield.descent.descend` asks for), :func:`sample_force` samples many points at once.
+
+Examples
+--------
+>>> from types import SimpleNamespace
+>>> gm = GridMap(Grid((1, 2), 1.0), np.zeros((1, 2), bool))
+>>> f = SimpleNamespace(map=gm, grad_x=np.array([[1.0, 3.0]]), grad_y=np.zeros((1, 2)))
+>>> grid_sampler(f)((1.0, 0.5)), sample_force(f, [[0.5, 0.5], [1.5, 0.5]]).tolist()
+((-2.0, -0.0), [[-1.0, -0.0], [-3.0, -0.0]])
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ._kernels_follow import _bilinear2, _cell_values, _force_at, _force_many, _nearest2, _segment_blocked
+from ._kernels_follow import entry_point as _direct
+from .errors import ParameterError
+from .grid import Grid, GridMap, _as_points, _as_xy
+from .params import REGISTRY, check
+
+__all__ = [
+    "SAMPLINGS",
+    "attraction_force",
+    "grid_blocked",
+    "grid_potential_sampler",
+    "grid_sampler",
+    "sample_force",
+]
+
+#: How the gradient arrays are sampled at a point (the registry's choices for ``sampling``).
+SAMPLINGS: tuple[str, ...] = REGISTRY["sampling"].choices
+Point = tuple[float, float]
+
+
+def _grid_args(gridmap: GridMap) -> tuple[NDArray[np.bool_], float, float, float]:
+    g = gridmap.grid
+    occ = np.ascontiguousarray(gridmap.occupied, dtype=np.bool_)
+    return occ, float(g.origin[0]), float(g.origin[1]), float(g.resolution)
+
+
+def _field_arrays(field: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    return (np.ascontiguousarray(field.grad_x, dtype=np.float64),
+            np.ascontiguousarray(field.grad_y, dtype=np.float64))
+
+
+def grid_sampler(field: Any, *, sampling: str = "bilinear") -> Callable[[Point], tuple[float, float]]:
+    """``force(p) -> (fx, fy)``: the force ``-grad U`` of a Field at world points, from its arrays.
+
+    ``bilinear`` interpolates among the free corner cells only (renormalized weights) and clamps to
+    the grid; ``nearest`` takes the cell containing the point (clamped); obstacle cells give 0.
+
+    Parameters
+    ----------
+    field : Field
+        From :func:`gridfield.potential.build_field` (anything with ``map``, ``grad_x``, ``grad_y``).
+    sampling : {"bilinear", "nearest"}
+
+    Returns
+    -------
+    callable
+        ``force((x, y)) -> (fx, fy)``, one compiled call per point (the arrays are bound once).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> gm = GridMap(Grid((2, 3), 1.0), np.array([[False, False, True], [False, False, False]]))
+    >>> gx = np.array([[1.0, 3.0, 0.0], [1.0, 3.0, 5.0]])
+    >>> f = grid_sampler(SimpleNamespace(map=gm, grad_x=gx, grad_y=np.zeros((2, 3))))
+    >>> f((1.0, 1.0))   # halfway between the centres 0.5 and 1.5: -(1 + 3) / 2
+    (-2.0, -0.0)
+    >>> f((2.0, 0.5))   # the obstacle cell (row 0, col 2) is left out
+    (-3.0, -0.0)
+    """
+    check("sampling", sampling)
+    gx, gy = _field_arrays(field)
+    occ, x0, y0, res = _grid_args(field.map)
+    nearest = sampling == "nearest"
+    kern = _direct(_force_at, gx, gy, occ, x0, y0, res, nearest, x0, y0)
+
+    def force(p: Point) -> tuple[float, float]:
+        return kern(gx, gy, occ, x0, y0, res, nearest, p[0], p[1])
+
+    return force
+
+
+def sample_force(field: Any, points: ArrayLike, *, sampling: str = "bilinear") -> NDArray[np.float64]:
+    """The force ``-grad U`` of a Field at many world points at once, sampled like :func:`grid_sampler`.
+
+    One compiled pass over the points: use it rather than a Python loop over ``grid_sampler`` calls
+    when the points are known together (a quiver plot, a batch of robot positions, a trajectory).
+
+    Parameters
+    ----------
+    field : Field
+        From :func:`gridfield.potential.build_field` (anything with ``map``, ``grad_x``, ``grad_y``).
+    points : array_like, shape (N, 2) or (2,)
+        World points ``(x, y)``; they must be finite. Points outside the grid are clamped to it.
+    sampling : {"bilinear", "nearest"}
+
+    Returns
+    -------
+    ndarray, shape (N, 2)
+        ``(fx, fy)`` per point; 0 in obstacle cells.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> gm = GridMap(Grid((2, 3), 1.0), np.array([[False, False, True], [False, False, False]]))
+    >>> gx = np.array([[1.0, 3.0, 0.0], [1.0, 3.0, 5.0]])
+    >>> sample_force(SimpleNamespace(map=gm, grad_x=gx, grad_y=np.zeros((2, 3))), [[1.0, 1.0], [2.0, 0.5]])
+    array([[-2., -0.],
+           [-3., -0.]])
+    """
+    check("sampling", sampling)
+    pts = _as_points(points)
+    if not np.isfinite(pts).all():
+        k = int(np.flatnonzero(~np.isfinite(pts).all(axis=1))[0])
+        raise ParameterError(f"points must be finite; point {k} is {pts[k].tolist()}")
+    gx, gy = _field_arrays(field)
+    occ, x0, y0, res = _grid_args(field.map)
+    xs, ys = np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1])
+    fx, fy = np.empty(len(pts)), np.empty(len(pts))
+    if len(pts):
+        _force_many(gx, gy, occ, x0, y0, res, sampling == "nearest", xs, ys, fx, fy)
+    return np.stack([fx, fy], axis=1)
+
+
+def grid_potential_sampler(field: Any, *, sampling: str = "bilinear") -> Callable[[Point], float]:
+    """``potential(p) -> U``: a Field's potential at world points, sampled like :func:`grid_sampler`.
+
+    Only free corner cells enter the bilinear interpolation (obstacle cells hold ``+inf``); the
+    potential-increase escape of :func:`gridfield.descent.descend` reads it.
+
+    Parameters
+    ----------
+    field : Field
+        Anything with ``map`` and ``potential``.
+    sampling : {"bilinear", "nearest"}
+
+    Returns
+    -------
+    callable
+        ``potential((x, y)) -> U``.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> gm = GridMap(Grid((1, 3), 1.0), np.array([[False, False, True]]))
+    >>> u = grid_potential_sampler(SimpleNamespace(map=gm, potential=np.array([[1.0, 3.0, np.inf]])))
+    >>> u((1.0, 0.5)), u((2.0, 0.5))   # halfway between 1 and 3; next to the obstacle: its cell left out
+    (2.0, 3.0)
+    """
+    check("sampling", sampling)
+    u = np.ascontiguousarray(field.potential, dtype=np.float64)
+    occ, x0, y0, res = _grid_args(field.map)
+    kern = _direct(_nearest2 if sampling == "nearest" else _bilinear2, u, u, occ, x0, y0, res, x0, y0)
+
+    def potential(p: Point) -> float:
+        return kern(u, u, occ, x0, y0, res, p[0], p[1])[0]
+
+    return potential
+
+
+def grid_blocked(gridmap: GridMap) -> Callable[[Point, Point], bool]:
+    """``blocked(p, q)``: whether the segment ``p -> q`` crosses an occupied cell or leaves a walled map.
+
+    The cells are walked exactly (a segment through a cell corner checks both side cells). Outside
+    an open-border grid is free.
+
+    Parameters
+    ----------
+    gridmap : GridMap
+
+    Returns
+    -------
+    callable
+        ``blocked((x, y), (x2, y2)) -> bool``.
+
+    Examples
+    --------
+    >>> occ = np.zeros((3, 3), bool); occ[1, 1] = True
+    >>> b = grid_blocked(GridMap(Grid((3, 3), 1.0), occ))
+    >>> b((0.5, 0.5), (2.5, 0.5)), b((0.5, 0.5), (2.5, 2.5)), b((0.5, 1.5), (-1.0, 1.5))
+    (False, True, False)
+    >>> bw = grid_blocked(GridMap(Grid((3, 3), 1.0, border="wall"), occ))
+    >>> bw((0.5, 1.5), (-1.0, 1.5))
+    True
+    """
+    occ, x0, y0, res = _grid_args(gridmap)
+    wall = gridmap.grid.border == "wall"
+    kern = _direct(_segment_blocked, occ, x0, y0, res, wall, x0, y0, x0, y0)
+
+    def blocked(p: Point, q: Point) -> bool:
+        return kern(occ, x0, y0, res, wall, p[0], p[1], q[0], q[1])
+
+    return blocked
+
+
+def attraction_force(goal: ArrayLike, params: Mapping[str, Any]) -> Callable[[Point], tuple[float, float]]:
+    """``attraction(p) -> (fx, fy)``: the attractive force of the potential models at a point.
+
+    ``model="khatib"``: ``-grad`` of :mod:`gridfield.potential`'s quadratic / combined / conic
+    attractive potential (``zeta``, ``d_star``); ``model="vortex"``: ``-ka * (p - goal)``.
+
+    Parameters
+    ----------
+    goal : (x, y)
+    params : mapping
+        Resolved parameters: ``model``, and ``zeta``, ``d_star`` (khatib) or ``ka`` (vortex).
+
+    Returns
+    -------
+    callable
+        ``attraction((x, y)) -> (fx, fy)``.
+
+    Examples
+    --------
+    >>> f = attraction_force((0.0, 0.0), {"zeta": 2.0, "d_star": 1.0})
+    >>> f((0.5, 0.0)), f((4.0, 0.0))
+    ((-1.0, -0.0), (-2.0, -0.0))
+    """
+    gx, gy = _as_xy(goal, "goal")
+    if params.get("model", "khatib") == "vortex":
+        ka = float(params.get("ka", 25.0))
+
+        def vortex_attr(p: Point) -> tuple[float, float]:
+            return -ka * (p[0] - gx), -ka * (p[1] - gy)
+
+        return vortex_attr
+    zeta = float(params.get("zeta", 1.0))
+    d_star = float(params.get("d_star", math.inf))
+
+    def attr(p: Point) -> tuple[float, float]:
+        dx, dy = p[0] - gx, p[1] - gy
+        d = math.sqrt(dx * dx + dy * dy)
+        if d == 0.0:
+            return 0.0, 0.0
+        if d_star == 0.0:  # pure conic (potential.py's separate case)
+            return -zeta * dx / d, -zeta * dy / d
+        if d <= d_star:
+            return -zeta * dx, -zeta * dy
+        return -d_star * zeta * dx / d, -d_star * zeta * dy / d
+
+    return attr
+
+
+def _distance_at(field: Any, points: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Brushfire (Euclidean) distance of the cells containing the points (clamped to the grid), and
+    whether each point lies inside the grid."""
+    dmap = getattr(field, "distance", None)
+    if dmap is None:
+        from .brushfire import brushfire
+
+        dmap = brushfire(field.map, metric="euclidean")
+    dist = np.ascontiguousarray(dmap.distance, dtype=np.float64)
+    grid: Grid = field.map.grid
+    pts = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+    out = np.empty(len(pts))
+    inside = np.empty(len(pts), np.bool_)
+    _cell_values(dist, grid.origin[0], grid.origin[1], grid.resolution, pts[:, 0].copy(), pts[:, 1].copy(), out,
+                 inside)
+    return out, inside
+
+
+def _clearance(field: Any, points: NDArray[np.float64]) -> float:
+    """Smallest brushfire distance at the cells of the path's points."""
+    return float(np.min(_distance_at(field, points)[0])) if len(points) else math.nan
+

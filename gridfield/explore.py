@@ -51,6 +51,7 @@ headless (Agg), which is how it is tested: every button and key has a method
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path as FsPath
@@ -301,6 +302,12 @@ class Explorer:
             raise ParameterError(f"{name} must be two finite numbers x, y, got {p!r}")
         return (float(a[0]), float(a[1]))
 
+    def _workspace(self) -> World | GridMap:
+        """The workspace the robot moves in: the vector world, else the grid map."""
+        ws = self.world if self.world is not None else self.gridmap
+        assert ws is not None  # the constructor takes a World or a GridMap
+        return ws
+
     def _bounds(self) -> tuple[float, float, float, float]:
         if self.gridmap is not None:
             return self.gridmap.grid.bounds
@@ -379,7 +386,7 @@ class Explorer:
             lo, hi = min(lo, v), max(hi, v)  # the range always holds the value in use
             sax = fig.add_axes((0.74, 0.69 - 0.045 * i, 0.2, 0.025))
             s = Slider(sax, name, lo, hi, valinit=v)
-            s.on_changed(lambda val, n=name: self._on_slider(n, val))
+            s.on_changed(functools.partial(self._on_slider, name))
             self.sliders[name] = s
             self._show_slider_value(name)
         choices = available_planners(world=self.world is not None)
@@ -399,10 +406,14 @@ class Explorer:
             bax = fig.add_axes((0.69 + 0.148 * col, 0.4 - 0.068 * row, 0.14, 0.055))
             b = Button(bax, f"{label} [{key}]")
             b.label.set_fontsize(8)
-            b.on_clicked(lambda _event, m=method: getattr(self, m)())
+            b.on_clicked(functools.partial(self._on_button, method))
             self.buttons[method] = b
         self.draw_button = self.buttons["toggle_drawing"]
         self._update_sliders()
+
+    def _on_button(self, method: str, _event: Any = None) -> None:
+        """A button's callback: the method of the same name (see :data:`BUTTONS`)."""
+        getattr(self, method)()
 
     # -- parameters and planner ------------------------------------------------------------
     def _slider_value(self, name: str, val: float) -> float:
@@ -495,8 +506,7 @@ class Explorer:
             if self.cspace_on and self.robot is not None:
                 from .cspace import check_robot_point
 
-                ws = self.world if self.world is not None else self.gridmap
-                check_robot_point(ws, self.robot, "point", p)
+                check_robot_point(self._workspace(), self.robot, "point", p)
             if self.cgridmap is not None and self.planner != "exact-potential":
                 self.cgridmap.check_point("point", p)
             elif self.cworld is not None:
@@ -527,15 +537,14 @@ class Explorer:
 
     def _sync_endpoints(self) -> None:
         """The worlds carry start and goal too (the vortex model puts a charge at the start)."""
-        ends = {"start": self.start, "goal": self.goal}
         if self.world is not None:
-            self.world = dataclasses.replace(self.world, **ends)
+            self.world = dataclasses.replace(self.world, start=self.start, goal=self.goal)
             if self.gridmap is not None and isinstance(self.gridmap.world, World):
                 self.gridmap = self.gridmap.with_occupied(self.gridmap.occupied, world=self.world)
         if not (self.cspace_on and self.robot is not None):
             self.cworld, self.cgridmap = self.world, self.gridmap
         elif self.cworld is not None:
-            self.cworld = dataclasses.replace(self.cworld, **ends)
+            self.cworld = dataclasses.replace(self.cworld, start=self.start, goal=self.goal)
             if self.cgridmap is not None and isinstance(self.cgridmap.world, World):
                 self.cgridmap = self.cgridmap.with_occupied(self.cgridmap.occupied, world=self.cworld)
 
@@ -686,8 +695,9 @@ class Explorer:
         from .cspace import apply_robot
 
         if self.world is not None:
-            self.cworld = apply_robot(self.world, self.robot)
-            assert isinstance(self.cworld, World)
+            cworld = apply_robot(self.world, self.robot)
+            assert isinstance(cworld, World)  # a World's C-space is a World
+            self.cworld = cworld
             self.cgridmap = self._rasterize(self.cworld) if self.gridmap is not None else None
         else:
             self.cworld = None
@@ -737,13 +747,13 @@ class Explorer:
         self.ax3d.cla()
         self.surface = None
         if self.field is None:
-            self.ax3d.text2D(0.5, 0.5, "the 3-D view shows the potential planner's field", ha="center",
+            self.ax3d.text2D(0.5, 0.5, "the 3-D view shows the potential planner's field", ha="center",  # type: ignore[attr-defined]  # a 3-D Axes
                              transform=self.ax3d.transAxes)
             return
         try:
             self.surface = plot_surface(self.field, self.ax3d, path=self.path, title="potential surface")
         except GridfieldError as e:
-            self.ax3d.text2D(0.5, 0.5, str(e), ha="center", transform=self.ax3d.transAxes)
+            self.ax3d.text2D(0.5, 0.5, str(e), ha="center", transform=self.ax3d.transAxes)  # type: ignore[attr-defined]  # a 3-D Axes
 
     def _write_movie(self) -> None:
         from matplotlib import animation
@@ -752,6 +762,7 @@ class Explorer:
 
         assert self.path is not None
         target = self.cworld if self.planner == "exact-potential" else self.cgridmap
+        assert target is not None  # a path was planned on it
         gif = self.movie_file.with_suffix(".gif")
         files = [gif] + ([gif.with_suffix(".mp4")] if animation.writers.is_available("ffmpeg") else [])
         written = []
@@ -849,7 +860,7 @@ class Explorer:
         if self.robot is not None and self.start is not None and not self.robot.is_point:
             shape = self.robot.outline(self.start)
             xy = np.asarray(shape.exterior.coords if hasattr(shape, "exterior") else shape.coords, dtype=float)
-            self.robot_patch.set_xy(xy)
+            self.robot_patch.set_xy(xy)  # type: ignore[attr-defined]  # matplotlib stubs: a Polygon patch at runtime
             self.robot_patch.set_visible(True)
             self.reference_marker.set_offsets(np.atleast_2d(self.start))
         else:
@@ -934,9 +945,8 @@ class Explorer:
             if self.cspace_on and self.robot is not None:
                 from .cspace import check_robot_point
 
-                ws = self.world if self.world is not None else self.gridmap
                 for name in ("start", "goal"):
-                    check_robot_point(ws, self.robot, name, getattr(self, name))  # type: ignore[arg-type]
+                    check_robot_point(self._workspace(), self.robot, name, getattr(self, name))
             dmap = self._incremental_dmap() if target is self.cgridmap else None
             self.path, field = plan(self.planner, target, self.start, self.goal, self.params, resolution=None,
                                     cache=self._plan_cache(target, dmap), return_field=True)

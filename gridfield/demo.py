@@ -70,6 +70,10 @@ class DemoResult:
     notes: list[str] = field(default_factory=list)
     seconds: float = 0.0
 
+    def __repr__(self) -> str:
+        return (f"DemoResult(out_dir={str(self.out_dir)!r}, rows={len(self.rows)}, files={len(self.files)}, "
+                f"skipped={len(self.skipped)}, seconds={self.seconds:.3g})")
+
 
 class _Run:
     """Bookkeeping shared by the parts."""

@@ -9,6 +9,7 @@ names it knows and ignores the others). Planners are imported only when used.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import importlib
 import inspect
@@ -22,7 +23,7 @@ from numpy.typing import ArrayLike
 from .errors import ArgumentTypeError, GridfieldError, ParameterError, shorten
 from .grid import GridMap
 from .params import REGISTRY, validate
-from .path import Path
+from .path import Path, PathExtra
 
 if TYPE_CHECKING:  # shapely (via world) is imported only when a plan is made: `gridfield --help` stays light
     from .potential import Field
@@ -260,13 +261,11 @@ def _with_endpoints(path: Path, start: np.ndarray, goal: np.ndarray, t0: float) 
     ``extra["field_seconds"]`` (building the fields) and ``extra["follow_seconds"]`` (the planner's
     own time) beside it."""
     total = time.perf_counter() - t0
-    extra = dict(path.extra)
+    extra: PathExtra = dict(path.extra)  # type: ignore[assignment]  # the planner's keys, checked by Path
     extra.setdefault("start", (float(start[0]), float(start[1])))
     extra.setdefault("goal", (float(goal[0]), float(goal[1])))
     build = float(extra.get("build_seconds", 0.0))
     extra["field_seconds"] = build
     extra["follow_seconds"] = float(path.seconds)
-    # the planner's own new Path: no copy (dataclasses.replace would re-validate the points)
-    object.__setattr__(path, "extra", extra)
-    object.__setattr__(path, "seconds", max(total, build + float(path.seconds)))
-    return path
+    # a new Path (replace: the points are a float (N, 2) array already, so they are not copied)
+    return dataclasses.replace(path, extra=extra, seconds=max(total, build + float(path.seconds)))

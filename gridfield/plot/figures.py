@@ -93,7 +93,7 @@ def plot_map(
         Draw into this axes; default: a new figure.
     paths : Path or iterable of Path
         Drawn as lines (``ax.lines`` holds exactly these), labelled with planner and status;
-        stall points (``path.extra['local_minima']`` / ``['stall_point']`` / ``['stall']``, or the end of
+        stall points (``path.extra['local_minima']`` / ``['stall_point']``, or the end of
         a ``local_minimum`` path) are marked.
     start, goal : (x, y), optional
         Marked points; default: the world's start and goal, if any.

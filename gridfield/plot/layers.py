@@ -89,7 +89,14 @@ class Artists:
 
     @property
     def figure(self) -> Figure:
+        """The figure of :attr:`ax`."""
         return self.ax.figure
+
+    def __repr__(self) -> str:
+        drawn = [name for name in ("image", "contours", "quiver", "surface", "colorbar", "legend")
+                 if getattr(self, name) is not None]
+        return (f"Artists(paths={len(self.paths)}, markers={sorted(self.markers)}, obstacles={len(self.obstacles)}, "
+                f"drawn={drawn})")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -244,13 +251,13 @@ def _path_label(path: Path) -> str:
 
 
 def _stall_points(path: Path | None) -> NDArray[np.float64]:
-    """Stall points a follower recorded (``extra['local_minima']``, ``extra['stall_point']`` or
-    ``extra['stall']``), or its end when it stopped in a local minimum."""
+    """Stall points a follower recorded (``extra['local_minima']``, else ``extra['stall_point']``),
+    or its end when it stopped in a local minimum."""
     if path is None:
         return np.empty((0, 2))
     extra = path.extra if isinstance(path.extra, Mapping) else {}
     pts = np.empty((0, 2))
-    for key in ("local_minima", "stall_point", "stall"):
+    for key in ("local_minima", "stall_point"):
         if extra.get(key) is not None:
             pts = _points_or_empty(extra[key], f"path.extra[{key!r}]")
             if len(pts):

@@ -61,7 +61,28 @@ TURTLEBOT3_START, TURTLEBOT3_GOAL = (-2.0, -0.5), (2.0, 0.5)
 @dataclass
 class DemoResult:
     """What :func:`demo` did: summary rows, files written, parts or steps skipped, notes (observed
-    convergence orders)."""
+    convergence orders).
+
+    Attributes
+    ----------
+    out_dir : pathlib.Path
+        The folder written to.
+    rows : list of dict
+        The summary rows (:data:`SUMMARY_COLUMNS`).
+    files : list of pathlib.Path
+        Every file written, in order.
+    skipped : list of str
+        Steps skipped, one line each (none: every part runs or raises).
+    notes : list of str
+        Observations (the convergence orders).
+    seconds : float
+        Wall time of the whole demo.
+
+    Examples
+    --------
+    >>> DemoResult(FsPath("out"), rows=[{"part": "maps"}], seconds=1.5)
+    DemoResult(out_dir='out', rows=1, files=0, skipped=0, seconds=1.5)
+    """
 
     out_dir: FsPath
     rows: list[dict[str, Any]] = field(default_factory=list)
@@ -587,6 +608,19 @@ def demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, parts
         A subset of :data:`DEMO_PARTS` (default: all).
     log : callable, optional
         Receives one line per step (e.g. ``print``); default: silent.
+
+    Returns
+    -------
+    DemoResult
+        The rows, files, skipped steps and notes.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     result = demo(d, quick=True, parts=[])   # the summary alone: no part
+    ...     [f.name for f in result.files], result.rows
+    (['summary.md', 'summary.csv'], [])
     """
     import matplotlib
 
@@ -630,5 +664,28 @@ def run_demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, p
     ``turtlebot3.png``, ``arena.png``), the animation ``seed000_segment_follower.gif`` and
     ``summary.md`` / ``summary.csv``. ``parts`` and ``log`` are as in :func:`demo`, which also returns
     the files written and the steps skipped.
+
+    Parameters
+    ----------
+    out_dir : path
+        Created if missing.
+    quick : bool
+        Coarser grids and fewer frames.
+    parts : sequence of str, optional
+        A subset of :data:`DEMO_PARTS` (default: all).
+    log : callable, optional
+        Receives one line per step.
+
+    Returns
+    -------
+    list of dict
+        The summary rows.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     run_demo(d, quick=True, parts=[])
+    []
     """
     return demo(out_dir, quick=quick, parts=parts, log=log).rows

@@ -155,6 +155,16 @@ class NavigationAux(TypedDict, total=False):
 def path_length(points: NDArray[np.float64]) -> float:
     """Sum of the Euclidean lengths of the segments of a polyline ``(N, 2)``.
 
+    Parameters
+    ----------
+    points : ndarray, shape (N, 2)
+        The polyline's vertices in world coordinates.
+
+    Returns
+    -------
+    float
+        Its length (0 for fewer than two points).
+
     Examples
     --------
     >>> path_length(np.array([[0.0, 0.0], [3.0, 4.0], [3.0, 5.0]]))

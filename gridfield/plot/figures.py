@@ -295,6 +295,18 @@ def plot_potential(
     Artists
         ``contours`` and ``mappable`` (the filled contour set; ``get_clim()`` is the colour range),
         ``image`` (the obstacle overlay), ``quiver``, ``paths``, ``markers`` (``goal``, ``stall``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gridfield.grid import Grid, GridMap
+    >>> from gridfield.potential import build_field
+    >>> occ = np.zeros((10, 12), bool); occ[4:6, 5:7] = True
+    >>> f = build_field(GridMap(Grid((10, 12), 0.5), occ), (5.0, 4.0))
+    >>> art = plot_potential(f, log=False, quiver_step=3)
+    >>> art.quiver is not None, art.markers["goal"].get_offsets().tolist()
+    (True, [[5.0, 4.0]])
+    >>> import matplotlib.pyplot as plt; plt.close(art.figure)
     """
     from matplotlib.colors import LogNorm, Normalize
 
@@ -405,6 +417,17 @@ def plot_surface(
     Artists
         ``surface`` (also ``mappable``; ``get_clim()`` is the height range), ``paths``,
         ``extra['stride']``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gridfield.grid import Grid, GridMap
+    >>> from gridfield.potential import build_field
+    >>> f = build_field(GridMap(Grid((20, 20), 0.5), np.zeros((20, 20), bool)), (5.0, 5.0))
+    >>> art = plot_surface(f, max_cells=10)
+    >>> art.ax.name, art.extra["stride"]
+    ('3d', 2)
+    >>> import matplotlib.pyplot as plt; plt.close(art.figure)
     """
     if int(max_cells) < 2:
         raise ParameterError(f"max_cells must be at least 2, got {max_cells}")
@@ -486,6 +509,20 @@ def plot_star_world(
     -------
     list of Artists
         One per panel, in the order above.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x, y = np.meshgrid(np.linspace(-2, 2, 9), np.linspace(-2, 2, 9))
+    >>> r2 = x**2 + y**2
+    >>> data = {"x": x, "y": y, "kappa": 3.0, "lambda": 1.0, "humps": np.maximum(0.25 - r2, 0),
+    ...         "attractive": r2, "phi": r2 / (1 + r2), "mapped_lines": [np.c_[x[4], y[4]]],
+    ...         "workspace": ((0.0, 0.0), 2.0), "model_discs": [[0.0, 0.0, 0.5]],
+    ...         "obstacles": [np.array([[-0.5, -0.5], [0.5, -0.5], [0.0, 0.5]])], "goal": (1.5, 0.0)}
+    >>> arts = plot_star_world(data, max_cells=5)
+    >>> len(arts), arts[0].extra["stride"], len(arts[2].obstacles)
+    (4, 2, 2)
+    >>> import matplotlib.pyplot as plt; plt.close(arts[0].figure)
     """
     import matplotlib.pyplot as plt
     from matplotlib.patches import Circle

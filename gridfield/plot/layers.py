@@ -72,6 +72,14 @@ class Artists:
     legend : Legend or None
     extra : dict
         Anything else (GVD overlay, label overlay, reference lines).
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> art = Artists(plt.figure().add_subplot())
+    >>> art.figure is art.ax.figure, art
+    (True, Artists(paths=0, markers=[], obstacles=0, drawn=[]))
+    >>> plt.close(art.figure)
     """
 
     ax: Any

@@ -26,14 +26,12 @@ folder. The parts:
     distance map and the potential are updated where they changed (:mod:`gridfield.incremental`),
     and the robot replans from where it stands (``moving_obstacle.gif``).
 
-A part whose modules are not installed is skipped with a line naming the missing capability
-(:attr:`DemoResult.skipped`); nothing is silently left out.
+Every part runs: a part that fails raises (nothing is silently left out).
 """
 
 from __future__ import annotations
 
 import csv
-import importlib.util
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -63,7 +61,28 @@ TURTLEBOT3_START, TURTLEBOT3_GOAL = (-2.0, -0.5), (2.0, 0.5)
 @dataclass
 class DemoResult:
     """What :func:`demo` did: summary rows, files written, parts or steps skipped, notes (observed
-    convergence orders)."""
+    convergence orders).
+
+    Attributes
+    ----------
+    out_dir : pathlib.Path
+        The folder written to.
+    rows : list of dict
+        The summary rows (:data:`SUMMARY_COLUMNS`).
+    files : list of pathlib.Path
+        Every file written, in order.
+    skipped : list of str
+        Steps skipped, one line each (none: every part runs or raises).
+    notes : list of str
+        Observations (the convergence orders).
+    seconds : float
+        Wall time of the whole demo.
+
+    Examples
+    --------
+    >>> DemoResult(FsPath("out"), rows=[{"part": "maps"}], seconds=1.5)
+    DemoResult(out_dir='out', rows=1, files=0, skipped=0, seconds=1.5)
+    """
 
     out_dir: FsPath
     rows: list[dict[str, Any]] = field(default_factory=list)
@@ -71,6 +90,10 @@ class DemoResult:
     skipped: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     seconds: float = 0.0
+
+    def __repr__(self) -> str:
+        return (f"DemoResult(out_dir={str(self.out_dir)!r}, rows={len(self.rows)}, files={len(self.files)}, "
+                f"skipped={len(self.skipped)}, seconds={self.seconds:.3g})")
 
 
 class _Run:
@@ -82,39 +105,22 @@ class _Run:
         self.log = log
         self.result = DemoResult(out)
 
-    # -- capabilities ----------------------------------------------------------------------
-    @staticmethod
-    def have(module: str) -> bool:
-        try:
-            return importlib.util.find_spec(module) is not None
-        except (ImportError, ValueError):
-            return False
-
-    def need(self, what: str, *modules: str) -> bool:
-        """Whether every module is installed; otherwise log and record the skip."""
-        missing = [m for m in modules if not self.have(m)]
-        if missing:
-            line = f"skipped {what}: needs {', '.join(missing)} (not available yet)"
-            self.result.skipped.append(line)
-            self.log(line)
-            return False
-        return True
-
-    def have_planner(self, what: str, planner: str) -> bool:
-        from .planners import PLANNERS
-
-        return self.need(f"{what} ({planner} planner)", PLANNERS[planner][0])
-
     # -- results ---------------------------------------------------------------------------
     def plan(self, part: str, name: str, target: Any, planner: str, start: ArrayLike, goal: ArrayLike,
              params: Mapping[str, Any] | None = None, *, note: str = "") -> Path:
+        return self.plan_with_field(part, name, target, planner, start, goal, params, note=note)[0]
+
+    def plan_with_field(self, part: str, name: str, target: Any, planner: str, start: ArrayLike, goal: ArrayLike,
+                        params: Mapping[str, Any] | None = None, *, note: str = "") -> tuple[Path, Any]:
+        """Plan, record the row, and return the path with the field it followed (None but for the
+        ``potential`` planner): the part draws that field instead of building it again."""
         from .planners import plan
 
         t0 = time.perf_counter()
-        path = plan(planner, target, start, goal, params)
+        path, field_ = plan(planner, target, start, goal, params, return_field=True)
         ms = (time.perf_counter() - t0) * 1e3
         self.row(part, name, path, ms, note)
-        return path
+        return path, field_
 
     def row(self, part: str, name: str, path: Path, ms: float, note: str = "") -> None:
         stall = _stall_note(path)
@@ -142,7 +148,7 @@ class _Run:
 def _stall_note(path: Path) -> str:
     if path.status != "local_minimum":
         return ""
-    from .plot import _stall_points
+    from .plot.layers import _stall_points
 
     s = _stall_points(path)
     note = f"stalls at ({s[-1, 0]:.2f}, {s[-1, 1]:.2f})" if len(s) else ""
@@ -196,18 +202,20 @@ BUNDLED = (
 def _part_maps(run: _Run) -> None:
     from .io import bundled_map, read
     from .plot import plot_map
+    from .rasterize import as_gridmap
 
     fig, axes = _figure(2, 3, (15.0, 9.0))
     for ax, (name, title) in zip(axes.ravel(), BUNDLED, strict=True):
         target = read(bundled_map(name))
         if isinstance(target, GridMap) and target.meta.get("format") == "ros":
             target = crop_to_known(target)
-        art = plot_map(target, ax, legend=False, title="")
+        vector = not isinstance(target, GridMap)
+        if vector and target.resolution is not None:  # type: ignore[union-attr]
+            target = as_gridmap(target)  # the world's own cells, drawn with its outlines
+        plot_map(target, ax, legend=False, title="")
         if isinstance(target, GridMap):
             g = target.grid
-            shape = f"{g.rows}x{g.cols} at {g.resolution:g}"
-        elif art.image is not None:
-            shape = "rasterized {}x{} at {:g}".format(*art.image.get_array().shape, target.resolution or 0)
+            shape = f"rasterized {g.rows}x{g.cols} at {g.resolution:g}" if vector else f"{g.rows}x{g.cols} at {g.resolution:g}"
         else:
             shape = "vector world"
         ax.set_title(f"{title}\n{FsPath(name).name}: {shape}", fontsize=10)
@@ -215,50 +223,40 @@ def _part_maps(run: _Run) -> None:
 
 
 def _part_seed000(run: _Run) -> None:
+    from .follow import basins
     from .io import bundled_map, read_world
     from .plot import plot_basins, plot_comparison, plot_potential, plot_surface, save_plan_animation
     from .rasterize import as_gridmap
 
     res = 0.1 if run.quick else 0.05
     worlds = {key: read_world(bundled_map(f"{key}.yaml")) for key in ("seed000", "seed000_segment")}
+    maps: dict[str, GridMap] = {}
+    fields: dict[str, Any] = {}
     grid_paths: dict[str, Path] = {}
     exact_paths: dict[str, Path] = {}
     for key, w in worlds.items():
-        gm = as_gridmap(w, res)
-        grid_paths[key] = run.plan("seed000", key, gm, "potential", w.start, w.goal, note=f"grid h={res:g}")  # type: ignore[arg-type]
+        maps[key] = as_gridmap(w, res)
+        grid_paths[key], fields[key] = run.plan_with_field("seed000", key, maps[key], "potential", w.start, w.goal,  # type: ignore[arg-type]
+                                                           note=f"grid h={res:g}")
         exact_paths[key] = run.plan("seed000", key, w, "exact-potential", w.start, w.goal, note="exact geometry")  # type: ignore[arg-type]
-    if exact_paths:
-        fig, axes = _figure(1, 2, (14.0, 5.6))
-        for ax, key in zip(axes.ravel(), worlds, strict=True):
-            plot_comparison(as_gridmap(worlds[key], res), grid_paths[key], exact_paths[key], ax)
-            ax.set_title(f"{key}: grid (h={res:g}) vs exact\n{ax.get_title()}", fontsize=10)
-        run.save(fig, "seed000_paths.png")
-    else:
-        from .plot import plot_map
-
-        fig, axes = _figure(1, 2, (14.0, 5.6))
-        for ax, key in zip(axes.ravel(), worlds, strict=True):
-            plot_map(as_gridmap(worlds[key], res), ax, paths=[grid_paths[key]], title=key)
-        run.save(fig, "seed000_paths.png")
-
-    from .follow import basins
-    from .potential import build_field
+    fig, axes = _figure(1, 2, (14.0, 5.6))
+    for ax, key in zip(axes.ravel(), worlds, strict=True):
+        plot_comparison(maps[key], grid_paths[key], exact_paths[key], ax)
+        ax.set_title(f"{key}: grid (h={res:g}) vs exact\n{ax.get_title()}", fontsize=10)
+    run.save(fig, "seed000_paths.png")
 
     seg = worlds["seed000_segment"]
-    seg_map = as_gridmap(seg, res)
-    field_seg = build_field(seg_map, seg.goal, dict(seg.params))  # type: ignore[arg-type]
+    field_seg = fields["seed000_segment"]  # the fields the paths followed: drawn, not built again
     art = plot_potential(field_seg, path=grid_paths["seed000_segment"],
                          title="seed 000 + segment: potential, -grad U, stall point")
     run.save(art.figure, "seed000_segment_potential.png")
-    w0 = worlds["seed000"]
-    field0 = build_field(as_gridmap(w0, res), w0.goal, dict(w0.params))  # type: ignore[arg-type]
-    art = plot_surface(field0, path=grid_paths["seed000"], max_cells=60 if run.quick else 150,
+    art = plot_surface(fields["seed000"], path=grid_paths["seed000"], max_cells=60 if run.quick else 150,
                        title="seed 000: potential surface (capped) and the follower's path")
     run.save(art.figure, "seed000_surface.png")
     art = plot_basins(basins(field_seg), title="seed 000 + segment: where steepest descent ends")
     run.save(art.figure, "seed000_segment_basins.png")
     gif = run.out / "seed000_segment_follower.gif"
-    save_plan_animation(gif, seg_map, grid_paths["seed000_segment"], field=field_seg, goal=seg.goal,
+    save_plan_animation(gif, maps["seed000_segment"], grid_paths["seed000_segment"], field=field_seg, goal=seg.goal,
                         max_frames=30 if run.quick else 80, fps=15, dpi=60 if run.quick else 72)
     run.add_file(gif)
 
@@ -290,7 +288,6 @@ def _part_convergence(run: _Run) -> None:
 def _part_seed003(run: _Run) -> None:
     from .io import bundled_map, read_world
     from .plot import plot_potential
-    from .potential import build_field
     from .rasterize import as_gridmap
 
     w = read_world(bundled_map("seed003_circles.yaml"))
@@ -298,9 +295,8 @@ def _part_seed003(run: _Run) -> None:
     fig, axes = _figure(1, 2, (13.0, 5.6))
     for ax, ko in zip(axes.ravel(), (5.0, 10.0), strict=True):
         params = {"ko": ko}
-        path = run.plan("seed003", f"seed003 Ko={ko:g}", gm, "potential", w.start, w.goal, params,  # type: ignore[arg-type]
-                        note="vortex field, spacing 0.4")
-        field_ = build_field(gm, w.goal, {**w.params, **params})  # type: ignore[arg-type]
+        path, field_ = run.plan_with_field("seed003", f"seed003 Ko={ko:g}", gm, "potential", w.start, w.goal,  # type: ignore[arg-type]
+                                           params, note="vortex field, spacing 0.4")
         plot_potential(field_, ax, path=path, quiver_step=1, title=f"vortex field, Ko = {ko:g}: {path.status}")
     run.save(fig, "seed003_vortex.png")
 
@@ -328,14 +324,13 @@ def _grid_map_part(run: _Run, part: str, gm: GridMap, start: Sequence[float], go
     from .brushfire import brushfire
     from .follow import basins
     from .plot import plot_basins, plot_brushfire, plot_map, plot_potential
-    from .potential import build_field
 
     fig, axes = _figure(2, 2, (13.0, 11.0))
     dmap = brushfire(gm, metric="euclidean")
     plot_brushfire(dmap, axes[0, 0], title="brushfire: distance to the nearest obstacle, GVD in red")
     shown = "default parameters" if not params else "params " + ", ".join(f"{k}={v}" for k, v in params.items())
-    pot = run.plan(part, part, gm, "potential", start, goal, params, note="; ".join(x for x in (note, shown) if x))
-    field_ = build_field(gm, goal, dict(params))
+    pot, field_ = run.plan_with_field(part, part, gm, "potential", start, goal, params,
+                                      note="; ".join(x for x in (note, shown) if x))
     plot_potential(field_, axes[0, 1], path=pot, title=f"potential ({shown}): {pot.status}")
     plot_basins(basins(field_), axes[1, 0], title="basins of attraction")
     paths = [pot]
@@ -396,7 +391,8 @@ def _part_moving(run: _Run) -> None:
     from .follow import follow
     from .incremental import IncrementalBrushfire, update_field
     from .io import bundled_map, read_world
-    from .plot import OCCUPIED_COLOR, _animation_figure, _draw_outlines, _potential_scale, _write_animation
+    from .plot.animation import _animation_figure, _write_animation
+    from .plot.layers import OCCUPIED_COLOR, _draw_outlines, _potential_scale
     from .potential import build_field
     from .rasterize import as_gridmap
 
@@ -535,18 +531,16 @@ def _warm_up(run: _Run) -> None:
             "(not part of any time in the table)")
 
 
-#: part -> (function, modules it needs)
-_PARTS: dict[str, tuple[Callable[[_Run], None], tuple[str, ...]]] = {
-    "maps": (_part_maps, ()),
-    "seed000": (_part_seed000, ("gridfield.rasterize", "gridfield.potential", "gridfield.follow")),
-    "convergence": (_part_convergence, ("gridfield.compare", "gridfield.exact", "gridfield.rasterize",
-                                         "gridfield.potential", "gridfield.follow")),
-    "seed003": (_part_seed003, ("gridfield.rasterize", "gridfield.potential", "gridfield.follow")),
-    "seed002": (_part_seed002, ("gridfield.star",)),
-    "turtlebot3": (_part_turtlebot3, ("gridfield.potential", "gridfield.follow")),
-    "arena": (_part_arena, ("gridfield.potential", "gridfield.follow")),
-    "moving": (_part_moving, ("gridfield.rasterize", "gridfield.potential", "gridfield.follow",
-                              "gridfield.incremental")),
+#: part -> the function that runs it
+_PARTS: dict[str, Callable[[_Run], None]] = {
+    "maps": _part_maps,
+    "seed000": _part_seed000,
+    "convergence": _part_convergence,
+    "seed003": _part_seed003,
+    "seed002": _part_seed002,
+    "turtlebot3": _part_turtlebot3,
+    "arena": _part_arena,
+    "moving": _part_moving,
 }
 
 
@@ -614,6 +608,19 @@ def demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, parts
         A subset of :data:`DEMO_PARTS` (default: all).
     log : callable, optional
         Receives one line per step (e.g. ``print``); default: silent.
+
+    Returns
+    -------
+    DemoResult
+        The rows, files, skipped steps and notes.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     result = demo(d, quick=True, parts=[])   # the summary alone: no part
+    ...     [f.name for f in result.files], result.rows
+    (['summary.md', 'summary.csv'], [])
     """
     import matplotlib
 
@@ -634,7 +641,7 @@ def demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, parts
     _warm_up(run)
     with matplotlib.rc_context({"figure.max_open_warning": 0}):
         for name in parts:
-            fn, _modules = _PARTS[name]
+            fn = _PARTS[name]
             t0 = time.perf_counter()
             n_files = len(run.result.files)
             fn(run)
@@ -657,5 +664,28 @@ def run_demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, p
     ``turtlebot3.png``, ``arena.png``), the animation ``seed000_segment_follower.gif`` and
     ``summary.md`` / ``summary.csv``. ``parts`` and ``log`` are as in :func:`demo`, which also returns
     the files written and the steps skipped.
+
+    Parameters
+    ----------
+    out_dir : path
+        Created if missing.
+    quick : bool
+        Coarser grids and fewer frames.
+    parts : sequence of str, optional
+        A subset of :data:`DEMO_PARTS` (default: all).
+    log : callable, optional
+        Receives one line per step.
+
+    Returns
+    -------
+    list of dict
+        The summary rows.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     run_demo(d, quick=True, parts=[])
+    []
     """
     return demo(out_dir, quick=quick, parts=parts, log=log).rows

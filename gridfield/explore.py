@@ -51,7 +51,7 @@ headless (Agg), which is how it is tested: every button and key has a method
 from __future__ import annotations
 
 import dataclasses
-import importlib.util
+import functools
 import math
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path as FsPath
@@ -96,31 +96,31 @@ CSPACE_COLOR = "#f2d64b"
 ROBOT_COLOR = "#444444"
 
 
-def _module_available(name: str) -> bool:
-    try:
-        return importlib.util.find_spec(name) is not None
-    except (ImportError, ValueError):
-        return False
-
-
 def available_planners(*, world: bool = True) -> list[str]:
-    """The explorer planners whose modules are installed (exact ones only when a vector world exists).
+    """The planners the explorer offers: all of :data:`EXPLORER_PLANNERS`, the exact-geometry ones
+    only when a vector world exists.
+
+    Parameters
+    ----------
+    world : bool
+        Whether the map has a vector world (without one, the exact planners run on the grid's
+        cells as polygons, which the explorer does not offer).
+
+    Returns
+    -------
+    list of str
+        Planner names, in the order of :data:`EXPLORER_PLANNERS`.
 
     Examples
     --------
-    >>> set(available_planners()) <= set(EXPLORER_PLANNERS)
-    True
+    >>> available_planners()
+    ['potential', 'exact-potential', 'wavefront-octile']
+    >>> available_planners(world=False)
+    ['potential', 'wavefront-octile']
     """
     from .planners import PLANNERS
 
-    out = []
-    for name in EXPLORER_PLANNERS:
-        module, _, kind = PLANNERS[name]
-        if kind == "world" and not world:
-            continue
-        if _module_available(module):
-            out.append(name)
-    return out
+    return [name for name in EXPLORER_PLANNERS if world or PLANNERS[name][2] != "world"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -229,14 +229,13 @@ class Explorer:
         self.on_message = on_message
         self.world: World | None = target if isinstance(target, World) else (
             target.world if isinstance(target.world, World) else None)
+        self.resolution: float | None
         if isinstance(target, GridMap):
             self.resolution = target.grid.resolution
             self.gridmap: GridMap | None = target
         else:
             self.resolution = resolution
             self.gridmap = self._rasterize()
-        if self.gridmap is None and planner != "exact-potential":
-            raise GridfieldError("the explorer needs gridfield.rasterize to show a vector world on a grid")
         base = dict(self.world.params) if self.world is not None else {}
         base.update(params or {})
         self.params: dict[str, Any] = check_params(base)
@@ -286,13 +285,11 @@ class Explorer:
 
     # -- construction ----------------------------------------------------------------------
     def _rasterize(self, world: World | None = None) -> GridMap | None:
+        from .rasterize import as_gridmap
+
         world = self.world if world is None else world
         if world is None:
             return self.gridmap
-        try:
-            from .rasterize import as_gridmap
-        except ImportError:
-            return None
         res = self.resolution if self.resolution is not None else world.resolution
         if res is None:
             xmin, ymin, xmax, ymax = world.bounds
@@ -305,6 +302,12 @@ class Explorer:
             raise ParameterError(f"{name} must be two finite numbers x, y, got {p!r}")
         return (float(a[0]), float(a[1]))
 
+    def _workspace(self) -> World | GridMap:
+        """The workspace the robot moves in: the vector world, else the grid map."""
+        ws = self.world if self.world is not None else self.gridmap
+        assert ws is not None  # the constructor takes a World or a GridMap
+        return ws
+
     def _bounds(self) -> tuple[float, float, float, float]:
         if self.gridmap is not None:
             return self.gridmap.grid.bounds
@@ -314,7 +317,7 @@ class Explorer:
     def _build_map_layer(self) -> None:
         from matplotlib.colors import ListedColormap
 
-        from .plot import OCCUPIED_COLOR, _frame
+        from .plot.layers import OCCUPIED_COLOR, _frame
 
         ax = self.ax
         xmin, ymin, xmax, ymax = self._bounds()
@@ -383,7 +386,7 @@ class Explorer:
             lo, hi = min(lo, v), max(hi, v)  # the range always holds the value in use
             sax = fig.add_axes((0.74, 0.69 - 0.045 * i, 0.2, 0.025))
             s = Slider(sax, name, lo, hi, valinit=v)
-            s.on_changed(lambda val, n=name: self._on_slider(n, val))
+            s.on_changed(functools.partial(self._on_slider, name))
             self.sliders[name] = s
             self._show_slider_value(name)
         choices = available_planners(world=self.world is not None)
@@ -403,10 +406,14 @@ class Explorer:
             bax = fig.add_axes((0.69 + 0.148 * col, 0.4 - 0.068 * row, 0.14, 0.055))
             b = Button(bax, f"{label} [{key}]")
             b.label.set_fontsize(8)
-            b.on_clicked(lambda _event, m=method: getattr(self, m)())
+            b.on_clicked(functools.partial(self._on_button, method))
             self.buttons[method] = b
         self.draw_button = self.buttons["toggle_drawing"]
         self._update_sliders()
+
+    def _on_button(self, method: str, _event: Any = None) -> None:
+        """A button's callback: the method of the same name (see :data:`BUTTONS`)."""
+        getattr(self, method)()
 
     # -- parameters and planner ------------------------------------------------------------
     def _slider_value(self, name: str, val: float) -> float:
@@ -499,8 +506,7 @@ class Explorer:
             if self.cspace_on and self.robot is not None:
                 from .cspace import check_robot_point
 
-                ws = self.world if self.world is not None else self.gridmap
-                check_robot_point(ws, self.robot, "point", p)
+                check_robot_point(self._workspace(), self.robot, "point", p)
             if self.cgridmap is not None and self.planner != "exact-potential":
                 self.cgridmap.check_point("point", p)
             elif self.cworld is not None:
@@ -531,15 +537,14 @@ class Explorer:
 
     def _sync_endpoints(self) -> None:
         """The worlds carry start and goal too (the vortex model puts a charge at the start)."""
-        ends = {"start": self.start, "goal": self.goal}
         if self.world is not None:
-            self.world = dataclasses.replace(self.world, **ends)
+            self.world = dataclasses.replace(self.world, start=self.start, goal=self.goal)
             if self.gridmap is not None and isinstance(self.gridmap.world, World):
                 self.gridmap = self.gridmap.with_occupied(self.gridmap.occupied, world=self.world)
         if not (self.cspace_on and self.robot is not None):
             self.cworld, self.cgridmap = self.world, self.gridmap
         elif self.cworld is not None:
-            self.cworld = dataclasses.replace(self.cworld, **ends)
+            self.cworld = dataclasses.replace(self.cworld, start=self.start, goal=self.goal)
             if self.cgridmap is not None and isinstance(self.cgridmap.world, World):
                 self.cgridmap = self.cgridmap.with_occupied(self.cgridmap.occupied, world=self.cworld)
 
@@ -690,8 +695,9 @@ class Explorer:
         from .cspace import apply_robot
 
         if self.world is not None:
-            self.cworld = apply_robot(self.world, self.robot)
-            assert isinstance(self.cworld, World)
+            cworld = apply_robot(self.world, self.robot)
+            assert isinstance(cworld, World)  # a World's C-space is a World
+            self.cworld = cworld
             self.cgridmap = self._rasterize(self.cworld) if self.gridmap is not None else None
         else:
             self.cworld = None
@@ -709,7 +715,7 @@ class Explorer:
             self.movie_file = FsPath(file)
         self.movie = not self.movie
         if self.movie:
-            from .plot import _check_animation_file
+            from .plot.animation import _check_animation_file
 
             try:
                 _check_animation_file(self.movie_file.with_suffix(".gif"))
@@ -741,13 +747,13 @@ class Explorer:
         self.ax3d.cla()
         self.surface = None
         if self.field is None:
-            self.ax3d.text2D(0.5, 0.5, "the 3-D view shows the potential planner's field", ha="center",
+            self.ax3d.text2D(0.5, 0.5, "the 3-D view shows the potential planner's field", ha="center",  # type: ignore[attr-defined]  # a 3-D Axes
                              transform=self.ax3d.transAxes)
             return
         try:
             self.surface = plot_surface(self.field, self.ax3d, path=self.path, title="potential surface")
         except GridfieldError as e:
-            self.ax3d.text2D(0.5, 0.5, str(e), ha="center", transform=self.ax3d.transAxes)
+            self.ax3d.text2D(0.5, 0.5, str(e), ha="center", transform=self.ax3d.transAxes)  # type: ignore[attr-defined]  # a 3-D Axes
 
     def _write_movie(self) -> None:
         from matplotlib import animation
@@ -756,6 +762,7 @@ class Explorer:
 
         assert self.path is not None
         target = self.cworld if self.planner == "exact-potential" else self.cgridmap
+        assert target is not None  # a path was planned on it
         gif = self.movie_file.with_suffix(".gif")
         files = [gif] + ([gif.with_suffix(".mp4")] if animation.writers.is_available("ffmpeg") else [])
         written = []
@@ -805,7 +812,7 @@ class Explorer:
 
     def _redraw_map(self) -> None:
         """Occupancy, C-space, obstacle outlines and the robot, from the current state."""
-        from .plot import _draw_outlines
+        from .plot.layers import _draw_outlines
 
         if self.gridmap is not None:
             occ = self.gridmap.occupied
@@ -853,34 +860,35 @@ class Explorer:
         if self.robot is not None and self.start is not None and not self.robot.is_point:
             shape = self.robot.outline(self.start)
             xy = np.asarray(shape.exterior.coords if hasattr(shape, "exterior") else shape.coords, dtype=float)
-            self.robot_patch.set_xy(xy)
+            self.robot_patch.set_xy(xy)  # type: ignore[attr-defined]  # matplotlib stubs: a Polygon patch at runtime
             self.robot_patch.set_visible(True)
             self.reference_marker.set_offsets(np.atleast_2d(self.start))
         else:
             self.robot_patch.set_visible(False)
             self.reference_marker.set_offsets(empty)
 
-    def _update_field_image(self) -> None:
-        """Background and colour bar: the log-scaled potential of the potential planner, else nothing."""
-        from matplotlib.colors import LogNorm
-
-        self.field = None
+    def _background_field(self) -> Any:
+        """The potential planner's field on the planning map, built here only when no plan built it
+        (no start yet, a failed plan, a goal found unreachable at once); else None."""
         gm = self.cgridmap
         if self.planner != "potential" or self.goal is None or gm is None:
-            self._hide_field()
-            return
-        try:
-            from .potential import build_field
-        except ImportError:
-            self._hide_field()
-            return
-        try:
-            self.field = build_field(gm, np.asarray(self.goal), self.params, dmap=self._incremental_dmap())
-        except GridfieldError:
-            self._hide_field()
-            return
-        from .plot import _potential_scale
+            return None
+        from .potential import build_field
 
+        try:
+            return build_field(gm, np.asarray(self.goal), self.params, dmap=self._incremental_dmap())
+        except GridfieldError:
+            return None
+
+    def _update_field_image(self) -> None:
+        """Background and colour bar: the log-scaled :attr:`field` (the potential planner's), else nothing."""
+        from matplotlib.colors import LogNorm
+
+        from .plot.layers import _potential_scale
+
+        if self.field is None:
+            self._hide_field()
+            return
         fmap = self.field.map  # the vortex model lives on its own lattice
         u = np.asarray(self.field.potential, dtype=float)
         finite = np.isfinite(u) & ~fmap.occupied
@@ -904,14 +912,24 @@ class Explorer:
         return self.recompute()
 
     def recompute(self) -> Path | None:
-        """Rebuild the field (background) and re-plan with the current start, goal, parameters,
-        planner and configuration space; write the movie when it is armed."""
+        """Re-plan with the current start, goal, parameters, planner and configuration space, and
+        show the potential the plan followed as the background (built once per update: the
+        planner hands it back); write the movie when it is armed.
+
+        Returns
+        -------
+        Path or None
+            The new :attr:`path`; None when the start or goal is missing or the plan failed
+            (:attr:`message` says why).
+        """
         from .planners import plan
 
         self.n_updates += 1
-        self._update_field_image()
         self.path = None
+        self.field = None
         if self.start is None or self.goal is None:
+            self.field = self._background_field()
+            self._update_field_image()
             self.path_line.set_data([], [])
             self.stall_marker.set_offsets(np.empty((0, 2)))
             self._set_message(f"click on the map to set the {'start' if self.start is None else 'goal'}")
@@ -927,20 +945,25 @@ class Explorer:
             if self.cspace_on and self.robot is not None:
                 from .cspace import check_robot_point
 
-                ws = self.world if self.world is not None else self.gridmap
                 for name in ("start", "goal"):
-                    check_robot_point(ws, self.robot, name, getattr(self, name))  # type: ignore[arg-type]
+                    check_robot_point(self._workspace(), self.robot, name, getattr(self, name))
             dmap = self._incremental_dmap() if target is self.cgridmap else None
-            self.path = plan(self.planner, target, self.start, self.goal, self.params, resolution=None,
-                             cache=self._plan_cache(target, dmap))
+            self.path, field = plan(self.planner, target, self.start, self.goal, self.params, resolution=None,
+                                    cache=self._plan_cache(target, dmap), return_field=True)
+            self.field = field if self.planner == "potential" else None
         except GridfieldError as e:
+            self.field = self._background_field()
+            self._update_field_image()
             self.path_line.set_data([], [])
             self.stall_marker.set_offsets(np.empty((0, 2)))
             self._set_message(f"{self.planner}: {e}")
             self._update_3d()
             self.figure.canvas.draw_idle()
             return None
-        from .plot import _stall_points
+        if self.field is None:  # a goal found unreachable at once: no field was built
+            self.field = self._background_field()
+        self._update_field_image()
+        from .plot.layers import _stall_points
 
         pts = self.path.points
         self.path_line.set_data(pts[:, 0], pts[:, 1])

@@ -314,6 +314,8 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
             cache[key] = field_distance_map(gridmap, resolved)
         dmap = cache[key]
     field = build_field(gridmap, g, params, dmap=dmap)
+    if cache is not None:  # the latest field, for planners.plan(..., return_field=True)
+        cache["field"] = field
     build = time.perf_counter() - t0
     esc = None if vortex else NavigationEscape(field)
     path = follow(field, s, params=params, navigation=esc)

@@ -1,7 +1,11 @@
-"""The result every planner returns: :class:`Path`.
+"""The result every planner returns: :class:`Path`, and the schema of its ``extra`` details.
 
 ``status`` is one of :data:`STATUSES` and is never ``"reached"`` unless the last point is
-within the planner's tolerance of the goal.
+within the planner's tolerance of the goal. ``Path.extra`` holds planner-specific details under
+the keys of :class:`PathExtra` (and :class:`NavigationAux` those of a navigation field's ``aux``):
+one place that lists every key a module writes, with its type and meaning, so that readers
+(figures, the diagnosis, the comparison, the CLI) and writers agree. A key outside the schema is
+refused when the path is made.
 """
 
 from __future__ import annotations
@@ -9,18 +13,157 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, TypedDict
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["STATUSES", "Path", "path_length"]
+__all__ = ["STATUSES", "NavigationAux", "Path", "PathExtra", "path_length"]
 
 STATUSES = ("reached", "local_minimum", "collision", "max_iterations", "no_path")
+
+Point = list[float]  # [x, y] in world units (JSON-friendly)
+
+
+#: Every key a planner, the dispatcher or the CLI writes into :attr:`Path.extra` (all optional):
+#: the follower (:mod:`gridfield.follow`, also behind ``exact-potential``), the ``potential``
+#: planner, the navigation planners, the exact planners (visibility, any-angle, sphere and star
+#: worlds), :func:`gridfield.planners.plan` and ``gridfield plan``. (The functional form, because
+#: one key, ``"lambda"``, is a Python keyword.)
+PathExtra = TypedDict(
+    "PathExtra",
+    {
+        # -- the query (gridfield.planners.plan) --
+        "start": tuple[float, float],  # the start planned from
+        "goal": tuple[float, float],  # the goal planned to (figures mark it)
+        "field_seconds": float,  # time building the fields (of Path.seconds)
+        "follow_seconds": float,  # the planner's own time after the fields (of Path.seconds)
+        # -- the follower (follow.descend, follow.follow_many) --
+        "stop_reason": str,  # why it stopped: goal, oscillation, no_progress, confined, small_gradient, blocked, max_iterations, unreachable
+        "stall_point": Point,  # where it stalled (local_minimum)
+        "local_minima": list[Point],  # every stall point, escapes included
+        "oscillation": list[Point],  # the two alternating points of an oscillation stop
+        "blocked_at": Point,  # the rejected full step of a blocked follower
+        "slid_steps": int,  # steps shortened or turned because the full step was blocked
+        "goal_appended": bool,  # whether the goal was appended as the last point
+        "left_map": bool,  # the path left an open-bordered grid
+        "outside_fraction": float,  # the fraction of its points outside the grid
+        "sampling": str,  # how the field was sampled between cells (nearest, bilinear)
+        "alpha_xy": list[float] | None,  # the per-axis step scales of the scaled step rule
+        "escapes_tried": int,  # escapes attempted from local minima
+        "escapes_succeeded": int,  # those that reached the goal or another minimum
+        "escapes": list[dict[str, Any]],  # one record per escape: from, at_iteration, kind, outcome, points
+        "navigation_segments": list[tuple[int, int]],  # point index ranges moved by the navigation escape
+        # -- the potential planner (follow.plan_potential, exact.plan_exact_potential) --
+        "build_seconds": float,  # time building the field
+        "hint": str,  # one line: why the run failed and what to try (gridfield.diagnose)
+        "diagnosis": dict[str, Any],  # the diagnosis behind the hint (gridfield.diagnose.diagnose)
+        # -- navigation functions (gridfield.navigation) --
+        "value": float,  # the navigation function's value at the start cell
+        "grid_length": float,  # length of the path through cell centres
+        "cells": Any,  # (N, 2) int array: the cells of a discrete descent
+        "reason": str,  # why there is no path
+        # -- sphere and star worlds (navigation.plan_sphere_nav, star.plan_star_nav) --
+        "kappa": float,  # the kappa that was used
+        "lambda": float,  # the lambda that was used (star-nav)
+        "tried": list[float],  # the kappas tried (sphere-nav)
+        "kappa_tried": list[float],  # the kappas tried (star-nav)
+        "workspace_center": Point,  # the workspace disc's centre
+        "workspace_radius": float,  # its radius
+        "followed": str,  # which function the star-nav path followed
+        "folds": int,  # folds of the star-to-sphere map met on the path
+        "star_centers": dict[int, Point],  # obstacle id -> star centre
+        # -- exact shortest paths (visibility, anyangle) --
+        "nodes": int,  # nodes of the visibility graph
+        "edges": int,  # its edges
+        "pinch": str,  # how corner-touching obstacles are treated
+        "graph_seconds": float,  # time building the graph
+        "optimal_length": float,  # the shortest path's length
+        # -- gridfield plan --scenario --
+        "optimal": float,  # the scenario's published optimal length
+    },
+    total=False,
+)
+
+PathExtra.__doc__ = """The schema of :attr:`Path.extra`: every key, all optional (a ``TypedDict``; each key's type and
+meaning are commented in the source).
+
+Attributes
+----------
+start, goal, field_seconds, follow_seconds
+    The query and its time split, recorded by :func:`gridfield.planners.plan`.
+stop_reason, stall_point, local_minima, oscillation, blocked_at, slid_steps, goal_appended, left_map, \
+outside_fraction, sampling, alpha_xy, escapes_tried, escapes_succeeded, escapes, navigation_segments
+    How the follower (:func:`gridfield.follow.follow`, :func:`gridfield.follow.follow_many`) ended.
+build_seconds, hint, diagnosis
+    The potential planners: field build time, the one-line hint and its diagnosis.
+value, grid_length, cells, reason
+    Navigation functions: value at the start, grid length, the descent's cells, why no path.
+kappa, lambda, tried, kappa_tried, workspace_center, workspace_radius, followed, folds, star_centers
+    Sphere and star worlds.
+nodes, edges, pinch, graph_seconds, optimal_length
+    Exact shortest paths (visibility graph, any-angle).
+optimal
+    ``gridfield plan --scenario``: the scenario's published optimal length.
+
+Examples
+--------
+>>> import numpy as np
+>>> p = Path(np.zeros((1, 2)), "local_minimum", "demo", extra=PathExtra(stall_point=[0.0, 0.0]))
+>>> p.extra["stall_point"], "lambda" in PathExtra.__optional_keys__
+([0.0, 0.0], True)
+>>> Path(np.zeros((1, 2)), "reached", "demo", extra={"stall": [0.0, 0.0]})
+Traceback (most recent call last):
+...
+ValueError: Path.extra keys ['stall'] are not in gridfield.path.PathExtra; add them there
+"""
+
+#: The keys :class:`Path` accepts in ``extra``.
+EXTRA_KEYS = frozenset(PathExtra.__optional_keys__)
+
+
+class NavigationAux(TypedDict, total=False):
+    """The keys of a navigation field's ``aux`` (:class:`gridfield.navigation.NavigationField`), all
+    optional; each key's type and meaning are commented in the source.
+
+    Attributes
+    ----------
+    cost
+        The cell cost of a weighted wavefront or fmm (``clearance_weight``).
+    harmonic, shell, shells, iterations, seconds
+        The harmonic function: ``u`` of shell 0, each cell's shell, how many, solver iterations, time.
+    grad_x, grad_y, figure
+        Star worlds: the analytic gradient and the arrays of seed 002's figures.
+
+    Examples
+    --------
+    >>> sorted(NavigationAux.__optional_keys__)[:3]
+    ['cost', 'figure', 'grad_x']
+    """
+
+    cost: Any  # (rows, cols) float array: the cell cost of a weighted wavefront or fmm (clearance_weight)
+    harmonic: Any  # (rows, cols) float array: the harmonic potential u of shell 0
+    shell: Any  # (rows, cols) int array: each cell's shell (-1 obstacles)
+    shells: int  # how many shells the harmonic function needed
+    iterations: int  # solver iterations of the harmonic function
+    seconds: float  # the harmonic solve's time
+    grad_x: Any  # (rows, cols) float array: the analytic gradient (star worlds)
+    grad_y: Any  # (rows, cols) float array
+    figure: dict[str, Any]  # the arrays of seed 002's figures (star.star_figure_data)
 
 
 def path_length(points: NDArray[np.float64]) -> float:
     """Sum of the Euclidean lengths of the segments of a polyline ``(N, 2)``.
+
+    Parameters
+    ----------
+    points : ndarray, shape (N, 2)
+        The polyline's vertices in world coordinates.
+
+    Returns
+    -------
+    float
+        Its length (0 for fewer than two points).
 
     Examples
     --------
@@ -56,8 +199,9 @@ class Path:
     min_clearance : float
         Smallest distance to an obstacle along the path, as the planner measures it
         (NaN when the planner does not measure it).
-    extra : mapping
-        Planner-specific details (e.g. escape attempts, stall points).
+    extra : PathExtra
+        Planner-specific details (e.g. escape attempts, stall points); the keys of
+        :class:`PathExtra` only.
 
     Examples
     --------
@@ -77,11 +221,16 @@ class Path:
     params: Mapping[str, Any] = field(default_factory=dict)
     seconds: float = 0.0
     min_clearance: float = math.nan
-    extra: Mapping[str, Any] = field(default_factory=dict)
+    # PathExtra for readers (a misspelt key is a type error); writers may pass any mapping, whose
+    # keys __post_init__ checks against the schema
+    extra: PathExtra | Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
             raise ValueError(f"status must be one of {STATUSES}, got {self.status!r}")
+        unknown = sorted(set(self.extra) - EXTRA_KEYS)
+        if unknown:
+            raise ValueError(f"Path.extra keys {unknown} are not in gridfield.path.PathExtra; add them there")
         pts = np.asarray(self.points, dtype=float).reshape(-1, 2)
         object.__setattr__(self, "points", pts)
 

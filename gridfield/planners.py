@@ -9,12 +9,13 @@ names it knows and ignores the others). Planners are imported only when used.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import importlib
 import inspect
 import time
 from collections.abc import Callable, Mapping
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -22,9 +23,10 @@ from numpy.typing import ArrayLike
 from .errors import ArgumentTypeError, GridfieldError, ParameterError
 from .grid import GridMap, _as_xy
 from .params import REGISTRY, validate
-from .path import Path
+from .path import Path, PathExtra
 
 if TYPE_CHECKING:  # shapely (via world) is imported only when a plan is made: `gridfield --help` stays light
+    from .potential import Field
     from .world import World
 
 __all__ = ["PARAMETERS", "PLANNERS", "check_params", "get_planner", "plan"]
@@ -79,6 +81,18 @@ def get_planner(name: str) -> tuple[Callable[..., Path], str]:
     return fn, kind
 
 
+@overload
+def plan(planner: str, target: World | GridMap, start: ArrayLike, goal: ArrayLike,
+         params: Mapping[str, Any] | None = None, *, resolution: float | None = None,
+         cache: dict[Any, Any] | None = None, return_field: Literal[False] = False) -> Path: ...
+
+
+@overload
+def plan(planner: str, target: World | GridMap, start: ArrayLike, goal: ArrayLike,
+         params: Mapping[str, Any] | None = None, *, resolution: float | None = None,
+         cache: dict[Any, Any] | None = None, return_field: Literal[True]) -> tuple[Path, Field | None]: ...
+
+
 def plan(
     planner: str,
     target: World | GridMap,
@@ -88,7 +102,8 @@ def plan(
     *,
     resolution: float | None = None,
     cache: dict[Any, Any] | None = None,
-) -> Path:
+    return_field: bool = False,
+) -> Path | tuple[Path, Field | None]:
     """Plan a path from ``start`` to ``goal`` with the named planner.
 
     A grid planner given a :class:`World` rasterizes it at ``resolution`` (or the world's own);
@@ -99,15 +114,67 @@ def plan(
     rasterized grid, and for planners that take a ``cache`` their per-map work (the brushfire),
     are computed once and reused.
 
+    Parameters
+    ----------
+    planner : str
+        A name of :data:`PLANNERS`.
+    target : World or GridMap
+        The map or world planned on.
+    start, goal : (x, y)
+        World points; checked to be free.
+    params : mapping, optional
+        Parameter names and values (:data:`PARAMETERS`), over the world file's ``params``.
+    resolution : float, optional
+        Cell size a grid planner rasterizes a world at (default: the world's own).
+    cache : dict, optional
+        Per-map work kept by the caller across calls on the same ``target``.
+    return_field : bool
+        Also hand back the potential :class:`~gridfield.potential.Field` the ``potential`` planner
+        built and followed (its ``map`` is the grid planned on), so that a caller who draws it
+        (:func:`gridfield.plot.plot_potential`, :func:`gridfield.plot.save_plan_animation`)
+        builds nothing again; ``None`` for the other planners and when no field was built (a goal
+        found unreachable at once). The path is the same as without it.
+
+    Returns
+    -------
+    Path, or (Path, Field or None) with ``return_field=True``
+        The path; ``extra`` records the query's ``start`` and ``goal`` and its ``field_seconds`` /
+        ``follow_seconds``.
+
     Examples
     --------
     >>> from gridfield.io import read_world, bundled_map
-    >>> w = read_world(bundled_map("seed000.yaml"))
+    >>> w = read_world(bundled_map("seed003_circles.yaml"))
+    >>> path, field = plan("potential", w, w.start, w.goal, {"ko": 5.0}, return_field=True)
+    >>> path.status, field.goal == tuple(w.goal), field.potential.shape == field.map.shape
+    ('reached', True, True)
     >>> plan("nonsense", w, w.start, w.goal)
     Traceback (most recent call last):
     ...
     gridfield.errors.ParameterError: unknown planner 'nonsense'; expected one of ...
     """
+    if not return_field:
+        path = _plan(planner, target, start, goal, params, resolution=resolution, cache=cache)
+        if cache is not None:
+            cache.pop("field", None)  # a kept cache holds per-map work, not the latest field
+        return path
+    # the potential planner leaves the field it built in the cache under "field" (gridfield.follow.plan_potential)
+    work: dict[Any, Any] = {} if cache is None else cache
+    work.pop("field", None)
+    path = _plan(planner, target, start, goal, params, resolution=resolution, cache=work)
+    return path, work.pop("field", None)
+
+
+def _plan(
+    planner: str,
+    target: World | GridMap,
+    start: ArrayLike,
+    goal: ArrayLike,
+    params: Mapping[str, Any] | None,
+    *,
+    resolution: float | None,
+    cache: dict[Any, Any] | None,
+) -> Path:
     from .world import World
 
     fn, kind = get_planner(planner)
@@ -188,13 +255,11 @@ def _with_endpoints(path: Path, start: np.ndarray, goal: np.ndarray, t0: float) 
     ``extra["field_seconds"]`` (building the fields) and ``extra["follow_seconds"]`` (the planner's
     own time) beside it."""
     total = time.perf_counter() - t0
-    extra = dict(path.extra)
+    extra: PathExtra = dict(path.extra)  # type: ignore[assignment]  # the planner's keys, checked by Path
     extra.setdefault("start", (float(start[0]), float(start[1])))
     extra.setdefault("goal", (float(goal[0]), float(goal[1])))
     build = float(extra.get("build_seconds", 0.0))
     extra["field_seconds"] = build
     extra["follow_seconds"] = float(path.seconds)
-    # the planner's own new Path: no copy (dataclasses.replace would re-validate the points)
-    object.__setattr__(path, "extra", extra)
-    object.__setattr__(path, "seconds", max(total, build + float(path.seconds)))
-    return path
+    # a new Path (replace: the points are a float (N, 2) array already, so they are not copied)
+    return dataclasses.replace(path, extra=extra, seconds=max(total, build + float(path.seconds)))

@@ -93,6 +93,10 @@ class Obstacle:
             return (cx - r, cy - r, cx + r, cy + r)
         return tuple(self.geometry.bounds)  # type: ignore[return-value]
 
+    def __repr__(self) -> str:
+        x0, y0, x1, y1 = self.bounds()
+        return f"Obstacle(id={self.id}, kind={self.kind!r}, bounds=({x0:.6g}, {y0:.6g}, {x1:.6g}, {y1:.6g}))"
+
 
 @dataclass(frozen=True, eq=False)
 class Robot:
@@ -304,6 +308,14 @@ class World:
             if ob.distance(p[None, :])[0] <= 0.0:
                 raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}) lies inside obstacle {ob.id} ({ob.kind})")
         return p
+
+    def __repr__(self) -> str:
+        def pt(p: tuple[float, float] | None) -> str:
+            return "None" if p is None else f"({p[0]:.6g}, {p[1]:.6g})"
+
+        name = self.source.replace("\\", "/").rsplit("/", 1)[-1]
+        return (f"World(obstacles={len(self.obstacles)}, bounds=({', '.join(f'{v:.6g}' for v in self.bounds)}), "
+                f"border={self.border!r}, start={pt(self.start)}, goal={pt(self.goal)}, source={name!r})")
 
 
 # ----------------------------------------------------------------------------------------

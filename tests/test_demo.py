@@ -143,3 +143,23 @@ def test_format_table_and_crop():
     assert c.shape[0] < gm.shape[0] and c.shape[1] < gm.shape[1]
     assert (~c.occupied).sum() == (~gm.occupied).sum()  # every free cell kept
     assert c.grid.resolution == gm.grid.resolution
+
+
+def test_demo_parts_draw_the_fields_their_plans_built(tmp_path, monkeypatch):
+    """seed003 plans twice (Ko 5 and 10) and draws both fields: two builds, not four."""
+    import gridfield.demo as demo_module
+    import gridfield.potential as potential
+
+    calls = []
+    real = potential.build_field
+
+    def counting(*a, **k):
+        calls.append(1)
+        return real(*a, **k)
+
+    monkeypatch.setattr(potential, "build_field", counting)
+    run = demo_module._Run(tmp_path, True, lambda _line: None)
+    demo_module._part_seed003(run)
+    plt.close("all")
+    assert len(calls) == 2 and len(run.result.rows) == 2
+    assert (tmp_path / "seed003_vortex.png").read_bytes()[:8] == PNG

@@ -254,3 +254,27 @@ def test_cli_explore_needs_an_interactive_backend(capsys):
     assert main(["explore", str(bundled_map("seed000.yaml"))]) == 2
     err = capsys.readouterr().err
     assert "cannot open a window" in err and "--save" in err
+
+
+def test_an_update_builds_the_potential_once(monkeypatch):
+    """The background field is the one the planner followed (plan(..., return_field=True))."""
+    import gridfield.potential as potential
+
+    calls = []
+    real = potential.build_field
+
+    def counting(*a, **k):
+        calls.append(1)
+        return real(*a, **k)
+
+    monkeypatch.setattr(potential, "build_field", counting)
+    ex = Explorer(read_world(bundled_map("seed000.yaml")), resolution=0.5)
+    assert len(calls) == 1 and ex.n_updates == 1
+    ex.set_param("zeta", 2.0)
+    assert len(calls) == 2 and ex.n_updates == 2
+    # the background shows the very field the path followed: its potential, at the path's params
+    assert ex.field.params["zeta"] == 2.0 and ex.path.params["zeta"] == 2.0
+    assert ex.field_image.get_visible()
+    ex.set_planner("wavefront-octile")  # no potential: no build, no background
+    assert len(calls) == 2 and ex.field is None and not ex.field_image.get_visible()
+    ex.close()

@@ -84,7 +84,9 @@ def test_plot_map_grid_image_in_world_coordinates(corridor):
 
 
 def test_plot_map_world_outlines_and_rasterized_image(seed000):
-    art = plot.plot_map(seed000, resolution=0.25)
+    from gridfield.rasterize import as_gridmap
+
+    art = plot.plot_map(as_gridmap(seed000, 0.25))
     assert tuple(art.image.get_extent()) == (0.0, 25.0, 0.0, 20.0)
     assert art.image.get_array().shape == (80, 100)
     polys = [a for a in art.obstacles if isinstance(a, PatchCollection)]
@@ -95,10 +97,25 @@ def test_plot_map_world_outlines_and_rasterized_image(seed000):
     assert len(art.ax.lines) == 0
 
 
+def test_plot_map_draws_a_world_as_outlines_and_rasterizes_nothing(seed000, monkeypatch):
+    import gridfield.rasterize as rasterize
+
+    def no(*_a, **_k):
+        raise AssertionError("plot_map rasterized the world")
+
+    monkeypatch.setattr(rasterize, "as_gridmap", no)
+    monkeypatch.setattr(rasterize, "rasterize", no)
+    art = plot.plot_map(seed000)
+    assert art.image is None and not art.ax.images
+    polys = [a for a in art.obstacles if isinstance(a, PatchCollection)]
+    assert len(polys) == 1 and len(polys[0].get_paths()) == 3
+    assert art.ax.get_xlim() == (0.0, 25.0) and art.ax.get_ylim() == (0.0, 20.0)
+
+
 def test_plot_map_segments_circles_and_stall_points():
     w = read_world(bundled_map("seed000_segment.yaml"))
     stalled = straight(w.start, (16.97, 9.03), status="local_minimum", planner="potential")
-    art = plot.plot_map(w, paths=stalled, resolution=0.25)  # a single Path is accepted
+    art = plot.plot_map(w, paths=stalled)  # a single Path is accepted
     segs = [a for a in art.obstacles if isinstance(a, LineCollection)]
     assert len(segs) == 1 and np.allclose(segs[0].get_segments()[0], [[17.5, 10.0], [17.5, 8.0]])
     assert np.allclose(art.markers["stall"].get_offsets(), [[16.97, 9.03]])
@@ -292,7 +309,7 @@ def test_plot_basins_rejects_wrong_shapes():
 def test_plot_comparison(seed000):
     a = straight(seed000.start, seed000.goal, planner="potential")
     b = Path(a.points + np.array([0.0, 0.3]), "reached", "exact-potential")
-    art = plot.plot_comparison(seed000, a, b, resolution=0.5)
+    art = plot.plot_comparison(seed000, a, b)
     assert len(art.ax.lines) == 2 and art.paths[1].get_linestyle() == "--"
     assert art.extra["deviation"] == pytest.approx(0.3)
     assert "max deviation 0.3" in art.ax.get_title()
@@ -353,11 +370,18 @@ def test_save_plan_animation_gif_over_the_map(tmp_path, corridor):
     assert plt.get_fignums() == []
 
 
-def test_save_plan_animation_over_a_rebuilt_potential(tmp_path, seed000):
+def test_save_plan_animation_over_the_field_the_caller_has(tmp_path, seed000, monkeypatch):
+    import gridfield.potential as potential
     from gridfield.planners import plan
 
-    path = plan("potential", seed000, seed000.start, seed000.goal, resolution=0.25)
-    out = plot.save_plan_animation(tmp_path / "run.gif", seed000, path, resolution=0.25, max_frames=8)
+    path, field = plan("potential", seed000, seed000.start, seed000.goal, resolution=0.25, return_field=True)
+    assert field is not None and field.map.grid.resolution == 0.25
+
+    def no(*_a, **_k):
+        raise AssertionError("the animation rebuilt the field")
+
+    monkeypatch.setattr(potential, "build_field", no)
+    out = plot.save_plan_animation(tmp_path / "run.gif", field.map, path, field=field, max_frames=8)
     with Image.open(out) as im:
         assert im.n_frames == min(8, len(path.points))
 
@@ -407,3 +431,51 @@ def test_cli_plan_plot_and_animate(tmp_path, capsys):
     assert fig.read_bytes()[:8] == PNG
     with Image.open(gif) as im:
         assert im.n_frames > 1
+
+
+def _count_build_field(monkeypatch):
+    """Count the calls of gridfield.potential.build_field (looked up at call time by its users)."""
+    import gridfield.potential as potential
+
+    calls = []
+    real = potential.build_field
+
+    def counting(*a, **k):
+        calls.append(1)
+        return real(*a, **k)
+
+    monkeypatch.setattr(potential, "build_field", counting)
+    return calls
+
+
+def test_cli_plan_plot_and_animate_build_the_field_once(tmp_path, capsys, monkeypatch):
+    from gridfield.cli import main
+
+    calls = _count_build_field(monkeypatch)
+    fig, gif = tmp_path / "plan.png", tmp_path / "plan.gif"
+    rc = main(["plan", str(bundled_map("seed000.yaml")), "--resolution", "0.5", "--plot", str(fig),
+               "--animate", str(gif)])
+    assert rc == 0, capsys.readouterr().err
+    assert len(calls) == 1
+    assert fig.stat().st_size > 0 and gif.stat().st_size > 0
+
+
+def test_plan_return_field_is_the_field_followed_and_changes_no_path(seed000):
+    import gridfield.potential as potential
+    from gridfield.planners import plan
+    from gridfield.rasterize import as_gridmap
+
+    gm = as_gridmap(seed000, 0.5)
+    alone = plan("potential", gm, seed000.start, seed000.goal)
+    path, field = plan("potential", gm, seed000.start, seed000.goal, return_field=True)
+    assert np.array_equal(path.points, alone.points) and path.status == alone.status
+    # an independent rebuild with the path's own (resolved) parameters gives the same arrays
+    ref = potential.build_field(gm, seed000.goal, dict(seed000.params))
+    assert field.map is gm
+    assert np.array_equal(field.potential, ref.potential) and np.array_equal(field.grad_x, ref.grad_x)
+    # other planners build no potential: None
+    assert plan("wavefront-octile", gm, seed000.start, seed000.goal, return_field=True)[1] is None
+    # a cache the caller keeps does not keep the field afterwards
+    cache: dict = {}
+    plan("potential", gm, seed000.start, seed000.goal, cache=cache, return_field=True)
+    assert "field" not in cache

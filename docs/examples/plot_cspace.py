@@ -13,6 +13,7 @@ from gridfield.cspace import apply_robot
 from gridfield.io import bundled_map, read_world
 from gridfield.planners import plan
 from gridfield.plot import plot_map
+from gridfield.rasterize import as_gridmap
 
 world = read_world(bundled_map("seed000.yaml"))
 robot = [(0.0, 0.0), (0.8, 0.0), (0.0, 0.6)]
@@ -21,5 +22,6 @@ path = plan("visibility", cspace, world.start, world.goal)
 print(path.status, round(path.length, 3))
 
 fig, axes = plt.subplots(1, 2, figsize=(12, 4.8), layout="constrained")
-plot_map(world, axes[0], resolution=0.1, start=world.start, goal=world.goal, title="workspace")
-plot_map(cspace, axes[1], resolution=0.1, paths=[path], title="configuration space and shortest path")
+# plotting computes nothing: the cells shown are the grid maps rasterized here
+plot_map(as_gridmap(world, 0.1), axes[0], start=world.start, goal=world.goal, title="workspace")
+plot_map(as_gridmap(cspace, 0.1), axes[1], paths=[path], title="configuration space and shortest path")

@@ -109,7 +109,8 @@ def run(args: argparse.Namespace) -> int:
             WebAggApplication.initialize()
         except SystemExit:
             raise GridfieldError(f"no free port near {args.port} on 127.0.0.1; pass another --port") from None
-        print(f"gridfield explorer: http://127.0.0.1:{WebAggApplication.port}/ (Ctrl+C stops the server)",
+        port = WebAggApplication.port  # type: ignore[attr-defined]  # set by initialize()
+        print(f"gridfield explorer: http://127.0.0.1:{port}/ (Ctrl+C stops the server)",
               flush=True)
     else:
         print(explorer.message, file=sys.stderr)

@@ -80,7 +80,8 @@ def endpoints(args: argparse.Namespace, target: object) -> tuple[list[float], li
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..planners import plan
+    from ..planners import PLANNERS, plan
+    from ..world import World
     from ._common import check_figure_file
 
     check_figure_file(args.plot)
@@ -92,10 +93,17 @@ def run(args: argparse.Namespace) -> int:
     else:
         start, goal = endpoints(args, workspace)
     target = robot_target(args, workspace, start=start, goal=goal)
-    path = plan(args.planner, target, start, goal, params, resolution=args.resolution)
+    robot = target is not workspace
+    resolution = args.resolution
+    if PLANNERS[args.planner][2] == "grid" and isinstance(target, World):
+        from ..rasterize import as_gridmap
+
+        # rasterized once, here: the grid planner plans on it and --plot/--animate draw it
+        target, resolution = as_gridmap(target, resolution), None
+    # the field the potential planner followed comes back with the path: the figures draw it, not rebuild it
+    path, field = plan(args.planner, target, start, goal, params, resolution=resolution, return_field=True)
     if scen is not None:
         path = replace(path, extra={**path.extra, "optimal": optimal})
-    robot = target is not workspace
     if robot:
         from ..cspace import robot_clearance, workspace_clearance
         from ._common import _robot_from_args
@@ -124,10 +132,10 @@ def run(args: argparse.Namespace) -> int:
         from .. import plot as gplot
 
         if args.plot:
-            gplot.save_plan_figure(args.plot, target, path, resolution=args.resolution)
+            gplot.save_plan_figure(args.plot, target, path)
             print(f"wrote {args.plot}", file=sys.stderr if args.json else sys.stdout)
         if args.animate:
-            gplot.save_plan_animation(args.animate, target, path, resolution=args.resolution)
+            gplot.save_plan_animation(args.animate, target, path, field=field)
             print(f"wrote {args.animate}", file=sys.stderr if args.json else sys.stdout)
     return 0
 

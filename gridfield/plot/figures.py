@@ -1,43 +1,58 @@
-"""Figures and animations: occupancy maps, distance maps, potentials, surfaces, basins, comparisons.
+"""Figures: maps, distance maps, potentials, surfaces, star worlds, basins, comparisons, convergence.
 
-Every function here follows one contract:
-
-- matplotlib is imported inside the function (importing :mod:`gridfield.plot` is cheap);
-- ``ax=None`` creates a new figure (constrained layout), otherwise the function draws into ``ax``;
-- the function returns an :class:`Artists` record of what it drew and never calls ``plt.show()``;
-- images use ``origin="lower"`` and ``extent=grid.extent`` (world coordinates, row 0 at the bottom);
-- ``ax.lines`` holds exactly the drawn paths (one :class:`~matplotlib.lines.Line2D` per path): start,
-  goal and stall points are scatter collections and segment obstacles a line collection, so that
-  tests and callers can count paths.
-
-Animations (:func:`save_plan_animation`, :func:`animate_brushfire`) are written as GIF with pillow,
-or as MP4 when ffmpeg is installed.
+Each figure function takes the result it draws (a :class:`~gridfield.grid.GridMap` or
+:class:`~gridfield.world.World`, a :class:`~gridfield.brushfire.DistanceMap`, a
+:class:`~gridfield.potential.Field`, :class:`~gridfield.follow.Basins`, paths) and computes nothing
+from it: a World is drawn as its vector outlines, occupancy only when a GridMap is given, and a
+potential only when the caller passes the field it already has.
 """
 
 from __future__ import annotations
 
 import math
-import os
-from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path as FsPath
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import GridfieldError, ParameterError
-from .grid import Grid, GridMap
-from .path import Path
-from .world import World
+from ..errors import GridfieldError, ParameterError
+from ..grid import Grid, GridMap
+from ..path import Path
+from ..world import World
+from .layers import (
+    GOAL_BASIN_COLOR,
+    MINIMUM_COLORS,
+    OCCUPIED_COLOR,
+    Artists,
+    PathLike,
+    _decimated_quiver,
+    _draw_endpoints,
+    _draw_outlines,
+    _draw_paths,
+    _finite_levels,
+    _frame,
+    _goal_of,
+    _grid_of,
+    _gridmap_of,
+    _legend,
+    _log_ticks,
+    _new_axes,
+    _occupancy_layer,
+    _path_label,
+    _point_or_none,
+    _points_or_empty,
+    _potential_scale,
+    _title_of,
+    _world_of,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 __all__ = [
-    "Artists",
-    "animate_brushfire",
     "plot_basins",
     "plot_brushfire",
     "plot_comparison",
@@ -46,312 +61,8 @@ __all__ = [
     "plot_potential",
     "plot_star_world",
     "plot_surface",
-    "save_plan_animation",
     "save_plan_figure",
 ]
-
-PathLike = str | os.PathLike[str]
-
-#: Colours of the occupancy image: free, occupied.
-FREE_COLOR = "white"
-OCCUPIED_COLOR = "0.22"
-#: Colour of vector obstacle outlines.
-OUTLINE_COLOR = "tab:blue"
-#: Colours given to successive paths.
-PATH_COLORS = ("tab:red", "tab:orange", "tab:purple", "tab:cyan", "tab:brown", "tab:pink", "tab:olive")
-#: Colour of the goal's basin and, cycled, of the local minima's basins (no greens: the goal is green).
-GOAL_BASIN_COLOR = "#b8e0b0"
-MINIMUM_COLORS = ("#4c78a8", "#f58518", "#e45756", "#b279a2", "#9d755d", "#ff9da6", "#72b7b2", "#bab0ac",
-                  "#eeca3b", "#9ecae9", "#ffbf79", "#d6a5c9")
-#: Animation formats and the matplotlib writer each needs.
-ANIMATION_FORMATS = {".gif": "pillow", ".mp4": "ffmpeg"}
-
-
-@dataclass
-class Artists:
-    """What a plotting function drew, for callers that restyle or update it and for tests.
-
-    Attributes
-    ----------
-    ax : Axes
-        The axes drawn into (a 3-D axes for :func:`plot_surface`).
-    image : AxesImage or None
-        The main raster layer (occupancy, distance, basins), drawn with ``origin="lower"``.
-    mappable : ScalarMappable or None
-        What the colour bar shows (an image or a filled contour set); its ``get_clim()`` is the
-        colour range used.
-    contours : ContourSet or None
-        Iso-lines (brushfire) or filled contours (potential).
-    obstacles : list
-        Artists of vector obstacle outlines and occupancy overlays.
-    paths : list of Line2D
-        One line per path, in the order given.
-    markers : dict
-        Scatter collections by role: ``"start"``, ``"goal"``, ``"stall"``, ``"minima"``, ...
-    quiver : Quiver or None
-    surface : Poly3DCollection or None
-    colorbar : Colorbar or None
-    legend : Legend or None
-    extra : dict
-        Anything else (GVD overlay, label overlay, reference lines).
-    """
-
-    ax: Any
-    image: Any = None
-    mappable: Any = None
-    contours: Any = None
-    obstacles: list[Any] = field(default_factory=list)
-    paths: list[Any] = field(default_factory=list)
-    markers: dict[str, Any] = field(default_factory=dict)
-    quiver: Any = None
-    surface: Any = None
-    colorbar: Any = None
-    legend: Any = None
-    extra: dict[str, Any] = field(default_factory=dict)
-
-    @property
-    def figure(self) -> Figure:
-        return self.ax.figure
-
-
-# ----------------------------------------------------------------------------------------------
-# helpers
-# ----------------------------------------------------------------------------------------------
-def _new_axes(ax: Axes | None, *, projection: str | None = None, figsize: tuple[float, float] = (7.0, 5.6)) -> Axes:
-    if ax is not None:
-        return ax
-    import matplotlib.pyplot as plt
-
-    fig = plt.figure(figsize=figsize, layout="constrained")
-    return fig.add_subplot(projection=projection)
-
-
-def _grid_of(obj: Any) -> Grid:
-    """The :class:`Grid` an array-holding result belongs to (GridMap, DistanceMap, Field, Basins, ...)."""
-    seen = 0
-    while obj is not None and seen < 4:
-        if isinstance(obj, Grid):
-            return obj
-        if isinstance(obj, GridMap):
-            return obj.grid
-        g = getattr(obj, "grid", None)
-        if isinstance(g, Grid):
-            return g
-        nxt = None
-        for name in ("map", "gridmap", "field"):
-            nxt = getattr(obj, name, None)
-            if nxt is not None:
-                break
-        obj, seen = nxt, seen + 1
-    raise GridfieldError(f"cannot find the grid of {type(obj).__name__}; pass grid=... explicitly")
-
-
-def _gridmap_of(obj: Any) -> GridMap | None:
-    if isinstance(obj, GridMap):
-        return obj
-    for name in ("map", "gridmap"):
-        m = getattr(obj, name, None)
-        if isinstance(m, GridMap):
-            return m
-    f = getattr(obj, "field", None)
-    return _gridmap_of(f) if f is not None and f is not obj else None
-
-
-def _rasterized(target: World | GridMap, resolution: float | None) -> GridMap | None:
-    """The occupancy grid of ``target``: itself, or the world rasterized (None if rasterize is missing)."""
-    if isinstance(target, GridMap):
-        return target
-    try:
-        from .rasterize import as_gridmap
-    except ImportError:
-        return None
-    if resolution is None and target.resolution is None:
-        xmin, ymin, xmax, ymax = target.bounds
-        resolution = max(xmax - xmin, ymax - ymin) / 400.0
-    return as_gridmap(target, resolution)
-
-
-def _world_of(target: Any) -> World | None:
-    if isinstance(target, World):
-        return target
-    w = getattr(target, "world", None)
-    if isinstance(w, World):
-        return w
-    m = _gridmap_of(target)
-    return m.world if m is not None and isinstance(m.world, World) else None
-
-
-def _point_or_none(p: ArrayLike | None, name: str) -> NDArray[np.float64] | None:
-    if p is None:
-        return None
-    a = np.asarray(p, dtype=float).reshape(-1)
-    if a.shape != (2,) or not np.all(np.isfinite(a)):
-        raise ParameterError(f"{name} must be a point (x, y) of finite numbers, got {p!r}")
-    return a
-
-
-def _points_or_empty(p: ArrayLike | None, name: str) -> NDArray[np.float64]:
-    if p is None:
-        return np.empty((0, 2))
-    a = np.asarray(p, dtype=float)
-    if a.size == 0:
-        return np.empty((0, 2))
-    a = a.reshape(-1, 2) if a.ndim == 1 and a.shape[0] == 2 else a
-    if a.ndim != 2 or a.shape[1] != 2:
-        raise ParameterError(f"{name} must be points of shape (N, 2), got shape {np.shape(p)}")
-    return a
-
-
-def _title_of(target: Any) -> str:
-    src = getattr(target, "source", "") or getattr(_world_of(target), "source", "") or ""
-    return FsPath(src).name if src else ""
-
-
-def _occupancy_layer(ax: Axes, gm: GridMap, *, alpha: float = 1.0, zorder: float = 0.0,
-                     free_color: str | None = FREE_COLOR) -> Any:
-    """Occupancy as an image: ``free_color`` (or transparent) on free cells, dark grey on obstacles."""
-    from matplotlib.colors import ListedColormap
-
-    if free_color is None:
-        data: NDArray[Any] = np.ma.masked_array(np.ones(gm.shape), mask=~gm.occupied)
-        cmap = ListedColormap([OCCUPIED_COLOR])
-        vmin, vmax = 0.5, 1.5
-    else:
-        data = gm.occupied.astype(np.uint8)
-        cmap = ListedColormap([free_color, OCCUPIED_COLOR])
-        vmin, vmax = -0.5, 1.5
-    return ax.imshow(data, origin="lower", extent=gm.grid.extent, cmap=cmap, vmin=vmin, vmax=vmax,
-                     interpolation="nearest", alpha=alpha, zorder=zorder)
-
-
-def _draw_outlines(ax: Axes, world: World, *, color: str = OUTLINE_COLOR, zorder: float = 3.0) -> list[Any]:
-    """Outline every vector obstacle of ``world``: polygons, circles (exact), segments, points."""
-    from matplotlib.collections import LineCollection, PatchCollection
-    from matplotlib.patches import Circle
-    from matplotlib.patches import Polygon as MplPolygon
-
-    patches: list[Any] = []  # matplotlib Circle and Polygon patches
-    segments, points = [], []
-    for ob in world.obstacles:
-        if ob.kind == "circle" and ob.center is not None and ob.radius is not None:
-            patches.append(Circle(ob.center, ob.radius))
-        elif ob.kind == "polygon":
-            patches.append(MplPolygon(ob.vertices, closed=True))
-        elif ob.kind == "segment":
-            segments.append(ob.vertices)
-        else:
-            points.append(ob.vertices.reshape(-1, 2)[0])
-    out: list[Any] = []
-    if patches:
-        out.append(ax.add_collection(PatchCollection(patches, facecolor="none", edgecolor=color, linewidth=1.6,
-                                                     zorder=zorder)))
-    if segments:
-        out.append(ax.add_collection(LineCollection(segments, colors=color, linewidths=2.2, zorder=zorder)))
-    if points:
-        p = np.asarray(points)
-        out.append(ax.scatter(p[:, 0], p[:, 1], s=18, color=color, zorder=zorder))
-    return out
-
-
-def _frame(ax: Axes, bounds: tuple[float, float, float, float], points: Sequence[NDArray[np.float64]] = ()) -> None:
-    """Equal-aspect world axes showing ``bounds``, widened to show every point of ``points`` (paths
-    that left an open-bordered grid)."""
-    xmin, ymin, xmax, ymax = bounds
-    pts = [p for p in points if len(p)]
-    if pts:
-        allp = np.concatenate(pts)
-        allp = allp[np.all(np.isfinite(allp), axis=1)]
-        if len(allp):
-            pad = 0.02 * max(xmax - xmin, ymax - ymin)
-            (px0, py0), (px1, py1) = allp.min(axis=0), allp.max(axis=0)
-            xmin = px0 - pad if px0 < xmin else xmin
-            ymin = py0 - pad if py0 < ymin else ymin
-            xmax = px1 + pad if px1 > xmax else xmax
-            ymax = py1 + pad if py1 > ymax else ymax
-    ax.set_xlim(xmin, xmax)
-    ax.set_ylim(ymin, ymax)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-
-
-def _path_label(path: Path) -> str:
-    return f"{path.planner}: {path.status}, length {path.length:.3g}"
-
-
-def _stall_points(path: Path | None) -> NDArray[np.float64]:
-    """Stall points a follower recorded (``extra['local_minima']``, ``extra['stall_point']`` or
-    ``extra['stall']``), or its end when it stopped in a local minimum."""
-    if path is None:
-        return np.empty((0, 2))
-    extra = path.extra if isinstance(path.extra, Mapping) else {}
-    pts = np.empty((0, 2))
-    for key in ("local_minima", "stall_point", "stall"):
-        if extra.get(key) is not None:
-            pts = _points_or_empty(extra[key], f"path.extra[{key!r}]")
-            if len(pts):
-                break
-    if len(pts) == 0 and path.status == "local_minimum" and len(path.points):
-        pts = path.points[-1:].copy()
-    return pts
-
-
-def _draw_paths(ax: Axes, paths: Sequence[Path], art: Artists, *, zorder: float = 5.0,
-                styles: Sequence[Mapping[str, Any]] | None = None) -> None:
-    stalls = []
-    for i, p in enumerate(paths):
-        if not isinstance(p, Path):
-            raise ParameterError(f"paths must be gridfield Path objects, got {type(p).__name__} at position {i}")
-        style: dict[str, Any] = {"color": PATH_COLORS[i % len(PATH_COLORS)], "linewidth": 2.0}
-        if styles is not None and i < len(styles):
-            style.update(styles[i])
-        (line,) = ax.plot(p.points[:, 0], p.points[:, 1], label=_path_label(p), zorder=zorder, **style)
-        art.paths.append(line)
-        segs = p.extra.get("navigation_segments") if isinstance(p.extra, Mapping) else None
-        for k, (i0, i1) in enumerate(segs or ()):
-            (nav,) = ax.plot(p.points[i0: i1 + 1, 0], p.points[i0: i1 + 1, 1], color="magenta", linewidth=2.6,
-                             linestyle=(0, (2, 1)), zorder=zorder + 0.5,
-                             label="navigation escape" if k == 0 else None)
-            art.extra.setdefault("navigation", []).append(nav)
-        s = _stall_points(p)
-        if len(s):
-            stalls.append(s)
-        hint = p.extra.get("hint") if isinstance(p.extra, Mapping) else None
-        if hint and "hint" not in art.extra:
-            import textwrap
-
-            art.extra["hint"] = ax.text(0.01, 0.01, "\n".join(textwrap.wrap(f"hint: {hint}", 90)),
-                                        transform=ax.transAxes, fontsize=7, va="bottom", ha="left",
-                                        zorder=zorder + 3, bbox={"facecolor": "white", "alpha": 0.85,
-                                                                 "edgecolor": "0.6"})
-    if stalls:
-        s = np.concatenate(stalls)
-        art.markers["stall"] = ax.scatter(s[:, 0], s[:, 1], marker="X", s=90, color="red", edgecolor="white",
-                                          linewidth=0.8, zorder=zorder + 2, label="stall point")
-
-
-def _draw_endpoints(ax: Axes, art: Artists, start: NDArray[np.float64] | None, goal: NDArray[np.float64] | None,
-                    *, zorder: float = 6.0) -> None:
-    if start is not None:
-        art.markers["start"] = ax.scatter([start[0]], [start[1]], marker="o", s=70, color="tab:green",
-                                          edgecolor="black", zorder=zorder, label="start")
-    if goal is not None:
-        art.markers["goal"] = ax.scatter([goal[0]], [goal[1]], marker="*", s=180, color="gold",
-                                         edgecolor="black", zorder=zorder, label="goal")
-
-
-def _legend(ax: Axes, art: Artists, *, loc: str = "best", fontsize: float = 8.0) -> None:
-    handles, labels = ax.get_legend_handles_labels()
-    if handles:
-        art.legend = ax.legend(handles, labels, loc=loc, fontsize=fontsize,  # type: ignore[call-overload]
-                              framealpha=0.85)
-
-
-def _finite_levels(lo: float, hi: float, n: int) -> NDArray[np.float64]:
-    """``n`` levels strictly inside ``(lo, hi)`` (so that contour never warns of empty levels)."""
-    if not (np.isfinite(lo) and np.isfinite(hi)) or hi <= lo:
-        return np.empty(0)
-    return np.linspace(lo, hi, n + 2)[1:-1]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -364,7 +75,6 @@ def plot_map(
     paths: Path | Iterable[Path] = (),
     start: ArrayLike | None = None,
     goal: ArrayLike | None = None,
-    resolution: float | None = None,
     outlines: bool = True,
     legend: bool = True,
     title: str | None = None,
@@ -375,19 +85,18 @@ def plot_map(
     Parameters
     ----------
     target : World or GridMap
-        A vector world is rasterized at ``resolution`` (default: the world's own) with
-        :func:`gridfield.rasterize.as_gridmap`; a grid map that came from a world also gets its
-        obstacles outlined.
+        A grid map is drawn as its occupancy (and, when it came from a world, that world's
+        obstacles outlined); a vector world as its obstacles' outlines alone. Nothing is
+        rasterized here: to show a world's cells, pass the grid map the planner used
+        (:func:`gridfield.rasterize.as_gridmap`).
     ax : Axes, optional
         Draw into this axes; default: a new figure.
     paths : Path or iterable of Path
         Drawn as lines (``ax.lines`` holds exactly these), labelled with planner and status;
-        stall points (``path.extra['local_minima']`` / ``['stall_point']`` / ``['stall']``, or the end of
+        stall points (``path.extra['local_minima']`` / ``['stall_point']``, or the end of
         a ``local_minimum`` path) are marked.
     start, goal : (x, y), optional
         Marked points; default: the world's start and goal, if any.
-    resolution : float, optional
-        Cell size used to rasterize a vector world.
     outlines : bool
         Outline the vector obstacles (polygons, circles, segments, points).
     legend : bool
@@ -399,7 +108,7 @@ def plot_map(
     Returns
     -------
     Artists
-        ``image`` (occupancy, ``None`` when a world cannot be rasterized), ``obstacles``, ``paths``,
+        ``image`` (occupancy; ``None`` for a vector world), ``obstacles``, ``paths``,
         ``markers`` (``start``, ``goal``, ``stall``), ``legend``.
 
     Examples
@@ -421,7 +130,7 @@ def plot_map(
         raise ParameterError(f"plot_map needs a World or a GridMap, got {type(target).__name__}")
     ax = _new_axes(ax)
     art = Artists(ax)
-    gm = _rasterized(target, resolution)
+    gm = target if isinstance(target, GridMap) else None
     world = _world_of(target)
     if gm is not None:
         art.image = _occupancy_layer(ax, gm)
@@ -543,68 +252,6 @@ def plot_brushfire(
 # ----------------------------------------------------------------------------------------------
 # potentials
 # ----------------------------------------------------------------------------------------------
-def _potential_scale(u: NDArray[np.float64], finite: NDArray[np.bool_], cap: float | None,
-                     log: bool) -> tuple[NDArray[np.float64], float, float, str]:
-    """Values to colour, their colour range and a label: ``U`` clipped at ``cap``, or for ``log``
-    ``U - min U`` clipped into ``[lo, cap - min U]`` (log colour scales need positive values)."""
-    vals = u[finite]
-    umin = float(vals.min())
-    if cap is None:
-        cap = float(vals.max()) if log else float(np.percentile(vals, 95.0))
-    cap = float(cap)
-    if not np.isfinite(cap):
-        raise ParameterError(f"cap must be a finite potential value, got {cap!r}")
-    if not log:
-        hi = cap if cap > umin else umin + 1.0
-        return np.clip(np.where(finite, u, hi), umin, hi), umin, hi, "potential U"
-    hi = cap - umin
-    if hi <= 0:
-        hi = 1.0
-    v = np.where(finite, u - umin, hi)
-    pos = v[finite & (v > 0)]
-    lo = float(np.percentile(pos, 1.0)) if pos.size else hi * 1e-6
-    lo = min(max(lo, hi * 1e-12), hi / 10.0)
-    return np.clip(v, lo, hi), lo, hi, "U − min U (log scale)"
-
-
-def _log_ticks(lo: float, hi: float) -> list[float]:
-    """Decades inside ``[lo, hi]``, or a few rounded values when the range spans less than two.
-
-    Examples
-    --------
-    >>> _log_ticks(0.5, 2000.0)
-    [1.0, 10.0, 100.0, 1000.0]
-    >>> _log_ticks(2.0, 30.0)
-    [2.0, 4.9, 12.0, 30.0]
-    """
-    decades = [10.0**k for k in range(math.ceil(math.log10(lo)), math.floor(math.log10(hi)) + 1)]
-    if len(decades) >= 2:
-        return decades
-    return [float(f"{v:.2g}") for v in np.geomspace(lo, hi, 4)]
-
-
-def _decimated_quiver(ax: Axes, grid: Grid, gx: NDArray[np.float64], gy: NDArray[np.float64],
-                      free: NDArray[np.bool_], step: int | None, *, color: str = "black", zorder: float = 4) -> Any:
-    rows, cols = grid.shape
-    if step is None:
-        step = max(1, round(max(rows, cols) / 28))
-    step = int(step)
-    if step < 1:
-        raise ParameterError(f"quiver_step must be a positive number of cells, got {step}")
-    r = np.arange(step // 2, rows, step)
-    c = np.arange(step // 2, cols, step)
-    rr, cc = np.meshgrid(r, c, indexing="ij")
-    u, v = -gx[rr, cc], -gy[rr, cc]
-    mag = np.hypot(u, v)
-    ok = free[rr, cc] & np.isfinite(mag) & (mag > 0)
-    if not ok.any():
-        return None
-    xs, ys = grid.cell_centers()
-    length = 0.75 * step * grid.resolution
-    return ax.quiver(xs[cc[ok]], ys[rr[ok]], u[ok] / mag[ok], v[ok] / mag[ok], angles="xy", scale_units="xy",
-                     scale=1.0 / length, width=0.0025, color=color, alpha=0.65, zorder=zorder, pivot="mid")
-
-
 def plot_potential(
     field: Any,
     ax: Axes | None = None,
@@ -648,6 +295,18 @@ def plot_potential(
     Artists
         ``contours`` and ``mappable`` (the filled contour set; ``get_clim()`` is the colour range),
         ``image`` (the obstacle overlay), ``quiver``, ``paths``, ``markers`` (``goal``, ``stall``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gridfield.grid import Grid, GridMap
+    >>> from gridfield.potential import build_field
+    >>> occ = np.zeros((10, 12), bool); occ[4:6, 5:7] = True
+    >>> f = build_field(GridMap(Grid((10, 12), 0.5), occ), (5.0, 4.0))
+    >>> art = plot_potential(f, log=False, quiver_step=3)
+    >>> art.quiver is not None, art.markers["goal"].get_offsets().tolist()
+    (True, [[5.0, 4.0]])
+    >>> import matplotlib.pyplot as plt; plt.close(art.figure)
     """
     from matplotlib.colors import LogNorm, Normalize
 
@@ -758,6 +417,17 @@ def plot_surface(
     Artists
         ``surface`` (also ``mappable``; ``get_clim()`` is the height range), ``paths``,
         ``extra['stride']``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gridfield.grid import Grid, GridMap
+    >>> from gridfield.potential import build_field
+    >>> f = build_field(GridMap(Grid((20, 20), 0.5), np.zeros((20, 20), bool)), (5.0, 5.0))
+    >>> art = plot_surface(f, max_cells=10)
+    >>> art.ax.name, art.extra["stride"]
+    ('3d', 2)
+    >>> import matplotlib.pyplot as plt; plt.close(art.figure)
     """
     if int(max_cells) < 2:
         raise ParameterError(f"max_cells must be at least 2, got {max_cells}")
@@ -839,6 +509,20 @@ def plot_star_world(
     -------
     list of Artists
         One per panel, in the order above.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x, y = np.meshgrid(np.linspace(-2, 2, 9), np.linspace(-2, 2, 9))
+    >>> r2 = x**2 + y**2
+    >>> data = {"x": x, "y": y, "kappa": 3.0, "lambda": 1.0, "humps": np.maximum(0.25 - r2, 0),
+    ...         "attractive": r2, "phi": r2 / (1 + r2), "mapped_lines": [np.c_[x[4], y[4]]],
+    ...         "workspace": ((0.0, 0.0), 2.0), "model_discs": [[0.0, 0.0, 0.5]],
+    ...         "obstacles": [np.array([[-0.5, -0.5], [0.5, -0.5], [0.0, 0.5]])], "goal": (1.5, 0.0)}
+    >>> arts = plot_star_world(data, max_cells=5)
+    >>> len(arts), arts[0].extra["stride"], len(arts[2].obstacles)
+    (4, 2, 2)
+    >>> import matplotlib.pyplot as plt; plt.close(arts[0].figure)
     """
     import matplotlib.pyplot as plt
     from matplotlib.patches import Circle
@@ -1027,13 +711,24 @@ def plot_comparison(
     exact_path: Path,
     ax: Axes | None = None,
     *,
-    resolution: float | None = None,
     title: str | None = None,
 ) -> Artists:
     """A grid planner's path against the exact planner's on the same world.
 
     The exact path is drawn dashed on top of the grid path; the title reports both lengths and
     the largest distance of the grid path's points from the exact path (Hausdorff-like deviation).
+
+    Parameters
+    ----------
+    target : World or GridMap
+        Drawn as by :func:`plot_map`: the grid map the grid planner used shows its cells, a world
+        only its outlines.
+    grid_path, exact_path : Path
+        The grid planner's path (solid) and the exact planner's (dashed).
+    ax : Axes, optional
+        Draw into this axes; default: a new figure.
+    title : str, optional
+        Default: both lengths and the deviation.
 
     Returns
     -------
@@ -1047,14 +742,14 @@ def plot_comparison(
     >>> w = world_from_dict({"bounds": [0, 0, 4, 4], "obstacles": [{"circle": {"center": [2, 2], "radius": 1}}]})
     >>> a = Path(np.array([[0.5, 0.5], [0.5, 3.5]]), "reached", "potential")
     >>> b = Path(np.array([[0.5, 0.5], [0.7, 3.5]]), "reached", "exact-potential")
-    >>> art = plot_comparison(w, a, b, resolution=0.5)
-    >>> len(art.paths), round(art.extra["deviation"], 3)
-    (2, 0.2)
+    >>> art = plot_comparison(w, a, b)
+    >>> len(art.paths), round(art.extra["deviation"], 3), art.image is None
+    (2, 0.2, True)
     >>> import matplotlib.pyplot as plt; plt.close(art.figure)
     """
     import shapely
 
-    art = plot_map(target, ax, paths=[grid_path, exact_path], resolution=resolution, legend=True,
+    art = plot_map(target, ax, paths=[grid_path, exact_path], legend=True,
                    path_styles=[{"color": "tab:red", "linewidth": 2.4},
                                 {"color": "black", "linestyle": "--", "linewidth": 1.6}],
                    start=grid_path.points[0] if len(grid_path.points) else None, title="")
@@ -1184,253 +879,50 @@ def _save(fig: Figure, file: FsPath, dpi: int = 110) -> None:
         plt.close(fig)
 
 
-def _goal_of(path: Path, target: Any, goal: ArrayLike | None) -> NDArray[np.float64] | None:
-    """The goal a path was planned to: given, recorded in ``path.extra``, the world's when the path
-    starts at the world's start, or the end of a path that reached its goal."""
-    if goal is not None:
-        return _point_or_none(goal, "goal")
-    g = path.extra.get("goal") if isinstance(path.extra, Mapping) else None
-    if g is not None:
-        return _point_or_none(g, "goal")
-    w = _world_of(target)
-    if w is not None and w.goal is not None and w.start is not None and len(path.points) and np.allclose(
-            path.points[0], w.start):
-        return np.asarray(w.goal, dtype=float)
-    if path.reached and len(path.points):
-        return path.points[-1].copy()
-    return None
-
-
 def save_plan_figure(
     file: PathLike,
     target: World | GridMap,
     path: Path,
     *,
-    resolution: float | None = None,
     goal: ArrayLike | None = None,
     dpi: int = 110,
 ) -> FsPath:
     """Write a figure of the map and a planned path (what ``gridfield plan --plot F`` writes).
 
-    Returns the file's path. The format follows the suffix (``.png``, ``.pdf``, ``.svg``, ``.jpg``).
+    Parameters
+    ----------
+    file : path
+        The format follows the suffix (``.png``, ``.pdf``, ``.svg``, ``.jpg``); the folder must exist.
+    target : World or GridMap
+        Drawn as by :func:`plot_map` (a grid map's cells; a world's outlines).
+    path : Path
+        Drawn with its start, stall points and hint.
+    goal : (x, y), optional
+        The goal marked; default: ``path.extra["goal"]`` (recorded by
+        :func:`gridfield.planners.plan`), else the world's goal, else the end of a path that
+        reached its goal.
+    dpi : int
+        Resolution of raster formats.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Examples
+    --------
+    >>> import numpy as np, tempfile, os
+    >>> from gridfield.grid import Grid, GridMap
+    >>> m = GridMap(Grid((4, 6), 0.5), np.zeros((4, 6), bool))
+    >>> p = Path(np.array([[0.2, 0.2], [2.5, 1.7]]), "reached", "demo")
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     out = save_plan_figure(os.path.join(d, "plan.png"), m, p, dpi=30)
+    ...     out.name, out.stat().st_size > 0
+    ('plan.png', True)
     """
     p = _check_figure_file(file)
     g = _goal_of(path, target, goal)
     start = path.points[0] if len(path.points) else None
-    art = plot_map(target, paths=[path], start=start, goal=g, resolution=resolution)
+    art = plot_map(target, paths=[path], start=start, goal=g)
     _save(art.figure, p, dpi)
-    return p
-
-
-def _check_animation_file(file: PathLike) -> FsPath:
-    """Validate an animation file name: ``.gif``, or ``.mp4`` when ffmpeg is installed."""
-    from matplotlib import animation
-
-    p = FsPath(file)
-    suffix = p.suffix.lower()
-    if suffix not in ANIMATION_FORMATS:
-        raise ParameterError(f"{p}: unknown animation format {suffix!r}; use .gif (or .mp4 with ffmpeg installed)")
-    if p.parent and not p.parent.exists():
-        raise GridfieldError(f"{p}: the folder {p.parent} does not exist")
-    if suffix == ".mp4" and not animation.writers.is_available("ffmpeg"):
-        raise GridfieldError(f"{p}: writing MP4 needs ffmpeg on the PATH, which was not found; "
-                             "install ffmpeg or write a .gif instead")
-    return p
-
-
-def _animation_figure(figsize: tuple[float, float], dpi: int) -> tuple[Figure, Axes]:
-    """A figure on its own Agg canvas (no pyplot, no window, whatever the backend)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=figsize, dpi=dpi, layout="constrained")
-    FigureCanvasAgg(fig)
-    return fig, fig.add_subplot()
-
-
-def _frame_indices(n: int, max_frames: int) -> NDArray[np.intp]:
-    if max_frames < 1:
-        raise ParameterError(f"max_frames must be at least 1, got {max_frames}")
-    if n <= max_frames:
-        return np.arange(n)
-    return np.unique(np.linspace(0, n - 1, max_frames).round().astype(np.intp))
-
-
-def _try_field(target: Any, path: Path, goal: NDArray[np.float64] | None, resolution: float | None) -> Any:
-    """Build the potential the path followed, when the potential module exists and the goal is known."""
-    if goal is None or path.planner != "potential":
-        return None
-    try:
-        from .potential import build_field
-    except ImportError:
-        return None
-    gm = _rasterized(target, resolution)
-    if gm is None:
-        return None
-    try:
-        return build_field(gm, goal, dict(path.params))
-    except GridfieldError:
-        return None
-
-
-def _write_animation(fig: Figure, update: Callable[[int], None], n_frames: int, animated: Sequence[Any],
-                     file: FsPath, fps: int) -> None:
-    """Render ``n_frames`` frames and write them.
-
-    GIF: the static part of the figure is drawn once and each frame redraws only the ``animated``
-    artists over it (blitting), then pillow writes the frames with one shared palette. MP4: matplotlib's
-    ffmpeg writer (a full redraw per frame).
-    """
-    if fps < 1:
-        raise ParameterError(f"fps must be at least 1, got {fps}")
-    if file.suffix.lower() == ".mp4":
-        from matplotlib import animation
-
-        anim = animation.FuncAnimation(fig, update, frames=n_frames, blit=False, repeat=False)
-        try:
-            anim.save(str(file), writer=animation.FFMpegWriter(fps=fps))
-        except OSError as e:
-            raise GridfieldError(f"{file}: cannot write: {e.strerror or e}") from None
-        return
-    from PIL import Image
-
-    canvas = fig.canvas
-    for a in animated:
-        a.set_animated(True)
-    canvas.draw()
-    background = canvas.copy_from_bbox(fig.bbox)  # type: ignore[attr-defined]  # matplotlib stubs: a 3-D Axes / Agg canvas / Polygon patch at runtime
-    frames = []
-    palette = None
-    for k in range(n_frames):
-        update(k)
-        canvas.restore_region(background)  # type: ignore[attr-defined]  # matplotlib stubs: a 3-D Axes / Agg canvas / Polygon patch at runtime
-        for a in animated:
-            fig.draw_artist(a)
-        rgb = Image.fromarray(np.asarray(canvas.buffer_rgba())[..., :3])  # type: ignore[attr-defined]  # matplotlib stubs: a 3-D Axes / Agg canvas / Polygon patch at runtime
-        if palette is None:
-            palette = rgb.quantize(colors=255, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
-        frames.append(rgb.quantize(palette=palette, dither=Image.Dither.NONE))
-    try:
-        frames[0].save(file, format="GIF", save_all=True, append_images=frames[1:], duration=max(1, round(1000 / fps)),
-                       loop=0, disposal=1)
-    except OSError as e:
-        raise GridfieldError(f"{file}: cannot write: {e.strerror or e}") from None
-
-
-def save_plan_animation(
-    file: PathLike,
-    target: World | GridMap,
-    path: Path,
-    *,
-    resolution: float | None = None,
-    field: Any = None,
-    goal: ArrayLike | None = None,
-    fps: int = 20,
-    max_frames: int = 120,
-    dpi: int = 80,
-    robot_shape: Any = None,
-) -> FsPath:
-    """Animate a follower moving along ``path``: over its potential when one is given or can be
-    built (a ``potential`` path whose goal is known), otherwise over the map.
-
-    Parameters
-    ----------
-    file : path
-        ``.gif`` (pillow) or ``.mp4`` (needs ffmpeg; :class:`GridfieldError` otherwise).
-    target : World or GridMap
-    path : Path
-    field : Field, optional
-        Background potential; default: rebuilt with the path's parameters.
-    goal : (x, y), optional
-        The goal the path was planned to (see :func:`save_plan_figure`).
-    fps, max_frames : int
-        Long paths are sampled down to ``max_frames`` evenly spaced frames (first and last kept).
-    robot_shape : Robot, optional
-        Its outline is drawn at each frame, its reference point on the path.
-
-    Returns the file's path.
-    """
-    p = _check_animation_file(file)
-    if len(path.points) == 0:
-        raise GridfieldError("the path has no points to animate")
-    g = _goal_of(path, target, goal)
-    if field is None:
-        field = _try_field(target, path, g, resolution)
-    fig, ax = _animation_figure((6.4, 5.0), int(dpi))
-    if field is not None:
-        art = plot_potential(field, ax, quiver=True, colorbar=False, title="")
-        if g is None:
-            g = _point_or_none(getattr(field, "goal", None), "goal")
-    else:
-        art = plot_map(target, ax, resolution=resolution, start=path.points[0], goal=g, legend=False, title="")
-    _draw_endpoints(ax, art, None if "start" in art.markers else path.points[0],
-                    None if (g is None or "goal" in art.markers) else g)
-    pts = path.points
-    idx = _frame_indices(len(pts), int(max_frames))
-    (trail,) = ax.plot([], [], color="tab:red", linewidth=2.0, zorder=7)
-    robot = ax.scatter([pts[0, 0]], [pts[0, 1]], s=80, color="tab:red", edgecolor="white", zorder=9)
-    stall = _stall_points(path)
-    stall_marker = ax.scatter(stall[:, 0], stall[:, 1], marker="X", s=110, color="red", edgecolor="white",
-                              zorder=10)
-    title = ax.set_title(" ")
-    animated = [trail, robot, stall_marker, title]
-    body = None
-    if robot_shape is not None:
-        from matplotlib.patches import Polygon as MplPolygon
-
-        shape = robot_shape.outline((0.0, 0.0))
-        outline = np.asarray(shape.exterior.coords if hasattr(shape, "exterior") else shape.coords, dtype=float)
-        body = ax.add_patch(MplPolygon(outline + pts[0], closed=True, facecolor="tab:red", alpha=0.35,
-                                       edgecolor="black", zorder=8))
-        animated.append(body)
-
-    def update(k: int) -> None:
-        i = int(idx[k])
-        trail.set_data(pts[: i + 1, 0], pts[: i + 1, 1])
-        robot.set_offsets(pts[i : i + 1])
-        if body is not None:
-            body.set_xy(outline + pts[i])  # type: ignore[attr-defined]  # matplotlib stubs: a 3-D Axes / Agg canvas / Polygon patch at runtime
-        last = k == len(idx) - 1
-        title.set_text(f"{path.planner}: step {i}/{len(pts) - 1}" + (f" — {path.status}" if last else ""))
-        stall_marker.set_visible(last)
-
-    _write_animation(fig, update, len(idx), animated, p, int(fps))
-    return p
-
-
-def animate_brushfire(
-    dmap: Any,
-    file: PathLike,
-    *,
-    fps: int = 10,
-    max_frames: int = 60,
-    dpi: int = 80,
-) -> FsPath:
-    """Animate the brushfire wavefront growing out of the obstacles, one frame per wave (sampled
-    down to ``max_frames``): cells with ``steps <= k`` are coloured by their step number.
-
-    Returns the file's path (``.gif``, or ``.mp4`` with ffmpeg).
-    """
-    p = _check_animation_file(file)
-    grid = _grid_of(dmap)
-    if dmap.steps is None:
-        raise GridfieldError("the distance map has no wavefront steps (computed with compute_steps=False)")
-    steps = np.asarray(dmap.steps)
-    top = int(steps.max()) if steps.size else 0
-    if top <= 0:
-        raise GridfieldError("the distance map has no wavefront to animate (no obstacle, or no free cell)")
-    waves = np.unique(np.linspace(0, top, min(top + 1, int(max_frames))).round().astype(int))
-    fig, ax = _animation_figure((6.4, 5.0), int(dpi))
-    img = ax.imshow(np.ma.masked_array(np.zeros(grid.shape), mask=True), origin="lower", extent=grid.extent,
-                    cmap="viridis", vmin=0, vmax=top, interpolation="nearest")
-    fig.colorbar(img, ax=ax, shrink=0.85, label="wavefront step")
-    _frame(ax, grid.bounds)
-    title = ax.set_title(" ")
-
-    def update(k: int) -> None:
-        w = int(waves[k])
-        img.set_data(np.ma.masked_array(steps, mask=(steps > w) | (steps < 0)))
-        title.set_text(f"brushfire: wave {w}/{top}")
-
-    _write_animation(fig, update, len(waves), (img, title), p, int(fps))
     return p

@@ -1,0 +1,54 @@
+"""Figures and animations: occupancy maps, distance maps, potentials, surfaces, basins, comparisons.
+
+Plotting never computes: every function draws the result it is given (a map, a distance map, a
+field, basins, paths) and computes nothing from it. A :class:`~gridfield.world.World` is drawn as
+its vector outlines; occupancy only when a :class:`~gridfield.grid.GridMap` is given; a potential
+only when the caller passes the field it already has (``gridfield.planners.plan(...,
+return_field=True)`` hands back the field a ``potential`` path followed).
+
+The package has three layers: :mod:`gridfield.plot.layers` (occupancy, outlines, paths, endpoints,
+legend, quiver, and the :class:`Artists` record), :mod:`gridfield.plot.figures` (one function per
+figure) and :mod:`gridfield.plot.animation` (GIF/MP4 writers). Every function follows one contract:
+
+- matplotlib is imported inside the function (importing :mod:`gridfield.plot` is cheap);
+- ``ax=None`` creates a new figure (constrained layout), otherwise the function draws into ``ax``;
+- the function returns an :class:`Artists` record of what it drew and never calls ``plt.show()``;
+- images use ``origin="lower"`` and ``extent=grid.extent`` (world coordinates, row 0 at the bottom);
+- ``ax.lines`` holds exactly the drawn paths (one :class:`~matplotlib.lines.Line2D` per path): start,
+  goal and stall points are scatter collections and segment obstacles a line collection, so that
+  tests and callers can count paths.
+
+Animations (:func:`save_plan_animation`, :func:`animate_brushfire`) are written as GIF with pillow,
+or as MP4 when ffmpeg is installed.
+"""
+
+from __future__ import annotations
+
+from .animation import animate_brushfire, save_plan_animation
+from .figures import (
+    plot_basins,
+    plot_brushfire,
+    plot_comparison,
+    plot_convergence,
+    plot_map,
+    plot_potential,
+    plot_star_world,
+    plot_surface,
+    save_plan_figure,
+)
+from .layers import Artists
+
+__all__ = [
+    "Artists",
+    "animate_brushfire",
+    "plot_basins",
+    "plot_brushfire",
+    "plot_comparison",
+    "plot_convergence",
+    "plot_map",
+    "plot_potential",
+    "plot_star_world",
+    "plot_surface",
+    "save_plan_animation",
+    "save_plan_figure",
+]

@@ -437,10 +437,12 @@ def _spacing_for(*paths: Path, resolution: float) -> float:
     return max(min(steps) / 4.0, 1e-9)
 
 
-def _optimum_fn(world: Any) -> Callable[[NDArray[np.float64], NDArray[np.float64]], float]:
+def _optimum_fn(world: Any, *, cache: dict[Any, Any] | None = None
+                ) -> Callable[[NDArray[np.float64], NDArray[np.float64]], float]:
     """``(start, goal) -> exact optimum length`` (NaN for a bad point) on a World or a GridMap: the
-    any-angle graph of the grid for a grid map or a world made from one (gridfield.gridpoly), else the
-    visibility graph of the world."""
+    any-angle graph of the grid for a grid map or a world made from one (gridfield.gridpoly), kept in
+    ``cache`` when given (the plan cache: :func:`gridfield.planners.plan` finds the same graph there),
+    else the visibility graph of the world (the one ``plan("visibility")`` uses, cached per world)."""
     from .grid import GridMap
     from .gridpoly import source_grid
 
@@ -452,11 +454,11 @@ def _optimum_fn(world: Any) -> Callable[[NDArray[np.float64], NDArray[np.float64
     if gm is not None:
         from .anyangle import grid_graph
 
-        solver: Any = grid_graph(gm)
+        solver: Any = grid_graph(gm, cache=cache)
     else:
-        from .visibility import visibility_graph
+        from .visibility import _cached_graph
 
-        solver = visibility_graph(world)
+        solver = _cached_graph(world, "block")
 
     def optimum(s: NDArray[np.float64], g: NDArray[np.float64]) -> float:
         try:

@@ -185,6 +185,9 @@ def test_random_grids_match_brute_force_and_octile_bounds(case):
         assert length == pytest.approx(ref, abs=1e-9)
         assert length <= oct_len + 1e-9  # an octile path is an any-angle path
         assert length >= math.dist(s, t) - 1e-12
+        # the bound that holds: the obstacle-free octile *distance* over sqrt(4 - 2 sqrt 2) = 1.08239...
+        dx, dy = abs(t[0] - s[0]), abs(t[1] - s[1])
+        assert length >= (max(dx, dy) + (SQRT2 - 1) * min(dx, dy)) / math.sqrt(4 - 2 * SQRT2) - 1e-12
         assert pts[0].tolist() == list(s) and pts[-1].tolist() == list(t)
         assert float(np.hypot(*np.diff(pts, axis=0).T).sum()) == pytest.approx(length, abs=1e-9)
         check_path(pts, occ, wall)

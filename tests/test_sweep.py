@@ -198,6 +198,8 @@ def test_bundled_example_sweep_runs_from_the_command_line(tmp_path: Path, capsys
     assert len(octile) == 2
     for s in octile:  # the Moving AI scenarios' published optimal lengths
         assert float(s["success_rate"]) == 1.0 and float(s["length_ratio"]) == pytest.approx(1.0, abs=1e-6)
+        assert float(s["length_ratio_any_angle"]) >= 1.0 - 1e-9  # optimal_any_angle: true on the arena entry
+    assert all(math.isnan(float(s["length_ratio_any_angle"])) for s in summary if s["map"].endswith("seed000.yaml"))
 
 
 # ----------------------------------------------------------------------------------------

@@ -285,19 +285,53 @@ def _build(gm: GridMap) -> AnyAngleGraph:
     vx, vy, qx, qy = convex_corners(B)
     blocks = _buckets(vx, vy, gm.shape)
     ei, ej = k.visibility_edges_culled(B, vx, vy, qx, qy, *blocks)
-    n = len(vx)
     w = np.hypot(vx[ej] - vx[ei], vy[ej] - vy[ei])
-    rows = np.concatenate([ei, ej]).astype(np.int64)
-    cols = np.concatenate([ej, ei]).astype(np.int64)
-    ww = np.concatenate([w, w])
-    order = np.argsort(rows, kind="stable")
-    indptr = np.zeros(n + 1, dtype=np.int64)
-    np.cumsum(np.bincount(rows, minlength=n), out=indptr[1:])
+    indptr, indices, weights = _symmetric_csr(len(vx), ei, ej, w)
     (x0, y0), h = gm.grid.origin, gm.grid.resolution
     nodes = np.column_stack([x0 + vx * h, y0 + vy * h])
-    edges = np.column_stack([ei, ej]).astype(np.intp)
+    edges = np.empty((len(ei), 2), dtype=np.intp)
+    edges[:, 0], edges[:, 1] = ei, ej
     return AnyAngleGraph(gm.grid, nodes, edges, time.perf_counter() - t0, B, vx, vy, qx, qy,
-                         indptr, cols[order], ww[order], blocks, k.run_extents(B))
+                         indptr, indices, weights, blocks, k.run_extents(B))
+
+
+def _symmetric_csr(n: int, ei: NDArray[np.integer[Any]], ej: NDArray[np.integer[Any]], w: NDArray[np.float64]
+                   ) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
+    """CSR (``indptr, indices, weights``) of the undirected graph of the edges ``ei[k] - ej[k]``.
+
+    Row ``v`` lists the edges with ``ei == v`` (in their order) and then those with ``ej == v`` (by
+    ascending ``ei``), as a stable sort of both directions by their first node would, but in linear
+    time: the kernel emits the edges grouped by ``ei`` in ascending order, the first half is placed
+    directly and the second is the transpose (scipy's linear-time CSR -> CSC conversion).
+
+    Examples
+    --------
+    >>> ptr, idx, wt = _symmetric_csr(3, np.array([0, 0, 1]), np.array([2, 1, 2]), np.array([2.0, 1.0, 1.5]))
+    >>> ptr.tolist(), idx.tolist(), wt.tolist()
+    ([0, 2, 4, 6], [2, 1, 2, 0, 0, 1], [2.0, 1.0, 1.5, 1.0, 2.0, 1.5])
+    """
+    import scipy.sparse
+
+    if len(ei) > 1 and not bool(np.all(ei[1:] >= ei[:-1])):  # not grouped by ei: group them (stable)
+        order = np.argsort(ei, kind="stable")
+        ei, ej, w = ei[order], ej[order], w[order]
+    m = len(ei)
+    fcount = np.bincount(ei, minlength=n)
+    bcount = np.bincount(ej, minlength=n)
+    indptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(fcount + bcount, out=indptr[1:])
+    fptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(fcount, out=fptr[1:])
+    indices = np.empty(2 * m, dtype=np.int64)
+    weights = np.empty(2 * m, dtype=np.float64)
+    dest = np.arange(m, dtype=np.int64)
+    dest += (indptr[:-1] - fptr[:-1])[ei]
+    indices[dest], weights[dest] = ej, w
+    back = scipy.sparse.csr_array((w, ej, fptr), shape=(n, n)).tocsc()  # column v: the ei of the edges to v, ascending
+    dest = np.arange(m, dtype=np.int64)
+    dest += np.repeat(indptr[:-1] + fcount - back.indptr[:-1], bcount)
+    indices[dest], weights[dest] = back.indices, back.data
+    return indptr, indices, weights
 
 
 #: Side of the square blocks (lattice units) the corners are bucketed in for the nearest-first search

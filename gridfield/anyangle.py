@@ -90,6 +90,17 @@ def convex_corners(blocked_padded: NDArray[np.uint8]) -> tuple[NDArray[np.float6
     """Convex corners of a padded blocked array: lattice ``x, y`` and the quadrant ``qx, qy`` (+-1)
     of each corner's one blocked cell.
 
+    Parameters
+    ----------
+    blocked_padded : ndarray of uint8, shape (rows + 2, cols + 2)
+        The blocked cells with a one-cell frame (1 for a wall border, 0 for an open one).
+
+    Returns
+    -------
+    x, y, qx, qy : ndarray of float
+        Lattice coordinates of each convex corner (``x`` a column line, ``y`` a row line of the
+        unpadded grid) and the side (+1 or -1 along each axis) of its one blocked cell.
+
     Examples
     --------
     >>> B = np.zeros((3, 3), np.uint8); B[1, 1] = 1      # one blocked cell in a 1 x 1 grid, open border
@@ -118,6 +129,15 @@ class AnyAngleGraph:
         Taut visible pairs ``i < j``.
     seconds : float
         Build time.
+
+    Examples
+    --------
+    >>> occ = np.zeros((3, 3), bool); occ[1, 1] = True                # one blocked cell in the middle
+    >>> g = grid_graph(GridMap(Grid((3, 3), 1.0), occ))
+    >>> g.n_nodes, g.n_edges, g.nodes.tolist()                        # its four corners, the square's sides
+    (4, 4, [[1.0, 1.0], [2.0, 1.0], [1.0, 2.0], [2.0, 2.0]])
+    >>> g.shortest_path([0.5, 0.5], [2.5, 2.5])[1] == 2 * (0.5 ** 2 + 1.5 ** 2) ** 0.5
+    True
     """
 
     grid: Grid
@@ -365,6 +385,14 @@ def grid_graph(gridmap: GridMap, *, cache: dict[Any, Any] | None = None) -> AnyA
     Returns
     -------
     AnyAngleGraph
+
+    Examples
+    --------
+    >>> occ = np.zeros((4, 4), bool); occ[1:3, 2] = True
+    >>> a, b = (GridMap(Grid((4, 4), 0.5), occ.copy()) for _ in range(2))
+    >>> cache = {}
+    >>> grid_graph(a, cache=cache) is grid_graph(b, cache=cache), len(cache)   # same content: one graph
+    (True, 1)
     """
     if not isinstance(gridmap, GridMap):
         raise ParameterError(f"grid_graph needs a GridMap, got {type(gridmap).__name__}")
@@ -390,6 +418,22 @@ def plan_anyangle(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: M
     query time (the graph comes from :func:`grid_graph`); ``extra`` holds ``nodes``, ``edges``,
     ``graph_seconds`` and ``optimal_length``; ``min_clearance`` is the exact distance of the path
     to the blocked cells (0 where it touches one).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+        The map (its blocked cells, corner rule of :mod:`gridfield.gridpoly`).
+    start, goal : array_like, shape (2,)
+        World points in the free space (not on a pinch point).
+    params : mapping, optional
+        Recorded in the path; the optimum has no parameters.
+    cache : dict, optional
+        Where the graph is kept (see :func:`grid_graph`).
+
+    Returns
+    -------
+    Path
+        The shortest path (``"reached"``) or the start alone (``"no_path"``).
 
     Examples
     --------

@@ -78,7 +78,33 @@ _OLD_COLUMNS = COLUMNS[:-1]
 
 @dataclass(frozen=True)
 class Run:
-    """One planner run of a sweep (plain data, cheap to send to a worker)."""
+    """One planner run of a sweep (plain data, cheap to send to a worker).
+
+    Attributes
+    ----------
+    map : str
+        The map file.
+    resolution : float or None
+        Cell size for rasterizing a vector world (None: the world's own).
+    planner : str
+        A name of :data:`gridfield.planners.PLANNERS`.
+    params : tuple of (str, value) pairs
+        The parameter combination, sorted by name.
+    start, goal : tuple of float
+        The query (world coordinates).
+    optimal : float
+        The scenario file's (octile) optimum, NaN when not known.
+    robot : tuple
+        ``()`` a point robot, ``("radius", r)`` or ``("polygon", ((x, y), ...))``.
+    any_angle : bool
+        Whether the row gets the ``optimal_any_angle`` column (not part of :attr:`key`).
+
+    Examples
+    --------
+    >>> r = Run("maps/seed000.yaml", 0.5, "potential", (("q_star", 2.0),), (1.0, 10.0), (22.0, 12.0))
+    >>> r.params_json, r.key[3:]
+    ('{"q_star": 2.0}', ('1', '10', '22', '12'))
+    """
 
     map: str
     resolution: float | None
@@ -208,7 +234,31 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
     (read, and its grid sized against the memory limit), pairs, scenario files against their
     map's size, and planners that need a vector world against grid maps.
 
-    Raises :class:`MapFormatError` naming the spec file and the key at fault.
+    Parameters
+    ----------
+    path : str or path-like
+        The YAML spec (relative paths in it are relative to its folder).
+    output : str or path-like, optional
+        The rows file, instead of the spec's ``output`` (default ``SPEC.csv`` beside the spec).
+
+    Returns
+    -------
+    runs : list of Run
+        Every (map, pair, planner, parameter combination), maps in spec order.
+    output : pathlib.Path
+        The rows file.
+
+    Raises
+    ------
+    MapFormatError
+        Naming the spec file and the key at fault.
+
+    Examples
+    --------
+    >>> from gridfield.io import bundled_map
+    >>> runs, output = load_spec(bundled_map("sweep_example.yaml"))
+    >>> len(runs), output.name, sorted({r.planner for r in runs}), sum(r.any_angle for r in runs)
+    (80, 'sweep_example.csv', ['potential', 'wavefront-octile'], 40)
     """
     from .grid import Grid, GridMap
     from .io import read, read_scen, read_yaml
@@ -430,8 +480,27 @@ def _one_line(text: str, limit: int = STATUS_LIMIT) -> str:
 def run_one(run: Run, target: Any = None) -> dict[str, Any]:
     """Run one planner call; return its row. Any failure of the run becomes its status ``error: ...``.
 
-    ``target`` is the run's map when it is shipped with the task (a cluster); by default the map
-    is read from ``run.map`` (once per process).
+    Parameters
+    ----------
+    run : Run
+        The run.
+    target : World or GridMap, optional
+        The run's map when it is shipped with the task (a cluster); by default the map is read
+        from ``run.map`` (once per process, with its plan cache).
+
+    Returns
+    -------
+    dict
+        The row: a value per name of :data:`COLUMNS` (``ms`` is the planner call's time; the
+        any-angle optimum, when asked for, is computed after it).
+
+    Examples
+    --------
+    >>> from gridfield.io import bundled_map
+    >>> row = run_one(Run(bundled_map("arena/arena.map"), None, "wavefront-octile", (), (1.5, 37.5), (4.5, 36.5),
+    ...                   3.41421, any_angle=True))
+    >>> row["status"], round(row["length"], 5), round(row["optimal_any_angle"], 5)   # octile, then straight
+    ('reached', 3.41421, 3.16228)
     """
     from .planners import plan
 
@@ -488,6 +557,14 @@ def run_batch(runs: Sequence[Run], target: Any = None) -> list[dict[str, Any]]:
     Returns
     -------
     list of dict : one row per run (see :func:`run_one`), in order
+
+    Examples
+    --------
+    >>> from gridfield.io import bundled_map
+    >>> m = bundled_map("arena/arena.map")
+    >>> rows = run_batch([Run(m, None, p, (), (1.5, 37.5), (1.5, 36.5)) for p in ("wavefront-octile", "visibility")])
+    >>> [(r["planner"], r["status"], r["length"]) for r in rows]
+    [('wavefront-octile', 'reached', 1.0), ('visibility', 'reached', 1.0)]
     """
     return [run_one(r, target) for r in runs]
 
@@ -849,6 +926,18 @@ def run_sweep(
     Returns
     -------
     list of dict : every row of ``output`` after the sweep (old and new), one per run
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from gridfield.io import bundled_map
+    >>> runs = [Run(bundled_map("arena/arena.map"), None, "wavefront-octile", (), (1.5, 37.5), (1.5, 38.5 + k))
+    ...         for k in range(3)]
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     rows = run_sweep(runs, FsPath(d) / "rows.csv", workers=1, progress=False)
+    ...     again = run_sweep(runs, FsPath(d) / "rows.csv", workers=1, progress=False)  # resumed: nothing to do
+    >>> [r["length"] for r in rows], again == rows
+    (['1.0', '2.0', '3.0'], True)
     """
     import signal
     import threading
@@ -898,17 +987,29 @@ def run_sweep(
 
 
 def summarize(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
-    """Success rate and length ratio (to the optimal where known) per map, planner and params.
+    """Success rate and length ratios (to the optimal where known) per map, planner and params.
+
+    Parameters
+    ----------
+    rows : sequence of mapping
+        Rows of a sweep (:func:`run_sweep`; values may be strings, as read back from the file).
+
+    Returns
+    -------
+    list of dict
+        Per (map, planner, params): ``runs``, ``success_rate``, ``length_ratio`` (mean of length /
+        ``optimal`` over the reached runs where it is known), ``length_ratio_any_angle`` (the same
+        with ``optimal_any_angle``; NaN where none is known) and ``ms_median``.
 
     Examples
     --------
     >>> rows = [{"map": "m", "planner": "p", "params": "{}", "status": "reached", "length": "11", "optimal": "10",
-    ...          "ms": "1"},
+    ...          "optimal_any_angle": "8.8", "ms": "1"},
     ...         {"map": "m", "planner": "p", "params": "{}", "status": "local_minimum", "length": "3",
     ...          "optimal": "nan", "ms": "3"}]
     >>> s = summarize(rows)[0]
-    >>> s["runs"], s["success_rate"], s["length_ratio"], s["ms_median"]
-    (2, 0.5, 1.1, 2.0)
+    >>> s["runs"], s["success_rate"], s["length_ratio"], s["length_ratio_any_angle"], s["ms_median"]
+    (2, 0.5, 1.1, 1.25, 2.0)
     """
     groups: dict[tuple[str, str, str], list[Mapping[str, Any]]] = {}
     for r in rows:

@@ -355,8 +355,9 @@ def _symmetric_csr(n: int, ei: NDArray[np.integer[Any]], ej: NDArray[np.integer[
 
 
 #: Side of the square blocks (lattice units) the corners are bucketed in for the nearest-first search
-#: (32: random512-10-0 builds in about a third of the time of 8; open maps do not care).
-BLOCK = 16
+#: (32: random512-10-0 builds in about half the kernel CPU time of 8 and 0.8 of 16; the game, room and
+#: maze maps of benchmarks/README.md in 0.55-1.0 of 16).
+BLOCK = 32
 
 
 def _buckets(vx: NDArray[np.float64], vy: NDArray[np.float64], shape: tuple[int, int],

@@ -340,3 +340,16 @@ def test_a_rows_file_from_before_the_any_angle_column_resumes(tmp_path: Path, mo
         assert math.isnan(s["length_ratio_any_angle"]) == (old_group or s["success_rate"] == 0)
     seen.clear()
     assert len(run_sweep(runs, output, workers=1, progress=False)) == len(runs) and not seen  # nothing redone
+
+
+def test_optimal_any_angle_in_spawned_workers_equals_one_process(tmp_path: Path) -> None:
+    """Runs pickled to a spawned local pool carry the flag: the column is the same as in one process."""
+    runs, _ = load_spec(_den312d_spec(tmp_path, n=4))
+    one = run_sweep(runs, tmp_path / "one.csv", workers=1, progress=False)
+    pool = run_sweep(runs, tmp_path / "pool.csv", workers=2, batch_size=4, progress=False)
+
+    def strip(rows):
+        return sorted((_key(r), r["status"], r["length"], r["optimal_any_angle"]) for r in rows)
+
+    assert strip(pool) == strip(one)
+    assert all(math.isfinite(float(r["optimal_any_angle"])) for r in pool)

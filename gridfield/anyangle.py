@@ -90,6 +90,17 @@ def convex_corners(blocked_padded: NDArray[np.uint8]) -> tuple[NDArray[np.float6
     """Convex corners of a padded blocked array: lattice ``x, y`` and the quadrant ``qx, qy`` (+-1)
     of each corner's one blocked cell.
 
+    Parameters
+    ----------
+    blocked_padded : ndarray of uint8, shape (rows + 2, cols + 2)
+        The blocked cells with a one-cell frame (1 for a wall border, 0 for an open one).
+
+    Returns
+    -------
+    x, y, qx, qy : ndarray of float
+        Lattice coordinates of each convex corner (``x`` a column line, ``y`` a row line of the
+        unpadded grid) and the side (+1 or -1 along each axis) of its one blocked cell.
+
     Examples
     --------
     >>> B = np.zeros((3, 3), np.uint8); B[1, 1] = 1      # one blocked cell in a 1 x 1 grid, open border
@@ -118,6 +129,15 @@ class AnyAngleGraph:
         Taut visible pairs ``i < j``.
     seconds : float
         Build time.
+
+    Examples
+    --------
+    >>> occ = np.zeros((3, 3), bool); occ[1, 1] = True                # one blocked cell in the middle
+    >>> g = grid_graph(GridMap(Grid((3, 3), 1.0), occ))
+    >>> g.n_nodes, g.n_edges, g.nodes.tolist()                        # its four corners, the square's sides
+    (4, 4, [[1.0, 1.0], [2.0, 1.0], [1.0, 2.0], [2.0, 2.0]])
+    >>> g.shortest_path([0.5, 0.5], [2.5, 2.5])[1] == 2 * (0.5 ** 2 + 1.5 ** 2) ** 0.5
+    True
     """
 
     grid: Grid
@@ -285,24 +305,59 @@ def _build(gm: GridMap) -> AnyAngleGraph:
     vx, vy, qx, qy = convex_corners(B)
     blocks = _buckets(vx, vy, gm.shape)
     ei, ej = k.visibility_edges_culled(B, vx, vy, qx, qy, *blocks)
-    n = len(vx)
     w = np.hypot(vx[ej] - vx[ei], vy[ej] - vy[ei])
-    rows = np.concatenate([ei, ej]).astype(np.int64)
-    cols = np.concatenate([ej, ei]).astype(np.int64)
-    ww = np.concatenate([w, w])
-    order = np.argsort(rows, kind="stable")
-    indptr = np.zeros(n + 1, dtype=np.int64)
-    np.cumsum(np.bincount(rows, minlength=n), out=indptr[1:])
+    indptr, indices, weights = _symmetric_csr(len(vx), ei, ej, w)
     (x0, y0), h = gm.grid.origin, gm.grid.resolution
     nodes = np.column_stack([x0 + vx * h, y0 + vy * h])
-    edges = np.column_stack([ei, ej]).astype(np.intp)
+    edges = np.empty((len(ei), 2), dtype=np.intp)
+    edges[:, 0], edges[:, 1] = ei, ej
     return AnyAngleGraph(gm.grid, nodes, edges, time.perf_counter() - t0, B, vx, vy, qx, qy,
-                         indptr, cols[order], ww[order], blocks, k.run_extents(B))
+                         indptr, indices, weights, blocks, k.run_extents(B))
+
+
+def _symmetric_csr(n: int, ei: NDArray[np.integer[Any]], ej: NDArray[np.integer[Any]], w: NDArray[np.float64]
+                   ) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
+    """CSR (``indptr, indices, weights``) of the undirected graph of the edges ``ei[k] - ej[k]``.
+
+    Row ``v`` lists the edges with ``ei == v`` (in their order) and then those with ``ej == v`` (by
+    ascending ``ei``), as a stable sort of both directions by their first node would, but in linear
+    time: the kernel emits the edges grouped by ``ei`` in ascending order, the first half is placed
+    directly and the second is the transpose (scipy's linear-time CSR -> CSC conversion).
+
+    Examples
+    --------
+    >>> ptr, idx, wt = _symmetric_csr(3, np.array([0, 0, 1]), np.array([2, 1, 2]), np.array([2.0, 1.0, 1.5]))
+    >>> ptr.tolist(), idx.tolist(), wt.tolist()
+    ([0, 2, 4, 6], [2, 1, 2, 0, 0, 1], [2.0, 1.0, 1.5, 1.0, 2.0, 1.5])
+    """
+    import scipy.sparse
+
+    if len(ei) > 1 and not bool(np.all(ei[1:] >= ei[:-1])):  # not grouped by ei: group them (stable)
+        order = np.argsort(ei, kind="stable")
+        ei, ej, w = ei[order], ej[order], w[order]
+    m = len(ei)
+    fcount = np.bincount(ei, minlength=n)
+    bcount = np.bincount(ej, minlength=n)
+    indptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(fcount + bcount, out=indptr[1:])
+    fptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(fcount, out=fptr[1:])
+    indices = np.empty(2 * m, dtype=np.int64)
+    weights = np.empty(2 * m, dtype=np.float64)
+    dest = np.arange(m, dtype=np.int64)
+    dest += (indptr[:-1] - fptr[:-1])[ei]
+    indices[dest], weights[dest] = ej, w
+    back = scipy.sparse.csr_array((w, ej, fptr), shape=(n, n)).tocsc()  # column v: the ei of the edges to v, ascending
+    dest = np.arange(m, dtype=np.int64)
+    dest += np.repeat(indptr[:-1] + fcount - back.indptr[:-1], bcount)
+    indices[dest], weights[dest] = back.indices, back.data
+    return indptr, indices, weights
 
 
 #: Side of the square blocks (lattice units) the corners are bucketed in for the nearest-first search
-#: (32: random512-10-0 builds in about a third of the time of 8; open maps do not care).
-BLOCK = 16
+#: (32: random512-10-0 builds in about half the kernel CPU time of 8 and 0.8 of 16; the game, room and
+#: maze maps of benchmarks/README.md in 0.55-1.0 of 16).
+BLOCK = 32
 
 
 def _buckets(vx: NDArray[np.float64], vy: NDArray[np.float64], shape: tuple[int, int],
@@ -331,6 +386,14 @@ def grid_graph(gridmap: GridMap, *, cache: dict[Any, Any] | None = None) -> AnyA
     Returns
     -------
     AnyAngleGraph
+
+    Examples
+    --------
+    >>> occ = np.zeros((4, 4), bool); occ[1:3, 2] = True
+    >>> a, b = (GridMap(Grid((4, 4), 0.5), occ.copy()) for _ in range(2))
+    >>> cache = {}
+    >>> grid_graph(a, cache=cache) is grid_graph(b, cache=cache), len(cache)   # same content: one graph
+    (True, 1)
     """
     if not isinstance(gridmap, GridMap):
         raise ParameterError(f"grid_graph needs a GridMap, got {type(gridmap).__name__}")
@@ -356,6 +419,22 @@ def plan_anyangle(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: M
     query time (the graph comes from :func:`grid_graph`); ``extra`` holds ``nodes``, ``edges``,
     ``graph_seconds`` and ``optimal_length``; ``min_clearance`` is the exact distance of the path
     to the blocked cells (0 where it touches one).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+        The map (its blocked cells, corner rule of :mod:`gridfield.gridpoly`).
+    start, goal : array_like, shape (2,)
+        World points in the free space (not on a pinch point).
+    params : mapping, optional
+        Recorded in the path; the optimum has no parameters.
+    cache : dict, optional
+        Where the graph is kept (see :func:`grid_graph`).
+
+    Returns
+    -------
+    Path
+        The shortest path (``"reached"``) or the start alone (``"no_path"``).
 
     Examples
     --------

@@ -112,6 +112,18 @@ def _points(p: ArrayLike | Path, name: str) -> NDArray[np.float64]:
 def resample(points: ArrayLike | Path, spacing: float) -> NDArray[np.float64]:
     """The polyline's vertices plus evenly spaced points so that no gap exceeds ``spacing``.
 
+    Parameters
+    ----------
+    points : array_like, shape (N, 2), or Path
+        The polyline.
+    spacing : float
+        Largest gap between consecutive output points (> 0).
+
+    Returns
+    -------
+    ndarray, shape (M, 2)
+        The vertices in order with the inserted points; a single point is returned as is.
+
     Examples
     --------
     >>> resample([[0, 0], [1, 0], [1, 0.5]], 0.5).tolist()
@@ -133,6 +145,19 @@ def resample(points: ArrayLike | Path, spacing: float) -> NDArray[np.float64]:
 def hausdorff(a: ArrayLike | Path, b: ArrayLike | Path, *, spacing: float | None = None) -> float:
     """Symmetric Hausdorff distance between two point sequences (polylines if ``spacing``).
 
+    Parameters
+    ----------
+    a, b : array_like, shape (N, 2), or Path
+        The two point sequences.
+    spacing : float, optional
+        Resample both as polylines at this step first (:func:`resample`): the distance of the curves,
+        not only of their vertices.
+
+    Returns
+    -------
+    float
+        The largest distance from a point of either sequence to the nearest point of the other.
+
     Examples
     --------
     >>> hausdorff([[0, 0], [1, 0]], [[0, 1], [1, 1]])
@@ -152,6 +177,18 @@ def discrete_frechet(a: ArrayLike | Path, b: ArrayLike | Path, *, spacing: float
     The smallest, over all monotone couplings of the two sequences, of the largest distance
     between coupled points (Eiter & Mannila 1994). Computed by dynamic programming along
     anti-diagonals: memory O(N + M), one vectorized step per diagonal.
+
+    Parameters
+    ----------
+    a, b : array_like, shape (N, 2), or Path
+        The two point sequences, in their order.
+    spacing : float, optional
+        Resample both as polylines at this step first (:func:`resample`).
+
+    Returns
+    -------
+    float
+        The discrete Fréchet distance (>= the Hausdorff distance of the same points).
 
     Examples
     --------
@@ -189,6 +226,18 @@ def length_ratio(points: ArrayLike | Path, reference: float | ArrayLike | Path) 
 
     Returns NaN when the reference length is not positive and finite.
 
+    Parameters
+    ----------
+    points : array_like, shape (N, 2), or Path
+        The path whose length is measured.
+    reference : float, array_like or Path
+        A reference length, or a path whose length is the reference.
+
+    Returns
+    -------
+    float
+        ``length(points) / reference``, NaN for a reference that is not positive and finite.
+
     Examples
     --------
     >>> length_ratio([[0, 0], [3, 4]], 4.0)
@@ -208,6 +257,16 @@ def final_point(path: ArrayLike | Path) -> NDArray[np.float64]:
     """Where a path ended: the follower's stall point (``extra["stall_point"]``) if it stalled in a
     local minimum, else its last point.
 
+    Parameters
+    ----------
+    path : Path or array_like, shape (N, 2)
+        A planner's path (its status and ``extra`` are used) or plain points.
+
+    Returns
+    -------
+    ndarray, shape (2,)
+        The stall point or the last point.
+
     Examples
     --------
     >>> p = Path(np.array([[0, 0], [1, 0], [1.1, 0]]), "local_minimum", "demo", extra={"stall_point": [1.0, 0.0]})
@@ -223,6 +282,16 @@ def end_error(a: ArrayLike | Path, b: ArrayLike | Path) -> float:
     """Distance between where two paths ended (:func:`final_point`): the stall-point error of two
     followers stuck in the same local minimum, the distance between their ends otherwise.
 
+    Parameters
+    ----------
+    a, b : Path or array_like, shape (N, 2)
+        The two paths.
+
+    Returns
+    -------
+    float
+        The distance between their end points (:func:`final_point`).
+
     Examples
     --------
     >>> end_error([[0, 0], [1, 1]], [[0, 0], [4, 5]])
@@ -233,6 +302,16 @@ def end_error(a: ArrayLike | Path, b: ArrayLike | Path) -> float:
 
 def status_agreement(a: Path | str, b: Path | str) -> bool:
     """Whether two planners ended the same way (``reached`` vs ``local_minimum`` ...).
+
+    Parameters
+    ----------
+    a, b : Path or str
+        Two paths, or their statuses.
+
+    Returns
+    -------
+    bool
+        True when the statuses are equal.
 
     Examples
     --------
@@ -251,6 +330,18 @@ def min_clearance(world: World, points: ArrayLike | Path) -> float:
     """Exact smallest distance from the path (its segments, not only its points) to the obstacles.
 
     0 when the path touches or enters an obstacle; see :func:`collides` to tell which.
+
+    Parameters
+    ----------
+    world : World
+        The exact obstacles.
+    points : array_like, shape (N, 2), or Path
+        The path (a single point is measured as a point).
+
+    Returns
+    -------
+    float
+        The exact distance from the polyline to the nearest obstacle (:meth:`World.clearance`).
 
     Examples
     --------
@@ -291,6 +382,18 @@ def collides(world: World, points: ArrayLike | Path) -> bool:
 
     Touching an obstacle (running along an edge, through a vertex) is not a collision. Circles are
     tested exactly (a segment passing closer to the centre than the radius collides).
+
+    Parameters
+    ----------
+    world : World
+        The exact obstacles (and border: with a wall border, leaving the bounds collides).
+    points : array_like, shape (N, 2), or Path
+        The path.
+
+    Returns
+    -------
+    bool
+        True when some part of the polyline lies inside an obstacle or crosses a segment obstacle.
 
     Examples
     --------
@@ -408,6 +511,18 @@ def observed_order(resolutions: ArrayLike, errors: ArrayLike) -> float:
 
     Pairs whose error is not positive and finite are left out; NaN when fewer than two remain.
 
+    Parameters
+    ----------
+    resolutions : array_like
+        Cell sizes ``h``.
+    errors : array_like
+        The error at each resolution (same length).
+
+    Returns
+    -------
+    float
+        The fitted exponent ``order`` (NaN when fewer than two usable pairs or a single resolution).
+
     Examples
     --------
     >>> round(observed_order([0.4, 0.2, 0.1], [0.16, 0.04, 0.01]), 6)
@@ -437,10 +552,12 @@ def _spacing_for(*paths: Path, resolution: float) -> float:
     return max(min(steps) / 4.0, 1e-9)
 
 
-def _optimum_fn(world: Any) -> Callable[[NDArray[np.float64], NDArray[np.float64]], float]:
+def _optimum_fn(world: Any, *, cache: dict[Any, Any] | None = None
+                ) -> Callable[[NDArray[np.float64], NDArray[np.float64]], float]:
     """``(start, goal) -> exact optimum length`` (NaN for a bad point) on a World or a GridMap: the
-    any-angle graph of the grid for a grid map or a world made from one (gridfield.gridpoly), else the
-    visibility graph of the world."""
+    any-angle graph of the grid for a grid map or a world made from one (gridfield.gridpoly), kept in
+    ``cache`` when given (the plan cache: :func:`gridfield.planners.plan` finds the same graph there),
+    else the visibility graph of the world (the one ``plan("visibility")`` uses, cached per world)."""
     from .grid import GridMap
     from .gridpoly import source_grid
 
@@ -452,11 +569,11 @@ def _optimum_fn(world: Any) -> Callable[[NDArray[np.float64], NDArray[np.float64
     if gm is not None:
         from .anyangle import grid_graph
 
-        solver: Any = grid_graph(gm)
+        solver: Any = grid_graph(gm, cache=cache)
     else:
-        from .visibility import visibility_graph
+        from .visibility import _cached_graph
 
-        solver = visibility_graph(world)
+        solver = _cached_graph(world, "block")
 
     def optimum(s: NDArray[np.float64], g: NDArray[np.float64]) -> float:
         try:
@@ -638,6 +755,17 @@ def study_errors(rows: Sequence[Mapping[str, Any]]) -> dict[str, list[float]]:
     planners reached the goal, NaN elsewhere: a stalled follower's path length depends on when its
     oscillation was detected, not on the field's accuracy.
 
+    Parameters
+    ----------
+    rows : sequence of mapping
+        Rows of :func:`convergence_study` (at least ``hausdorff``, ``frechet``, ``end_error`` and
+        ``length_ratio``; ``status`` and ``exact_status`` default to ``"reached"``).
+
+    Returns
+    -------
+    dict of str to list of float
+        ``hausdorff``, ``frechet``, ``end_error`` and ``length_error``, one value per row.
+
     Examples
     --------
     >>> study_errors([{"hausdorff": 0.4, "frechet": 0.5, "end_error": 0.1, "length_ratio": 1.2,
@@ -657,6 +785,16 @@ def study_errors(rows: Sequence[Mapping[str, Any]]) -> dict[str, list[float]]:
 def study_orders(rows: Sequence[Mapping[str, Any]]) -> dict[str, float]:
     """Observed orders (:func:`observed_order`) of the error columns of a convergence study
     (:func:`study_errors`); NaN for a column with fewer than two positive errors.
+
+    Parameters
+    ----------
+    rows : sequence of mapping
+        Rows of :func:`convergence_study` (with ``resolution`` and the columns of :func:`study_errors`).
+
+    Returns
+    -------
+    dict of str to float
+        The observed order of each error column.
 
     Examples
     --------

@@ -57,6 +57,16 @@ _SOURCES: weakref.WeakKeyDictionary[World, weakref.ref[GridMap]] = weakref.WeakK
 def blocked_runs(occupied: NDArray[np.bool_]) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp]]:
     """Maximal runs of blocked cells along each row: ``(row, first_col, end_col)`` (end exclusive).
 
+    Parameters
+    ----------
+    occupied : ndarray of bool, shape (rows, cols)
+        The blocked cells (row 0 first).
+
+    Returns
+    -------
+    row, first_col, end_col : ndarray of int
+        One entry per run, ordered by row, then column; the run covers ``first_col <= col < end_col``.
+
     Examples
     --------
     >>> r, c0, c1 = blocked_runs(np.array([[1, 1, 0, 1], [0, 0, 0, 0]], bool))
@@ -125,6 +135,16 @@ def grid_world(gridmap: GridMap) -> World:
 def source_grid(world: Any) -> GridMap | None:
     """The grid map a world was made from by :func:`grid_world`, or ``None``.
 
+    Parameters
+    ----------
+    world : World or any object
+        A world (anything else gives ``None``).
+
+    Returns
+    -------
+    GridMap or None
+        The map, while it is alive, if ``world`` came from :func:`grid_world`.
+
     Examples
     --------
     >>> import numpy as np
@@ -147,6 +167,18 @@ def block_downsample(gridmap: GridMap, factor: int) -> GridMap:
     multiple of ``factor`` the last coarse row/column sticks out, the part outside the map counting
     as blocked for a wall border and as free for an open one. The result is conservative: every
     free coarse cell is free in the fine map.
+
+    Parameters
+    ----------
+    gridmap : GridMap
+        The fine map.
+    factor : int
+        Cells per coarse cell along each axis (>= 1; 1 returns ``gridmap`` itself).
+
+    Returns
+    -------
+    GridMap
+        The coarse map (resolution ``factor`` times the fine one, same origin and border).
 
     Examples
     --------

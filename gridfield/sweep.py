@@ -17,6 +17,17 @@ scenarios), the planners and a grid of parameter values (the Cartesian product i
     params:                       # every combination is run
       q_star: [1.0, 2.0]
       eta: [1.0]
+    optimal_any_angle: true       # optional, here or per map entry: the column optimal_any_angle
+
+With ``optimal_any_angle: true`` (top level: every map; in a map entry: that map) each row also
+gets the exact any-angle (Euclidean) optimum of its query in the column ``optimal_any_angle``,
+beside ``optimal`` (the octile optimum of a Moving AI scenario file): on a grid map the taut
+visibility graph of :mod:`gridfield.anyangle`, on a vector world its visibility graph
+(:mod:`gridfield.visibility`). The graph is built once per map and worker process and shared with
+the ``visibility`` planner's runs on that map; each (start, goal) is solved once, whatever the
+planners and parameters. NaN where not asked for or where the goal cannot be reached. The summary
+then gives ``length_ratio_any_angle`` beside ``length_ratio``. Exact planners run on grid maps too
+(``visibility``, ``exact-potential``: on the map's blocked cells as exact polygons).
 
 The whole spec is validated before anything runs: unknown keys (with a "did you mean"), the
 types and ranges of every value, every parameter combination (:func:`_validate_params`), each
@@ -59,12 +70,41 @@ __all__ = ["COLUMNS", "Run", "SweepInterrupted", "load_spec", "run_batch", "run_
 
 #: Columns of the rows file, in order.
 COLUMNS = ("map", "planner", "params", "start_x", "start_y", "goal_x", "goal_y", "status", "length",
-           "optimal", "steps", "ms")
+           "optimal", "steps", "ms", "optimal_any_angle")
+
+#: Columns of rows files written before ``optimal_any_angle`` existed (resumed: the column is added).
+_OLD_COLUMNS = COLUMNS[:-1]
 
 
 @dataclass(frozen=True)
 class Run:
-    """One planner run of a sweep (plain data, cheap to send to a worker)."""
+    """One planner run of a sweep (plain data, cheap to send to a worker).
+
+    Attributes
+    ----------
+    map : str
+        The map file.
+    resolution : float or None
+        Cell size for rasterizing a vector world (None: the world's own).
+    planner : str
+        A name of :data:`gridfield.planners.PLANNERS`.
+    params : tuple of (str, value) pairs
+        The parameter combination, sorted by name.
+    start, goal : tuple of float
+        The query (world coordinates).
+    optimal : float
+        The scenario file's (octile) optimum, NaN when not known.
+    robot : tuple
+        ``()`` a point robot, ``("radius", r)`` or ``("polygon", ((x, y), ...))``.
+    any_angle : bool
+        Whether the row gets the ``optimal_any_angle`` column (not part of :attr:`key`).
+
+    Examples
+    --------
+    >>> r = Run("maps/seed000.yaml", 0.5, "potential", (("q_star", 2.0),), (1.0, 10.0), (22.0, 12.0))
+    >>> r.params_json, r.key[3:]
+    ('{"q_star": 2.0}', ('1', '10', '22', '12'))
+    """
 
     map: str
     resolution: float | None
@@ -74,6 +114,7 @@ class Run:
     goal: tuple[float, float]
     optimal: float = math.nan
     robot: tuple[Any, ...] = ()  # () a point, ("radius", r) or ("polygon", ((x, y), ...))
+    any_angle: bool = False  # fill the optimal_any_angle column (not part of the run's identity)
 
     @property
     def params_json(self) -> str:
@@ -93,8 +134,12 @@ class Run:
 # Spec
 # ----------------------------------------------------------------------------------------
 #: Keys of a spec's top level and of one ``maps`` entry.
-SPEC_KEYS = ("output", "maps", "planners", "params", "robot", "robot_radius")
-MAP_KEYS = ("path", "resolution", "pairs", "random_pairs", "scenarios", "limit", "robot", "robot_radius")
+SPEC_KEYS = ("output", "maps", "planners", "params", "robot", "robot_radius", "optimal_any_angle")
+MAP_KEYS = ("path", "resolution", "pairs", "random_pairs", "scenarios", "limit", "robot", "robot_radius",
+            "optimal_any_angle")
+
+#: Exact planners that also run on grid maps (on the blocked cells as exact polygons, gridfield.gridpoly).
+GRID_MAP_EXACT = ("visibility", "exact-potential")
 
 #: Most runs one spec may expand to (each run is a row and a few hundred bytes of memory).
 MAX_RUNS = 10**8
@@ -189,7 +234,31 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
     (read, and its grid sized against the memory limit), pairs, scenario files against their
     map's size, and planners that need a vector world against grid maps.
 
-    Raises :class:`MapFormatError` naming the spec file and the key at fault.
+    Parameters
+    ----------
+    path : str or path-like
+        The YAML spec (relative paths in it are relative to its folder).
+    output : str or path-like, optional
+        The rows file, instead of the spec's ``output`` (default ``SPEC.csv`` beside the spec).
+
+    Returns
+    -------
+    runs : list of Run
+        Every (map, pair, planner, parameter combination), maps in spec order.
+    output : pathlib.Path
+        The rows file.
+
+    Raises
+    ------
+    MapFormatError
+        Naming the spec file and the key at fault.
+
+    Examples
+    --------
+    >>> from gridfield.io import bundled_map
+    >>> runs, output = load_spec(bundled_map("sweep_example.yaml"))
+    >>> len(runs), output.name, sorted({r.planner for r in runs}), sum(r.any_angle for r in runs)
+    (80, 'sweep_example.csv', ['potential', 'wavefront-octile'], 40)
     """
     from .grid import Grid, GridMap
     from .io import read, read_scen, read_yaml
@@ -238,6 +307,7 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
                 raise MapFormatError(f"{where}: params ({planner}): {e}") from None
         combos.append(params)
 
+    any_angle_all = _flag(spec, "optimal_any_angle", where)
     maps = _need(spec, "maps", where)
     if not isinstance(maps, list) or not maps:
         raise MapFormatError(f"{where}: maps must be a non-empty list")
@@ -272,7 +342,7 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
         except GridfieldError as e:
             raise MapFormatError(f"{w}: {e}") from None
         if not isinstance(target, World) and not isinstance(getattr(target, "world", None), World):
-            exact = [p for p in planners if PLANNERS[p][2] == "world"]
+            exact = [p for p in planners if PLANNERS[p][2] == "world" and p not in GRID_MAP_EXACT]
             if exact:
                 raise MapFormatError(f"{w}: planner {exact[0]!r} needs a vector world, but {map_path.name} is a grid map")
         pairs = _pairs(entry, w)
@@ -314,9 +384,19 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
             raise MapFormatError(f"{w}: no start/goal pairs (give pairs, random_pairs or scenarios)")
         if len(runs) + len(planners) * len(combos) * len(pairs) > MAX_RUNS:
             raise MapFormatError(f"{w}: the spec expands to more than {MAX_RUNS:g} runs; split the sweep")
+        any_angle = _flag(entry, "optimal_any_angle", w, default=any_angle_all)
         for planner, params, (s, g, opt) in itertools.product(planners, combos, pairs):
-            runs.append(Run(str(map_path), resolution, planner, tuple(sorted(params.items())), s, g, opt, robot))
+            runs.append(Run(str(map_path), resolution, planner, tuple(sorted(params.items())), s, g, opt, robot,
+                            any_angle))
     return runs, output
+
+
+def _flag(mapping: Mapping[str, Any], key: str, where: str, *, default: bool = False) -> bool:
+    """A true/false spec value (``default`` when absent); anything else is a MapFormatError."""
+    value = mapping.get(key, default)
+    if not isinstance(value, bool):
+        raise MapFormatError(f"{where}: {key} must be true or false, got {shorten(value)}")
+    return value
 
 
 def _robot_key(entry: Mapping[str, Any], spec: Mapping[str, Any], where: str) -> tuple[Any, ...]:
@@ -400,8 +480,27 @@ def _one_line(text: str, limit: int = STATUS_LIMIT) -> str:
 def run_one(run: Run, target: Any = None) -> dict[str, Any]:
     """Run one planner call; return its row. Any failure of the run becomes its status ``error: ...``.
 
-    ``target`` is the run's map when it is shipped with the task (a cluster); by default the map
-    is read from ``run.map`` (once per process).
+    Parameters
+    ----------
+    run : Run
+        The run.
+    target : World or GridMap, optional
+        The run's map when it is shipped with the task (a cluster); by default the map is read
+        from ``run.map`` (once per process, with its plan cache).
+
+    Returns
+    -------
+    dict
+        The row: a value per name of :data:`COLUMNS` (``ms`` is the planner call's time; the
+        any-angle optimum, when asked for, is computed after it).
+
+    Examples
+    --------
+    >>> from gridfield.io import bundled_map
+    >>> row = run_one(Run(bundled_map("arena/arena.map"), None, "wavefront-octile", (), (1.5, 37.5), (4.5, 36.5),
+    ...                   3.41421, any_angle=True))
+    >>> row["status"], round(row["length"], 5), round(row["optimal_any_angle"], 5)   # octile, then straight
+    ('reached', 3.41421, 3.16228)
     """
     from .planners import plan
 
@@ -420,7 +519,31 @@ def run_one(run: Run, target: Any = None) -> dict[str, Any]:
         "map": run.map, "planner": run.planner, "params": run.params_json,
         "start_x": run.start[0], "start_y": run.start[1], "goal_x": run.goal[0], "goal_y": run.goal[1],
         "status": _one_line(status), "length": length, "optimal": run.optimal, "steps": steps, "ms": round(ms, 3),
+        "optimal_any_angle": _any_angle_optimum(run, target) if run.any_angle else math.nan,
     }
+
+
+def _any_angle_optimum(run: Run, target: Any = None) -> float:
+    """The exact any-angle optimum of the run's query (NaN when there is none or it cannot be computed).
+
+    Solved once per (map, start, goal) and process: the result is kept in the map's plan cache,
+    and so is the graph (:func:`gridfield.compare._optimum_fn` with that cache), which the
+    ``visibility`` planner's runs on the map share.
+    """
+    try:
+        cache = _map_cache(run, target)
+        key = ("optimal_any_angle", run.start, run.goal)
+        if key not in cache:
+            solver = cache.get("optimal_any_angle_solver")
+            if solver is None:
+                from .compare import _optimum_fn
+
+                solver = cache["optimal_any_angle_solver"] = _optimum_fn(cache["target"], cache=cache)
+            cache[key] = solver(np.asarray(run.start, dtype=float), np.asarray(run.goal, dtype=float))
+        value = float(cache[key])
+    except Exception:  # the column is a reference beside the run: a failure leaves it empty, not the sweep
+        return math.nan
+    return value if math.isfinite(value) else math.nan
 
 
 def run_batch(runs: Sequence[Run], target: Any = None) -> list[dict[str, Any]]:
@@ -434,6 +557,14 @@ def run_batch(runs: Sequence[Run], target: Any = None) -> list[dict[str, Any]]:
     Returns
     -------
     list of dict : one row per run (see :func:`run_one`), in order
+
+    Examples
+    --------
+    >>> from gridfield.io import bundled_map
+    >>> m = bundled_map("arena/arena.map")
+    >>> rows = run_batch([Run(m, None, p, (), (1.5, 37.5), (1.5, 36.5)) for p in ("wavefront-octile", "visibility")])
+    >>> [(r["planner"], r["status"], r["length"]) for r in rows]
+    [('wavefront-octile', 'reached', 1.0), ('visibility', 'reached', 1.0)]
     """
     return [run_one(r, target) for r in runs]
 
@@ -450,23 +581,26 @@ def _format_row(row: Mapping[str, Any]) -> bytes:
     import io as _io
 
     buf = _io.StringIO()
-    csv.writer(buf, lineterminator="\n").writerow(
-        [" ".join(str(row.get(c, "")).split()) if isinstance(row.get(c), str) else row.get(c, "") for c in COLUMNS])
+    values = [row.get(c, math.nan if c == "optimal_any_angle" else "") for c in COLUMNS]  # an optional column
+    csv.writer(buf, lineterminator="\n").writerow([" ".join(v.split()) if isinstance(v, str) else v for v in values])
     return buf.getvalue().encode("utf-8")
 
 
-def _parse_row(line: str) -> dict[str, str] | None:
-    """The row on one complete line, or None when the line is damaged."""
+def _parse_row(line: str, columns: Sequence[str] = COLUMNS) -> dict[str, str] | None:
+    """The row on one complete line (of a file with these ``columns``; the columns it lacks are
+    ``nan``), or None when the line is damaged."""
     try:
         fields = next(csv.reader([line]))
     except (csv.Error, StopIteration):
         return None
-    if len(fields) != len(COLUMNS):
+    if len(fields) != len(columns):
         return None
-    row = dict(zip(COLUMNS, fields, strict=True))
+    row = dict.fromkeys(COLUMNS, "nan")
+    row.update(zip(columns, fields, strict=True))
     try:
         _row_key(row)
         float(row["length"]), float(row["optimal"]), int(row["steps"]), float(row["ms"])
+        float(row["optimal_any_angle"])
         json.loads(row["params"])
     except (ValueError, TypeError):
         return None
@@ -566,16 +700,19 @@ class _Journal:
             return [], set()
         text = data.decode("utf-8", errors="replace")
         lines = [ln[:-1] if ln.endswith("\r") else ln for ln in text.split("\n")[:-1]]
-        if lines[0] != header:
+        # a rows file of an earlier version (no optimal_any_angle column) is rewritten with the column
+        old = lines[0] == ",".join(_OLD_COLUMNS)
+        if lines[0] != header and not old:
             raise GridfieldError(
                 f"{self.path}: not a rows file of this sweep version (its first line is {shorten(lines[0][:200])}, "
                 f"expected {header!r}); give another --out"
             )
+        columns = _OLD_COLUMNS if old else COLUMNS
         rows: list[dict[str, str]] = []
         keys: set[tuple[str, ...]] = set()
         damaged = duplicate = 0
         for ln in lines[1:]:
-            row = _parse_row(ln)
+            row = _parse_row(ln, columns)
             if row is None:
                 damaged += 1
                 continue
@@ -585,11 +722,13 @@ class _Journal:
                 continue
             keys.add(key)
             rows.append(row)
-        if damaged or duplicate or data.endswith(b"\r\n"):
+        if damaged or duplicate or old or data.endswith(b"\r\n"):
             # rewrite the file with the good rows only (a crash here loses rows, which are then redone)
             os.ftruncate(self.fd, 0)
             self._write(b"".join([(header + "\n").encode(), *(_format_row(r) for r in rows)]))
             os.fsync(self.fd)
+            if old:
+                self.notes.append("added the column optimal_any_angle (nan in the rows written before it)")
             if damaged:
                 self.notes.append(f"dropped {damaged} damaged line(s); their runs are done again")
             if duplicate:
@@ -787,6 +926,18 @@ def run_sweep(
     Returns
     -------
     list of dict : every row of ``output`` after the sweep (old and new), one per run
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from gridfield.io import bundled_map
+    >>> runs = [Run(bundled_map("arena/arena.map"), None, "wavefront-octile", (), (1.5, 37.5), (1.5, 38.5 + k))
+    ...         for k in range(3)]
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     rows = run_sweep(runs, FsPath(d) / "rows.csv", workers=1, progress=False)
+    ...     again = run_sweep(runs, FsPath(d) / "rows.csv", workers=1, progress=False)  # resumed: nothing to do
+    >>> [r["length"] for r in rows], again == rows
+    (['1.0', '2.0', '3.0'], True)
     """
     import signal
     import threading
@@ -836,17 +987,29 @@ def run_sweep(
 
 
 def summarize(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
-    """Success rate and length ratio (to the optimal where known) per map, planner and params.
+    """Success rate and length ratios (to the optimal where known) per map, planner and params.
+
+    Parameters
+    ----------
+    rows : sequence of mapping
+        Rows of a sweep (:func:`run_sweep`; values may be strings, as read back from the file).
+
+    Returns
+    -------
+    list of dict
+        Per (map, planner, params): ``runs``, ``success_rate``, ``length_ratio`` (mean of length /
+        ``optimal`` over the reached runs where it is known), ``length_ratio_any_angle`` (the same
+        with ``optimal_any_angle``; NaN where none is known) and ``ms_median``.
 
     Examples
     --------
     >>> rows = [{"map": "m", "planner": "p", "params": "{}", "status": "reached", "length": "11", "optimal": "10",
-    ...          "ms": "1"},
+    ...          "optimal_any_angle": "8.8", "ms": "1"},
     ...         {"map": "m", "planner": "p", "params": "{}", "status": "local_minimum", "length": "3",
     ...          "optimal": "nan", "ms": "3"}]
     >>> s = summarize(rows)[0]
-    >>> s["runs"], s["success_rate"], s["length_ratio"], s["ms_median"]
-    (2, 0.5, 1.1, 2.0)
+    >>> s["runs"], s["success_rate"], s["length_ratio"], s["length_ratio_any_angle"], s["ms_median"]
+    (2, 0.5, 1.1, 1.25, 2.0)
     """
     groups: dict[tuple[str, str, str], list[Mapping[str, Any]]] = {}
     for r in rows:
@@ -854,12 +1017,23 @@ def summarize(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     out = []
     for (m, p, par), rs in groups.items():
         reached = [r for r in rs if r["status"] == "reached"]
-        ratios = [float(r["length"]) / float(r["optimal"]) for r in reached
-                  if math.isfinite(float(r["optimal"])) and float(r["optimal"]) > 0]
+        ratios = _ratios(reached, "optimal")
+        any_ratios = _ratios(reached, "optimal_any_angle")
         out.append({
             "map": m, "planner": p, "params": par, "runs": len(rs),
             "success_rate": len(reached) / len(rs),
             "length_ratio": float(np.mean(ratios)) if ratios else math.nan,
+            "length_ratio_any_angle": float(np.mean(any_ratios)) if any_ratios else math.nan,
             "ms_median": float(np.median([float(r["ms"]) for r in rs])),
         })
+    return out
+
+
+def _ratios(rows: Sequence[Mapping[str, Any]], column: str) -> list[float]:
+    """``length / column`` of the rows where that reference is known (finite, positive)."""
+    out = []
+    for r in rows:
+        ref = float(r.get(column) or "nan")
+        if math.isfinite(ref) and ref > 0:
+            out.append(float(r["length"]) / ref)
     return out

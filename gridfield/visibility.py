@@ -130,6 +130,22 @@ def world_from_polygon_environment(
     ``start`` and ``goal`` are stored as given (they may lie on edges: the free space is
     closed); they are checked when a path is planned.
 
+    Parameters
+    ----------
+    boundary : array_like, shape (N, 2)
+        The outer ring of the free space (a simple polygon, N >= 3).
+    holes : sequence of array_like, shape (M, 2)
+        Obstacle rings inside it.
+    start, goal : array_like, shape (2,), optional
+        Stored in the world.
+    source : str
+        Where the environment came from (kept as the world's ``source``).
+
+    Returns
+    -------
+    World
+        Polygon obstacles only, a wall border at the boundary's bounding box.
+
     Examples
     --------
     >>> w = world_from_polygon_environment([[0, 0], [4, 0], [4, 4], [2, 2], [0, 4]],
@@ -233,6 +249,16 @@ class VisibilityGraph:
     obstacles : shapely geometry
         The union of the area obstacles as the graph sees them (circles circumscribed, the wall
         border as a frame round the bounds).
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"rectangle": [4, 4, 6, 6]}]})
+    >>> vg = visibility_graph(w)
+    >>> vg.n_nodes, vg.pinch, sorted(map(tuple, vg.nodes.tolist()))
+    (4, 'block', [(4.0, 4.0), (4.0, 6.0), (6.0, 4.0), (6.0, 6.0)])
+    >>> round(vg.shortest_path([3, 5], [7, 5])[1], 6) == round(2 * 2 ** 0.5 + 2, 6)
+    True
     """
 
     world: World
@@ -746,6 +772,23 @@ def plan_visibility(world: World, start: ArrayLike, goal: ArrayLike, params: Map
 
     Returns a :class:`~gridfield.path.Path` with status ``"reached"``, or ``"no_path"`` (one
     point, the start) when the goal cannot be reached.
+
+    Parameters
+    ----------
+    world : World
+        The exact obstacles.
+    start, goal : array_like, shape (2,)
+        Points in the free space.
+    params : mapping, optional
+        Recorded in the path.
+    cache : dict, optional
+        Passed to :func:`gridfield.anyangle.plan_anyangle` for a world made from a grid map.
+
+    Returns
+    -------
+    Path
+        The shortest path (``"reached"``) or the start alone (``"no_path"``); ``extra`` holds
+        ``nodes``, ``edges``, ``pinch``, ``graph_seconds`` and ``optimal_length``.
 
     Examples
     --------

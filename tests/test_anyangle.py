@@ -185,6 +185,9 @@ def test_random_grids_match_brute_force_and_octile_bounds(case):
         assert length == pytest.approx(ref, abs=1e-9)
         assert length <= oct_len + 1e-9  # an octile path is an any-angle path
         assert length >= math.dist(s, t) - 1e-12
+        # the bound that holds: the obstacle-free octile *distance* over sqrt(4 - 2 sqrt 2) = 1.08239...
+        dx, dy = abs(t[0] - s[0]), abs(t[1] - s[1])
+        assert length >= (max(dx, dy) + (SQRT2 - 1) * min(dx, dy)) / math.sqrt(4 - 2 * SQRT2) - 1e-12
         assert pts[0].tolist() == list(s) and pts[-1].tolist() == list(t)
         assert float(np.hypot(*np.diff(pts, axis=0).T).sum()) == pytest.approx(length, abs=1e-9)
         check_path(pts, occ, wall)
@@ -360,3 +363,29 @@ def test_benchmark_script_runs_and_checks(capsys):
     out = capsys.readouterr().out
     assert rc == 0
     assert "| den312d | 65 x 81 |" in out and "| arena |" in out
+
+
+@settings(max_examples=60)
+@given(st.integers(1, 12).flatmap(lambda n: st.tuples(
+    st.just(n), st.lists(st.tuples(st.integers(0, n - 1), st.integers(0, n - 1)).filter(lambda e: e[0] != e[1]),
+                         max_size=30), st.booleans())))
+def test_the_graph_csr_is_a_stable_sort_of_both_directions(case):
+    """The linear-time CSR of the graph equals the stable argsort of (ei, ej) + (ej, ei) by first node,
+    for edges grouped by ei (as the kernel emits them), and holds the same neighbours otherwise."""
+    from gridfield.anyangle import _symmetric_csr
+
+    n, edges, grouped = case
+    if grouped:
+        edges = sorted(edges, key=lambda e: e[0])
+    ei = np.array([e[0] for e in edges], dtype=np.int32)
+    ej = np.array([e[1] for e in edges], dtype=np.int32)
+    w = np.arange(len(edges), dtype=float) + 0.5
+    ptr, idx, wt = _symmetric_csr(n, ei, ej, w)
+    rows, cols, ww = np.concatenate([ei, ej]), np.concatenate([ej, ei]), np.concatenate([w, w])
+    order = np.argsort(rows, kind="stable")
+    assert ptr.tolist() == [0, *np.cumsum(np.bincount(rows, minlength=n)).tolist()]
+    if grouped:
+        assert idx.tolist() == cols[order].tolist() and wt.tolist() == ww[order].tolist()
+    for v in range(n):
+        mine = sorted(zip(idx[ptr[v]:ptr[v + 1]].tolist(), wt[ptr[v]:ptr[v + 1]].tolist(), strict=True))
+        assert mine == sorted(zip(cols[rows == v].tolist(), ww[rows == v].tolist(), strict=True))

@@ -198,3 +198,158 @@ def test_bundled_example_sweep_runs_from_the_command_line(tmp_path: Path, capsys
     assert len(octile) == 2
     for s in octile:  # the Moving AI scenarios' published optimal lengths
         assert float(s["success_rate"]) == 1.0 and float(s["length_ratio"]) == pytest.approx(1.0, abs=1e-6)
+        assert float(s["length_ratio_any_angle"]) >= 1.0 - 1e-9  # optimal_any_angle: true on the arena entry
+    assert all(math.isnan(float(s["length_ratio_any_angle"])) for s in summary if s["map"].endswith("seed000.yaml"))
+
+
+# ----------------------------------------------------------------------------------------
+# optimal_any_angle: the exact any-angle optimum of every query, beside the scenario's octile one
+# ----------------------------------------------------------------------------------------
+# shared/ beside the repository (a worktree may sit one level deeper: look further up)
+SHARED_MAPS = next((d / "shared" / "maps" for d in Path(__file__).resolve().parents[1:4]
+                    if (d / "shared" / "maps").is_dir()), Path(__file__).resolve().parents[2] / "shared" / "maps")
+DEN312D = SHARED_MAPS / "movingai" / "den312d" / "den312d.map"
+
+
+def _den312d_spec(tmp_path: Path, n: int = 8, extra: str = "") -> Path:
+    """A spec on den312d (65 x 81, shared maps) with ``n`` scenarios spread over its whole .scen file."""
+    lines = (DEN312D.parent / "den312d.map.scen").read_text().splitlines()
+    body = [ln for ln in lines[1:] if ln.strip()]
+    picked = [body[round(k * (len(body) - 1) / (n - 1))] for k in range(n)]
+    (tmp_path / "den.scen").write_text("\n".join([lines[0], *picked]) + "\n")
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(f"""
+output: rows.csv
+maps:
+  - path: {DEN312D}
+    scenarios: den.scen
+    optimal_any_angle: true
+planners: [wavefront-octile, visibility]
+params:
+  q_star: [1.0, 2.0]
+{extra}""")
+    return spec
+
+
+def _count_graph_builds(monkeypatch) -> list[int]:
+    """Count the any-angle graph builds from now on (the module and sweep caches emptied)."""
+    from collections import OrderedDict
+
+    import gridfield.anyangle as anyangle
+    import gridfield.sweep as sweep_module
+
+    monkeypatch.setattr(sweep_module, "_CACHE", {})
+    monkeypatch.setattr(anyangle, "_GRAPHS", OrderedDict())
+    builds: list[int] = []
+    real = anyangle._build
+    monkeypatch.setattr(anyangle, "_build", lambda gm: builds.append(1) or real(gm))
+    return builds
+
+
+def test_optimal_any_angle_column_is_the_visibility_optimum_on_a_moving_ai_map(tmp_path: Path, monkeypatch) -> None:
+    """Scenarios spread over den312d: the column equals a separate plan('visibility') call, lies between
+    the straight line and the file's octile optimum, and the octile wavefront's ratio to it is >= 1
+    (> 1 somewhere: the column is not the octile optimum). One graph for the map, one solve per query."""
+    import gridfield.compare
+
+    runs, output = load_spec(_den312d_spec(tmp_path))
+    assert len(runs) == 8 * 2 * 2 and all(r.any_angle for r in runs)
+    builds = _count_graph_builds(monkeypatch)
+    solved: list[tuple] = []
+    real_fn = gridfield.compare._optimum_fn
+
+    def counting_fn(world, **kw):
+        solve = real_fn(world, **kw)
+        return lambda s, g: solved.append((tuple(s), tuple(g))) or solve(s, g)
+
+    monkeypatch.setattr(gridfield.compare, "_optimum_fn", counting_fn)
+    rows = run_sweep(runs, output, workers=1, progress=False)
+    assert builds == [1]  # shared by both planners, both parameter sets and the column
+    assert sorted(solved) == sorted({(r.start, r.goal) for r in runs})  # each query solved once
+    monkeypatch.undo()
+
+    from gridfield.io import read_movingai_map
+
+    m = read_movingai_map(DEN312D)
+    ratios = []
+    for r in rows:
+        assert r["status"] == "reached"
+        start, goal = (float(r["start_x"]), float(r["start_y"])), (float(r["goal_x"]), float(r["goal_y"]))
+        any_opt = float(r["optimal_any_angle"])
+        assert any_opt == pytest.approx(plan("visibility", m, start, goal).length, abs=1e-9)
+        assert math.dist(start, goal) - 1e-9 <= any_opt <= float(r["optimal"]) + 1e-4  # .scen: 5 decimals
+        if r["planner"] == "visibility":
+            assert float(r["length"]) == pytest.approx(any_opt, abs=1e-9)
+        else:
+            ratios.append(float(r["length"]) / any_opt)
+    assert min(ratios) >= 1 - 1e-9 and max(ratios) > 1.01
+    s = {(x["planner"], x["params"]): x for x in summarize(rows)}
+    for (planner, _), x in s.items():
+        if planner == "visibility":
+            assert x["length_ratio_any_angle"] == pytest.approx(1.0, abs=1e-9)
+        else:
+            assert x["length_ratio_any_angle"] == pytest.approx(sum(ratios) / len(ratios), rel=1e-12)
+            assert x["length_ratio_any_angle"] >= 1 - 1e-9 and x["length_ratio"] == pytest.approx(1.0, abs=1e-4)
+
+
+def test_optimal_any_angle_graph_is_built_once_across_dask_batches(tmp_path: Path, monkeypatch) -> None:
+    """Eight batches of one map on a (threaded) Dask worker: the shipped map's graph is built once."""
+    import distributed
+
+    runs, output = load_spec(_den312d_spec(tmp_path, n=4))
+    builds = _count_graph_builds(monkeypatch)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        rows = run_sweep(runs, output, scheduler=client, progress=False, batch_size=2)
+    assert len(rows) == len(runs) == 16
+    assert builds == [1]
+    assert all(math.isfinite(float(r["optimal_any_angle"])) for r in rows)
+
+
+def test_a_rows_file_from_before_the_any_angle_column_resumes(tmp_path: Path, monkeypatch) -> None:
+    """A rows file written before optimal_any_angle existed (12 columns) is resumed: its rows are kept
+    (nan in the new column) and not recomputed, the missing runs get the column (the visibility optimum
+    of the vector world), and the file gets the current header."""
+    spec = _spec(tmp_path, SPEC + "optimal_any_angle: true\n")
+    runs, output = load_spec(spec)
+    run_sweep(runs[:4], output, workers=1, progress=False)
+    old = [",".join(COLUMNS[:-1])] + [ln.rsplit(",", 1)[0] for ln in output.read_text().splitlines()[1:]]
+    output.write_text("\n".join(old) + "\n")  # as the sweep wrote it before the column
+
+    import gridfield.sweep as sweep_module
+
+    seen: list[tuple] = []
+    real = sweep_module.run_one
+    monkeypatch.setattr(sweep_module, "run_one", lambda r, t=None: seen.append(r.key) or real(r, t))
+    notes: list[str] = []
+    rows = run_sweep(runs, output, workers=1, progress=False, notes=notes)
+    assert sorted(seen) == sorted(r.key for r in runs[4:])
+    assert any("added the column optimal_any_angle" in n for n in notes)
+    lines = output.read_text().splitlines()
+    assert lines[0] == ",".join(COLUMNS) and len(lines) == len(runs) + 1
+    assert [_key(r) for r in rows[:4]] == [_key(dict(zip(COLUMNS, f, strict=True))) for f in csv.reader(lines[1:5])]
+    assert all(r["optimal_any_angle"] == "nan" for r in rows[:4])
+
+    from gridfield.io import read
+
+    for run, r in zip(runs[4:], rows[4:], strict=True):
+        assert float(r["optimal_any_angle"]) == pytest.approx(plan("visibility", read(run.map), run.start,
+                                                                   run.goal).length, abs=1e-9)
+    for s in summarize(rows):  # the groups of the old rows have no any-angle ratio, the others have one
+        old_group = s["map"] == runs[0].map and s["planner"] == runs[0].planner
+        assert math.isnan(s["length_ratio_any_angle"]) == (old_group or s["success_rate"] == 0)
+    seen.clear()
+    assert len(run_sweep(runs, output, workers=1, progress=False)) == len(runs) and not seen  # nothing redone
+
+
+def test_optimal_any_angle_in_spawned_workers_equals_one_process(tmp_path: Path) -> None:
+    """Runs pickled to a spawned local pool carry the flag: the column is the same as in one process."""
+    runs, _ = load_spec(_den312d_spec(tmp_path, n=4))
+    one = run_sweep(runs, tmp_path / "one.csv", workers=1, progress=False)
+    pool = run_sweep(runs, tmp_path / "pool.csv", workers=2, batch_size=4, progress=False)
+
+    def strip(rows):
+        return sorted((_key(r), r["status"], r["length"], r["optimal_any_angle"]) for r in rows)
+
+    assert strip(pool) == strip(one)
+    assert all(math.isfinite(float(r["optimal_any_angle"])) for r in pool)

@@ -148,8 +148,21 @@ class StarObstacle:
     radius : float
         The disc's radius (NaN for polygons).
     scale : float
-        The switches use ``beta_i = (g_i**2 - 1) / scale``, ``scale`` an upper bound of ``g_i**2 - 1`` over
-        the workspace, so that ``0 <= beta_i <= 1`` on the free space.
+        The switches use ``beta_i / scale``, ``scale`` an upper bound of ``beta_i`` over the workspace
+        (sampled, :func:`star_world`), so that ``beta_i / scale`` lies in about ``[0, 1]`` on the free space.
+    convex : ndarray (n,) of bool or None
+        Whether vertex ``k`` (between edges ``k - 1`` and ``k``) is convex (else reflex).
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
+    >>> ob = star_world(w, (8, 2)).obstacles[0]
+    >>> ob.kind, ob.center.tolist(), ob.model_radius, ob.convex.tolist()
+    ('polygon', [4.0, 4.0], 1.0, [True, True, True, True])
+    >>> b, _ = ob.beta(np.array([[4.0, 4.0], [5.0, 4.0], [6.0, 4.0]]))  # centre, edge midpoint, outside
+    >>> b.round(3).tolist()
+    [-1.0, 0.0, 0.997]
     """
 
     id: int
@@ -162,9 +175,59 @@ class StarObstacle:
     angles: NDArray[np.float64] | None = None
     radius: float = math.nan
     scale: float = 1.0
+    convex: NDArray[np.bool_] | None = None
+
+    def beta(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The obstacle function ``beta_i`` (unscaled; 0 on the boundary, negative inside, positive
+        outside, C^2) and its analytic gradient ``(N, 2)`` at points ``(N, 2)``.
+
+        A disc: ``|q - q_i|**2 / r**2 - 1``. A polygon: the construction of the module docstring
+        (vertex R-functions glued by an angular partition of unity, a disc function at the centre).
+
+        Parameters
+        ----------
+        q : ndarray (N, 2)
+            Query points.
+
+        Returns
+        -------
+        beta : ndarray (N,)
+        grad : ndarray (N, 2)
+
+        Examples
+        --------
+        >>> ob = StarObstacle(1, "circle", np.array([0.0, 0.0]), 2.0, radius=2.0)
+        >>> b, g = ob.beta(np.array([[2.0, 0.0], [4.0, 0.0]]))
+        >>> b.tolist(), g.tolist()
+        ([0.0, 3.0], [[1.0, 0.0], [2.0, 0.0]])
+        """
+        d = q - self.center
+        if self.kind == "circle":
+            r2 = self.radius**2
+            return np.einsum("ij,ij->i", d, d) / r2 - 1.0, 2.0 * d / r2
+        return _polygon_beta(self, d)
 
     def gauge(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """``g(q)`` (``< 1`` inside, 1 on the boundary) and its gradient ``(N, 2)`` at points ``(N, 2)``."""
+        """The exact gauge ``g(q)`` (``< 1`` inside, 1 on the boundary; piecewise linear for polygons, its
+        gradient one-sided on the vertex rays) and its gradient ``(N, 2)`` at points ``(N, 2)``; it decides
+        :meth:`StarWorld.free`.
+
+        Parameters
+        ----------
+        q : ndarray (N, 2)
+            Query points.
+
+        Returns
+        -------
+        g : ndarray (N,)
+        grad : ndarray (N, 2)
+
+        Examples
+        --------
+        >>> ob = StarObstacle(1, "circle", np.array([0.0, 0.0]), 2.0, radius=2.0)
+        >>> ob.gauge(np.array([[1.0, 0.0]]))[0].tolist()
+        [0.5]
+        """
         d = q - self.center
         if self.kind == "circle":
             r = self.radius
@@ -180,7 +243,23 @@ class StarObstacle:
         return np.einsum("ij,ij->i", d, grad), grad
 
     def boundary_distance(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Exact Euclidean distance from points ``(N, 2)`` to the obstacle's boundary."""
+        """Exact Euclidean distance from points ``(N, 2)`` to the obstacle's boundary.
+
+        Parameters
+        ----------
+        q : ndarray (N, 2)
+            Query points.
+
+        Returns
+        -------
+        ndarray (N,)
+
+        Examples
+        --------
+        >>> ob = StarObstacle(1, "circle", np.array([0.0, 0.0]), 2.0, radius=2.0)
+        >>> ob.boundary_distance(np.array([[5.0, 0.0], [0.5, 0.0]])).tolist()
+        [3.0, 1.5]
+        """
         if self.kind == "circle":
             return np.abs(np.hypot(*(q - self.center).T) - self.radius)
         assert self.vertices is not None
@@ -190,6 +269,102 @@ class StarObstacle:
         t = np.clip(np.einsum("nkj,kj->nk", rel, e) / np.einsum("kj,kj->k", e, e), 0.0, 1.0)
         diff = rel - t[..., None] * e[None]
         return np.sqrt(np.min(np.einsum("nkj,nkj->nk", diff, diff), axis=1))
+
+
+#: the R-functions' regularization: ``x ^ y = R_0(x, y) (x**2 + y**2) / (x**2 + y**2 + eps**2)`` with
+#: ``eps = R_EPS * sin(turn)`` at a vertex turning by ``turn`` (the arguments are gauges minus 1, so the
+#: rounded zone is about ``R_EPS`` times the centre-to-edge distance along each edge)
+R_EPS = 0.1
+#: the R_alpha system's alpha (0: Rvachev's R_0; towards 1: closer to max / min; 0.9 folds h_lambda least
+#: of 0, 0.5, 0.9, 0.97 on the worlds of benchmarks/star_nav.py)
+R_ALPHA = 0.9
+
+
+def _r_function(x: NDArray[np.float64], y: NDArray[np.float64], disjunction: NDArray[np.bool_],
+                eps: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """C^2 R-disjunction (``disjunction``) or R-conjunction of ``x, y`` and its partial derivatives.
+
+    Rvachev's ``R_alpha`` system, ``(x + y +- sqrt(x**2 + y**2 - 2 alpha x y)) / (1 + alpha)`` (positive iff
+    ``x > 0`` or / and ``y > 0``; ``alpha -> 1`` tends to max / min), analytic off the origin, times
+    ``w = r**2 / (r**2 + eps**2)``: ``R_alpha r**2`` is homogeneous of degree 3 and smooth off the origin,
+    hence C^2 (the ``R_m`` construction, ``m = 2``); dividing it by ``r**2 + eps**2`` keeps the sign rule
+    and the order and leaves ``R_alpha`` (degree 1: distance-like) away from the origin. ``eps`` (per
+    point) is the rounding radius in the ``(x, y)`` plane.
+    """
+    a = R_ALPHA
+    r2 = x * x + y * y
+    q2 = np.maximum(r2 - 2.0 * a * x * y, 0.0)
+    q = np.sqrt(q2)
+    sgn = np.where(disjunction, 1.0, -1.0)
+    e2 = eps * eps
+    w = r2 / (r2 + e2)
+    r0 = (x + y + sgn * q) / (1.0 + a)
+    dw = 2.0 * e2 / (r2 + e2) ** 2  # dw/dx = dw * x
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ux = np.where(q > 0, (x - a * y) / q, 0.0)
+        uy = np.where(q > 0, (y - a * x) / q, 0.0)
+    fx = (1.0 + sgn * ux) / (1.0 + a) * w + r0 * dw * x
+    fy = (1.0 + sgn * uy) / (1.0 + a) * w + r0 * dw * y
+    return r0 * w, fx, fy
+
+
+def _smoothstep(s: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``S(s) = 6 s**5 - 15 s**4 + 10 s**3`` on [0, 1] (clipped) and ``S'``: 0 and 1 at the ends with
+    vanishing first and second derivatives there (so gluing with it is C^2)."""
+    s = np.clip(s, 0.0, 1.0)
+    return s**3 * (10.0 + s * (6.0 * s - 15.0)), 30.0 * s * s * (s - 1.0) ** 2
+
+
+def _polygon_beta(ob: StarObstacle, d: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``beta`` and its gradient for a star polygon at ``d = q - q_i`` (see the module docstring)."""
+    assert ob.normals is not None and ob.offsets is not None and ob.angles is not None and ob.convex is not None
+    nv = len(ob.offsets)
+    t2 = np.einsum("ij,ij->i", d, d)
+    t = np.sqrt(t2)
+    a0 = ob.angles[0]
+    th = a0 + np.mod(np.arctan2(d[:, 1], d[:, 0]) - a0, 2 * math.pi)
+    k = np.clip(np.searchsorted(ob.angles, th, side="right") - 1, 0, nv - 1)  # cone of edge k: vertices k, k+1
+    km, kp = (k - 1) % nv, (k + 1) % nv
+    gn = ob.normals / ob.offsets[:, None]  # grad g_j = n_j / c_j
+
+    def edge(j: NDArray[np.intp]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        return np.einsum("ij,ij->i", d, gn[j]) - 1.0, gn[j]
+
+    xm, gm = edge(km)
+    x0, g0 = edge(k)
+    xp, gp = edge(kp)
+    # vertex k joins edges k-1 and k; vertex k+1 joins edges k and k+1 (disjunction where convex)
+    turn = np.abs(ob.normals[:, 0] * np.roll(ob.normals, 1, axis=0)[:, 1]
+                  - ob.normals[:, 1] * np.roll(ob.normals, 1, axis=0)[:, 0])  # sin of the turn at vertex k
+    eps = R_EPS * np.maximum(turn, 1e-3)
+    fa, fax, fay = _r_function(xm, x0, ob.convex[k], eps[k])
+    fb, fbx, fby = _r_function(x0, xp, ob.convex[kp], eps[kp])
+    grad_a = fax[:, None] * gm + fay[:, None] * g0
+    grad_b = fbx[:, None] * g0 + fby[:, None] * gp
+    width = ob.angles[k + 1] - ob.angles[k]
+    sg, dsg = _smoothstep((th - ob.angles[k]) / width)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        dth = np.where(t2[:, None] > 0, np.column_stack([-d[:, 1], d[:, 0]]) / t2[:, None], 0.0)
+        dt = np.where(t[:, None] > 0, d / t[:, None], 0.0)
+    big = (1.0 - sg) * fa + sg * fb
+    grad_big = ((1.0 - sg)[:, None] * grad_a + sg[:, None] * grad_b
+                + ((fb - fa) * dsg / width)[:, None] * dth)
+    # near the centre (where the angle is undefined) blend to the disc function t**2 / r**2 - 1
+    r = ob.model_radius
+    chi, dchi = _smoothstep((t - 0.25 * r) / (0.25 * r))
+    # the smoothed gauge G = 1 + B (B: the glued R-functions, about g - 1 near the boundary), squared as
+    # a disc's beta is: beta = G**2 - 1 for G >= 0, and -1 + G**2 / (1 + G**4) below (still negative; C^2 at 0)
+    gg = 1.0 + big
+    pos = gg >= 0
+    g4 = 1.0 + gg**4
+    outer = np.where(pos, gg * gg - 1.0, gg * gg / g4 - 1.0)
+    douter = np.where(pos, 2.0 * gg, 2.0 * gg * (1.0 - gg**4) / (g4 * g4))
+    core = t2 / r**2 - 1.0
+    chi, dchi = _smoothstep((t - 0.25 * r) / (0.25 * r))
+    beta = chi * outer + (1.0 - chi) * core
+    grad = (chi[:, None] * douter[:, None] * grad_big + (1.0 - chi)[:, None] * (2.0 * d / r**2)
+            + ((outer - core) * dchi / (0.25 * r))[:, None] * dt)
+    return beta, grad
 
 
 @dataclass(frozen=True, eq=False)
@@ -297,6 +472,12 @@ def _star_polygon(oid: int, vertices: NDArray[np.float64], center: tuple[float, 
     keep = np.any(v != np.roll(v, -1, axis=0), axis=1)
     v = v[keep]
     scale = float(np.ptp(v, axis=0).max())
+    # drop vertices where the boundary runs straight on (the two edges on one line: no corner)
+    ein, eout = v - np.roll(v, 1, axis=0), np.roll(v, -1, axis=0) - v
+    cross = ein[:, 0] * eout[:, 1] - ein[:, 1] * eout[:, 0]
+    straight = (np.abs(cross) <= 1e-12 * scale * scale) & (np.einsum("ij,ij->i", ein, eout) > 0)
+    if straight.any() and (~straight).sum() >= 3:
+        v = v[~straight]
     n, off = _edge_lines(v)
     if center is None:
         c, depth = find_star_center(v)
@@ -322,9 +503,12 @@ def _star_polygon(oid: int, vertices: NDArray[np.float64], center: tuple[float, 
     ang = np.arctan2(d[:, 1], d[:, 0])
     steps = np.mod(np.diff(np.concatenate([ang, ang[:1]])), 2 * math.pi)
     angles = np.concatenate([[ang[0]], ang[0] + np.cumsum(steps)])
+    e = np.roll(v, -1, axis=0) - v  # edge k: v_k -> v_{k+1}
+    ein = np.roll(e, 1, axis=0)  # edge k - 1, into vertex k
+    convex = ein[:, 0] * e[:, 1] - ein[:, 1] * e[:, 0] > 0  # a left turn of a counter-clockwise polygon
     ob = StarObstacle(oid, "polygon", c, 0.0, v, n, ck, angles)
     r = float(ob.boundary_distance(c[None, :])[0])
-    return StarObstacle(oid, "polygon", c, r, v, n, ck, angles)
+    return StarObstacle(oid, "polygon", c, r, v, n, ck, angles, convex=convex)
 
 
 def _workspace_of(world: Any, center: ArrayLike | None, radius: float | None) -> tuple[NDArray[np.float64], float]:
@@ -394,11 +578,15 @@ def star_world(world: Any, goal: ArrayLike, *, workspace_center: ArrayLike | Non
         raise ParameterError(f"goal must be two finite numbers (x, y), got {goal!r}")
     _check_free(sw, "goal", g)
     scaled = []
+    # beta_i / scale_i lies in about [0, 1] on the free space (scale_i: the largest beta_i sampled on the
+    # workspace circle and a lattice inside): the products in the switches stay O(1) for many obstacles
+    ang = np.linspace(0.0, 2 * math.pi, 720, endpoint=False)
+    ticks = np.linspace(-r0, r0, 41)
+    lx, ly = np.meshgrid(ticks, ticks)
+    lat = np.column_stack([lx.ravel(), ly.ravel()])
+    samples = c0 + np.vstack([r0 * np.column_stack([np.cos(ang), np.sin(ang)]), lat[np.hypot(*lat.T) < r0]])
     for so in sw.obstacles:
-        # g_i <= reach on the workspace, so beta_i = (g_i**2 - 1) / scale lies in [0, 1] on the free space:
-        # the products in the switches stay O(1) whatever the number of obstacles
-        reach = (math.hypot(*(so.center - c0)) + r0) / so.model_radius
-        scaled.append(dataclasses.replace(so, scale=max(1.0, reach * reach - 1.0)))
+        scaled.append(dataclasses.replace(so, scale=max(1.0, float(so.beta(samples)[0].max()))))
     return StarWorld(tuple(scaled), c0, r0, g)
 
 
@@ -437,18 +625,18 @@ def star_betas(sw: StarWorld, q: ArrayLike) -> tuple[NDArray[np.float64], NDArra
     [[0.92, 0.96, 0.92], [-0.025, 0.0, 0.075]]
     """
     p = np.atleast_2d(np.asarray(q, dtype=float))
-    return _betas_from(sw, p, [ob.gauge(p) for ob in sw.obstacles])
+    return _betas_from(sw, p, [ob.beta(p) for ob in sw.obstacles])
 
 
-def _betas_from(sw: StarWorld, p: NDArray[np.float64], gauges: list[tuple[NDArray[np.float64], NDArray[np.float64]]]
+def _betas_from(sw: StarWorld, p: NDArray[np.float64], raw: list[tuple[NDArray[np.float64], NDArray[np.float64]]]
                 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     c0, r0 = sw.workspace_center, sw.workspace_radius
     d0 = p - c0
     betas = [1.0 - np.einsum("ij,ij->i", d0, d0) / r0**2]
     grads = [-2.0 * d0 / r0**2]
-    for ob, (g, dg) in zip(sw.obstacles, gauges, strict=True):
-        betas.append((g * g - 1.0) / ob.scale)
-        grads.append((2.0 / ob.scale) * g[:, None] * dg)
+    for ob, (b, db) in zip(sw.obstacles, raw, strict=True):
+        betas.append(b / ob.scale)
+        grads.append(db / ob.scale)
     return np.array(betas), np.array(grads)
 
 
@@ -470,9 +658,9 @@ def star_to_sphere(sw: StarWorld, q: ArrayLike, lam: float
     """
     p = np.atleast_2d(np.asarray(q, dtype=float))
     n = len(p)
-    gauges = [ob.gauge(p) for ob in sw.obstacles]
-    betas, gbetas = _betas_from(sw, p, gauges)
-    free = np.all(betas > 0, axis=0)
+    raw = [ob.beta(p) for ob in sw.obstacles]
+    betas, gbetas = _betas_from(sw, p, raw)
+    free = np.all(betas > 0, axis=0) & sw.free(p)  # the exact gauge too: beta rounds at the vertices
     r0 = sw.workspace_radius
     dg = p - sw.goal
     gamma = np.einsum("ij,ij->i", dg, dg) / r0**2
@@ -494,8 +682,9 @@ def star_to_sphere(sw: StarWorld, q: ArrayLike, lam: float
             d = p - ob.center
             dist = np.hypot(d[:, 0], d[:, 1])
             u = d / dist[:, None]
-            # T_i = p_i + r_i sqrt(1 + beta_i) u with the unscaled beta_i = g_i**2 - 1: sqrt(1 + beta_i) = g_i
-            nu, gnu = gauges[i]
+            # T_i = p_i + r_i sqrt(1 + beta_i) u with the unscaled beta_i (sqrt(1 + beta_i) = |q - q_i| / r for a disc)
+            nu = np.sqrt(1.0 + raw[i][0])
+            gnu = raw[i][1] / (2.0 * nu)[:, None]
             t = ob.center + (ob.model_radius * nu)[:, None] * u
             # J_T = r (u grad_nu^T + nu (I - u u^T) / dist)
             uu = u[:, :, None] * u[:, None, :]
@@ -864,7 +1053,9 @@ def star_figure_data(sw: StarWorld, *, kappa: float, lam: float, x: NDArray[np.f
     q = np.column_stack([x.ravel(), y.ravel()])
     humps = np.zeros(len(q))
     for ob in sw.obstacles:
-        humps = np.maximum(humps, 1.0 - ob.gauge(q)[0] ** 2)  # -beta_i before its scaling: 1 at the centre
+        hump = np.maximum(-ob.beta(q)[0], 0.0)  # -beta_i (unscaled) inside, divided by its largest value
+        top = float(hump.max())
+        humps = np.maximum(humps, hump / top if top > 0 else hump)
     humps_grid = humps.reshape(x.shape)
     r0 = sw.workspace_radius
     gamma = ((x - sw.goal[0]) ** 2 + (y - sw.goal[1]) ** 2) / r0**2

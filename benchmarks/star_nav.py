@@ -69,7 +69,7 @@ def free_points(rng: np.random.Generator, shapes: list[Polygon], k: int, margin:
     return np.array(out)
 
 
-def run_planner(worlds: int, starts: int, obstacles: tuple[int, ...], seed: int) -> None:
+def run_planner(worlds: int, starts: int, obstacles: tuple[int, ...], seed: int, verbose: bool = False) -> None:
     counts: Counter[str] = Counter()
     worlds_all = 0
     t0 = time.perf_counter()
@@ -86,10 +86,14 @@ def run_planner(worlds: int, starts: int, obstacles: tuple[int, ...], seed: int)
                 try:
                     p = plan("star-nav", w, s, goal)
                     status = p.status
-                except Exception as e:  # noqa: BLE001 - counted and reported
+                except Exception as e:  # counted and reported
                     status = f"error: {type(e).__name__}"
             counts[status] += 1
             failed |= status != "reached"
+            if status != "reached" and verbose:
+                print(f"  world seed {seed + wi} ({m} obstacles), start {np.round(s, 3).tolist()}, goal "
+                      f"{np.round(goal, 3).tolist()}: {status}"
+                      + (f", kappa tried {p.extra['followed']}" if status[:5] != "error" else ""), flush=True)
         per_world_fail += failed
         worlds_all += 1
     dt = time.perf_counter() - t0
@@ -142,10 +146,11 @@ def main() -> None:
     ap.add_argument("--obstacles", type=int, nargs="+", default=[2, 3, 4])
     ap.add_argument("--seed", type=int, default=1000)
     ap.add_argument("--mode", choices=("planner", "lambda"), default="planner")
+    ap.add_argument("--verbose", action="store_true", help="print each start not reached")
     ap.add_argument("--lambdas", type=float, nargs="+", default=[1, 3, 10, 30, 100, 300, 1000])
     a = ap.parse_args()
     if a.mode == "planner":
-        run_planner(a.worlds, a.starts, tuple(a.obstacles), a.seed)
+        run_planner(a.worlds, a.starts, tuple(a.obstacles), a.seed, a.verbose)
     else:
         run_lambda(a.worlds, a.starts, tuple(a.obstacles), a.seed, a.lambdas)
 

@@ -13,29 +13,43 @@ The construction (all of it vectorized over query points ``q``, shape ``(N, 2)``
 - workspace disc ``(c_0, r_0)``: the disc inscribed in the world's bounds,
   ``beta_0(q) = 1 - |q - c_0|**2 / r_0**2``; goal term ``gamma(q) = |q - q_goal|**2 / r_0**2``
   (both scaled by ``r_0**2`` so that ``lambda`` does not depend on the world's units);
-- obstacle ``i``: ``beta_i(q) = g_i(q)**2 - 1`` where ``g_i`` is the *gauge* (Minkowski functional)
-  of the obstacle about its centre: ``g_i(q) = |q - q_i| / rho_i(theta)``, ``rho_i(theta)`` the distance
-  from ``q_i`` to the boundary along the ray of angle ``theta`` (the radial function of a star-shaped
-  set: the gauge of Minkowski, e.g. Rockafellar, *Convex Analysis*, 1970, for convex sets, and the
-  radial description of star-shaped sets in Rimon & Koditschek, "The construction of analytic
-  diffeomorphisms for exact robot navigation on star worlds", Trans. AMS 327(1), 1991). For a polygon, inside the cone from ``q_i``
-  over edge ``k`` (outward unit normal ``n_k``, ``c_k = n_k . (v_k - q_i) > 0``) the gauge is linear,
-  ``g_i(q) = n_k . (q - q_i) / c_k``; for a disc ``g_i(q) = |q - q_i| / r``. So ``beta_i`` is exactly 0 on
-  the boundary, negative inside and positive outside; it is smooth (a quadratic) inside each cone
-  and continuous (Lipschitz) across the rays through the vertices, where its gradient jumps: a
-  polygon's own corners allow no smooth ``beta_i`` with a non-vanishing gradient, and the analytic
-  gradients below are the one-sided ones (discs are smooth everywhere). It is *not* a smooth
-  (C^1) function of the plane for polygons;
+- obstacle ``i``, a disc: ``beta_i(q) = |q - q_i|**2 / r**2 - 1``;
+- obstacle ``i``, a polygon: ``beta_i`` is a C^2 function of the plane, exactly 0 on the boundary,
+  negative inside, positive outside, built from R-functions (V. L. Rvachev's; V. Shapiro, "Semi-analytic
+  geometry with R-functions", Acta Numerica 16, 2007). With outward unit normals ``n_k`` and
+  ``c_k = n_k . (v_k - q_i) > 0``, the edge functions ``x_k(q) = n_k . (q - q_i) / c_k - 1`` are linear,
+  0 on edge ``k``'s line and equal to the exact gauge minus 1 inside the cone from ``q_i`` over edge ``k``.
+  At vertex ``k`` (edges ``k - 1`` and ``k``) the local function is the R-disjunction of ``x_{k-1}``
+  and ``x_k`` if the vertex is convex (outside = outside either half-plane) and the R-conjunction if it
+  is reflex (outside = outside both); on the two cones next to the vertex it has the sign of the exact
+  gauge minus 1 (the line through ``q_i`` and ``v_k`` separates the two cones and is where ``x_{k-1} =
+  x_k``), so it is a valid local description there. The R-functions are Rvachev's ``R_alpha`` system
+  (``alpha`` = :data:`R_ALPHA`, close to max / min far from the vertex) times
+  ``r**2 / (r**2 + eps**2)`` (``r**2 = x**2 + y**2``), the ``R_m`` construction with ``m = 2``: C^2 at
+  the vertex as well (``m = 2`` because the Rimon-Koditschek function must be C^2 to be Morse), and
+  degree 1 (distance-like) away from it, which a nested or higher ``m`` formula is not. Inside each
+  cone the two vertex functions are glued with a C^2 smoothstep of the angle, which is 0 / 1 with
+  vanishing first and second derivatives on the vertex rays, so the result ``B`` is C^2 across them;
+  ``G = 1 + B`` is a smoothed gauge and ``beta_i = G**2 - 1`` (as for a disc; ``-1 + G**2 / (1 + G**4)``
+  where ``G < 0``, deep inside, to keep the sign), blended to the disc function
+  ``|q - q_i|**2 / r_i**2 - 1`` within ``r_i / 2`` of the centre (where the angle is undefined).
+  A global R-function formula over a decomposition was not used: the union of the fan's triangles (or
+  of any pieces sharing an edge) is 0 on the shared edges inside the polygon, and nesting ``R_m``
+  raises its degree at every level until it underflows. Any C^1 function whose zero set has a corner
+  has a vanishing gradient there, so ``grad beta_i = 0`` at the vertices (on the boundary, never in the
+  free space). The analytic gradient is checked against finite differences in the tests, and sign and
+  zero set against shapely. The exact gauge ``g_i`` (Minkowski functional about ``q_i``, piecewise
+  linear) still decides which points are free (:meth:`StarObstacle.gauge`);
 - in the switches each ``beta_i`` is divided by ``scale_i``, a bound of ``g_i**2 - 1`` over the
-  workspace (:attr:`StarObstacle.scale`), so that it lies in ``[0, 1]`` on the free space and the
+  workspace (:attr:`StarObstacle.scale`), so that it lies in about ``[0, 1]`` on the free space and the
   products ``bar_beta_i`` stay O(1) however many obstacles there are (a positive multiple: same zero
-  set and signs); ``T_i`` uses the unscaled ``beta_i``, so that ``T_i`` is the radial gauge map and the
-  identity for a disc;
+  set and signs); ``T_i`` uses the unscaled ``beta_i``, so that ``T_i`` is the radial map
+  ``q_i + r_i G_i u`` (a smoothed gauge map) and the identity for a disc;
 - model disc of obstacle ``i``: centre ``p_i = q_i`` and radius ``r_i`` = the distance from ``q_i`` to
   the obstacle's boundary (so model discs lie inside their obstacles: disjoint, inside the
   workspace, away from the goal; for a disc ``r_i`` is its radius and ``T_i`` is the identity);
 - ``T_i(q) = nu_i(q) (q - q_i) + p_i`` with ``nu_i(q) = (1 + beta_i(q))**0.5 r_i / |q - q_i|``
-  (``= r_i g_i(q) / |q - q_i|``), ``T_goal(q) = q``, and the workspace's ``T_0`` the identity (the
+  (``= r_i G_i(q) / |q - q_i|`` on the free space), ``T_goal(q) = q``, and the workspace's ``T_0`` the identity (the
   workspace already is a disc);
 - switches ``s_i(q, lambda) = gamma bar_beta_i / (gamma bar_beta_i + lambda beta_i)`` with
   ``bar_beta_i = prod_{j != i} beta_j`` (``j = 0`` included), ``s_goal = 1 - sum s_i``, and
@@ -161,8 +175,8 @@ class StarObstacle:
     >>> ob.kind, ob.center.tolist(), ob.model_radius, ob.convex.tolist()
     ('polygon', [4.0, 4.0], 1.0, [True, True, True, True])
     >>> b, _ = ob.beta(np.array([[4.0, 4.0], [5.0, 4.0], [6.0, 4.0]]))  # centre, edge midpoint, outside
-    >>> b.round(3).tolist()
-    [-1.0, 0.0, 0.997]
+    >>> b.round(3).tolist()  # the exact gauge's g**2 - 1 would be [-1, 0, 3]
+    [-1.0, 0.0, 3.084]
     """
 
     id: int
@@ -370,7 +384,25 @@ def _polygon_beta(ob: StarObstacle, d: NDArray[np.float64]) -> tuple[NDArray[np.
 @dataclass(frozen=True, eq=False)
 class StarWorld:
     """A validated star world: disc workspace ``(workspace_center, workspace_radius)``, star-shaped
-    obstacles, goal. Build one with :func:`star_world`."""
+    obstacles, goal. Build one with :func:`star_world`.
+
+    Attributes
+    ----------
+    obstacles : tuple of StarObstacle
+        The star-shaped obstacles, each with its model disc.
+    workspace_center : ndarray (2,)
+    workspace_radius : float
+        The disc workspace (by default the disc inscribed in the world's bounds).
+    goal : ndarray (2,)
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"circle": {"center": [4, 4], "radius": 1}}]})
+    >>> sw = star_world(w, (8, 2))
+    >>> sw.workspace_center.tolist(), sw.workspace_radius, sw.free([[4, 4], [6, 6]]).tolist()
+    ([5.0, 5.0], 5.0, [False, True])
+    """
 
     obstacles: tuple[StarObstacle, ...]
     workspace_center: NDArray[np.float64]
@@ -432,6 +464,18 @@ def find_star_center(vertices: ArrayLike) -> tuple[NDArray[np.float64], float]:
     half-planes of all edges; its Chebyshev centre maximizes the smallest distance to the edges'
     lines (a linear programme, solved with :func:`scipy.optimize.linprog`). A depth ``<= 0`` means the
     kernel has no interior: the polygon is not star-shaped about any point strictly.
+
+    Parameters
+    ----------
+    vertices : array_like (n, 2)
+        The polygon's vertices in order (either orientation).
+
+    Returns
+    -------
+    center : ndarray (2,)
+        The kernel's Chebyshev centre (the vertices' mean when the programme fails).
+    depth : float
+        Its distance to the nearest edge line (``-inf`` when the programme fails).
 
     Examples
     --------
@@ -529,6 +573,21 @@ def star_world(world: Any, goal: ArrayLike, *, workspace_center: ArrayLike | Non
     point of its kernel, :func:`find_star_center`), strictly inside the workspace, and no two may
     touch or overlap.
 
+    Parameters
+    ----------
+    world : World
+        A vector world (:func:`gridfield.world.world_from_dict`, :func:`gridfield.io.read_world`).
+    goal : array_like (2,)
+        The goal, a free point of the workspace.
+    workspace_center, workspace_radius : optional
+        The workspace disc (default: the disc inscribed in the world's bounds).
+
+    Returns
+    -------
+    StarWorld
+        The obstacles with their model discs (centre ``q_i``, radius the distance from ``q_i`` to the
+        boundary) and the scales of their ``beta_i``.
+
     Raises
     ------
     ParameterError
@@ -616,13 +675,25 @@ def star_betas(sw: StarWorld, q: ArrayLike) -> tuple[NDArray[np.float64], NDArra
     """``beta_j(q)`` for the workspace (``j = 0``) and each obstacle (scaled, as the switches use them),
     shape ``(M + 1, N)``, and their gradients, shape ``(M + 1, N, 2)``.
 
+    Parameters
+    ----------
+    sw : StarWorld
+    q : array_like (N, 2)
+        Query points.
+
+    Returns
+    -------
+    betas : ndarray (M + 1, N)
+        ``beta_0 = 1 - |q - c_0|**2 / r_0**2`` and ``beta_i / scale_i`` (:meth:`StarObstacle.beta`).
+    grads : ndarray (M + 1, N, 2)
+
     Examples
     --------
     >>> from gridfield.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
     >>> b, _ = star_betas(star_world(w, (8, 2)), [[4, 4], [5, 4], [6, 4]])
-    >>> b.round(3).tolist()  # workspace; the square: (g**2 - 1) / 40, 0 on its edge
-    [[0.92, 0.96, 0.92], [-0.025, 0.0, 0.075]]
+    >>> b.round(3).tolist()  # workspace; the square: beta / scale, 0 on its edge
+    [[0.92, 0.96, 0.92], [-0.026, 0.0, 0.081]]
     """
     p = np.atleast_2d(np.asarray(q, dtype=float))
     return _betas_from(sw, p, [ob.beta(p) for ob in sw.obstacles])
@@ -648,13 +719,28 @@ def star_to_sphere(sw: StarWorld, q: ArrayLike, lam: float
     """``h_lambda(q)`` ``(N, 2)``, its Jacobian ``(N, 2, 2)`` (``J[n, a, b] = d h_a / d q_b``), the
     switches ``s_i`` ``(M, N)`` and the free mask ``(N,)``; NaN outside the free space.
 
+    Parameters
+    ----------
+    sw : StarWorld
+    q : array_like (N, 2)
+        Query points.
+    lam : float
+        The switch parameter ``lambda``.
+
+    Returns
+    -------
+    h : ndarray (N, 2)
+    jac : ndarray (N, 2, 2)
+    switches : ndarray (M, N)
+    free : ndarray (N,) of bool
+
     Examples
     --------
     >>> from gridfield.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
     >>> h, jac, s, free = star_to_sphere(star_world(w, (8, 2)), [[5, 5.5], [8, 2]], 10.0)
     >>> h.round(4).tolist()  # a point next to the square's corner, and the goal (fixed)
-    [[4.8774, 5.3161], [8.0, 2.0]]
+    [[4.8822, 5.3232], [8.0, 2.0]]
     """
     p = np.atleast_2d(np.asarray(q, dtype=float))
     n = len(p)
@@ -710,6 +796,19 @@ def nav_function(sw: StarWorld, q: ArrayLike, *, kappa: float, lam: float) -> tu
     sphere-world navigation function of the model world; ``phi = 1`` and gradient 0 outside the free
     space.
 
+    Parameters
+    ----------
+    sw : StarWorld
+    q : array_like (N, 2)
+        Query points.
+    kappa, lam : float
+        The navigation function's exponent and the switch parameter.
+
+    Returns
+    -------
+    phi : ndarray (N,)
+    grad : ndarray (N, 2)
+
     Examples
     --------
     >>> from gridfield.world import world_from_dict
@@ -744,7 +843,20 @@ def _sample_lattice(sw: StarWorld, n: int) -> tuple[NDArray[np.float64], NDArray
 def spurious_minima(sw: StarWorld, *, kappa: float, lam: float, n: int = 161) -> NDArray[np.float64]:
     """Local minima of ``phi(h_lambda(q))`` other than the goal, found on an ``n x n`` lattice over the
     workspace: lattice points lower than their 8 neighbours, all 9 at least 2 lattice steps from
-    every boundary and the point more than 2 steps from the goal. Returns their points ``(K, 2)``.
+    every boundary and the point more than 2 steps from the goal.
+
+    Parameters
+    ----------
+    sw : StarWorld
+    kappa, lam : float
+        The navigation function's exponent and the switch parameter.
+    n : int
+        Lattice points per side.
+
+    Returns
+    -------
+    ndarray (K, 2)
+        The spurious minima found.
 
     Examples
     --------
@@ -838,9 +950,30 @@ def follow_star_nav(sw: StarWorld, starts: ArrayLike, *, kappa: float, lam: floa
     appended), ``local_minimum`` when ``phi`` has not decreased over ``window`` steps or the direction
     vanishes, ``collision`` if it ever left the free space, else ``max_iterations``.
 
+    Parameters
+    ----------
+    sw : StarWorld
+    starts : array_like (N, 2)
+        Free start points.
+    kappa, lam : float
+        The navigation function's exponent and the switch parameter.
+    step, tolerance : float
+        The step length and the goal tolerance.
+    max_iterations, window : int
+        The step budget, and the steps without a new lowest ``phi`` that end a start as ``local_minimum``.
+
     Returns
     -------
     list of (points (K, 2), status, iterations), one per start.
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
+    >>> sw = star_world(w, (8, 8))
+    >>> [(s, bool(np.array_equal(pts[-1], sw.goal))) for pts, s, _ in follow_star_nav(
+    ...     sw, [[2, 3], [7, 2]], kappa=3, lam=10, step=0.05, tolerance=0.05, max_iterations=2000)]
+    [('reached', True), ('reached', True)]
     """
     p = np.atleast_2d(np.asarray(starts, dtype=float)).copy()
     n = len(p)
@@ -939,6 +1072,20 @@ def plan_star_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float
     then end in a ``local_minimum``). A ``lambda`` for which ``h_lambda`` folds (:func:`folds`) is also
     warned about.
 
+    Parameters
+    ----------
+    world : World
+        A vector world of star-shaped polygons and discs.
+    start, goal : ndarray (2,)
+        Free points of the workspace disc.
+    params : mapping
+        As above.
+
+    Returns
+    -------
+    Path
+        ``status`` ``reached``, ``local_minimum``, ``collision`` or ``max_iterations``.
+
     ``extra`` holds ``kappa``, ``lambda``, ``kappa_tried`` (kappa, minima found), ``followed`` (kappa,
     status of each descent), ``folds``, the workspace and the star centres.
 
@@ -1002,6 +1149,18 @@ def star_nav_field(gridmap: Any, goal: ArrayLike, params: Mapping[str, Any] | No
     ``gridfield field --planner star-nav``), as a :class:`~gridfield.navigation.NavigationField` of kind
     ``"star-nav"``: ``value = phi(h_lambda)`` (``inf`` outside the free space), the analytic gradient,
     and in ``aux`` the arrays of the seed's figures (:func:`star_figure_data`).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+        A rasterized vector world (``gridmap.world``).
+    goal : array_like (2,)
+    params : mapping, optional
+        ``kappa``, ``lambda``, ``workspace_center``, ``workspace_radius``.
+
+    Returns
+    -------
+    NavigationField
 
     Examples
     --------

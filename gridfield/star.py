@@ -13,29 +13,43 @@ The construction (all of it vectorized over query points ``q``, shape ``(N, 2)``
 - workspace disc ``(c_0, r_0)``: the disc inscribed in the world's bounds,
   ``beta_0(q) = 1 - |q - c_0|**2 / r_0**2``; goal term ``gamma(q) = |q - q_goal|**2 / r_0**2``
   (both scaled by ``r_0**2`` so that ``lambda`` does not depend on the world's units);
-- obstacle ``i``: ``beta_i(q) = g_i(q)**2 - 1`` where ``g_i`` is the *gauge* (Minkowski functional)
-  of the obstacle about its centre: ``g_i(q) = |q - q_i| / rho_i(theta)``, ``rho_i(theta)`` the distance
-  from ``q_i`` to the boundary along the ray of angle ``theta`` (the radial function of a star-shaped
-  set: the gauge of Minkowski, e.g. Rockafellar, *Convex Analysis*, 1970, for convex sets, and the
-  radial description of star-shaped sets in Rimon & Koditschek, "The construction of analytic
-  diffeomorphisms for exact robot navigation on star worlds", Trans. AMS 327(1), 1991). For a polygon, inside the cone from ``q_i``
-  over edge ``k`` (outward unit normal ``n_k``, ``c_k = n_k . (v_k - q_i) > 0``) the gauge is linear,
-  ``g_i(q) = n_k . (q - q_i) / c_k``; for a disc ``g_i(q) = |q - q_i| / r``. So ``beta_i`` is exactly 0 on
-  the boundary, negative inside and positive outside; it is smooth (a quadratic) inside each cone
-  and continuous (Lipschitz) across the rays through the vertices, where its gradient jumps: a
-  polygon's own corners allow no smooth ``beta_i`` with a non-vanishing gradient, and the analytic
-  gradients below are the one-sided ones (discs are smooth everywhere). It is *not* a smooth
-  (C^1) function of the plane for polygons;
+- obstacle ``i``, a disc: ``beta_i(q) = |q - q_i|**2 / r**2 - 1``;
+- obstacle ``i``, a polygon: ``beta_i`` is a C^2 function of the plane, exactly 0 on the boundary,
+  negative inside, positive outside, built from R-functions (V. L. Rvachev's; V. Shapiro, "Semi-analytic
+  geometry with R-functions", Acta Numerica 16, 2007). With outward unit normals ``n_k`` and
+  ``c_k = n_k . (v_k - q_i) > 0``, the edge functions ``x_k(q) = n_k . (q - q_i) / c_k - 1`` are linear,
+  0 on edge ``k``'s line and equal to the exact gauge minus 1 inside the cone from ``q_i`` over edge ``k``.
+  At vertex ``k`` (edges ``k - 1`` and ``k``) the local function is the R-disjunction of ``x_{k-1}``
+  and ``x_k`` if the vertex is convex (outside = outside either half-plane) and the R-conjunction if it
+  is reflex (outside = outside both); on the two cones next to the vertex it has the sign of the exact
+  gauge minus 1 (the line through ``q_i`` and ``v_k`` separates the two cones and is where ``x_{k-1} =
+  x_k``), so it is a valid local description there. The R-functions are Rvachev's ``R_alpha`` system
+  (``alpha`` = :data:`R_ALPHA`, close to max / min far from the vertex) times
+  ``r**2 / (r**2 + eps**2)`` (``r**2 = x**2 + y**2``), the ``R_m`` construction with ``m = 2``: C^2 at
+  the vertex as well (``m = 2`` because the Rimon-Koditschek function must be C^2 to be Morse), and
+  degree 1 (distance-like) away from it, which a nested or higher ``m`` formula is not. Inside each
+  cone the two vertex functions are glued with a C^2 smoothstep of the angle, which is 0 / 1 with
+  vanishing first and second derivatives on the vertex rays, so the result ``B`` is C^2 across them;
+  ``G = 1 + B`` is a smoothed gauge and ``beta_i = G**2 - 1`` (as for a disc; ``-1 + G**2 / (1 + G**4)``
+  where ``G < 0``, deep inside, to keep the sign), blended to the disc function
+  ``|q - q_i|**2 / r_i**2 - 1`` within ``r_i / 2`` of the centre (where the angle is undefined).
+  A global R-function formula over a decomposition was not used: the union of the fan's triangles (or
+  of any pieces sharing an edge) is 0 on the shared edges inside the polygon, and nesting ``R_m``
+  raises its degree at every level until it underflows. Any C^1 function whose zero set has a corner
+  has a vanishing gradient there, so ``grad beta_i = 0`` at the vertices (on the boundary, never in the
+  free space). The analytic gradient is checked against finite differences in the tests, and sign and
+  zero set against shapely. The exact gauge ``g_i`` (Minkowski functional about ``q_i``, piecewise
+  linear) still decides which points are free (:meth:`StarObstacle.gauge`);
 - in the switches each ``beta_i`` is divided by ``scale_i``, a bound of ``g_i**2 - 1`` over the
-  workspace (:attr:`StarObstacle.scale`), so that it lies in ``[0, 1]`` on the free space and the
+  workspace (:attr:`StarObstacle.scale`), so that it lies in about ``[0, 1]`` on the free space and the
   products ``bar_beta_i`` stay O(1) however many obstacles there are (a positive multiple: same zero
-  set and signs); ``T_i`` uses the unscaled ``beta_i``, so that ``T_i`` is the radial gauge map and the
-  identity for a disc;
+  set and signs); ``T_i`` uses the unscaled ``beta_i``, so that ``T_i`` is the radial map
+  ``q_i + r_i G_i u`` (a smoothed gauge map) and the identity for a disc;
 - model disc of obstacle ``i``: centre ``p_i = q_i`` and radius ``r_i`` = the distance from ``q_i`` to
   the obstacle's boundary (so model discs lie inside their obstacles: disjoint, inside the
   workspace, away from the goal; for a disc ``r_i`` is its radius and ``T_i`` is the identity);
 - ``T_i(q) = nu_i(q) (q - q_i) + p_i`` with ``nu_i(q) = (1 + beta_i(q))**0.5 r_i / |q - q_i|``
-  (``= r_i g_i(q) / |q - q_i|``), ``T_goal(q) = q``, and the workspace's ``T_0`` the identity (the
+  (``= r_i G_i(q) / |q - q_i|`` on the free space), ``T_goal(q) = q``, and the workspace's ``T_0`` the identity (the
   workspace already is a disc);
 - switches ``s_i(q, lambda) = gamma bar_beta_i / (gamma bar_beta_i + lambda beta_i)`` with
   ``bar_beta_i = prod_{j != i} beta_j`` (``j = 0`` included), ``s_goal = 1 - sum s_i``, and
@@ -148,8 +162,21 @@ class StarObstacle:
     radius : float
         The disc's radius (NaN for polygons).
     scale : float
-        The switches use ``beta_i = (g_i**2 - 1) / scale``, ``scale`` an upper bound of ``g_i**2 - 1`` over
-        the workspace, so that ``0 <= beta_i <= 1`` on the free space.
+        The switches use ``beta_i / scale``, ``scale`` an upper bound of ``beta_i`` over the workspace
+        (sampled, :func:`star_world`), so that ``beta_i / scale`` lies in about ``[0, 1]`` on the free space.
+    convex : ndarray (n,) of bool or None
+        Whether vertex ``k`` (between edges ``k - 1`` and ``k``) is convex (else reflex).
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
+    >>> ob = star_world(w, (8, 2)).obstacles[0]
+    >>> ob.kind, ob.center.tolist(), ob.model_radius, ob.convex.tolist()
+    ('polygon', [4.0, 4.0], 1.0, [True, True, True, True])
+    >>> b, _ = ob.beta(np.array([[4.0, 4.0], [5.0, 4.0], [6.0, 4.0]]))  # centre, edge midpoint, outside
+    >>> b.round(3).tolist()  # the exact gauge's g**2 - 1 would be [-1, 0, 3]
+    [-1.0, 0.0, 3.084]
     """
 
     id: int
@@ -162,9 +189,59 @@ class StarObstacle:
     angles: NDArray[np.float64] | None = None
     radius: float = math.nan
     scale: float = 1.0
+    convex: NDArray[np.bool_] | None = None
+
+    def beta(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The obstacle function ``beta_i`` (unscaled; 0 on the boundary, negative inside, positive
+        outside, C^2) and its analytic gradient ``(N, 2)`` at points ``(N, 2)``.
+
+        A disc: ``|q - q_i|**2 / r**2 - 1``. A polygon: the construction of the module docstring
+        (vertex R-functions glued by an angular partition of unity, a disc function at the centre).
+
+        Parameters
+        ----------
+        q : ndarray (N, 2)
+            Query points.
+
+        Returns
+        -------
+        beta : ndarray (N,)
+        grad : ndarray (N, 2)
+
+        Examples
+        --------
+        >>> ob = StarObstacle(1, "circle", np.array([0.0, 0.0]), 2.0, radius=2.0)
+        >>> b, g = ob.beta(np.array([[2.0, 0.0], [4.0, 0.0]]))
+        >>> b.tolist(), g.tolist()
+        ([0.0, 3.0], [[1.0, 0.0], [2.0, 0.0]])
+        """
+        d = q - self.center
+        if self.kind == "circle":
+            r2 = self.radius**2
+            return np.einsum("ij,ij->i", d, d) / r2 - 1.0, 2.0 * d / r2
+        return _polygon_beta(self, d)
 
     def gauge(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """``g(q)`` (``< 1`` inside, 1 on the boundary) and its gradient ``(N, 2)`` at points ``(N, 2)``."""
+        """The exact gauge ``g(q)`` (``< 1`` inside, 1 on the boundary; piecewise linear for polygons, its
+        gradient one-sided on the vertex rays) and its gradient ``(N, 2)`` at points ``(N, 2)``; it decides
+        :meth:`StarWorld.free`.
+
+        Parameters
+        ----------
+        q : ndarray (N, 2)
+            Query points.
+
+        Returns
+        -------
+        g : ndarray (N,)
+        grad : ndarray (N, 2)
+
+        Examples
+        --------
+        >>> ob = StarObstacle(1, "circle", np.array([0.0, 0.0]), 2.0, radius=2.0)
+        >>> ob.gauge(np.array([[1.0, 0.0]]))[0].tolist()
+        [0.5]
+        """
         d = q - self.center
         if self.kind == "circle":
             r = self.radius
@@ -180,7 +257,23 @@ class StarObstacle:
         return np.einsum("ij,ij->i", d, grad), grad
 
     def boundary_distance(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Exact Euclidean distance from points ``(N, 2)`` to the obstacle's boundary."""
+        """Exact Euclidean distance from points ``(N, 2)`` to the obstacle's boundary.
+
+        Parameters
+        ----------
+        q : ndarray (N, 2)
+            Query points.
+
+        Returns
+        -------
+        ndarray (N,)
+
+        Examples
+        --------
+        >>> ob = StarObstacle(1, "circle", np.array([0.0, 0.0]), 2.0, radius=2.0)
+        >>> ob.boundary_distance(np.array([[5.0, 0.0], [0.5, 0.0]])).tolist()
+        [3.0, 1.5]
+        """
         if self.kind == "circle":
             return np.abs(np.hypot(*(q - self.center).T) - self.radius)
         assert self.vertices is not None
@@ -192,10 +285,124 @@ class StarObstacle:
         return np.sqrt(np.min(np.einsum("nkj,nkj->nk", diff, diff), axis=1))
 
 
+#: the R-functions' regularization: ``x ^ y = R_0(x, y) (x**2 + y**2) / (x**2 + y**2 + eps**2)`` with
+#: ``eps = R_EPS * sin(turn)`` at a vertex turning by ``turn`` (the arguments are gauges minus 1, so the
+#: rounded zone is about ``R_EPS`` times the centre-to-edge distance along each edge)
+R_EPS = 0.1
+#: the R_alpha system's alpha (0: Rvachev's R_0; towards 1: closer to max / min; 0.9 folds h_lambda least
+#: of 0, 0.5, 0.9, 0.97 on the worlds of benchmarks/star_nav.py)
+R_ALPHA = 0.9
+
+
+def _r_function(x: NDArray[np.float64], y: NDArray[np.float64], disjunction: NDArray[np.bool_],
+                eps: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """C^2 R-disjunction (``disjunction``) or R-conjunction of ``x, y`` and its partial derivatives.
+
+    Rvachev's ``R_alpha`` system, ``(x + y +- sqrt(x**2 + y**2 - 2 alpha x y)) / (1 + alpha)`` (positive iff
+    ``x > 0`` or / and ``y > 0``; ``alpha -> 1`` tends to max / min), analytic off the origin, times
+    ``w = r**2 / (r**2 + eps**2)``: ``R_alpha r**2`` is homogeneous of degree 3 and smooth off the origin,
+    hence C^2 (the ``R_m`` construction, ``m = 2``); dividing it by ``r**2 + eps**2`` keeps the sign rule
+    and the order and leaves ``R_alpha`` (degree 1: distance-like) away from the origin. ``eps`` (per
+    point) is the rounding radius in the ``(x, y)`` plane.
+    """
+    a = R_ALPHA
+    r2 = x * x + y * y
+    q2 = np.maximum(r2 - 2.0 * a * x * y, 0.0)
+    q = np.sqrt(q2)
+    sgn = np.where(disjunction, 1.0, -1.0)
+    e2 = eps * eps
+    w = r2 / (r2 + e2)
+    r0 = (x + y + sgn * q) / (1.0 + a)
+    dw = 2.0 * e2 / (r2 + e2) ** 2  # dw/dx = dw * x
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ux = np.where(q > 0, (x - a * y) / q, 0.0)
+        uy = np.where(q > 0, (y - a * x) / q, 0.0)
+    fx = (1.0 + sgn * ux) / (1.0 + a) * w + r0 * dw * x
+    fy = (1.0 + sgn * uy) / (1.0 + a) * w + r0 * dw * y
+    return r0 * w, fx, fy
+
+
+def _smoothstep(s: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``S(s) = 6 s**5 - 15 s**4 + 10 s**3`` on [0, 1] (clipped) and ``S'``: 0 and 1 at the ends with
+    vanishing first and second derivatives there (so gluing with it is C^2)."""
+    s = np.clip(s, 0.0, 1.0)
+    return s**3 * (10.0 + s * (6.0 * s - 15.0)), 30.0 * s * s * (s - 1.0) ** 2
+
+
+def _polygon_beta(ob: StarObstacle, d: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``beta`` and its gradient for a star polygon at ``d = q - q_i`` (see the module docstring)."""
+    assert ob.normals is not None and ob.offsets is not None and ob.angles is not None and ob.convex is not None
+    nv = len(ob.offsets)
+    t2 = np.einsum("ij,ij->i", d, d)
+    t = np.sqrt(t2)
+    a0 = ob.angles[0]
+    th = a0 + np.mod(np.arctan2(d[:, 1], d[:, 0]) - a0, 2 * math.pi)
+    k = np.clip(np.searchsorted(ob.angles, th, side="right") - 1, 0, nv - 1)  # cone of edge k: vertices k, k+1
+    km, kp = (k - 1) % nv, (k + 1) % nv
+    gn = ob.normals / ob.offsets[:, None]  # grad g_j = n_j / c_j
+
+    def edge(j: NDArray[np.intp]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        return np.einsum("ij,ij->i", d, gn[j]) - 1.0, gn[j]
+
+    xm, gm = edge(km)
+    x0, g0 = edge(k)
+    xp, gp = edge(kp)
+    # vertex k joins edges k-1 and k; vertex k+1 joins edges k and k+1 (disjunction where convex)
+    turn = np.abs(ob.normals[:, 0] * np.roll(ob.normals, 1, axis=0)[:, 1]
+                  - ob.normals[:, 1] * np.roll(ob.normals, 1, axis=0)[:, 0])  # sin of the turn at vertex k
+    eps = R_EPS * np.maximum(turn, 1e-3)
+    fa, fax, fay = _r_function(xm, x0, ob.convex[k], eps[k])
+    fb, fbx, fby = _r_function(x0, xp, ob.convex[kp], eps[kp])
+    grad_a = fax[:, None] * gm + fay[:, None] * g0
+    grad_b = fbx[:, None] * g0 + fby[:, None] * gp
+    width = ob.angles[k + 1] - ob.angles[k]
+    sg, dsg = _smoothstep((th - ob.angles[k]) / width)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        dth = np.where(t2[:, None] > 0, np.column_stack([-d[:, 1], d[:, 0]]) / t2[:, None], 0.0)
+        dt = np.where(t[:, None] > 0, d / t[:, None], 0.0)
+    big = (1.0 - sg) * fa + sg * fb
+    grad_big = ((1.0 - sg)[:, None] * grad_a + sg[:, None] * grad_b
+                + ((fb - fa) * dsg / width)[:, None] * dth)
+    # near the centre (where the angle is undefined) blend to the disc function t**2 / r**2 - 1
+    r = ob.model_radius
+    chi, dchi = _smoothstep((t - 0.25 * r) / (0.25 * r))
+    # the smoothed gauge G = 1 + B (B: the glued R-functions, about g - 1 near the boundary), squared as
+    # a disc's beta is: beta = G**2 - 1 for G >= 0, and -1 + G**2 / (1 + G**4) below (still negative; C^2 at 0)
+    gg = 1.0 + big
+    pos = gg >= 0
+    g4 = 1.0 + gg**4
+    outer = np.where(pos, gg * gg - 1.0, gg * gg / g4 - 1.0)
+    douter = np.where(pos, 2.0 * gg, 2.0 * gg * (1.0 - gg**4) / (g4 * g4))
+    core = t2 / r**2 - 1.0
+    chi, dchi = _smoothstep((t - 0.25 * r) / (0.25 * r))
+    beta = chi * outer + (1.0 - chi) * core
+    grad = (chi[:, None] * douter[:, None] * grad_big + (1.0 - chi)[:, None] * (2.0 * d / r**2)
+            + ((outer - core) * dchi / (0.25 * r))[:, None] * dt)
+    return beta, grad
+
+
 @dataclass(frozen=True, eq=False)
 class StarWorld:
     """A validated star world: disc workspace ``(workspace_center, workspace_radius)``, star-shaped
-    obstacles, goal. Build one with :func:`star_world`."""
+    obstacles, goal. Build one with :func:`star_world`.
+
+    Attributes
+    ----------
+    obstacles : tuple of StarObstacle
+        The star-shaped obstacles, each with its model disc.
+    workspace_center : ndarray (2,)
+    workspace_radius : float
+        The disc workspace (by default the disc inscribed in the world's bounds).
+    goal : ndarray (2,)
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"circle": {"center": [4, 4], "radius": 1}}]})
+    >>> sw = star_world(w, (8, 2))
+    >>> sw.workspace_center.tolist(), sw.workspace_radius, sw.free([[4, 4], [6, 6]]).tolist()
+    ([5.0, 5.0], 5.0, [False, True])
+    """
 
     obstacles: tuple[StarObstacle, ...]
     workspace_center: NDArray[np.float64]
@@ -258,6 +465,18 @@ def find_star_center(vertices: ArrayLike) -> tuple[NDArray[np.float64], float]:
     lines (a linear programme, solved with :func:`scipy.optimize.linprog`). A depth ``<= 0`` means the
     kernel has no interior: the polygon is not star-shaped about any point strictly.
 
+    Parameters
+    ----------
+    vertices : array_like (n, 2)
+        The polygon's vertices in order (either orientation).
+
+    Returns
+    -------
+    center : ndarray (2,)
+        The kernel's Chebyshev centre (the vertices' mean when the programme fails).
+    depth : float
+        Its distance to the nearest edge line (``-inf`` when the programme fails).
+
     Examples
     --------
     >>> c, depth = find_star_center([[0, 0], [4, 0], [4, 1], [1, 1], [1, 4], [0, 4]])  # an L
@@ -297,6 +516,12 @@ def _star_polygon(oid: int, vertices: NDArray[np.float64], center: tuple[float, 
     keep = np.any(v != np.roll(v, -1, axis=0), axis=1)
     v = v[keep]
     scale = float(np.ptp(v, axis=0).max())
+    # drop vertices where the boundary runs straight on (the two edges on one line: no corner)
+    ein, eout = v - np.roll(v, 1, axis=0), np.roll(v, -1, axis=0) - v
+    cross = ein[:, 0] * eout[:, 1] - ein[:, 1] * eout[:, 0]
+    straight = (np.abs(cross) <= 1e-12 * scale * scale) & (np.einsum("ij,ij->i", ein, eout) > 0)
+    if straight.any() and (~straight).sum() >= 3:
+        v = v[~straight]
     n, off = _edge_lines(v)
     if center is None:
         c, depth = find_star_center(v)
@@ -322,9 +547,12 @@ def _star_polygon(oid: int, vertices: NDArray[np.float64], center: tuple[float, 
     ang = np.arctan2(d[:, 1], d[:, 0])
     steps = np.mod(np.diff(np.concatenate([ang, ang[:1]])), 2 * math.pi)
     angles = np.concatenate([[ang[0]], ang[0] + np.cumsum(steps)])
+    e = np.roll(v, -1, axis=0) - v  # edge k: v_k -> v_{k+1}
+    ein = np.roll(e, 1, axis=0)  # edge k - 1, into vertex k
+    convex = ein[:, 0] * e[:, 1] - ein[:, 1] * e[:, 0] > 0  # a left turn of a counter-clockwise polygon
     ob = StarObstacle(oid, "polygon", c, 0.0, v, n, ck, angles)
     r = float(ob.boundary_distance(c[None, :])[0])
-    return StarObstacle(oid, "polygon", c, r, v, n, ck, angles)
+    return StarObstacle(oid, "polygon", c, r, v, n, ck, angles, convex=convex)
 
 
 def _workspace_of(world: Any, center: ArrayLike | None, radius: float | None) -> tuple[NDArray[np.float64], float]:
@@ -344,6 +572,21 @@ def star_world(world: Any, goal: ArrayLike, *, workspace_center: ArrayLike | Non
     be a circle or a polygon star-shaped about its centre (the world file's ``center``, or the deepest
     point of its kernel, :func:`find_star_center`), strictly inside the workspace, and no two may
     touch or overlap.
+
+    Parameters
+    ----------
+    world : World
+        A vector world (:func:`gridfield.world.world_from_dict`, :func:`gridfield.io.read_world`).
+    goal : array_like (2,)
+        The goal, a free point of the workspace.
+    workspace_center, workspace_radius : optional
+        The workspace disc (default: the disc inscribed in the world's bounds).
+
+    Returns
+    -------
+    StarWorld
+        The obstacles with their model discs (centre ``q_i``, radius the distance from ``q_i`` to the
+        boundary) and the scales of their ``beta_i``.
 
     Raises
     ------
@@ -394,11 +637,15 @@ def star_world(world: Any, goal: ArrayLike, *, workspace_center: ArrayLike | Non
         raise ParameterError(f"goal must be two finite numbers (x, y), got {goal!r}")
     _check_free(sw, "goal", g)
     scaled = []
+    # beta_i / scale_i lies in about [0, 1] on the free space (scale_i: the largest beta_i sampled on the
+    # workspace circle and a lattice inside): the products in the switches stay O(1) for many obstacles
+    ang = np.linspace(0.0, 2 * math.pi, 720, endpoint=False)
+    ticks = np.linspace(-r0, r0, 41)
+    lx, ly = np.meshgrid(ticks, ticks)
+    lat = np.column_stack([lx.ravel(), ly.ravel()])
+    samples = c0 + np.vstack([r0 * np.column_stack([np.cos(ang), np.sin(ang)]), lat[np.hypot(*lat.T) < r0]])
     for so in sw.obstacles:
-        # g_i <= reach on the workspace, so beta_i = (g_i**2 - 1) / scale lies in [0, 1] on the free space:
-        # the products in the switches stay O(1) whatever the number of obstacles
-        reach = (math.hypot(*(so.center - c0)) + r0) / so.model_radius
-        scaled.append(dataclasses.replace(so, scale=max(1.0, reach * reach - 1.0)))
+        scaled.append(dataclasses.replace(so, scale=max(1.0, float(so.beta(samples)[0].max()))))
     return StarWorld(tuple(scaled), c0, r0, g)
 
 
@@ -428,27 +675,39 @@ def star_betas(sw: StarWorld, q: ArrayLike) -> tuple[NDArray[np.float64], NDArra
     """``beta_j(q)`` for the workspace (``j = 0``) and each obstacle (scaled, as the switches use them),
     shape ``(M + 1, N)``, and their gradients, shape ``(M + 1, N, 2)``.
 
+    Parameters
+    ----------
+    sw : StarWorld
+    q : array_like (N, 2)
+        Query points.
+
+    Returns
+    -------
+    betas : ndarray (M + 1, N)
+        ``beta_0 = 1 - |q - c_0|**2 / r_0**2`` and ``beta_i / scale_i`` (:meth:`StarObstacle.beta`).
+    grads : ndarray (M + 1, N, 2)
+
     Examples
     --------
     >>> from gridfield.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
     >>> b, _ = star_betas(star_world(w, (8, 2)), [[4, 4], [5, 4], [6, 4]])
-    >>> b.round(3).tolist()  # workspace; the square: (g**2 - 1) / 40, 0 on its edge
-    [[0.92, 0.96, 0.92], [-0.025, 0.0, 0.075]]
+    >>> b.round(3).tolist()  # workspace; the square: beta / scale, 0 on its edge
+    [[0.92, 0.96, 0.92], [-0.026, 0.0, 0.081]]
     """
     p = np.atleast_2d(np.asarray(q, dtype=float))
-    return _betas_from(sw, p, [ob.gauge(p) for ob in sw.obstacles])
+    return _betas_from(sw, p, [ob.beta(p) for ob in sw.obstacles])
 
 
-def _betas_from(sw: StarWorld, p: NDArray[np.float64], gauges: list[tuple[NDArray[np.float64], NDArray[np.float64]]]
+def _betas_from(sw: StarWorld, p: NDArray[np.float64], raw: list[tuple[NDArray[np.float64], NDArray[np.float64]]]
                 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     c0, r0 = sw.workspace_center, sw.workspace_radius
     d0 = p - c0
     betas = [1.0 - np.einsum("ij,ij->i", d0, d0) / r0**2]
     grads = [-2.0 * d0 / r0**2]
-    for ob, (g, dg) in zip(sw.obstacles, gauges, strict=True):
-        betas.append((g * g - 1.0) / ob.scale)
-        grads.append((2.0 / ob.scale) * g[:, None] * dg)
+    for ob, (b, db) in zip(sw.obstacles, raw, strict=True):
+        betas.append(b / ob.scale)
+        grads.append(db / ob.scale)
     return np.array(betas), np.array(grads)
 
 
@@ -460,19 +719,34 @@ def star_to_sphere(sw: StarWorld, q: ArrayLike, lam: float
     """``h_lambda(q)`` ``(N, 2)``, its Jacobian ``(N, 2, 2)`` (``J[n, a, b] = d h_a / d q_b``), the
     switches ``s_i`` ``(M, N)`` and the free mask ``(N,)``; NaN outside the free space.
 
+    Parameters
+    ----------
+    sw : StarWorld
+    q : array_like (N, 2)
+        Query points.
+    lam : float
+        The switch parameter ``lambda``.
+
+    Returns
+    -------
+    h : ndarray (N, 2)
+    jac : ndarray (N, 2, 2)
+    switches : ndarray (M, N)
+    free : ndarray (N,) of bool
+
     Examples
     --------
     >>> from gridfield.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
     >>> h, jac, s, free = star_to_sphere(star_world(w, (8, 2)), [[5, 5.5], [8, 2]], 10.0)
     >>> h.round(4).tolist()  # a point next to the square's corner, and the goal (fixed)
-    [[4.8774, 5.3161], [8.0, 2.0]]
+    [[4.8822, 5.3232], [8.0, 2.0]]
     """
     p = np.atleast_2d(np.asarray(q, dtype=float))
     n = len(p)
-    gauges = [ob.gauge(p) for ob in sw.obstacles]
-    betas, gbetas = _betas_from(sw, p, gauges)
-    free = np.all(betas > 0, axis=0)
+    raw = [ob.beta(p) for ob in sw.obstacles]
+    betas, gbetas = _betas_from(sw, p, raw)
+    free = np.all(betas > 0, axis=0) & sw.free(p)  # the exact gauge too: beta rounds at the vertices
     r0 = sw.workspace_radius
     dg = p - sw.goal
     gamma = np.einsum("ij,ij->i", dg, dg) / r0**2
@@ -494,8 +768,9 @@ def star_to_sphere(sw: StarWorld, q: ArrayLike, lam: float
             d = p - ob.center
             dist = np.hypot(d[:, 0], d[:, 1])
             u = d / dist[:, None]
-            # T_i = p_i + r_i sqrt(1 + beta_i) u with the unscaled beta_i = g_i**2 - 1: sqrt(1 + beta_i) = g_i
-            nu, gnu = gauges[i]
+            # T_i = p_i + r_i sqrt(1 + beta_i) u with the unscaled beta_i (sqrt(1 + beta_i) = |q - q_i| / r for a disc)
+            nu = np.sqrt(1.0 + raw[i][0])
+            gnu = raw[i][1] / (2.0 * nu)[:, None]
             t = ob.center + (ob.model_radius * nu)[:, None] * u
             # J_T = r (u grad_nu^T + nu (I - u u^T) / dist)
             uu = u[:, :, None] * u[:, None, :]
@@ -520,6 +795,19 @@ def nav_function(sw: StarWorld, q: ArrayLike, *, kappa: float, lam: float) -> tu
     """``phi(h_lambda(q))`` ``(N,)`` and its gradient ``(N, 2)`` (``J^T grad phi``), with ``phi`` the
     sphere-world navigation function of the model world; ``phi = 1`` and gradient 0 outside the free
     space.
+
+    Parameters
+    ----------
+    sw : StarWorld
+    q : array_like (N, 2)
+        Query points.
+    kappa, lam : float
+        The navigation function's exponent and the switch parameter.
+
+    Returns
+    -------
+    phi : ndarray (N,)
+    grad : ndarray (N, 2)
 
     Examples
     --------
@@ -555,7 +843,20 @@ def _sample_lattice(sw: StarWorld, n: int) -> tuple[NDArray[np.float64], NDArray
 def spurious_minima(sw: StarWorld, *, kappa: float, lam: float, n: int = 161) -> NDArray[np.float64]:
     """Local minima of ``phi(h_lambda(q))`` other than the goal, found on an ``n x n`` lattice over the
     workspace: lattice points lower than their 8 neighbours, all 9 at least 2 lattice steps from
-    every boundary and the point more than 2 steps from the goal. Returns their points ``(K, 2)``.
+    every boundary and the point more than 2 steps from the goal.
+
+    Parameters
+    ----------
+    sw : StarWorld
+    kappa, lam : float
+        The navigation function's exponent and the switch parameter.
+    n : int
+        Lattice points per side.
+
+    Returns
+    -------
+    ndarray (K, 2)
+        The spurious minima found.
 
     Examples
     --------
@@ -649,9 +950,30 @@ def follow_star_nav(sw: StarWorld, starts: ArrayLike, *, kappa: float, lam: floa
     appended), ``local_minimum`` when ``phi`` has not decreased over ``window`` steps or the direction
     vanishes, ``collision`` if it ever left the free space, else ``max_iterations``.
 
+    Parameters
+    ----------
+    sw : StarWorld
+    starts : array_like (N, 2)
+        Free start points.
+    kappa, lam : float
+        The navigation function's exponent and the switch parameter.
+    step, tolerance : float
+        The step length and the goal tolerance.
+    max_iterations, window : int
+        The step budget, and the steps without a new lowest ``phi`` that end a start as ``local_minimum``.
+
     Returns
     -------
     list of (points (K, 2), status, iterations), one per start.
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
+    >>> sw = star_world(w, (8, 8))
+    >>> [(s, bool(np.array_equal(pts[-1], sw.goal))) for pts, s, _ in follow_star_nav(
+    ...     sw, [[2, 3], [7, 2]], kappa=3, lam=10, step=0.05, tolerance=0.05, max_iterations=2000)]
+    [('reached', True), ('reached', True)]
     """
     p = np.atleast_2d(np.asarray(starts, dtype=float)).copy()
     n = len(p)
@@ -750,6 +1072,20 @@ def plan_star_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float
     then end in a ``local_minimum``). A ``lambda`` for which ``h_lambda`` folds (:func:`folds`) is also
     warned about.
 
+    Parameters
+    ----------
+    world : World
+        A vector world of star-shaped polygons and discs.
+    start, goal : ndarray (2,)
+        Free points of the workspace disc.
+    params : mapping
+        As above.
+
+    Returns
+    -------
+    Path
+        ``status`` ``reached``, ``local_minimum``, ``collision`` or ``max_iterations``.
+
     ``extra`` holds ``kappa``, ``lambda``, ``kappa_tried`` (kappa, minima found), ``followed`` (kappa,
     status of each descent), ``folds``, the workspace and the star centres.
 
@@ -814,6 +1150,18 @@ def star_nav_field(gridmap: Any, goal: ArrayLike, params: Mapping[str, Any] | No
     ``"star-nav"``: ``value = phi(h_lambda)`` (``inf`` outside the free space), the analytic gradient,
     and in ``aux`` the arrays of the seed's figures (:func:`star_figure_data`).
 
+    Parameters
+    ----------
+    gridmap : GridMap
+        A rasterized vector world (``gridmap.world``).
+    goal : array_like (2,)
+    params : mapping, optional
+        ``kappa``, ``lambda``, ``workspace_center``, ``workspace_radius``.
+
+    Returns
+    -------
+    NavigationField
+
     Examples
     --------
     >>> from gridfield.io import bundled_map, read_world
@@ -864,7 +1212,9 @@ def star_figure_data(sw: StarWorld, *, kappa: float, lam: float, x: NDArray[np.f
     q = np.column_stack([x.ravel(), y.ravel()])
     humps = np.zeros(len(q))
     for ob in sw.obstacles:
-        humps = np.maximum(humps, 1.0 - ob.gauge(q)[0] ** 2)  # -beta_i before its scaling: 1 at the centre
+        hump = np.maximum(-ob.beta(q)[0], 0.0)  # -beta_i (unscaled) inside, divided by its largest value
+        top = float(hump.max())
+        humps = np.maximum(humps, hump / top if top > 0 else hump)
     humps_grid = humps.reshape(x.shape)
     r0 = sw.workspace_radius
     gamma = ((x - sw.goal[0]) ** 2 + (y - sw.goal[1]) ** 2) / r0**2

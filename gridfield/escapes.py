@@ -49,6 +49,16 @@ def navigation_map(gridmap: GridMap) -> GridMap:
     """The map the navigation escape and the reachability check search: ``gridmap`` itself for a
     ``wall`` border, else ``gridmap`` inside a one-cell free ring (open space around the grid).
 
+    Parameters
+    ----------
+    gridmap : GridMap
+
+    Returns
+    -------
+    GridMap
+        With a ``wall`` border: ``gridmap`` itself; otherwise a map two cells wider and taller, with
+        a ``wall`` border and the same resolution, shifted by one cell.
+
     Examples
     --------
     >>> import numpy as np
@@ -77,6 +87,24 @@ class NavigationEscape:
     Call it as ``escape(point, final=...)``: the moves (world points, the first one the stall
     point's own cell centre) to drive from ``point``, or ``[]`` when the goal cannot be reached
     from there. ``final=True`` drives all the way to the goal.
+
+    Examples
+    --------
+    A column of obstacle cells splits a 5 x 5 map. With a ``wall`` border the goal cannot be
+    reached; with an ``open`` border the escape goes round through the free ring below the grid:
+
+    >>> import numpy as np
+    >>> from types import SimpleNamespace
+    >>> from gridfield.grid import Grid, GridMap
+    >>> occ = np.zeros((5, 5), bool); occ[:, 2] = True
+    >>> def escape(border):
+    ...     gm = GridMap(Grid((5, 5), 1.0, border=border), occ)
+    ...     return NavigationEscape(SimpleNamespace(map=gm, potential=np.zeros((5, 5)), goal=(4.5, 2.5)))
+    >>> escape("wall")((0.5, 2.5))
+    []
+    >>> moves = escape("open")((0.5, 2.5), final=True)
+    >>> [float(y) for x, y in moves]
+    [1.5, 0.5, -0.5, -0.5, -0.5, 0.5, 1.5, 2.5]
     """
 
     def __init__(self, field: Any) -> None:

@@ -55,6 +55,21 @@ PARAMETERS: dict[str, str] = {name: spec.meaning for name, spec in REGISTRY.item
 def check_params(params: Mapping[str, Any] | None) -> dict[str, Any]:
     """Check names and values against the registry (:func:`gridfield.params.validate`); return a plain dict.
 
+    Parameters
+    ----------
+    params : mapping or None
+        Parameter name -> value.
+
+    Returns
+    -------
+    dict
+        The names given, values converted (an empty dict for None).
+
+    Raises
+    ------
+    ParameterError
+        For an unknown name (with a "did you mean") or a value out of range.
+
     Examples
     --------
     >>> check_params({"zeta": 1, "step": 0.1})
@@ -68,7 +83,33 @@ def check_params(params: Mapping[str, Any] | None) -> dict[str, Any]:
 
 
 def get_planner(name: str) -> tuple[Callable[..., Path], str]:
-    """The planner function registered as ``name`` and its kind ("grid" or "world")."""
+    """The planner function registered as ``name`` and its kind ("grid" or "world").
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`PLANNERS`.
+
+    Returns
+    -------
+    function : callable
+        ``fn(target, start, goal, params) -> Path``, imported on this call.
+    kind : {"grid", "world"}
+        What it plans on: a GridMap or a World.
+
+    Raises
+    ------
+    ParameterError
+        For a name not in :data:`PLANNERS`.
+
+    Examples
+    --------
+    >>> fn, kind = get_planner("potential")
+    >>> fn.__name__, kind
+    ('plan_potential', 'grid')
+    >>> get_planner("visibility")[1]
+    'world'
+    """
     if name not in PLANNERS:
         raise ParameterError(f"unknown planner {name!r}; expected one of {', '.join(PLANNERS)}")
     module, func, kind = PLANNERS[name]
@@ -99,10 +140,43 @@ def plan(
     rasterized grid, and for planners that take a ``cache`` their per-map work (the brushfire),
     are computed once and reused.
 
+    Parameters
+    ----------
+    planner : str
+        A key of :data:`PLANNERS` (``potential``, ``wavefront``, ``visibility``, ...).
+    target : World or GridMap
+    start, goal : (x, y)
+        World coordinates; checked to lie in free space of the map the planner uses.
+    params : mapping, optional
+        Parameter name -> value (:mod:`gridfield.params`); they override the world's ``params``.
+    resolution : float, optional
+        Cell size at which a grid planner rasterizes a World (default: the world's own).
+    cache : dict, optional
+        Reused work across calls on the same ``target`` (see above).
+
+    Returns
+    -------
+    Path
+        With ``status`` (``reached`` or why not), ``points``, ``length``, the planner's name and
+        resolved parameters, and the planning time.
+
+    Raises
+    ------
+    ParameterError
+        An unknown planner or parameter, a bad value, or a start or goal that is not two numbers.
+    GridfieldError
+        A start or goal outside the map or inside an obstacle.
+
     Examples
     --------
     >>> from gridfield.io import read_world, bundled_map
     >>> w = read_world(bundled_map("seed000.yaml"))
+    >>> exact = plan("visibility", w, w.start, w.goal)   # shortest path among the polygons
+    >>> exact.status, round(exact.length, 3)
+    ('reached', 22.387)
+    >>> grid = plan("potential", w, w.start, w.goal, resolution=0.5)
+    >>> grid.status, grid.length >= exact.length
+    ('reached', True)
     >>> plan("nonsense", w, w.start, w.goal)
     Traceback (most recent call last):
     ...

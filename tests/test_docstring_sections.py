@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
-from docstring_sections import missing_sections  # noqa: E402
+from docstring_sections import missing_sections
 
 OWNED = [
     "world", "grid", "limits", "rasterize", "cspace", "brushfire", "incremental", "params", "escapes",

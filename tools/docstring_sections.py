@@ -19,7 +19,6 @@ from numpydoc.docscrape import FunctionDoc, NumpyDocString
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "docs"))
 from _api import MODULES, _is_code
 
-
 SECTIONS = ("Parameters", "Returns", "Examples")
 
 

@@ -66,7 +66,7 @@ plot_surface(fields[goal], fig.add_subplot(projection="3d"), path=first, title="
 # corner of an L-shaped obstacle, where it balances the repulsion: a local minimum (marked).
 
 fig, axes = plt.subplots(2, 2, figsize=(11, 10), layout="constrained")
-for ax, (case, (start, goal)) in zip(axes.flat, cases.items()):
+for ax, (case, (start, goal)) in zip(axes.flat, cases.items(), strict=True):
     path = plan("potential", grid, start, goal, params)
     print(f"case {case}: start {start}, goal {goal}: potential {path.status}")
     plot_potential(fields[goal], ax, path=path, colorbar=False, title=f"case {case}: {path.status}")
@@ -78,7 +78,7 @@ for ax, (case, (start, goal)) in zip(axes.flat, cases.items()):
 # and the fast-marching distance (``fmm``) reach the goal from every start that can reach it.
 
 fig, axes = plt.subplots(2, 2, figsize=(11, 10), layout="constrained")
-for ax, (case, (start, goal)) in zip(axes.flat, cases.items()):
+for ax, (case, (start, goal)) in zip(axes.flat, cases.items(), strict=True):
     paths = [plan(name, grid, start, goal, params) for name in ("wavefront", "fmm")]
     print(f"case {case}: " + ", ".join(f"{p.planner} {p.status}" for p in paths))
     plot_map(grid, ax, paths=paths, start=start, goal=goal, title=f"case {case}")

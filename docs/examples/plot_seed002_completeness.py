@@ -60,6 +60,27 @@ fig = plt.figure(figsize=(7, 5.6))
 plot_surface(fields[goal], fig.add_subplot(projection="3d"), path=first, title="case 1: U(q) and the path")
 
 # %%
+# Tuning the parameters
+# ---------------------
+# The seed's four tuning runs on case 1: a lower Q* with a higher eta makes the repulsion
+# stronger but shorter-ranged; a higher zeta strengthens the attraction; a larger alpha takes
+# longer steps, so the robot needs fewer of them (until they overshoot near the goal).
+
+tuning = {
+    "eta 4.5, zeta 0.1, Q* 4, alpha 2.1": {},
+    "eta 5.5, Q* 3": {"eta": 5.5, "q_star": 3},
+    "eta 5.5, zeta 0.2": {"eta": 5.5, "zeta": 0.2},
+    "alpha 2.6": {"alpha": 2.6},
+}
+fig, axes = plt.subplots(1, 4, figsize=(16, 4.4), layout="constrained")
+for ax, (label, change) in zip(axes, tuning.items(), strict=True):
+    tuned = {**params, **change}
+    run = plan("potential", grid, start, goal, tuned)
+    print(f"{label}: {run.status} in {run.iterations} steps")
+    plot_potential(build_field(grid, goal, tuned, dmap=dmap), ax, path=run, colorbar=False, quiver=False,
+                   title=f"{label}\n{run.status}, {run.iterations} steps")
+
+# %%
 # Testing completeness: the potential planner
 # -------------------------------------------
 # Cases 1 and 2 reach the goal; in cases 3 and 4 the attraction pulls the robot into the inner

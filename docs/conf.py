@@ -56,4 +56,7 @@ sphinx_gallery_conf = {
     "show_memory": False,
     "capture_repr": (),  # the last expression (an Artists record) is not printed
     "plot_gallery": "True",
+    # an example that leaves a matplotlib Animation in its globals is embedded as a JavaScript
+    # player (no ffmpeg needed); its gallery thumbnail is the example's first still figure
+    "matplotlib_animations": (True, "jshtml"),
 }

@@ -96,6 +96,26 @@ class DistanceMap:
         Saturation radius used (seed 004), or None.
     far : float
         Value that replaced saturated distances.
+
+    Examples
+    --------
+    One obstacle cell on the left edge of a 3 x 5 grid: the wavefront numbers the cells by their
+    chessboard distance, and the euclidean metric agrees with ``scipy.ndimage``'s exact transform.
+
+    >>> import numpy as np
+    >>> from scipy.ndimage import distance_transform_edt
+    >>> from gridfield.grid import Grid, GridMap
+    >>> occ = np.zeros((3, 5), bool); occ[1, 0] = True
+    >>> gm = GridMap(Grid((3, 5), 0.5), occ)
+    >>> dm = brushfire(gm)
+    >>> dm.steps
+    array([[1, 1, 2, 3, 4],
+           [0, 1, 2, 3, 4],
+           [1, 1, 2, 3, 4]], dtype=int32)
+    >>> dm.nearest_row[0, 4], dm.nearest_col[0, 4], dm.label[0, 4]
+    (np.int32(1), np.int32(0), np.int32(1))
+    >>> bool(np.allclose(brushfire(gm, metric="euclidean").distance, 0.5 * distance_transform_edt(~occ)))
+    True
     """
 
     map: GridMap

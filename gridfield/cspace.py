@@ -261,6 +261,18 @@ def star_algorithm(obstacle_vertices: ArrayLike, robot_vertices: ArrayLike) -> N
     output and reference point as :func:`minkowski_obstacle`, computed independently of it (no
     convex hull).
 
+    Parameters
+    ----------
+    obstacle_vertices : (N, 2) array_like
+        Convex obstacle (a point or a segment are allowed: 1 or 2 vertices).
+    robot_vertices : (M, 2) array_like
+        Convex robot shape in the robot's frame.
+
+    Returns
+    -------
+    ndarray, shape (K, 2)
+        Counter-clockwise vertices starting at the lowest one, without collinear vertices.
+
     Examples
     --------
     >>> star_algorithm([[0, 0], [2, 0], [2, 2], [0, 2]], [[0, 0], [1, 0], [0, 1]])
@@ -331,6 +343,11 @@ def inflate_world(world: World, radius: float, *, quad_segs: int = CIRCLE_SEGMEN
         Robot radius (>= 0, finite).
     quad_segs : int
         Segments per quarter circle of the round parts (>= 1).
+
+    Returns
+    -------
+    World
+        The grown world (its ``robot`` field unchanged).
 
     Examples
     --------
@@ -407,6 +424,17 @@ def cspace_world(world: World, robot_vertices: ArrayLike) -> World:
     unchanged: a wall border is not grown (a World cannot express it; :func:`cspace_grid`
     grows it), and start/goal are not re-validated (use ``World.check_point``).
 
+    Parameters
+    ----------
+    world : World
+    robot_vertices : (M, 2) array_like
+        Convex robot polygon in the robot's frame (origin = reference point).
+
+    Returns
+    -------
+    World
+        The configuration-space world, one C-obstacle per obstacle.
+
     Examples
     --------
     >>> from gridfield.world import world_from_dict
@@ -444,6 +472,11 @@ def inflate_grid(gridmap: GridMap, radius: float) -> GridMap:
     gridmap : GridMap
     radius : float
         Robot radius in world units (>= 0, finite).
+
+    Returns
+    -------
+    GridMap
+        Same grid, border and world; the grown occupancy and ``obstacle_id``.
 
     Examples
     --------
@@ -535,6 +568,17 @@ def cspace_grid(gridmap: GridMap, robot_vertices: ArrayLike) -> GridMap:
     C-space. With ``border="wall"`` the wall grows too. Each cell's ``obstacle_id`` is the
     lowest id among the obstacle cells that reach it (0 if only the wall or id-less cells do).
 
+    Parameters
+    ----------
+    gridmap : GridMap
+    robot_vertices : (M, 2) array_like
+        Convex robot polygon in the robot's frame (origin = reference point), world units.
+
+    Returns
+    -------
+    GridMap
+        Same grid, border and world; the dilated occupancy and ``obstacle_id``.
+
     Examples
     --------
     >>> import numpy as np
@@ -577,6 +621,23 @@ def check_robot_polygon(vertices: ArrayLike, name: str = "robot") -> NDArray[np.
     """Validate a convex robot polygon (vertices around its reference point, the origin); return it
     normalized (counter-clockwise, lowest vertex first).
 
+    Parameters
+    ----------
+    vertices : (N, 2) array_like
+        One vertex (a point), two (a segment) or a convex polygon; repeated vertices are dropped.
+    name : str, default "robot"
+        The argument's name, for the message.
+
+    Returns
+    -------
+    ndarray, shape (K, 2)
+        Counter-clockwise, lowest vertex first, collinear vertices removed.
+
+    Raises
+    ------
+    ParameterError
+        If the array is not (N, 2) finite numbers, or the polygon is not convex.
+
     Examples
     --------
     >>> check_robot_polygon([[0, 1], [0, 0], [1, 0]])
@@ -589,6 +650,16 @@ def check_robot_polygon(vertices: ArrayLike, name: str = "robot") -> NDArray[np.
 
 def as_robot(robot: Robot | float | ArrayLike | None) -> Robot | None:
     """A :class:`~gridfield.world.Robot` from a Robot, a radius (number) or convex polygon vertices.
+
+    Parameters
+    ----------
+    robot : Robot, float, (N, 2) array_like or None
+        What the API accepts as a robot.
+
+    Returns
+    -------
+    Robot or None
+        ``robot`` itself when it is a Robot; None for None (a point robot).
 
     Examples
     --------
@@ -612,6 +683,17 @@ def conservative_footprint(robot: Robot, resolution: float) -> NDArray[np.bool_]
     one cell of such a configuration). A disc of radius ``r``: offsets whose squares are at most
     ``r`` apart (``h * hypot(max(|di|-1, 0), max(|dj|-1, 0)) <= r``); a polygon: the
     conservative rasterization of ``S ⊕ (−R)``. A robot of no size gives the single centre cell.
+
+    Parameters
+    ----------
+    robot : Robot
+    resolution : float
+        The grid's cell size (> 0), in the robot's units.
+
+    Returns
+    -------
+    ndarray of bool, shape (2m+1, 2m+1)
+        ``m`` is one more than the robot's reach in cells, rounded up (a margin of unset offsets).
 
     Examples
     --------
@@ -771,6 +853,28 @@ def check_robot_point(
     grid configuration space blocks is also refused, with the distance and the cell size.
     A point outside the map is left to the planner's own check.
 
+    Parameters
+    ----------
+    target : World or GridMap
+        The workspace.
+    robot : Robot, float, (N, 2) array_like or None
+        As for :func:`apply_robot`; None checks nothing.
+    name : str
+        The point's name (``"start"``, ``"goal"``), for the message.
+    point : (x, y)
+    cspace : World or GridMap, optional
+        The configuration space already built from ``target``.
+
+    Returns
+    -------
+    None
+        Nothing when the robot fits at ``point``.
+
+    Raises
+    ------
+    GridfieldError
+        When the robot placed at ``point`` touches an obstacle (or the grid C-space blocks it).
+
     Examples
     --------
     >>> from gridfield.io import read_world, bundled_map
@@ -845,6 +949,18 @@ def workspace_clearance(target: World | GridMap, points: ArrayLike) -> float:
     of radius ``r`` planned in the configuration space, this is at least ``r``, up to the
     follower's steps between vertices.
 
+    Parameters
+    ----------
+    target : World or GridMap
+        The workspace.
+    points : (N, 2) array_like
+        The path's vertices, world coordinates.
+
+    Returns
+    -------
+    float
+        The smallest distance (``inf`` with no obstacle and an open border).
+
     Examples
     --------
     >>> import numpy as np
@@ -889,6 +1005,20 @@ def robot_clearance(target: World | GridMap, robot: Robot | float | ArrayLike, p
     A world: exact (shapely; circles analytic; the wall counts). A grid: for a disc,
     :func:`workspace_clearance` less the radius; for a polygon on a grid, None (not computed).
     0 means the robot touches an obstacle at some vertex.
+
+    Parameters
+    ----------
+    target : World or GridMap
+        The workspace.
+    robot : Robot, float or (N, 2) array_like
+        As for :func:`apply_robot`.
+    points : (N, 2) array_like
+        The path's vertices (positions of the reference point).
+
+    Returns
+    -------
+    float or None
+        The smallest distance; None for a polygon robot on a grid.
 
     Examples
     --------

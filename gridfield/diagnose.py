@@ -38,6 +38,16 @@ def _fmt(v: float) -> str:
 def unreachable_hint(start: Any, goal: Any) -> str:
     """The hint of a ``no_path`` run.
 
+    Parameters
+    ----------
+    start, goal : (x, y)
+        The run's end points, world coordinates.
+
+    Returns
+    -------
+    str
+        One line naming both points (shortest round-trip formatting).
+
     Examples
     --------
     >>> unreachable_hint((1.0, 2.0), (3.0, 4.0))

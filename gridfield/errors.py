@@ -36,6 +36,18 @@ def shorten(value: object, limit: int = VALUE_LIMIT) -> str:
     Containers are cut before their repr is built, so that a huge (or alias-expanded) value
     costs no more than its first items.
 
+    Parameters
+    ----------
+    value : object
+        Any value; a container of more than 20 items is shown by its first 20 and its length.
+    limit : int, default VALUE_LIMIT
+        Longest text returned, about (a cut text ends with its full length in characters).
+
+    Returns
+    -------
+    str
+        The repr, whole or cut; ``<TypeName>`` when the value's ``__repr__`` raises.
+
     Examples
     --------
     >>> shorten([1.0, 2.0])
@@ -102,6 +114,25 @@ class SizeLimitError(GridfieldError):
 def check_positive(name: str, value: float, *, allow_inf: bool = False) -> float:
     """Return ``value`` as a float, or raise :class:`ParameterError` unless it is > 0.
 
+    Parameters
+    ----------
+    name : str
+        The parameter's name, used in the error message.
+    value : float
+        The value to check (anything ``float()`` accepts).
+    allow_inf : bool, default False
+        Accept ``inf`` (for limits that may be switched off).
+
+    Returns
+    -------
+    float
+        ``float(value)``.
+
+    Raises
+    ------
+    ParameterError
+        If the value is not a number, NaN, zero or negative (or infinite without ``allow_inf``).
+
     Examples
     --------
     >>> check_positive("resolution", 0.5)
@@ -122,6 +153,23 @@ def check_positive(name: str, value: float, *, allow_inf: bool = False) -> float
 
 def check_finite(name: str, values: Iterable[float] | float) -> None:
     """Raise :class:`ParameterError` if any of ``values`` is NaN or infinite.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, used in the error message.
+    values : float or iterable of float
+        One number or several (a point, a list of bounds).
+
+    Returns
+    -------
+    None
+        The check only raises; nothing is returned when every value is finite.
+
+    Raises
+    ------
+    ParameterError
+        If a value is NaN, infinite or not a number.
 
     Examples
     --------

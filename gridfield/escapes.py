@@ -205,7 +205,8 @@ def navigation_map(gridmap: GridMap) -> GridMap:
     Returns
     -------
     GridMap
-        With a ``wall`` border (the ring, when added, is the only way around the grid).
+        With a ``wall`` border: ``gridmap`` itself; otherwise a map two cells wider and taller, with
+        a ``wall`` border and the same resolution, shifted by one cell.
 
     Examples
     --------
@@ -250,6 +251,19 @@ class NavigationEscape:
     True
     >>> [tuple(q) for q in esc((1.5, 1.5))]
     [(1.5, 2.5), (2.5, 2.5), (3.5, 2.5)]
+
+    A column of obstacle cells splits a 5 x 5 map. With a ``wall`` border the goal cannot be
+    reached; with an ``open`` border the escape goes round through the free ring below the grid:
+
+    >>> occ = np.zeros((5, 5), bool); occ[:, 2] = True
+    >>> def escape(border):
+    ...     gm = GridMap(Grid((5, 5), 1.0, border=border), occ)
+    ...     return NavigationEscape(SimpleNamespace(map=gm, potential=np.zeros((5, 5)), goal=(4.5, 2.5)))
+    >>> escape("wall")((0.5, 2.5))
+    []
+    >>> moves = escape("open")((0.5, 2.5), final=True)
+    >>> [float(y) for x, y in moves]
+    [1.5, 0.5, -0.5, -0.5, -0.5, 0.5, 1.5, 2.5]
     """
 
     def __init__(self, field: Any) -> None:

@@ -115,6 +115,11 @@ def _env_or_default() -> int:
 def max_cells() -> int:
     """The limit in force, in cells (see the module docstring).
 
+    Returns
+    -------
+    int
+        The innermost :func:`override`, else ``GRIDFIELD_MAX_CELLS``, else :func:`default_max_cells`.
+
     Examples
     --------
     >>> with override("5e6"):
@@ -132,6 +137,11 @@ def override(limit: int | float | str | None) -> Iterator[None]:
     ----------
     limit : int, float, str or None
         Parsed by :func:`parse_max_cells`.
+
+    Yields
+    ------
+    None
+        The previous limit is restored when the block ends (overrides nest).
 
     Examples
     --------
@@ -172,6 +182,16 @@ def check_cells(shape_or_count: Sequence[float] | float, what: str, *, bytes_per
     -------
     int
         The number of cells (when within the limit).
+
+    Examples
+    --------
+    >>> check_cells((100, 200), "grid"), check_cells(2.5e3, "an extent over a resolution")
+    (20000, 2500)
+    >>> with override(1000):
+    ...     check_cells((50, 50), "map.png (image header)")
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.SizeLimitError: map.png (image header): 50 x 50 = 2500 cells would need about 160 kB of memory, ...
     """
     if type(shape_or_count) is tuple and len(shape_or_count) == 2 and type(shape_or_count[0]) is int and type(
             shape_or_count[1]) is int:  # the common case (a Grid's shape), kept cheap

@@ -88,6 +88,40 @@ class Spec:
     ``kind`` is ``number``, ``integer``, ``choice``, ``alpha`` (a number or a pair) or ``point``;
     ``minimum``/``strict`` bound numbers (``strict``: ``> minimum``); ``allow_inf`` admits ``inf``;
     ``allow_none`` admits ``None`` (``scale`` then says what ``None`` resolves to).
+
+    Attributes
+    ----------
+    name : str
+        The parameter's name (a key of :data:`REGISTRY`, a CLI flag ``--name`` when ``flag``).
+    group : str
+        Its concern (``attraction``, ``repulsion``, ... ``navigation``).
+    kind : {"number", "integer", "choice", "alpha", "point"}
+    default : object
+        The value :func:`resolve` gives when none is given (``None``: scaled, see ``scale``).
+    meaning : str
+        One phrase, shown by ``--help`` and the docs.
+    choices : tuple
+        The allowed values of a ``choice``.
+    minimum, strict, allow_inf, allow_none
+        The range of a number (see above).
+    scale : str
+        The scaling rule of a ``None`` default, in words.
+    planners : tuple of str
+        The planners that read it.
+    flag : bool
+        Whether it gets its own command-line flag (all take ``--param name=value``).
+
+    Examples
+    --------
+    >>> spec = REGISTRY["q_star"]
+    >>> spec.group, spec.allowed()
+    ('repulsion', 'a number > 0 (inf allowed)')
+    >>> spec.check(2), spec.check(math.inf)
+    (2.0, inf)
+    >>> spec.check(0)
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: q_star must be a number > 0 (inf allowed), got 0
     """
 
     name: str
@@ -239,7 +273,13 @@ def _p(group: str, kind: str, default: Any, meaning: str, **kw: Any) -> Any:
 
 @dataclass(frozen=True)
 class Attraction:
-    """The attractive potential (Choset et al. ch. 4): quadratic within ``d_star`` of the goal, conic beyond."""
+    """The attractive potential (Choset et al. ch. 4): quadratic within ``d_star`` of the goal, conic beyond.
+
+    Examples
+    --------
+    >>> validate({"zeta": 0.8, "d_star": 2}).group(Attraction)   # seed 001's chi and d*
+    Attraction(zeta=0.8, d_star=2.0)
+    """
 
     zeta: float = _p("attraction", "number", 1.0, "attractive gain", minimum=0.0, planners=_POT)
     d_star: float | None = _p(
@@ -250,7 +290,14 @@ class Attraction:
 
 @dataclass(frozen=True)
 class Repulsion:
-    """The repulsive potential ``0.5 eta (1/D - 1/q_star)^2`` within ``q_star`` of an obstacle."""
+    """The repulsive potential ``0.5 eta (1/D - 1/q_star)^2`` within ``q_star`` of an obstacle.
+
+    Examples
+    --------
+    >>> r = validate({"eta": 0.8, "q_star": 2}).group(Repulsion)   # seed 001's eta and Q*
+    >>> r.eta, r.q_star, r.repulsion
+    (0.8, 2.0, 'nearest')
+    """
 
     eta: float | None = _p("repulsion", "number", None, "repulsive gain", minimum=0.0, allow_none=True,
                            scale="balanced: the repulsion at q_star/2 equals the largest attraction "
@@ -274,7 +321,13 @@ class Repulsion:
 
 @dataclass(frozen=True)
 class Model:
-    """Which potential model the potential planner builds."""
+    """Which potential model the potential planner builds.
+
+    Examples
+    --------
+    >>> Model().model, validate({"model": "vortex"}).group(Model).model
+    ('khatib', 'vortex')
+    """
 
     model: str = _p("model", "choice", "khatib", "'khatib' (attractive + repulsive) or 'vortex' (seed 003)",
                     choices=("khatib", "vortex"), planners=("potential",), flag=False)
@@ -282,7 +335,14 @@ class Model:
 
 @dataclass(frozen=True)
 class Vortex:
-    """Seed 003's vortex model (charges on a lattice)."""
+    """Seed 003's vortex model (charges on a lattice).
+
+    Examples
+    --------
+    >>> v = validate({"ko": 10}).group(Vortex)   # seed 003's failing obstacle charge
+    >>> v.ka, v.kr, v.ko
+    (25.0, 30.0, 10.0)
+    """
 
     ka: float = _p("vortex", "number", 25.0, "vortex model: attractive gain", minimum=0.0, planners=("potential",),
                    flag=False)
@@ -299,7 +359,14 @@ class Vortex:
 
 @dataclass(frozen=True)
 class Follower:
-    """The gradient-descent follower: step and stop rules."""
+    """The gradient-descent follower: step and stop rules.
+
+    Examples
+    --------
+    >>> f = validate({"step_rule": "scaled", "alpha": 2.1}).group(Follower)   # seed 002's alpha
+    >>> f.step_rule, f.alpha, f.step
+    ('scaled', 2.1, None)
+    """
 
     step_rule: str = _p("follower", "choice", "normalized", "'normalized' (x += step*F/|F|) or 'scaled' "
                         "(x += alpha*F)", choices=("normalized", "scaled"), planners=_POT)
@@ -327,7 +394,14 @@ class Follower:
 
 @dataclass(frozen=True)
 class Escape:
-    """What the follower does at a local minimum."""
+    """What the follower does at a local minimum.
+
+    Examples
+    --------
+    >>> e = Escape(escape="navigation")
+    >>> e.escape, e.escape_tries
+    ('navigation', 10)
+    """
 
     escape: str = _p("escape", "choice", "none", "at a local minimum: 'none' (stop), 'random_walk' (random jumps), "
                      "'potential_increase' (seed 000's bonus) or 'navigation' (follow the octile wavefront from "
@@ -343,7 +417,14 @@ class Escape:
 
 @dataclass(frozen=True)
 class Navigation:
-    """Navigation functions (wavefront, fmm, harmonic, sphere worlds)."""
+    """Navigation functions (wavefront, fmm, harmonic, sphere worlds).
+
+    Examples
+    --------
+    >>> n = validate({"kappa": 3, "lambda": 1}).group(Navigation)   # seed 002's star world
+    >>> n.kappa, n.lam, n.connectivity
+    (3.0, 1.0, 8)
+    """
 
     connectivity: int = _p("navigation", "choice", 8, "neighbourhood of the wavefront", choices=(4, 8),
                            planners=("wavefront", "wavefront-octile"), flag=False)
@@ -385,9 +466,53 @@ def _build() -> dict[str, Spec]:
 #: name -> Spec, every parameter a planner may read.
 REGISTRY: dict[str, Spec] = _build()
 
+_KIND_TYPES = {"number": "float", "integer": "int", "alpha": "float or (float, float)", "point": "(float, float)"}
+
+
+def _rst_text(text: str) -> str:
+    """``text`` with the characters reStructuredText would read as markup escaped."""
+    return text.replace("\\", "\\\\").replace("*", "\\*").replace("|", "\\|").replace("`", "\\`")
+
+
+def _parameters_section(cls: type) -> str:
+    """The numpydoc Parameters section of one concern, written from the registry (never out of date)."""
+    lines = ["Parameters", "----------"]
+    for f in dataclasses.fields(cls):
+        name = f.metadata["spec"].get("name_override", f.name)
+        s = REGISTRY[name]
+        kind = "{" + ", ".join(repr(c) for c in s.choices) + "}" if s.kind == "choice" else _KIND_TYPES[s.kind]
+        default = "None" if s.default is None else repr(s.default)
+        lines.append(f"{f.name} : {kind}{' or None' if s.allow_none else ''}, default {default}")
+        alias = f" (the parameter ``{name}``)" if name != f.name else ""
+        scaled = f" None: {s.scale}." if s.default is None and s.scale else ""
+        lines.append(f"    {_rst_text(s.meaning[0].upper() + s.meaning[1:])}{alias}.{_rst_text(scaled)} "
+                     f"Read by: {', '.join(s.planners)}.")
+    return "\n".join(lines)
+
+
+def _document_groups() -> None:
+    """Put each concern's Parameters section before its Examples (docstrings may be stripped by -OO)."""
+    for cls in GROUPS:
+        doc = cls.__doc__
+        if doc is None:
+            continue
+        head, sep, examples = doc.partition("\n    Examples\n")
+        section = _parameters_section(cls).replace("\n", "\n    ")
+        cls.__doc__ = f"{head.rstrip()}\n\n    {section}\n{sep}{examples}"
+
+
+_document_groups()
+
 
 class Params(Mapping[str, Any]):
     """A validated, read-only mapping of parameter values (only the names given, or resolved).
+
+    Built by :func:`validate`, which checks the values; the constructor does not.
+
+    Parameters
+    ----------
+    values : mapping
+        Parameter name -> checked value.
 
     Examples
     --------
@@ -472,6 +597,24 @@ def validate(params: Mapping[str, Any] | None) -> Params:
 
 def parse(name: str, text: str) -> Any:
     """A command-line string as the value parameter ``name`` takes (then checked).
+
+    Parameters
+    ----------
+    name : str
+        A name of :data:`REGISTRY`.
+    text : str
+        The value as typed: a number, an option, ``none`` (where allowed), ``ax,ay`` for ``alpha``,
+        ``x,y`` for a point.
+
+    Returns
+    -------
+    object
+        The checked value (``float``, ``int``, ``str``, tuple or None).
+
+    Raises
+    ------
+    ParameterError
+        For an unknown name or a value the parameter does not allow.
 
     Examples
     --------
@@ -578,6 +721,16 @@ def balanced_eta(zeta: float, d_star: float, q_star: float, power: float, unit: 
 
 def help_text(name: str) -> str:
     """One line for ``--help``: meaning, default (or scaling rule), allowed values, planners.
+
+    Parameters
+    ----------
+    name : str
+        A name of :data:`REGISTRY`.
+
+    Returns
+    -------
+    str
+        The line, with ``%`` doubled for argparse.
 
     Examples
     --------

@@ -57,6 +57,21 @@ PARAMETERS: dict[str, str] = {name: spec.meaning for name, spec in REGISTRY.item
 def check_params(params: Mapping[str, Any] | None) -> dict[str, Any]:
     """Check names and values against the registry (:func:`gridfield.params.validate`); return a plain dict.
 
+    Parameters
+    ----------
+    params : mapping or None
+        Parameter name -> value.
+
+    Returns
+    -------
+    dict
+        The names given, values converted (an empty dict for None).
+
+    Raises
+    ------
+    ParameterError
+        For an unknown name (with a "did you mean") or a value out of range.
+
     Examples
     --------
     >>> check_params({"zeta": 1, "step": 0.1})
@@ -70,7 +85,33 @@ def check_params(params: Mapping[str, Any] | None) -> dict[str, Any]:
 
 
 def get_planner(name: str) -> tuple[Callable[..., Path], str]:
-    """The planner function registered as ``name`` and its kind ("grid" or "world")."""
+    """The planner function registered as ``name`` and its kind ("grid" or "world").
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`PLANNERS`.
+
+    Returns
+    -------
+    function : callable
+        ``fn(target, start, goal, params) -> Path``, imported on this call.
+    kind : {"grid", "world"}
+        What it plans on: a GridMap or a World.
+
+    Raises
+    ------
+    ParameterError
+        For a name not in :data:`PLANNERS`.
+
+    Examples
+    --------
+    >>> fn, kind = get_planner("potential")
+    >>> fn.__name__, kind
+    ('plan_potential', 'grid')
+    >>> get_planner("visibility")[1]
+    'world'
+    """
     if name not in PLANNERS:
         raise ParameterError(f"unknown planner {name!r}; expected one of {', '.join(PLANNERS)}")
     module, func, kind = PLANNERS[name]
@@ -141,12 +182,26 @@ def plan(
         The path; ``extra`` records the query's ``start`` and ``goal`` and its ``field_seconds`` /
         ``follow_seconds``.
 
+    Raises
+    ------
+    ParameterError
+        An unknown planner or parameter, a bad value, or a start or goal that is not two numbers.
+    GridfieldError
+        A start or goal outside the map or inside an obstacle.
+
     Examples
     --------
     >>> from gridfield.io import read_world, bundled_map
-    >>> w = read_world(bundled_map("seed003_circles.yaml"))
-    >>> path, field = plan("potential", w, w.start, w.goal, {"ko": 5.0}, return_field=True)
-    >>> path.status, field.goal == tuple(w.goal), field.potential.shape == field.map.shape
+    >>> w = read_world(bundled_map("seed000.yaml"))
+    >>> exact = plan("visibility", w, w.start, w.goal)   # shortest path among the polygons
+    >>> exact.status, round(exact.length, 3)
+    ('reached', 22.387)
+    >>> grid = plan("potential", w, w.start, w.goal, resolution=0.5)
+    >>> grid.status, grid.length >= exact.length
+    ('reached', True)
+    >>> w3 = read_world(bundled_map("seed003_circles.yaml"))
+    >>> path, field = plan("potential", w3, w3.start, w3.goal, {"ko": 5.0}, return_field=True)
+    >>> path.status, field.goal == tuple(w3.goal), field.potential.shape == field.map.shape
     ('reached', True, True)
     >>> plan("nonsense", w, w.start, w.goal)
     Traceback (most recent call last):

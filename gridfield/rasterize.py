@@ -353,6 +353,12 @@ def as_gridmap(obj: World | GridMap, resolution: float | None = None) -> GridMap
         Cell size for a World (default: the world's own ``resolution`` key). For a GridMap it may
         only repeat the map's resolution: resampling is not supported.
 
+    Returns
+    -------
+    GridMap
+        ``obj`` itself for a GridMap; for a World its conservative rasterization (a cell is
+        occupied when any part of an obstacle touches it), with the world's bounds and border.
+
     Raises
     ------
     ParameterError

@@ -59,6 +59,15 @@ class Obstacle:
     star_center : (x, y) or None
         For a polygon: the centre it is star-shaped about, when the world file gives one
         (``polygon: {vertices: ..., center: [x, y]}``); the ``star-nav`` planner finds one otherwise.
+
+    Examples
+    --------
+    >>> from shapely.geometry import Polygon
+    >>> ob = Obstacle(id=1, kind="polygon", geometry=Polygon([(0, 0), (2, 0), (2, 1), (0, 1)]))
+    >>> ob.vertices.shape, ob.bounds()
+    ((4, 2), (0.0, 0.0, 2.0, 1.0))
+    >>> ob.distance([[5, 0.5], [1, 4]]).tolist()  # to the right edge, to the top edge
+    [3.0, 3.0]
     """
 
     id: int
@@ -105,6 +114,18 @@ class Robot:
     Exactly one of ``radius`` (a disc centred on the reference point) and ``vertices`` (a convex
     polygon ``(N, 2)`` in the robot's frame, whose origin ``(0, 0)`` is the reference point, the
     point the planners move) is given. The robot translates; it does not rotate.
+
+    Parameters
+    ----------
+    radius : float, optional
+        The disc's radius, >= 0 (0: a point robot).
+    vertices : array_like, shape (N, 2), optional
+        The convex polygon's vertices in the robot's frame (stored read-only).
+
+    Raises
+    ------
+    GridfieldError
+        If both or neither of ``radius`` and ``vertices`` are given, or a value is not finite.
 
     Examples
     --------
@@ -172,7 +193,21 @@ def robot_from_value(value: Any, what: str = "robot") -> Robot:
     """A :class:`Robot` from a world file's ``robot:`` entry: a number (the radius),
     ``{radius: R}`` or ``{polygon: [[x, y], ...]}`` (a convex polygon around the reference point).
 
-    Raises :class:`MapFormatError` naming ``what``.
+    Parameters
+    ----------
+    value : float or mapping
+        The entry as read from YAML.
+    what : str, default "robot"
+        Where the entry came from (file and key), for the message.
+
+    Returns
+    -------
+    Robot
+
+    Raises
+    ------
+    MapFormatError
+        Naming ``what``, for any other value or a polygon that is not convex.
 
     Examples
     --------
@@ -207,6 +242,27 @@ def robot_from_value(value: Any, what: str = "robot") -> Robot:
 @dataclass(frozen=True, eq=False)
 class World:
     """A 2-D world of vector obstacles.
+
+    Usually built by :func:`world_from_dict` (or :func:`gridfield.io.read_world`), which validates
+    every field.
+
+    Parameters
+    ----------
+    bounds : (xmin, ymin, xmax, ymax)
+        The world's rectangle, in world units.
+    obstacles : tuple of Obstacle
+    border : {"open", "wall"}, default "open"
+        What lies outside the bounds: free space, or an obstacle (counted by :meth:`distance`).
+    start, goal : (x, y), optional
+        The world file's default start and goal.
+    params : mapping, default {}
+        The world file's planner parameters (see :mod:`gridfield.params`).
+    resolution : float, optional
+        Default cell size when the world is rasterized.
+    source : str, default ""
+        The file it was read from, for messages.
+    robot : Robot, optional
+        The robot's shape; the commands plan in its configuration space.
 
     Examples
     --------
@@ -350,6 +406,16 @@ def sort_vertices(pts: ArrayLike) -> NDArray[np.float64]:
     through them in angular order (a simple polygon when the vertices are in convex position, or more
     generally when the polygon is star-shaped about their centroid). Ties in angle are broken by the
     distance to the centroid.
+
+    Parameters
+    ----------
+    pts : array_like, shape (N, 2)
+        The vertices, in any order.
+
+    Returns
+    -------
+    ndarray, shape (N, 2)
+        The same vertices, starting from the one of smallest angle in ``(-pi, pi]``.
 
     Examples
     --------
@@ -524,6 +590,18 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
     (default: the vertices must be listed in order around the polygon) or ``sort`` (they are sorted
     by angle around their centroid, seed 001's VerticesSorter: :func:`sort_vertices`); it also applies
     to the polygons of a ``b_matrix``, whose one- and two-vertex obstacles are points and segments.
+
+    Parameters
+    ----------
+    data : mapping
+        The file's content as read from YAML.
+    source : str, default ""
+        The file's name, put in front of every message.
+
+    Returns
+    -------
+    World
+        With obstacle ids numbered from 1 in file order (``b_matrix`` first).
 
     Examples
     --------

@@ -19,11 +19,15 @@ from numpydoc.docscrape import FunctionDoc, NumpyDocString
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "docs"))
 from _api import MODULES, _is_code
 
+SECTIONS = ("Parameters", "Returns", "Examples")
 
-def main(argv: list[str]) -> int:
-    missing: dict[str, list[str]] = {"Parameters": [], "Returns": [], "Examples": []}
+
+def missing_sections(modules: list[str]) -> tuple[int, dict[str, list[str]]]:
+    """The number of public functions and classes of ``gridfield.<module>`` for each of ``modules``
+    (exceptions not counted) and, per section, the ``module.name`` of those lacking it."""
+    missing: dict[str, list[str]] = {section: [] for section in SECTIONS}
     total = 0
-    for name in MODULES:
+    for name in modules:
         module = importlib.import_module(f"gridfield.{name}")
         for n in getattr(module, "__all__", []):
             obj = getattr(module, n)
@@ -42,6 +46,11 @@ def main(argv: list[str]) -> int:
                 missing["Returns"].append(qual)
             if not doc["Examples"]:
                 missing["Examples"].append(qual)
+    return total, missing
+
+
+def main(argv: list[str]) -> int:
+    total, missing = missing_sections(MODULES)
     print(f"{total} public functions and classes (exceptions not counted)")
     for section, names in missing.items():
         print(f"missing {section}: {len(names)}")

@@ -210,11 +210,12 @@ def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = N
     p = setup.params
     force = grid_sampler(field, sampling=setup.sampling)
     blocked = grid_blocked(grid_map)
-    potential = attraction = navigate = None
-    if p["escape"] == "navigation":
-        from .escapes import NavigationEscape
+    potential = attraction = None
+    from .escapes import NavigationEscape
 
-        navigate = navigation if navigation is not None else NavigationEscape(field)
+    # the navigation escape's moves, and for every escape rule the finish of a reached run whose
+    # straight last hop to the goal is blocked (built lazily: costs nothing unless used)
+    navigate = navigation if navigation is not None else NavigationEscape(field)
     if p["escape"] == "potential_increase":
         potential = grid_potential_sampler(field, sampling=setup.sampling)
         attraction = attraction_force(goal, p)
@@ -576,6 +577,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         first = np.concatenate([[0], np.cumsum(np.bincount(HI, minlength=N))[:-1]])
         del HI, order, hist_x, hist_y, hist_ids
     blocked = grid_blocked(grid_map)
+    finish: Any = None
     pts_list: list[NDArray[np.float64]] = []
     extras: list[dict[str, Any]] = []
     for i in range(N):
@@ -593,6 +595,15 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
                 ok_i = not blocked((lx, ly), goal)
                 if ok_i:
                     pts = np.vstack([pts, goal])
+                else:  # the straight hop is blocked: down the navigation function instead, as follow does
+                    if finish is None:
+                        from .escapes import NavigationEscape
+
+                        finish = NavigationEscape(field)
+                    hop = finish((lx, ly), final=True)
+                    if hop and all(not blocked(a, b) for a, b in zip([(lx, ly), *hop[:-1]], hop, strict=True)):
+                        pts = np.vstack([pts, np.asarray(hop, dtype=float)])
+                        ok_i = True
                 extra["goal_appended"] = ok_i
             else:
                 extra["goal_appended"] = False

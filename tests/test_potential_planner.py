@@ -412,3 +412,33 @@ def test_sum_repulsion_without_labels_is_a_clear_error():
     labelled = brushfire(GridMap(Grid((8, 8), 1.0), occ))
     U, _, _ = repulsive(labelled, mode="sum", eta=1.0, q_star=3.0)
     assert np.isfinite(U[~occ]).all() and U[2, 2] > 0 and U[0, 0] == 0  # sqrt 2 and sqrt 18 from it
+
+
+def test_a_reached_run_ends_at_the_goal_even_when_the_last_hop_is_blocked():
+    """Arena, q_star 1: the run from (1.5, 45.5) gets within the tolerance of (3.5, 47.5) where the
+    straight hop to the goal crosses a corner-only gap. It used to report ``reached`` with the path
+    stopping 0.84 short, so its length (2.0) was below the straight line (2.83). It must end at the
+    goal along free moves, follow and follow_many alike, and no reached path may be shorter than the
+    straight line on any arena scenario."""
+    from shapely.geometry import LineString, box
+
+    from gridfield.follow import follow_many
+    from gridfield.io import bundled_map
+
+    gm = read_movingai_map(bundled_map("arena/arena.map"))
+    start, goal = (1.5, 45.5), (3.5, 47.5)
+    path, field = plan("potential", gm, start, goal, {"q_star": 1.0}, return_field=True)
+    many = follow_many(field, [start])[0]
+    rows, cols = np.nonzero(gm.occupied)
+    obstacles = shapely.union_all([box(c, r, c + 1, r + 1) for r, c in zip(rows, cols, strict=True)])
+    for p in (path, many):
+        assert p.status == "reached" and p.extra["goal_appended"]
+        assert tuple(p.points[-1]) == goal
+        assert p.length >= math.dist(start, goal) - 1e-9
+        assert not LineString(p.points).relate_pattern(obstacles, "T********")  # never inside an obstacle
+    scen = read_scen(bundled_map("arena/arena.map.scen"), map_height=gm.grid.rows)
+    for k in range(0, len(scen), 7):
+        s, g = tuple(scen.start_xy[k]), tuple(scen.goal_xy[k])
+        p = plan("potential", gm, s, g, {"q_star": 1.0})
+        if p.status == "reached":
+            assert tuple(p.points[-1]) == g and p.length >= math.dist(s, g) - 1e-9

@@ -283,6 +283,11 @@ class Explorer:
         ]
         self.recompute()
 
+    def __repr__(self) -> str:
+        status = self.path.status if self.path is not None else None
+        return (f"Explorer(planner={self.planner!r}, start={self.start}, goal={self.goal}, path={status!r}, "
+                f"cspace={self.cspace_on}, updates={self.n_updates})")
+
     # -- construction ----------------------------------------------------------------------
     def _rasterize(self, world: World | None = None) -> GridMap | None:
         from .rasterize import as_gridmap

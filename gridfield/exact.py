@@ -118,6 +118,10 @@ class ExactField:
         self._wall = world.border == "wall"
         self._attr = attraction_force(self.goal, p)
 
+    def __repr__(self) -> str:
+        return (f"ExactField(obstacles={len(self.world.obstacles)}, goal=({self.goal[0]:.6g}, {self.goal[1]:.6g}), "
+                f"repulsion={self.params['repulsion']!r}, q_star={self.q_star:.6g})")
+
     # -- distances ------------------------------------------------------------------------
     def closest(self, p: tuple[float, float]) -> list[tuple[float, float, float]]:
         """``(D, cx, cy)``: distance and closest point of each obstacle that can repel at ``p``.

@@ -1,10 +1,10 @@
 """An interactive explorer: the seed 004 workflow on a matplotlib figure, in a window, a browser or Jupyter.
 
 :class:`Explorer` is a thin matplotlib layer over the library: every update calls
-:func:`gridfield.planners.plan` (and :func:`gridfield.potential.build_field` for the background
-of the potential planner) on the map, or on its configuration space
+:func:`gridfield.planners.plan` on the map, or on its configuration space
 (:func:`gridfield.cspace.apply_robot`) once a robot is drawn and the C-space computed, so what the
-explorer shows is exactly what ``gridfield plan`` computes.
+explorer shows is exactly what ``gridfield plan`` computes. The potential planner's background is
+the field that plan followed (``plan(..., return_field=True)``): one build per update.
 
 Seed 004's workflow: draw obstacles, draw a convex robot, compute the configuration space (the
 C-obstacles are drawn in yellow beside the workspace obstacles), set the start and the goal,
@@ -282,6 +282,11 @@ class Explorer:
             self.figure.canvas.mpl_connect("key_press_event", self.on_key),
         ]
         self.recompute()
+
+    def __repr__(self) -> str:
+        status = self.path.status if self.path is not None else None
+        return (f"Explorer(planner={self.planner!r}, start={self.start}, goal={self.goal}, path={status!r}, "
+                f"cspace={self.cspace_on}, updates={self.n_updates})")
 
     # -- construction ----------------------------------------------------------------------
     def _rasterize(self, world: World | None = None) -> GridMap | None:

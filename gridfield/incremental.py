@@ -180,6 +180,11 @@ class IncrementalBrushfire:
         #: removals and its insertions counts twice).
         self.last_changed = 0
 
+    def __repr__(self) -> str:
+        rows, cols = self._grid.shape
+        return (f"IncrementalBrushfire(shape=({rows}, {cols}), resolution={self._res:.6g}, "
+                f"occupied={int(np.count_nonzero(self._occ))}, last_changed={self.last_changed})")
+
     # -- state ------------------------------------------------------------------------
     @property
     def gridmap(self) -> GridMap:

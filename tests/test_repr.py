@@ -27,7 +27,13 @@ def test_reprs_are_short_and_hold_no_arrays():
     path = plan("potential", m, start, goal)
     art = plot_map(m, paths=[path])
     demo = DemoResult(bundled_map("seed000.yaml").parent, rows=[{"part": "x"}] * 500, files=[], seconds=1.0)
-    objects = [m, brushfire(m), f, basins(f), wavefront(m, goal), path,
+    from gridfield.exact import ExactField
+    from gridfield.explore import Explorer
+    from gridfield.incremental import IncrementalBrushfire
+
+    explorer = Explorer(w, resolution=1.0)
+    objects = [m, brushfire(m), f, basins(f), wavefront(m, goal), path, ExactField(w, w.goal),
+               IncrementalBrushfire(m), explorer,
                read_scen(bundled_map("arena/arena.map.scen")), validate({"q_star": 0.5}), w, w.obstacles[0],
                art, demo]
     for obj in objects:
@@ -41,3 +47,6 @@ def test_reprs_are_short_and_hold_no_arrays():
                       "source='seed000.yaml')"
     assert repr(w.obstacles[1]) == "Obstacle(id=2, kind='polygon', bounds=(6, 4, 12, 10))"
     assert "rows=500" in repr(demo) and "paths=1" in repr(art)
+    assert repr(explorer) == ("Explorer(planner='potential', start=(1.0, 10.0), goal=(22.0, 12.0), "
+                              f"path={explorer.path.status!r}, cspace=False, updates=1)")
+    explorer.close()

@@ -64,7 +64,7 @@ plot_potential(build_field(grid, world.goal, {**params, "eta": 1.0}), axes[2], p
 frames = np.unique(np.linspace(0, len(path.points) - 1, 24).round().astype(int))
 pts = path.points
 fig, (left, right) = plt.subplots(1, 2, figsize=(9, 3.6), dpi=64, layout="constrained")
-plot_map(world, left, resolution=0.1, legend=False, title="workspace")
+plot_map(world, left, legend=False, title="workspace")
 plot_brushfire(dmap, right, colorbar=False, gvd=False, title="configuration space")
 outline = np.asarray(robot.outline(pts[0]).exterior.coords)
 body = left.add_patch(PolygonPatch(outline, closed=True, facecolor="tab:red", alpha=0.6, edgecolor="black"))

@@ -577,7 +577,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         first = np.concatenate([[0], np.cumsum(np.bincount(HI, minlength=N))[:-1]])
         del HI, order, hist_x, hist_y, hist_ids
     blocked = grid_blocked(grid_map)
-    finish: Any = None
+    nav_hop: Any = None  # the navigation finish, built on first use
     pts_list: list[NDArray[np.float64]] = []
     extras: list[dict[str, Any]] = []
     for i in range(N):
@@ -596,11 +596,11 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
                 if ok_i:
                     pts = np.vstack([pts, goal])
                 else:  # the straight hop is blocked: down the navigation function instead, as follow does
-                    if finish is None:
+                    if nav_hop is None:
                         from .escapes import NavigationEscape
 
-                        finish = NavigationEscape(field)
-                    hop = finish((lx, ly), final=True)
+                        nav_hop = NavigationEscape(field)
+                    hop = nav_hop((lx, ly), final=True)
                     if hop and all(not blocked(a, b) for a, b in zip([(lx, ly), *hop[:-1]], hop, strict=True)):
                         pts = np.vstack([pts, np.asarray(hop, dtype=float)])
                         ok_i = True

@@ -24,7 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ParameterError
 from ..grid import Grid, GridMap
-from ..path import Path
+from ..path import NavigationAux, Path
 
 #: The kinds of :class:`NavigationField`.
 KINDS = ("wavefront", "fmm", "harmonic", "sphere-nav")
@@ -100,7 +100,7 @@ class NavigationField:
     goal_cell: tuple[int, int]
     kind: str
     params: Mapping[str, Any] = field(default_factory=dict)
-    aux: Mapping[str, Any] = field(default_factory=dict)
+    aux: NavigationAux | Mapping[str, Any] = field(default_factory=dict)  # keys: path.NavigationAux
 
     def __repr__(self) -> str:
         reach = int(np.count_nonzero(self.reachable))

@@ -19,8 +19,10 @@
  * Measured on the 2-core AMD EPYC (AVX-512) dev machine, one thread, 2048^2 rows (a C driver, best of
  * 25): 52 ms with the AVX2 clone, 34 ms with x86-64-v4, 25 ms with x86-64-v4 and the occupancy in its
  * own pass (below); numba (LLVM for the host CPU) ran 26-31 ms side by side. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && __GNUC__ >= 11
 #define GF_ROW_FN __attribute__((target_clones("arch=x86-64-v4", "avx2", "default"))) static
+#elif defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+#define GF_ROW_FN __attribute__((target_clones("avx2", "default"))) static /* GCC < 11: no x86-64-v4 name */
 #else
 #define GF_ROW_FN static inline
 #endif

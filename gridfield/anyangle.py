@@ -74,7 +74,7 @@ _GRAPHS: OrderedDict[tuple[Any, ...], AnyAngleGraph] = OrderedDict()
 
 
 def _kernels() -> Any:
-    from . import _kernels_anyangle
+    from . import _kernels_anyangle  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _kernels_anyangle
 

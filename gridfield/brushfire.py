@@ -173,7 +173,7 @@ def _kernels() -> ModuleType:
     """The compiled kernels, imported on first use."""
     global _KERNELS
     if _KERNELS is None:
-        from . import _kernels_brushfire
+        from . import _kernels_brushfire  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
         _KERNELS = _kernels_brushfire
     return _KERNELS

@@ -75,7 +75,7 @@ _KERNELS: ModuleType | None = None
 def _kernels() -> ModuleType:
     global _KERNELS
     if _KERNELS is None:
-        from . import _kernels_incremental
+        from . import _kernels_incremental  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
         _KERNELS = _kernels_incremental
     return _KERNELS
@@ -417,7 +417,7 @@ class IncrementalBrushfire:
         """The component number of every obstacle cell and each component's first cell (raster index;
         ``first[0] = -1`` and ``first[K + 1] = rows * cols`` as sentinels), computed when missing."""
         if self._comp is None or self._first is None:
-            from . import _kernels_brushfire as kb
+            from . import _kernels_brushfire as kb  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
             rows, cols = self._grid.shape
             comp = np.empty((rows, cols), np.int32)

@@ -293,8 +293,8 @@ class Navigation:
                              scale="the smallest of a ladder (sphere-nav: 2, 3, 4, 6, 8, ...; star-nav: 3, 4, "
                                    "6, ...) that reaches the goal, or leaves no detected spurious minimum",
                              planners=("sphere-nav", "star-nav"), flag=False)
-    lam: float = field(default=100.0, metadata={"spec": dict(
-        group="navigation", kind="number", default=100.0, name_override="lambda",
+    lam: float = field(default=10.0, metadata={"spec": dict(
+        group="navigation", kind="number", default=10.0, name_override="lambda",
         meaning="star-nav: switch parameter of the star-to-sphere transformation (larger: closer to the "
                 "identity away from the obstacles; too small folds the map; seed 002: 1)",
         minimum=0.0, strict=True, planners=("star-nav",), flag=False)})

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any, Literal, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .errors import ArgumentTypeError, ParameterError
+from .errors import ArgumentTypeError, GridfieldError, ParameterError
 from .grid import GridMap, _as_xy
 from .params import REGISTRY, validate
 from .path import Path, PathExtra
@@ -115,8 +115,10 @@ def get_planner(name: str) -> tuple[Callable[..., Path], str]:
     if name not in PLANNERS:
         raise ParameterError(f"unknown planner {name!r}; expected one of {', '.join(PLANNERS)}")
     module, func, kind = PLANNERS[name]
-    # a planner module of gridfield's own: a broken import is a bug to see, not "unavailable"
-    fn = getattr(importlib.import_module(module), func)
+    try:
+        fn = getattr(importlib.import_module(module), func)
+    except (ImportError, AttributeError) as e:
+        raise GridfieldError(f"planner {name!r} is not available in this installation ({e})") from None
     return fn, kind
 
 

@@ -31,10 +31,10 @@ from scipy import ndimage
 from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.base import BaseGeometry
 
-from .errors import GridfieldError, ParameterError
-from .grid import Grid, GridMap
-from .rasterize import rasterize_geometry
-from .world import CIRCLE_SEGMENTS, Obstacle, Robot, World
+from ..errors import GridfieldError, ParameterError
+from ..grid import Grid, GridMap
+from ..rasterize import rasterize_geometry
+from ..world import CIRCLE_SEGMENTS, Obstacle, Robot, World
 
 __all__ = [
     "apply_robot",

@@ -64,7 +64,7 @@ from typing import Any
 
 import numpy as np
 
-from .errors import GridfieldError, MapFormatError, ParameterError, check_positive, shorten
+from ..errors import GridfieldError, MapFormatError, ParameterError, check_positive, shorten
 
 __all__ = ["COLUMNS", "Run", "SweepInterrupted", "load_spec", "run_batch", "run_one", "run_sweep", "summarize"]
 
@@ -191,8 +191,8 @@ def _validate_params(planner: str, params: Mapping[str, Any]) -> dict[str, Any]:
     ...
     gridfield.errors.ParameterError: eta must be a finite number >= 0, got -1
     """
-    from .planners import check_params
-    from .potential import resolve_params
+    from ..planners import check_params
+    from ..potential import resolve_params
 
     p = check_params(params)
     resolve_params(p)
@@ -260,11 +260,11 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
     >>> len(runs), output.name, sorted({r.planner for r in runs}), sum(r.any_angle for r in runs)
     (80, 'sweep_example.csv', ['potential', 'wavefront-octile'], 40)
     """
-    from .grid import Grid, GridMap
-    from .io import read, read_scen, read_yaml
-    from .planners import PLANNERS
-    from .rasterize import as_gridmap
-    from .world import World
+    from ..grid import Grid, GridMap
+    from ..io import read, read_scen, read_yaml
+    from ..planners import PLANNERS
+    from ..rasterize import as_gridmap
+    from ..world import World
 
     spec_path = FsPath(path)
     spec = read_yaml(spec_path)
@@ -401,7 +401,7 @@ def _flag(mapping: Mapping[str, Any], key: str, where: str, *, default: bool = F
 
 def _robot_key(entry: Mapping[str, Any], spec: Mapping[str, Any], where: str) -> tuple[Any, ...]:
     """A map entry's robot (``robot:`` or ``robot_radius:``, else the spec's) as plain hashable data."""
-    from .world import robot_from_value
+    from ..world import robot_from_value
 
     source = entry if ("robot" in entry or "robot_radius" in entry) else spec
     value = source.get("robot", source.get("robot_radius"))
@@ -417,7 +417,7 @@ def _robot_key(entry: Mapping[str, Any], spec: Mapping[str, Any], where: str) ->
 def _with_robot(target: Any, robot: tuple[Any, ...]) -> Any:
     if not robot:
         return target
-    from .cspace import apply_robot
+    from ..cspace import apply_robot
 
     return apply_robot(target, robot[1] if robot[0] == "radius" else list(robot[1]))
 
@@ -462,7 +462,7 @@ def _map_cache(run: Run, target: Any = None) -> dict[Any, Any]:
     cache = _CACHE.pop(key, None)
     if cache is None:
         if target is None:
-            from .io import read
+            from ..io import read
 
             target = _with_robot(read(run.map), run.robot)
         cache = {"target": target}
@@ -502,7 +502,7 @@ def run_one(run: Run, target: Any = None) -> dict[str, Any]:
     >>> row["status"], round(row["length"], 5), round(row["optimal_any_angle"], 5)   # octile, then straight
     ('reached', 3.41421, 3.16228)
     """
-    from .planners import plan
+    from ..planners import plan
 
     t0 = time.perf_counter()
     try:
@@ -536,7 +536,7 @@ def _any_angle_optimum(run: Run, target: Any = None) -> float:
         if key not in cache:
             solver = cache.get("optimal_any_angle_solver")
             if solver is None:
-                from .compare import _optimum_fn
+                from ..compare import _optimum_fn
 
                 solver = cache["optimal_any_angle_solver"] = _optimum_fn(cache["target"], cache=cache)
             cache[key] = solver(np.asarray(run.start, dtype=float), np.asarray(run.goal, dtype=float))
@@ -788,7 +788,7 @@ def _worker_init(max_cells: int, parent: int) -> None:
     import signal
     import threading
 
-    from . import limits
+    from .. import limits
 
     # Ctrl-C reaches the whole process group: the parent stops the workers, they need not say so.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -828,7 +828,7 @@ def _local_results(batches: Sequence[list[Run]], workers: int) -> Iterator[list[
     # "spawn", not fork: the potential kernels start an OpenMP thread pool, and a process that
     # forks after that can hang or abort ("fork() called from a process already using GNU OpenMP").
     ctx = multiprocessing.get_context("spawn")
-    from .limits import max_cells
+    from ..limits import max_cells
 
     pending = list(batches)
     for _ in range(POOL_RESTARTS + 1):
@@ -863,7 +863,7 @@ def _dask_results(batches: Sequence[list[Run]], scheduler: Any) -> Iterator[list
         from distributed import Client, as_completed
     except ImportError:
         raise GridfieldError("--scheduler needs Dask: pip install 'gridfield[dask]'") from None
-    from .io import read
+    from ..io import read
 
     if isinstance(scheduler, Client):
         client = scheduler

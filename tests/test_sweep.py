@@ -75,12 +75,12 @@ def test_rows_match_individual_plan_calls_and_resume_recomputes_nothing(tmp_path
     assert all(s["success_rate"] == 1.0 for k, s in summary.items() if k[1] == "wavefront-octile")
 
     # resume: a second run computes nothing (run_one must not be called) and keeps the rows
-    import gridfield.sweep as sweep_module
+    import gridfield.sweep._run as sweep_run  # where run_batch looks up run_one and the map cache
 
     def boom(run, target=None):  # pragma: no cover - must not run
         raise AssertionError("resume recomputed a run")
 
-    monkeypatch.setattr(sweep_module, "run_one", boom)
+    monkeypatch.setattr(sweep_run, "run_one", boom)
     again = run_sweep(runs, output, workers=1, progress=False)
     assert [_key(r) for r in again] == [_key(r) for r in rows]
 
@@ -88,11 +88,11 @@ def test_rows_match_individual_plan_calls_and_resume_recomputes_nothing(tmp_path
 def test_interrupted_sweep_resumes_only_the_missing_runs(tmp_path: Path, monkeypatch) -> None:
     runs, output = load_spec(_spec(tmp_path, SPEC))
     run_sweep(runs[:5], output, workers=1, progress=False)  # as if interrupted after five runs
-    import gridfield.sweep as sweep_module
+    import gridfield.sweep._run as sweep_run  # where run_batch looks up run_one and the map cache
 
     seen = []
-    real = sweep_module.run_one
-    monkeypatch.setattr(sweep_module, "run_one", lambda r, t=None: seen.append(r.key) or real(r, t))
+    real = sweep_run.run_one
+    monkeypatch.setattr(sweep_run, "run_one", lambda r, t=None: seen.append(r.key) or real(r, t))
     rows = run_sweep(runs, output, workers=1, progress=False)
     assert len(seen) == len(runs) - 5
     assert {r.key for r in runs[:5]}.isdisjoint(seen)
@@ -162,11 +162,11 @@ def test_bad_specs_name_the_problem(tmp_path: Path, body: str, message: str) -> 
 def test_maps_are_loaded_and_brushfires_computed_once_per_map(tmp_path: Path, monkeypatch) -> None:
     import gridfield.io
     import gridfield.potential
-    import gridfield.sweep as sweep_module
+    import gridfield.sweep._run as sweep_run  # where run_batch looks up run_one and the map cache
 
     spec = _spec(tmp_path, SPEC.replace("[potential, wavefront-octile]", "[potential]"))
     runs, output = load_spec(spec)
-    monkeypatch.setattr(sweep_module, "_CACHE", {})
+    monkeypatch.setattr(sweep_run, "_CACHE", {})
     calls = {"read": 0, "brushfire": 0}
     real_read, real_dmap = gridfield.io.read, gridfield.potential.field_distance_map
 
@@ -236,9 +236,9 @@ def _count_graph_builds(monkeypatch) -> list[int]:
     from collections import OrderedDict
 
     import gridfield.anyangle as anyangle
-    import gridfield.sweep as sweep_module
+    import gridfield.sweep._run as sweep_run  # where run_batch looks up run_one and the map cache
 
-    monkeypatch.setattr(sweep_module, "_CACHE", {})
+    monkeypatch.setattr(sweep_run, "_CACHE", {})
     monkeypatch.setattr(anyangle, "_GRAPHS", OrderedDict())
     builds: list[int] = []
     real = anyangle._build
@@ -316,11 +316,11 @@ def test_a_rows_file_from_before_the_any_angle_column_resumes(tmp_path: Path, mo
     old = [",".join(COLUMNS[:-1])] + [ln.rsplit(",", 1)[0] for ln in output.read_text().splitlines()[1:]]
     output.write_text("\n".join(old) + "\n")  # as the sweep wrote it before the column
 
-    import gridfield.sweep as sweep_module
+    import gridfield.sweep._run as sweep_run  # where run_batch looks up run_one and the map cache
 
     seen: list[tuple] = []
-    real = sweep_module.run_one
-    monkeypatch.setattr(sweep_module, "run_one", lambda r, t=None: seen.append(r.key) or real(r, t))
+    real = sweep_run.run_one
+    monkeypatch.setattr(sweep_run, "run_one", lambda r, t=None: seen.append(r.key) or real(r, t))
     notes: list[str] = []
     rows = run_sweep(runs, output, workers=1, progress=False, notes=notes)
     assert sorted(seen) == sorted(r.key for r in runs[4:])

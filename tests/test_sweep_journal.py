@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 import gridfield.sweep as sweep_module
+import gridfield.sweep._run as sweep_run  # where run_batch looks up run_one
 from gridfield.cli import main
 from gridfield.errors import GridfieldError, MapFormatError
 from gridfield.io import bundled_map
@@ -41,7 +42,7 @@ def _lines(path: Path) -> list[str]:
 def test_a_sweep_cut_at_any_byte_resumes_to_exactly_one_row_per_run(tmp_path: Path, monkeypatch) -> None:
     runs = _runs()
     calls: list[tuple] = []
-    monkeypatch.setattr(sweep_module, "run_one", lambda r, t=None: calls.append(r.key) or _fake_row(r))
+    monkeypatch.setattr(sweep_run, "run_one", lambda r, t=None: calls.append(r.key) or _fake_row(r))
     full = tmp_path / "full.csv"
     run_sweep(runs, full, workers=1, progress=False)
     data = full.read_bytes()
@@ -60,7 +61,7 @@ def test_a_sweep_cut_at_any_byte_resumes_to_exactly_one_row_per_run(tmp_path: Pa
 
 def test_damaged_and_duplicate_lines_are_dropped_and_their_runs_redone(tmp_path: Path, monkeypatch) -> None:
     runs = _runs()
-    monkeypatch.setattr(sweep_module, "run_one", lambda r, t=None: _fake_row(r))
+    monkeypatch.setattr(sweep_run, "run_one", lambda r, t=None: _fake_row(r))
     out = tmp_path / "rows.csv"
     run_sweep(runs, out, workers=1, progress=False)
     lines = _lines(out)
@@ -69,7 +70,7 @@ def test_damaged_and_duplicate_lines_are_dropped_and_their_runs_redone(tmp_path:
     out.write_text("\r\n".join([lines[0], lines[1], glued, lines[4], lines[4], *lines[5:]]) + "\r\n")
     notes: list[str] = []
     redone = []
-    monkeypatch.setattr(sweep_module, "run_one", lambda r, t=None: redone.append(r.key) or _fake_row(r))
+    monkeypatch.setattr(sweep_run, "run_one", lambda r, t=None: redone.append(r.key) or _fake_row(r))
     rows = run_sweep(runs, out, workers=1, progress=False, notes=notes)
     assert sorted(redone) == sorted([runs[1].key, runs[2].key])
     assert len(rows) == len(runs) and len({(r["start_x"], r["goal_y"]) for r in rows}) == len(runs)

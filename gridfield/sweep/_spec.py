@@ -1,0 +1,316 @@
+"""The sweep spec: reading it, checking all of it, and expanding it to the list of runs (:func:`load_spec`).
+
+Everything is validated before the first run starts, because a sweep may run for hours on a
+cluster: a typo in the last map entry must not surface then. So this module reads every map
+(sizing its grid against the memory limit), every scenario file, every parameter combination of
+every planner, and the rows file's lock, and says which key of which file is at fault.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path as FsPath
+from typing import Any
+
+import numpy as np
+
+from ..errors import GridfieldError, MapFormatError, ParameterError, check_positive, shorten
+from ._journal import _Journal
+from ._run import Run, _with_robot
+
+#: Keys of a spec's top level and of one ``maps`` entry.
+SPEC_KEYS = ("output", "maps", "planners", "params", "robot", "robot_radius", "optimal_any_angle")
+MAP_KEYS = ("path", "resolution", "pairs", "random_pairs", "scenarios", "limit", "robot", "robot_radius",
+            "optimal_any_angle")
+
+#: Exact planners that also run on grid maps (on the blocked cells as exact polygons, gridfield.gridpoly).
+GRID_MAP_EXACT = ("visibility", "exact-potential")
+
+#: Most runs one spec may expand to (each run is a row and a few hundred bytes of memory).
+MAX_RUNS = 10**8
+
+
+def _need(mapping: Mapping[str, Any], key: str, where: str) -> Any:
+    if key not in mapping:
+        raise MapFormatError(f"{where}: missing key {key!r}")
+    return mapping[key]
+
+
+def _unknown_keys(mapping: Mapping[Any, Any], known: Sequence[str], where: str) -> None:
+    import difflib
+
+    for key in mapping:
+        if key not in known:
+            close = difflib.get_close_matches(str(key), known, n=1)
+            hint = f"did you mean {close[0]!r}? " if close else ""
+            raise MapFormatError(f"{where}: unknown key {shorten(key)}; {hint}expected one of {', '.join(known)}")
+
+
+def _integer(value: Any, where: str, *, minimum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+        raise MapFormatError(f"{where}: must be an integer >= {minimum}, got {shorten(value)}")
+    return value
+
+
+def _spec_path(value: Any, base: FsPath, where: str) -> FsPath:
+    if not isinstance(value, str) or not value.strip():
+        raise MapFormatError(f"{where}: must be a file name, got {shorten(value)}")
+    p = FsPath(value)
+    return p if p.is_absolute() else base / p
+
+
+def _validate_params(planner: str, params: Mapping[str, Any]) -> dict[str, Any]:
+    """Check one planner's parameter combination (names and values) before any run starts.
+
+    The one place a sweep validates parameters: names and values through the parameter registry
+    (:func:`gridfield.params.validate`), then the potential's cross-parameter rules
+    (:func:`gridfield.potential.resolve_params`). Raises :class:`ParameterError` naming the
+    parameter and its value.
+
+    Examples
+    --------
+    >>> _validate_params("potential", {"eta": 2.0})
+    {'eta': 2.0}
+    >>> _validate_params("potential", {"eta": -1})
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: eta must be a finite number >= 0, got -1
+    """
+    from ..planners import check_params
+    from ..potential import resolve_params
+
+    p = check_params(params)
+    resolve_params(p)
+    try:
+        json.dumps(p, sort_keys=True, allow_nan=True)
+    except (TypeError, ValueError):
+        raise ParameterError(f"parameter values must be numbers, strings or booleans, got {shorten(p)}") from None
+    return p
+
+
+def _pairs(entry: Mapping[str, Any], w: str) -> list[tuple[tuple[float, float], tuple[float, float], float]]:
+    raw = entry.get("pairs") or []
+    if not isinstance(raw, list):
+        raise MapFormatError(f"{w}.pairs: expected a list of [[sx, sy], [gx, gy]], got {shorten(raw)}")
+    pairs = []
+    for j, pair in enumerate(raw):
+        try:
+            (sx, sy), (gx, gy) = pair
+            xy = [v if not isinstance(v, bool) else math.nan for v in (sx, sy, gx, gy)]
+            sx, sy, gx, gy = (float(v) for v in xy)
+            if not all(math.isfinite(v) for v in (sx, sy, gx, gy)):
+                raise ValueError
+        except (TypeError, ValueError):
+            raise MapFormatError(f"{w}.pairs[{j}]: expected [[sx, sy], [gx, gy]] (finite numbers), "
+                                 f"got {shorten(pair)}") from None
+        pairs.append(((sx, sy), (gx, gy), math.nan))
+    return pairs
+
+
+def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | None = None
+              ) -> tuple[list[Run], FsPath]:
+    """Read and fully validate a sweep spec; return the list of runs and the output path.
+
+    ``output`` replaces the spec's ``output``. If another sweep is writing the output, this stops
+    at once (before any map is read).
+
+    Everything is checked before a single run starts: unknown keys (with a "did you mean"),
+    types and ranges of every value, every parameter combination for every planner, each map
+    (read, and its grid sized against the memory limit), pairs, scenario files against their
+    map's size, and planners that need a vector world against grid maps.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The YAML spec (relative paths in it are relative to its folder).
+    output : str or path-like, optional
+        The rows file, instead of the spec's ``output`` (default ``SPEC.csv`` beside the spec).
+
+    Returns
+    -------
+    runs : list of Run
+        Every (map, pair, planner, parameter combination), maps in spec order.
+    output : pathlib.Path
+        The rows file.
+
+    Raises
+    ------
+    MapFormatError
+        Naming the spec file and the key at fault.
+
+    Examples
+    --------
+    >>> from gridfield.io import bundled_map
+    >>> runs, output = load_spec(bundled_map("sweep_example.yaml"))
+    >>> len(runs), output.name, sorted({r.planner for r in runs}), sum(r.any_angle for r in runs)
+    (80, 'sweep_example.csv', ['potential', 'wavefront-octile'], 40)
+    """
+    from ..grid import Grid, GridMap
+    from ..io import read, read_scen, read_yaml
+    from ..planners import PLANNERS
+    from ..rasterize import as_gridmap
+    from ..world import World
+
+    spec_path = FsPath(path)
+    spec = read_yaml(spec_path)
+    where = str(spec_path)
+    if not isinstance(spec, Mapping):
+        raise MapFormatError(f"{where}: a sweep spec must be a YAML mapping with maps, planners and params")
+    _unknown_keys(spec, SPEC_KEYS, where)
+    base = spec_path.parent
+    if output is None:
+        output = _spec_path(spec.get("output", spec_path.with_suffix(".csv").name), base, f"{where}: output")
+    output = FsPath(output)
+    _Journal.check_unlocked(output)
+    planners = spec.get("planners", ["potential"])
+    if isinstance(planners, str):
+        planners = [planners]
+    if not isinstance(planners, list) or not planners:
+        raise MapFormatError(f"{where}: planners must be a planner name or a non-empty list of them")
+    for p in planners:
+        if not isinstance(p, str) or p not in PLANNERS:
+            raise MapFormatError(f"{where}: planners: unknown planner {shorten(p)}; expected one of {', '.join(PLANNERS)}")
+    grid = spec.get("params") or {}
+    if not isinstance(grid, Mapping):
+        raise MapFormatError(f"{where}: params must map parameter names to a value or a list of values")
+    names = sorted(grid, key=str)
+    values = [v if isinstance(v, list) else [v] for v in (grid[n] for n in names)]
+    for n, v in zip(names, values, strict=True):
+        if not v:
+            raise MapFormatError(f"{where}: params.{n}: an empty list of values gives no runs")
+    n_combos = math.prod(len(v) for v in values)
+    if n_combos * len(planners) > MAX_RUNS:
+        raise MapFormatError(f"{where}: params: {n_combos:.3g} combinations x {len(planners)} planners exceed "
+                             f"{MAX_RUNS:g} runs; sweep fewer values")
+    combos = []
+    for combo in itertools.product(*values):
+        params = dict(zip(names, combo, strict=True))
+        for planner in planners:
+            try:
+                _validate_params(planner, params)
+            except ParameterError as e:
+                raise MapFormatError(f"{where}: params ({planner}): {e}") from None
+        combos.append(params)
+
+    any_angle_all = _flag(spec, "optimal_any_angle", where)
+    maps = _need(spec, "maps", where)
+    if not isinstance(maps, list) or not maps:
+        raise MapFormatError(f"{where}: maps must be a non-empty list")
+    runs: list[Run] = []
+    for i, entry in enumerate(maps):
+        w = f"{where}: maps[{i}]"
+        if isinstance(entry, str):
+            entry = {"path": entry}
+        if not isinstance(entry, Mapping):
+            raise MapFormatError(f"{w}: expected a map file name or a mapping with 'path', got {shorten(entry)}")
+        _unknown_keys(entry, MAP_KEYS, w)
+        map_path = _spec_path(_need(entry, "path", w), base, f"{w}.path")
+        resolution = entry.get("resolution")
+        robot = _robot_key(entry, spec, w)
+        if resolution is not None:
+            try:
+                resolution = check_positive("resolution", resolution if isinstance(resolution, int | float) and not  # type: ignore[arg-type]  # "" is rejected by check_positive on purpose
+                                            isinstance(resolution, bool) else "")
+            except ParameterError:
+                raise MapFormatError(f"{w}.resolution: must be a positive finite number, got {shorten(resolution)}") from None
+        try:
+            target = _with_robot(read(map_path), robot)
+            # the grid every grid planner will use, sized against the memory limit before anything runs
+            gm = as_gridmap(target, resolution) if isinstance(target, GridMap) or entry.get("random_pairs") or (
+                entry.get("scenarios")) else None
+            if gm is None and isinstance(target, World):
+                res = resolution if resolution is not None else target.resolution
+                if res is not None:
+                    Grid.covering(target.bounds, res)
+                elif any(PLANNERS[p][2] == "grid" for p in planners):
+                    raise MapFormatError(f"{map_path}: a world without 'resolution'; give the map entry a resolution")
+        except GridfieldError as e:
+            raise MapFormatError(f"{w}: {e}") from None
+        if not isinstance(target, World) and not isinstance(getattr(target, "world", None), World):
+            exact = [p for p in planners if PLANNERS[p][2] == "world" and p not in GRID_MAP_EXACT]
+            if exact:
+                raise MapFormatError(f"{w}: planner {exact[0]!r} needs a vector world, but {map_path.name} is a grid map")
+        pairs = _pairs(entry, w)
+        rp = entry.get("random_pairs")
+        if rp is not None:
+            if not isinstance(rp, Mapping):
+                raise MapFormatError(f"{w}.random_pairs: expected a mapping {{n: N, seed: S}}, got {shorten(rp)}")
+            _unknown_keys(rp, ("n", "seed"), f"{w}.random_pairs")
+            n = _integer(rp.get("n", 10), f"{w}.random_pairs.n", minimum=1)
+            if n > MAX_RUNS:
+                raise MapFormatError(f"{w}.random_pairs.n: {n} pairs exceed {MAX_RUNS:g} runs")
+            seed = _integer(rp.get("seed", 0), f"{w}.random_pairs.seed", minimum=0)
+            try:
+                pairs += _random_pairs(gm, n, seed)
+            except GridfieldError as e:
+                raise MapFormatError(f"{w}.random_pairs: {e}") from None
+        if entry.get("limit") is not None and not entry.get("scenarios"):
+            raise MapFormatError(f"{w}.limit: limits the scenarios, but the entry has no 'scenarios'")
+        if entry.get("scenarios") is not None:
+            scen_path = _spec_path(entry["scenarios"], base, f"{w}.scenarios")
+            try:
+                scen = read_scen(scen_path)
+            except GridfieldError as e:
+                raise MapFormatError(f"{w}.scenarios: {e}") from None
+            assert gm is not None
+            wrong = np.flatnonzero((scen.width != gm.shape[1]) | (scen.height != gm.shape[0]))
+            if wrong.size:
+                k = int(wrong[0])
+                raise MapFormatError(
+                    f"{w}.scenarios: {scen_path.name}: scenario {k + 1} is for a {scen.width[k]} x {scen.height[k]} "
+                    f"map (width x height), but {map_path.name} is {gm.shape[1]} x {gm.shape[0]} cells"
+                )
+            limit = _integer(entry.get("limit", len(scen)), f"{w}.limit", minimum=1)
+            idx = np.flatnonzero(~scen.no_path)[:limit]
+            pairs += [(tuple(scen.start_xy[k]), tuple(scen.goal_xy[k]), float(scen.optimal[k])) for k in idx]
+        if not pairs and isinstance(target, World) and target.start and target.goal:
+            pairs.append((target.start, target.goal, math.nan))
+        if not pairs:
+            raise MapFormatError(f"{w}: no start/goal pairs (give pairs, random_pairs or scenarios)")
+        if len(runs) + len(planners) * len(combos) * len(pairs) > MAX_RUNS:
+            raise MapFormatError(f"{w}: the spec expands to more than {MAX_RUNS:g} runs; split the sweep")
+        any_angle = _flag(entry, "optimal_any_angle", w, default=any_angle_all)
+        for planner, params, (s, g, opt) in itertools.product(planners, combos, pairs):
+            runs.append(Run(str(map_path), resolution, planner, tuple(sorted(params.items())), s, g, opt, robot,
+                            any_angle))
+    return runs, output
+
+
+def _flag(mapping: Mapping[str, Any], key: str, where: str, *, default: bool = False) -> bool:
+    """A true/false spec value (``default`` when absent); anything else is a MapFormatError."""
+    value = mapping.get(key, default)
+    if not isinstance(value, bool):
+        raise MapFormatError(f"{where}: {key} must be true or false, got {shorten(value)}")
+    return value
+
+
+def _robot_key(entry: Mapping[str, Any], spec: Mapping[str, Any], where: str) -> tuple[Any, ...]:
+    """A map entry's robot (``robot:`` or ``robot_radius:``, else the spec's) as plain hashable data."""
+    from ..world import robot_from_value
+
+    source = entry if ("robot" in entry or "robot_radius" in entry) else spec
+    value = source.get("robot", source.get("robot_radius"))
+    if value is None:
+        return ()
+    r = robot_from_value(value, f"{where}: robot")
+    if r.radius is not None:
+        return ("radius", r.radius)
+    assert r.vertices is not None
+    return ("polygon", tuple(map(tuple, r.vertices.tolist())))
+
+
+
+def _random_pairs(gm: Any, n: int, seed: int) -> list[Any]:
+    """``n`` random start/goal pairs in free cells of the grid map (reproducible with ``seed``)."""
+    free = np.flatnonzero(~gm.occupied.ravel())
+    if free.size < 2:
+        raise GridfieldError(f"{gm.source}: fewer than two free cells; cannot draw random start/goal pairs")
+    rng = np.random.default_rng(seed)
+    cells = rng.choice(free, size=(n, 2), replace=True)
+    rows, cols = np.unravel_index(cells, gm.shape)
+    pts = gm.grid.cell_to_world(np.stack([rows.ravel(), cols.ravel()], axis=1)).reshape(n, 2, 2)
+    return [(tuple(p[0]), tuple(p[1]), math.nan) for p in pts.tolist()]

@@ -89,7 +89,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .errors import ParameterError
-from .escapes import navigation_moves, potential_increase, random_jump
+from .escapes import navigation_finish, navigation_moves, potential_increase, random_jump
 from .grid import _as_xy
 from .params import REGISTRY, check
 
@@ -425,8 +425,8 @@ def descend(
             xs.append(gx)
             ys.append(gy)
         elif navigate is not None:  # the straight hop is blocked: down the navigation function instead
-            hop = navigate((x, y), final=True)
-            if hop and blocked is not None and all(not blocked(a, b) for a, b in zip([(x, y), *hop[:-1]], hop, strict=True)):
+            hop = navigation_finish(navigate, x, y, blocked)
+            if hop is not None:
                 xs.extend(q[0] for q in hop)
                 ys.extend(q[1] for q in hop)
                 ok = True

@@ -49,7 +49,8 @@ from numpy.typing import NDArray
 
 from .grid import Grid, GridMap
 
-__all__ = ["NavigationEscape", "navigation_map", "navigation_moves", "potential_increase", "random_jump"]
+__all__ = ["NavigationEscape", "navigation_finish", "navigation_map", "navigation_moves", "potential_increase",
+           "random_jump"]
 
 Point = tuple[float, float]
 Blocked = Callable[[Point, Point], bool] | None
@@ -192,6 +193,40 @@ def navigation_moves(navigate: Callable[..., list[Point]], x: float, y: float, *
             break  # (never with NavigationEscape: its moves join free cell centres) keep what is free
         moves.append(q)
     return moves
+
+
+def navigation_finish(navigate: Callable[..., list[Point]], x: float, y: float,
+                      blocked: Blocked = None) -> list[Point] | None:
+    """The finish of a reached run whose straight last hop to the goal is blocked: ``navigate``'s
+    moves from ``(x, y)`` down to the goal, all of them or none.
+
+    Unlike :func:`navigation_moves` (an escape keeps what is free), a finish must arrive: ``None``
+    when ``navigate`` gives no moves or one of them is blocked.
+
+    Parameters
+    ----------
+    navigate : callable
+        ``navigate((x, y), final=True) -> [points]`` (a :class:`NavigationEscape`).
+    x, y : float
+        The run's last point.
+    blocked : callable, optional
+
+    Returns
+    -------
+    list of (float, float), or None
+
+    Examples
+    --------
+    >>> nav = lambda p, final: [(1.0, 0.0), (2.0, 0.0)]
+    >>> navigation_finish(nav, 0.0, 0.0, blocked=lambda p, q: False)
+    [(1.0, 0.0), (2.0, 0.0)]
+    >>> navigation_finish(nav, 0.0, 0.0, blocked=lambda p, q: q[0] > 1.5) is None
+    True
+    """
+    hop = navigate((x, y), final=True)
+    if not hop or (blocked is not None and any(blocked(a, b) for a, b in zip([(x, y), *hop[:-1]], hop, strict=True))):
+        return None
+    return hop
 
 
 def navigation_map(gridmap: GridMap) -> GridMap:

@@ -596,12 +596,12 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
                 if ok_i:
                     pts = np.vstack([pts, goal])
                 else:  # the straight hop is blocked: down the navigation function instead, as follow does
-                    if nav_hop is None:
-                        from .escapes import NavigationEscape
+                    from .escapes import NavigationEscape, navigation_finish
 
+                    if nav_hop is None:
                         nav_hop = NavigationEscape(field)
-                    hop = nav_hop((lx, ly), final=True)
-                    if hop and all(not blocked(a, b) for a, b in zip([(lx, ly), *hop[:-1]], hop, strict=True)):
+                    hop = navigation_finish(nav_hop, lx, ly, blocked)
+                    if hop is not None:
                         pts = np.vstack([pts, np.asarray(hop, dtype=float)])
                         ok_i = True
                 extra["goal_appended"] = ok_i

@@ -38,6 +38,7 @@ from ._kernels_follow import _blocked_many, _force_many
 from .basins import Basins, basins, descent_successor
 from .descent import _SLIDES, ESCAPES, STEP_RULES, Point, _gains, descend
 from .errors import GridfieldError, ParameterError
+from .escapes import NavigationEscape, navigation_finish, navigation_map
 from .grid import Grid, GridMap, _as_xy
 from .params import check
 from .path import Path
@@ -211,8 +212,6 @@ def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = N
     force = grid_sampler(field, sampling=setup.sampling)
     blocked = grid_blocked(grid_map)
     potential = attraction = None
-    from .escapes import NavigationEscape
-
     # the navigation escape's moves, and for every escape rule the finish of a reached run whose
     # straight last hop to the goal is blocked (built lazily: costs nothing unless used)
     navigate = navigation if navigation is not None else NavigationEscape(field)
@@ -240,8 +239,6 @@ def _same_component(gridmap: GridMap, start: Point, goal: Point, cache: dict[Any
     """Whether ``start`` and ``goal`` lie in one 4-connected free region of the navigation map (a
     diagonal move that cuts no corner is two orthogonal ones, so this is the wavefront's rule)."""
     from scipy import ndimage
-
-    from .escapes import navigation_map
 
     key = ("free_components", gridmap)
     nm = navigation_map(gridmap)
@@ -295,7 +292,6 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     'reached'
     """
     from .diagnose import diagnose, unreachable_hint
-    from .escapes import NavigationEscape
     from .potential import build_field, field_distance_map, resolve_params
 
     params = dict(params or {})
@@ -596,8 +592,6 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
                 if ok_i:
                     pts = np.vstack([pts, goal])
                 else:  # the straight hop is blocked: down the navigation function instead, as follow does
-                    from .escapes import NavigationEscape, navigation_finish
-
                     if nav_hop is None:
                         nav_hop = NavigationEscape(field)
                     hop = navigation_finish(nav_hop, lx, ly, blocked)

@@ -7,8 +7,10 @@ only when the caller passes the field it already has (``gridfield.planners.plan(
 return_field=True)`` hands back the field a ``potential`` path followed).
 
 The package has three layers: :mod:`gridfield.plot.layers` (occupancy, outlines, paths, endpoints,
-legend, quiver, and the :class:`Artists` record), :mod:`gridfield.plot.figures` (one function per
-figure) and :mod:`gridfield.plot.animation` (GIF/MP4 writers). Every function follows one contract:
+legend, quiver, and the :class:`Artists` record), the figures (one function per figure:
+:mod:`gridfield.plot.figures` for maps and fields, :mod:`gridfield.plot.results` for comparisons,
+convergence and the plan figure written to a file) and :mod:`gridfield.plot.animation` (GIF/MP4
+writers). Every function follows one contract:
 
 - matplotlib is imported inside the function (importing :mod:`gridfield.plot` is cheap);
 - ``ax=None`` creates a new figure (constrained layout), otherwise the function draws into ``ax``;
@@ -28,15 +30,13 @@ from .animation import animate_brushfire, save_plan_animation
 from .figures import (
     plot_basins,
     plot_brushfire,
-    plot_comparison,
-    plot_convergence,
     plot_map,
     plot_potential,
     plot_star_world,
     plot_surface,
-    save_plan_figure,
 )
 from .layers import Artists
+from .results import plot_comparison, plot_convergence, save_plan_figure
 
 __all__ = [
     "Artists",

@@ -59,9 +59,9 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.distance import directed_hausdorff
 
-from .errors import GridfieldError, ParameterError, check_positive
-from .path import Path, path_length
-from .world import World
+from ..errors import GridfieldError, ParameterError, check_positive
+from ..path import Path, path_length
+from ..world import World
 
 __all__ = [
     "ERROR_COLUMNS",
@@ -464,8 +464,8 @@ def distance_map_errors(
     >>> e["euclidean"]["max"] <= 0.5 / 2 ** 0.5
     True
     """
-    from .brushfire import METRICS, brushfire
-    from .rasterize import rasterize
+    from ..brushfire import METRICS, brushfire
+    from ..rasterize import rasterize
 
     h = check_positive("resolution", resolution)
     metrics = list(METRICS if metrics is None else metrics)
@@ -558,8 +558,8 @@ def _optimum_fn(world: Any, *, cache: dict[Any, Any] | None = None
     any-angle graph of the grid for a grid map or a world made from one (gridfield.gridpoly), kept in
     ``cache`` when given (the plan cache: :func:`gridfield.planners.plan` finds the same graph there),
     else the visibility graph of the world (the one ``plan("visibility")`` uses, cached per world)."""
-    from .grid import GridMap
-    from .gridpoly import source_grid
+    from ..grid import GridMap
+    from ..gridpoly import source_grid
 
     if isinstance(world, GridMap):
         gm = world if not isinstance(world.world, World) else None
@@ -567,11 +567,11 @@ def _optimum_fn(world: Any, *, cache: dict[Any, Any] | None = None
     else:
         gm = source_grid(world)
     if gm is not None:
-        from .anyangle import grid_graph
+        from ..anyangle import grid_graph
 
         solver: Any = grid_graph(gm, cache=cache)
     else:
-        from .visibility import _cached_graph
+        from ..visibility import _cached_graph
 
         solver = _cached_graph(world, "block")
 
@@ -590,14 +590,14 @@ def _optimum(world: World, start: NDArray[np.float64], goal: NDArray[np.float64]
 
 def _as_world(target: Any, what: str) -> tuple[World, Any]:
     """A vector world as is, or a grid map's exact polygons (gridfield.gridpoly) and the map."""
-    from .grid import GridMap
+    from ..grid import GridMap
 
     if isinstance(target, World):
         return target, None
     if isinstance(target, GridMap):
         if isinstance(target.world, World):
             return target.world, None
-        from .gridpoly import grid_world
+        from ..gridpoly import grid_world
 
         return grid_world(target), target
     raise ParameterError(f"{what} needs a vector World or a GridMap, got {type(target).__name__}")
@@ -695,14 +695,14 @@ def convergence_study(
     >>> [(r["resolution"], r["status"], r["hausdorff"]) for r in rows]
     [(1.0, 'reached', 0.0), (0.5, 'reached', 0.0)]
     """
-    from .planners import get_planner, plan
-    from .rasterize import rasterize
+    from ..planners import get_planner, plan
+    from ..rasterize import rasterize
 
     world, base = _as_world(world, "convergence_study")
     hs = [check_positive("resolution", r) for r in resolutions]
     if not hs:
         raise ParameterError("give at least one resolution")
-    from .grid import Grid
+    from ..grid import Grid
 
     for h in hs:  # every resolution's grid sized against the memory limit before any planner runs
         Grid.covering(world.bounds, h, border=world.border)
@@ -718,7 +718,7 @@ def convergence_study(
     def grid_at(i: int) -> Any:
         if base is None:
             return rasterize(world, hs[i])
-        from .gridpoly import block_downsample
+        from ..gridpoly import block_downsample
 
         return block_downsample(base, factors[i])
 
@@ -889,8 +889,8 @@ def batch_compare(
     >>> r["planners"]["visibility"]["success_rate"], r["planners"]["visibility"]["length_ratio"]["max"]
     (1.0, 1.0)
     """
-    from .planners import get_planner, plan
-    from .rasterize import rasterize
+    from ..planners import get_planner, plan
+    from ..rasterize import rasterize
 
     world, base = _as_world(world, "batch_compare")
     if isinstance(n_pairs, bool) or not isinstance(n_pairs, int | np.integer) or n_pairs < 1:
@@ -906,7 +906,7 @@ def batch_compare(
     if base is None:
         gm = rasterize(world, h)
     else:
-        from .gridpoly import block_downsample
+        from ..gridpoly import block_downsample
 
         gm = block_downsample(base, _grid_factor(base, h))
     optimum = _optimum_fn(world)

@@ -103,6 +103,14 @@ def get_planner(name: str) -> tuple[Callable[..., Path], str]:
     ------
     ParameterError
         For a name not in :data:`PLANNERS`.
+    GridfieldError
+        When the planner's module needs an optional third-party package that is not installed
+        ("not available in this installation", naming the package): :func:`gridfield.compare.batch_compare`
+        reports such planners as skipped.
+    ImportError
+        When importing the planner's module fails inside gridfield itself (a bug, raised as it is).
+    AttributeError
+        When the registry entry names a function its module does not define (a bug in :data:`PLANNERS`).
 
     Examples
     --------
@@ -116,9 +124,18 @@ def get_planner(name: str) -> tuple[Callable[..., Path], str]:
         raise ParameterError(f"unknown planner {name!r}; expected one of {', '.join(PLANNERS)}")
     module, func, kind = PLANNERS[name]
     try:
-        fn = getattr(importlib.import_module(module), func)
-    except (ImportError, AttributeError) as e:
-        raise GridfieldError(f"planner {name!r} is not available in this installation ({e})") from None
+        mod = importlib.import_module(module)
+    except ImportError as e:
+        missing = e.name or ""
+        if not missing or missing == "gridfield" or missing.startswith("gridfield."):
+            raise  # gridfield's own import failed (or the failure names no module): a bug, not a missing extra
+        raise GridfieldError(f"planner {name!r} is not available in this installation (install the package "
+                             f"providing {missing.partition('.')[0]!r}: {e})") from None
+    try:
+        fn = getattr(mod, func)
+    except AttributeError as e:
+        raise AttributeError(f"PLANNERS[{name!r}] names {module}.{func}, which {module} does not define "
+                             f"(a bug in the planner registry)") from e
     return fn, kind
 
 

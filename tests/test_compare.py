@@ -329,16 +329,40 @@ def test_batch_compare_on_seed000(monkeypatch):
     assert [r["start"] for r in again["rows"]] == [r["start"] for r in out["rows"]]  # same seed, same pairs
 
 
-def test_batch_compare_reports_missing_planners_and_bad_input(monkeypatch):
-    monkeypatch.setitem(PLANNERS, "missing", ("gridfield_no_such_module", "plan", "grid"))
+def _fake_planner_module(tmp_path, monkeypatch, name, first_line):
+    """A PLANNERS entry ``name`` whose module (written to tmp_path) starts with ``first_line``."""
+    module = f"fake_compare_{name}"
+    (tmp_path / f"{module}.py").write_text(f"{first_line}\n\ndef plan(gridmap, start, goal, params):\n    pass\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.delitem(sys.modules, module, raising=False)
+    monkeypatch.setitem(PLANNERS, name, (module, "plan", "grid"))
+
+
+def test_batch_compare_reports_missing_planners_and_bad_input(tmp_path, monkeypatch):
+    # a planner whose optional third-party dependency is not installed is skipped, saying so
+    _fake_planner_module(tmp_path, monkeypatch, "missing", "import no_such_optional_dependency")
     w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"rectangle": [4, 2, 6, 8]}]})
     out = batch_compare(w, 2, resolution=0.5, planners=("visibility", "missing"), progress=False)
-    assert "missing" in out["skipped"] and "not available" in out["skipped"]["missing"]
+    assert list(out["skipped"]) == ["missing"] and list(out["planners"]) == ["visibility"]
+    assert "not available in this installation" in out["skipped"]["missing"]
+    assert "no_such_optional_dependency" in out["skipped"]["missing"]
     with pytest.raises(ParameterError, match="n_pairs must be a positive integer"):
         batch_compare(w, 0, resolution=0.5)
     walled = world_from_dict({"bounds": [0, 0, 1, 1], "border": "wall", "obstacles": [{"rectangle": [0, 0, 1, 0.9]}]})
     with pytest.raises(GridfieldError, match="connected free start/goal pairs"):
         batch_compare(walled, 2, resolution=0.5, planners=("visibility",), progress=False)
+
+
+def test_batch_compare_does_not_skip_a_broken_gridfield_planner(tmp_path, monkeypatch):
+    """A gridfield import that fails, or a registry entry naming no function, is a bug: it is raised,
+    never reported as a skipped planner."""
+    w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"rectangle": [4, 2, 6, 8]}]})
+    _fake_planner_module(tmp_path, monkeypatch, "broken", "from gridfield.path import NoSuchName")
+    with pytest.raises(ImportError, match="NoSuchName"):
+        batch_compare(w, 2, resolution=0.5, planners=("visibility", "broken"), progress=False)
+    monkeypatch.setitem(PLANNERS, "typo", ("gridfield.follow", "plan_potentail", "grid"))
+    with pytest.raises(AttributeError, match=r"PLANNERS\['typo'\]"):
+        batch_compare(w, 2, resolution=0.5, planners=("visibility", "typo"), progress=False)
 
 
 # ----------------------------------------------------------------------------------------

@@ -1,0 +1,76 @@
+"""What the convergence study and the batch comparison share: the target (a vector world, or a
+grid map's exact polygons and the map), the block factor of a resolution on a grid map, and the
+exact optimum of a query. Part of :mod:`gridfield.compare`."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import GridfieldError, ParameterError
+from ..world import World
+
+
+def _optimum_fn(world: Any, *, cache: dict[Any, Any] | None = None
+                ) -> Callable[[NDArray[np.float64], NDArray[np.float64]], float]:
+    """``(start, goal) -> exact optimum length`` (NaN for a bad point) on a World or a GridMap: the
+    any-angle graph of the grid for a grid map or a world made from one (gridfield.gridpoly), kept in
+    ``cache`` when given (the plan cache: :func:`gridfield.planners.plan` finds the same graph there),
+    else the visibility graph of the world (the one ``plan("visibility")`` uses, cached per world)."""
+    from ..grid import GridMap
+    from ..gridpoly import source_grid
+
+    if isinstance(world, GridMap):
+        gm = world if not isinstance(world.world, World) else None
+        world = world.world
+    else:
+        gm = source_grid(world)
+    if gm is not None:
+        from ..anyangle import grid_graph
+
+        solver: Any = grid_graph(gm, cache=cache)
+    else:
+        from ..visibility import _cached_graph
+
+        solver = _cached_graph(world, "block")
+
+    def optimum(s: NDArray[np.float64], g: NDArray[np.float64]) -> float:
+        try:
+            return float(solver.shortest_path(s, g)[1])
+        except GridfieldError:
+            return math.nan
+
+    return optimum
+
+
+def _optimum(world: World, start: NDArray[np.float64], goal: NDArray[np.float64]) -> float:
+    return _optimum_fn(world)(start, goal)
+
+
+def _as_world(target: Any, what: str) -> tuple[World, Any]:
+    """A vector world as is, or a grid map's exact polygons (gridfield.gridpoly) and the map."""
+    from ..grid import GridMap
+
+    if isinstance(target, World):
+        return target, None
+    if isinstance(target, GridMap):
+        if isinstance(target.world, World):
+            return target.world, None
+        from ..gridpoly import grid_world
+
+        return grid_world(target), target
+    raise ParameterError(f"{what} needs a vector World or a GridMap, got {type(target).__name__}")
+
+
+def _grid_factor(base: Any, h: float) -> int:
+    """The integer block factor of resolution ``h`` on a grid map, or ParameterError."""
+    res = base.grid.resolution
+    k = int(round(h / res))
+    if k < 1 or abs(k * res - h) > 1e-9 * h:
+        raise ParameterError(f"on a grid map the resolutions must be multiples of the map's resolution {res:g} "
+                             f"(coarser grids are block-downsampled), got {h:g}")
+    return k

@@ -16,9 +16,9 @@
 /* On x86-64 with GCC, the row loops are compiled three times (AVX-512 as x86-64-v4, AVX2, baseline SSE2)
  * and the loader picks one for the CPU (ifunc). No FMA contraction in any of them (-ffp-contract=off in
  * setup.py; FMA is never implied without it), so the results stay bit-identical across the clones.
- * Measured on the 2-core AMD EPYC (AVX-512) dev machine, one thread, 2048^2 rows (a C driver, best of
- * 25): 52 ms with the AVX2 clone, 34 ms with x86-64-v4, 25 ms with x86-64-v4 and the occupancy in its
- * own pass (below); numba (LLVM for the host CPU) ran 26-31 ms side by side. */
+ * The x86-64-v4 clone and the occupancy in its own pass (below) are there for speed: single-threaded,
+ * the AVX2 clone alone took about twice as long (the figures: benchmarks/README.md, "The last two
+ * ports, side by side with numba"). */
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && __GNUC__ >= 11
 #define GF_ROW_FN __attribute__((target_clones("arch=x86-64-v4", "avx2", "default"))) static
 #elif defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)

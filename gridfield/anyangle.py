@@ -26,8 +26,9 @@ Queries
     pass over the corners each), then A* with the straight-line heuristic runs over the graph.
 
 The graph of a map is built once and cached (per map content; :func:`grid_graph`), so many queries
-on one map pay only for the two visibility passes and the search. Measured build and query times on
-512 x 512 Moving AI maps, beside the octile wavefront on the same queries: ``benchmarks/README.md``.
+on one map pay only for the two visibility passes and the search. Build and query times on
+512 x 512 Moving AI maps, beside the octile wavefront on the same queries: ``benchmarks/README.md``,
+"Any-angle optimum on grid maps".
 
 Relation to the octile optimum (8-connected, no corner cutting, the length in Moving AI ``.scen``
 files): between cell centres the any-angle optimum is never longer (an octile path is a feasible
@@ -355,8 +356,8 @@ def _symmetric_csr(n: int, ei: NDArray[np.integer[Any]], ej: NDArray[np.integer[
 
 
 #: Side of the square blocks (lattice units) the corners are bucketed in for the nearest-first search
-#: (32: random512-10-0 builds in about half the kernel CPU time of 8 and 0.8 of 16; the game, room and
-#: maze maps of benchmarks/README.md in 0.55-1.0 of 16).
+#: (32: random512-10-0 builds in less kernel CPU time than with 8 or 16, the game, room and maze maps in
+#: no more than with 16; the figures: benchmarks/README.md, "Any-angle optimum on grid maps").
 BLOCK = 32
 
 

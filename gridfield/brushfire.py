@@ -22,8 +22,8 @@ distance (on large grids in strips, each on a window with a margin, verified; se
 Euclidean: the separable exact transform (per column, then the lower envelope per row; Meijster et
 al. 2000) with the nearest obstacle cell. All are exact. Connected obstacle components: union-find
 in strips. The kernels release the GIL and run on a small thread pool (``threads``). They are
-compiled ahead of time, at install: nothing is compiled at run time, and importing them takes a few
-milliseconds.
+compiled ahead of time, at install: nothing is compiled at run time, so the first call in a process
+costs what the later ones do (``benchmarks/README.md``, "Brushfire", "First call in a fresh process").
 """
 
 from __future__ import annotations
@@ -180,7 +180,8 @@ def _kernels() -> ModuleType:
 
 
 #: Grids with fewer cells run on one thread unless ``threads`` says otherwise: below about 1M cells
-#: handing work to a second thread costs about as much as it saves, more when the machine is busy.
+#: handing work to a second thread costs about as much as it saves, more when the machine is busy
+#: (``benchmarks/README.md``, "Brushfire", "How").
 PARALLEL_MIN_CELLS = 1 << 20
 
 _NO_COMP = np.zeros((1, 1), np.int32)  # placeholders for arrays that are not needed

@@ -43,7 +43,8 @@ cost proportional to the change, and labels and GVD follow in the windows. Any o
 new component, a merge, a split, a component that vanishes or moves past another in raster order,
 a connection only outside that window) may renumber every component after it: then labels and GVD are recomputed over the whole grid,
 lazily, the first time :attr:`IncrementalBrushfire.distance_map` is read after the update (compiled
-passes, about as long as the labelling part of a full brushfire).
+passes, about as long as the labelling part of a full brushfire: ``benchmarks/README.md``,
+"Incremental brushfire").
 
 Only the Euclidean metric is offered: its nearest obstacle is defined by a rule a window can
 reproduce exactly; the chessboard/taxicab transforms choose among equally near obstacles by the

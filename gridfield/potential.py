@@ -31,18 +31,15 @@ repulsive (distance ``D`` to the nearest obstacle, influence ``q_star``)
     distance, as in seed 002's grid brushfire). The wall border counts as a ring of occupied cells
     just outside the grid. ``grad D`` is the unit vector from that nearest cell centre to the cell
     centre: an exact direction, taken from the single nearest obstacle cell, so nothing is
-    smeared across the generalized Voronoi diagram. Measured against the exact distances of the
-    seed worlds (``world.distance``) with the conservative rasterization, this beat the
-    alternatives we tried at every resolution from 0.4 to 0.05: mean absolute error
-    0.3-0.6 cells and at most 0.71 cells, against about 1 cell (at most 1.41) for the distance to
-    the nearest point of the nearest occupied *square*, which is a guaranteed lower bound
-    but biased by a full cell, because a conservative rasterization marks cells the obstacle only
-    touches. The direction error was smaller too: 1.5 degrees median at ``h = 0.1`` on seed 000,
-    against 2.4 degrees. On conservatively rasterized worlds ``D`` still underestimates the exact
-    distance (mean -0.3 to -0.6 cells: the nearest occupied cell is the one sticking out most),
-    so the grid repulsion errs on the strong, safe side: on seed 000 at ``h = 0.1`` with
-    ``p = 3`` it is 1.25-1.4 times the exact force at ``1 <= D <= 1.5`` and up to 2.5 times
-    at ``D < 0.5``. On bitmaps, where the pixel square itself is the obstacle, ``D``
+    smeared across the generalized Voronoi diagram. Against the exact distances of the seed worlds
+    (``world.distance``) with the conservative rasterization, it was the most accurate of the
+    distances tried, in value and in direction, at every resolution from 0.4 to 0.05; the distance
+    to the nearest point of the nearest occupied *square* is a guaranteed lower bound but biased by
+    a full cell, because a conservative rasterization marks cells the obstacle only touches (the
+    figures: ``benchmarks/README.md``, "Potentials", "The distance behind the repulsion"). On
+    conservatively rasterized worlds ``D`` still underestimates the exact distance (the nearest
+    occupied cell is the one sticking out most), so the grid repulsion errs on the strong, safe
+    side. On bitmaps, where the pixel square itself is the obstacle, ``D``
     overestimates by half a cell along axis-parallel edges.
 
 ``repulsion="sum"`` (seed 000)
@@ -62,9 +59,10 @@ vortex (seed 003)
 
 Obstacle cells hold ``potential = +inf`` and zero gradients in every model. All returned arrays
 are float64, computed in float64: the fused kernel (compiled ahead of time, branch-free so that it
-vectorizes, IEEE division semantics) streams its outputs at ``np.copyto`` speed, so float32 could only gain by
-halving the bytes, at the cost of precision where ``U`` spans many orders of magnitude near
-obstacles. Grids below 2048 x 2048 cells are computed on the calling thread only.
+vectorizes, IEEE division semantics) streams its outputs at ``np.copyto`` speed
+(``benchmarks/README.md``, "Potentials"), so float32 could only gain by halving the bytes, at the
+cost of precision where ``U`` spans many orders of magnitude near obstacles. Grids below
+2048 x 2048 cells are computed on the calling thread only.
 """
 
 from __future__ import annotations
@@ -261,8 +259,8 @@ def resolve_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0
 
 #: Below this many cells (2048^2) the parallel kernels run on the calling thread only. The kernels
 #: are memory-bound (one thread streams at ``np.copyto`` speed), so a second thread gains little,
-#: and on a busy 2-core machine waiting for the thread pool cost up to 8x at 1024^2 and
-#: milliseconds on tiny grids (benchmarks/README.md, "Potentials").
+#: and on a busy machine waiting for the thread pool cost more than the kernel itself (the figures:
+#: benchmarks/README.md, "Potentials").
 _PARALLEL_MIN_CELLS = 1 << 22
 
 

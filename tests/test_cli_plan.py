@@ -1,4 +1,4 @@
-"""`gridfield plan`: DESIGN's JSON contract, parameter precedence and one-line errors."""
+"""`gridfield plan`: the JSON contract (README.md, ``plan --json``), parameter precedence and one-line errors."""
 
 from __future__ import annotations
 

@@ -19,14 +19,11 @@ from __future__ import annotations
 import argparse
 import io
 import os
-import queue
-import re
-import socket
-import subprocess
 import sys
-import threading
-import time
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # tools/, also when this file is not run as a script
+from webagg_explorer import ExplorerServer, button_pixel, data_pixel, free_port  # tools/webagg_explorer.py
 
 REPO = Path(__file__).resolve().parents[1]
 MAP = REPO / "maps" / "seed000.yaml"
@@ -35,47 +32,6 @@ CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-backg
 START, GOAL = (2.0, 2.0), (20.0, 3.0)
 PROBE = ((9.0, 1.0), (13.0, 3.5))  # a box the new path crosses and the initial one does not
 RED = (214, 39, 40)  # tab:red, the path's colour
-
-
-class Server:
-    def __init__(self, port: int) -> None:
-        env = dict(os.environ, PYTHONPATH=str(REPO), MPLBACKEND="Agg")
-        self.proc = subprocess.Popen([sys.executable, "-m", "gridfield", "explore", str(MAP), "--web", "--port",
-                                      str(port)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                                     env=env, cwd=REPO)
-        self.lines: queue.Queue[str] = queue.Queue()
-        self.log: list[str] = []
-        self.reader = threading.Thread(target=self._read, daemon=True)
-        self.reader.start()
-
-    def _read(self) -> None:
-        assert self.proc.stdout is not None
-        for line in self.proc.stdout:
-            self.lines.put(line.rstrip("\n"))
-
-    def wait_for(self, pattern: str, timeout: float = 90.0) -> re.Match[str]:
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            try:
-                line = self.lines.get(timeout=0.2)
-            except queue.Empty:
-                if self.proc.poll() is not None:
-                    break
-                continue
-            self.log.append(line)
-            print(f"  server: {line}")
-            if m := re.search(pattern, line):
-                return m
-        raise AssertionError(f"the server printed no line matching {pattern!r}")
-
-    def stop(self) -> None:
-        self.proc.terminate()
-        try:
-            self.proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-            self.proc.wait()
-        self.reader.join(5)
 
 
 def layout() -> dict[str, object]:
@@ -90,18 +46,13 @@ def layout() -> dict[str, object]:
 
     ex = Explorer(read_world(MAP))
     ex.figure.canvas.draw()
-    height = ex.figure.canvas.get_width_height()[1]
 
     def data(x: float, y: float) -> tuple[float, float]:
-        dx, dy = ex.ax.transData.transform((x, y))
-        return float(dx), float(height - dy)
+        return data_pixel(ex, x, y)
 
-    def button(name: str) -> tuple[float, float]:
-        dx, dy = ex.buttons[name].ax.transAxes.transform((0.5, 0.5))
-        return float(dx), float(height - dy)
-
-    out = {"data": data, "draw_robot": button("toggle_robot_drawing"), "cspace": button("compute_cspace"),
-           "toggle_3d": button("toggle_3d"), "size": ex.figure.canvas.get_width_height()}
+    out = {"data": data, "draw_robot": button_pixel(ex, "toggle_robot_drawing"),
+           "cspace": button_pixel(ex, "compute_cspace"), "toggle_3d": button_pixel(ex, "toggle_3d"),
+           "size": ex.figure.canvas.get_width_height()}
     out["probe"] = (data(PROBE[0][0], PROBE[1][1]), data(PROBE[1][0], PROBE[0][1]))  # top-left, bottom-right
     return out
 
@@ -133,10 +84,8 @@ def main() -> int:
     from playwright.sync_api import sync_playwright
 
     geo = layout()
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    server = Server(port)
+    port = free_port()
+    server = ExplorerServer([str(MAP), "--web", "--port", str(port)], timeout=90.0, echo=True)
     try:
         url = server.wait_for(r"gridfield explorer: (http://127\.0\.0\.1:\d+/)").group(1)
         print(f"page: {url}")

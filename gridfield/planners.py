@@ -41,7 +41,7 @@ PLANNERS: dict[str, tuple[str, str, str]] = {
     "fmm": ("gridfield.navigation", "plan_fmm", "grid"),
     "harmonic": ("gridfield.navigation", "plan_harmonic", "grid"),
     "sphere-nav": ("gridfield.navigation", "plan_sphere_nav", "world"),
-    "star-nav": ("gridfield.star", "plan_star_nav", "world"),
+    "star-nav": ("gridfield.navigation", "plan_star_nav", "world"),
 }
 
 #: World planners with their own implementation on grid maps (used when a grid map has no vector

@@ -394,7 +394,7 @@ def test_spiky_worlds_h_on_the_boundaries_positive_jacobian_and_the_follower_fro
 
 
 def test_planner_through_the_registry_with_a_disc_and_a_polygon() -> None:
-    assert PLANNERS["star-nav"][0] == "gridfield.star" and "lambda" in PARAMETERS and "kappa" in PARAMETERS
+    assert PLANNERS["star-nav"][0] == "gridfield.navigation" and "lambda" in PARAMETERS and "kappa" in PARAMETERS
     w = world_from_dict({"bounds": [0, 0, 20, 20], "obstacles": [
         {"circle": {"center": [7, 10], "radius": 2}},
         {"polygon": [[12, 6], [15, 8], [14, 13], [12.5, 10]]}]})

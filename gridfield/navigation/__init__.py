@@ -1,6 +1,6 @@
 """Navigation functions: potentials whose only minimum is the goal (Choset et al. sec. 4.5-4.6).
 
-Four constructions, each returned as a :class:`NavigationField` (the value array and its grid):
+Five constructions, the first four returned as a :class:`NavigationField` (the value array and its grid):
 
 - :func:`wavefront` -- the grid navigation function: the exact shortest-path cost to the goal cell
   over 4- or 8-connected moves, with unit costs or octile costs (1 and sqrt 2), optionally raised near
@@ -14,11 +14,15 @@ Four constructions, each returned as a :class:`NavigationField` (the value array
   the field is continued by nested "shells" in log scale (see :func:`harmonic`).
 - :func:`sphere_nav_function` -- the Rimon-Koditschek navigation function of a sphere world (disc
   obstacles inside a disc workspace), with its analytic gradient.
+- star worlds (:mod:`gridfield.star`) -- the same function on a world of star-shaped polygons and
+  discs, through the star-to-sphere transformation :func:`star_to_sphere`: :func:`star_world` (a
+  :class:`StarWorld` of :class:`StarObstacle`), :func:`nav_function`, :func:`spurious_minima`,
+  :func:`follow_star_nav`; :func:`star_nav_field` is its :class:`NavigationField`.
 
-The planners ``wavefront``, ``wavefront-octile``, ``fmm``, ``harmonic`` and ``sphere-nav`` of
-:mod:`gridfield.planners` are :func:`plan_wavefront`, :func:`plan_wavefront_octile`, :func:`plan_fmm`,
-:func:`plan_harmonic` and :func:`plan_sphere_nav`; :func:`navigation_field` gives the field of any of
-them (``gridfield field``).
+The planners ``wavefront``, ``wavefront-octile``, ``fmm``, ``harmonic``, ``sphere-nav`` and ``star-nav``
+of :mod:`gridfield.planners` are :func:`plan_wavefront`, :func:`plan_wavefront_octile`, :func:`plan_fmm`,
+:func:`plan_harmonic`, :func:`plan_sphere_nav` and :func:`plan_star_nav`; :func:`navigation_field` gives
+the field of any of the first five (``gridfield field``; ``star-nav``'s is :func:`star_nav_field`).
 
 Units: every value array is in world units (lengths, or costs measured as lengths), and every point
 crosses the public boundary as world coordinates ``(x, y)``; arrays are indexed ``[row, col]`` with
@@ -29,8 +33,13 @@ at value 1).
 Layout of the package (one construction per module, all of them sharing ``_field``): ``_field``
 (:class:`NavigationField`, :func:`extract_path`, the shared checks and the planner adapter),
 ``_wavefront`` (:func:`wavefront`, :func:`clearance_cost`), ``_fmm``, ``_harmonic``, ``_sphere``
-(sphere worlds); this ``__init__`` re-exports their public names and holds :func:`navigation_field`,
-the one function that knows every construction. The submodules are private: import from
+(sphere worlds), and star worlds in three modules: ``_star_obstacle`` (star-shaped obstacles and
+their smooth R-function obstacle functions), ``_star_world`` (the star world, its scaled obstacle
+functions and the star-to-sphere transformation, built on ``_sphere``'s terms) and ``_star_nav``
+(``kappa`` and ``lambda`` checks, the follower, the planner, the field and the figure data); this
+``__init__`` re-exports their public names and holds :func:`navigation_field`, the one function that
+knows every grid-field construction. :mod:`gridfield.star` stays the public module of star worlds
+and re-exports the same names. The submodules are private: import from
 ``gridfield.navigation``. (They carry a leading underscore also because ``wavefront``, ``fmm`` and
 ``harmonic`` are the names of functions of the package, which a submodule of the same name would
 shadow.)
@@ -48,8 +57,7 @@ from ..errors import ParameterError
 from ..grid import GridMap
 
 # Besides __all__, the names of the single-file module that callers use stay importable from here
-# (``X as X`` marks a re-export), among them the sphere-world terms gridfield.star reuses until star
-# worlds move into this package (as ``navigation/star.py``).
+# (``X as X`` marks a re-export), among them the sphere-world terms the star worlds reuse.
 from ._field import COSTS as COSTS
 from ._field import KINDS, NavigationField, _common, extract_path
 from ._field import SQRT2 as SQRT2
@@ -62,22 +70,37 @@ from ._sphere import KAPPA_LADDER as KAPPA_LADDER
 from ._sphere import _check_sphere_world, _discs_of, _workspace, plan_sphere_nav, sphere_nav_function
 from ._sphere import _rk_phi_grad as _rk_phi_grad
 from ._sphere import _rk_terms as _rk_terms
+from ._star_nav import StarNavWarning, follow_star_nav, plan_star_nav, spurious_minima, star_nav_field
+from ._star_obstacle import StarObstacle, find_star_center
+from ._star_world import StarWorld, nav_function, star_betas, star_to_sphere, star_world
 from ._wavefront import clearance_cost, plan_wavefront, plan_wavefront_octile, wavefront
 
 __all__ = [
     "KINDS",
     "NavigationField",
+    "StarNavWarning",
+    "StarObstacle",
+    "StarWorld",
     "clearance_cost",
     "extract_path",
+    "find_star_center",
     "fmm",
+    "follow_star_nav",
     "harmonic",
+    "nav_function",
     "navigation_field",
     "plan_fmm",
     "plan_harmonic",
     "plan_sphere_nav",
+    "plan_star_nav",
     "plan_wavefront",
     "plan_wavefront_octile",
     "sphere_nav_function",
+    "spurious_minima",
+    "star_betas",
+    "star_nav_field",
+    "star_to_sphere",
+    "star_world",
     "wavefront",
 ]
 

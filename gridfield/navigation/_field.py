@@ -2,8 +2,9 @@
 
 :class:`NavigationField` is the one result type of the navigation functions (:mod:`gridfield.navigation`):
 the value array on its grid, plus the construction's parameters and extra arrays. It lives apart from
-the constructions so that each of them (wavefront, fmm, harmonic, sphere worlds, and later star worlds)
-depends on this module, not on the others (fmm borrows only the wavefront's :func:`clearance_cost`). Also here: the upwind gradient of a
+the constructions so that each of them (wavefront, fmm, harmonic, sphere worlds, star worlds)
+depends on this module, not on the others (fmm borrows only the wavefront's :func:`clearance_cost`, star
+worlds only the sphere world's terms). Also here: the upwind gradient of a
 distance-like array, :func:`extract_path` (the compiled descent and gradient followers, the same for
 every grid field), the input checks the constructions share, and the adapter that turns a field and a
 start into a planner's :class:`~gridfield.path.Path`.

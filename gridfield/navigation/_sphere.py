@@ -4,8 +4,8 @@ Unlike the grid constructions, this one is analytic: ``phi`` and its gradient ar
 expressions of the discs, evaluated on a grid only for display (:func:`sphere_nav_function`), and the
 planner ``sphere-nav`` follows the exact gradient in the continuous world (:func:`plan_sphere_nav`).
 ``kappa`` must be large enough for the goal to be the only minimum; without one, the planner climbs
-:data:`KAPPA_LADDER`. The star-world planner (:mod:`gridfield.star`) maps star worlds onto these
-sphere worlds and reuses the terms computed here.
+:data:`KAPPA_LADDER`. The star-world planner (:mod:`gridfield.star`; ``_star_world`` and ``_star_nav``) maps star worlds
+onto these sphere worlds and reuses the terms computed here.
 """
 
 from __future__ import annotations

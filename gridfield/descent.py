@@ -1,10 +1,16 @@
 """The follower's specification: step rules, stop rules and local-minimum escapes (:func:`descend`).
 
-One core, :func:`descend`, holds the step and stop logic. It sees the field only through two
+The rules are written once, as the methods of :class:`Rules` (resolved from the parameters by
+:func:`rules`): each takes floats or numpy arrays alike, so the scalar follower :func:`descend` and
+the batch follower :func:`gridfield.follow.follow_many` run the same code, and the end of a
+reached run is the one function :func:`goal_hop`. :func:`descend` sees the field only through
 callables, ``force(p) -> (fx, fy)`` and ``blocked(p, q) -> bool``, so the grid follower
 (:func:`gridfield.follow.follow`, fields sampled from gradient arrays by
 :mod:`gridfield.sampling`) and the exact planner
-(:func:`gridfield.exact.plan_exact_potential`, forces from exact obstacle distances) share it.
+(:func:`gridfield.exact.plan_exact_potential`, forces from exact obstacle distances) share it; it
+returns a :class:`~gridfield.path.Path`. ``tests/test_follower_spec.py`` checks that both followers
+give the same points, status and details for every step rule, sampling, border, stop rule and
+escape.
 
 Step rules (names: Choset et al. ch. 4; registry: gridfield.params)
     ``normalized``: ``x += step * F/|F|`` (seed 000).
@@ -63,37 +69,38 @@ Escapes (seed 000's bonus question), tried when a local minimum is detected
     ``max(3 * step, tolerance)`` from the one it left). ``extra`` counts ``escapes_tried`` and
     ``escapes_succeeded`` and logs each escape.
 
-    Measured on the seed 000 segment world (step 0.1; ``benchmarks/follow.py --escapes 50``,
-    table in ``benchmarks/README.md``): one random jump escapes about one time in three (exact
-    planner 17/50 seeds, grid at h = 0.05 19/50); with up to 10 tries 49/50 runs reach the goal
-    (about 36 % of all jumps succeed). The seed's potential-increase escape reaches the goal with
-    its first jump on the exact field, and with the third on the grid.
+    How often each escape succeeds on the seed 000 segment world is measured by
+    ``benchmarks/follow.py --escapes 50`` (``benchmarks/README.md``, "Escapes on the seed 000
+    segment world").
 
 Examples
 --------
 A quadratic bowl ``U = |x - g|^2 / 2`` with a normalized step:
 
->>> pts, status, n, extra = descend(lambda p: (3.0 - p[0], 1.0 - p[1]), (0.0, 1.0), (3.0, 1.0),
-...                                 step=0.5, tolerance=0.3)
->>> status, n, pts[-1].tolist()
+>>> p = descend(lambda p: (3.0 - p[0], 1.0 - p[1]), (0.0, 1.0), (3.0, 1.0), step=0.5, tolerance=0.3)
+>>> p.status, p.iterations, p.end.tolist()
 ('reached', 6, [3.0, 1.0])
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
 from .errors import ParameterError
 from .escapes import navigation_finish, navigation_moves, potential_increase, random_jump
 from .grid import _as_xy
 from .params import REGISTRY, check
+from .path import Path
 
-__all__ = ["ESCAPES", "STEP_RULES", "descend"]
+__all__ = ["ESCAPES", "STEP_RULES", "Rules", "descend", "goal_hop", "rules"]
 
 #: The step rules and the escapes (the registry's choices for ``step_rule`` and ``escape``).
 STEP_RULES: tuple[str, ...] = REGISTRY["step_rule"].choices
@@ -120,6 +127,192 @@ _SLIDES: tuple[tuple[float, float, float], ...] = tuple(
 )
 
 
+def _pick(c: Any, a: Any, b: Any) -> Any:
+    """``a if c else b``: :func:`numpy.where` for one point (the rules below take either)."""
+    return a if c else b
+
+
+@dataclass(frozen=True)
+class Rules:
+    """The follower's step and stop rules, with their constants resolved once (:func:`rules`).
+
+    This is the specification that both followers run: :func:`descend` (one point, Python floats)
+    and :func:`gridfield.follow.follow_many` (many points, numpy arrays) call the same methods,
+    each written with arithmetic and comparisons only, so that it gives the same bits on a float
+    as on every element of an array. The stop rules are checked in this order before every step:
+    :meth:`reached`, (blocked, found by the step before), :meth:`oscillating`, :meth:`confined`,
+    :meth:`stalled` (no progress), the step budget, :meth:`small_gradient`.
+
+    Attributes
+    ----------
+    normalized : bool
+        The step rule: ``normalized`` (True) or ``scaled``.
+    step, ax, ay, min_speed : float
+        The normalized rule's step length; the scaled rule's gains per axis and minimum step.
+    tolerance : float
+        Reached when closer than this to the goal.
+    max_iterations, progress_window, confine_window : int
+        The step budget and the two stall windows (0: off; the confined rule is off for the
+        scaled step rule, whose steps have no fixed length to judge a box by).
+    gradient_threshold : float
+        Stall when ``|F|`` is not above it.
+    escape, escape_tries, escape_radius
+        The escape from local minima, its number of tries and the random jump's length.
+    unit : float
+        The stop rules' length unit: ``step`` (normalized) or ``tolerance`` (scaled).
+    revisit_tolerance : float
+        The oscillation radius (default ``1e-6 * unit``).
+    min_gain : float
+        Progress is a distance to the goal lower by more than this (``1e-3 * unit``).
+    box : float
+        The confined rule's box side (``2 * unit``).
+    same_radius : float
+        An escape that stalls within this of where it started found the same minimum.
+
+    Examples
+    --------
+    >>> r = rules(step=0.5)
+    >>> r.reached(0.4), r.small_gradient(0.0), r.next_point(0.0, 0.0, 3.0, 4.0, 5.0)
+    (False, True, (0.3, 0.4))
+    >>> r = rules(step_rule="scaled", alpha=0.1, min_speed=1.0, tolerance=0.5)
+    >>> r.unit, r.confine_window, r.next_point(0.0, 0.0, 3.0, 4.0, 5.0)
+    (0.5, 0, (0.6, 0.8))
+    """
+
+    normalized: bool
+    step: float
+    ax: float
+    ay: float
+    min_speed: float
+    tolerance: float
+    max_iterations: int
+    gradient_threshold: float
+    progress_window: int
+    confine_window: int
+    escape: str
+    escape_tries: int
+    escape_radius: float
+    unit: float
+    revisit_tolerance: float
+    min_gain: float
+    box: float
+    same_radius: float
+
+    # -- stop rules (distances and |F| as floats or arrays alike) ----------------------------------
+    def reached(self, d: Any) -> Any:
+        """The goal is reached: the distance ``d`` to it is below ``tolerance``."""
+        return d < self.tolerance
+
+    def oscillating(self, back: Any) -> Any:
+        """Oscillation: the distance ``back`` to the point two steps back is within ``revisit_tolerance``."""
+        return back <= self.revisit_tolerance
+
+    def confined(self, span_x: Any, span_y: Any) -> Any:
+        """Confined jitter: the last ``confine_window`` steps span at most ``box`` in x and in y."""
+        return (span_x <= self.box) & (span_y <= self.box)
+
+    def stalled(self, steps_since_best: Any) -> Any:
+        """No progress: the best distance to the goal is ``progress_window`` steps old (window > 0)."""
+        return steps_since_best >= self.progress_window
+
+    def progressed(self, d: Any, best: Any) -> Any:
+        """Progress: the distance ``d`` to the goal beats the best one by more than ``min_gain``."""
+        return d < best - self.min_gain
+
+    def small_gradient(self, fn: Any) -> Any:
+        """A stall where the force gives out: ``|F| <= gradient_threshold``, or ``|F|`` not finite."""
+        return (fn <= self.gradient_threshold) | (fn != fn) | (fn == math.inf)
+
+    # -- the step rule and its fallbacks ------------------------------------------------------------
+    def next_point(self, x: Any, y: Any, fx: Any, fy: Any, fn: Any, sqrt: Callable[[Any], Any] = math.sqrt,
+                   where: Callable[[Any, Any, Any], Any] = _pick) -> tuple[Any, Any]:
+        """The full step from ``(x, y)`` under the force ``(fx, fy)`` of norm ``fn`` (> 0).
+
+        ``normalized``: ``x + step * F/|F|``; ``scaled``: ``x + (ax, ay) * F``, stretched to
+        ``min_speed`` along ``F`` when shorter. ``sqrt`` and ``where`` are :func:`math.sqrt` and
+        ``a if c else b`` for one point, :func:`numpy.sqrt` and :func:`numpy.where` for arrays.
+        """
+        if self.normalized:
+            return x + self.step * fx / fn, y + self.step * fy / fn
+        sx, sy = self.ax * fx, self.ay * fy
+        if self.min_speed > 0.0:
+            short = sqrt(sx * sx + sy * sy) < self.min_speed
+            sx = where(short, self.min_speed * fx / fn, sx)
+            sy = where(short, self.min_speed * fy / fn, sy)
+        return x + sx, y + sy
+
+    @staticmethod
+    def slide(x: Any, y: Any, sx: Any, sy: Any, k: int) -> tuple[Any, Any]:
+        """The ``k``-th fallback (of ``len(_SLIDES)``) of the blocked step ``(sx, sy)`` from
+        ``(x, y)``: turned and shortened as :data:`_SLIDES` lists; the first free one is taken."""
+        c, sn, f = _SLIDES[k]
+        return x + f * (c * sx - sn * sy), y + f * (sn * sx + c * sy)
+
+    # -- where a stall is ---------------------------------------------------------------------------
+    @staticmethod
+    def older_stalls(f2: Any, f1: Any) -> Any:
+        """Oscillation: whether the stall point is the older of the two alternating points (its
+        ``|F|``, ``f2``, is not larger than the newer one's, ``f1``)."""
+        return f2 <= f1
+
+    @staticmethod
+    def weakest(forces: Any) -> Any:
+        """The stall point of a confined stretch: the index, along the last axis, of the first point
+        with the smallest ``|F|`` (a point without a force, NaN, counts as infinite)."""
+        f = np.asarray(forces, dtype=float)
+        return np.argmin(np.where(np.isnan(f), np.inf, f), axis=-1)
+
+
+def rules(*, step_rule: str = "normalized", step: float = 0.1, alpha: Any = 0.1, min_speed: float = 0.0,
+          tolerance: float = 0.1, max_iterations: int = 10_000, gradient_threshold: float = 0.0,
+          progress_window: int = 200, confine_window: int = 20, revisit_tolerance: float | None = None,
+          escape: str = "none", escape_tries: int = 10, escape_radius: float = 6.0) -> Rules:
+    """Check the follower's parameters (:mod:`gridfield.params`) and resolve its :class:`Rules`.
+
+    Parameters
+    ----------
+    step_rule, step, alpha, min_speed, tolerance, max_iterations, gradient_threshold
+        As in :func:`descend`.
+    progress_window, confine_window, revisit_tolerance, escape, escape_tries, escape_radius
+        As in :func:`descend`.
+
+    Returns
+    -------
+    Rules
+
+    Examples
+    --------
+    >>> r = rules(step=0.5, tolerance=0.5)
+    >>> r.unit, r.box, r.min_gain, r.same_radius
+    (0.5, 1.0, 0.0005, 1.5)
+    >>> rules(escape="jump")
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: escape must be one of ...
+    """
+    step_rule = check("step_rule", step_rule)
+    escape = check("escape", escape)
+    step = check("step", step)
+    ax, ay = _gains(alpha)
+    min_speed = check("min_speed", min_speed)
+    tolerance = check("tolerance", tolerance)
+    max_iterations = check("max_iterations", max_iterations)
+    gradient_threshold = check("gradient_threshold", gradient_threshold)
+    progress_window = check("progress_window", progress_window)
+    confine_window = check("confine_window", confine_window)
+    normalized = step_rule == "normalized"
+    if not normalized:  # scaled steps shrink where the field is weak: no fixed box to judge by
+        confine_window = 0
+    escape_tries = check("escape_tries", escape_tries)
+    escape_radius = check("escape_radius", escape_radius)
+    unit = step if normalized else tolerance
+    rev_tol = 1e-6 * unit if revisit_tolerance is None else check("revisit_tolerance", revisit_tolerance,
+                                                                       minimum=0.0)
+    return Rules(normalized, step, ax, ay, min_speed, tolerance, max_iterations, gradient_threshold,
+                 progress_window, confine_window, escape, escape_tries, escape_radius, unit, rev_tol,
+                 1e-3 * unit, 2.0 * unit, max(3.0 * unit, tolerance))
+
+
 def _free_step(x: float, y: float, sx: float, sy: float,
                blocked: Callable[[Point, Point], bool]) -> Point | None:
     """The first free fallback of the blocked step ``(sx, sy)`` from ``(x, y)`` (see :data:`_SLIDES`).
@@ -132,10 +325,44 @@ def _free_step(x: float, y: float, sx: float, sy: float,
     >>> _free_step(1.0, 0.0, 1.0, 0.0, wall) is None   # pressed against the wall
     True
     """
-    for c, sn, f in _SLIDES:
-        q = (x + f * (c * sx - sn * sy), y + f * (sn * sx + c * sy))
+    for k in range(len(_SLIDES)):
+        q = Rules.slide(x, y, sx, sy, k)
         if not blocked((x, y), q):
             return q
+    return None
+
+
+def goal_hop(x: float, y: float, goal: Point, blocked: Callable[[Point, Point], bool] | None,
+             navigate: Callable[..., list[Point]] | None) -> list[Point] | None:
+    """The points a reached run appends to end on the goal: the goal itself, or, when that straight
+    hop is blocked, the way down the navigation function (``navigate``); ``None`` when neither is
+    free. Shared by :func:`descend` and :func:`gridfield.follow.follow_many`.
+
+    Parameters
+    ----------
+    x, y : float
+        Where the reached run stopped (within the tolerance of the goal).
+    goal : (float, float)
+    blocked : callable or None
+        ``blocked(p, q)``, as in :func:`descend`.
+    navigate : callable or None
+        The navigation moves (:class:`gridfield.escapes.NavigationEscape`).
+
+    Returns
+    -------
+    list of (float, float) or None
+
+    Examples
+    --------
+    >>> goal_hop(0.9, 0.0, (1.0, 0.0), None, None)
+    [(1.0, 0.0)]
+    >>> goal_hop(0.9, 0.0, (1.0, 0.0), lambda p, q: True, None) is None
+    True
+    """
+    if blocked is None or not blocked((x, y), goal):
+        return [goal]
+    if navigate is not None:
+        return navigation_finish(navigate, x, y, blocked)
     return None
 
 
@@ -163,7 +390,8 @@ def descend(
     escape_radius: float = 6.0,
     rng: np.random.Generator | int | None = None,
     append_goal: bool = True,
-) -> tuple[NDArray[np.float64], str, int, dict[str, Any]]:
+    planner: str = "potential",
+) -> Path:
     """Follow the force field ``force`` from ``start`` until a stop rule fires.
 
     Parameters
@@ -211,18 +439,19 @@ def descend(
         Random source of the random-walk escape (an int seeds a new Generator).
     append_goal : bool
         Append the goal to the path when reached.
+    planner : str
+        The name the returned Path carries (the planner that runs the follower).
 
     Returns
     -------
-    points : ndarray, shape (N, 2)
-    status : str
-        ``reached``, ``local_minimum``, ``collision`` or ``max_iterations``.
-    iterations : int
-        Moves made (steps and escape moves; the appended goal is not counted).
-    extra : dict
+    Path
+        ``points`` (N, 2); ``status`` ``reached``, ``local_minimum`` or ``max_iterations``;
+        ``iterations``, the moves made (steps and escape moves; the appended goal is not counted);
+        ``params``, the resolved :class:`Rules`; ``seconds``, the time following; ``extra``:
         ``stop_reason``; ``stall_point`` and ``local_minima`` (every stall point met, escaped or
-        not); ``oscillation`` (the two alternating points); ``collision_at``; ``goal_appended``;
-        ``escapes_tried``, ``escapes_succeeded`` and ``escapes`` (a log) when escaping.
+        not); ``oscillation`` (the two alternating points); ``blocked_at``; ``slid_steps``;
+        ``goal_appended``; ``escapes_tried``, ``escapes_succeeded`` and ``escapes`` (a log) when
+        escaping; ``navigation_segments`` for the navigation escape.
 
     Examples
     --------
@@ -230,9 +459,8 @@ def descend(
     into it), then no descent step is free:
 
     >>> wall = lambda p, q: q[0] >= 2.0
-    >>> pts, status, n, extra = descend(lambda p: (3.0 - p[0], 0.0), (0.0, 0.0), (3.0, 0.0),
-    ...                                 step=0.5, tolerance=0.3, blocked=wall)
-    >>> status, extra["stop_reason"], bool(pts[:, 0].max() < 2.0), extra["blocked_at"][0] >= 2.0
+    >>> p = descend(lambda p: (3.0 - p[0], 0.0), (0.0, 0.0), (3.0, 0.0), step=0.5, tolerance=0.3, blocked=wall)
+    >>> p.status, p.extra["stop_reason"], bool(p.points[:, 0].max() < 2.0), p.extra["blocked_at"][0] >= 2.0
     ('local_minimum', 'blocked', True, True)
 
     A wrong parameter is named:
@@ -242,26 +470,14 @@ def descend(
     ...
     gridfield.errors.ParameterError: step must be a finite number > 0, got 0
     """
-    step_rule = check("step_rule", step_rule)
-    escape = check("escape", escape)
-    step = check("step", step)
-    ax, ay = _gains(alpha)
-    min_speed = check("min_speed", min_speed)
-    tolerance = check("tolerance", tolerance)
-    max_iterations = check("max_iterations", max_iterations)
-    gradient_threshold = check("gradient_threshold", gradient_threshold)
-    progress_window = check("progress_window", progress_window)
-    confine_window = check("confine_window", confine_window)
-    if step_rule != "normalized":  # scaled steps shrink where the field is weak: no fixed box to judge by
-        confine_window = 0
-    escape_tries = check("escape_tries", escape_tries)
-    escape_radius = check("escape_radius", escape_radius)
-    normalized = step_rule == "normalized"
-    unit = step if normalized else tolerance
-    rev_tol = 1e-6 * unit if revisit_tolerance is None else check("revisit_tolerance", revisit_tolerance,
-                                                                       minimum=0.0)
-    min_gain = 1e-3 * unit
-    same_radius = max(3.0 * unit, tolerance)
+    r = rules(step_rule=step_rule, step=step, alpha=alpha, min_speed=min_speed, tolerance=tolerance,
+              max_iterations=max_iterations, gradient_threshold=gradient_threshold,
+              progress_window=progress_window, confine_window=confine_window,
+              revisit_tolerance=revisit_tolerance, escape=escape, escape_tries=escape_tries,
+              escape_radius=escape_radius)
+    escape, escape_tries, escape_radius = r.escape, r.escape_tries, r.escape_radius
+    max_iterations, progress_window, confine_window = r.max_iterations, r.progress_window, r.confine_window
+    unit, same_radius = r.unit, r.same_radius
     if escape == "potential_increase" and (potential is None or attraction is None):
         raise ParameterError("escape='potential_increase' needs the potential and the attractive force "
                              "(pass potential= and attraction=)")
@@ -273,6 +489,7 @@ def descend(
 
     x, y = _as_xy(start, "start")
     gx, gy = _as_xy(goal, "goal")
+    t0 = time.perf_counter()
     xs, ys = [x], [y]
     fns: list[float] = []  # |F| at xs[i], ys[i]
     it = 0
@@ -286,7 +503,6 @@ def descend(
     tried = 0
     slid = 0  # steps shortened or turned because the full step was blocked
     since = 0  # index of the first point of the current descent (after the last escape move)
-    box = 2.0 * unit
     pinned = False  # no free descent step from the current point
 
     def settle(outcome: str, where: list[float] | None = None) -> None:
@@ -300,12 +516,14 @@ def descend(
 
     fx = fy = fn = 0.0
     sqrt = math.sqrt
-    isinf = math.isinf
+    # the rules (bound once: they run every step)
+    reached, oscillating, confined, stalled = r.reached, r.oscillating, r.confined, r.stalled
+    progressed, small_gradient, next_point = r.progressed, r.small_gradient, r.next_point
     append_x, append_y = xs.append, ys.append
     dx, dy = x - gx, y - gy
     d = sqrt(dx * dx + dy * dy)
     while True:
-        if d < tolerance:
+        if reached(d):
             status = "reached"
             extra["stop_reason"] = "goal"
             break
@@ -316,17 +534,17 @@ def descend(
             reason = "blocked"
             stall = n - 1
             pinned = False
-        elif n > 2 and sqrt((x - xs[-3]) * (x - xs[-3]) + (y - ys[-3]) * (y - ys[-3])) <= rev_tol:
+        elif n > 2 and oscillating(sqrt((x - xs[-3]) * (x - xs[-3]) + (y - ys[-3]) * (y - ys[-3]))):
             reason = "oscillation"
-            stall = n - 3 if fns[n - 3] <= fns[n - 2] else n - 2
+            stall = n - 3 if r.older_stalls(fns[n - 3], fns[n - 2]) else n - 2
             extra["oscillation"] = [[xs[n - 2], ys[n - 2]], [x, y]]
         elif (confine_window and n - since > confine_window
-              and max(xs[-confine_window - 1:]) - min(xs[-confine_window - 1:]) <= box
-              and max(ys[-confine_window - 1:]) - min(ys[-confine_window - 1:]) <= box):
+              and confined(max(wx := xs[-confine_window - 1:]) - min(wx),
+                           max(wy := ys[-confine_window - 1:]) - min(wy))):
             reason = "confined"
             k0 = n - confine_window - 1
-            stall = min(range(k0, n - 1), key=lambda k: fns[k] if fns[k] == fns[k] else math.inf)
-        elif progress_window and it - best_it >= progress_window:
+            stall = k0 + int(r.weakest(fns[k0:n - 1]))
+        elif progress_window and stalled(it - best_it):
             reason = "no_progress"
             stall = win_idx
         else:
@@ -343,8 +561,8 @@ def descend(
                 fns[n - 1] = fn
             if fn < win_min:
                 win_min, win_idx = fn, n - 1
-            if not (fn > gradient_threshold) or isinf(fn):
-                reason = "small_gradient" if fn == fn and not isinf(fn) else "undefined_force"
+            if small_gradient(fn):
+                reason = "small_gradient" if fn == fn and fn != math.inf else "undefined_force"
                 stall = n - 1
 
         if reason:
@@ -391,14 +609,7 @@ def descend(
             continue
 
         # -- one step --------------------------------------------------------------------
-        if normalized:
-            nx = x + step * fx / fn
-            ny = y + step * fy / fn
-        else:
-            sx, sy = ax * fx, ay * fy
-            if min_speed > 0.0 and sqrt(sx * sx + sy * sy) < min_speed:
-                sx, sy = min_speed * fx / fn, min_speed * fy / fn
-            nx, ny = x + sx, y + sy
+        nx, ny = next_point(x, y, fx, fy, fn)
         if blocked is not None and blocked((x, y), (nx, ny)):
             free = _free_step(x, y, nx - x, ny - y, blocked)
             if free is None:  # no descent step is free: the force presses the follower onto an obstacle
@@ -413,24 +624,18 @@ def descend(
         it += 1
         dx, dy = x - gx, y - gy
         d = sqrt(dx * dx + dy * dy)
-        if d < best - min_gain:
+        if progressed(d, best):
             best, best_it = d, it
             win_min, win_idx = math.inf, len(xs) - 1
 
     settle(status)
     extra["slid_steps"] = slid
     if status == "reached" and append_goal and (x, y) != (gx, gy):
-        ok = blocked is None or not blocked((x, y), (gx, gy))
-        if ok:
-            xs.append(gx)
-            ys.append(gy)
-        elif navigate is not None:  # the straight hop is blocked: down the navigation function instead
-            hop = navigation_finish(navigate, x, y, blocked)
-            if hop is not None:
-                xs.extend(q[0] for q in hop)
-                ys.extend(q[1] for q in hop)
-                ok = True
-        extra["goal_appended"] = ok
+        hop = goal_hop(x, y, (gx, gy), blocked, navigate)
+        if hop is not None:
+            xs.extend(q[0] for q in hop)
+            ys.extend(q[1] for q in hop)
+        extra["goal_appended"] = hop is not None
     elif status == "reached":
         extra["goal_appended"] = False
     if minima:
@@ -441,4 +646,5 @@ def descend(
         extra["escapes"] = log
     if escape == "navigation":
         extra["navigation_segments"] = [e["points"] for e in log if "points" in e]
-    return np.column_stack([xs, ys]), status, it, extra
+    return Path(np.column_stack([xs, ys]), status, planner, iterations=it, params=dataclasses.asdict(r),
+                seconds=time.perf_counter() - t0, extra=extra)

@@ -54,6 +54,7 @@ import math
 import time
 import weakref
 from collections.abc import Callable, Mapping
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -320,18 +321,16 @@ def plan_exact_potential(world: World, start: ArrayLike, goal: ArrayLike, params
     attraction = None
     if fp["escape"] == "potential_increase":
         potential, attraction = field.potential, field.attraction
-    t0 = time.perf_counter()
-    pts, status, n, extra = descend(
+    path = descend(
         field.force, s, g, blocked=field.blocked, potential=potential, attraction=attraction,
-        rng=np.random.default_rng(fp["seed"]),
+        rng=np.random.default_rng(fp["seed"]), planner="exact-potential",
         **{k: fp[k] for k in ("step_rule", "step", "alpha", "min_speed", "tolerance", "max_iterations",
                               "gradient_threshold", "progress_window", "confine_window", "escape", "escape_tries",
                               "escape_radius")},
     )
-    seconds = time.perf_counter() - t0
+    extra = dict(path.extra)
     extra["build_seconds"] = build
     merged = dict(field.params)
     merged.update(fp)
     merged.pop("sampling", None)
-    return Path(pts, status, "exact-potential", iterations=n, params=merged, seconds=seconds,
-                min_clearance=_clearance(world, pts), extra=extra)
+    return replace(path, params=merged, min_clearance=_clearance(world, path.points), extra=extra)

@@ -36,9 +36,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._kernels_follow import _blocked_many, _force_many
 from .basins import Basins, basins, descent_successor
-from .descent import _SLIDES, ESCAPES, STEP_RULES, Point, _gains, descend
+from .descent import _SLIDES, ESCAPES, STEP_RULES, Point, Rules, descend, goal_hop, rules
 from .errors import GridfieldError, ParameterError
-from .escapes import NavigationEscape, navigation_finish, navigation_map
+from .escapes import NavigationEscape, navigation_map
 from .grid import Grid, GridMap, _as_xy
 from .params import check
 from .path import Path
@@ -218,20 +218,18 @@ def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = N
     if p["escape"] == "potential_increase":
         potential = grid_potential_sampler(field, sampling=setup.sampling)
         attraction = attraction_force(goal, p)
-    t0 = time.perf_counter()
-    pts, status, n, extra = descend(force, s, goal, blocked=blocked, potential=potential, attraction=attraction,
-                                    navigate=navigate, rng=np.random.default_rng(p["seed"]), **setup.kwargs)
-    seconds = time.perf_counter() - t0
+    path = descend(force, s, goal, blocked=blocked, potential=potential, attraction=attraction, navigate=navigate,
+                   rng=np.random.default_rng(p["seed"]), **setup.kwargs)
+    extra = dict(path.extra)
     extra["sampling"] = setup.sampling
-    _note_outside(extra, grid_map.grid, pts)
+    _note_outside(extra, grid_map.grid, path.points)
     if setup.vortex:
         extra["alpha_xy"] = list(setup.kwargs["alpha"]) if isinstance(setup.kwargs["alpha"], tuple) else None
-    return Path(pts, status, "potential", iterations=n, params=p, seconds=seconds,
-                min_clearance=_clearance(field, pts), extra=extra)
+    return replace(path, params=p, min_clearance=_clearance(field, path.points), extra=extra)
 
 
 #: Maps up to this many cells get the reachability check before any work (a labelling of the free
-#: space, about 30 ms at 2048^2); larger ones only when a run does not reach the goal.
+#: space, linear in the cells); larger ones only when a run does not reach the goal.
 _REACH_FIRST_CELLS = 1 << 22
 
 
@@ -387,13 +385,8 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
     occ, x0, y0, res = _grid_args(grid_map)
     nearest = setup.sampling == "nearest"
     wall = grid_map.grid.border == "wall"
-    normalized = kw["step_rule"] == "normalized"
-    step, tol, max_it = kw["step"], kw["tolerance"], kw["max_iterations"]
-    ax, ay = _gains(kw["alpha"])
-    min_speed, thr, window = kw["min_speed"], kw["gradient_threshold"], kw["progress_window"]
-    cw = kw["confine_window"] if normalized else 0
-    unit = step if normalized else tol
-    rev_tol, min_gain = 1e-6 * unit, 1e-3 * unit
+    r = rules(**kw)  # the rules descend runs, applied below to arrays of points
+    cw, window, max_it = r.confine_window, r.progress_window, r.max_iterations
 
     t0 = time.perf_counter()
     N = len(S)
@@ -414,7 +407,6 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
     RY = np.empty((N, cw + 1))
     RF = np.full((N, cw + 1), np.nan)
     RX[:, 0], RY[:, 0] = X, Y
-    box = 2.0 * unit
     hist_x = [X.copy()] if keep_paths else []
     hist_y = [Y.copy()] if keep_paths else []
     hist_ids = [ids.copy()] if keep_paths else []
@@ -441,13 +433,13 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
     while len(ids):
         dx, dy = X - goal[0], Y - goal[1]
         d = np.sqrt(dx * dx + dy * dy)
-        done = d < tol
+        done = r.reached(d)
         finish(done, 1, "goal")
         ox, oy = X - P2x, Y - P2y
-        osc_m = ~done & (np.sqrt(ox * ox + oy * oy) <= rev_tol)
+        osc_m = ~done & r.oscillating(np.sqrt(ox * ox + oy * oy))
         if osc_m.any():
             idx = ids[osc_m]
-            first = F2[osc_m] <= F1[osc_m]
+            first = r.older_stalls(F2[osc_m], F1[osc_m])
             stall[idx, 0] = np.where(first, P2x[osc_m], P1x[osc_m])
             stall[idx, 1] = np.where(first, P2y[osc_m], P1y[osc_m])
             osc[idx, 0, 0], osc[idx, 0, 1] = P1x[osc_m], P1y[osc_m]
@@ -455,18 +447,17 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
             finish(osc_m, 2, "oscillation")
         done |= osc_m
         if cw and it >= cw:
-            cf_m = ~done & (np.ptp(RX, axis=1) <= box) & (np.ptp(RY, axis=1) <= box)
+            cf_m = ~done & r.confined(np.ptp(RX, axis=1), np.ptp(RY, axis=1))
             if cf_m.any():
                 order = (np.arange(it - cw, it) % (cw + 1))  # the stretch's points before the current one
-                fk = np.where(np.isnan(RF[cf_m][:, order]), np.inf, RF[cf_m][:, order])
-                k = order[np.argmin(fk, axis=1)]
+                k = order[r.weakest(RF[cf_m][:, order])]
                 rows = np.flatnonzero(cf_m)
                 idx = ids[cf_m]
                 stall[idx, 0], stall[idx, 1] = RX[rows, k], RY[rows, k]
                 finish(cf_m, 2, "confined")
             done |= cf_m
         if window:
-            np_m = ~done & (it - best_it >= window)
+            np_m = ~done & r.stalled(it - best_it)
             if np_m.any():
                 idx = ids[np_m]
                 stall[idx, 0], stall[idx, 1] = win_x[np_m], win_y[np_m]
@@ -492,23 +483,14 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         win_min = np.where(upd, fn, win_min)
         win_x = np.where(upd, X, win_x)
         win_y = np.where(upd, Y, win_y)
-        bad = ~(fn > thr) | np.isinf(fn)
+        bad = r.small_gradient(fn)
         if bad.any():
             idx = ids[bad]
             stall[idx, 0], stall[idx, 1] = X[bad], Y[bad]
             finish(bad, 2, "small_gradient")
             reason[ids[bad & ~np.isfinite(fn)]] = "undefined_force"
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            if normalized:
-                NX = X + step * fx / fn
-                NY = Y + step * fy / fn
-            else:
-                sx, sy = ax * fx, ay * fy
-                if min_speed > 0.0:
-                    short = np.sqrt(sx * sx + sy * sy) < min_speed
-                    sx = np.where(short, min_speed * fx / fn, sx)
-                    sy = np.where(short, min_speed * fy / fn, sy)
-                NX, NY = X + sx, Y + sy
+            NX, NY = r.next_point(X, Y, fx, fy, fn, np.sqrt, np.where)
         NX = np.where(bad, X, NX)
         NY = np.where(bad, Y, NY)
         ob = out_b[:n]
@@ -517,11 +499,9 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         if hit.any():  # the fallback steps of descend, in the same order, for the blocked points
             todo = np.flatnonzero(hit)
             SX, SY = NX[todo] - X[todo], NY[todo] - Y[todo]
-            for c, sn, f in _SLIDES:
-                k = len(todo)
-                CX = X[todo] + f * (c * SX - sn * SY)
-                CY = Y[todo] + f * (sn * SX + c * SY)
-                cb = np.empty(k, np.bool_)
+            for s in range(len(_SLIDES)):
+                CX, CY = Rules.slide(X[todo], Y[todo], SX, SY, s)
+                cb = np.empty(len(todo), np.bool_)
                 _blocked_many(occ, x0, y0, res, wall, X[todo], Y[todo], CX, CY, cb)
                 freed = ~cb
                 NX[todo[freed]], NY[todo[freed]] = CX[freed], CY[freed]
@@ -556,7 +536,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
             hist_ids.append(ids)
         dx, dy = X - goal[0], Y - goal[1]
         d = np.sqrt(dx * dx + dy * dy)
-        imp = d < best - min_gain
+        imp = r.progressed(d, best)
         best = np.where(imp, d, best)
         best_it = np.where(imp, it, best_it)
         win_min = np.where(imp, np.inf, win_min)
@@ -573,7 +553,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         first = np.concatenate([[0], np.cumsum(np.bincount(HI, minlength=N))[:-1]])
         del HI, order, hist_x, hist_y, hist_ids
     blocked = grid_blocked(grid_map)
-    nav_hop: Any = None  # the navigation finish, built on first use
+    navigate = NavigationEscape(field)  # the finish of a reached run whose last hop is blocked (lazy)
     pts_list: list[NDArray[np.float64]] = []
     extras: list[dict[str, Any]] = []
     for i in range(N):
@@ -588,17 +568,10 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         if status == "reached":
             lx, ly = float(last[i, 0]), float(last[i, 1])
             if (lx, ly) != goal:
-                ok_i = not blocked((lx, ly), goal)
-                if ok_i:
-                    pts = np.vstack([pts, goal])
-                else:  # the straight hop is blocked: down the navigation function instead, as follow does
-                    if nav_hop is None:
-                        nav_hop = NavigationEscape(field)
-                    hop = navigation_finish(nav_hop, lx, ly, blocked)
-                    if hop is not None:
-                        pts = np.vstack([pts, np.asarray(hop, dtype=float)])
-                        ok_i = True
-                extra["goal_appended"] = ok_i
+                hop = goal_hop(lx, ly, goal, blocked, navigate)
+                if hop is not None:
+                    pts = np.vstack([pts, np.asarray(hop, dtype=float)])
+                extra["goal_appended"] = hop is not None
             else:
                 extra["goal_appended"] = False
         elif status == "local_minimum":

@@ -28,6 +28,7 @@ from gridfield.follow import (
 )
 from gridfield.grid import Grid, GridMap
 from gridfield.io import bundled_map, read_world
+from gridfield.path import Path
 from gridfield.planners import plan
 from gridfield.potential import Field, build_field
 from gridfield.rasterize import rasterize
@@ -68,11 +69,30 @@ def segment_field(segment_world):
     return build_field(gm, segment_world.goal, segment_world.params)
 
 
+def _unpacked(*args, **kw):
+    """descend's Path as (points, status, iterations, extra), for the rule tests below."""
+    p = descend(*args, **kw)
+    return p.points, p.status, p.iterations, p.extra
+
+
+def test_descend_returns_a_path_with_its_rules():
+    p = descend(bowl(2.9, 0.0), (0.0, 0.0), (2.9, 0.0), step=0.25, tolerance=0.2, planner="exact-potential")
+    assert isinstance(p, Path) and p.planner == "exact-potential" and p.status == "reached"
+    # 11 steps of 0.25 end 0.15 from the goal, within the tolerance; the goal is appended
+    assert p.iterations == 11 and len(p.points) == 13 and p.end.tolist() == [2.9, 0.0]
+    assert p.extra["goal_appended"] is True
+    # its params are the resolved rules: the unit, box and gain derived from the step
+    assert (p.params["step"], p.params["unit"], p.params["box"], p.params["min_gain"]) == (0.25, 0.25, 0.5, 0.00025)
+    assert p.params["confine_window"] == 20 and p.seconds >= 0.0
+    scaled = descend(bowl(3.0, 0.0), (0.0, 0.0), (3.0, 0.0), step_rule="scaled", alpha=0.5, tolerance=0.2)
+    assert (scaled.params["unit"], scaled.params["confine_window"]) == (0.2, 0)  # no box for scaled steps
+
+
 # ----------------------------------------------------------------------------------------------
 # descend: step rules
 # ----------------------------------------------------------------------------------------------
 def test_normalized_steps_have_length_step_and_goal_is_appended():
-    pts, status, n, extra = descend(bowl(5.0, 3.0), (0.0, 0.0), (5.0, 3.0), step=0.1, tolerance=0.1)
+    pts, status, n, extra = _unpacked(bowl(5.0, 3.0), (0.0, 0.0), (5.0, 3.0), step=0.1, tolerance=0.1)
     assert status == "reached" and extra["goal_appended"]
     assert pts[-1].tolist() == [5.0, 3.0]
     steps = np.hypot(*np.diff(pts[:-1], axis=0).T)
@@ -83,20 +103,20 @@ def test_normalized_steps_have_length_step_and_goal_is_appended():
 
 
 def test_scaled_rule_is_alpha_times_force_and_min_speed_stretches():
-    pts, status, n, _ = descend(bowl(4.0, 0.0), (0.0, 0.0), (4.0, 0.0), step_rule="scaled", alpha=0.5,
+    pts, status, n, _ = _unpacked(bowl(4.0, 0.0), (0.0, 0.0), (4.0, 0.0), step_rule="scaled", alpha=0.5,
                                 tolerance=1e-3, append_goal=False)
     assert status == "reached"
     # x_k = 4 (1 - 0.5^k)
     np.testing.assert_allclose(pts[:5, 0], 4 * (1 - 0.5 ** np.arange(5)), rtol=1e-12)
     assert n == math.ceil(math.log(4 / 1e-3, 2))
-    pts2, status2, _n2, _ = descend(bowl(4.0, 0.0), (0.0, 0.0), (4.0, 0.0), step_rule="scaled", alpha=0.01,
+    pts2, status2, _n2, _ = _unpacked(bowl(4.0, 0.0), (0.0, 0.0), (4.0, 0.0), step_rule="scaled", alpha=0.01,
                                    min_speed=0.5, tolerance=0.3, append_goal=False)
     steps = np.diff(pts2[:, 0])
     assert status2 == "reached" and np.all(steps >= 0.5 - 1e-12)
 
 
 def test_anisotropic_alpha():
-    pts, *_ = descend(lambda p: (1.0, 1.0), (0.0, 0.0), (100.0, 100.0), step_rule="scaled", alpha=(0.2, 0.1),
+    pts, *_ = _unpacked(lambda p: (1.0, 1.0), (0.0, 0.0), (100.0, 100.0), step_rule="scaled", alpha=(0.2, 0.1),
                       tolerance=0.1, max_iterations=3)
     np.testing.assert_allclose(pts[-1], [0.6, 0.3])
 
@@ -106,7 +126,7 @@ def test_anisotropic_alpha():
 # ----------------------------------------------------------------------------------------------
 def test_oscillation_in_a_bowl_away_from_the_goal():
     # the force points to (2, 0) but the goal is at (9, 0): the follower oscillates around (2, 0)
-    pts, status, _n, extra = descend(bowl(2.0, 0.0), (0.0, 0.0), (9.0, 0.0), step=0.3, tolerance=0.1)
+    pts, status, _n, extra = _unpacked(bowl(2.0, 0.0), (0.0, 0.0), (9.0, 0.0), step=0.3, tolerance=0.1)
     assert status == "local_minimum" and extra["stop_reason"] == "oscillation"
     a, b = np.array(extra["oscillation"])
     assert np.linalg.norm(a - b) == pytest.approx(0.3)
@@ -116,27 +136,27 @@ def test_oscillation_in_a_bowl_away_from_the_goal():
 
 
 def test_small_gradient_stop_and_zero_force():
-    _pts, status, n, extra = descend(bowl(2.0, 0.0), (0.0, 0.0), (9.0, 0.0), step_rule="scaled", alpha=0.5,
+    _pts, status, n, extra = _unpacked(bowl(2.0, 0.0), (0.0, 0.0), (9.0, 0.0), step_rule="scaled", alpha=0.5,
                                     gradient_threshold=1e-3, tolerance=0.1)
     assert status == "local_minimum" and extra["stop_reason"] == "small_gradient"
     assert abs(extra["stall_point"][0] - 2.0) <= 1e-3
-    _, status, n, extra = descend(lambda p: (0.0, 0.0), (0.0, 0.0), (9.0, 0.0))
+    _, status, n, extra = _unpacked(lambda p: (0.0, 0.0), (0.0, 0.0), (9.0, 0.0))
     assert (status, n, extra["stop_reason"]) == ("local_minimum", 0, "small_gradient")
-    _, status, _, extra = descend(lambda p: (math.nan, 0.0), (0.0, 0.0), (9.0, 0.0))
+    _, status, _, extra = _unpacked(lambda p: (math.nan, 0.0), (0.0, 0.0), (9.0, 0.0))
     assert (status, extra["stop_reason"]) == ("local_minimum", "undefined_force")
 
 
 def test_no_progress_window_and_max_iterations():
     circle = lambda p: (-p[1], p[0])  # noqa: E731 - rotation around the origin: the distance to it stays
-    _, status, n, extra = descend(circle, (3.0, 0.0), (0.0, 0.0), step=0.1, progress_window=50)
+    _, status, n, extra = _unpacked(circle, (3.0, 0.0), (0.0, 0.0), step=0.1, progress_window=50)
     assert (status, extra["stop_reason"], n) == ("local_minimum", "no_progress", 50)
-    _, status, n, extra = descend(circle, (3.0, 0.0), (0.0, 0.0), step=0.1, progress_window=0, max_iterations=77)
+    _, status, n, extra = _unpacked(circle, (3.0, 0.0), (0.0, 0.0), step=0.1, progress_window=0, max_iterations=77)
     assert (status, n) == ("max_iterations", 77)
 
 
 def test_blocked_follower_stops_before_the_obstacle():
     blocked = lambda p, q: q[0] > 1.05  # noqa: E731
-    pts, status, _n, extra = descend(bowl(3.0, 0.0), (0.0, 0.0), (3.0, 0.0), step=0.1, tolerance=0.1, blocked=blocked)
+    pts, status, _n, extra = _unpacked(bowl(3.0, 0.0), (0.0, 0.0), (3.0, 0.0), step=0.1, tolerance=0.1, blocked=blocked)
     assert status == "local_minimum" and extra["stop_reason"] == "blocked"
     assert extra["blocked_at"][0] > 1.05 and pts[:, 0].max() <= 1.05
     # it shortened its last steps up to the wall: within an eighth of a step of it
@@ -148,7 +168,7 @@ def test_blocked_follower_stops_before_the_obstacle():
        step=st.floats(0.05, 1.0), rule=st.sampled_from(["normalized", "scaled"]))
 def test_reached_iff_within_tolerance(cx, cy, gx, gy, step, rule):
     """Never report a stalled run as reached: 'reached' exactly when the last step is within tolerance."""
-    pts, status, _n, extra = descend(bowl(cx, cy), (0.0, 0.0), (gx, gy), step_rule=rule, step=step, alpha=0.3,
+    pts, status, _n, extra = _unpacked(bowl(cx, cy), (0.0, 0.0), (gx, gy), step_rule=rule, step=step, alpha=0.3,
                                     tolerance=0.1, max_iterations=500, append_goal=False)
     d = math.hypot(pts[-1, 0] - gx, pts[-1, 1] - gy)
     assert (status == "reached") == (d < 0.1)
@@ -165,7 +185,7 @@ def test_random_walk_escape_is_reproducible_and_respects_radius_and_blocking():
         return (-x if x < 3 else 6.0 - x), -y
 
     wall = lambda p, q: min(p[1], q[1]) < -0.5  # noqa: E731 - nothing may go below y = -0.5
-    runs = [descend(force, (-1.0, 0.0), (6.0, 0.0), step=0.1, tolerance=0.15, blocked=wall, escape="random_walk",
+    runs = [_unpacked(force, (-1.0, 0.0), (6.0, 0.0), step=0.1, tolerance=0.15, blocked=wall, escape="random_walk",
                     escape_tries=20, escape_radius=4.0, rng=seed) for seed in (0, 0, 2)]
     (p1, s1, n1, e1), (p2, s2, n2, _e2), (p3, *_rest) = runs
     assert np.array_equal(p1, p2) and (s1, n1) == (s2, n2)
@@ -177,13 +197,13 @@ def test_random_walk_escape_is_reproducible_and_respects_radius_and_blocking():
             assert math.dist(e["from"], e["to"]) <= 4.0 + 0.2  # jumps from the current point near the stall
             assert e["to"][1] >= -0.5
     # without escapes the same run stalls at the shallow minimum
-    _, s0, _, e0 = descend(force, (-1.0, 0.0), (6.0, 0.0), step=0.1, tolerance=0.15)
+    _, s0, _, e0 = _unpacked(force, (-1.0, 0.0), (6.0, 0.0), step=0.1, tolerance=0.15)
     assert s0 == "local_minimum" and abs(e0["stall_point"][0]) < 0.1
 
 
 def test_escape_tries_are_bounded_and_failures_reported():
     force = bowl(0.0, 0.0)
-    _, status, _, extra = descend(force, (0.3, 0.0), (50.0, 0.0), step=0.1, tolerance=0.1, escape="random_walk",
+    _, status, _, extra = _unpacked(force, (0.3, 0.0), (50.0, 0.0), step=0.1, tolerance=0.1, escape="random_walk",
                                   escape_tries=3, escape_radius=1.0, rng=0)
     assert status == "local_minimum"
     assert extra["escapes_tried"] == 3 and extra["escapes_succeeded"] == 0
@@ -199,7 +219,7 @@ def test_potential_increase_escape():
     with pytest.raises(ParameterError, match="potential_increase"):
         descend(bowl(0.0, 0.0), (0.5, 0.0), (5.0, 0.0), escape="potential_increase")
     attraction = lambda p: (0.0, 1e-3)  # noqa: E731
-    _pts, status, _n, extra = descend(bowl(0.0, 0.0), (0.5, 0.5), (5.0, 0.0), step=0.1, tolerance=0.1,
+    _pts, status, _n, extra = _unpacked(bowl(0.0, 0.0), (0.5, 0.5), (5.0, 0.0), step=0.1, tolerance=0.1,
                                     escape="potential_increase", escape_tries=1, potential=potential,
                                     attraction=attraction)
     (e,) = extra["escapes"]
@@ -521,7 +541,7 @@ def test_descent_successor_ties_are_deterministic():
 
 
 def test_failed_jumps_are_counted_and_do_not_move():
-    pts, status, n, extra = descend(lambda p: (0.0, 0.0), (1.0, 1.0), (5.0, 5.0), escape="random_walk",
+    pts, status, n, extra = _unpacked(lambda p: (0.0, 0.0), (1.0, 1.0), (5.0, 5.0), escape="random_walk",
                                     escape_tries=3, blocked=lambda p, q: True, rng=0)
     assert (status, n, len(pts)) == ("local_minimum", 0, 1)
     assert extra["escapes_tried"] == 3 and extra["escapes_succeeded"] == 0

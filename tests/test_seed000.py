@@ -130,10 +130,9 @@ def test_grid_stall_is_caught_by_the_progress_window_too(segment):
     runs = {}
     # revisit_tolerance=0 is the seed's exact test current_pos == P(:, end-2)
     for name, window, rt in (("window", 30, 0.0), ("exact_return", 0, 0.0), ("default", 200, None)):
-        _pts, status, n, extra = descend(grid_sampler(f), segment.start, segment.goal, progress_window=window,
-                                        revisit_tolerance=rt, **kw)
-        assert status == "local_minimum"
-        runs[name] = (n, extra["stop_reason"], extra["stall_point"])
+        p = descend(grid_sampler(f), segment.start, segment.goal, progress_window=window, revisit_tolerance=rt, **kw)
+        assert p.status == "local_minimum"
+        runs[name] = (p.iterations, p.extra["stop_reason"], p.extra["stall_point"])
     assert runs["window"][1] == "no_progress"
     assert runs["exact_return"][1] == runs["default"][1] == "oscillation"
     assert runs["window"][0] < runs["default"][0] < runs["exact_return"][0]

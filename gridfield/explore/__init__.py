@@ -60,10 +60,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import GridfieldError, ParameterError
-from .grid import GridMap
-from .path import Path
-from .world import Obstacle, Robot, World
+from ..errors import GridfieldError, ParameterError
+from ..grid import GridMap
+from ..path import Path
+from ..world import Obstacle, Robot, World
 
 __all__ = ["BUTTONS", "EXPLORER_PLANNERS", "PLANNER_SLIDERS", "SLIDER_PARAMS", "Explorer", "available_planners"]
 
@@ -118,7 +118,7 @@ def available_planners(*, world: bool = True) -> list[str]:
     >>> available_planners(world=False)
     ['potential', 'wavefront-octile']
     """
-    from .planners import PLANNERS
+    from ..planners import PLANNERS
 
     return [name for name in EXPLORER_PLANNERS if world or PLANNERS[name][2] != "world"]
 
@@ -220,7 +220,7 @@ class Explorer:
     ) -> None:
         import matplotlib.pyplot as plt
 
-        from .planners import check_params
+        from ..planners import check_params
 
         if not isinstance(target, World | GridMap):
             raise ParameterError(f"Explorer needs a World or a GridMap, got {type(target).__name__}")
@@ -249,7 +249,7 @@ class Explorer:
             self.world = dataclasses.replace(self.world, start=self.start, goal=self.goal)
             if self.gridmap is not None and isinstance(self.gridmap.world, World):
                 self.gridmap = self.gridmap.with_occupied(self.gridmap.occupied, world=self.world)
-        from .cspace import as_robot
+        from ..cspace import as_robot
 
         self.robot: Robot | None = as_robot(robot) if robot is not None else (w.robot if w is not None else None)
         self.cspace_on = self.robot is not None
@@ -290,7 +290,7 @@ class Explorer:
 
     # -- construction ----------------------------------------------------------------------
     def _rasterize(self, world: World | None = None) -> GridMap | None:
-        from .rasterize import as_gridmap
+        from ..rasterize import as_gridmap
 
         world = self.world if world is None else world
         if world is None:
@@ -322,7 +322,7 @@ class Explorer:
     def _build_map_layer(self) -> None:
         from matplotlib.colors import ListedColormap
 
-        from .plot.layers import OCCUPIED_COLOR, _frame
+        from ..plot.layers import OCCUPIED_COLOR, _frame
 
         ax = self.ax
         xmin, ymin, xmax, ymax = self._bounds()
@@ -446,7 +446,7 @@ class Explorer:
 
     def set_param(self, name: str, value: float) -> None:
         """Set a parameter (moving its slider, if it has one) and recompute."""
-        from .planners import check_params
+        from ..planners import check_params
 
         check_params({name: value})
         if name in self.sliders:
@@ -509,7 +509,7 @@ class Explorer:
         """None when ``p`` is a valid start/goal, else why not."""
         try:
             if self.cspace_on and self.robot is not None:
-                from .cspace import check_robot_point
+                from ..cspace import check_robot_point
 
                 check_robot_point(self._workspace(), self.robot, "point", p)
             if self.cgridmap is not None and self.planner != "exact-potential":
@@ -659,7 +659,7 @@ class Explorer:
         When the C-space is on it is rebuilt for the new robot. Raises :class:`ParameterError`
         for a non-convex polygon.
         """
-        from .cspace import as_robot
+        from ..cspace import as_robot
 
         r = as_robot(robot)
         self._push()
@@ -697,7 +697,7 @@ class Explorer:
         if not (self.cspace_on and self.robot is not None):
             self.cworld, self.cgridmap = self.world, self.gridmap
             return
-        from .cspace import apply_robot
+        from ..cspace import apply_robot
 
         if self.world is not None:
             cworld = apply_robot(self.world, self.robot)
@@ -720,7 +720,7 @@ class Explorer:
             self.movie_file = FsPath(file)
         self.movie = not self.movie
         if self.movie:
-            from .plot.animation import _check_animation_file
+            from ..plot.animation import _check_animation_file
 
             try:
                 _check_animation_file(self.movie_file.with_suffix(".gif"))
@@ -747,7 +747,7 @@ class Explorer:
     def _update_3d(self) -> None:
         if not self.show_3d:
             return
-        from .plot import plot_surface
+        from ..plot import plot_surface
 
         self.ax3d.cla()
         self.surface = None
@@ -763,7 +763,7 @@ class Explorer:
     def _write_movie(self) -> None:
         from matplotlib import animation
 
-        from .plot import save_plan_animation
+        from ..plot import save_plan_animation
 
         assert self.path is not None
         target = self.cworld if self.planner == "exact-potential" else self.cgridmap
@@ -817,7 +817,7 @@ class Explorer:
 
     def _redraw_map(self) -> None:
         """Occupancy, C-space, obstacle outlines and the robot, from the current state."""
-        from .plot.layers import _draw_outlines
+        from ..plot.layers import _draw_outlines
 
         if self.gridmap is not None:
             occ = self.gridmap.occupied
@@ -878,7 +878,7 @@ class Explorer:
         gm = self.cgridmap
         if self.planner != "potential" or self.goal is None or gm is None:
             return None
-        from .potential import build_field
+        from ..potential import build_field
 
         try:
             return build_field(gm, np.asarray(self.goal), self.params, dmap=self._incremental_dmap())
@@ -889,7 +889,7 @@ class Explorer:
         """Background and colour bar: the log-scaled :attr:`field` (the potential planner's), else nothing."""
         from matplotlib.colors import LogNorm
 
-        from .plot.layers import _potential_scale
+        from ..plot.layers import _potential_scale
 
         if self.field is None:
             self._hide_field()
@@ -927,7 +927,7 @@ class Explorer:
             The new :attr:`path`; None when the start or goal is missing or the plan failed
             (:attr:`message` says why).
         """
-        from .planners import plan
+        from ..planners import plan
 
         self.n_updates += 1
         self.path = None
@@ -948,7 +948,7 @@ class Explorer:
             if target is None:
                 raise GridfieldError(f"planner {self.planner!r} needs a vector world, and this map is a grid")
             if self.cspace_on and self.robot is not None:
-                from .cspace import check_robot_point
+                from ..cspace import check_robot_point
 
                 for name in ("start", "goal"):
                     check_robot_point(self._workspace(), self.robot, name, getattr(self, name))
@@ -968,7 +968,7 @@ class Explorer:
         if self.field is None:  # a goal found unreachable at once: no field was built
             self.field = self._background_field()
         self._update_field_image()
-        from .plot.layers import _stall_points
+        from ..plot.layers import _stall_points
 
         pts = self.path.points
         self.path_line.set_data(pts[:, 0], pts[:, 1])
@@ -1004,7 +1004,7 @@ class Explorer:
         """The workspace map with ``ob``'s cells occupied, rasterized as :func:`gridfield.rasterize.rasterize`
         does (cells already occupied keep their lower id); ``drawn``: the outline to keep in the meta
         of a map without a world."""
-        from .rasterize import _obstacle_mask, _tolerance
+        from ..rasterize import _obstacle_mask, _tolerance
 
         gm = self.gridmap
         assert gm is not None
@@ -1027,7 +1027,7 @@ class Explorer:
     def _unburn_obstacle(self, ob: Obstacle) -> GridMap:
         """The workspace map without ``ob`` (already removed from ``self.world``): its cells are freed,
         or given to the lowest-id remaining obstacle that covers them (only those are rasterized)."""
-        from .rasterize import _obstacle_mask, _tolerance
+        from ..rasterize import _obstacle_mask, _tolerance
 
         gm = self.gridmap
         assert gm is not None and gm.obstacle_id is not None and self.world is not None
@@ -1083,7 +1083,7 @@ class Explorer:
         """The IncrementalBrushfire of ``target``: the one kept, updated by the cells where its map and
         ``target`` differ (occupancy or id), or a new one (the first time, another grid, or a change
         of more than :attr:`INCREMENTAL_MAX_FRACTION` of the cells)."""
-        from .incremental import IncrementalBrushfire
+        from ..incremental import IncrementalBrushfire
 
         ib = self._incremental
         if ib is not None and self._incremental_for is target:
@@ -1121,7 +1121,7 @@ class Explorer:
         gm = self.cgridmap
         if self.planner != "potential" or gm is None or self.goal is None:
             return None
-        from .potential import resolve_params
+        from ..potential import resolve_params
 
         try:
             p = resolve_params(self.params, unit=gm.grid.resolution)

@@ -268,9 +268,11 @@ class NavigationEscape:
     field : Field-like
         Has ``map`` (GridMap), ``potential`` (array) and ``goal``.
 
-    Call it as ``escape(point, final=...)``: the moves (world points, the first one the stall
-    point's own cell centre) to drive from ``point``, or ``[]`` when the goal cannot be reached
-    from there. ``final=True`` drives all the way to the goal.
+    Call it as ``escape(point, final=...)``: the moves (world points: the cell centres of the way
+    down the wavefront, from the cell after the one holding ``point`` up to the first cell of
+    another basin) to drive from ``point``, or ``[]`` when the goal cannot be reached from there.
+    ``final=True`` (or an escape that starts no lower on the wavefront than the last one) drives
+    all the way to the goal.
 
     Examples
     --------
@@ -284,8 +286,8 @@ class NavigationEscape:
     >>> esc = NavigationEscape(SimpleNamespace(map=gm, potential=u, goal=(3.5, 0.5)))
     >>> esc.value((1.5, 1.5)) > esc.value((3.5, 1.5))
     True
-    >>> [tuple(q) for q in esc((1.5, 1.5))]
-    [(1.5, 2.5), (2.5, 2.5), (3.5, 2.5)]
+    >>> [tuple(q) for q in esc((1.5, 1.5))]      # (2.5, 2.5) is the first cell that descends to the goal
+    [(1.5, 2.5), (2.5, 2.5)]
 
     A column of obstacle cells splits a 5 x 5 map. With a ``wall`` border the goal cannot be
     reached; with an ``open`` border the escape goes round through the free ring below the grid:
@@ -373,6 +375,6 @@ class NavigationEscape:
             sink = np.where(inside, self.sink[rc], -1)
             own = sink[0]
             other = np.flatnonzero(inside & (sink != own) & (sink >= 0))
-            if len(other):
-                chain = chain[: int(other[0]) + 1]
+            if len(other):  # up to the first cell of another basin: cells[k] is chain[k - 1]
+                chain = chain[: int(other[0])]
         return lead + [(float(x), float(y)) for x, y in chain]

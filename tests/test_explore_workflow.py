@@ -237,6 +237,23 @@ def test_movie_toggle_writes_the_next_run_and_turns_itself_off(ex, tmp_path):
     assert not target.exists()  # only the next run is recorded
 
 
+def test_movie_of_exact_potential_on_a_grid_map_draws_the_map_it_planned_on(tmp_path):
+    """exact-potential on a map without a vector world plans on the grid's exact polygons; its movie
+    draws that grid map (it used to assert a vector world was there)."""
+    occ = np.zeros((16, 16), bool)
+    occ[6:10, 7:9] = True
+    e = Explorer(GridMap(Grid(occ.shape, 0.5), occ), planner="exact-potential")
+    try:
+        target = tmp_path / "grid.gif"
+        assert e.toggle_movie(target)
+        e.set_start(1.25, 1.25)
+        e.set_goal(6.75, 6.75)
+        assert e.path is not None and e.path.status == "reached", e.message
+        assert target.exists() and str(target) in e.message
+    finally:
+        e.close()
+
+
 def test_every_button_has_a_key_and_a_method(ex):
     assert len({k for _, k in BUTTONS.values()}) == len(BUTTONS)
     for method in BUTTONS:

@@ -466,7 +466,7 @@ class Explorer(ExplorerView):
         from ..plot import save_plan_animation
 
         assert self.path is not None
-        target = self.cworld if self.planner == "exact-potential" else self.cgridmap
+        target = self._plan_target()
         assert target is not None  # a path was planned on it
         gif = self.movie_file.with_suffix(".gif")
         files = [gif] + ([gif.with_suffix(".mp4")] if animation.writers.is_available("ffmpeg") else [])

@@ -339,6 +339,12 @@ class ExplorerModel:
         except GridfieldError:
             return None
 
+    def _plan_target(self) -> World | GridMap | None:
+        """What the current planner plans on (and a movie of its run draws): the C-space world for
+        ``exact-potential`` when there is one, else the C-space grid map (exact-potential on a grid
+        map runs on its exact polygons, :mod:`gridfield.gridpoly`, through ``plan``)."""
+        return self.cworld if self.planner == "exact-potential" and self.cworld is not None else self.cgridmap
+
     def _plan(self) -> Path | None:
         """Re-plan with the current start, goal, parameters, planner and configuration space: set
         :attr:`path`, and :attr:`field` to the potential the plan followed (the potential planner's;
@@ -362,9 +368,7 @@ class ExplorerModel:
         if self.start is None or self.goal is None:
             self.field = self._background_field()
             return None
-        # exact-potential on a grid map runs on its exact polygons (gridfield.gridpoly, through plan)
-        target: World | GridMap | None = (self.cworld if self.planner == "exact-potential" and self.cworld is not None
-                                          else self.cgridmap)
+        target = self._plan_target()
         try:
             if target is None:
                 raise GridfieldError(f"planner {self.planner!r} needs a vector world, and this map is a grid")

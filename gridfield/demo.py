@@ -223,6 +223,7 @@ def _part_maps(run: _Run) -> None:
 
 
 def _part_seed000(run: _Run) -> None:
+    from .compare import max_deviation
     from .follow import basins
     from .io import bundled_map, read_world
     from .plot import plot_basins, plot_comparison, plot_potential, plot_surface, save_plan_animation
@@ -241,7 +242,8 @@ def _part_seed000(run: _Run) -> None:
         exact_paths[key] = run.plan("seed000", key, w, "exact-potential", w.start, w.goal, note="exact geometry")  # type: ignore[arg-type]
     fig, axes = _figure(1, 2, (14.0, 5.6))
     for ax, key in zip(axes.ravel(), worlds, strict=True):
-        plot_comparison(maps[key], grid_paths[key], exact_paths[key], ax)
+        plot_comparison(maps[key], grid_paths[key], exact_paths[key], ax,
+                        deviation=max_deviation(grid_paths[key], exact_paths[key]))
         ax.set_title(f"{key}: grid (h={res:g}) vs exact\n{ax.get_title()}", fontsize=10)
     run.save(fig, "seed000_paths.png")
 

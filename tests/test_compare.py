@@ -11,6 +11,8 @@ import types
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from gridfield.brushfire import brushfire
 from gridfield.cli import main
@@ -410,3 +412,25 @@ def test_cli_compare_errors(capsys):
     assert rc == 2 and "--plot draws the convergence study" in capsys.readouterr().err
     rc = main(["compare", str(bundled_map("seed000.yaml")), "--resolutions", "0"])
     assert rc == 2 and "resolution must be a positive" in capsys.readouterr().err
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 10_000), n=st.integers(1, 6), m=st.integers(1, 6))
+def test_max_deviation_against_brute_force_point_segment_distances(seed, n, m):
+    """max_deviation is the largest distance of the path's points to the reference polyline,
+    checked against point-to-segment distances written out in numpy."""
+    from gridfield.compare import max_deviation
+
+    rng = np.random.default_rng(seed)
+    p, q = rng.uniform(-5, 5, (n, 2)), rng.uniform(-5, 5, (m, 2))
+    if m == 1:
+        want = np.hypot(*(p - q[0]).T).max()
+    else:
+        a, b = q[:-1], q[1:]
+        ab = b - a
+        t = np.clip(((p[:, None, :] - a) * ab).sum(-1) / (ab * ab).sum(-1), 0.0, 1.0)
+        closest = a + t[..., None] * ab
+        want = np.hypot(*(p[:, None, :] - closest).transpose(2, 0, 1)).min(axis=1).max()
+    assert max_deviation(p, q) == pytest.approx(want, abs=1e-12)
+    with pytest.raises(ParameterError, match="path has no points"):
+        max_deviation(np.empty((0, 2)), q)

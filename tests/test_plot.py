@@ -309,10 +309,12 @@ def test_plot_basins_rejects_wrong_shapes():
 def test_plot_comparison(seed000):
     a = straight(seed000.start, seed000.goal, planner="potential")
     b = Path(a.points + np.array([0.0, 0.3]), "reached", "exact-potential")
-    art = plot.plot_comparison(seed000, a, b)
+    art = plot.plot_comparison(seed000, a, b, deviation=0.3)
     assert len(art.ax.lines) == 2 and art.paths[1].get_linestyle() == "--"
-    assert art.extra["deviation"] == pytest.approx(0.3)
-    assert "max deviation 0.3" in art.ax.get_title()
+    assert art.extra["deviation"] == 0.3 and "max deviation 0.3" in art.ax.get_title()
+    # the figure computes nothing: without a deviation, the title has the lengths only
+    bare = plot.plot_comparison(seed000, a, b)
+    assert math.isnan(bare.extra["deviation"]) and "deviation" not in bare.ax.get_title()
 
 
 def test_plot_convergence_log_log_and_rows():

@@ -98,6 +98,39 @@ def hausdorff(a: ArrayLike | Path, b: ArrayLike | Path, *, spacing: float | None
     return float(max(directed_hausdorff(p, q)[0], directed_hausdorff(q, p)[0]))
 
 
+def max_deviation(path: ArrayLike | Path, reference: ArrayLike | Path) -> float:
+    """The largest distance of a path's points from a reference polyline (a one-sided Hausdorff
+    distance to the reference's segments, not only to its vertices).
+
+    Parameters
+    ----------
+    path : array_like, shape (N, 2), or Path
+        The points measured (e.g. a grid planner's path).
+    reference : array_like, shape (M, 2), or Path
+        The polyline measured against (e.g. the exact planner's path); a single point is a point.
+
+    Returns
+    -------
+    float
+        ``max_i dist(path[i], reference)``.
+
+    Raises
+    ------
+    ParameterError
+        When either has no points.
+
+    Examples
+    --------
+    >>> max_deviation([[0.5, 0.5], [0.5, 3.5]], [[0.5, 0.5], [0.7, 3.5]])
+    0.2
+    >>> max_deviation([[1.0, 1.0]], [[0.0, 0.0], [2.0, 0.0]])    # to the segment, not its ends
+    1.0
+    """
+    p, q = _points(path, "path"), _points(reference, "reference")
+    ref = shapely.LineString(q) if len(q) > 1 else shapely.Point(q[0])
+    return float(np.max(shapely.distance(ref, shapely.points(p))))
+
+
 def discrete_frechet(a: ArrayLike | Path, b: ArrayLike | Path, *, spacing: float | None = None) -> float:
     """Discrete Fréchet distance between two point sequences (polylines if ``spacing``).
 

@@ -42,12 +42,14 @@ def plot_comparison(
     exact_path: Path,
     ax: Axes | None = None,
     *,
+    deviation: float | None = None,
     title: str | None = None,
 ) -> Artists:
     """A grid planner's path against the exact planner's on the same world.
 
-    The exact path is drawn dashed on top of the grid path; the title reports both lengths and
-    the largest distance of the grid path's points from the exact path (Hausdorff-like deviation).
+    The exact path is drawn dashed on top of the grid path; the title reports both lengths and,
+    when given, the deviation between them (the figure computes nothing: pass
+    :func:`gridfield.compare.max_deviation`, or any metric of :mod:`gridfield.compare`).
 
     Parameters
     ----------
@@ -58,40 +60,39 @@ def plot_comparison(
         The grid planner's path (solid) and the exact planner's (dashed).
     ax : Axes, optional
         Draw into this axes; default: a new figure.
+    deviation : float, optional
+        The paths' deviation, shown in the title (as "max deviation").
     title : str, optional
         Default: both lengths and the deviation.
 
     Returns
     -------
     Artists
-        As :func:`plot_map`; ``paths == [grid line, exact line]``, ``extra['deviation']``.
+        As :func:`plot_map`; ``paths == [grid line, exact line]``, ``extra['deviation']`` (NaN when
+        not given).
 
     Examples
     --------
     >>> import numpy as np
+    >>> from gridfield.compare import max_deviation
     >>> from gridfield.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 4, 4], "obstacles": [{"circle": {"center": [2, 2], "radius": 1}}]})
     >>> a = Path(np.array([[0.5, 0.5], [0.5, 3.5]]), "reached", "potential")
     >>> b = Path(np.array([[0.5, 0.5], [0.7, 3.5]]), "reached", "exact-potential")
-    >>> art = plot_comparison(w, a, b)
-    >>> len(art.paths), round(art.extra["deviation"], 3), art.image is None
-    (2, 0.2, True)
+    >>> art = plot_comparison(w, a, b, deviation=max_deviation(a, b))
+    >>> len(art.paths), art.ax.get_title(), art.image is None
+    (2, 'grid 3 vs exact 3.01, max deviation 0.2', True)
     >>> import matplotlib.pyplot as plt; plt.close(art.figure)
     """
-    import shapely
-
     art = plot_map(target, ax, paths=[grid_path, exact_path], legend=True,
                    path_styles=[{"color": "tab:red", "linewidth": 2.4},
                                 {"color": "black", "linestyle": "--", "linewidth": 1.6}],
                    start=grid_path.points[0] if len(grid_path.points) else None, title="")
-    dev = math.nan
-    if len(grid_path.points) and len(exact_path.points):
-        ref = shapely.LineString(exact_path.points) if len(exact_path.points) > 1 else shapely.Point(exact_path.points[0])
-        dev = float(np.max(shapely.distance(ref, shapely.points(grid_path.points))))
+    dev = math.nan if deviation is None else float(deviation)
     art.extra["deviation"] = dev
+    lengths = f"grid {grid_path.length:.3g} vs exact {exact_path.length:.3g}"
     art.ax.set_title(title if title is not None else
-                     f"grid {grid_path.length:.3g} vs exact {exact_path.length:.3g}, max deviation {dev:.3g}",
-                     fontsize=10)
+                     lengths if deviation is None else f"{lengths}, max deviation {dev:.3g}", fontsize=10)
     return art
 
 

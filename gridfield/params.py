@@ -47,6 +47,7 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from ._planner_table import PLANNERS
 from .errors import ParameterError
 
 __all__ = [
@@ -67,11 +68,6 @@ __all__ = [
     "resolve",
     "validate",
 ]
-
-#: Planner names, for the "read by" column of each parameter.
-_POT = ("potential", "exact-potential")
-_GRID_NAV = ("wavefront", "wavefront-octile", "fmm", "harmonic")
-_ALL_FOLLOW = (*_POT, *_GRID_NAV, "sphere-nav", "star-nav")
 
 #: Cells (of the map's length unit) behind the scaled defaults.
 Q_STAR_CELLS = 4.0
@@ -107,7 +103,7 @@ class Spec:
     scale : str
         The scaling rule of a ``None`` default, in words.
     planners : tuple of str
-        The planners that read it.
+        The planners that read it (derived from the ``reads`` of :data:`gridfield.planners.PLANNERS`).
     flag : bool
         Whether it gets its own command-line flag (all take ``--param name=value``).
 
@@ -135,8 +131,13 @@ class Spec:
     allow_inf: bool = False
     allow_none: bool = False
     scale: str = ""
-    planners: tuple[str, ...] = ()
     flag: bool = True
+
+    @property
+    def planners(self) -> tuple[str, ...]:
+        """The planners that read it: those whose :data:`gridfield.planners.PLANNERS` entry lists it
+        in ``reads`` (the planner table is the one place that says what a planner reads)."""
+        return tuple(name for name, entry in PLANNERS.items() if self.name in entry.reads)
 
     def allowed(self) -> str:
         """The allowed values in words (``a number > 0``, ``one of 'a', 'b'``)."""
@@ -281,11 +282,11 @@ class Attraction:
     Attraction(zeta=0.8, d_star=2.0)
     """
 
-    zeta: float = _p("attraction", "number", 1.0, "attractive gain", minimum=0.0, planners=_POT)
+    zeta: float = _p("attraction", "number", 1.0, "attractive gain", minimum=0.0)
     d_star: float | None = _p(
         "attraction", "number", None, "goal distance where the attraction turns from quadratic to conic "
         "(inf: quadratic everywhere)", minimum=0.0, allow_inf=True, allow_none=True,
-        scale=f"{D_STAR_PER_Q_STAR:g} x q_star", planners=_POT)
+        scale=f"{D_STAR_PER_Q_STAR:g} x q_star")
 
 
 @dataclass(frozen=True)
@@ -301,22 +302,20 @@ class Repulsion:
 
     eta: float | None = _p("repulsion", "number", None, "repulsive gain", minimum=0.0, allow_none=True,
                            scale="balanced: the repulsion at q_star/2 equals the largest attraction "
-                                 "zeta*min(d_star, 2 q_star)", planners=_POT)
+                                 "zeta*min(d_star, 2 q_star)")
     q_star: float | None = _p("repulsion", "number", None, "obstacle distance of influence of the repulsion",
                               minimum=0.0, strict=True, allow_inf=True, allow_none=True,
-                              scale=f"{Q_STAR_CELLS:g} cells", planners=(*_POT, *_GRID_NAV))
+                              scale=f"{Q_STAR_CELLS:g} cells")
     repulsive_power: float = _p("repulsion", "number", 2.0, "p in the repulsive force eta*(1/D - 1/q_star)/D**p "
-                                "(2: the gradient of the classic potential)", minimum=0.0, planners=_POT)
+                                "(2: the gradient of the classic potential)", minimum=0.0)
     repulsion: str = _p("repulsion", "choice", "nearest", "'nearest' (one brushfire distance D) or 'sum' (over "
-                        "obstacles, each within q_star)", choices=("nearest", "sum"), planners=_POT)
+                        "obstacles, each within q_star)", choices=("nearest", "sum"))
     metric: str = _p("repulsion", "choice", "euclidean", "brushfire metric behind D",
-                     choices=("euclidean", "chessboard", "taxicab"), planners=("potential",))
+                     choices=("euclidean", "chessboard", "taxicab"))
     gradient: str = _p("repulsion", "choice", "analytic", "'analytic' (from the nearest-obstacle vector) or "
-                       "'finite_difference' (numpy.gradient of U)", choices=("analytic", "finite_difference"),
-                       planners=("potential",))
+                       "'finite_difference' (numpy.gradient of U)", choices=("analytic", "finite_difference"))
     saturate: float | None = _p("repulsion", "number", None, "saturation radius of the distance (seed 004; "
-                                "none: no saturation)", minimum=0.0, strict=True, allow_none=True,
-                                planners=_POT, flag=False)
+                                "none: no saturation)", minimum=0.0, strict=True, allow_none=True, flag=False)
 
 
 @dataclass(frozen=True)
@@ -330,7 +329,7 @@ class Model:
     """
 
     model: str = _p("model", "choice", "khatib", "'khatib' (attractive + repulsive) or 'vortex' (seed 003)",
-                    choices=("khatib", "vortex"), planners=("potential",), flag=False)
+                    choices=("khatib", "vortex"), flag=False)
 
 
 @dataclass(frozen=True)
@@ -344,17 +343,15 @@ class Vortex:
     (25.0, 30.0, 10.0)
     """
 
-    ka: float = _p("vortex", "number", 25.0, "vortex model: attractive gain", minimum=0.0, planners=("potential",),
+    ka: float = _p("vortex", "number", 25.0, "vortex model: attractive gain", minimum=0.0,
                    flag=False)
-    kr: float = _p("vortex", "number", 30.0, "vortex model: repulsive charge at the start", minimum=0.0,
-                   planners=("potential",), flag=False)
-    ko: float = _p("vortex", "number", 5.0, "vortex model: obstacle charge per boundary sample", minimum=0.0,
-                   planners=("potential",), flag=False)
+    kr: float = _p("vortex", "number", 30.0, "vortex model: repulsive charge at the start", minimum=0.0, flag=False)
+    ko: float = _p("vortex", "number", 5.0, "vortex model: obstacle charge per boundary sample", minimum=0.0, flag=False)
     spacing: float | None = _p("vortex", "number", None, "vortex model: lattice spacing", minimum=0.0, strict=True,
-                               allow_none=True, scale="the map's resolution", planners=("potential",), flag=False)
+                               allow_none=True, scale="the map's resolution", flag=False)
     sample_radius: float | None = _p("vortex", "number", None, "vortex model: radius of the circle the obstacle "
                                      "charges are sampled on", minimum=0.0, strict=True, allow_none=True,
-                                     scale="1.05 x each circle's radius", planners=("potential",), flag=False)
+                                     scale="1.05 x each circle's radius", flag=False)
 
 
 @dataclass(frozen=True)
@@ -369,27 +366,26 @@ class Follower:
     """
 
     step_rule: str = _p("follower", "choice", "normalized", "'normalized' (x += step*F/|F|) or 'scaled' "
-                        "(x += alpha*F)", choices=("normalized", "scaled"), planners=_POT)
+                        "(x += alpha*F)", choices=("normalized", "scaled"))
     step: float | None = _p("follower", "number", None, "step length of the normalized follower", minimum=0.0,
-                            strict=True, allow_none=True, scale=f"{STEP_CELLS:g} cell", planners=_ALL_FOLLOW)
-    alpha: float = _p("follower", "alpha", 0.1, "gain of the gradient-scaled follower", minimum=0.0, strict=True,
-                      planners=_POT)
+                            strict=True, allow_none=True, scale=f"{STEP_CELLS:g} cell")
+    alpha: float = _p("follower", "alpha", 0.1, "gain of the gradient-scaled follower", minimum=0.0, strict=True)
     min_speed: float = _p("follower", "number", 0.0, "minimum step length of the scaled follower (seed 004)",
-                          minimum=0.0, planners=_POT)
+                          minimum=0.0)
     tolerance: float | None = _p("follower", "number", None, "stop when within this distance of the goal",
                                  minimum=0.0, strict=True, allow_none=True,
-                                 scale="step (normalized rule) or 1 cell (scaled rule)", planners=_ALL_FOLLOW)
+                                 scale="step (normalized rule) or 1 cell (scaled rule)")
     max_iterations: int | None = _p("follower", "integer", None, "give up after this many steps", minimum=0,
                                     allow_none=True, scale="10000, or the number of free cells if larger "
-                                    "(grid follower)", planners=_ALL_FOLLOW)
+                                    "(grid follower)")
     sampling: str = _p("follower", "choice", "bilinear", "sampling of the gradient arrays",
-                       choices=("bilinear", "nearest"), planners=("potential",))
+                       choices=("bilinear", "nearest"))
     gradient_threshold: float = _p("follower", "number", 0.0, "local minimum when |F| falls below this (seed 004)",
-                                   minimum=0.0, planners=_POT)
+                                   minimum=0.0)
     progress_window: int = _p("follower", "integer", 200, "local minimum when the distance to the goal has not "
-                              "improved over this many steps (0: off)", minimum=0, planners=(*_POT, "sphere-nav"))
+                              "improved over this many steps (0: off)", minimum=0)
     confine_window: int = _p("follower", "integer", 20, "local minimum when the last this many steps stayed within "
-                             "a box of 2 steps (a jitter about an equilibrium; normalized rule only; 0: off)", minimum=0, planners=_POT)
+                             "a box of 2 steps (a jitter about an equilibrium; normalized rule only; 0: off)", minimum=0)
 
 
 @dataclass(frozen=True)
@@ -406,13 +402,13 @@ class Escape:
     escape: str = _p("escape", "choice", "none", "at a local minimum: 'none' (stop), 'random_walk' (random jumps), "
                      "'potential_increase' (seed 000's bonus) or 'navigation' (follow the octile wavefront from "
                      "the goal until the descent resumes; reaches every reachable goal)",
-                     choices=("none", "random_walk", "potential_increase", "navigation"), planners=_POT)
-    escape_tries: int = _p("escape", "integer", 10, "how many escapes to try", minimum=0, planners=_POT)
+                     choices=("none", "random_walk", "potential_increase", "navigation"))
+    escape_tries: int = _p("escape", "integer", 10, "how many escapes to try", minimum=0)
     escape_radius: float | None = _p("escape", "number", None, "maximum jump length of the random-walk escape",
                                      minimum=0.0, strict=True, allow_none=True,
-                                     scale=f"{ESCAPE_RADIUS_CELLS:g} cells", planners=_POT)
+                                     scale=f"{ESCAPE_RADIUS_CELLS:g} cells")
     seed: int | None = _p("escape", "integer", 0, "random seed of the random-walk escape", minimum=0,
-                          allow_none=True, planners=_POT)
+                          allow_none=True)
 
 
 @dataclass(frozen=True)
@@ -426,27 +422,24 @@ class Navigation:
     (3.0, 1.0, 8)
     """
 
-    connectivity: int = _p("navigation", "choice", 8, "neighbourhood of the wavefront", choices=(4, 8),
-                           planners=("wavefront", "wavefront-octile"), flag=False)
+    connectivity: int = _p("navigation", "choice", 8, "neighbourhood of the wavefront", choices=(4, 8), flag=False)
     clearance_weight: float = _p("navigation", "number", 0.0, "weight of the clearance cost of the clearance-aware "
-                                 "wavefront (cost 1 + w * max(0, q_star - D) per cell)", minimum=0.0,
-                                 planners=_GRID_NAV, flag=False)
+                                 "wavefront (cost 1 + w * max(0, q_star - D) per cell)", minimum=0.0, flag=False)
     kappa: float | None = _p("navigation", "number", None, "sphere-world (sphere-nav) and star-world (star-nav) "
                              "navigation function exponent", minimum=0.0, strict=True, allow_none=True,
                              scale="the smallest of a ladder (sphere-nav: 2, 3, 4, 6, 8, ...; star-nav: 3, 4, "
-                                   "6, ...) that reaches the goal, or leaves no detected spurious minimum",
-                             planners=("sphere-nav", "star-nav"), flag=False)
+                                   "6, ...) that reaches the goal, or leaves no detected spurious minimum", flag=False)
     lam: float = field(default=10.0, metadata={"spec": dict(
         group="navigation", kind="number", default=10.0, name_override="lambda",
         meaning="star-nav: switch parameter of the star-to-sphere transformation (larger: closer to the "
                 "identity away from the obstacles; too small folds the map; seed 002: 1)",
-        minimum=0.0, strict=True, planners=("star-nav",), flag=False)})
+        minimum=0.0, strict=True, flag=False)})
     workspace_center: tuple[float, float] | None = _p(
         "navigation", "point", None, "centre of the sphere world's disc workspace", allow_none=True,
-        scale="the centre of the world's bounds", planners=("sphere-nav",), flag=False)
+        scale="the centre of the world's bounds", flag=False)
     workspace_radius: float | None = _p(
         "navigation", "number", None, "radius of the sphere world's disc workspace", minimum=0.0, strict=True,
-        allow_none=True, scale="the disc inscribed in the world's bounds", planners=("sphere-nav",), flag=False)
+        allow_none=True, scale="the disc inscribed in the world's bounds", flag=False)
 
 
 #: The concerns, in the order help and docs list them.

@@ -20,6 +20,8 @@ from typing import TYPE_CHECKING, Any, Literal, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ._planner_table import PLANNERS as _PLANNERS
+from ._planner_table import Planner
 from .errors import ArgumentTypeError, GridfieldError, ParameterError
 from .grid import GridMap, _as_xy
 from .params import REGISTRY, validate
@@ -29,20 +31,13 @@ if TYPE_CHECKING:  # shapely (via world) is imported only when a plan is made: `
     from .potential import Field
     from .world import World
 
-__all__ = ["PARAMETERS", "PLANNERS", "check_params", "get_planner", "plan"]
+__all__ = ["PARAMETERS", "PLANNERS", "Planner", "check_params", "get_planner", "plan"]
 
-#: name -> (module, function, kind) where kind is "grid" (needs a GridMap) or "world" (needs a World).
-PLANNERS: dict[str, tuple[str, str, str]] = {
-    "potential": ("gridfield.follow", "plan_potential", "grid"),
-    "exact-potential": ("gridfield.exact", "plan_exact_potential", "world"),
-    "visibility": ("gridfield.visibility", "plan_visibility", "world"),
-    "wavefront": ("gridfield.navigation", "plan_wavefront", "grid"),
-    "wavefront-octile": ("gridfield.navigation", "plan_wavefront_octile", "grid"),
-    "fmm": ("gridfield.navigation", "plan_fmm", "grid"),
-    "harmonic": ("gridfield.navigation", "plan_harmonic", "grid"),
-    "sphere-nav": ("gridfield.navigation", "plan_sphere_nav", "world"),
-    "star-nav": ("gridfield.navigation", "plan_star_nav", "world"),
-}
+#: name -> :class:`Planner` ``(module, function, kind, reads)``: kind "grid"
+#: needs a GridMap, "world" a World; ``reads``, the parameters it reads. (The table is the leaf module
+#: ``gridfield._planner_table``, which :mod:`gridfield.params` reads too; adding a planner is one
+#: entry there and its module.)
+PLANNERS = _PLANNERS
 
 #: World planners with their own implementation on grid maps (used when a grid map has no vector
 #: world): name -> (module, function), called like a grid planner.
@@ -122,7 +117,7 @@ def get_planner(name: str) -> tuple[Callable[..., Path], str]:
     """
     if name not in PLANNERS:
         raise ParameterError(f"unknown planner {name!r}; expected one of {', '.join(PLANNERS)}")
-    module, func, kind = PLANNERS[name]
+    module, func, kind, _ = PLANNERS[name]
     try:
         mod = importlib.import_module(module)
     except ImportError as e:

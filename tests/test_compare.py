@@ -37,7 +37,7 @@ from gridfield.compare import (
 from gridfield.errors import GridfieldError, ParameterError
 from gridfield.io import bundled_map, read_world
 from gridfield.path import Path
-from gridfield.planners import PLANNERS
+from gridfield.planners import PLANNERS, Planner
 from gridfield.rasterize import rasterize
 from gridfield.world import world_from_dict
 
@@ -234,7 +234,7 @@ def fake_grid_planner(monkeypatch):
 
     module.plan_bulge = plan_bulge
     monkeypatch.setitem(sys.modules, "fake_compare_planners", module)
-    monkeypatch.setitem(PLANNERS, "bulge", ("fake_compare_planners", "plan_bulge", "grid"))
+    monkeypatch.setitem(PLANNERS, "bulge", Planner("fake_compare_planners", "plan_bulge", "grid"))
     return "bulge"
 
 
@@ -337,7 +337,7 @@ def _fake_planner_module(tmp_path, monkeypatch, name, first_line):
     (tmp_path / f"{module}.py").write_text(f"{first_line}\n\ndef plan(gridmap, start, goal, params):\n    pass\n")
     monkeypatch.syspath_prepend(str(tmp_path))
     monkeypatch.delitem(sys.modules, module, raising=False)
-    monkeypatch.setitem(PLANNERS, name, (module, "plan", "grid"))
+    monkeypatch.setitem(PLANNERS, name, Planner(module, "plan", "grid"))
 
 
 def test_batch_compare_reports_missing_planners_and_bad_input(tmp_path, monkeypatch):
@@ -362,7 +362,7 @@ def test_batch_compare_does_not_skip_a_broken_gridfield_planner(tmp_path, monkey
     _fake_planner_module(tmp_path, monkeypatch, "broken", "from gridfield.path import NoSuchName")
     with pytest.raises(ImportError, match="NoSuchName"):
         batch_compare(w, 2, resolution=0.5, planners=("visibility", "broken"), progress=False)
-    monkeypatch.setitem(PLANNERS, "typo", ("gridfield.follow", "plan_potentail", "grid"))
+    monkeypatch.setitem(PLANNERS, "typo", Planner("gridfield.follow", "plan_potentail", "grid"))
     with pytest.raises(AttributeError, match=r"PLANNERS\['typo'\]"):
         batch_compare(w, 2, resolution=0.5, planners=("visibility", "typo"), progress=False)
 

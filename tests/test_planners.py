@@ -10,7 +10,7 @@ import textwrap
 import pytest
 
 from gridfield.errors import GridfieldError
-from gridfield.planners import PLANNERS, get_planner, plan
+from gridfield.planners import PLANNERS, Planner, get_planner, plan
 from gridfield.world import world_from_dict
 
 WORLD = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"rectangle": [4, 2, 6, 8]}]})
@@ -24,7 +24,7 @@ def register(tmp_path, monkeypatch):
     def make(name: str, source: str, func: str = "plan_fake", kind: str = "world") -> str:
         module = f"fake_planner_{name}"
         (tmp_path / f"{module}.py").write_text(textwrap.dedent(source))
-        monkeypatch.setitem(PLANNERS, name, (module, func, kind))
+        monkeypatch.setitem(PLANNERS, name, Planner(module, func, kind))
         monkeypatch.delitem(sys.modules, module, raising=False)  # undone on teardown: no module left behind
         return name
 
@@ -64,13 +64,13 @@ def test_a_broken_gridfield_import_propagates(register, source):
 
 
 def test_a_registry_entry_naming_a_missing_gridfield_module_propagates(monkeypatch):
-    monkeypatch.setitem(PLANNERS, "lost", ("gridfield.no_such_planner_module", "plan_lost", "grid"))
+    monkeypatch.setitem(PLANNERS, "lost", Planner("gridfield.no_such_planner_module", "plan_lost", "grid"))
     with pytest.raises(ModuleNotFoundError, match=r"gridfield\.no_such_planner_module"):
         get_planner("lost")
 
 
 def test_a_misspelt_function_name_is_a_registry_bug_not_unavailable(monkeypatch):
-    monkeypatch.setitem(PLANNERS, "typo", ("gridfield.follow", "plan_potentail", "grid"))
+    monkeypatch.setitem(PLANNERS, "typo", Planner("gridfield.follow", "plan_potentail", "grid"))
     for call in (lambda: get_planner("typo"), lambda: plan("typo", WORLD, (1, 5), (9, 5), resolution=0.5)):
         with pytest.raises(AttributeError, match=r"PLANNERS\['typo'\] names gridfield.follow.plan_potentail") as got:
             call()
@@ -81,3 +81,74 @@ def test_an_attribute_error_while_importing_propagates(register):
     name = register("attr", "import gridfield\ngridfield.no_such_attribute\n" + PLAN_FAKE)
     with pytest.raises(AttributeError, match="no_such_attribute"):
         get_planner(name)
+
+
+# ----------------------------------------------------------------------------------------------
+# what each planner reads: one table (PLANNERS[...].reads), from which the parameters' "read by" is derived
+# ----------------------------------------------------------------------------------------------
+def test_every_parameter_is_read_and_every_read_is_a_parameter():
+    from gridfield.params import REGISTRY
+
+    for name, entry in PLANNERS.items():
+        assert set(entry.reads) <= set(REGISTRY), (name, set(entry.reads) - set(REGISTRY))
+    unread = [n for n, spec in REGISTRY.items() if not spec.planners]
+    assert unread == []
+
+
+def test_a_new_planner_is_one_entry_and_its_reads_show_in_help(monkeypatch):
+    """Adding a planner is one PLANNERS entry: the "read by" of the parameters it reads (--help,
+    the docs) follows without touching the parameter registry."""
+    from gridfield.params import REGISTRY, help_text
+
+    assert "rrt" not in help_text("step")
+    monkeypatch.setitem(PLANNERS, "rrt", Planner("fake_rrt", "plan_rrt", "world", ("step", "seed")))
+    assert REGISTRY["step"].planners[-1] == "rrt" and help_text("step").endswith(", rrt")
+    assert "rrt" not in REGISTRY["zeta"].planners
+
+
+# alternative valid values, to show that a planner ignores the parameters it does not declare
+_OTHER = {
+    "zeta": 2.5, "d_star": 3.0, "eta": 7.0, "q_star": 1.5, "repulsive_power": 3.0, "repulsion": "sum",
+    "metric": "chessboard", "gradient": "finite_difference", "saturate": 1.5, "model": "vortex", "ka": 5.0,
+    "kr": 5.0, "ko": 1.0, "spacing": 0.5, "sample_radius": 0.7, "step_rule": "scaled", "step": 0.35,
+    "alpha": 0.3, "min_speed": 0.2, "tolerance": 0.4, "max_iterations": 7, "sampling": "nearest",
+    "gradient_threshold": 0.3, "progress_window": 3, "confine_window": 3, "escape": "random_walk",
+    "escape_tries": 2, "escape_radius": 1.0, "seed": 3, "connectivity": 4, "clearance_weight": 2.0,
+    "kappa": 5.0, "lambda": 3.0, "workspace_center": (4.0, 4.0), "workspace_radius": 9.0,
+}
+
+
+@pytest.mark.parametrize("planner", ["potential", "wavefront", "wavefront-octile", "fmm", "harmonic"])
+def test_a_grid_planner_reads_no_parameter_it_does_not_declare(planner):
+    """Changing any parameter outside a planner's ``reads`` leaves its path unchanged (so the
+    declared reads, and the "read by" derived from them, are complete); changing some it reads does
+    change it (so the check can fail)."""
+    import numpy as np
+
+    from gridfield.grid import Grid, GridMap
+    from gridfield.params import REGISTRY
+
+    assert set(_OTHER) == set(REGISTRY)
+    occ = np.zeros((24, 24), bool)
+    occ[8:16, 10:13] = True
+    occ[3:6, 16:20] = True
+    gm = GridMap(Grid(occ.shape, 0.5), occ)
+    start, goal = (1.25, 5.25), (10.75, 6.25)
+    base = plan(planner, gm, start, goal)
+    reads = set(PLANNERS[planner].reads)
+    for name, value in _OTHER.items():
+        if name in reads:
+            continue
+        other = plan(planner, gm, start, goal, {name: value})
+        assert (other.status, other.iterations) == (base.status, base.iterations), name
+        np.testing.assert_array_equal(other.points, base.points, err_msg=name)
+    if not reads:  # harmonic: its field and its descent have no parameter
+        return
+    changed = []
+    for n in reads:
+        try:
+            if not np.array_equal(plan(planner, gm, start, goal, {n: _OTHER[n]}).points, base.points):
+                changed.append(n)
+        except GridfieldError:  # e.g. the vortex model needs a vector world
+            continue
+    assert changed, "none of the declared reads changes the path: this check could not fail"

@@ -278,3 +278,29 @@ def test_an_update_builds_the_potential_once(monkeypatch):
     ex.set_planner("wavefront-octile")  # no potential: no build, no background
     assert len(calls) == 2 and ex.field is None and not ex.field_image.get_visible()
     ex.close()
+
+
+def test_sliders_show_the_values_the_plan_uses():
+    """On a map without parameters every slider starts at the value the planner then uses: the
+    registry's defaults scaled to the map (q_star 4 cells, d_star 2 q_star, balanced eta, step 1 cell)."""
+    from gridfield.explore import PLANNER_SLIDERS
+    from gridfield.params import resolve
+    from gridfield.planners import PLANNERS
+
+    occ = np.zeros((40, 40), bool)
+    occ[15:25, 18:22] = True
+    e = Explorer(GridMap(Grid(occ.shape, 0.25), occ))
+    try:
+        want = resolve({}, unit=0.25)
+        shown = {n: e.sliders[n].val for n in ("zeta", "eta", "q_star", "d_star", "step")}
+        assert shown == pytest.approx({n: want[n] for n in shown})
+        assert (shown["q_star"], shown["d_star"], shown["step"]) == pytest.approx((1.0, 2.0, 0.25))
+        e.set_start(1.1, 1.1)
+        e.set_goal(8.9, 8.9)
+        assert e.path is not None
+        for n, v in shown.items():
+            assert e.path.params[n] == pytest.approx(v), n
+    finally:
+        e.close()
+    for planner, names in PLANNER_SLIDERS.items():  # a planner's sliders are parameters it reads
+        assert set(names) <= set(PLANNERS[planner].reads), planner

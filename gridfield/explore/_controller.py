@@ -160,13 +160,11 @@ class Explorer(ExplorerView):
 
         fig = self.figure
         self.sliders: dict[str, Any] = {}
-        # What the planners use when a parameter is not given (gridfield.potential.DEFAULTS; the
-        # follower's step defaults to one cell), so that every slider shows the value in use.
-        res = self.gridmap.grid.resolution if self.gridmap is not None else self._slider_range("step")[0] * 10
-        defaults = {"zeta": 1.0, "eta": 1.0, "q_star": 2.0, "d_star": math.inf, "step": res}
+        # every slider shows the value in use: the given one, or the registry's default scaled to the map
+        in_use = self._params_in_use()
         for i, name in enumerate(SLIDER_PARAMS):
             lo, hi = self._slider_range(name)
-            v = float(self.params.get(name, defaults[name]))
+            v = float(in_use[name])
             if name == "d_star" and math.isinf(v):
                 v = hi
             lo, hi = min(lo, v), max(hi, v)  # the range always holds the value in use

@@ -345,6 +345,23 @@ class ExplorerModel:
         map runs on its exact polygons, :mod:`gridfield.gridpoly`, through ``plan``)."""
         return self.cworld if self.planner == "exact-potential" and self.cworld is not None else self.cgridmap
 
+    def _params_in_use(self) -> dict[str, Any]:
+        """Every parameter's value in the next plan: the given ones, and the registry's defaults scaled
+        to the map the current planner plans on (:func:`gridfield.params.resolve`, with the unit the
+        planner resolves with: a grid map's cell, an exact world's step)."""
+        from ..params import resolve
+
+        target = self._plan_target()
+        if isinstance(target, GridMap):
+            unit = target.grid.resolution
+        elif isinstance(target, World):
+            from ..exact import _default_step
+
+            unit = _default_step(target)
+        else:
+            unit = 1.0
+        return resolve(self.params, unit=unit)
+
     def _plan(self) -> Path | None:
         """Re-plan with the current start, goal, parameters, planner and configuration space: set
         :attr:`path`, and :attr:`field` to the potential the plan followed (the potential planner's;

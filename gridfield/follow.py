@@ -337,6 +337,40 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
 _CODES = ("", "reached", "local_minimum", "collision", "max_iterations")
 
 
+class _Active:
+    """The points :func:`follow_many` still moves: one entry per point in every array below, kept
+    in step by :meth:`keep` (the points that stop drop out of all of them at once)."""
+
+    __slots__ = ("F1", "F2", "P1x", "P1y", "P2x", "P2y", "RF", "RX", "RY", "X", "Y", "best", "best_it", "ids",
+                 "win_min", "win_x", "win_y")
+
+    def __init__(self, starts: NDArray[np.float64], goal: Point, cw: int) -> None:
+        n = len(starts)
+        self.ids = np.arange(n)  # original index of each active point
+        self.X, self.Y = starts[:, 0].copy(), starts[:, 1].copy()
+        self.P1x = np.full(n, np.nan)  # position one and two steps back
+        self.P1y = np.full(n, np.nan)
+        self.P2x = np.full(n, np.nan)
+        self.P2y = np.full(n, np.nan)
+        self.F1 = np.full(n, np.nan)  # |F| one and two steps back
+        self.F2 = np.full(n, np.nan)
+        X, Y = self.X, self.Y
+        self.best = np.sqrt((X - goal[0]) * (X - goal[0]) + (Y - goal[1]) * (Y - goal[1]))  # best distance to the goal
+        self.best_it = np.zeros(n, np.int64)  # and when
+        self.win_min = np.full(n, np.inf)  # smallest |F| since then, and where
+        self.win_x, self.win_y = X.copy(), Y.copy()
+        # the last cw + 1 positions and their |F| (column = iteration mod cw + 1), for the confined rule
+        self.RX = np.empty((n, cw + 1))
+        self.RY = np.empty((n, cw + 1))
+        self.RF = np.full((n, cw + 1), np.nan)
+        self.RX[:, 0], self.RY[:, 0] = X, Y
+
+    def keep(self, mask: NDArray[np.bool_]) -> None:
+        """Keep the points of ``mask`` in every array (fresh arrays: none is written in place)."""
+        for name in self.__slots__:
+            setattr(self, name, getattr(self, name)[mask])
+
+
 def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | None = None,
                 keep_paths: bool = True) -> list[Path]:
     """Follow a Field from many starts at once (numpy over the points at every step).
@@ -390,26 +424,10 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
 
     t0 = time.perf_counter()
     N = len(S)
-    ids = np.arange(N)  # original index of each active point
-    X, Y = S[:, 0].copy(), S[:, 1].copy()
-    P1x = np.full(N, np.nan)  # position one and two steps back
-    P1y = np.full(N, np.nan)
-    P2x = np.full(N, np.nan)
-    P2y = np.full(N, np.nan)
-    F1 = np.full(N, np.nan)  # |F| one and two steps back
-    F2 = np.full(N, np.nan)
-    best = np.sqrt((X - goal[0]) * (X - goal[0]) + (Y - goal[1]) * (Y - goal[1]))
-    best_it = np.zeros(N, np.int64)
-    win_min = np.full(N, np.inf)
-    win_x, win_y = X.copy(), Y.copy()
-    # the last cw + 1 positions and their |F| (column = iteration mod cw + 1), for the confined rule
-    RX = np.empty((N, cw + 1))
-    RY = np.empty((N, cw + 1))
-    RF = np.full((N, cw + 1), np.nan)
-    RX[:, 0], RY[:, 0] = X, Y
-    hist_x = [X.copy()] if keep_paths else []
-    hist_y = [Y.copy()] if keep_paths else []
-    hist_ids = [ids.copy()] if keep_paths else []
+    a = _Active(S, goal, cw)
+    hist_x = [a.X.copy()] if keep_paths else []
+    hist_y = [a.Y.copy()] if keep_paths else []
+    hist_ids = [a.ids.copy()] if keep_paths else []
     code = np.zeros(N, np.int8)
     end_it = np.zeros(N, np.int64)
     reason = np.empty(N, dtype=object)
@@ -424,43 +442,43 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
     it = 0
 
     def finish(mask: NDArray[np.bool_], c: int, why: str) -> None:
-        idx = ids[mask]
+        idx = a.ids[mask]
         code[idx] = c
         reason[idx] = why
         end_it[idx] = it
-        last[idx, 0], last[idx, 1] = X[mask], Y[mask]
+        last[idx, 0], last[idx, 1] = a.X[mask], a.Y[mask]
 
-    while len(ids):
-        dx, dy = X - goal[0], Y - goal[1]
+    while len(a.ids):
+        dx, dy = a.X - goal[0], a.Y - goal[1]
         d = np.sqrt(dx * dx + dy * dy)
         done = r.reached(d)
         finish(done, 1, "goal")
-        ox, oy = X - P2x, Y - P2y
+        ox, oy = a.X - a.P2x, a.Y - a.P2y
         osc_m = ~done & r.oscillating(np.sqrt(ox * ox + oy * oy))
         if osc_m.any():
-            idx = ids[osc_m]
-            first = r.older_stalls(F2[osc_m], F1[osc_m])
-            stall[idx, 0] = np.where(first, P2x[osc_m], P1x[osc_m])
-            stall[idx, 1] = np.where(first, P2y[osc_m], P1y[osc_m])
-            osc[idx, 0, 0], osc[idx, 0, 1] = P1x[osc_m], P1y[osc_m]
-            osc[idx, 1, 0], osc[idx, 1, 1] = X[osc_m], Y[osc_m]
+            idx = a.ids[osc_m]
+            first = r.older_stalls(a.F2[osc_m], a.F1[osc_m])
+            stall[idx, 0] = np.where(first, a.P2x[osc_m], a.P1x[osc_m])
+            stall[idx, 1] = np.where(first, a.P2y[osc_m], a.P1y[osc_m])
+            osc[idx, 0, 0], osc[idx, 0, 1] = a.P1x[osc_m], a.P1y[osc_m]
+            osc[idx, 1, 0], osc[idx, 1, 1] = a.X[osc_m], a.Y[osc_m]
             finish(osc_m, 2, "oscillation")
         done |= osc_m
         if cw and it >= cw:
-            cf_m = ~done & r.confined(np.ptp(RX, axis=1), np.ptp(RY, axis=1))
+            cf_m = ~done & r.confined(np.ptp(a.RX, axis=1), np.ptp(a.RY, axis=1))
             if cf_m.any():
                 order = (np.arange(it - cw, it) % (cw + 1))  # the stretch's points before the current one
-                k = order[r.weakest(RF[cf_m][:, order])]
+                k = order[r.weakest(a.RF[cf_m][:, order])]
                 rows = np.flatnonzero(cf_m)
-                idx = ids[cf_m]
-                stall[idx, 0], stall[idx, 1] = RX[rows, k], RY[rows, k]
+                idx = a.ids[cf_m]
+                stall[idx, 0], stall[idx, 1] = a.RX[rows, k], a.RY[rows, k]
                 finish(cf_m, 2, "confined")
             done |= cf_m
         if window:
-            np_m = ~done & r.stalled(it - best_it)
+            np_m = ~done & r.stalled(it - a.best_it)
             if np_m.any():
-                idx = ids[np_m]
-                stall[idx, 0], stall[idx, 1] = win_x[np_m], win_y[np_m]
+                idx = a.ids[np_m]
+                stall[idx, 0], stall[idx, 1] = a.win_x[np_m], a.win_y[np_m]
                 finish(np_m, 2, "no_progress")
             done |= np_m
         if it >= max_it:
@@ -468,80 +486,74 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
             break
         keep = ~done
         if not keep.all():
-            ids, X, Y = ids[keep], X[keep], Y[keep]
-            P1x, P1y, P2x, P2y, F1, F2 = P1x[keep], P1y[keep], P2x[keep], P2y[keep], F1[keep], F2[keep]
-            best, best_it, win_min, win_x, win_y = best[keep], best_it[keep], win_min[keep], win_x[keep], win_y[keep]
-            RX, RY, RF = RX[keep], RY[keep], RF[keep]
-            if not len(ids):
+            a.keep(keep)
+            if not len(a.ids):
                 break
-        n = len(ids)
+        n = len(a.ids)
         fx, fy = FX[:n], FY[:n]
-        _force_many(gx, gy, occ, x0, y0, res, nearest, X, Y, fx, fy)
+        _force_many(gx, gy, occ, x0, y0, res, nearest, a.X, a.Y, fx, fy)
         fn = np.sqrt(fx * fx + fy * fy)
-        RF[:, it % (cw + 1)] = fn
-        upd = fn < win_min
-        win_min = np.where(upd, fn, win_min)
-        win_x = np.where(upd, X, win_x)
-        win_y = np.where(upd, Y, win_y)
+        a.RF[:, it % (cw + 1)] = fn
+        upd = fn < a.win_min
+        a.win_min = np.where(upd, fn, a.win_min)
+        a.win_x = np.where(upd, a.X, a.win_x)
+        a.win_y = np.where(upd, a.Y, a.win_y)
         bad = r.small_gradient(fn)
         if bad.any():
-            idx = ids[bad]
-            stall[idx, 0], stall[idx, 1] = X[bad], Y[bad]
+            idx = a.ids[bad]
+            stall[idx, 0], stall[idx, 1] = a.X[bad], a.Y[bad]
             finish(bad, 2, "small_gradient")
-            reason[ids[bad & ~np.isfinite(fn)]] = "undefined_force"
+            reason[a.ids[bad & ~np.isfinite(fn)]] = "undefined_force"
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            NX, NY = r.next_point(X, Y, fx, fy, fn, np.sqrt, np.where)
-        NX = np.where(bad, X, NX)
-        NY = np.where(bad, Y, NY)
+            NX, NY = r.next_point(a.X, a.Y, fx, fy, fn, np.sqrt, np.where)
+        NX = np.where(bad, a.X, NX)
+        NY = np.where(bad, a.Y, NY)
         ob = out_b[:n]
-        _blocked_many(occ, x0, y0, res, wall, X, Y, NX, NY, ob)
+        _blocked_many(occ, x0, y0, res, wall, a.X, a.Y, NX, NY, ob)
         hit = ob & ~bad
         if hit.any():  # the fallback steps of descend, in the same order, for the blocked points
             todo = np.flatnonzero(hit)
-            SX, SY = NX[todo] - X[todo], NY[todo] - Y[todo]
+            SX, SY = NX[todo] - a.X[todo], NY[todo] - a.Y[todo]
             for s in range(len(_SLIDES)):
-                CX, CY = Rules.slide(X[todo], Y[todo], SX, SY, s)
+                CX, CY = Rules.slide(a.X[todo], a.Y[todo], SX, SY, s)
                 cb = np.empty(len(todo), np.bool_)
-                _blocked_many(occ, x0, y0, res, wall, X[todo], Y[todo], CX, CY, cb)
+                _blocked_many(occ, x0, y0, res, wall, a.X[todo], a.Y[todo], CX, CY, cb)
                 freed = ~cb
                 NX[todo[freed]], NY[todo[freed]] = CX[freed], CY[freed]
-                slid[ids[todo[freed]]] += 1
+                slid[a.ids[todo[freed]]] += 1
                 todo, SX, SY = todo[cb], SX[cb], SY[cb]
                 if not len(todo):
                     break
             pinned = np.zeros(n, np.bool_)
             pinned[todo] = True
             if len(todo):
-                idx = ids[pinned]
+                idx = a.ids[pinned]
                 coll[idx, 0], coll[idx, 1] = NX[pinned], NY[pinned]
-                stall[idx, 0], stall[idx, 1] = X[pinned], Y[pinned]
+                stall[idx, 0], stall[idx, 1] = a.X[pinned], a.Y[pinned]
                 finish(pinned, 2, "blocked")
             hit = pinned
         move = ~(bad | hit)
-        P2x, P2y, P1x, P1y = P1x, P1y, X, Y
-        F2, F1 = F1, fn
-        X = np.where(move, NX, X)
-        Y = np.where(move, NY, Y)
+        a.P2x, a.P2y, a.P1x, a.P1y = a.P1x, a.P1y, a.X, a.Y
+        a.F2, a.F1 = a.F1, fn
+        a.X = np.where(move, NX, a.X)
+        a.Y = np.where(move, NY, a.Y)
         it += 1
         if not move.all():
-            ids, X, Y = ids[move], X[move], Y[move]
-            P1x, P1y, P2x, P2y, F1, F2 = P1x[move], P1y[move], P2x[move], P2y[move], F1[move], F2[move]
-            best, best_it, win_min, win_x, win_y = best[move], best_it[move], win_min[move], win_x[move], win_y[move]
-            RX, RY, RF = RX[move], RY[move], RF[move]
-        RX[:, it % (cw + 1)], RY[:, it % (cw + 1)] = X, Y
-        RF[:, it % (cw + 1)] = np.nan
-        if keep_paths:  # X, Y, ids are fresh arrays every step (never written in place)
-            hist_x.append(X)
-            hist_y.append(Y)
-            hist_ids.append(ids)
-        dx, dy = X - goal[0], Y - goal[1]
+            a.keep(move)
+        a.RX[:, it % (cw + 1)], a.RY[:, it % (cw + 1)] = a.X, a.Y
+        a.RF[:, it % (cw + 1)] = np.nan
+        if keep_paths:  # a.X, a.Y, a.ids are fresh arrays every step (never written in place)
+            hist_x.append(a.X)
+            hist_y.append(a.Y)
+            hist_ids.append(a.ids)
+        dx, dy = a.X - goal[0], a.Y - goal[1]
         d = np.sqrt(dx * dx + dy * dy)
-        imp = r.progressed(d, best)
-        best = np.where(imp, d, best)
-        best_it = np.where(imp, it, best_it)
-        win_min = np.where(imp, np.inf, win_min)
-        win_x = np.where(imp, X, win_x)
-        win_y = np.where(imp, Y, win_y)
+        imp = r.progressed(d, a.best)
+        a.best = np.where(imp, d, a.best)
+        a.best_it = np.where(imp, it, a.best_it)
+        a.win_min = np.where(imp, np.inf, a.win_min)
+        a.win_x = np.where(imp, a.X, a.win_x)
+        a.win_y = np.where(imp, a.Y, a.win_y)
     seconds = time.perf_counter() - t0
 
     # paths: hist[k] holds the positions after k moves of the points still moving then; a stable

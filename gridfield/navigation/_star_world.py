@@ -1,12 +1,7 @@
 """Star worlds: the validated world, its scaled obstacle functions and the star-to-sphere transformation.
 
-A *star world* is a disc workspace holding disjoint obstacles that are each star-shaped about a
-centre ``q_i`` (polygons whose kernel contains ``q_i``, and discs). The star-to-sphere transformation
-``h_lambda`` maps it onto a *sphere world* (model discs ``(p_i, r_i)`` in the same workspace), where
-the sphere-world navigation function ``phi`` of :func:`gridfield.navigation.sphere_nav_function` is
-known; ``phi(h_lambda(q))`` is then a navigation function of the star world (Rimon & Koditschek,
-"Exact robot navigation using artificial potential functions", IEEE Trans. Robotics and Automation
-8(5), 1992; Choset et al., *Principles of Robot Motion*, sec. 4.6; seed 002, third question).
+What a star world is and why ``phi(h_lambda(q))`` navigates it: :mod:`gridfield.star` (Rimon &
+Koditschek 1992; Choset et al., sec. 4.6; seed 002, third question).
 
 The construction (all of it vectorized over query points ``q``, shape ``(N, 2)``; the obstacle
 functions ``beta_i`` of discs and star polygons are those of ``_star_obstacle``):

@@ -127,6 +127,9 @@ _SLIDES: tuple[tuple[float, float, float], ...] = tuple(
 )
 
 
+_INF = math.inf
+
+
 def _pick(c: Any, a: Any, b: Any) -> Any:
     """``a if c else b``: :func:`numpy.where` for one point (the rules below take either)."""
     return a if c else b
@@ -220,8 +223,9 @@ class Rules:
         return d < best - self.min_gain
 
     def small_gradient(self, fn: Any) -> Any:
-        """A stall where the force gives out: ``|F| <= gradient_threshold``, or ``|F|`` not finite."""
-        return (fn <= self.gradient_threshold) | (fn != fn) | (fn == math.inf)
+        """A stall where the force gives out: ``|F|`` not above ``gradient_threshold`` (NaN
+        included), or infinite. (``^ True`` negates a bool and a bool array alike.)"""
+        return ((fn > self.gradient_threshold) ^ True) | (fn == _INF)
 
     # -- the step rule and its fallbacks ------------------------------------------------------------
     def next_point(self, x: Any, y: Any, fx: Any, fy: Any, fn: Any, sqrt: Callable[[Any], Any] = math.sqrt,
@@ -477,7 +481,7 @@ def descend(
               escape_radius=escape_radius)
     escape, escape_tries, escape_radius = r.escape, r.escape_tries, r.escape_radius
     max_iterations, progress_window, confine_window = r.max_iterations, r.progress_window, r.confine_window
-    unit, same_radius = r.unit, r.same_radius
+    unit, same_radius, box = r.unit, r.same_radius, r.box
     if escape == "potential_increase" and (potential is None or attraction is None):
         raise ParameterError("escape='potential_increase' needs the potential and the attractive force "
                              "(pass potential= and attraction=)")
@@ -539,6 +543,9 @@ def descend(
             stall = n - 3 if r.older_stalls(fns[n - 3], fns[n - 2]) else n - 2
             extra["oscillation"] = [[xs[n - 2], ys[n - 2]], [x, y]]
         elif (confine_window and n - since > confine_window
+              # cheap necessary condition first: a stretch whose ends are more than a box apart
+              # spans more than a box (max - min >= |end - start|, exactly in floating point)
+              and abs(x - xs[-confine_window - 1]) <= box and abs(y - ys[-confine_window - 1]) <= box
               and confined(max(wx := xs[-confine_window - 1:]) - min(wx),
                            max(wy := ys[-confine_window - 1:]) - min(wy))):
             reason = "confined"

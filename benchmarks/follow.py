@@ -9,6 +9,8 @@ Prints, as medians of ``--repeat`` runs:
   steps per second, over 20 starts;
 - :func:`gridfield.follow.follow_many` on ``--starts`` points at once: point-steps per second;
 - the exact planner (:func:`gridfield.exact.plan_exact_potential`) on seed 000: steps per second;
+- ``--descend-only``: the CPU time per step of :func:`gridfield.descent.descend` alone (its
+  step and stop rules, on an analytic bowl), best of ``--repeat`` runs;
 - a reference measured in the same process: a bare Python loop making one call per step to a
   no-op function taking a point, i.e. the floor of any Python-driven step loop; the follower's
   cost per step is reported as a ratio to it.
@@ -61,6 +63,29 @@ def reference_per_call(n: int = 200_000) -> float:
     return (time.perf_counter() - t0) / n
 
 
+def descend_rules(repeat: int, steps: int = 60_000) -> float:
+    """Seconds of CPU per step of :func:`gridfield.descent.descend` alone: an analytic bowl and a
+    pure-Python ``blocked`` that never blocks, so what is timed is the step and stop rules. (Takes
+    an older gridfield too, whose ``descend`` returned a tuple: ``--descend-only`` runs this
+    alone, for side-by-side runs of two checkouts.)"""
+    from gridfield.descent import descend
+
+    def force(p: tuple[float, float]) -> tuple[float, float]:
+        return 1000.0 - p[0], 0.3 - p[1]
+
+    def never(p: tuple[float, float], q: tuple[float, float]) -> bool:
+        return False
+
+    times, n = [], 0
+    for _ in range(repeat):
+        t0 = time.process_time()
+        out = descend(force, (0.0, 0.0), (1000.0, 0.3), step=0.01, tolerance=0.01, max_iterations=steps,
+                      blocked=never)
+        times.append(time.process_time() - t0)
+        n = out.iterations if hasattr(out, "iterations") else out[2]
+    return min(times) / n
+
+
 def escape_rates(n_seeds: int) -> None:
     w = read_world(bundled_map("seed000_segment.yaml"))
     gm = rasterize(w, 0.05)
@@ -90,7 +115,12 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--escapes", type=int, default=0, metavar="N", help="measure escape success over N seeds")
+    ap.add_argument("--descend-only", action="store_true",
+                    help="only the CPU time per step of descend's rules (best of --repeat runs of 60000 steps)")
     args = ap.parse_args()
+    if args.descend_only:
+        print(f"descend's rules: {descend_rules(args.repeat) * 1e6:.2f} us/step (CPU, best of {args.repeat})")
+        return
 
     size = float(args.size)
     world = world_from_dict(circle_world(size, 40, args.seed))

@@ -84,7 +84,6 @@ A quadratic bowl ``U = |x - g|^2 / 2`` with a normalized step:
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 from collections.abc import Callable
@@ -653,5 +652,5 @@ def descend(
         extra["escapes"] = log
     if escape == "navigation":
         extra["navigation_segments"] = [e["points"] for e in log if "points" in e]
-    return Path(np.column_stack([xs, ys]), status, planner, iterations=it, params=dataclasses.asdict(r),
+    return Path(np.column_stack([xs, ys]), status, planner, iterations=it, params=dict(vars(r)),
                 seconds=time.perf_counter() - t0, extra=extra)

@@ -57,7 +57,8 @@ PLANNERS: dict[str, Planner] = {
     "potential": Planner("gridfield.follow", "plan_potential", "grid",
                          (*_FIELD, "metric", "gradient", "model", "ka", "kr", "ko", "spacing", "sample_radius",
                           *_FOLLOWER, "sampling")),
-    "exact-potential": Planner("gridfield.exact", "plan_exact_potential", "world", (*_FIELD, *_FOLLOWER)),
+    "exact-potential": Planner("gridfield.exact", "plan_exact_potential", "world",
+                               (*_FIELD, "model", *_FOLLOWER)),  # model: only 'khatib' (it refuses 'vortex')
     "visibility": Planner("gridfield.visibility", "plan_visibility", "world"),
     "wavefront": Planner("gridfield.navigation", "plan_wavefront", "grid", (*_GRID_NAV, "connectivity")),
     "wavefront-octile": Planner("gridfield.navigation", "plan_wavefront_octile", "grid", (*_GRID_NAV, "connectivity")),
@@ -65,5 +66,6 @@ PLANNERS: dict[str, Planner] = {
     "harmonic": Planner("gridfield.navigation", "plan_harmonic", "grid"),  # the field has no parameter
     "sphere-nav": Planner("gridfield.navigation", "plan_sphere_nav", "world",
                           (*_PATH, "progress_window", "kappa", "workspace_center", "workspace_radius")),
-    "star-nav": Planner("gridfield.navigation", "plan_star_nav", "world", (*_PATH, "kappa", "lambda")),
+    "star-nav": Planner("gridfield.navigation", "plan_star_nav", "world",
+                        (*_PATH, "progress_window", "kappa", "lambda", "workspace_center", "workspace_radius")),
 }

@@ -435,10 +435,10 @@ class Navigation:
                 "identity away from the obstacles; too small folds the map; seed 002: 1)",
         minimum=0.0, strict=True, flag=False)})
     workspace_center: tuple[float, float] | None = _p(
-        "navigation", "point", None, "centre of the sphere world's disc workspace", allow_none=True,
+        "navigation", "point", None, "centre of the disc workspace of a sphere or star world", allow_none=True,
         scale="the centre of the world's bounds", flag=False)
     workspace_radius: float | None = _p(
-        "navigation", "number", None, "radius of the sphere world's disc workspace", minimum=0.0, strict=True,
+        "navigation", "number", None, "radius of the disc workspace of a sphere or star world", minimum=0.0, strict=True,
         allow_none=True, scale="the disc inscribed in the world's bounds", flag=False)
 
 

@@ -65,6 +65,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .errors import GridfieldError, ParameterError
 from .grid import Grid, GridMap
+from .params import validate
 from .path import Path
 
 __all__ = ["AnyAngleGraph", "convex_corners", "grid_graph", "plan_anyangle"]
@@ -445,6 +446,7 @@ def plan_anyangle(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: M
     >>> p.status, p.length
     ('reached', 1.0)
     """
+    params = validate(params)  # a raw mapping from a direct call is checked too
     graph = grid_graph(gridmap, cache=cache)
     t0 = time.perf_counter()
     pts, length = graph.shortest_path(start, goal)

@@ -64,6 +64,7 @@ from numpy.typing import ArrayLike
 from .descent import descend
 from .errors import GridfieldError, ParameterError
 from .follow import resolve_follow_params
+from .params import validate
 from .path import Path
 from .potential import resolve_params
 from .sampling import attraction_force
@@ -308,6 +309,7 @@ def plan_exact_potential(world: World, start: ArrayLike, goal: ArrayLike, params
     ...
     gridfield.errors.GridfieldError: start (8, 14) lies inside obstacle 1 (polygon)
     """
+    params = validate(params)  # a raw mapping from a direct call is checked too
     if not isinstance(world, World):
         raise ParameterError(f"the exact planner needs a World, got {type(world).__name__}")
     s = _check_point(world, "start", start)

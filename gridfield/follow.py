@@ -40,7 +40,7 @@ from .descent import _SLIDES, ESCAPES, STEP_RULES, Point, Rules, descend, goal_h
 from .errors import GridfieldError, ParameterError
 from .escapes import NavigationEscape, navigation_map
 from .grid import Grid, GridMap, _as_xy
-from .params import check
+from .params import check, validate
 from .path import Path
 from .sampling import (
     SAMPLINGS,
@@ -289,6 +289,7 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     >>> plan_potential(gm, (2.5, 1.5), (2.5, 8.5), {"escape": "navigation"}).status
     'reached'
     """
+    params = validate(params)  # a raw mapping from a direct call is checked too
     from .diagnose import diagnose, unreachable_hint
     from .potential import build_field, field_distance_map, resolve_params
 

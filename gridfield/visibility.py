@@ -85,6 +85,7 @@ from ._visibility_geometry import (
     _rings,
 )
 from .errors import GridfieldError, MapFormatError, ParameterError
+from .params import validate
 from .path import Path
 from .world import Obstacle, World
 
@@ -683,6 +684,7 @@ def plan_visibility(world: World, start: ArrayLike, goal: ArrayLike, params: Map
     >>> p.status, round(p.length, 4), len(p.points)
     ('reached', 22.3868, 4)
     """
+    params = validate(params)  # a raw mapping from a direct call is checked too
     from .gridpoly import source_grid
 
     gm = source_grid(world)

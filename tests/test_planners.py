@@ -200,3 +200,21 @@ def test_a_grid_planner_reads_no_parameter_it_does_not_declare(planner):
         except GridfieldError:  # e.g. the vortex model needs a vector world
             continue
     assert changed, "none of the declared reads changes the path: this check could not fail"
+
+
+@pytest.mark.parametrize("name", list(PLANNERS))
+def test_every_planner_function_validates_a_raw_mapping(name):
+    """Called directly (not through plan), each planner checks its params against the registry: a
+    bad value or an unknown name is a ParameterError naming it, never a ValueError from float()."""
+    import numpy as np
+
+    from gridfield.errors import ParameterError
+    from gridfield.grid import Grid, GridMap
+
+    fn, kind = get_planner(name)
+    target = GridMap(Grid((10, 10), 1.0), np.zeros((10, 10), bool)) if kind == "grid" else WORLD
+    start, goal = np.array([0.5, 0.5]), np.array([9.5, 9.5])
+    with pytest.raises(ParameterError, match="step must be a finite number > 0, got 'abc'"):
+        fn(target, start, goal, {"step": "abc"})
+    with pytest.raises(ParameterError, match="unknown parameter 'stepp'; did you mean 'step'"):
+        fn(target, start, goal, {"stepp": 0.5})

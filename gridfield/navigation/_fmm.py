@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import GridfieldError, ParameterError
 from ..grid import GridMap
+from ..params import validate
 from ..path import Path
 from ._field import NavigationField, _check_weight, _common, _goal_cell, _plan_grid
 from ._wavefront import clearance_cost
@@ -124,6 +125,7 @@ def plan_fmm(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[np.floa
     >>> p.status, round(p.length, 1)
     ('reached', 10.8)
     """
+    params = validate(params)  # a raw mapping from a direct call is checked too
     t0 = time.perf_counter()
     nav = fmm(gridmap, goal, **_common(params))
     if params.get("step") is not None:  # a world's step for the potential follower may exceed a cell

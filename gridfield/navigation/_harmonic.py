@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import GridfieldError, ParameterError
 from ..grid import GridMap
+from ..params import validate
 from ..path import Path
 from ._field import NavigationField, _goal_cell, _kernels, _plan_grid
 
@@ -256,6 +257,7 @@ def plan_harmonic(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[np
     >>> p.status, bool(p.points[:, 0].max() > 4)
     ('reached', True)
     """
+    params = validate(params)  # a raw mapping from a direct call is checked too
     t0 = time.perf_counter()
     nav = harmonic(gridmap, goal)
     return _plan_grid(nav, start, params, "harmonic", time.perf_counter() - t0, method="descent")

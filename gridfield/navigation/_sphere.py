@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import GridfieldError, ParameterError
 from ..grid import Grid
+from ..params import validate
 from ..path import Path
 
 
@@ -264,6 +265,7 @@ def plan_sphere_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.flo
     >>> plan_sphere_nav(w, np.array([2.0, 5.0]), np.array([8.0, 5.0]), {"kappa": 4}).status
     'local_minimum'
     """
+    params = validate(params)  # a raw mapping from a direct call is checked too
     t0 = time.perf_counter()
     discs = _discs_of(world)
     c0, r0 = _workspace(world, params.get("workspace_center"), params.get("workspace_radius"))

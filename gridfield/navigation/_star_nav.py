@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import GridfieldError, ParameterError
+from ..params import validate
 from ..path import Path
 from ._field import NavigationField
 from ._star_world import StarWorld, _check_free, _model_terms, nav_function, star_to_sphere, star_world
@@ -349,6 +350,7 @@ def plan_star_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float
     >>> p.status, p.extra["kappa"], p.extra["lambda"]
     ('reached', 3.0, 1.0)
     """
+    params = validate(params)  # a raw mapping from a direct call is checked too
     t0 = time.perf_counter()
     kappa = _param(params, "kappa")
     lam = _param(params, "lambda")

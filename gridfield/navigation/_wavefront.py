@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import GridfieldError, ParameterError
 from ..grid import GridMap
+from ..params import validate
 from ..path import Path
 from ._field import (
     COSTS,
@@ -200,6 +201,7 @@ def plan_wavefront(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[n
     >>> plan_wavefront(m, np.array([0.5, 0.5]), np.array([2.5, 1.5]), {"connectivity": 4}).iterations
     3
     """
+    params = validate(params)  # a raw mapping from a direct call is checked too
     t0 = time.perf_counter()
     nav = wavefront(gridmap, goal, connectivity=params.get("connectivity", 8), costs="unit", **_common(params))
     return _plan_grid(nav, start, params, "wavefront", time.perf_counter() - t0)
@@ -232,6 +234,7 @@ def plan_wavefront_octile(gridmap: GridMap, start: NDArray[np.float64], goal: ND
     >>> round(plan_wavefront_octile(m, np.array([0.5, 0.5]), np.array([2.5, 1.5]), {}).length, 4)
     2.4142
     """
+    params = validate(params)  # a raw mapping from a direct call is checked too
     t0 = time.perf_counter()
     nav = wavefront(gridmap, goal, connectivity=params.get("connectivity", 8), costs="octile", **_common(params))
     return _plan_grid(nav, start, params, "wavefront-octile", time.perf_counter() - t0)

@@ -99,7 +99,7 @@ from .grid import _as_xy
 from .params import REGISTRY, check
 from .path import Path
 
-__all__ = ["ESCAPES", "STEP_RULES", "Rules", "descend", "goal_hop", "rules"]
+__all__ = ["ESCAPES", "RULE_PARAMS", "STEP_RULES", "Rules", "descend", "goal_hop", "rules"]
 
 #: The step rules and the escapes (the registry's choices for ``step_rule`` and ``escape``).
 STEP_RULES: tuple[str, ...] = REGISTRY["step_rule"].choices
@@ -264,6 +264,13 @@ class Rules:
         with the smallest ``|F|`` (a point without a force, NaN, counts as infinite)."""
         f = np.asarray(forces, dtype=float)
         return np.argmin(np.where(np.isnan(f), np.inf, f), axis=-1)
+
+
+#: The parameters :func:`rules` (and so :func:`descend`) takes from the registry, in its order;
+#: callers pass ``{k: params[k] for k in RULE_PARAMS}`` of their resolved parameters.
+RULE_PARAMS: tuple[str, ...] = ("step_rule", "step", "alpha", "min_speed", "tolerance", "max_iterations",
+                                "gradient_threshold", "progress_window", "confine_window", "escape",
+                                "escape_tries", "escape_radius")
 
 
 def rules(*, step_rule: str = "normalized", step: float = 0.1, alpha: Any = 0.1, min_speed: float = 0.0,

@@ -61,7 +61,7 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike
 
-from .descent import descend
+from .descent import RULE_PARAMS, descend
 from .errors import GridfieldError, ParameterError
 from .follow import resolve_follow_params
 from .params import validate
@@ -326,9 +326,7 @@ def plan_exact_potential(world: World, start: ArrayLike, goal: ArrayLike, params
     path = descend(
         field.force, s, g, blocked=field.blocked, potential=potential, attraction=attraction,
         rng=np.random.default_rng(fp["seed"]), planner="exact-potential",
-        **{k: fp[k] for k in ("step_rule", "step", "alpha", "min_speed", "tolerance", "max_iterations",
-                              "gradient_threshold", "progress_window", "confine_window", "escape", "escape_tries",
-                              "escape_radius")},
+        **{k: fp[k] for k in RULE_PARAMS},
     )
     extra = dict(path.extra)
     extra["build_seconds"] = build

@@ -36,7 +36,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._kernels_follow import _blocked_many, _force_many
 from .basins import Basins, basins, descent_successor
-from .descent import _SLIDES, ESCAPES, STEP_RULES, Point, Rules, descend, goal_hop, rules
+from .descent import _SLIDES, ESCAPES, RULE_PARAMS, STEP_RULES, Point, Rules, descend, goal_hop, rules
 from .errors import GridfieldError, ParameterError
 from .escapes import NavigationEscape, navigation_map
 from .grid import Grid, GridMap, _as_xy
@@ -155,9 +155,7 @@ def _setup(field: Any, params: Mapping[str, Any] | None) -> _Setup:
     p = resolve_follow_params(merged, unit=grid.resolution)
     out = dict(merged)
     out.update(p)
-    kwargs = {k: p[k] for k in ("step_rule", "step", "alpha", "min_speed", "tolerance", "max_iterations",
-                                "gradient_threshold", "progress_window", "confine_window", "escape", "escape_tries",
-                                "escape_radius")}
+    kwargs = {k: p[k] for k in RULE_PARAMS}
     return _Setup(out, kwargs, p["sampling"], vortex)
 
 

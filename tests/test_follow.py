@@ -546,3 +546,15 @@ def test_failed_jumps_are_counted_and_do_not_move():
     assert (status, n, len(pts)) == ("local_minimum", 0, 1)
     assert extra["escapes_tried"] == 3 and extra["escapes_succeeded"] == 0
     assert [e["outcome"] for e in extra["escapes"]] == ["no_jump"] * 3
+
+
+def test_rule_params_are_the_keywords_of_rules():
+    """RULE_PARAMS (what follow and the exact planner hand to descend) is exactly what rules() takes
+    from the registry (all but revisit_tolerance, which is not a registry parameter)."""
+    import inspect
+
+    from gridfield.descent import RULE_PARAMS, rules
+    from gridfield.params import REGISTRY
+
+    assert list(RULE_PARAMS) == [n for n in inspect.signature(rules).parameters if n != "revisit_tolerance"]
+    assert set(RULE_PARAMS) <= set(REGISTRY)

@@ -10,15 +10,14 @@ public actions are :class:`gridfield.explore.Explorer`'s.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from ..errors import GridfieldError
 from ..grid import GridMap
-from ..world import Robot, World
+from ..world import World
 from ._model import ExplorerModel
 
 #: Colours: C-obstacles (seed 004 draws them yellow) and the robot.
@@ -32,30 +31,27 @@ class ExplorerView(ExplorerModel):
 
     Parameters
     ----------
-    target, params, planner, resolution, start, goal, robot
-        The model's (:class:`gridfield.explore._model.ExplorerModel`).
+    target
+        The model's target (:class:`gridfield.explore._model.ExplorerModel`).
     on_message : callable, optional
         Called with every status message.
     figsize : (float, float)
+    **model
+        The model's other keyword arguments (``params``, ``planner``, ``resolution``, ``start``,
+        ``goal``, ``robot``).
     """
 
     def __init__(
         self,
         target: World | GridMap,
         *,
-        params: Mapping[str, Any] | None = None,
-        planner: str = "potential",
-        resolution: float | None = None,
-        start: ArrayLike | None = None,
-        goal: ArrayLike | None = None,
-        robot: Robot | float | ArrayLike | None = None,
         on_message: Callable[[str], Any] | None = None,
         figsize: tuple[float, float] = (12.0, 7.5),
+        **model: Any,
     ) -> None:
         import matplotlib.pyplot as plt
 
-        super().__init__(target, params=params, planner=planner, resolution=resolution, start=start, goal=goal,
-                         robot=robot)
+        super().__init__(target, **model)
         self.on_message = on_message
         self.show_3d = False
         self.message = ""

@@ -184,7 +184,9 @@ def vortex_field(
     n_th = math.floor(2.0 / (0.1 * h) + 1e-9) + 1
     th = np.arange(n_th) * (0.1 * h) * np.pi
     Vo = np.zeros_like(X)
-    with np.errstate(divide="ignore"):
+    # a node on a sample (or within ko / DBL_MAX of it: a tiny sample_radius puts every sample on
+    # the circle's centre) has an infinite charge potential, not an overflow warning
+    with np.errstate(divide="ignore", over="ignore"):
         for cx, cy, r in cir if ko else ():  # (ko = 0: no charges, not 0 / 0 at a node on a sample)
             rad = sample_radius if sample_radius is not None else 1.05 * r
             for xo, yo in zip(cx + rad * np.cos(th), cy + rad * np.sin(th), strict=True):

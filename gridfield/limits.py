@@ -14,6 +14,21 @@ The limit, in cells, is the first of:
    :data:`BYTES_PER_CELL` (what a distance map, a potential and its gradients need per cell),
    leaving room for temporaries, decoding and other programs.
 
+Bytes per job
+    Within :func:`job` (the command line enters it for every command: ``plan:potential``,
+    ``brushfire``, ``sweep``, ...), every grid checked is also sized in bytes: its cells times the
+    job's measured peak bytes per cell (:data:`JOB_BYTES_PER_CELL`, from ``benchmarks/memory.py``)
+    times the number of workers. The rule:
+
+    - with the default limit (no ``--max-cells``, no ``GRIDFIELD_MAX_CELLS``), a grid is refused
+      when its cells exceed :func:`default_max_cells` **or** its estimate exceeds
+      :func:`memory_budget` (:data:`MEMORY_FRACTION` of the memory available now), whichever is
+      stricter;
+    - a limit set by the user is the user's word: cells only (the estimate is still named in the
+      message). Should memory then run out anyway, the command line and the sweep runner turn
+      the ``MemoryError`` into one :class:`~gridfield.errors.SizeLimitError` line
+      (:func:`out_of_memory`) naming what was being built.
+
 Examples
 --------
 >>> check_cells((100, 200), "grid")
@@ -35,7 +50,24 @@ from collections.abc import Iterator, Sequence
 
 from .errors import ParameterError, SizeLimitError
 
-__all__ = ["BYTES_PER_CELL", "ENV_VAR", "check_cells", "default_max_cells", "max_cells", "override", "parse_max_cells"]
+__all__ = [
+    "BYTES_PER_CELL",
+    "ENV_VAR",
+    "JOB_BYTES_PER_CELL",
+    "MEMORY_FRACTION",
+    "available_memory",
+    "check_cells",
+    "default_max_cells",
+    "job",
+    "job_bytes_per_cell",
+    "job_planners",
+    "max_cells",
+    "memory_budget",
+    "out_of_memory",
+    "override",
+    "parse_max_cells",
+    "user_limit",
+]
 
 #: Bytes per cell of the full pipeline: occupancy, brushfire (steps, distance, nearest obstacle,
 #: labels, GVD), potential and its two gradients, plus temporaries.
@@ -44,7 +76,33 @@ BYTES_PER_CELL = 64
 #: Environment variable that sets the limit in cells.
 ENV_VAR = "GRIDFIELD_MAX_CELLS"
 
+#: Peak bytes per cell of each job, measured by ``benchmarks/memory.py`` (peak resident memory of
+#: the command at 512^2, 1024^2 and 1448^2 cells, least-squares slope over the cell count), rounded up
+#: by about a quarter for what the benchmark map does not exercise. Keys are a command or
+#: ``command:planner``; :func:`job_bytes_per_cell` falls back from ``plan:X`` to ``plan`` and from
+#: an unknown job to :data:`BYTES_PER_CELL`.
+JOB_BYTES_PER_CELL: dict[str, int] = {
+    "info": 8,  # the occupancy (1 B) and the labelling of its obstacle regions
+    "brushfire": 48,  # measured 35
+    "field": 96,  # measured 74 (the potential model; a navigation field uses its planner's figure)
+    "plan": 176,  # the largest planner but harmonic: unknown planners on a grid
+    "plan:potential": 176,  # measured 139
+    "plan:wavefront": 56,  # measured 43
+    "plan:wavefront-octile": 24,  # measured 18
+    "plan:fmm": 64,  # measured 52
+    "plan:harmonic": 400,  # measured 312
+    "compare": 192,  # the grid planner at the finest resolution (default potential) and the exact one; measured 154
+    "explore": 176,  # a plan, the field and the incremental brushfire of the map
+    "sweep": 176,  # per worker; the spec's largest planner figure once its planners are known
+}
+
+#: Fraction of the memory available now that one job may plan to use (see "Bytes per job").
+MEMORY_FRACTION = 0.5
+
 _OVERRIDE: list[int] = []
+
+# the job in force: (name, bytes per cell, workers, budget in bytes or None); see job()
+_JOB: list[tuple[str, int, int, int | None]] = []
 
 
 def _physical_memory() -> int | None:
@@ -109,7 +167,204 @@ def parse_max_cells(value: object, where: str) -> int:
 
 def _env_or_default() -> int:
     env = os.environ.get(ENV_VAR)
-    return parse_max_cells(env, ENV_VAR) if env else default_max_cells()
+    return parse_max_cells(env, ENV_VAR) if env is not None else default_max_cells()  # "" is refused too
+
+
+def user_limit() -> int | None:
+    """The limit the user set (:func:`override`, else ``GRIDFIELD_MAX_CELLS``), or None for the default.
+
+    Returns
+    -------
+    int or None
+        An empty or junk ``GRIDFIELD_MAX_CELLS`` raises :class:`~gridfield.errors.ParameterError`,
+        the same rule as ``--max-cells`` (:func:`parse_max_cells`).
+
+    Examples
+    --------
+    >>> with override(10**6):
+    ...     user_limit()
+    1000000
+    """
+    if _OVERRIDE:
+        return _OVERRIDE[-1]
+    env = os.environ.get(ENV_VAR)
+    return None if env is None else parse_max_cells(env, ENV_VAR)
+
+
+def available_memory() -> int | None:
+    """Bytes of memory available to a new allocation now (None where it cannot be read).
+
+    psutil's ``virtual_memory().available`` when psutil is installed, else ``MemAvailable`` of
+    ``/proc/meminfo`` (Linux), else the free pages of ``os.sysconf``.
+
+    Returns
+    -------
+    int or None
+
+    Examples
+    --------
+    >>> m = available_memory()
+    >>> m is None or m > 0
+    True
+    """
+    try:
+        import psutil  # type: ignore[import-untyped]  # optional
+
+        return int(psutil.virtual_memory().available)
+    except Exception:  # not installed, or no answer on this platform
+        pass
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_AVPHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def memory_budget() -> int | None:
+    """:data:`MEMORY_FRACTION` of :func:`available_memory` (None where that is unknown).
+
+    Returns
+    -------
+    int or None
+
+    Examples
+    --------
+    >>> b = memory_budget()
+    >>> b is None or b > 0
+    True
+    """
+    mem = available_memory()
+    return None if not mem or mem <= 0 else int(mem * MEMORY_FRACTION)
+
+
+def job_bytes_per_cell(name: str) -> int:
+    """The peak bytes per cell of job ``name`` (:data:`JOB_BYTES_PER_CELL`, with its fall-backs).
+
+    Parameters
+    ----------
+    name : str
+        A command or ``command:planner`` (``plan:potential``).
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> job_bytes_per_cell("plan:potential"), job_bytes_per_cell("plan:visibility") == job_bytes_per_cell("plan")
+    (176, True)
+    """
+    if name in JOB_BYTES_PER_CELL:
+        return JOB_BYTES_PER_CELL[name]
+    return JOB_BYTES_PER_CELL.get(name.split(":", 1)[0], BYTES_PER_CELL)
+
+
+@contextlib.contextmanager
+def job(name: str, *, workers: int = 1) -> Iterator[None]:
+    """Within the block, every grid checked is also sized in bytes for job ``name`` (see the module docstring).
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`JOB_BYTES_PER_CELL` (or ``command:planner``; see :func:`job_bytes_per_cell`).
+    workers : int, default 1
+        Processes that will each hold such a grid at once (a sweep's workers).
+
+    Yields
+    ------
+    None
+
+    Examples
+    --------
+    >>> import gridfield.limits as L
+    >>> with job("plan:potential"), L._budget_for_tests(10**6):   # a 1 MB budget: 176 B x 10**4 cells is more
+    ...     check_cells((100, 100), "map.png (image header)")
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.SizeLimitError: map.png (image header): plan:potential on 100 x 100 = 10000 cells would need about 1.8 MB ...
+    """
+    budget = memory_budget()
+    _JOB.append((name, job_bytes_per_cell(name), max(1, int(workers)), budget))
+    try:
+        yield
+    finally:
+        _JOB.pop()
+
+
+def job_planners(names: Sequence[str]) -> None:
+    """Size the ``sweep`` job in force by the largest figure of the grid planners it runs.
+
+    Until it is called, a sweep is sized by the ``sweep`` figure; the job's end forgets it.
+
+    Parameters
+    ----------
+    names : sequence of str
+        The planners the sweep runs (their ``plan:NAME`` figures of :data:`JOB_BYTES_PER_CELL`).
+
+    Returns
+    -------
+    None
+        Outside a ``sweep`` job, or with no names, nothing changes.
+
+    Examples
+    --------
+    >>> with job("sweep", workers=2):
+    ...     job_planners(["wavefront-octile"])
+    ...     _JOB[-1][:3]
+    ('sweep', 24, 2)
+    """
+    if not _JOB or _JOB[-1][0] != "sweep" or not names:
+        return
+    name, _, workers, budget = _JOB[-1]
+    _JOB[-1] = (name, max(job_bytes_per_cell(f"plan:{p}") for p in names), workers, budget)
+
+
+@contextlib.contextmanager
+def _budget_for_tests(budget: int | None) -> Iterator[None]:
+    """Within the block the job in force has a memory budget of ``budget`` bytes (tests, doctests)."""
+    name, per_cell, workers, old = _JOB.pop()
+    _JOB.append((name, per_cell, workers, budget))
+    try:
+        yield
+    finally:
+        _JOB[-1] = (name, per_cell, workers, old)
+
+
+def out_of_memory(error: BaseException, what: str | None = None) -> SizeLimitError:
+    """A ``MemoryError`` as one clear :class:`~gridfield.errors.SizeLimitError`: what was built, how to go on.
+
+    Parameters
+    ----------
+    error : MemoryError
+        numpy's ``_ArrayMemoryError`` (a subclass) says which array it could not allocate.
+    what : str, optional
+        What was being built (default: the job in force and its last grid).
+
+    Returns
+    -------
+    SizeLimitError
+
+    Examples
+    --------
+    >>> str(out_of_memory(MemoryError("Unable to allocate 8 GiB"), "plan potential on map.png"))
+    'plan potential on map.png: out of memory (Unable to allocate 8 GiB); use a coarser resolution, ...'
+    """
+    if what is None:
+        what = _LAST[0] if _LAST else (f"{_JOB[-1][0]}" if _JOB else "gridfield")
+    detail = " ".join(str(error).split()) or type(error).__name__
+    return SizeLimitError(
+        f"{what}: out of memory ({detail}); use a coarser resolution, a smaller map or fewer workers, "
+        f"or lower --max-cells / {ENV_VAR} so that such grids are refused before they are built"
+    )
+
+
+_LAST: list[str] = []  # the last grid sized within a job, for out_of_memory's message
 
 
 def max_cells() -> int:
@@ -196,7 +451,7 @@ def check_cells(shape_or_count: Sequence[float] | float, what: str, *, bytes_per
     if type(shape_or_count) is tuple and len(shape_or_count) == 2 and type(shape_or_count[0]) is int and type(
             shape_or_count[1]) is int:  # the common case (a Grid's shape), kept cheap
         n = shape_or_count[0] * shape_or_count[1]
-        if n <= (_OVERRIDE[-1] if _OVERRIDE else _env_or_default()):
+        if not _JOB and n <= (_OVERRIDE[-1] if _OVERRIDE else _env_or_default()):
             return n
     if isinstance(shape_or_count, int | float):
         count = float(shape_or_count)
@@ -206,6 +461,8 @@ def check_cells(shape_or_count: Sequence[float] | float, what: str, *, bytes_per
         count = math.prod(dims) if dims else 1.0
         shape_text = " x ".join(f"{d:.0f}" if d < 1e15 else f"{d:.3g}" for d in dims) + " = "
     limit = max_cells()
+    if _JOB and count <= limit:
+        _check_job_bytes(count, what, shape_text)
     if not count <= limit:  # NaN too
         if not math.isfinite(count):
             cells, memory = "more cells than a float can count", "unbounded memory"
@@ -218,3 +475,21 @@ def check_cells(shape_or_count: Sequence[float] | float, what: str, *, bytes_per
             f"{ENV_VAR}=N (or use a coarser resolution / a smaller map)"
         )
     return int(count)
+
+
+def _check_job_bytes(count: float, what: str, shape_text: str) -> None:
+    """The byte rule of the job in force (the module docstring's "Bytes per job")."""
+    name, per_cell, workers, budget = _JOB[-1]
+    need = count * per_cell * workers
+    who = f" x {workers} workers" if workers > 1 else ""
+    cells = f"{count:.0f} cells" if count < 1e15 else f"{count:.3g} cells"
+    _LAST[:] = [f"{what}: {name} on {shape_text}{cells} (about {_bytes(need)}{who})"]
+    if user_limit() is not None or budget is None or need <= budget:
+        return
+    raise SizeLimitError(
+        f"{what}: {name} on {shape_text}{cells} would need about {_bytes(need)} of memory "
+        f"({per_cell} B per cell{who}), more than the limit of {_bytes(budget)} "
+        f"({MEMORY_FRACTION:g} of the {_bytes(budget / MEMORY_FRACTION)} available now); raise it with "
+        f"--max-cells N or the environment variable {ENV_VAR}=N (a limit in cells that replaces this "
+        f"estimate), or use a coarser resolution / a smaller map{' / fewer workers' if workers > 1 else ''}"
+    )

@@ -4,6 +4,7 @@ gridfield's readers (Pillow decoding, the raw map text, scikit-image labelling).
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -137,3 +138,61 @@ def test_info_option_errors(capsys):
     assert "--resolution applies to world files and bitmaps" in msg
     msg = one_line_error(capsys, ["info", str(bundled_map("arena/arena.map")), "--unknown", "free"])
     assert "option unknown does not apply to a Moving AI map" in msg
+
+
+WORLD_NO_RESOLUTION = """\
+bounds: [-2, 0, 10, 5]
+border: wall
+obstacles:
+  - circle: {center: [5, 2], radius: 1}
+  - circle: {center: [8, 3], radius: 0.5}
+  - polygon: [[0, 0], [1, 0], [1, 1]]
+  - segment: [[2, 4], [3, 4.5]]
+start: [-1.5, 0.5]
+goal: [9.5, 4.5]
+robot: {radius: 0.25}
+"""
+
+
+def test_info_world_without_resolution_is_described_from_its_vectors(capsys, tmp_path, monkeypatch):
+    import yaml
+
+    import gridfield.rasterize
+
+    f = tmp_path / "w.yaml"
+    f.write_text(WORLD_NO_RESOLUTION)
+    spec = yaml.safe_load(WORLD_NO_RESOLUTION)
+    kinds: dict[str, int] = {}
+    for entry in spec["obstacles"]:
+        (kind,) = entry
+        kinds[kind] = kinds.get(kind, 0) + 1
+
+    def no_raster(*a, **k):
+        raise AssertionError("info rasterized a world that sets no resolution")
+
+    monkeypatch.setattr(gridfield.rasterize, "as_gridmap", no_raster)
+    info = run_json(capsys, f)
+    assert info["format"] == "world" and info["shape"] is None and info["resolution"] is None
+    assert info["occupied_fraction"] is None
+    assert info["bounds"] == spec["bounds"] and info["border"] == "wall"
+    assert info["obstacles"] == len(spec["obstacles"]) and info["obstacle_kinds"] == kinds
+    assert info["start"] == spec["start"] and info["goal"] == spec["goal"]
+    assert info["robot"] == "disc of radius 0.25"
+
+    rc = main(["info", str(f)])
+    out, err = capsys.readouterr()
+    assert rc == 0 and err == ""
+    assert "pass --resolution" in out and "2 circles" in out and "start:             (-1.5, 0.5)" in out
+
+    msg = one_line_error(capsys, ["info", str(f), "--npz", str(tmp_path / "o.npz")])
+    assert "pass --resolution" in msg
+
+
+def test_info_world_raster_size_at_the_resolution_it_would_use(capsys, tmp_path):
+    f = tmp_path / "w.yaml"
+    f.write_text(WORLD_NO_RESOLUTION)
+    info = run_json(capsys, f, "--resolution", "0.3")
+    assert info["shape"] == [math.ceil(5 / 0.3 - 1e-9), math.ceil(12 / 0.3 - 1e-9)]  # 17 x 40
+    assert info["resolution"] == 0.3 and 0 < info["occupied_fraction"] < 1
+    seed = run_json(capsys, bundled_map("seed000.yaml"))  # the world's own resolution 0.05
+    assert seed["shape"] == [400, 500] and seed["obstacle_kinds"] == {"polygon": 3}

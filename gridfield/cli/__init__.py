@@ -46,6 +46,20 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _job(args: argparse.Namespace) -> tuple[str, int]:
+    """The size guard's job for this command (see :func:`gridfield.limits.job`): its name and workers."""
+    import os
+
+    name = str(args.command)
+    planner = getattr(args, "planner", None)
+    if name in ("plan", "field") and isinstance(planner, str):
+        name = f"{name}:{planner}"
+    workers = 1
+    if name == "sweep" and getattr(args, "scheduler", None) is None:
+        workers = getattr(args, "workers", None) or os.cpu_count() or 1
+    return name, workers
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     from ..errors import GridfieldError
 
@@ -59,16 +73,21 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     import warnings
 
-    from ..limits import override
+    from ..limits import job, out_of_memory, override, user_limit
 
     def one_line_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
                          file: object = None, line: str | None = None) -> None:
         print(f"gridfield {args.command}: warning: {message}", file=sys.stderr)
 
+    job_name, workers = _job(args)
     try:
-        with warnings.catch_warnings(), override(getattr(args, "max_cells", None)):
+        with warnings.catch_warnings(), override(getattr(args, "max_cells", None)), job(job_name, workers=workers):
+            user_limit()  # an empty or junk GRIDFIELD_MAX_CELLS is refused up front, as --max-cells is
             warnings.showwarning = one_line_warning  # e.g. star-nav's "kappa is too small": one line, no source
-            code = int(args._run(args) or 0)
+            try:
+                code = int(args._run(args) or 0)
+            except MemoryError as e:  # numpy's _ArrayMemoryError too: one line naming what was being built
+                raise out_of_memory(e) from None
         sys.stdout.flush()  # a closed pipe (`gridfield plan --json | head -c 100`) shows here, not at exit
         return code
     except BrokenPipeError:

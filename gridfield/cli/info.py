@@ -33,10 +33,18 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 
 def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
-    """Load the map named by ``args`` and return (the description, the GridMap)."""
+    """Load the map named by ``args`` and return (the description, the GridMap or None).
+
+    A vector world is described from its vectors: bounds, obstacles by kind, robot, start and goal,
+    and the raster it would give at ``--resolution`` or its own ``resolution`` (shape from the
+    bounds, before any allocation); only with a resolution is it rasterized, for the occupied
+    fraction (and ``--npz``). Without one, the raster keys are None and nothing is refused
+    (``--npz`` alone needs a resolution).
+    """
     import numpy as np
     from scipy import ndimage
 
+    from ..errors import ParameterError
     from ..io import read
     from ..world import World
 
@@ -47,21 +55,15 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
     workspace = read(args.map, **options)
     target = robot_target(args, workspace)
     if isinstance(target, World):
-        from ..rasterize import as_gridmap
-
-        gm = as_gridmap(target, args.resolution)
-        fmt, obstacles = "world", len(target.obstacles)
-    else:
-        if args.resolution is not None and suffix not in ("png", "pgm", "bmp"):
-            from ..errors import ParameterError
-
-            raise ParameterError(
-                f"{args.map}: --resolution applies to world files and bitmaps; this "
-                f"{target.meta.get('format', 'map')} map has its own resolution {target.grid.resolution:g}"
-            )
-        gm = target
-        fmt = str(gm.meta.get("format", "grid"))
-        _, obstacles = ndimage.label(gm.occupied, structure=np.ones((3, 3), dtype=bool))
+        return _describe_world(args, workspace, target)
+    if args.resolution is not None and suffix not in ("png", "pgm", "bmp"):
+        raise ParameterError(
+            f"{args.map}: --resolution applies to world files and bitmaps; this "
+            f"{target.meta.get('format', 'map')} map has its own resolution {target.grid.resolution:g}"
+        )
+    gm = target
+    fmt = str(gm.meta.get("format", "grid"))
+    _, obstacles = ndimage.label(gm.occupied, structure=np.ones((3, 3), dtype=bool))
     grid = gm.grid
     info = {
         "shape": [int(grid.rows), int(grid.cols)],
@@ -81,6 +83,47 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
     return info, gm
 
 
+def _describe_world(args: argparse.Namespace, workspace: Any, target: Any) -> tuple[dict[str, Any], Any]:
+    """A vector world's description (see :func:`describe`); the raster only when a resolution is set."""
+    from ..errors import ParameterError
+    from ..grid import Grid
+    from ._common import _robot_from_args
+
+    resolution = args.resolution if args.resolution is not None else target.resolution
+    kinds: dict[str, int] = {}
+    for ob in workspace.obstacles:  # the world as written (with a robot, the raster is of its C-space)
+        kinds[ob.kind] = kinds.get(ob.kind, 0) + 1
+    robot = _robot_from_args(args, workspace)
+    info: dict[str, Any] = {
+        "shape": None,
+        "resolution": None,
+        "origin": [float(target.bounds[0]), float(target.bounds[1])],
+        "border": target.border,
+        "occupied_fraction": None,
+        "obstacles": len(workspace.obstacles),
+        "source": str(args.map),
+        "format": "world",
+        "bounds": [float(v) for v in target.bounds],
+        "obstacle_kinds": dict(sorted(kinds.items())),
+        "start": None if target.start is None else [float(v) for v in target.start],
+        "goal": None if target.goal is None else [float(v) for v in target.goal],
+    }
+    if robot is not None or target is not workspace:
+        info["robot"] = robot.describe() if robot is not None else "point"
+    gm = None
+    if resolution is None:
+        if args.npz:
+            raise ParameterError(f"{args.map}: the world sets no resolution; pass --resolution R to write --npz")
+        return info, None
+    grid = Grid.covering(target.bounds, resolution, border=target.border)  # sized by the guard, nothing allocated
+    info["shape"], info["resolution"] = [int(grid.rows), int(grid.cols)], float(grid.resolution)
+    from ..rasterize import as_gridmap
+
+    gm = as_gridmap(target, resolution)
+    info["occupied_fraction"] = float(gm.occupied_fraction)
+    return info, gm
+
+
 def run(args: argparse.Namespace) -> int:
     info, gm = describe(args)
     if args.npz:
@@ -91,20 +134,32 @@ def run(args: argparse.Namespace) -> int:
         json.dump(info, sys.stdout)
         sys.stdout.write("\n")
         return 0
-    xmin, ymin, xmax, ymax = gm.grid.bounds
-    rows, cols = info["shape"]
-    what = "vector obstacles" if info["format"] == "world" else "8-connected obstacle regions"
+    world = info["format"] == "world"
+    xmin, ymin, xmax, ymax = info["bounds"] if world else gm.grid.bounds
+    what = "vector obstacles" if world else "8-connected obstacle regions"
     print(f"source:            {info['source']}")
     print(f"format:            {info['format']}")
-    print(f"shape:             {rows} rows x {cols} cols")
-    print(f"resolution:        {info['resolution']:g}")
+    if info["shape"] is None:
+        print("shape:             none: the world sets no resolution (pass --resolution R to rasterize it)")
+    else:
+        rows, cols = info["shape"]
+        print(f"shape:             {rows} rows x {cols} cols")
+        print(f"resolution:        {info['resolution']:g}")
     print(f"origin:            ({info['origin'][0]:g}, {info['origin'][1]:g})")
     print(f"bounds:            x [{xmin:g}, {xmax:g}], y [{ymin:g}, {ymax:g}]")
     print(f"border:            {info['border']}")
-    print(f"occupied fraction: {info['occupied_fraction']:.4f}")
+    if info["occupied_fraction"] is not None:
+        print(f"occupied fraction: {info['occupied_fraction']:.4f}")
     print(f"obstacles:         {info['obstacles']} ({what})")
+    if world:
+        kinds = ", ".join(f"{n} {k}{'s' if n != 1 else ''}" for k, n in info["obstacle_kinds"].items())
+        print(f"obstacle kinds:    {kinds or 'none'}")
+        for key in ("start", "goal"):
+            point = info[key]
+            print(f"{key + ':':<19}{'none' if point is None else f'({point[0]:g}, {point[1]:g})'}")
     if "robot" in info:
-        print(f"robot:             {info['robot']} (the grid is its configuration space)")
+        extra = " (the grid is its configuration space)" if info["robot"] != "point" else ""
+        print(f"robot:             {info['robot']}{extra}")
     if args.npz:
         print(f"wrote:             {args.npz}")
     return 0

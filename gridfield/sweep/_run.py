@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -154,6 +155,12 @@ def run_one(run: Run, target: Any = None) -> dict[str, Any]:
         status, length, steps = path.status, path.length, path.iterations
     except GridfieldError as e:
         status, length, steps = f"error: {e}", math.nan, 0
+    except MemoryError as e:  # one clear line naming the run (numpy's _ArrayMemoryError is a MemoryError)
+        from ..limits import out_of_memory
+
+        what = f"{run.planner} on {os.path.basename(str(run.map))}" + (f" at resolution {run.resolution:g}"
+                                                                  if run.resolution is not None else "")
+        status, length, steps = f"error: {out_of_memory(e, what)}", math.nan, 0
     except Exception as e:  # a bug or a resource problem in one run must not abort the sweep
         status, length, steps = f"error: {type(e).__name__}: {e}", math.nan, 0
     ms = (time.perf_counter() - t0) * 1e3

@@ -195,6 +195,9 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
             except ParameterError as e:
                 raise MapFormatError(f"{where}: params ({planner}): {e}") from None
         combos.append(params)
+    from ..limits import job_planners
+
+    job_planners([p for p in planners if PLANNERS[p][2] == "grid"])  # each map below is sized for them
 
     any_angle_all = _flag(spec, "optimal_any_angle", where)
     maps = _need(spec, "maps", where)

@@ -82,7 +82,9 @@ class Spec:
     """One parameter: how it is checked, its default, and what it means.
 
     ``kind`` is ``number``, ``integer``, ``choice``, ``alpha`` (a number or a pair) or ``point``;
-    ``minimum``/``strict`` bound numbers (``strict``: ``> minimum``); ``allow_inf`` admits ``inf``;
+    ``minimum``/``strict`` bound numbers (``strict``: ``> minimum``), ``least`` and ``maximum`` narrow
+    that range where the values beyond are meaningless or overflow (``inf`` is governed by ``allow_inf``
+    alone; each has its own message); ``allow_inf`` admits ``inf``;
     ``allow_none`` admits ``None`` (``scale`` then says what ``None`` resolves to).
 
     Attributes
@@ -98,7 +100,7 @@ class Spec:
         One phrase, shown by ``--help`` and the docs.
     choices : tuple
         The allowed values of a ``choice``.
-    minimum, strict, allow_inf, allow_none
+    minimum, strict, least, maximum, allow_inf, allow_none
         The range of a number (see above).
     scale : str
         The scaling rule of a ``None`` default, in words.
@@ -128,6 +130,8 @@ class Spec:
     choices: tuple[Any, ...] = ()
     minimum: float | None = None
     strict: bool = False
+    least: float | None = None
+    maximum: float | None = None
     allow_inf: bool = False
     allow_none: bool = False
     scale: str = ""
@@ -188,6 +192,10 @@ class Spec:
             raise bad
         if self.minimum is not None and (f < self.minimum or (self.strict and f == self.minimum)):
             raise bad
+        if self.least is not None and f < self.least:
+            raise ParameterError(f"{self.name} must be at least {self.least:g} ({self.allowed()}), got {_short(shown)}")
+        if self.maximum is not None and f > self.maximum and not math.isinf(f):
+            raise ParameterError(f"{self.name} must be at most {self.maximum:g} ({self.allowed()}), got {_short(shown)}")
         if self.kind == "integer":
             if not f.is_integer():
                 raise bad
@@ -307,7 +315,8 @@ class Repulsion:
                               minimum=0.0, strict=True, allow_inf=True, allow_none=True,
                               scale=f"{Q_STAR_CELLS:g} cells")
     repulsive_power: float = _p("repulsion", "number", 2.0, "p in the repulsive force eta*(1/D - 1/q_star)/D**p "
-                                "(2: the gradient of the classic potential)", minimum=0.0)
+                                "(2: the gradient of the classic potential)", minimum=0.0,
+                                maximum=16.0)  # D**p overflows for p = 1e300
     repulsion: str = _p("repulsion", "choice", "nearest", "'nearest' (one brushfire distance D) or 'sum' (over "
                         "obstacles, each within q_star)", choices=("nearest", "sum"))
     metric: str = _p("repulsion", "choice", "euclidean", "brushfire metric behind D",
@@ -376,7 +385,7 @@ class Follower:
                                  minimum=0.0, strict=True, allow_none=True,
                                  scale="step (normalized rule) or 1 cell (scaled rule)")
     max_iterations: int | None = _p("follower", "integer", None, "give up after this many steps", minimum=0,
-                                    allow_none=True, scale="10000, or the number of free cells if larger "
+                                    maximum=1e12, allow_none=True, scale="10000, or the number of free cells if larger "
                                     "(grid follower)")
     sampling: str = _p("follower", "choice", "bilinear", "sampling of the gradient arrays",
                        choices=("bilinear", "nearest"))
@@ -424,9 +433,10 @@ class Navigation:
 
     connectivity: int = _p("navigation", "choice", 8, "neighbourhood of the wavefront", choices=(4, 8), flag=False)
     clearance_weight: float = _p("navigation", "number", 0.0, "weight of the clearance cost of the clearance-aware "
-                                 "wavefront (cost 1 + w * max(0, q_star - D) per cell)", minimum=0.0, flag=False)
+                                 "wavefront (cost 1 + w * max(0, q_star - D) per cell)", minimum=0.0,
+                                 maximum=1000.0, flag=False)  # the wavefront's bucket queue grows with w
     kappa: float | None = _p("navigation", "number", None, "sphere-world (sphere-nav) and star-world (star-nav) "
-                             "navigation function exponent", minimum=0.0, strict=True, allow_none=True,
+                             "navigation function exponent", minimum=0.0, strict=True, least=1e-3, allow_none=True,
                              scale="the smallest of a ladder (sphere-nav: 2, 3, 4, 6, 8, ...; star-nav: 3, 4, "
                                    "6, ...) that reaches the goal, or leaves no detected spurious minimum", flag=False)
     lam: float = field(default=10.0, metadata={"spec": dict(
@@ -439,7 +449,7 @@ class Navigation:
         scale="the centre of the world's bounds", flag=False)
     workspace_radius: float | None = _p(
         "navigation", "number", None, "radius of the disc workspace of a sphere or star world", minimum=0.0, strict=True,
-        allow_none=True, scale="the disc inscribed in the world's bounds", flag=False)
+        maximum=1e12, allow_none=True, scale="the disc inscribed in the world's bounds", flag=False)
 
 
 #: The concerns, in the order help and docs list them.
@@ -709,7 +719,15 @@ def balanced_eta(zeta: float, d_star: float, q_star: float, power: float, unit: 
     else:
         db, inv_q, cap = 2.0 * unit, 0.0, 8.0 * unit
     attraction = z * min(d_star, cap)
-    return float(attraction / ((1.0 / db - inv_q) / db**power))
+    try:
+        eta = float(attraction / ((1.0 / db - inv_q) / db**power))
+    except (ZeroDivisionError, OverflowError):
+        eta = math.nan
+    if not (math.isfinite(eta) and eta > 0):  # q_star so small or large that (q_star/2)**p leaves the floats
+        raise ParameterError(f"q_star = {q_star:g} with repulsive_power {power:g}: the balanced eta (the repulsion "
+                             f"at q_star/2 equal to the attraction) is not a finite positive number; give eta, or a "
+                             f"q_star nearer the map's scale")
+    return eta
 
 
 def help_text(name: str) -> str:
@@ -732,5 +750,7 @@ def help_text(name: str) -> str:
     """
     s = REGISTRY[name]
     default = s.scale if (s.default is None and s.scale) else ("none" if s.default is None else repr(s.default))
-    text = f"{s.meaning}; default: {default}; {s.allowed()}; read by: {', '.join(s.planners)}"
+    most = (f", at least {s.least:g}" if s.least is not None else "") + (
+        f", at most {s.maximum:g}" if s.maximum is not None else "")
+    text = f"{s.meaning}; default: {default}; {s.allowed()}{most}; read by: {', '.join(s.planners)}"
     return text.replace("%", "%%")

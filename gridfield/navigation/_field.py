@@ -335,7 +335,9 @@ def extract_path(
         if not (math.isfinite(tol) and tol >= 0):
             raise ParameterError(f"tolerance must be a finite number >= 0, got {tolerance!r}")
         n_free = int(free.sum())
-        max_it = int(4 * n_free * res / step_len) + 100 if max_iterations is None else int(max_iterations)
+        # a step below 1/1000 cell gets the budget of 1/1000 cell (a tiny step would overflow the count)
+        budget = min(4 * n_free * res / step_len, 4000.0 * n_free)
+        max_it = int(budget) + 100 if max_iterations is None else int(max_iterations)
         x0, y0 = grid.origin
         gx, gy = nav.grad_x, nav.grad_y
         cpts, st, iterations = k.follow_interpolated(  # (only the order of the values matters)

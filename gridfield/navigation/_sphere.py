@@ -282,7 +282,7 @@ def plan_sphere_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.flo
     tol = float(params.get("tolerance", step))
     if not (math.isfinite(tol) and tol >= 0):
         raise ParameterError(f"tolerance must be a finite number >= 0, got {tol!r}")
-    max_it = int(params.get("max_iterations", 50 * int(2 * r0 / step) + 1000))
+    max_it = int(params.get("max_iterations", 50 * int(min(2 * r0 / step, 1e7)) + 1000))  # a tiny step: capped
     window = int(params.get("progress_window", 200))
     kappas = [float(params["kappa"])] if params.get("kappa") is not None else list(KAPPA_LADDER)
     if not all(math.isfinite(k) and k > 0 for k in kappas):

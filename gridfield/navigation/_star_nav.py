@@ -369,7 +369,7 @@ def plan_star_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float
     tol = float(params.get("tolerance", step))
     if not (math.isfinite(tol) and tol >= 0):
         raise ParameterError(f"tolerance must be a finite number >= 0, got {params.get('tolerance')!r}")
-    max_it = int(params.get("max_iterations", 50 * int(2 * r0 / step) + 1000))
+    max_it = int(params.get("max_iterations", 50 * int(min(2 * r0 / step, 1e7)) + 1000))  # a tiny step: capped
     window = int(params.get("progress_window", 200))
     if max_it < 1 or window < 1:
         raise ParameterError(f"max_iterations and progress_window must be >= 1, got {max_it}, {window}")

@@ -403,6 +403,10 @@ def grid_graph(gridmap: GridMap, *, cache: dict[Any, Any] | None = None) -> AnyA
     store: Any = cache if cache is not None else _GRAPHS
     graph = store.get(key)
     if graph is None:
+        from .limits import check_seconds
+
+        corners = convex_corners(_padded_blocked(gridmap))[0].size  # the estimate, before the graph
+        check_seconds({"convex corner": corners}, f"any-angle graph of {gridmap.source or 'the grid map'}")
         graph = _build(gridmap)
         store[key] = graph
     if store is _GRAPHS:

@@ -315,6 +315,12 @@ def plan_exact_potential(world: World, start: ArrayLike, goal: ArrayLike, params
     s = _check_point(world, "start", start)
     g = _check_point(world, "goal", goal)
     params = dict(params or {})
+    from .limits import check_seconds
+    from .params import MAX_ITERATIONS
+
+    steps = params.get("max_iterations")
+    check_seconds({"obstacle vertex": sum(len(ob.vertices) for ob in world.obstacles),  # the union and tree
+                   "follower step": MAX_ITERATIONS if steps is None else steps}, f"exact potential of {world.source or 'the world'}")
     t0 = time.perf_counter()
     field = ExactField(world, g, params)
     build = time.perf_counter() - t0

@@ -86,6 +86,9 @@ def _polygons(gm: GridMap) -> list[Polygon]:
     rows, c0, c1 = blocked_runs(gm.occupied)
     if rows.size == 0:
         return []
+    from .limits import check_seconds
+
+    check_seconds({"blocked run": rows.size}, f"exact polygons of {gm.source or 'the grid map'}")  # before the union
     (x0, y0), h = gm.grid.origin, gm.grid.resolution
     boxes = shapely.box(x0 + c0 * h, y0 + rows * h, x0 + c1 * h, y0 + (rows + 1) * h)
     union = shapely.simplify(shapely.union_all(boxes), 0.0)  # exact for axis-aligned boxes; drops collinear vertices

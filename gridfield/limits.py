@@ -29,6 +29,15 @@ Bytes per job
       the ``MemoryError`` into one :class:`~gridfield.errors.SizeLimitError` line
       (:func:`out_of_memory`) naming what was being built.
 
+Time of the searches
+    The searches whose time grows with a map's detail rather than its cells (the any-angle graph
+    of a grid map's corners, the exact polygons of a grid map, the visibility graph of a vector
+    world, the exact potential's geometry) estimate their time from that detail before they start
+    (:func:`check_seconds`, :data:`SECONDS_PER`) and refuse above ``GRIDFIELD_MAX_SECONDS``
+    (default :data:`DEFAULT_MAX_SECONDS`; ``inf`` switches it off). The figures are rough (the
+    2-core development machine; ``benchmarks/README.md``, "Time of the searches"): the point is to
+    refuse a search of minutes in well under a second, not to predict it.
+
 Examples
 --------
 >>> check_cells((100, 200), "grid")
@@ -52,16 +61,21 @@ from .errors import ParameterError, SizeLimitError
 
 __all__ = [
     "BYTES_PER_CELL",
+    "DEFAULT_MAX_SECONDS",
     "ENV_VAR",
     "JOB_BYTES_PER_CELL",
     "MEMORY_FRACTION",
+    "SECONDS_ENV_VAR",
+    "SECONDS_PER",
     "available_memory",
     "check_cells",
+    "check_seconds",
     "default_max_cells",
     "job",
     "job_bytes_per_cell",
     "job_planners",
     "max_cells",
+    "max_seconds",
     "memory_budget",
     "out_of_memory",
     "override",
@@ -493,3 +507,89 @@ def _check_job_bytes(count: float, what: str, shape_text: str) -> None:
         f"--max-cells N or the environment variable {ENV_VAR}=N (a limit in cells that replaces this "
         f"estimate), or use a coarser resolution / a smaller map{' / fewer workers' if workers > 1 else ''}"
     )
+
+
+#: Environment variable that sets the time limit of the searches, in seconds (``inf``: none).
+SECONDS_ENV_VAR = "GRIDFIELD_MAX_SECONDS"
+
+#: The default time limit of a search, in seconds.
+DEFAULT_MAX_SECONDS = 120.0
+
+#: Seconds per unit of each search's work (rough, see the module docstring): the any-angle graph per
+#: convex corner (1024^2 cells of 30 % noise: 432078 corners and 220205 blocked runs, 38 s in all),
+#: the exact polygons of a grid map per blocked run (one shapely union), the vector visibility graph
+#: per ordered pair of vertices (0.3-0.8 s for 384-768 vertices), the exact potential per vertex of
+#: its geometry (the union and the tree) and per follower step.
+SECONDS_PER: dict[str, float] = {
+    "convex corner": 1e-4,
+    "blocked run": 1e-4,
+    "vertex pair": 2e-6,
+    "obstacle vertex": 2.5e-5,
+    "follower step": 3e-4,
+}
+
+
+def max_seconds() -> float:
+    """The time limit of a search in force: ``GRIDFIELD_MAX_SECONDS``, else :data:`DEFAULT_MAX_SECONDS`.
+
+    Returns
+    -------
+    float
+        ``inf`` switches the limit off; an empty or malformed value raises
+        :class:`~gridfield.errors.ParameterError`.
+
+    Examples
+    --------
+    >>> max_seconds() > 0
+    True
+    """
+    env = os.environ.get(SECONDS_ENV_VAR)
+    if env is None:
+        return DEFAULT_MAX_SECONDS
+    try:
+        v = float(env.replace("_", ""))
+    except ValueError:
+        v = math.nan
+    if not v > 0:  # NaN too
+        raise ParameterError(f"{SECONDS_ENV_VAR} must be a positive number of seconds (inf: no limit), got {env!r}")
+    return v
+
+
+def check_seconds(work: dict[str, float], what: str) -> float:
+    """Refuse a search whose estimated time exceeds :func:`max_seconds`; return the estimate.
+
+    Parameters
+    ----------
+    work : dict
+        Units of work by kind (keys of :data:`SECONDS_PER`), e.g. ``{"convex corner": 4e5}``.
+    what : str
+        What is being built, for the message.
+
+    Returns
+    -------
+    float
+        The estimated seconds.
+
+    Raises
+    ------
+    SizeLimitError
+        Naming the work, the estimate, the limit and how to raise it.
+
+    Examples
+    --------
+    >>> check_seconds({"convex corner": 100}, "any-angle graph") < 1
+    True
+    >>> check_seconds({"convex corner": 10**8}, "any-angle graph of map.png")
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.SizeLimitError: any-angle graph of map.png: 100000000 convex corners would take about 10000 s, ...
+    """
+    estimate = sum(n * SECONDS_PER[kind] for kind, n in work.items())
+    limit = max_seconds()
+    if estimate > limit:
+        units = ", ".join(f"{n:.0f} {kind}s" for kind, n in work.items() if n)
+        raise SizeLimitError(
+            f"{what}: {units} would take about {estimate:.0f} s, more than the limit of {limit:g} s; raise it "
+            f"with the environment variable {SECONDS_ENV_VAR}=N (inf: no limit), or use a smaller or coarser map"
+        )
+    return estimate

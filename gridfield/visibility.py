@@ -642,6 +642,10 @@ _CACHE: weakref.WeakKeyDictionary[World, dict[str, VisibilityGraph]] = weakref.W
 def _cached_graph(world: World, pinch: str) -> VisibilityGraph:
     per_world = _CACHE.setdefault(world, {})
     if pinch not in per_world:
+        from .limits import check_seconds
+
+        n = sum(len(ob.vertices) for ob in world.obstacles)  # circles count their outline's vertices
+        check_seconds({"vertex pair": n * n}, f"visibility graph of {world.source or 'the world'}")
         per_world[pinch] = visibility_graph(world, pinch=pinch)
     return per_world[pinch]
 

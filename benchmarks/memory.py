@@ -29,6 +29,7 @@ ROOT = HERE.parent
 
 #: job -> the command line after ``gridfield`` (MAP, START, GOAL filled in).
 JOBS: dict[str, list[str]] = {
+    "info": ["info", "{map}"],
     "brushfire": ["brushfire", "{map}"],
     "field": ["field", "{map}", "--goal", "{gx}", "{gy}"],
     "plan:potential": ["plan", "{map}", "--planner", "potential", "--start", "{sx}", "{sy}", "--goal", "{gx}", "{gy}"],

@@ -96,7 +96,7 @@ ENV_VAR = "GRIDFIELD_MAX_CELLS"
 #: ``command:planner``; :func:`job_bytes_per_cell` falls back from ``plan:X`` to ``plan`` and from
 #: an unknown job to :data:`BYTES_PER_CELL`.
 JOB_BYTES_PER_CELL: dict[str, int] = {
-    "info": 8,  # the occupancy (1 B) and the labelling of its obstacle regions
+    "info": 8,  # measured 5.5: the occupancy and the labelling of its obstacle regions
     "brushfire": 48,  # measured 35
     "field": 96,  # measured 74 (the potential model; a navigation field uses its planner's figure)
     "plan": 176,  # the largest planner but harmonic: unknown planners on a grid
@@ -106,8 +106,8 @@ JOB_BYTES_PER_CELL: dict[str, int] = {
     "plan:fmm": 64,  # measured 52
     "plan:harmonic": 400,  # measured 312
     "compare": 192,  # the grid planner at the finest resolution (default potential) and the exact one; measured 154
-    "explore": 176,  # a plan, the field and the incremental brushfire of the map
-    "sweep": 176,  # per worker; the spec's largest planner figure once its planners are known
+    "explore": 176,  # not measured (interactive): the potential planner's figure
+    "sweep": 176,  # not measured: per worker, the spec's largest planner figure once its planners are known
 }
 
 #: Fraction of the memory available now that one job may plan to use (see "Bytes per job").
@@ -305,6 +305,7 @@ def job(name: str, *, workers: int = 1) -> Iterator[None]:
     """
     budget = memory_budget()
     _JOB.append((name, job_bytes_per_cell(name), max(1, int(workers)), budget))
+    _LAST.clear()  # out_of_memory names this job's grids only
     try:
         yield
     finally:

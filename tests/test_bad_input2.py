@@ -147,3 +147,82 @@ def test_cli_fifo_scenario_is_one_line(tmp_path):
     with fifo(tmp_path / "s.scen") as f:
         line = one_line_error(cli("plan", str(ARENA), "--scenario", str(f), "--index", "0", timeout=30))
     assert "s.scen: is a FIFO (named pipe), expected a regular file" in line
+
+
+# ----------------------------------------------------------------------------------------
+# 4. subnormal (and absurd) resolutions are refused by the one grid rule
+# ----------------------------------------------------------------------------------------
+def _image(tmp_path: Path) -> Path:
+    from PIL import Image
+
+    Image.fromarray(np.full((20, 30), 255, np.uint8)).save(tmp_path / "img.png")
+    return tmp_path / "img.png"
+
+
+@pytest.mark.parametrize("res", ["1e-320", "5e-324", "1e-200", "1e150"])
+def test_bad_resolution_ros_npz_bitmap(tmp_path, res):
+    img = _image(tmp_path)
+    (tmp_path / "m.yaml").write_text(f"image: img.png\nresolution: {res}\norigin: [0, 0, 0]\n")
+    np.savez(tmp_path / "a.npz", occupied=np.zeros((20, 30), bool), resolution=np.float64(res),
+             origin=np.zeros(2), border=np.array("open"))
+    (tmp_path / "w.yaml").write_text(f"bounds: [0, 0, 4, 3]\nresolution: {res}\nborder: wall\n")
+    pt = [str(float(res) * 10)] * 2
+    for target, extra in ((tmp_path / "m.yaml", []), (tmp_path / "a.npz", []), (img, ["--resolution", res]),
+                          (tmp_path / "w.yaml", ["--planner", "wavefront"])):
+        line = one_line_error(cli("plan", str(target), *extra, "--start", *pt, "--goal", *pt))
+        assert "resolution must be between 1e-75 and 1e+75" in line, line
+        if target.suffix != ".png" and target.name != "w.yaml":
+            assert target.name in line
+
+
+def test_resolution_rule_bounds():
+    from gridfield.errors import ParameterError
+    from gridfield.grid import RESOLUTION_RANGE, Grid
+
+    lo, hi = RESOLUTION_RANGE
+    assert Grid((2, 2), lo).resolution == lo and Grid((2, 2), hi).resolution == hi
+    for bad in (lo / 2, hi * 2, 1e-320):
+        with pytest.raises(ParameterError, match="resolution must be between"):
+            Grid((2, 2), bad)
+        with pytest.raises(ParameterError, match="resolution must be between"):
+            Grid.covering((0, 0, 1, 1), bad)
+
+
+# ----------------------------------------------------------------------------------------
+# 5. IncrementalBrushfire obstacle ids: 1..2**31-1, never wrapped
+# ----------------------------------------------------------------------------------------
+def _ids_map(max_id: int = 3):
+    from gridfield.grid import Grid, GridMap
+    from gridfield.incremental import IncrementalBrushfire
+
+    occ = np.zeros((4, 9), bool)
+    occ[:, 0] = True
+    return IncrementalBrushfire(GridMap(Grid((4, 9), 1.0), occ, np.where(occ, max_id, 0).astype(np.int32)))
+
+
+@pytest.mark.parametrize("ids", [2**32 + 7, 2**40, 2**31, 0, -1, [5, 2**32], np.array([3, 0], np.int64),
+                                 np.uint64(2**63)])
+def test_incremental_ids_out_of_range(ids):
+    from gridfield.errors import ParameterError
+
+    ib = _ids_map()
+    before = ib.gridmap.obstacle_id.copy()
+    with pytest.raises(ParameterError, match=r"ids must be obstacle ids in 1\.\.2147483647"):
+        ib.update(occupied=[[1, 8], [2, 8]], ids=ids)
+    np.testing.assert_array_equal(ib.gridmap.obstacle_id, before)  # nothing changed
+
+
+def test_incremental_default_id_after_the_largest():
+    from gridfield.brushfire import brushfire
+    from gridfield.errors import ParameterError
+
+    ib = _ids_map(2**31 - 2)
+    ib.update(occupied=[[1, 8]])  # the last default id
+    assert ib.gridmap.obstacle_id[1, 8] == 2**31 - 1
+    with pytest.raises(ParameterError, match="no default obstacle id left"):
+        ib.update(occupied=[[2, 8]])
+    ib.update(occupied=[[2, 8]], ids=2**31 - 1)  # the largest id, given
+    d, f = ib.distance_map, brushfire(ib.gridmap, metric="euclidean", compute_steps=False)
+    np.testing.assert_array_equal(d.distance, f.distance)
+    np.testing.assert_array_equal(d.label, f.label)
+    assert ib.gridmap.obstacle_id[2, 8] == 2**31 - 1 and d.label[2, 7] == 2**31 - 1

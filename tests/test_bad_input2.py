@@ -226,3 +226,172 @@ def test_incremental_default_id_after_the_largest():
     np.testing.assert_array_equal(d.distance, f.distance)
     np.testing.assert_array_equal(d.label, f.label)
     assert ib.gridmap.obstacle_id[2, 8] == 2**31 - 1 and d.label[2, 7] == 2**31 - 1
+
+
+# ----------------------------------------------------------------------------------------
+# 7. a huge robot is refused at once (grid maps: before any footprint; worlds: before shapely fails)
+# ----------------------------------------------------------------------------------------
+@pytest.mark.parametrize("radius", ["1e4", "1e5", "1e9", "1e300"])
+def test_huge_disc_on_a_grid_map_is_refused_at_once(radius):
+    line = one_line_error(cli("plan", str(ARENA), "--start", "3.5", "3.5", "--goal", "40.5", "40.5",
+                              "--robot-radius", radius, timeout=20))
+    assert f"the robot (disc of radius {float(radius):g}) is larger than the map's diagonal (69.3" in line, line
+
+
+def test_huge_robots_on_grids_through_the_api():
+    from gridfield.cspace import apply_robot, centre_footprint, conservative_footprint
+    from gridfield.errors import SizeLimitError
+    from gridfield.grid import Grid, GridMap
+    from gridfield.limits import override
+    from gridfield.world import Robot
+
+    arena = read(ARENA)
+    with pytest.raises(GridfieldError, match="larger than the map's diagonal"):
+        apply_robot(arena, [[0, 0], [1e6, 0], [0, 1]])  # a wall: any robot reaching past the diagonal
+    open_map = GridMap(Grid((10, 10), 1.0), np.eye(10, dtype=bool))
+    assert apply_robot(GridMap(Grid((10, 10), 1.0), np.zeros((10, 10), bool)), 1e9).occupied.sum() == 0
+    with override(10**6), pytest.raises(SizeLimitError, match="the footprint of the robot"):
+        apply_robot(open_map, [[0, 0], [5e3, 0], [0, 1]])  # open border: sized by the guard, not built
+    with override(10**6), pytest.raises(SizeLimitError, match="the footprint of a disc robot of radius 1e\\+06"):
+        centre_footprint(1e6, 1.0)
+    with override(10**6), pytest.raises(SizeLimitError, match="the footprint of the robot"):
+        conservative_footprint(Robot(radius=1e6), 1.0)
+
+
+@pytest.mark.parametrize("robot", [["--robot-radius", "1e300"], ["--robot-radius", "1e20"]])
+def test_huge_disc_on_a_vector_world_is_one_line(robot):
+    line = one_line_error(cli("plan", str(bundled_map("seed000.yaml")), "--resolution", "0.1", *robot))
+    assert "is larger than the world's diagonal" in line and "GEOS" not in line, line
+
+
+def test_huge_robot_in_a_world_file_is_one_line(tmp_path):
+    text = bundled_map("seed000.yaml").read_text()
+    f = tmp_path / "w.yaml"
+    f.write_text(text + "\nrobot: {radius: 1.0e+300}\n" if "robot:" not in text else text)
+    line = one_line_error(cli("plan", str(f), "--resolution", "0.1"))
+    assert "larger than the world's diagonal" in line, line
+
+
+# ----------------------------------------------------------------------------------------
+# 9. the grid configuration space of a disc is decided at cell centres: tight, and every move safe
+# ----------------------------------------------------------------------------------------
+def _centre_distance_reference(gm) -> np.ndarray:
+    """Independent reference: the exact distance from each cell centre to the nearest occupied closed cell square
+    (or the wall), by scipy's EDT on the doubled lattice (half-cell steps), where the nearest point of a square to
+    a centre is a lattice point."""
+    from scipy import ndimage
+
+    occ = gm.occupied
+    if gm.grid.border == "wall":
+        occ = np.pad(occ, 1, constant_values=True)
+    rows, cols = occ.shape
+    fine = np.zeros((2 * rows + 1, 2 * cols + 1), bool)
+    r, c = np.nonzero(occ)
+    for dr in (0, 1, 2):
+        for dc in (0, 1, 2):
+            fine[2 * r + dr, 2 * c + dc] = True  # the square of cell (r, c): lattice points 2r..2r+2
+    d = ndimage.distance_transform_edt(~fine)[1::2, 1::2] * (gm.grid.resolution / 2)
+    return d[1:-1, 1:-1] if gm.grid.border == "wall" else d
+
+
+SHARED = ROOT.parent / "shared" / "maps"
+
+
+def _shared(rel: str) -> Path:
+    p = SHARED / rel
+    if not p.exists():
+        pytest.skip(f"{p} not available")
+    return p
+
+
+@pytest.mark.parametrize("name", ["movingai/den312d/den312d.map", "movingai/lak303d/lak303d.map",
+                                  "movingai/16room_000/16room_000.map", "movingai/AcrosstheCape/AcrosstheCape.map",
+                                  "ros_maps/mdr_wrs20-arena/map.yaml", "arena"])
+def test_disc_cspace_on_real_maps_is_exact_at_cell_centres(name):
+    from gridfield.cspace import apply_robot
+
+    gm = read(ARENA if name == "arena" else _shared(name))
+    ref = _centre_distance_reference(gm)
+    h = gm.grid.resolution
+    for r_cells in (0.01, 0.1, 0.49, 0.5, 0.75, 1.0, 1.3, 2.5):
+        r = r_cells * h
+        out = apply_robot(gm, r).occupied
+        assert not np.any(~out & (ref <= r)), (name, r_cells)  # safe: the disc at a free centre touches nothing
+        tie = np.isclose(ref, r, rtol=1e-7)
+        assert np.array_equal(out[~tie], (ref <= r)[~tie]), (name, r_cells)  # tight: blocked only if it touches
+        if r_cells < 0.5:
+            assert np.array_equal(out, gm.occupied)  # below half a cell: a point
+
+
+def test_den312d_scenarios_are_free_for_a_tenth_of_a_cell():
+    from gridfield.cspace import apply_robot
+
+    m = _shared("movingai/den312d/den312d.map")
+    gm, sc = read(m), read_scen(m.with_name(m.name + ".scen"))
+    c = apply_robot(gm, 0.1).occupied
+    assert not c[tuple(sc.start_cell.T)].any() and not c[tuple(sc.goal_cell.T)].any()  # was 68 % blocked
+
+
+def test_one_cell_robot_on_the_mdr_map_finds_the_point_path():
+    from gridfield.planners import plan
+
+    ros = _shared("ros_maps/mdr_wrs20-arena/map.yaml")
+    out = cli("plan", str(ros), "--start", "0.575", "1.125", "--goal", "2.825", "-0.325", "--planner",
+              "wavefront-octile", "--robot-radius", "0.05", "--json")
+    assert out.returncode == 0, out.stderr
+    import json
+
+    res = json.loads(out.stdout)
+    assert res["status"] == "reached", res  # no_path with the old conservative C-space
+    point = plan("wavefront-octile", read(ros), (0.575, 1.125), (2.825, -0.325))
+    assert point.status == "reached" and res["workspace_clearance"] > 0.05
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_property_every_allowed_move_keeps_the_disc_clear(seed):
+    """Exact geometry (shapely): the disc at every free centre, and swept along every move the grid planners may
+    take between free centres (axis moves; diagonals whose two side cells are free: no corner cutting), is
+    disjoint from every occupied closed square and the wall; from half a cell on, every diagonal between free
+    centres is safe."""
+    import shapely
+
+    from gridfield.cspace import apply_robot
+    from gridfield.grid import Grid, GridMap
+
+    rng = np.random.default_rng(seed)
+    h = float(rng.choice([0.25, 1.0]))
+    border = "wall" if seed % 2 else "open"
+    grid = Grid((9, 11), h, origin=(0.5, -1.0), border=border)
+    occ = rng.random(grid.shape) < rng.uniform(0.05, 0.25)
+    r = float(rng.uniform(0.0, 2.5)) * h
+    free = ~apply_robot(GridMap(grid, occ), r).occupied
+    cells = np.argwhere(occ)
+    x0, y0 = grid.origin
+    union = shapely.union_all(shapely.box(x0 + cells[:, 1] * h, y0 + cells[:, 0] * h, x0 + (cells[:, 1] + 1) * h,
+                                          y0 + (cells[:, 0] + 1) * h)) if len(cells) else shapely.Polygon()
+    if border == "wall":
+        xmin, ymin, xmax, ymax = grid.bounds
+        union = union.union(shapely.box(xmin - 9, ymin - 9, xmax + 9, ymax + 9).difference(shapely.box(*grid.bounds)))
+    if union.is_empty:
+        return
+    fc = np.argwhere(free)
+    centres = grid.cell_to_world(fc)
+    assert np.all(shapely.distance(shapely.points(centres), union) > r)
+    segs, any_diag = [], []
+    for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):
+        b = fc + np.array([dr, dc])
+        ok = (b[:, 0] >= 0) & (b[:, 0] < grid.rows) & (b[:, 1] >= 0) & (b[:, 1] < grid.cols)
+        a, b = fc[ok], b[ok]
+        ok = free[b[:, 0], b[:, 1]]
+        a, b = a[ok], b[ok]
+        if dr and dc:
+            sides = free[a[:, 0] + dr, a[:, 1]] & free[a[:, 0], a[:, 1] + dc]
+            any_diag.append(np.stack([grid.cell_to_world(a), grid.cell_to_world(b)], axis=1))
+            a, b = a[sides], b[sides]
+        segs.append(np.stack([grid.cell_to_world(a), grid.cell_to_world(b)], axis=1))
+    allowed = np.concatenate(segs)
+    if len(allowed):
+        assert np.all(shapely.distance(shapely.linestrings(allowed), union) > r)
+    diags = np.concatenate(any_diag)
+    if r >= h / 2 and len(diags):
+        assert np.all(shapely.distance(shapely.linestrings(diags), union) > r)

@@ -395,3 +395,49 @@ def test_property_every_allowed_move_keeps_the_disc_clear(seed):
     diags = np.concatenate(any_diag)
     if r >= h / 2 and len(diags):
         assert np.all(shapely.distance(shapely.linestrings(diags), union) > r)
+
+
+# ----------------------------------------------------------------------------------------
+# 3. sweep specs: the runs are counted before anything is expanded or validated
+# ----------------------------------------------------------------------------------------
+def _spec(tmp_path: Path, body: str) -> Path:
+    f = tmp_path / "spec.yaml"
+    f.write_text(f"output: {tmp_path / 'rows.csv'}\n" + body)
+    return f
+
+
+def test_sweep_huge_random_pairs_refused_with_the_count(tmp_path):
+    import time
+
+    from gridfield.sweep import load_spec
+
+    f = _spec(tmp_path, f"planners: [wavefront-octile]\nmaps:\n  - path: {ARENA}\n    random_pairs: {{n: 100000000}}\n")
+    t = time.perf_counter()
+    e, peak = peak_bytes(load_spec, f)
+    assert isinstance(e, MapFormatError) and "the spec expands to 1e+08 runs" in str(e), e
+    assert time.perf_counter() - t < 10 and peak < 50e6, peak
+
+
+def test_sweep_huge_parameter_product_refused_before_validating(tmp_path, monkeypatch):
+    import gridfield.sweep._spec as spec_mod
+    from gridfield.sweep import load_spec
+
+    calls = []
+    monkeypatch.setattr(spec_mod, "_validate_params", lambda *a: calls.append(a))
+    params = "".join(f"  {n}: [{', '.join(str(0.1 * (i + 1)) for i in range(10))}]\n"
+                      for n in ("eta", "zeta", "q_star", "d_star", "step", "tolerance", "repulsive_power", "attractive_power"))
+    f = _spec(tmp_path, f"planners: [potential]\nmaps: [{ARENA}]\nparams:\n{params}")
+    with pytest.raises(MapFormatError, match=r"the spec expands to 1e\+08 runs \(1 planners x 1e\+08 parameter "):
+        load_spec(f)
+    assert not calls  # refused before a single combination was validated
+
+
+def test_sweep_run_count_follows_the_memory_limit(tmp_path):
+    from gridfield.limits import override
+    from gridfield.sweep import load_spec
+
+    f = _spec(tmp_path, f"planners: [wavefront-octile]\nmaps:\n  - path: {ARENA}\n    random_pairs: {{n: 100}}\n")
+    assert len(load_spec(f)[0]) == 100
+    with override(1000), pytest.raises(MapFormatError, match=r"expands to 100 runs .* more than 62 \(what 1024 "
+                                                              r"bytes per run allow"):
+        load_spec(f)

@@ -11,6 +11,7 @@ import threading
 import tracemalloc
 from collections.abc import Iterator
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -441,3 +442,65 @@ def test_sweep_run_count_follows_the_memory_limit(tmp_path):
     with override(1000), pytest.raises(MapFormatError, match=r"expands to 100 runs .* more than 62 \(what 1024 "
                                                               r"bytes per run allow"):
         load_spec(f)
+
+
+def _sweep_runs():
+    from gridfield.sweep import Run
+
+    return [Run(str(ARENA), None, "wavefront-octile", (), (1.5, 37.5), (1.5, 38.5 + k)) for k in range(8)]
+
+
+def test_dask_killed_worker_is_one_error_and_the_rows_are_kept(tmp_path, monkeypatch):
+    import distributed
+    from distributed.scheduler import KilledWorker
+
+    import gridfield.sweep._backends as backends
+    from gridfield.sweep import run_sweep
+
+    real = backends.run_batch
+
+    def dies_on_the_last(batch, target=None):
+        if any(r.goal[1] == 38.5 + 7 for r in batch):
+            raise KilledWorker("run_batch-xyz", SimpleNamespace(address="tcp://127.0.0.1:1"), allowed_failures=3)
+        return real(batch, target)
+
+    runs = _sweep_runs()
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        monkeypatch.setattr(backends, "run_batch", dies_on_the_last)
+        with pytest.raises(GridfieldError, match=r"the Dask cluster failed \(KilledWorker: .*\); the rows written "
+                                                 r"so far are kept: run the sweep again to resume$"):
+            run_sweep(runs, tmp_path / "rows.csv", scheduler=client, progress=False, batch_size=1)
+        kept = (tmp_path / "rows.csv").read_text().splitlines()
+        assert 1 <= len(kept) - 1 < len(runs)
+        monkeypatch.setattr(backends, "run_batch", real)
+        rows = run_sweep(runs, tmp_path / "rows.csv", scheduler=client, progress=False, batch_size=1)
+    assert len(rows) == len(runs) and (tmp_path / "rows.csv").read_text().splitlines()[:len(kept)] == kept
+
+
+def test_dask_scheduler_gone_is_one_error_and_the_rows_are_kept(tmp_path, monkeypatch):
+    import distributed
+
+    import gridfield.sweep as sweep_module
+    from gridfield.sweep import run_sweep
+
+    runs = _sweep_runs()
+    real_append = sweep_module._Journal.append
+    cluster = distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                       dashboard_address=None)
+    client = distributed.Client(cluster)
+
+    def append_then_stop(self, row):
+        written = real_append(self, row)
+        if len(self.rows) == 2:
+            cluster.close()
+        return written
+
+    monkeypatch.setattr(sweep_module._Journal, "append", append_then_stop)
+    try:
+        with pytest.raises(GridfieldError, match=r"the Dask cluster failed .* the rows written so far are kept"):
+            run_sweep(runs, tmp_path / "rows.csv", scheduler=client, progress=False, batch_size=1)
+    finally:
+        client.close()
+        cluster.close()
+    assert len((tmp_path / "rows.csv").read_text().splitlines()) >= 3

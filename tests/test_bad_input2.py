@@ -504,3 +504,41 @@ def test_dask_scheduler_gone_is_one_error_and_the_rows_are_kept(tmp_path, monkey
         client.close()
         cluster.close()
     assert len((tmp_path / "rows.csv").read_text().splitlines()) >= 3
+
+
+# ----------------------------------------------------------------------------------------
+# 8. the Minkowski union of a non-convex obstacle leaves no zero-area hole
+# ----------------------------------------------------------------------------------------
+@pytest.mark.parametrize("robot", [[[-0.3, -0.1], [0.3, -0.1], [0.3, 0.1], [-0.3, 0.1]],
+                                   [[0.001, -0.317], [-0.251, 0.434], [0.333, 0.152]],
+                                   [[0.222, -0.353], [-0.219, 0.231], [0.068, 0.4], [0.368, -0.184]]])
+def test_polygon_robot_on_star_two_leaves_no_sliver_hole(robot):
+    import shapely
+
+    from gridfield.cspace import cspace_world
+    from gridfield.io import read_world
+    from gridfield.navigation import star_world
+
+    w = read_world(bundled_map("star_two.yaml"))
+    c = cspace_world(w, robot)
+    star = c.obstacles[0].geometry
+    assert star.geom_type == "Polygon" and not star.interiors
+    # the exact C-obstacle of the star (a union of convex pieces, computed independently) has the same area
+    ref = shapely.union_all([shapely.convex_hull(shapely.multipoints(
+        np.concatenate([e[:, None, :] - np.asarray(robot)[None]]).reshape(-1, 2)))
+        for e in np.stack([np.asarray(w.obstacles[0].geometry.exterior.coords)[:-1],
+                           np.roll(np.asarray(w.obstacles[0].geometry.exterior.coords)[:-1], -1, axis=0)], axis=1)]
+        + [shapely.affinity.translate(w.obstacles[0].geometry, *(-np.asarray(robot[0])))])
+    assert star.area == pytest.approx(ref.area, rel=1e-12)
+    star_world(c, c.goal)  # was: ParameterError "obstacle 1 (polygon) has holes"
+
+
+def test_real_holes_are_kept():
+    import shapely
+
+    from gridfield.cspace._vector import _drop_slivers
+
+    outer = [(0, 0), (10, 0), (10, 10), (0, 10)]
+    real, sliver = [(2, 2), (4, 2), (4, 4), (2, 4)], [(6, 6), (7, 6), (6.5, 6 + 1e-15)]
+    out = _drop_slivers(shapely.Polygon(outer, [real, sliver]))
+    assert len(out.interiors) == 1 and out.area == pytest.approx(96.0)

@@ -23,7 +23,15 @@ from numpy.typing import ArrayLike, NDArray
 from .errors import ArgumentTypeError, GridfieldError, ParameterError, check_finite, check_positive, shorten
 from .limits import check_cells
 
-__all__ = ["BORDERS", "Grid", "GridMap"]
+__all__ = ["BORDERS", "RESOLUTION_RANGE", "Grid", "GridMap", "check_resolution"]
+
+#: The cell sizes a grid may have. Outside it the pipeline's arithmetic leaves the normal floats: a
+#: subnormal size (1e-320) has an infinite reciprocal (OverflowError / ZeroDivisionError in ``plan``),
+#: the potential's balanced gain divides by a length to the power 2 and more (ZeroDivisionError at 1e-200
+#: and 1e150), fmm finds no path at 1e-160. Within it, a length's 4th power and its reciprocal's are
+#: normal floats. The one rule for every grid (``Grid``, ``Grid.covering``: bitmaps, ROS and ``.npz``
+#: files, rasterized worlds).
+RESOLUTION_RANGE = (1e-75, 1e75)
 
 BORDERS = ("open", "wall")
 Border = Literal["open", "wall"]
@@ -109,6 +117,42 @@ def _scalar_index(v: float, origin: float, res: float) -> int:
     return i
 
 
+def check_resolution(value: object, name: str = "resolution") -> float:
+    """A grid's cell size as a float: positive, finite and within :data:`RESOLUTION_RANGE`.
+
+    Parameters
+    ----------
+    value : float
+        The cell size (anything ``float()`` accepts).
+    name : str
+        For the message.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ParameterError
+        Not a number, not positive and finite, or outside :data:`RESOLUTION_RANGE`.
+
+    Examples
+    --------
+    >>> check_resolution(0.05)
+    0.05
+    >>> check_resolution(1e-320)
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: resolution must be between 1e-75 and 1e+75 (so that lengths in cells, their powers and reciprocals stay normal floats), got 1e-320
+    """
+    v = check_positive(name, value)  # type: ignore[arg-type]
+    lo, hi = RESOLUTION_RANGE
+    if not lo <= v <= hi:
+        raise ParameterError(f"{name} must be between {lo:g} and {hi:g} (so that lengths in cells, their powers and "
+                             f"reciprocals stay normal floats), got {shorten(value)}")
+    return v
+
+
 @dataclass(frozen=True)
 class Grid:
     """Geometry of a 2-D grid: shape, cell size, world position of the lower-left corner, border.
@@ -142,7 +186,7 @@ class Grid:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "shape", _check_shape(self.shape))
-        object.__setattr__(self, "resolution", check_positive("resolution", self.resolution))
+        object.__setattr__(self, "resolution", check_resolution(self.resolution))
         try:
             n_origin = len(tuple(self.origin))
         except TypeError:
@@ -199,7 +243,7 @@ class Grid:
         >>> Grid.covering((0, 0, 25, 20), 0.5).shape
         (40, 50)
         """
-        res = check_positive("resolution", resolution)
+        res = check_resolution(resolution)
         check_finite("bounds", bounds)
         if len(tuple(bounds)) != 4:
             raise ParameterError(f"bounds must be [xmin, ymin, xmax, ymax], got {list(bounds)}")

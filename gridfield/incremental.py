@@ -65,7 +65,10 @@ from .brushfire import BORDER_LABEL, DistanceMap, brushfire
 from .errors import GridfieldError, ParameterError
 from .grid import GridMap
 
-__all__ = ["IncrementalBrushfire", "Window", "update_field", "update_navigation"]
+__all__ = ["ID_MAX", "IncrementalBrushfire", "Window", "update_field", "update_navigation"]
+
+#: The largest obstacle id (ids are stored as 32-bit integers; 0 means "no obstacle").
+ID_MAX = 2**31 - 1
 
 #: A window of the grid: ``(r0, r1, c0, c1)``, rows ``r0:r1`` and columns ``c0:c1``.
 Window = tuple[int, int, int, int]
@@ -246,8 +249,8 @@ class IncrementalBrushfire:
             grid's shape. Cells already occupied (free) are ignored; a cell in both is an error.
         ids : int or array_like, optional
             Only for maps with world obstacle ids: the id of the newly occupied cells (one for all,
-            or one per cell of ``occupied`` in its order); default: one new id, the largest used so
-            far plus one.
+            or one per cell of ``occupied`` in its order), each in ``1..ID_MAX``; default: one new id,
+            the largest used so far plus one (an error once that would pass ``ID_MAX``).
 
         Returns
         -------
@@ -279,9 +282,16 @@ class IncrementalBrushfire:
             if not np.issubdtype(new_ids.dtype, np.integer) or new_ids.ndim > 1 or (
                     new_ids.ndim == 1 and len(new_ids) != n_given):
                 raise ParameterError(f"ids must be one integer or one per occupied cell ({n_given}), got {ids!r}")
+            if new_ids.size and not (new_ids.min() >= 1 and new_ids.max() <= ID_MAX):
+                bad = new_ids.ravel()[np.flatnonzero((new_ids.ravel() < 1) | (new_ids.ravel() > ID_MAX))[0]]
+                raise ParameterError(f"ids must be obstacle ids in 1..{ID_MAX} (0 is 'no obstacle'; ids are stored "
+                                     f"as 32-bit integers), got {int(bad)}")
             if new_ids.ndim == 1:
                 new_ids = new_ids[pos]
         keep = ~self._occ[orr, occ_c]
+        if new_ids is None and self._ids is not None and keep.any() and self._max_id >= ID_MAX:
+            raise ParameterError(f"no default obstacle id left: the largest, {ID_MAX}, is in use; give ids= "
+                                 f"(an id in 1..{ID_MAX})")
         orr, occ_c = orr[keep], occ_c[keep]
         if new_ids is not None and new_ids.ndim == 1:
             new_ids = new_ids[keep]

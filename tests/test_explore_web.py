@@ -104,3 +104,50 @@ def test_web_explorer_bad_port_is_a_one_line_error():
                          timeout=120)
     assert out.returncode == 2 and "--port must be a port number" in out.stderr
     assert out.stderr.count("\n") == 1
+
+
+def test_web_explorer_drops_bad_page_messages_so_later_clients_still_get_images(layout):
+    """A NaN device pixel ratio (and other malformed values) from one page used to reach the figure and break
+    every later draw until restart; now each is dropped with one line, and a second client gets its image."""
+    port = free_port()
+    server = ExplorerServer([*MAP_ARGS, "--web", "--port", str(port)])
+    try:
+        url = server.wait_for(r"gridfield explorer: (http://127\.0\.0\.1:\d+/)").group(1)
+        with urllib.request.urlopen(url, timeout=10) as r:
+            fig_id = figure_id(r.read().decode())
+        bad = [{"type": "set_device_pixel_ratio", "device_pixel_ratio": float("nan")},
+               {"type": "set_dpi_ratio", "dpi_ratio": float("inf")},
+               {"type": "resize", "width": 10**9, "height": 600},
+               {"type": "button_press", "x": float("nan"), "y": 10, "button": 0, "buttons": 1, "modifiers": []},
+               {"type": "scroll", "x": 10, "y": 10, "step": float("inf"), "button": 0, "buttons": 0, "modifiers": []}]
+
+        async def image_after_handshake(ws) -> bool:
+            await handshake(ws, fig_id)
+            await ws.write_message(json.dumps({"type": "draw", "figure_id": fig_id}))
+            while True:
+                msg = await asyncio.wait_for(ws.read_message(), 30)
+                if msg is None:
+                    return False
+                if isinstance(msg, bytes):
+                    return True
+
+        async def drive():
+            first = await websocket_connect(f"ws://127.0.0.1:{port}/{fig_id}/ws")
+            for msg in bad:
+                await first.write_message(json.dumps({**msg, "figure_id": fig_id}))
+            for _ in bad:
+                await asyncio.get_running_loop().run_in_executor(None, server.wait_for,
+                                                                 r"ignored a message from the page: ")
+            first.close()
+            second = await websocket_connect(f"ws://127.0.0.1:{port}/{fig_id}/ws")
+            assert await image_after_handshake(second)
+            reader = asyncio.create_task(answer_draws(second, fig_id))
+            await click(second, layout["start"], fig_id)
+            await asyncio.get_running_loop().run_in_executor(None, server.wait_for, r"start set to \(2, 2\)")
+            second.close()
+            await reader
+
+        asyncio.run(drive())
+        assert not any("Traceback" in line or "Error" in line for line in server.seen), server.seen
+    finally:
+        server.stop()

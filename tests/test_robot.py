@@ -54,7 +54,7 @@ def random_polygon_robot(rng: np.random.Generator) -> np.ndarray:
 # ----------------------------------------------------------------------------------------
 @pytest.mark.parametrize("seed", range(6))
 @pytest.mark.parametrize("border", ["open", "wall"])
-def test_grid_disc_cspace_is_every_cell_within_the_radius_of_an_occupied_square(seed, border):
+def test_grid_disc_cspace_is_every_cell_whose_centre_is_within_the_radius_of_an_occupied_square(seed, border):
     rng = np.random.default_rng(seed)
     grid = Grid((11, 13), H, origin=(-1.0, 2.0), border=border)
     occ = rng.random(grid.shape) < 0.06
@@ -65,7 +65,7 @@ def test_grid_disc_cspace_is_every_cell_within_the_radius_of_an_occupied_square(
     if border == "wall":
         xmin, ymin, xmax, ymax = grid.bounds
         union = union.union(shapely.box(xmin - 5, ymin - 5, xmax + 5, ymax + 5).difference(shapely.box(*grid.bounds)))
-    ref = shapely.distance(cell_boxes(grid, allc), union) <= radius
+    ref = shapely.distance(shapely.points(grid.cell_to_world(allc)), union) <= radius  # decided at cell centres
     np.testing.assert_array_equal(out[allc[:, 0], allc[:, 1]], ref)
 
 
@@ -84,14 +84,15 @@ def test_grid_polygon_cspace_is_every_cell_from_which_the_robot_can_touch_an_occ
     assert np.array_equal(out.obstacle_id > 0, out.occupied)  # ids follow the grown cells
 
 
-def test_footprint_of_a_point_robot_changes_nothing_and_a_tiny_disc_reaches_the_neighbours():
+def test_footprint_of_a_point_robot_changes_nothing_and_a_disc_below_half_a_cell_is_a_point():
     assert conservative_footprint(Robot(radius=0.0), 1.0).shape == (1, 1)
     occ = np.zeros((5, 5), bool)
     occ[2, 2] = True
     m = GridMap(Grid((5, 5), 1.0), occ)
     assert apply_robot(m, 0.0) is m
-    # a disc of radius 1e-3 centred in a neighbouring cell, near the shared edge, touches the cell
-    assert apply_robot(m, 1e-3).occupied.sum() == 9
+    # a disc of radius 1e-3 at a neighbouring cell's centre is half a cell from the occupied square
+    assert apply_robot(m, 1e-3).occupied.sum() == 1 and apply_robot(m, 0.49).occupied.sum() == 1
+    assert apply_robot(m, 0.5).occupied.sum() == 5  # touching at the 4-neighbours' centres counts
 
 
 # ----------------------------------------------------------------------------------------
@@ -371,17 +372,16 @@ def test_info_describes_the_configuration_space(capsys):
 @settings(max_examples=30, deadline=None)
 @given(seed=st.integers(0, 2**31 - 1), radius=st.floats(0.01, 2.0), h=st.sampled_from([0.25, 0.5, 1.0]),
        wall=st.booleans())
-def test_property_disc_cspace_grid_equals_the_conservative_rasterization_of_the_exact_one(seed, radius, h, wall):
+def test_property_disc_cspace_grid_is_the_exact_one_at_cell_centres(seed, radius, h, wall):
     rng = np.random.default_rng(seed)
     grid = Grid((7, 9), h, origin=(0.5, -1.0), border="wall" if wall else "open")
     occ = rng.random(grid.shape) < 0.1
     allc = np.argwhere(np.ones(grid.shape, bool))
-    boxes = cell_boxes(grid, allc)
     union = shapely.union_all(cell_boxes(grid, np.argwhere(occ)))
     if wall:
         xmin, ymin, xmax, ymax = grid.bounds
         union = union.union(shapely.box(xmin - 9, ymin - 9, xmax + 9, ymax + 9).difference(shapely.box(*grid.bounds)))
-    d = shapely.distance(boxes, union)
+    d = shapely.distance(shapely.points(grid.cell_to_world(allc)), union)
     assume(not np.any(np.isclose(d, radius, rtol=1e-7)))  # no exact tie (the tolerance decides those)
     out = apply_robot(GridMap(grid, occ), radius).occupied[allc[:, 0], allc[:, 1]]
     np.testing.assert_array_equal(out, d <= radius)

@@ -63,6 +63,94 @@ def _use_webagg(port: int) -> None:
     matplotlib.rcParams["webagg.open_in_browser"] = False
 
 
+#: What the served page may send (matplotlib's mpl.js): the device pixel ratio, the canvas size in CSS pixels,
+#: and how far outside the canvas an event may be (a drag leaving it), in canvas widths.
+WEB_PIXEL_RATIO = (0.25, 8.0)
+WEB_SIZE = (1, 8192)
+WEB_EVENT_MARGIN = 1.0
+_WEB_MOUSE = ("button_press", "button_release", "dblclick", "motion_notify", "scroll", "figure_enter", "figure_leave")
+_WEB_OTHER = ("ack", "draw", "refresh", "send_image_mode", "supports_binary", "key_press", "key_release",
+              "toolbar_button", "resize", "set_device_pixel_ratio", "set_dpi_ratio")
+
+
+def _number(event: dict, key: str, lo: float, hi: float, default: float | None = None) -> str | None:
+    """None if ``event[key]`` is a finite number in ``[lo, hi]`` (or absent with a default), else the reason."""
+    import math
+
+    v = event.get(key, default)
+    if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v) or not lo <= v <= hi:
+        return f"{key} must be a finite number in [{lo:g}, {hi:g}], got {v!r:.40}"
+    return None
+
+
+def web_message_problem(event: object, width: float, height: float) -> str | None:
+    """Why a message from the web page must not reach the figure (None: it may).
+
+    Parameters
+    ----------
+    event : object
+        The decoded JSON message.
+    width, height : float
+        The canvas size in physical pixels (event coordinates are checked against it).
+
+    Returns
+    -------
+    str or None
+        One line naming the field at fault.
+
+    Examples
+    --------
+    >>> web_message_problem({"type": "set_device_pixel_ratio", "device_pixel_ratio": float("nan")}, 800, 600)
+    'device_pixel_ratio must be a finite number in [0.25, 8], got nan'
+    >>> web_message_problem({"type": "button_press", "x": 10, "y": 20, "button": 0, "buttons": 1,
+    ...                      "modifiers": []}, 800, 600) is None
+    True
+    """
+    if not isinstance(event, dict) or not isinstance(event.get("type"), str):
+        return "a message must be a JSON object with a 'type'"
+    kind = event["type"]
+    if kind in ("set_device_pixel_ratio", "set_dpi_ratio"):
+        key = "device_pixel_ratio" if kind == "set_device_pixel_ratio" else "dpi_ratio"
+        return _number(event, key, *WEB_PIXEL_RATIO, default=1)
+    if kind == "resize":
+        return _number(event, "width", *WEB_SIZE, default=800) or _number(event, "height", *WEB_SIZE, default=800)
+    if kind in _WEB_MOUSE:
+        m = WEB_EVENT_MARGIN
+        bad = (_number(event, "x", -m * width, (1 + m) * width) or _number(event, "y", -m * height, (1 + m) * height)
+               or _number(event, "button", 0, 4, default=0) or _number(event, "buttons", 0, 31, default=0))
+        if bad is None and kind == "scroll":
+            bad = _number(event, "step", -1000, 1000)
+        mods = event.get("modifiers", [])
+        if bad is None and not (isinstance(mods, list) and len(mods) <= 8 and all(isinstance(x, str) and len(x) <= 16
+                                                                                   for x in mods)):
+            bad = "modifiers must be a short list of key names"
+        return bad
+    if kind in ("key_press", "key_release"):
+        name = event.get("key")
+        return None if isinstance(name, str) and 0 < len(name) <= 64 else "key must be a key name"
+    if kind == "toolbar_button":
+        return None if isinstance(event.get("name"), str) and len(event["name"]) <= 64 else "name must be a tool name"
+    if kind in _WEB_OTHER:
+        return None
+    return f"unknown message type {kind!r:.40}"
+
+
+def _guard_web_canvas(canvas: object, log: object) -> None:
+    """Check every message of the page before the WebAgg canvas handles it; a bad one is dropped (one line
+    on stdout), so that one client cannot break the figure for every later one (a NaN pixel ratio did)."""
+    handle = canvas.handle_event  # type: ignore[attr-defined]
+
+    def checked(event: object) -> object:
+        w, h = canvas.get_width_height(physical=True)  # type: ignore[attr-defined]
+        problem = web_message_problem(event, w, h)
+        if problem is not None:
+            log(f"ignored a message from the page: {problem}")  # type: ignore[operator]
+            return None
+        return handle(event)
+
+    canvas.handle_event = checked  # type: ignore[attr-defined]
+
+
 def run(args: argparse.Namespace) -> int:
     from ..errors import GridfieldError, ParameterError
     from ..explore import EXPLORER_PLANNERS, Explorer
@@ -104,6 +192,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.web:
         from matplotlib.backends.backend_webagg import WebAggApplication
+
+        _guard_web_canvas(explorer.figure.canvas, log)
 
         try:
             WebAggApplication.initialize()

@@ -21,7 +21,8 @@ Layout of the package (one job per module): ``_polygons`` (convex polygons as no
 arrays, :func:`minkowski_obstacle`, :func:`star_algorithm`), ``_vector`` (worlds:
 :func:`inflate_world`, :func:`cspace_world`), ``_grid`` (grids: :func:`inflate_grid`,
 :func:`cspace_grid` and the footprint dilation), ``_robot`` (a robot on any map:
-:func:`as_robot`, :func:`apply_robot`, :func:`conservative_footprint`, the start/goal and
+:func:`as_robot`, :func:`apply_robot`, :func:`centre_footprint` (discs on grids, decided at cell
+centres), :func:`conservative_footprint` (polygons on grids), the start/goal and
 clearance checks). Each builds on the ones before it; this ``__init__`` only re-exports their
 public names. The submodules are private: import from ``gridfield.cspace``.
 """
@@ -33,6 +34,7 @@ from ._polygons import minkowski_obstacle, star_algorithm
 from ._robot import (
     apply_robot,
     as_robot,
+    centre_footprint,
     check_robot_point,
     check_robot_polygon,
     conservative_footprint,
@@ -47,6 +49,7 @@ from ._vector import cspace_world, inflate_world
 __all__ = [
     "apply_robot",
     "as_robot",
+    "centre_footprint",
     "check_robot_point",
     "check_robot_polygon",
     "conservative_footprint",

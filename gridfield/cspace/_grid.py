@@ -8,6 +8,7 @@ dilates them by the rasterized reflected robot. The dilation by a footprint (``_
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -16,6 +17,7 @@ from scipy import ndimage
 
 from ..errors import ParameterError
 from ..grid import Grid, GridMap
+from ..limits import check_cells
 from ..rasterize import rasterize_geometry
 from ._polygons import _as_geometry, _check_radius, _clean_convex, _convex_polygon
 
@@ -106,17 +108,19 @@ def _dilate(arr: NDArray, runs: list[tuple[int, int, int]], pad_value: int) -> N
     running maximum per run (cost independent of the run's length)."""
     rows, cols = arr.shape
     p = max(max(abs(dr), abs(a), abs(b)) for dr, a, b in runs) + 1
+    check_cells((rows + 2 * p, cols + 2 * p), "the padded grid of a footprint dilation")
     padded = np.pad(arr, p, constant_values=pad_value)
     out = np.zeros_like(arr)
-    cache: dict[tuple[int, int], NDArray] = {}
-    for dr, a, b in runs:
+    # one running maximum per distinct run (a, b), used for every row offset that has it, then dropped:
+    # memory stays at two padded grids whatever the footprint (max is order-independent: same result)
+    for (a, b), group in itertools.groupby(sorted(runs, key=lambda t: (t[1], t[2], t[0])), key=lambda t: (t[1], t[2])):
         length = b - a + 1
-        if (a, b) not in cache:
-            cache[(a, b)] = ndimage.maximum_filter1d(padded, length, axis=1, mode="constant", cval=pad_value)
-        f = cache[(a, b)]
-        r0 = p - dr
+        f = ndimage.maximum_filter1d(padded, length, axis=1, mode="constant", cval=pad_value)
         c0 = p - b + length // 2
-        np.maximum(out, f[r0:r0 + rows, c0:c0 + cols], out=out)
+        for dr, _, _ in group:
+            r0 = p - dr
+            np.maximum(out, f[r0:r0 + rows, c0:c0 + cols], out=out)
+        del f
     return out
 
 

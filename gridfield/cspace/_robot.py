@@ -19,6 +19,7 @@ from shapely.geometry import Point
 
 from ..errors import GridfieldError, ParameterError
 from ..grid import Grid, GridMap
+from ..limits import check_cells
 from ..rasterize import rasterize_geometry
 from ..world import Obstacle, Robot, World
 from ._grid import _dilate_gridmap, _runs
@@ -119,6 +120,7 @@ def conservative_footprint(robot: Robot, resolution: float) -> NDArray[np.bool_]
     if robot.radius is not None:
         r = robot.radius
         m = math.ceil(r / h) + 1
+        check_cells((2 * m + 1, 2 * m + 1), f"the footprint of the robot ({robot.describe()}) at cell size {h:g}")
         gap = np.maximum(np.abs(np.arange(-m, m + 1)) - 1, 0).astype(np.float64)
         d2 = gap[:, None] ** 2 + gap[None, :] ** 2
         return d2 * (h * h) <= (r * r) * (1 + 1e-9)
@@ -126,8 +128,49 @@ def conservative_footprint(robot: Robot, resolution: float) -> NDArray[np.bool_]
     square = 0.5 * h * np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
     reach = minkowski_obstacle(square, robot.vertices)  # S ⊕ (−R)
     m = math.ceil(float(np.max(np.abs(reach))) / h + 0.5) + 1
+    check_cells((2 * m + 1, 2 * m + 1), f"the footprint of the robot ({robot.describe()}) at cell size {h:g}")
     grid = Grid((2 * m + 1, 2 * m + 1), h, origin=(-(m + 0.5) * h, -(m + 0.5) * h))
     return rasterize_geometry(_as_geometry(reach), grid)
+
+
+def centre_footprint(radius: float, resolution: float) -> NDArray[np.bool_]:
+    """The cell offsets an occupied cell blocks for a disc robot decided at cell centres (tight).
+
+    Offset ``k = (di, dj)`` is set iff the closed cell square ``k`` cells away is within ``radius``
+    of the centre cell's centre: ``h * hypot(max(|di| - 1/2, 0), max(|dj| - 1/2, 0)) <= radius``
+    (with a relative margin of ``1e-9`` on the safe side). Dilating an occupancy by it blocks
+    exactly the cells at whose centre the disc touches an occupied square; a disc below half a
+    cell gives the centre alone (it behaves like a point). The footprint's size is checked by the
+    size guard (:func:`gridfield.limits.check_cells`) before it is built.
+
+    Parameters
+    ----------
+    radius : float
+        The disc's radius (>= 0), in the grid's units.
+    resolution : float
+        The grid's cell size (> 0).
+
+    Returns
+    -------
+    ndarray of bool, shape (2m+1, 2m+1)
+        Centred on offset ``(0, 0)``; ``m`` leaves a margin of unset offsets.
+
+    Examples
+    --------
+    >>> centre_footprint(0.4, 1.0).astype(int)[1:-1, 1:-1]  # below half a cell: the centre alone
+    array([[0, 0, 0],
+           [0, 1, 0],
+           [0, 0, 0]])
+    >>> int(centre_footprint(0.5, 1.0).sum()), int(centre_footprint(1.6, 1.0).sum())  # touching counts
+    (5, 21)
+    """
+    h = check_positive_resolution(resolution)
+    r = float(radius)
+    m = math.ceil(r / h + 0.5) + 1
+    check_cells((2 * m + 1, 2 * m + 1), f"the footprint of a disc robot of radius {r:g} at cell size {h:g}")
+    gap = np.maximum(np.abs(np.arange(-m, m + 1)) - 0.5, 0.0)
+    d2 = gap[:, None] ** 2 + gap[None, :] ** 2
+    return d2 * (h * h) <= (r * r) * (1 + 1e-9)
 
 
 def check_positive_resolution(resolution: float) -> float:
@@ -169,10 +212,19 @@ def apply_robot(target: World | GridMap, robot: Robot | float | ArrayLike | None
       by :func:`cspace_world` (Minkowski sums, seed 004), plus, with ``border="wall"``, the bands
       along the bounds where the robot would touch the wall; grid planners then rasterize them
       conservatively as usual, exact planners use them directly;
-    - a :class:`GridMap` (bitmaps, ROS, Moving AI): the occupancy dilated by
-      :func:`conservative_footprint` (no configuration at which the robot touches an occupied
-      cell stays free; the wall border grows too); its ``world``, if any, becomes the world's
-      C-space.
+    - a :class:`GridMap` (bitmaps, ROS, Moving AI), a disc: a cell is blocked iff the disc placed
+      at its **centre** touches an occupied cell square or the wall (exact distance from the centre
+      to the squares; :func:`centre_footprint`), the tightest rule that keeps the planners' moves
+      safe: a disc below half a cell blocks nothing new (it behaves like a point), and from half a
+      cell on no free cell has an occupied 4-neighbour, so the disc swept along any move between
+      8-neighbouring free centres touches nothing (along a move, the distance to each cell square
+      is smallest at an end, except at the corner a diagonal cuts between two side cells, which are
+      then free). A point between centres (a continuous follower's step) keeps at least
+      ``r - h / sqrt(2)`` of clearance. A polygon: the occupancy dilated by
+      :func:`conservative_footprint` (no configuration at which the robot touches an occupied cell
+      stays free; the wall border grows too). A disc as large as the map's diagonal (with an
+      obstacle or a wall) is refused at once, and every footprint is sized by the size guard
+      before it is built. Its ``world``, if any, becomes the world's C-space.
 
     Parameters
     ----------
@@ -192,12 +244,14 @@ def apply_robot(target: World | GridMap, robot: Robot | float | ArrayLike | None
     >>> import numpy as np
     >>> from gridfield.grid import Grid, GridMap
     >>> occ = np.zeros((5, 7), bool); occ[2, 3] = True
-    >>> apply_robot(GridMap(Grid((5, 7), 1.0), occ), 0.5).occupied.astype(int)
+    >>> apply_robot(GridMap(Grid((5, 7), 1.0), occ), 0.5).occupied.astype(int)  # touches the square at 0.5
     array([[0, 0, 0, 0, 0, 0, 0],
+           [0, 0, 0, 1, 0, 0, 0],
            [0, 0, 1, 1, 1, 0, 0],
-           [0, 0, 1, 1, 1, 0, 0],
-           [0, 0, 1, 1, 1, 0, 0],
+           [0, 0, 0, 1, 0, 0, 0],
            [0, 0, 0, 0, 0, 0, 0]])
+    >>> apply_robot(GridMap(Grid((5, 7), 1.0), occ), 0.3).occupied.sum()  # below half a cell: as a point
+    np.int64(1)
     >>> from gridfield.io import read_world, bundled_map
     >>> c = apply_robot(read_world(bundled_map("seed000.yaml")), 0.3)
     >>> [round(v, 3) for v in c.obstacles[0].geometry.bounds]
@@ -207,18 +261,53 @@ def apply_robot(target: World | GridMap, robot: Robot | float | ArrayLike | None
     if isinstance(target, World):
         if r is None or r.is_point:
             return dataclasses.replace(target, robot=None)
-        grown = (inflate_world(target, r.radius) if r.radius is not None
-                 else cspace_world(target, cast("NDArray[np.float64]", r.vertices)))
+        xmin, ymin, xmax, ymax = target.bounds
+        diag = math.hypot(xmax - xmin, ymax - ymin)
+        inside = shapely.box(xmin, ymin, xmax, ymax)
+        if r.extent >= diag and (target.border == "wall" or (r.radius is not None and any(
+                ob.geometry.intersects(inside) for ob in target.obstacles))):
+            raise GridfieldError(
+                f"{target.source or 'the world'}: the robot ({r.describe()}) is larger than the world's diagonal "
+                f"({diag:.4g}): wherever it is placed it touches {'the wall' if target.border == 'wall' else 'an obstacle'}"
+                ", so nothing is free; use a smaller robot")
+        try:
+            grown = (inflate_world(target, r.radius) if r.radius is not None
+                     else cspace_world(target, cast("NDArray[np.float64]", r.vertices)))
+        except shapely.errors.GEOSException as e:
+            raise GridfieldError(f"{target.source or 'the world'}: cannot build the configuration space of the robot "
+                                 f"({r.describe()}): the geometry library failed ({str(e).splitlines()[0][:120]}); "
+                                 "use a robot of a size comparable to the world") from None
         return dataclasses.replace(grown, obstacles=(*grown.obstacles, *_wall_strips(target, r)), robot=None)
     if not isinstance(target, GridMap):
         raise ParameterError(f"apply_robot needs a World or a GridMap, got {type(target).__name__}")
     if r is None or r.is_point:
         return target
-    out = _dilate_gridmap(target, _runs(conservative_footprint(r, target.grid.resolution)))
+    _refuse_larger_than_the_map(target, r)
+    if target.grid.border != "wall" and not target.occupied.any():
+        out = target  # nothing to grow, whatever the robot's size
+    else:
+        footprint = (centre_footprint(r.radius, target.grid.resolution) if r.radius is not None
+                     else conservative_footprint(r, target.grid.resolution))
+        out = _dilate_gridmap(target, _runs(footprint))
     world = apply_robot(target.world, r) if isinstance(target.world, World) else target.world
     meta = dict(target.meta)
     meta["robot"] = r.describe()
     return out.with_occupied(out.occupied, world=world, meta=meta)
+
+
+def _refuse_larger_than_the_map(target: GridMap, robot: Robot) -> None:
+    """A disc at least as large as the map's diagonal touches an occupied cell (or the wall) wherever it is
+    placed, as does, with a wall, any robot reaching farther than the diagonal: say so before building
+    anything."""
+    g = target.grid
+    diag = g.resolution * math.hypot(g.rows, g.cols)
+    wall = g.border == "wall"
+    if (robot.radius is not None and robot.radius >= diag and (wall or bool(target.occupied.any()))) or (
+            wall and robot.extent > diag):
+        raise GridfieldError(
+            f"{target.source or 'the map'}: the robot ({robot.describe()}) is larger than the map's diagonal "
+            f"({diag:.4g}): wherever it is placed it touches {'the wall' if wall else 'an occupied cell'}, so no "
+            "cell is free; use a smaller robot")
 
 
 def _grid_distance(gridmap: GridMap, p: NDArray[np.float64], reach: float) -> float:
@@ -345,6 +434,13 @@ def check_robot_point(
             raise GridfieldError(f"{where}: the robot ({r.describe()}) placed there overlaps occupied cells "
                                  f"(the reference point is {d:.3g} from the nearest); {hint}")
     if isinstance(cspace, GridMap) and not cspace.is_free(p)[0]:
+        if r.radius is not None:
+            centre = target.grid.cell_to_world(np.asarray([target.grid.cell_of(float(p[0]), float(p[1]))]))[0]
+            dc = _grid_distance(target, centre, r.extent + 2 * h)
+            raise GridfieldError(f"{where} is {d:.3g} from the nearest occupied cell, enough for the robot "
+                                 f"({r.describe()}), but the centre of its cell ({centre[0]:g}, {centre[1]:g}) is "
+                                 f"{dc:.3g} from it, and planners move between cell centres; move it to a cell "
+                                 "whose centre is farther from the obstacles")
         raise GridfieldError(f"{where} is {d:.3g} from the nearest occupied cell, enough for the robot "
                              f"({r.describe()}), but its cell is blocked in the grid's configuration space, which "
                              f"is conservative by up to one cell ({h:g}); move it a little or use a finer grid")

@@ -121,7 +121,27 @@ def _cspace_geometry(ob: Obstacle, neg_robot: NDArray[np.float64], robot: NDArra
     pts = np.concatenate([segs[:, None, :2] + neg_robot[None], segs[:, None, 2:] + neg_robot[None]], axis=1)
     hulls = shapely.convex_hull(shapely.multipoints(pts.reshape(-1, 2), indices=np.repeat(np.arange(len(segs)), 2 * k)))
     moved = shapely.affinity.translate(poly, *neg_robot[0])
-    return "polygon", shapely.union_all([moved, *hulls])
+    return "polygon", _drop_slivers(shapely.union_all([moved, *hulls]))
+
+
+#: Holes of a Minkowski union smaller than this fraction of its envelope's area are rounding slivers.
+SLIVER_AREA = 1e-9
+
+
+def _drop_slivers(geom: BaseGeometry) -> BaseGeometry:
+    """``geom`` without the zero-area holes that the union of edge sums leaves where edges meet (areas of
+    1e-16 on ``maps/star_two.yaml``): a hole below :data:`SLIVER_AREA` times the envelope's area is filled."""
+    tol = SLIVER_AREA * float(geom.envelope.area)
+
+    def fill(p: Polygon) -> Polygon:
+        keep = [r for r in p.interiors if Polygon(r).area > tol]
+        return p if len(keep) == len(p.interiors) else Polygon(p.exterior, keep)
+
+    if isinstance(geom, Polygon):
+        return fill(geom)
+    if isinstance(geom, shapely.MultiPolygon):
+        return shapely.MultiPolygon([fill(p) for p in geom.geoms])
+    return geom
 
 
 def cspace_world(world: World, robot_vertices: ArrayLike) -> World:

@@ -1,13 +1,15 @@
 """What every reader shares: the file checks, byte and text reading, and the option check.
 
 Each reader opens its file through :func:`_check_file` and :func:`_read_bytes`, so that a missing
-file, a directory or an unreadable file gives the same :class:`~gridfield.errors.MapFormatError`
+file, a directory, a FIFO or device (refused before it is opened: reading a FIFO would block) or an
+unreadable file gives the same :class:`~gridfield.errors.MapFormatError`
 whatever the format.
 """
 
 from __future__ import annotations
 
 import os
+import stat
 from pathlib import Path as FsPath
 from typing import Any
 
@@ -25,7 +27,20 @@ def _check_file(path: PathLike) -> FsPath:
         raise MapFormatError(f"{p}: no such file")
     if p.is_dir():
         raise MapFormatError(f"{p}: is a directory, expected a map file")
+    _check_regular(p)
     return p
+
+
+def _check_regular(p: FsPath, what: str = "") -> None:
+    """Refuse a FIFO, socket or device before it is opened (reading a FIFO blocks until a writer comes)."""
+    try:
+        mode = p.stat().st_mode
+    except OSError as e:
+        raise MapFormatError(f"{what}{p}: cannot read: {e.strerror or e}") from None
+    if not stat.S_ISREG(mode):
+        kind = ("a FIFO (named pipe)" if stat.S_ISFIFO(mode) else "a socket" if stat.S_ISSOCK(mode) else
+                "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "not a regular file")
+        raise MapFormatError(f"{what}{p}: is {kind}, expected a regular file")
 
 
 def _read_bytes(p: FsPath) -> bytes:

@@ -7,7 +7,9 @@ compared with it to the printed precision (:meth:`Scenarios.tolerance`).
 
 from __future__ import annotations
 
+import itertools
 import os
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path as FsPath
 from typing import Any, Literal
@@ -33,6 +35,38 @@ _MAI_LUT[np.frombuffer(_MAI_BLOCKED, np.uint8)] = 1
 def _text_lines(p: FsPath, what: str) -> list[str]:
     text = _decode_text(p, _read_bytes(p), what)
     return [ln[:-1] if ln.endswith("\r") else ln for ln in text.split("\n")]
+
+
+#: Longest line of a ``.scen`` file, in bytes (a valid line is under 5 kB: nine fields, the map path at most
+#: 4096 characters); a longer line is refused, naming it, before it is read whole.
+SCEN_LINE_MAX = 65536
+_SCEN_FIELD_MAX = 4096  # longest field (a path, PATH_MAX)
+_SCEN_NAME_MAX = 255  # longest map file name (NAME_MAX): the names array is as wide as the longest one
+_SCEN_FIELDS = ("bucket", "map", "width", "height", "start_x", "start_y", "goal_x", "goal_y", "optimal")
+
+
+def _scen_lines(p: FsPath) -> Iterator[tuple[int, str]]:
+    """The file's lines (0-based number, text without the line end), read one at a time: memory stays
+    within :data:`SCEN_LINE_MAX` bytes per line whatever the file holds."""
+    try:
+        with open(p, "rb") as f:
+            for i in itertools.count():
+                data = f.readline(SCEN_LINE_MAX + 1)
+                if not data:
+                    return
+                if len(data) > SCEN_LINE_MAX:
+                    raise MapFormatError(f"{p}: line {i + 1}: longer than {SCEN_LINE_MAX} bytes; not a Moving AI "
+                                         "scenario line (nine short fields)")
+                if data.endswith(b"\n"):
+                    data = data[:-1]
+                try:
+                    text = data.decode("utf-8")
+                except UnicodeDecodeError as e:
+                    raise MapFormatError(f"{p}: line {i + 1}: not a text Moving AI scenario file (byte "
+                                         f"0x{data[e.start]:02x} is not UTF-8)") from None
+                yield i, text[:-1] if text.endswith("\r") else text
+    except OSError as e:
+        raise MapFormatError(f"{p}: cannot read: {e.strerror or e}") from None
 
 
 def read_movingai_map(path: PathLike, *, border: Literal["open", "wall"] = "wall") -> GridMap:
@@ -230,6 +264,10 @@ def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
     with 8 decimals, and ``version 1.0`` space-separated with 2 decimals. Each data line holds
     ``bucket map width height start_x start_y goal_x goal_y optimal``.
 
+    The file is read one line at a time, in linear time and memory bounded by the scenarios kept: a
+    line longer than :data:`SCEN_LINE_MAX` bytes, a field longer than 4096 characters or a map file
+    name longer than 255 is refused with a :class:`~gridfield.errors.MapFormatError` naming its line.
+
     Parameters
     ----------
     path : str or path-like
@@ -251,15 +289,15 @@ def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
     ([1.5, 37.5], [37, 1])
     """
     p = _check_file(path)
-    lines = _text_lines(p, "Moving AI scenario")
     version = ""
+    cols: list[list[Any]] = [[] for _ in range(9)]
     numbers: list[int] = []
-    fields: list[list[str]] = []
-    for i, raw in enumerate(lines):
+    decimals = 0
+    for i, raw in _scen_lines(p):
         ln = raw.strip()
         if not ln:
             continue
-        if not fields and not version and ln.lower().startswith("version"):
+        if not numbers and not version and ln.lower().startswith("version"):
             version = ln.split(None, 1)[1].strip() if len(ln.split()) > 1 else ""
             continue
         parts = raw.strip("\n").split("\t") if "\t" in raw else ln.split()
@@ -269,29 +307,31 @@ def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
                 f"{p}: line {i + 1}: expected 9 fields (bucket map width height start_x start_y goal_x goal_y "
                 f"optimal), got {len(parts)}"
             )
+        for j, s in enumerate(parts):
+            if len(s) > _SCEN_FIELD_MAX:
+                raise MapFormatError(f"{p}: line {i + 1}: the {_SCEN_FIELDS[j]} field is {len(s)} characters long; "
+                                     f"a scenario field has at most {_SCEN_FIELD_MAX}")
+            kind = np.float64 if j == 8 else np.int64 if j != 1 else None
+            if kind is None:
+                name = os.path.basename(s.replace("\\", "/"))
+                if len(name) > _SCEN_NAME_MAX:
+                    raise MapFormatError(f"{p}: line {i + 1}: the map name is {len(name)} characters long; a file "
+                                         f"name has at most {_SCEN_NAME_MAX}")
+                cols[1].append(name)
+                continue
+            try:
+                cols[j].append(kind(s))
+            except (ValueError, OverflowError):
+                what = "optimal length" if j == 8 else _SCEN_FIELDS[j]
+                raise MapFormatError(f"{p}: line {i + 1}: {what} must be a number (in range), got {shorten(s)}") from None
+        dot = parts[8].find(".")
+        decimals = max(decimals, len(parts[8]) - dot - 1 if dot >= 0 else 0)
         numbers.append(i + 1)
-        fields.append(parts)
-    if not fields:
+    if not numbers:
         raise MapFormatError(f"{p}: no scenarios in the file")
-    table = np.array(fields, dtype=str)
     line_no = np.array(numbers)
-
-    def column(k: int, dtype: type, what: str) -> NDArray[Any]:
-        col = table[:, k]
-        try:
-            return col.astype(dtype)
-        except (ValueError, OverflowError):
-            for n, s in zip(line_no.tolist(), col.tolist(), strict=True):
-                try:
-                    dtype(s)
-                except (ValueError, OverflowError):
-                    raise MapFormatError(f"{p}: line {n}: {what} must be a number (in range), "
-                                         f"got {shorten(s)}") from None
-            raise MapFormatError(f"{p}: a {what} is not a number within range") from None
-
-    ints = {k: column(k, np.int64, name) for k, name in ((0, "bucket"), (2, "width"), (3, "height"), (4, "start_x"),
-                                                         (5, "start_y"), (6, "goal_x"), (7, "goal_y"))}
-    optimal = column(8, np.float64, "optimal length")
+    ints = {k: np.array(cols[k], dtype=np.int64) for k in (0, 2, 3, 4, 5, 6, 7)}
+    optimal = np.array(cols[8], dtype=np.float64)
     bucket, width, height = ints[0], ints[2], ints[3]
     sx, sy, gx, gy = ints[4], ints[5], ints[6], ints[7]
 
@@ -317,10 +357,7 @@ def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
     if (k := first_bad(~np.isfinite(optimal) | (optimal < 0))) is not None:
         raise MapFormatError(f"{p}: line {line_no[k]}: optimal length must be a finite number >= 0")
 
-    opt_text = table[:, 8]
-    dot = np.char.find(opt_text, ".")
-    decimals = np.where(dot >= 0, np.char.str_len(opt_text) - dot - 1, 0)
-    max_dp = int(decimals.max())
+    max_dp = decimals
     if version == "1.0" or max_dp >= 7:
         precision, digits = "decimals", max_dp
     else:
@@ -332,6 +369,6 @@ def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
     start_xy = np.stack([sx + 0.5, start_row + 0.5], axis=1).astype(np.float64)
     goal_xy = np.stack([gx + 0.5, goal_row + 0.5], axis=1).astype(np.float64)
     no_path = (optimal == 0) & ((sx != gx) | (sy != gy))
-    names = np.array([os.path.basename(s.replace("\\", "/")) for s in table[:, 1]], dtype=str)
+    names = np.array(cols[1], dtype=str)
     return Scenarios(bucket, names, width, height, start_xy, goal_xy, start_cell, goal_cell, optimal, no_path,
                      version, precision, digits, str(path))  # type: ignore[arg-type]

@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 from ..errors import GridfieldError, MapFormatError, ParameterError, shorten
 from ..grid import BORDERS, Grid, GridMap
 from ._bitmap import UNKNOWN_CHOICES, _load_pixels, _Pixels, write_bitmap
-from ._common import PathLike, _check_file, _choice
+from ._common import PathLike, _check_file, _check_regular, _choice
 from ._yaml import read_yaml
 
 SEMANTICS = ("nav2", "ros1")
@@ -71,6 +71,7 @@ def _ros_params(yaml_path: PathLike) -> _RosParams:
         raise MapFormatError(f"{p}: the image file {shorten(image)} does not exist (looked for {img})")
     if img.is_dir():
         raise MapFormatError(f"{p}: 'image' names a directory ({img}), expected an image file")
+    _check_regular(img, f"{p}: 'image': ")
 
     res = _ros_number(p, "resolution", data["resolution"])
     if not (math.isfinite(res) and res > 0):

@@ -150,13 +150,35 @@ def _dask_results(batches: Sequence[list[Run]], scheduler: Any) -> Iterator[list
                     target = None  # every run of the map reports the error in its row
                 shipped[key] = client.scatter(target, broadcast=True, hash=False) if target is not None else None
             futures.append(client.submit(run_batch, b, shipped[key], pure=False))
-        for fut in as_completed(futures):
-            yield fut.result()
+        try:
+            for fut in as_completed(futures):
+                yield fut.result()
+        except _cluster_failures() as e:  # raised here, never by the caller's row writing (that is not thrown in)
+            raise GridfieldError(
+                f"the Dask cluster failed ({type(e).__name__}: {_one_line(str(e) or 'no message', 160)}); the "
+                "rows written so far are kept: run the sweep again to resume") from None
     finally:
-        if futures:
-            client.cancel(futures)
-        if client is not scheduler:
-            client.close()
+        try:
+            if futures:
+                client.cancel(futures)
+            if client is not scheduler:
+                client.close()
+        except _cluster_failures():
+            pass  # the scheduler is gone: nothing left to cancel or close
+
+
+def _cluster_failures() -> tuple[type[BaseException], ...]:
+    """What a failing cluster raises from a task's result: a task whose workers all died (KilledWorker), the
+    scheduler gone (cancelled futures, closed comms, timeouts); a run's own error is a row, never one of these."""
+    import asyncio
+    import concurrent.futures
+
+    from distributed.client import ClosedClientError
+    from distributed.comm import CommClosedError
+    from distributed.scheduler import KilledWorker
+
+    return (KilledWorker, CommClosedError, ClosedClientError, asyncio.CancelledError,
+            concurrent.futures.CancelledError, OSError, TimeoutError)
 
 
 def run_sweep(

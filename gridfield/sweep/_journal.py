@@ -13,6 +13,7 @@ import csv
 import json
 import math
 import os
+import stat
 import time
 from collections.abc import Mapping, Sequence
 from pathlib import Path as FsPath
@@ -77,6 +78,7 @@ class _Journal:
     def __init__(self, path: FsPath) -> None:
         self.path = path
         self.notes: list[str] = []
+        self._check_regular(path)
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
             self.fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_APPEND | getattr(os, "O_BINARY", 0), 0o644)
@@ -93,6 +95,7 @@ class _Journal:
     @staticmethod
     def check_unlocked(path: FsPath) -> None:
         """Raise now if another sweep holds the lock on ``path`` (the lock itself is taken later)."""
+        _Journal._check_regular(path)
         try:
             fd = os.open(path, os.O_RDONLY | getattr(os, "O_BINARY", 0))
         except OSError:
@@ -101,6 +104,17 @@ class _Journal:
             _Journal._lock_fd(fd, path)
         finally:
             os.close(fd)
+
+    @staticmethod
+    def _check_regular(path: FsPath) -> None:
+        """An existing rows file must be a regular file: opening a FIFO would block the sweep."""
+        try:
+            mode = os.stat(path).st_mode
+        except OSError:
+            return  # no file yet (or unreadable: opening it says so)
+        if not stat.S_ISREG(mode):
+            raise GridfieldError(f"{path}: the rows file exists and is not a regular file (a FIFO, socket, device "
+                                 "or directory); give another output")
 
     def _lock(self) -> None:
         self._lock_fd(self.fd, self.path)

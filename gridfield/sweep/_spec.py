@@ -33,6 +33,40 @@ GRID_MAP_EXACT = ("visibility", "exact-potential")
 #: Most runs one spec may expand to (each run is a row and a few hundred bytes of memory).
 MAX_RUNS = 10**8
 
+#: Memory of one expanded run (a :class:`Run` with its tuples, measured: about 480 bytes) and its pair, rounded up.
+RUN_BYTES = 1024
+
+
+def _run_limit() -> int:
+    """The most runs a spec may expand to: :data:`MAX_RUNS`, or fewer if their memory (:data:`RUN_BYTES` each)
+    would exceed the size guard's budget (``max_cells() * BYTES_PER_CELL`` bytes, see :mod:`gridfield.limits`)."""
+    from ..limits import BYTES_PER_CELL, max_cells
+
+    return int(min(MAX_RUNS, max_cells() * BYTES_PER_CELL // RUN_BYTES))
+
+
+def _known_pairs(entry: Any) -> int:
+    """The pairs a map entry asks for that are known without reading a file: its ``pairs`` and its
+    ``random_pairs.n`` (and a ``limit`` on its scenarios); malformed values count 0 (the full check reports them)."""
+    if not isinstance(entry, Mapping):
+        return 0
+    n = len(entry["pairs"]) if isinstance(entry.get("pairs"), list) else 0
+    rp = entry.get("random_pairs")
+    if isinstance(rp, Mapping):
+        k = rp.get("n", 10)
+        n += k if isinstance(k, int) and not isinstance(k, bool) and k > 0 else 0
+    lim = entry.get("limit")
+    if entry.get("scenarios") is not None and isinstance(lim, int) and not isinstance(lim, bool) and lim > 0:
+        n += lim
+    return n
+
+
+def _too_many(where: str, n_runs: int, detail: str) -> MapFormatError:
+    limit = _run_limit()
+    why = "" if limit == MAX_RUNS else f" (what {RUN_BYTES} bytes per run allow in the memory limit; see --max-cells)"
+    return MapFormatError(f"{where}: the spec expands to {n_runs:.4g} runs ({detail}), more than {limit:g}{why}; "
+                          "sweep fewer values, pairs or maps, or split the sweep")
+
 
 def _need(mapping: Mapping[str, Any], key: str, where: str) -> Any:
     if key not in mapping:
@@ -186,6 +220,13 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
     if n_combos * len(planners) > MAX_RUNS:
         raise MapFormatError(f"{where}: params: {n_combos:.3g} combinations x {len(planners)} planners exceed "
                              f"{MAX_RUNS:g} runs; sweep fewer values")
+    # count the runs arithmetically before expanding or validating anything (scenario files: their limit, if any)
+    raw_maps = spec.get("maps")
+    known = sum(max(_known_pairs(e), 1) for e in raw_maps) if isinstance(raw_maps, list) else 1
+    if n_combos * len(planners) * known > _run_limit():
+        raise _too_many(where, n_combos * len(planners) * known,
+                        f"{len(planners)} planners x {n_combos:.4g} parameter combinations x {known:.4g} start/goal "
+                        "pairs")
     combos = []
     for combo in itertools.product(*values):
         params = dict(zip(names, combo, strict=True))
@@ -246,6 +287,9 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
             n = _integer(rp.get("n", 10), f"{w}.random_pairs.n", minimum=1)
             if n > MAX_RUNS:
                 raise MapFormatError(f"{w}.random_pairs.n: {n} pairs exceed {MAX_RUNS:g} runs")
+            if len(runs) + len(planners) * len(combos) * (len(pairs) + n) > _run_limit():
+                raise _too_many(w, len(runs) + len(planners) * len(combos) * (len(pairs) + n),
+                                f"with this entry's {n} random pairs")
             seed = _integer(rp.get("seed", 0), f"{w}.random_pairs.seed", minimum=0)
             try:
                 pairs += _random_pairs(gm, n, seed)
@@ -274,8 +318,8 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
             pairs.append((target.start, target.goal, math.nan))
         if not pairs:
             raise MapFormatError(f"{w}: no start/goal pairs (give pairs, random_pairs or scenarios)")
-        if len(runs) + len(planners) * len(combos) * len(pairs) > MAX_RUNS:
-            raise MapFormatError(f"{w}: the spec expands to more than {MAX_RUNS:g} runs; split the sweep")
+        if len(runs) + len(planners) * len(combos) * len(pairs) > _run_limit():
+            raise _too_many(w, len(runs) + len(planners) * len(combos) * len(pairs), f"up to {w}")
         any_angle = _flag(entry, "optimal_any_angle", w, default=any_angle_all)
         for planner, params, (s, g, opt) in itertools.product(planners, combos, pairs):
             runs.append(Run(str(map_path), resolution, planner, tuple(sorted(params.items())), s, g, opt, robot,

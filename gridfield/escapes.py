@@ -59,6 +59,10 @@ Blocked = Callable[[Point, Point], bool] | None
 _JUMP_SAMPLES = 100
 #: Sub-steps of the potential-increase escape before it gives up.
 _ESCAPE_SUBSTEPS = 60
+#: Relative margin of the navigation escape's length comparisons (:func:`navigation_cut`,
+#: :func:`cut_loops`): lengths within it count as equal, so that a map at another resolution
+#: (every length scaled) makes the same choices in spite of rounding.
+_TIE = 1e-9
 
 
 def random_jump(x: float, y: float, radius: float, rng: np.random.Generator, blocked: Blocked = None) -> list[Point]:
@@ -247,14 +251,30 @@ def navigation_cut(navigate: Callable[..., list[Point]], xs: Sequence[float], ys
     values_of = getattr(navigate, "values", None)
     if values_of is not None:
         est = along + values_of(px, py)
-        if np.isfinite(est).any():
-            looked.add(lo + int(np.argmin(est)))
+        if np.isfinite(est).any():  # the first within a relative 1e-9 of the least (ties do not depend on the scale)
+            looked.add(lo + int(np.argmax(est <= est.min() * (1.0 + _TIE))))
     best, pick = math.inf, int(candidates[0])
     for c in sorted(looked):
         total = float(along[c - lo]) + float(length_of((float(xs[c]), float(ys[c]))))
-        if total < best:
+        if total < best * (1.0 - _TIE):
             best, pick = total, c
     return pick
+
+
+def _thick_blocked(blocked: Callable[[Point, Point], bool], p: NDArray[np.float64], q: NDArray[np.float64],
+                   margin: float) -> bool:
+    """Whether the move ``p -> q`` or one of its two copies shifted sideways by ``margin`` is
+    blocked: a shortcut that only grazes an obstacle's corner counts as blocked at every
+    resolution (whether the exact corner blocks is decided by rounding)."""
+    d = q - p
+    n = float(np.hypot(d[0], d[1]))
+    if blocked((float(p[0]), float(p[1])), (float(q[0]), float(q[1]))):
+        return True
+    if n == 0.0:
+        return False
+    ox, oy = -margin * float(d[1]) / n, margin * float(d[0]) / n
+    return any(blocked((float(p[0]) + sx * ox, float(p[1]) + sx * oy), (float(q[0]) + sx * ox, float(q[1]) + sx * oy))
+               for sx in (1.0, -1.0))
 
 
 def cut_loops(points: NDArray[np.float64], radius: float, blocked: Blocked = None) -> NDArray[np.intp]:
@@ -263,6 +283,8 @@ def cut_loops(points: NDArray[np.float64], radius: float, blocked: Blocked = Non
     From the start, each kept point is followed by the farthest-on point of the path within
     ``radius`` of it whose straight move from it is free (``blocked``), or else by the next point;
     the points in between (a loop: the follower's jitter or a detour that came back) are dropped.
+    A shortcut counts as free only when its two copies shifted sideways by ``1e-6 * radius`` are
+    free too (one that grazes an obstacle's corner is not taken, at any resolution).
     The first and the last point are always kept, every new move is a free segment no longer than
     ``radius``, and by the triangle inequality the path never gets longer. Used by the ``navigation``
     escape on every run (:func:`gridfield.descent.descend`, :func:`gridfield.follow.follow_many`).
@@ -271,7 +293,8 @@ def cut_loops(points: NDArray[np.float64], radius: float, blocked: Blocked = Non
     ----------
     points : ndarray, shape (N, 2)
     radius : float
-        How close a return counts as a revisit (:attr:`gridfield.descent.Rules.box`).
+        How close a return counts as a revisit (:attr:`gridfield.descent.Rules.box`; a return to
+        within a relative ``1e-9`` of it does not count).
     blocked : callable, optional
         ``blocked(p, q) -> bool``; ``None``: nothing blocks.
 
@@ -297,14 +320,15 @@ def cut_loops(points: NDArray[np.float64], radius: float, blocked: Blocked = Non
     if n < 3:
         return np.arange(n, dtype=np.intp)
     tree = cKDTree(pts)
+    r = radius * (1.0 - _TIE)  # a return to exactly ``radius`` (cell centres on a lattice) does not count
     kept = [0]
     i = 0
     while i < n - 1:
         nxt = i + 1
-        for j in sorted(tree.query_ball_point(pts[i], r=radius), reverse=True):  # the kept points only
+        for j in sorted(tree.query_ball_point(pts[i], r=r), reverse=True):  # asked for the kept points only
             if j <= i + 1:
                 break
-            if blocked is None or not blocked((float(pts[i, 0]), float(pts[i, 1])), (float(pts[j, 0]), float(pts[j, 1]))):
+            if blocked is None or not _thick_blocked(blocked, pts[i], pts[j], _TIE * 1e3 * radius):
                 nxt = j
                 break
         kept.append(nxt)

@@ -63,6 +63,14 @@ Escapes (seed 000's bonus question), tried when a local minimum is detected
     blocked sub-step fails the escape). The k-th escape from the same minimum requires an
     increase by ``1.25**k`` (the seed's rule is deterministic, so repeating it unchanged would
     retrace the same jump).
+    ``navigation`` (grid fields: :class:`gridfield.escapes.NavigationEscape`): drive down the
+    octile wavefront to the first cell of the goal's basin (the last try: to the goal). Before it
+    the jitter of the stall is cut from the path: the escape starts from the point chosen by
+    :func:`gridfield.escapes.navigation_cut` among :meth:`Rules.dither_starts` (and the points of
+    the current descent), and the points after it are dropped (``escapes[k]["dropped"]``); at the
+    end of the run the path's loops are cut (:func:`without_loops`, also run by
+    :func:`gridfield.follow.follow_many` on its own runs). ``iterations`` still counts every move
+    made (the dropped ones too: the step budget is the work done).
 
     Each jump costs one try of ``escape_tries``. An escape *succeeds* when the follower's next
     stop is the goal or a stall at another local minimum (farther than

@@ -10,10 +10,23 @@ The navigation escape
 ---------------------
 ``escape="navigation"`` (:func:`gridfield.follow.follow`): at a local minimum of the potential the
 follower drives down the octile wavefront from the goal (:func:`gridfield.navigation.wavefront`,
-the exact shortest-path cost over 8-connected moves that never cut a corner) from the stall point,
-cell centre by cell centre, until it enters a cell whose discrete steepest descent on the potential
-ends somewhere else than the stall's does (another basin of :func:`gridfield.basins.basins`); there
-the potential descent resumes. Two rules make it complete:
+the exact shortest-path cost over 8-connected moves that never cut a corner), cell centre by cell
+centre, until it enters a cell whose discrete steepest descent on the potential ends in the goal's
+sink (the goal's basin of :func:`gridfield.basins.basins`: from a cell of another minimum's basin
+the potential would lead the follower straight into that minimum); there the potential descent
+resumes. A stall inside the goal's basin (one the discrete descent does not see) drives all the
+way.
+
+It does not start at the stall point: the follower's jitter before the stall was detected stays
+out of the path. :meth:`gridfield.descent.Rules.dither_starts` names where the dithering may have
+begun (the first point of the stretch the stop rule looked at, the first point of the longest tail
+within the confined rule's box) and :func:`navigation_cut` starts the escape from the point of the
+current descent (those, the current point, or the one with the least path length plus navigation
+value) from which the path so far plus the way on to the goal (:meth:`NavigationEscape.way_length`)
+is shortest; the points after it are dropped. At the end of every navigation run the path's loops
+are cut (:func:`cut_loops`: a return to within two steps of a point is joined to it by a free
+segment). Both only shorten the path (for an escape driven to the goal, never longer than from the
+current point), and the classic field without this escape is untouched. Two rules make it complete:
 
 - each escape must start at a lower navigation value than the one before; when it does not (the
   potential led the follower back uphill), the escape drives all the way to the goal;
@@ -410,8 +423,9 @@ class NavigationEscape:
         Has ``map`` (GridMap), ``potential`` (array) and ``goal``.
 
     Call it as ``escape(point, final=...)``: the moves (world points: the cell centres of the way
-    down the wavefront, from the cell after the one holding ``point`` up to the first cell of
-    another basin) to drive from ``point``, or ``[]`` when the goal cannot be reached from there.
+    down the wavefront, from the cell holding ``point`` (unless ``point`` is its centre) up to the
+    first cell of the goal's basin) to drive from ``point``, or ``[]`` when the goal cannot be
+    reached from there.
     ``final=True`` (or an escape that starts no lower on the wavefront than the last one) drives
     all the way to the goal.
 

@@ -76,6 +76,9 @@ _ESCAPE_SUBSTEPS = 60
 #: :func:`cut_loops`): lengths within it count as equal, so that a map at another resolution
 #: (every length scaled) makes the same choices in spite of rounding.
 _TIE = 1e-9
+#: The points after each one that the loop cut checks directly (:func:`cut_loops`); farther ones
+#: only where a square around the point holds one.
+_AHEAD = 8
 
 
 def random_jump(x: float, y: float, radius: float, rng: np.random.Generator, blocked: Blocked = None) -> list[Point]:
@@ -326,22 +329,48 @@ def cut_loops(points: NDArray[np.float64], radius: float, blocked: Blocked = Non
     >>> cut_loops(pts, 0.5, blocked=lambda p, q: True).tolist()
     [0, 1, 2, 3, 4, 5]
     """
-    from scipy.spatial import cKDTree
-
     pts = np.asarray(points, dtype=float)
     n = len(pts)
     if n < 3:
         return np.arange(n, dtype=np.intp)
-    tree = cKDTree(pts)
     r = radius * (1.0 - _TIE)  # a return to exactly ``radius`` (cell centres on a lattice) does not count
+    margin = _TIE * 1e3 * radius
+    # the next _AHEAD points of each point, within r or not (the common case: no return from farther on)
+    k = np.arange(2, _AHEAD + 1)
+    ahead = np.arange(n)[:, None] + k[None, :]
+    a = np.minimum(ahead, n - 1)
+    close = (np.hypot(pts[a, 0] - pts[:, None, 0], pts[a, 1] - pts[:, None, 1]) <= r) & (ahead < n)
+    # the points binned into squares of side r (the points within r of one lie in its 3 x 3 squares),
+    # each square's largest index: a point may have a return from farther on only if a square
+    # around it holds a point more than _AHEAD on
+    key = np.floor(pts / r).astype(np.int64)
+    key -= key.min(axis=0)
+    width = int(key[:, 1].max()) + 3
+    code = (key[:, 0] + 1) * width + key[:, 1] + 1
+    order = np.argsort(code, kind="stable")
+    sc = code[order]
+    first = np.flatnonzero(np.concatenate([[True], sc[1:] != sc[:-1]]))
+    ucode, top = sc[first], np.maximum.reduceat(order, first)
+    far = np.zeros(n, bool)
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            nb = code + dx * width + dy
+            at = np.minimum(np.searchsorted(ucode, nb), len(ucode) - 1)
+            far |= (ucode[at] == nb) & (top[at] > np.arange(n) + _AHEAD)
     kept = [0]
     i = 0
     while i < n - 1:
+        if far[i]:  # all the points within r of it, from its 3 x 3 squares
+            nb = code[i] + np.array([dx * width + dy for dx in (-1, 0, 1) for dy in (-1, 0, 1)])
+            lo, hi = np.searchsorted(sc, nb, side="left"), np.searchsorted(sc, nb, side="right")
+            near = np.concatenate([order[u:v] for u, v in zip(lo.tolist(), hi.tolist(), strict=True)])
+            near = near[near > i + 1]
+            near = np.sort(near[np.hypot(pts[near, 0] - pts[i, 0], pts[near, 1] - pts[i, 1]) <= r])
+        else:
+            near = i + k[close[i]]
         nxt = i + 1
-        for j in sorted(tree.query_ball_point(pts[i], r=r), reverse=True):  # asked for the kept points only
-            if j <= i + 1:
-                break
-            if blocked is None or not _thick_blocked(blocked, pts[i], pts[j], _TIE * 1e3 * radius):
+        for j in near[::-1].tolist() if near.size else ():  # the farthest-on first
+            if blocked is None or not _thick_blocked(blocked, pts[i], pts[j], margin):
                 nxt = j
                 break
         kept.append(nxt)

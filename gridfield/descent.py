@@ -63,6 +63,14 @@ Escapes (seed 000's bonus question), tried when a local minimum is detected
     blocked sub-step fails the escape). The k-th escape from the same minimum requires an
     increase by ``1.25**k`` (the seed's rule is deterministic, so repeating it unchanged would
     retrace the same jump).
+    ``navigation`` (grid fields: :class:`gridfield.escapes.NavigationEscape`): drive down the
+    octile wavefront to the first cell of the goal's basin (the last try: to the goal). Before it
+    the jitter of the stall is cut from the path: the escape starts from the point chosen by
+    :func:`gridfield.escapes.navigation_cut` among :meth:`Rules.dither_starts` (and the points of
+    the current descent), and the points after it are dropped (``escapes[k]["dropped"]``); at the
+    end of the run the path's loops are cut (:func:`without_loops`, also run by
+    :func:`gridfield.follow.follow_many` on its own runs). ``iterations`` still counts every move
+    made (the dropped ones too: the step budget is the work done).
 
     Each jump costs one try of ``escape_tries``. An escape *succeeds* when the follower's next
     stop is the goal or a stall at another local minimum (farther than
@@ -91,15 +99,15 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from .errors import ParameterError
-from .escapes import navigation_finish, navigation_moves, potential_increase, random_jump
+from .escapes import cut_loops, navigation_cut, navigation_finish, navigation_moves, potential_increase, random_jump
 from .grid import _as_xy
 from .params import REGISTRY, check
 from .path import Path
 
-__all__ = ["ESCAPES", "RULE_PARAMS", "STEP_RULES", "Rules", "descend", "goal_hop", "rules"]
+__all__ = ["ESCAPES", "RULE_PARAMS", "STEP_RULES", "Rules", "descend", "goal_hop", "rules", "without_loops"]
 
 #: The step rules and the escapes (the registry's choices for ``step_rule`` and ``escape``).
 STEP_RULES: tuple[str, ...] = REGISTRY["step_rule"].choices
@@ -251,6 +259,38 @@ class Rules:
         c, sn, f = _SLIDES[k]
         return x + f * (c * sx - sn * sy), y + f * (sn * sx + c * sy)
 
+    # -- where the dithering before a stall began -------------------------------------------------
+    def dither_starts(self, reason: str, xs: Any, ys: Any, since: int, best_idx: int) -> list[int]:
+        """Where the jitter before a stall detected at the last point of ``xs, ys`` may have begun:
+        the point indices (ascending, all ``>= since``, the last one the current point) from which
+        the navigation escape may start instead (:func:`gridfield.escapes.navigation_cut` picks one).
+
+        Two candidates besides the current point: the first point of the stretch the stop rule
+        looked at (``oscillation``: the point two steps back; ``confined``: the first of the last
+        ``confine_window + 1`` points; ``no_progress``: the point with the best distance to the
+        goal, ``best_idx``, after which the rule saw no progress; other reasons: none), and the
+        first point of the longest tail of the path that stays within a box of side ``box`` (the
+        confined rule's box: the jitter about an equilibrium, however long it lasted). ``since`` is
+        the first point of the current descent (the end of the last escape).
+
+        Examples
+        --------
+        >>> r = rules(step=1.0)
+        >>> r.dither_starts("no_progress", [0, 1, 2, 3, 3.2, 3.1], [0, 0, 0, 0, 0.3, 0.1], 0, 0)
+        [0, 2, 5]
+        >>> r.dither_starts("blocked", [0.0, 5.0], [0.0, 0.0], 0, 0)
+        [1]
+        """
+        n = len(xs)
+        last = n - 1
+        rule = {"oscillation": n - 3, "confined": n - self.confine_window - 1, "no_progress": best_idx}.get(reason, last)
+        tail_x = np.asarray(xs[since:], dtype=float)[::-1]
+        tail_y = np.asarray(ys[since:], dtype=float)[::-1]
+        span = np.maximum(np.maximum.accumulate(tail_x) - np.minimum.accumulate(tail_x),
+                          np.maximum.accumulate(tail_y) - np.minimum.accumulate(tail_y))
+        boxed = last - (int(np.argmax(span > self.box)) - 1 if (span > self.box).any() else len(span) - 1)
+        return sorted({max(since, min(rule, last)), max(since, boxed), last})
+
     # -- where a stall is ---------------------------------------------------------------------------
     @staticmethod
     def older_stalls(f2: Any, f1: Any) -> Any:
@@ -374,6 +414,40 @@ def goal_hop(x: float, y: float, goal: Point, blocked: Callable[[Point, Point], 
     if navigate is not None:
         return navigation_finish(navigate, x, y, blocked)
     return None
+
+
+def without_loops(points: NDArray[np.float64], radius: float, blocked: Callable[[Point, Point], bool] | None,
+                  log: list[dict[str, Any]] | None = None) -> NDArray[np.float64]:
+    """The path ``points`` with its loops cut (:func:`gridfield.escapes.cut_loops`), the point
+    indices in an escape ``log`` (its entries' ``points``) moved to the points kept. Shared by
+    :func:`descend` and :func:`gridfield.follow.follow_many` for the ``navigation`` escape.
+
+    Parameters
+    ----------
+    points : ndarray, shape (N, 2)
+    radius : float
+    blocked : callable or None
+    log : list of dict, optional
+        Changed in place.
+
+    Returns
+    -------
+    ndarray, shape (M, 2)
+
+    Examples
+    --------
+    >>> log = [{"points": [2, 5]}]
+    >>> pts = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.1, 0.9], [2.0, 0.1], [3.0, 0.0]])
+    >>> without_loops(pts, 0.5, None, log).tolist(), log
+    ([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 0.1], [3.0, 0.0]], [{'points': [2, 4]}])
+    """
+    kept = cut_loops(points, radius, blocked)
+    if len(kept) == len(points):
+        return points
+    for e in log or ():
+        if "points" in e:  # a dropped point moves to the next point kept
+            e["points"] = [int(np.searchsorted(kept, k)) for k in e["points"]]
+    return points[kept]
 
 
 def descend(
@@ -504,7 +578,7 @@ def descend(
     fns: list[float] = []  # |F| at xs[i], ys[i]
     it = 0
     best = math.sqrt((x - gx) * (x - gx) + (y - gy) * (y - gy))
-    best_it = 0
+    best_it = best_idx = 0  # when the best distance was reached (iteration) and where (point index)
     win_min, win_idx = math.inf, 0  # smallest |F| since the last improvement, and where
     status = ""
     extra: dict[str, Any] = {}
@@ -596,7 +670,13 @@ def descend(
                 moves = random_jump(x, y, escape_radius, rng, blocked)
             elif escape == "navigation":
                 assert navigate is not None
-                moves = navigation_moves(navigate, x, y, final=tried >= escape_tries, blocked=blocked)
+                # the jitter before the stall stays out of the path: the escape starts where the
+                # dithering began (or here, when that way is not shorter)
+                cut = navigation_cut(navigate, xs, ys, r.dither_starts(reason, xs, ys, since, best_idx), since)
+                moves = navigation_moves(navigate, xs[cut], ys[cut], final=tried >= escape_tries, blocked=blocked)
+                if moves and cut < n - 1:
+                    entry["dropped"] = n - 1 - cut  # the points after the cut, before the escape
+                    del xs[cut + 1:], ys[cut + 1:], fns[cut + 1:]
             else:
                 assert potential is not None and attraction is not None
                 moves, entry["required_potential"] = potential_increase(
@@ -616,7 +696,7 @@ def descend(
             x, y = moves[-1]
             dx, dy = x - gx, y - gy
             d = sqrt(dx * dx + dy * dy)
-            best, best_it = d, it
+            best, best_it, best_idx = d, it, len(xs) - 1
             win_min, win_idx = math.inf, len(xs) - 1
             since = len(xs) - 1
             continue
@@ -638,7 +718,7 @@ def descend(
         dx, dy = x - gx, y - gy
         d = sqrt(dx * dx + dy * dy)
         if progressed(d, best):
-            best, best_it = d, it
+            best, best_it, best_idx = d, it, len(xs) - 1
             win_min, win_idx = math.inf, len(xs) - 1
 
     settle(status)
@@ -657,7 +737,9 @@ def descend(
         extra["escapes_tried"] = tried
         extra["escapes_succeeded"] = sum(1 for e in log if e["outcome"] in ("reached", "other_minimum"))
         extra["escapes"] = log
-    if escape == "navigation":
+    points = np.column_stack([xs, ys])
+    if escape == "navigation":  # the loops of the path (jitter, detours that came back) are cut too
+        points = without_loops(points, r.box, blocked, log)
         extra["navigation_segments"] = [e["points"] for e in log if "points" in e]
-    return Path(np.column_stack([xs, ys]), status, planner, iterations=it, params=dict(vars(r)),
+    return Path(points, status, planner, iterations=it, params=dict(vars(r)),
                 seconds=time.perf_counter() - t0, extra=extra)

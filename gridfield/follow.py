@@ -36,7 +36,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._kernels_follow import _blocked_many, _force_many
 from .basins import Basins, basins, descent_successor
-from .descent import _SLIDES, ESCAPES, RULE_PARAMS, STEP_RULES, Point, Rules, descend, goal_hop, rules
+from .descent import _SLIDES, ESCAPES, RULE_PARAMS, STEP_RULES, Point, Rules, descend, goal_hop, rules, without_loops
 from .errors import GridfieldError, ParameterError
 from .escapes import NavigationEscape, navigation_map
 from .grid import Grid, GridMap, _as_xy
@@ -592,6 +592,8 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
                 extra["oscillation"] = osc[i].tolist()
             elif reason[i] == "blocked":
                 extra["blocked_at"] = coll[i].tolist()
+        if p["escape"] == "navigation" and keep_paths and status != "local_minimum":
+            pts = without_loops(pts, r.box, blocked)  # the loops cut as descend cuts them (stalls: follow's)
         pts_list.append(pts)
         extras.append(extra)
     # clearance and the outside-the-map note for all paths at once

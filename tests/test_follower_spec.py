@@ -2,7 +2,9 @@
 
 For every step rule, sampling, border, stop rule and escape, on random maps, the vectorized
 follow_many gives exactly the points, status, iterations, stop reason and stall point of the scalar
-follow (escapes: follow_many hands the stalled points to follow, so the results must still agree).
+follow (escapes: follow_many hands the stalled points to follow, so the results must still agree;
+the navigation escape's cuts, of the jitter before a stall and of the loops of every run, are
+exercised in these cases).
 """
 
 from __future__ import annotations
@@ -31,7 +33,8 @@ STOPS = [
     {"max_iterations": 25},                         # the step budget
     {"zeta": 1.0, "d_star": float("inf"), "eta": 0.0},  # no repulsion: pressed onto walls (blocked, sliding)
 ]
-ESCAPES = [{}, {"escape": "random_walk", "escape_tries": 3}, {"escape": "navigation"}]
+ESCAPES = [{}, {"escape": "random_walk", "escape_tries": 3}, {"escape": "navigation"},
+           {"escape": "navigation", "escape_tries": 1}]
 
 
 def random_field(border: str, seed: int):
@@ -74,3 +77,23 @@ def test_every_stop_rule_is_exercised():
                 reasons.add(p.extra["stop_reason"])
     assert {"goal", "no_progress", "confined", "oscillation", "small_gradient", "max_iterations",
             "blocked"} <= reasons, reasons
+
+
+def test_the_navigation_cuts_are_exercised():
+    """In the cases above, navigation escapes drop the jitter before a stall, and follow_many's own
+    runs (never stalled, so not handed to follow) get their loops cut like descend's."""
+    dropped = looped = 0
+    for border, rule, sampling in itertools.product(BORDERS, RULES, SAMPLINGS):
+        f, starts = random_field(border, seed=len(str(rule)) + 7 * SAMPLINGS.index(sampling) + BORDERS.index(border))
+        for stop in ({}, {"confine_window": 0, "progress_window": 0, "max_iterations": 300}):
+            base = {**rule, "sampling": sampling, **stop}
+            pairs = zip(follow_many(f, starts, params={**base, "escape": "navigation"}), follow_many(f, starts, params=base),
+                        strict=True)
+            for pm, p0 in pairs:
+                dropped += sum(e.get("dropped", 0) > 0 for e in pm.extra["escapes"])
+                if not pm.extra["escapes"]:  # the run of the classic field, its loops cut
+                    assert p0.status == pm.status and p0.iterations == pm.iterations
+                    assert len(pm.points) <= len(p0.points) and pm.length <= p0.length + 1e-9
+                    assert pm.points[0].tolist() == p0.points[0].tolist() and pm.end.tolist() == p0.end.tolist()
+                    looped += len(pm.points) < len(p0.points)
+    assert dropped and looped, (dropped, looped)

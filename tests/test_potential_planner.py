@@ -444,29 +444,4 @@ def test_a_reached_run_ends_at_the_goal_even_when_the_last_hop_is_blocked():
             assert tuple(p.points[-1]) == g and p.length >= math.dist(s, g) - 1e-9
 
 
-@settings(max_examples=40, deadline=None)
-@given(seed=st.integers(0, 100_000), border=st.sampled_from(["wall", "open"]))
-def test_navigation_escape_stops_at_the_first_cell_of_another_basin(seed, border):
-    """A (non-final) navigation escape drives down the wavefront up to and including the first cell
-    that descends (on the potential) to another sink than the stall's, and no further."""
-    from gridfield.escapes import NavigationEscape
-
-    rng = np.random.default_rng(seed)
-    occ = rng.random((14, 18)) < 0.2
-    gm = GridMap(Grid(occ.shape, 0.5, (1.0, -2.0), border=border), occ)
-    free = np.argwhere(~occ)
-    goal, start = gm.grid.cell_to_world(free[rng.choice(len(free), 2, replace=False)])
-    esc = NavigationEscape(build_field(gm, goal))
-    moves = esc(tuple(start))
-    if not moves:
-        return
-
-    def sink(p):
-        cell = gm.grid.cell_of(*p)
-        return None if cell is None else int(esc.sink[cell])
-
-    own = sink(start)
-    inner = [sink(q) for q in moves[:-1]]
-    assert all(s in (own, None) for s in inner), (own, inner)  # still in the stall's basin (or outside the grid)
-    last = moves[-1]
-    assert sink(last) != own or np.allclose(last, goal)  # the first cell of another basin, or the goal
+# the navigation escape's hand-back (the first cell of the goal's basin): tests/test_escapes.py

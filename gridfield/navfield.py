@@ -72,7 +72,8 @@ from .brushfire import DistanceMap, brushfire
 from .errors import ParameterError
 from .grid import GridMap
 
-__all__ = ["NF_MODELS", "blend_cost", "eikonal", "nav_field", "nf2_cost", "nf_skeleton", "skeleton", "work_maps"]
+__all__ = ["NF_MODELS", "blend_cost", "eikonal", "nav_field", "nf2_cost", "nf_potential", "nf_skeleton", "skeleton",
+           "work_maps"]
 
 #: The complete models (values of the ``model`` parameter built here).
 NF_MODELS: tuple[str, ...] = ("nf1", "nf2", "nf-blend")
@@ -121,6 +122,28 @@ def _ring(gridmap: GridMap) -> tuple[NDArray[np.bool_], int]:
     return np.pad(free, 1, constant_values=True), 1
 
 
+def _sources(gridmap: GridMap, free: NDArray[np.bool_], off: int, goals: ArrayLike
+             ) -> tuple[tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]], list[tuple[int, int]]]:
+    """The fixed sources of every goal (:func:`_goal_sources`, checked to lie in free cells) and the
+    goal cells, in the coordinates of the (possibly ringed) mask ``free``."""
+    grid = gridmap.grid
+    res = grid.resolution
+    pts = np.asarray(goals, dtype=float)
+    pts = pts.reshape(1, 2) if pts.shape == (2,) else pts
+    rr, cc, vv, cells = [], [], [], []
+    for p in pts:
+        g = gridmap.check_point("goal", p)
+        cell = grid.cell_of(g[0], g[1])
+        assert cell is not None
+        cx, cy = grid.origin[0] + (cell[1] + 0.5) * res, grid.origin[1] + (cell[0] + 0.5) * res
+        r, c, v = _goal_sources(free, (cell[0] + off, cell[1] + off), ((g[0] - cx) / res, (g[1] - cy) / res))
+        rr.append(r)
+        cc.append(c)
+        vv.append(v)
+        cells.append((cell[0] + off, cell[1] + off))
+    return (np.concatenate(rr), np.concatenate(cc), np.concatenate(vv)), cells
+
+
 def _goal_sources(free: NDArray[np.bool_], cell: tuple[int, int], offset: tuple[float, float]
                   ) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
     """The goal cell and its free 8-neighbours (no corner cutting) at their exact Euclidean
@@ -151,8 +174,8 @@ def eikonal(gridmap: GridMap, goal: ArrayLike, *, cost: NDArray[np.float64] | No
     ----------
     gridmap : GridMap
         Its ``border`` is honoured (open: the front may pass round the grid through a one-cell ring).
-    goal : (x, y)
-        In a free cell.
+    goal : (x, y), or an array of shape (k, 2)
+        In a free cell; several goals (one per free component, say) start the front together.
     cost : ndarray, optional
         Slowness per cell (``1 / speed``, finite and >= 1 on free cells); default 1 everywhere.
     stop_at : (x, y), optional
@@ -175,13 +198,9 @@ def eikonal(gridmap: GridMap, goal: ArrayLike, *, cost: NDArray[np.float64] | No
     1.006
     """
     grid = gridmap.grid
-    g = gridmap.check_point("goal", goal)
-    cell = grid.cell_of(g[0], g[1])
-    assert cell is not None
     free, off = _ring(gridmap)
     res = grid.resolution
-    cx, cy = grid.origin[0] + (cell[1] + 0.5) * res, grid.origin[1] + (cell[0] + 0.5) * res
-    src = _goal_sources(free, (cell[0] + off, cell[1] + off), ((g[0] - cx) / res, (g[1] - cy) / res))
+    src, _ = _sources(gridmap, free, off, goal)
     if cost is None:
         cst = np.empty((0, 0))
     else:
@@ -305,27 +324,25 @@ def nf2_cost(sk: NDArray[np.bool_]) -> NDArray[np.float64]:
     return 1.0 + (NF2_OFF_SKELETON_COST - 1.0) * np.minimum(dsk / NF2_VALLEY_CELLS, 1.0)
 
 
-def _nf2_values(gridmap: GridMap, goal: NDArray[np.float64], dmap: DistanceMap, sk: NDArray[np.bool_],
+def _nf2_values(gridmap: GridMap, goals: ArrayLike, dmap: DistanceMap, sk: NDArray[np.bool_],
                 stop_at: ArrayLike | None, cost_map: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
-    """NF2's U (world units): the travel time from the goal at speed 1 along the skeleton (and the
-    goal's ascent onto it) and ``1 / NF2_OFF_SKELETON_COST`` elsewhere."""
+    """NF2's U (world units): the travel time from the goal(s) at speed 1 along the skeleton and
+    each goal's steepest ascent of the clearance onto it, and slower off it (:func:`nf2_cost`)."""
     k = _kernels()
     grid = gridmap.grid
-    cell = grid.cell_of(float(goal[0]), float(goal[1]))
-    assert cell is not None
     free, off = _ring(gridmap)
     skel = np.pad(sk, off, constant_values=False) if off else sk
     dist = np.where(np.isfinite(dmap.distance), dmap.distance, 0.0)
     if off:
         dist = np.pad(dist, 1, constant_values=0.0)
-    climb = k.ascend(dist, free.view(np.uint8), skel.view(np.uint8), cell[0] + off, cell[1] + off)
     cost = nf2_cost(sk) if cost_map is None else cost_map
     cost = np.pad(cost, 1, constant_values=NF2_OFF_SKELETON_COST) if off else cost.copy()
-    cost[climb[:, 0], climb[:, 1]] = 1.0
-    res = grid.resolution
-    cx, cy = grid.origin[0] + (cell[1] + 0.5) * res, grid.origin[1] + (cell[0] + 0.5) * res
-    src = _goal_sources(free, (cell[0] + off, cell[1] + off), ((goal[0] - cx) / res, (goal[1] - cy) / res))
+    src, cells = _sources(gridmap, free, off, goals)
+    for r0, c0 in cells:
+        climb = k.ascend(dist, free.view(np.uint8), skel.view(np.uint8), r0, c0)
+        cost[climb[:, 0], climb[:, 1]] = 1.0
     src = (src[0], src[1], src[2] * cost[src[0], src[1]])
+    res = grid.resolution
     sr = sc = -1
     if stop_at is not None:
         s = grid.cell_of(*_xy(stop_at))
@@ -356,6 +373,72 @@ def blend_cost(dmap: DistanceMap, q_star: float, gain: float) -> NDArray[np.floa
     cost[~np.isfinite(d) & ~dmap.map.occupied] = 1.0  # no obstacle at all
     cost[dmap.map.occupied] = np.inf
     return cost
+
+
+def nf_potential(gridmap: GridMap, goals: ArrayLike, params: Mapping[str, Any] | None = None, *,
+                 dmap: DistanceMap | None = None,
+                 skel: tuple[NDArray[np.bool_], NDArray[np.float64]] | None = None,
+                 stop_at: ArrayLike | None = None) -> tuple[NDArray[np.float64], dict[str, Any], GridMap, DistanceMap]:
+    """The potential array of a complete model, from one goal or several (one per free component:
+    the components' fields in one array, as :func:`gridfield.basins.basins` checks them).
+
+    Parameters are those of :func:`nav_field` (``goals``: ``(x, y)`` or shape ``(k, 2)``).
+
+    Returns
+    -------
+    U : ndarray of float64
+        On the first map of :func:`work_maps`.
+    params : dict
+        Resolved.
+    work : GridMap
+        The map ``U`` lives on (:func:`work_maps`).
+    dmap : DistanceMap
+        The brushfire used (of the second map of :func:`work_maps`).
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid
+    >>> occ = np.zeros((1, 5), bool); occ[0, 2] = True
+    >>> U, p, work, _ = nf_potential(GridMap(Grid((1, 5), 1.0, border="wall"), occ), [(0.5, 0.5), (4.5, 0.5)])
+    >>> U.tolist(), p["model"]
+    ([[0.0, 1.0, inf, 1.0, 0.0]], 'nf1')
+    """
+    from .potential import resolve_params
+
+    given = dict(params or {})
+    given.setdefault("model", "nf1")
+    p = resolve_params(given, unit=gridmap.grid.resolution)
+    model = p["model"]
+    if model not in NF_MODELS:
+        raise ParameterError(f"nav_field builds the models {NF_MODELS}, got model={model!r}")
+    g = np.asarray(goals, dtype=float)
+    work, around = work_maps(gridmap)
+    if dmap is not None and (dmap.metric != "euclidean" or dmap.grid.shape != work.grid.shape):
+        raise ParameterError(f"the {model} model needs a Euclidean brushfire of work_maps(gridmap)[1] (shape "
+                             f"{work.grid.shape}), got metric {dmap.metric!r}, shape {dmap.grid.shape}")
+    if model == "nf2":
+        if dmap is None or dmap.gvd is None:
+            dmap, sk, cost = nf_skeleton(around)
+        elif skel is None:
+            sk = skeleton(dmap)
+            cost = nf2_cost(sk)
+        else:
+            sk, cost = skel
+        U = _nf2_values(work, g, dmap, sk, stop_at, cost)
+    else:
+        if dmap is None:
+            dmap = brushfire(around, metric="euclidean", compute_labels=False, compute_gvd=False)
+        if model == "nf-blend":
+            U = eikonal(work, g, cost=blend_cost(dmap, p["q_star"], p["clearance_gain"]), stop_at=stop_at)
+        elif p["attraction"] == "octile":
+            from .navigation import wavefront
+
+            if np.asarray(g, dtype=float).size != 2:
+                raise ParameterError("attraction='octile' (the octile wavefront) takes one goal")
+            U = np.ascontiguousarray(wavefront(work, g, costs="octile").value)
+        else:
+            U = eikonal(work, g, stop_at=stop_at)
+    return U, p, work, dmap
 
 
 def nav_field(gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] | None = None, *,
@@ -394,39 +477,12 @@ def nav_field(gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] | Non
     >>> round(float(f.potential[5, 5]), 4), f.params["model"], f.params["progress_window"]
     (7.0711, 'nf1', 0)
     """
-    from .potential import Field, resolve_params
+    from .potential import Field
 
-    given = dict(params or {})
-    p = resolve_params(given, unit=gridmap.grid.resolution)
-    model = p["model"]
-    if model not in NF_MODELS:
-        raise ParameterError(f"nav_field builds the models {NF_MODELS}, got model={model!r}")
+    U, p, work, dmap = nf_potential(gridmap, goal, params, dmap=dmap, skel=skel, stop_at=stop_at)
     g = gridmap.check_point("goal", goal)
     goal_xy = (float(g[0]), float(g[1]))
-    work, around = work_maps(gridmap)
-    if dmap is not None and (dmap.metric != "euclidean" or dmap.grid.shape != work.grid.shape):
-        raise ParameterError(f"the {model} model needs a Euclidean brushfire of work_maps(gridmap)[1] (shape "
-                             f"{work.grid.shape}), got metric {dmap.metric!r}, shape {dmap.grid.shape}")
-    if model == "nf2":
-        if dmap is None or dmap.gvd is None:
-            dmap, sk, cost = nf_skeleton(around)
-        elif skel is None:
-            sk = skeleton(dmap)
-            cost = nf2_cost(sk)
-        else:
-            sk, cost = skel
-        U = _nf2_values(work, g, dmap, sk, stop_at, cost)
-    else:
-        if dmap is None:
-            dmap = brushfire(around, metric="euclidean", compute_labels=False, compute_gvd=False)
-        if model == "nf-blend":
-            U = eikonal(work, g, cost=blend_cost(dmap, p["q_star"], p["clearance_gain"]), stop_at=stop_at)
-        elif p["attraction"] == "octile":
-            from .navigation import wavefront
-
-            U = np.ascontiguousarray(wavefront(work, g, costs="octile").value)
-        else:
-            U = eikonal(work, g, stop_at=stop_at)
+    given = dict(params or {})
     gx, gy = _kernels().upwind(U, True)
     res = gridmap.grid.resolution
     if res != 1.0:
@@ -434,7 +490,7 @@ def nav_field(gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] | Non
         gy /= res
     if "progress_window" not in given:
         p["progress_window"] = NF_PROGRESS_WINDOW
-    if model == "nf-blend" and "sampling" not in given:
+    if p["model"] == "nf-blend" and "sampling" not in given:
         p["sampling"] = NF_BLEND_SAMPLING
     return Field(work, U, gx, gy, goal_xy, p, dmap)
 

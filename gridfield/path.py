@@ -277,6 +277,8 @@ class Path:
             "follow_seconds": clean(self.extra.get("follow_seconds", self.seconds)),
             "hint": self.extra.get("hint"),
             **({"optimal": clean(self.extra["optimal"])} if "optimal" in self.extra else {}),
+            **({"median_clearance": clean(self.extra["median_clearance"])} if "median_clearance" in self.extra
+               else {}),
         }
 
     def __repr__(self) -> str:

@@ -107,7 +107,6 @@ def test_bucket_queue_agrees_with_the_binary_heap_march():
     free[60, 75] = 1
     k = _kernels()
     src = (np.array([60]), np.array([75]), np.array([0.0]))
-    exact, n1 = k.march(free, np.empty((0, 0)), *src, True, -1, -1, 0.0)
     cost = 1.0 + 3.0 * rng.random(free.shape)
     for c, top in ((np.empty((0, 0)), 1.0), (cost, 4.0)):
         exact, _ = k.march(free, c, *src, True, -1, -1, 0.0)

@@ -292,6 +292,14 @@ def nf_skeleton(gridmap: GridMap) -> tuple[DistanceMap, NDArray[np.bool_], NDArr
     :func:`skeleton` and the slowness :func:`nf2_cost` (the potential planner keeps them in its
     ``cache``).
 
+    Parameters
+    ----------
+    gridmap : GridMap
+
+    Returns
+    -------
+    dmap, skeleton, cost : DistanceMap, ndarray of bool, ndarray of float64
+
     Examples
     --------
     >>> from gridfield.grid import Grid
@@ -309,6 +317,16 @@ def nf2_cost(sk: NDArray[np.bool_]) -> NDArray[np.float64]:
     """NF2's slowness: 1 on the skeleton, rising linearly with the distance to it to
     :data:`NF2_OFF_SKELETON_COST` at :data:`NF2_VALLEY_CELLS` cells and beyond (a valley a follower
     with one-cell steps can run down; a one-cell line of speed 1 would make it zigzag across).
+
+    Parameters
+    ----------
+    sk : ndarray of bool
+        The skeleton (:func:`skeleton`).
+
+    Returns
+    -------
+    ndarray of float64
+        The slowness, in [1, :data:`NF2_OFF_SKELETON_COST`].
 
     Examples
     --------
@@ -359,6 +377,20 @@ def blend_cost(dmap: DistanceMap, q_star: float, gain: float) -> NDArray[np.floa
     (``D`` the brushfire distance; the shape of the Khatib repulsion ``(1/D - 1/q_star)**2``
     scaled by ``q_star**2``).
 
+    Parameters
+    ----------
+    dmap : DistanceMap
+        A Euclidean brushfire of the map.
+    q_star : float
+        Distance of influence (world units).
+    gain : float
+        ``clearance_gain`` (>= 0).
+
+    Returns
+    -------
+    ndarray of float64
+        >= 1 on free cells, ``inf`` on obstacle cells.
+
     Examples
     --------
     >>> from gridfield.grid import Grid
@@ -382,7 +414,15 @@ def nf_potential(gridmap: GridMap, goals: ArrayLike, params: Mapping[str, Any] |
     """The potential array of a complete model, from one goal or several (one per free component:
     the components' fields in one array, as :func:`gridfield.basins.basins` checks them).
 
-    Parameters are those of :func:`nav_field` (``goals``: ``(x, y)`` or shape ``(k, 2)``).
+    Parameters
+    ----------
+    gridmap : GridMap
+    goals : (x, y) or array of shape (k, 2)
+        In free cells (several: the fronts start together; ``attraction='octile'`` takes one).
+    params : mapping, optional
+        As for :func:`nav_field` (``model`` defaults to ``"nf1"`` here).
+    dmap, skel, stop_at
+        As for :func:`nav_field`.
 
     Returns
     -------
@@ -500,6 +540,14 @@ def work_maps(gridmap: GridMap) -> tuple[GridMap, GridMap]:
     both are ``gridmap``. With an ``open`` border the fronts run on ``gridmap`` inside a one-cell
     free ring with a wall beyond (:func:`gridfield.escapes.navigation_map`'s rule: a path may pass
     round the grid), and the brushfire on the same ring with an open border (no wall to keep off).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+
+    Returns
+    -------
+    fronts, distances : GridMap
 
     Examples
     --------

@@ -57,6 +57,11 @@ saturated distance (seed 004)
 vortex (seed 003)
     See :func:`vortex_field`.
 
+complete models (``model="nf1"``, ``"nf2"``, ``"nf-blend"``)
+    Numerical navigation functions with one minimum per free component, the goal: see
+    :mod:`gridfield.navfield`. :func:`build_field` builds ``"khatib"`` when ``model`` is unset; the
+    ``potential`` planner (:func:`gridfield.follow.plan_potential`) builds ``"nf1"``.
+
 Obstacle cells hold ``potential = +inf`` and zero gradients in every model. All returned arrays
 are float64, computed in float64: the fused kernel (compiled ahead of time, branch-free so that it
 vectorizes, IEEE division semantics) streams its outputs at ``np.copyto`` speed

@@ -1,19 +1,18 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
 """Compiled kernels behind :mod:`gridfield.navfield` (Cython, compiled at install; imported lazily).
 
-Two front propagations over the free cells of a grid, in *cell units* (a step between orthogonal
-neighbours has length 1), each with a binary heap indexed by cell (decrease-key in place):
+The fast marching method (Sethian 1996; Tsitsiklis 1995) over the free cells of a grid, in *cell
+units* (a step between orthogonal neighbours has length 1): a first-order upwind solution of the
+eikonal equation ``|grad T| = cost`` on the 4-neighbour stencil and on the 45-degree-rotated
+stencil of the diagonal neighbours (spacing ``sqrt 2``), the smaller of the two (the multi-stencil
+scheme of Hassouna & Farag, IEEE PAMI 29(9), 2007). A diagonal neighbour is used only when both
+cells beside the diagonal are free (the move rule of the wavefronts: no front through a corner the
+robot cannot pass). :func:`march` keeps the front in a binary heap indexed by cell (decrease-key in
+place: the exact order, the reference); :func:`march_buckets` in an untidy bucket queue (what
+:mod:`gridfield.navfield` uses). Also :func:`upwind` (the gradient arrays) and :func:`ascend`
+(steepest ascent onto a skeleton).
 
-- :func:`march`: the fast marching method (Sethian 1996; Tsitsiklis 1995), a first-order upwind
-  solution of the eikonal equation ``|grad T| = cost`` on the 4-neighbour stencil and on the
-  45-degree-rotated stencil of the diagonal neighbours (spacing ``sqrt 2``), the smaller of the two
-  (the multi-stencil scheme of Hassouna & Farag, IEEE PAMI 29(9), 2007). A diagonal neighbour is
-  used only when both cells beside the diagonal are free (the move rule of the wavefronts: no front
-  through a corner the robot cannot pass).
-- :func:`dijkstra`: octile shortest paths (orthogonal 1, diagonal ``sqrt 2``, the same corner rule)
-  over the cells of an ``allowed`` mask, e.g. a skeleton.
-
-Both start from *fixed sources*: cells with given values that are never changed (the goal cell and
+Both marches start from *fixed sources*: cells with given values that are never changed (the goal cell and
 its neighbours at their exact Euclidean distance, or a skeleton's values). Every other cell gets a
 value strictly above the smallest of its accepted neighbours, so that discrete steepest descent
 from any reached cell ends at a source. Cells never reached keep ``inf``. With ``stop`` >= 0 the
@@ -498,65 +497,6 @@ def upwind(val_t t, bint diagonal=False):
                         ox[r, c] = -0.5 * (v - best) * bdc
                         oy[r, c] = -0.5 * (v - best) * bdr
     return gx, gy
-
-
-def dijkstra(mask_t free, mask_t allowed, const int64_t[:] src_r, const int64_t[:] src_c, const double[:] src_v):
-    """Octile shortest paths (no corner cutting: a diagonal needs both side cells *free*) over the
-    cells of ``allowed`` (a subset of ``free``) from fixed sources; ``inf`` elsewhere (cell units)."""
-    cdef int64_t rows = free.shape[0], cols = free.shape[1]
-    cdef int64_t w = cols + 2
-    cdef int64_t n = (rows + 2) * w
-    cdef int64_t i, r, c, v, nb, k, hn = 0
-    cdef int64_t nsrc = src_r.shape[0]
-    cdef int64_t dr[8]
-    cdef int64_t dc[8]
-    cdef double val, step
-    out = np.empty((rows, cols))
-    cdef double[:, ::1] o = out
-    cdef uint8_t* fr
-    cdef uint8_t* al
-    cdef double* u
-    cdef int64_t* heap
-    cdef int64_t* pos
-    dr[:] = [0, 0, 1, -1, 1, 1, -1, -1]
-    dc[:] = [1, -1, 0, 0, 1, -1, 1, -1]
-    with nogil:
-        fr = _pad_mask(free, w)
-        al = _pad_mask(allowed, w)
-        u = <double*>_alloc(n * sizeof(double))
-        heap = <int64_t*>_alloc(n * sizeof(int64_t))
-        pos = <int64_t*>_alloc(n * sizeof(int64_t))
-        for i in range(n):
-            u[i] = INFINITY
-            pos[i] = -1
-        for k in range(nsrc):
-            v = (src_r[k] + 1) * w + src_c[k] + 1
-            if fr[v] and al[v]:
-                _push_or_lower(heap, pos, u, &hn, v, src_v[k])
-        while hn > 0:
-            v = _pop(heap, pos, u, &hn)
-            for k in range(8):
-                nb = v + dr[k] * w + dc[k]
-                if not al[nb] or not fr[nb] or pos[nb] == -2:
-                    continue
-                if k >= 4:
-                    if not (fr[v + dr[k] * w] and fr[v + dc[k]]):
-                        continue
-                    step = SQRT2
-                else:
-                    step = 1.0
-                val = u[v] + step
-                _push_or_lower(heap, pos, u, &hn, nb, val)
-        for r in range(rows):
-            for c in range(cols):
-                v = (r + 1) * w + c + 1
-                o[r, c] = u[v] if pos[v] == -2 else INFINITY
-        c_free(fr)
-        c_free(al)
-        c_free(u)
-        c_free(heap)
-        c_free(pos)
-    return out
 
 
 def ascend(val_t dist, mask_t free, mask_t target, int64_t r0, int64_t c0):

@@ -10,7 +10,22 @@ brushfire is computed once per map; ``--no-cache``: none), once per variant:
 - ``defaults``: ``params={}``;
 - ``random_walk``: ``{"escape": "random_walk"}``;
 - ``navigation``: ``{"escape": "navigation"}``; where the installed gridfield does not know this
-  escape (it raises ``ParameterError`` naming the value) the variant is reported as "n/a".
+  escape (it raises ``ParameterError`` naming the value) the variant is reported as "n/a";
+- ``khatib``: ``{"model": "khatib"}`` (the classic field, the default before the complete models);
+  ``nf1``, ``nf1_octile`` (``attraction: octile``), ``nf2``, ``nf_blend`` (``model: nf-blend``): the
+  complete models of :mod:`gridfield.navfield` (reported "n/a" where the installed gridfield does
+  not know them).
+
+The quality table (``--quality``, default on) adds per variant and map kind: reached / reachable,
+the length ratio to the **any-angle optimum** (``gridfield.anyangle.plan_anyangle``, the
+``visibility`` planner on the same grid map; median, p95; computed on maps of at most
+``--any-angle-max-cells`` cells, its graph being costly on the largest) and to the octile optimum
+(median, p95), the path's minimum clearance in cells (median; ``Path.min_clearance``), its margin
+to the query's **bottleneck clearance** (the largest minimum clearance any 4-connected path of
+free cells from start to goal can keep, found by bisection over the clearance values with
+``scipy.ndimage.label``; median of ``min_clearance - bottleneck``, in cells), and the median time
+per query of the variant and of ``wavefront-octile`` on the same queries in the same run (the
+API, warm cache: one cache per map).
 
 Queries:
 
@@ -66,6 +81,12 @@ VARIANTS: dict[str, dict[str, Any]] = {
     "defaults": {},
     "random_walk": {"escape": "random_walk"},
     "navigation": {"escape": "navigation"},
+    # the classic field and the complete models (gridfield.navfield); "defaults" is nf1 since they came
+    "khatib": {"model": "khatib"},
+    "nf1": {"model": "nf1"},
+    "nf1_octile": {"model": "nf1", "attraction": "octile"},
+    "nf2": {"model": "nf2"},
+    "nf_blend": {"model": "nf-blend"},
 }
 STATUS_COLUMNS = ("reached", "local_minimum", "collision", "max_iterations", "no_path", "error")
 NOT_AVAILABLE = "n/a"
@@ -186,7 +207,9 @@ def run_query(gm: Any, start: np.ndarray, goal: np.ndarray, variant: str, params
     except ParameterError as e:
         rec["seconds"] = time.perf_counter() - t0
         esc = params.get("escape")
-        if esc is not None and repr(esc) in str(e) and "escape" in str(e):
+        model = params.get("model")
+        if (esc is not None and repr(esc) in str(e) and "escape" in str(e)) or (
+                model is not None and repr(model) in str(e) and "model" in str(e)):
             rec["status"], rec["message"] = NOT_AVAILABLE, one_line(e)
         else:
             rec["status"], rec["message"] = "error", one_line(e)
@@ -198,6 +221,8 @@ def run_query(gm: Any, start: np.ndarray, goal: np.ndarray, variant: str, params
     rec["seconds"] = time.perf_counter() - t0
     rec["status"] = path.status
     rec["length"] = float(path.length)
+    rec["min_clearance"] = float(path.min_clearance) if path.min_clearance is not None else None
+    rec["model"] = _plain((path.params or {}).get("model"))
     rec["iterations"] = int(path.iterations)
     extra = path.extra or {}
     rec["stop_reason"] = str(extra.get("stop_reason")) if extra.get("stop_reason") is not None else None
@@ -251,6 +276,8 @@ def run_map(task: dict[str, Any]) -> dict[str, Any]:
         return info
     info["shape"] = list(gm.shape)
     info["resolution"] = float(gm.grid.resolution)
+    if task.get("quality", True):
+        _quality_refs(gm, queries, cache, task)
     runs = []
     for q in queries:
         for v, params in variants.items():
@@ -261,6 +288,114 @@ def run_map(task: dict[str, Any]) -> dict[str, Any]:
     info["runs"] = runs
     info["seconds"] = time.perf_counter() - t_map
     return info
+
+
+def bottleneck_clearance(dist: np.ndarray, free: np.ndarray, s: tuple[int, int], g: tuple[int, int]) -> float:
+    """The largest ``t`` such that start and goal cells are joined by 4-connected free cells of
+    clearance ``>= t`` (bisection over the distinct clearance values; ``nan`` if never joined)."""
+    from scipy import ndimage
+
+    vals = np.unique(dist[free & np.isfinite(dist)])
+    vals = vals[vals <= min(dist[s], dist[g])]
+    lo, hi, best = 0, len(vals) - 1, float("nan")
+    while lo <= hi:
+        mid = (lo + hi) // 2
+        lab = ndimage.label(free & (dist >= vals[mid]))[0]
+        if lab[s] != 0 and lab[s] == lab[g]:
+            best, lo = float(vals[mid]), mid + 1
+        else:
+            hi = mid - 1
+    return best
+
+
+def _quality_refs(gm: Any, queries: list[dict[str, Any]], cache: dict[Any, Any] | None, task: dict[str, Any]) -> None:
+    """Per query: the any-angle optimum, the bottleneck clearance (cells) and the time of
+    ``wavefront-octile`` (the API, this map's cache), in place."""
+    from gridfield.brushfire import brushfire
+    from gridfield.planners import plan
+
+    free = ~np.asarray(gm.occupied, dtype=bool)
+    res = float(gm.grid.resolution)
+    dist = brushfire(gm, metric="euclidean").distance / res
+    any_angle = gm.occupied.size <= task.get("any_angle_max_cells", 1 << 20)
+    aa_cache: dict[Any, Any] = {}
+    for q in queries:
+        q["any_angle"] = q["bottleneck"] = q["octile_seconds"] = None
+        if q["kind"] != "reachable":
+            continue
+        try:
+            t0 = time.perf_counter()
+            plan("wavefront-octile", gm, q["start"], q["goal"], {}, cache=cache)
+            q["octile_seconds"] = time.perf_counter() - t0
+            if any_angle:
+                from gridfield.anyangle import plan_anyangle
+
+                p = plan_anyangle(gm, q["start"], q["goal"], cache=aa_cache)
+                q["any_angle"] = float(p.length) if p.status == "reached" else None
+            s = gm.grid.cell_of(*q["start"])
+            g = gm.grid.cell_of(*q["goal"])
+            q["bottleneck"] = bottleneck_clearance(dist, free, s, g)
+        except Exception as e:  # a reference that fails is left out, and said
+            q["reference_error"] = one_line(e)
+
+
+def _pq(vals: list[float], q: float) -> float | None:
+    return float(np.quantile(vals, q)) if vals else None
+
+
+def quality(runs: list[dict[str, Any]]) -> dict[str, Any]:
+    """The quality figures of one group of runs (one variant, one map kind)."""
+    reach = [r for r in runs if r["kind"] == "reachable"]
+    ok = [r for r in reach if r["status"] == "reached"]
+    aa = [r["length"] / r["any_angle"] for r in ok if r.get("any_angle")]
+    octile = [r["ratio"] for r in ok if r.get("ratio") is not None]
+    clear = [r["min_clearance"] / r["resolution"] for r in ok if r.get("min_clearance") is not None
+             and np.isfinite(r["min_clearance"])]
+    margin = [r["min_clearance"] / r["resolution"] - r["bottleneck"] for r in ok
+              if r.get("min_clearance") is not None and r.get("bottleneck") is not None
+              and np.isfinite(r["min_clearance"]) and np.isfinite(r["bottleneck"])]
+    ms = [1000 * r["seconds"] for r in reach if r.get("seconds") is not None]
+    ref = [1000 * r["octile_seconds"] for r in reach if r.get("octile_seconds") is not None]
+    return {"reached": len(ok), "reachable": len(reach), "aa_med": _pq(aa, 0.5), "aa_p95": _pq(aa, 0.95), "aa_n": len(aa),
+            "oct_med": _pq(octile, 0.5), "oct_p95": _pq(octile, 0.95), "clear_med": _pq(clear, 0.5),
+            "margin_med": _pq(margin, 0.5), "ms_med": _pq(ms, 0.5), "ref_ms_med": _pq(ref, 0.5),
+            "escapes": sum(int((r.get("extra") or {}).get("escapes_tried") or 0) for r in reach),
+            "collisions": sum(r["status"] == "collision" for r in runs),
+            "no_path_unreachable": f"{sum(r['status'] == 'no_path' for r in runs if r['kind'] == 'unreachable')}/"
+                                   f"{sum(r['kind'] == 'unreachable' for r in runs)}"}
+
+
+QUALITY_HEADERS = ["variant", "maps", "reached / reachable", "no_path / unreachable", "collisions", "escapes",
+                   "any-angle ratio median", "p95", "(n)", "octile ratio median", "p95 ", "min clearance median (cells)",
+                   "min clearance - bottleneck, median (cells)", "ms / query median", "wavefront-octile ms median",
+                   "time ratio"]
+
+
+def quality_report(results: list[dict[str, Any]], variants: Sequence[str]) -> list[str]:
+    def f(v: float | None, d: int = 3) -> str:
+        return "-" if v is None else f"{v:.{d}f}"
+
+    lines: list[str] = []
+    all_runs = [r for m in results for r in m["runs"]]
+    for m in results:
+        for r in m["runs"]:
+            r["resolution"] = m["resolution"]
+    for kind, label in (("movingai", "Moving AI"), ("ros", "ROS")):
+        rows = []
+        maps = [m for m in results if m["kind"] == kind and not m.get("error")]
+        for v in variants:
+            runs = [r for r in all_runs if r["variant"] == v and (r["family"] == "ros") == (kind == "ros")]
+            if not runs or all(r["status"] == NOT_AVAILABLE for r in runs):
+                continue
+            q = quality(runs)
+            ratio = q["ms_med"] / q["ref_ms_med"] if q["ms_med"] and q["ref_ms_med"] else None
+            rows.append([v, str(len(maps)), f"{q['reached']}/{q['reachable']}", q["no_path_unreachable"],
+                         str(q["collisions"]), str(q["escapes"]), f(q["aa_med"]), f(q["aa_p95"]), str(q["aa_n"]),
+                         f(q["oct_med"]), f(q["oct_p95"]), f(q["clear_med"], 2), f(q["margin_med"], 2),
+                         f(q["ms_med"], 1), f(q["ref_ms_med"], 1), f(ratio, 2)])
+        if rows:
+            lines += [f"### Quality: {label}", "", markdown_table(QUALITY_HEADERS, rows), ""]
+    return lines
 
 
 # ----------------------------------------------------------------------------------------------
@@ -403,7 +538,8 @@ def gridfield_checkout() -> tuple[str, str]:
 def find_tasks(root: Path, args: argparse.Namespace) -> list[dict[str, Any]]:
     tasks = []
     common = {"per_map": args.per_map, "variants": args.variants, "ros_pairs": args.ros_pairs,
-              "ros_unreachable": args.ros_unreachable, "no_cache": args.no_cache}
+              "ros_unreachable": args.ros_unreachable, "no_cache": args.no_cache, "quality": args.quality,
+              "any_angle_max_cells": args.any_angle_max_cells}
     mai = root / "movingai"
     if mai.is_dir():
         for d in sorted(p for p in mai.iterdir() if p.is_dir() and any(p.glob("*.map")) and any(p.glob("*.scen"))):
@@ -441,6 +577,10 @@ def main(argv: list[str] | None = None) -> int:
                     help="extra ROS pairs per map with start and goal in different free components")
     ap.add_argument("--no-cache", action="store_true",
                     help="no plan() cache: every query builds its field from scratch, brushfire included (slower)")
+    ap.add_argument("--quality", action=argparse.BooleanOptionalAction, default=True,
+                    help="the quality table: any-angle optimum, bottleneck clearance, wavefront-octile time per query")
+    ap.add_argument("--any-angle-max-cells", type=int, default=1 << 20,
+                    help="compute the any-angle optimum only on maps with at most this many cells")
     ap.add_argument("--label", default="", help="written into the header, e.g. before or after")
     ap.add_argument("--out", type=Path, default=None, help="also write the markdown report to this file")
     ap.add_argument("--json", type=Path, default=None, help="write every run to this JSON file")
@@ -489,7 +629,7 @@ def main(argv: list[str] | None = None) -> int:
         "no_path / error.",
         "",
     ]
-    lines = header + report(results, args.variants)
+    lines = header + (quality_report(results, args.variants) if args.quality else []) + report(results, args.variants)
     text = "\n".join(lines).rstrip() + "\n"
     print(text, end="")
     if args.out is not None:

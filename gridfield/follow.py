@@ -251,6 +251,13 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
                    cache: dict[Any, Any] | None = None) -> Path:
     """The ``potential`` planner: build the field (:func:`gridfield.potential.build_field`), follow it.
 
+    With ``model`` unset it builds :data:`PLANNER_MODEL` (``"nf1"``, a complete model of
+    :mod:`gridfield.navfield`: one minimum, the goal); ``model="khatib"`` is the classic field. The
+    complete models settle their fronts only up to the start's value (all the follower reads; the
+    field returned with ``return_field=True`` is ``inf`` beyond), their brushfire (and NF2's
+    skeleton) is computed once per map in ``cache``, and their paths carry
+    ``extra["median_clearance"]``.
+
     A goal that cannot be reached from the start (no free path joins them) ends as ``no_path`` at
     once, with a hint. A run that does not reach the goal carries ``extra["hint"]`` and
     ``extra["diagnosis"]`` (:func:`gridfield.diagnose.diagnose`).
@@ -281,10 +288,13 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     --------
     >>> occ = np.zeros((10, 10), bool); occ[4:6, 0:7] = True
     >>> gm = GridMap(Grid((10, 10), 1.0), occ)
-    >>> p = plan_potential(gm, (2.5, 1.5), (2.5, 8.5), {})
+    >>> p = plan_potential(gm, (2.5, 1.5), (2.5, 8.5), {})   # the default: the complete model nf1
+    >>> p.status, p.params["model"]
+    ('reached', 'nf1')
+    >>> p = plan_potential(gm, (2.5, 1.5), (2.5, 8.5), {"model": "khatib"})   # the classic field
     >>> p.status, p.extra["stop_reason"], "hint" in p.extra
     ('local_minimum', 'oscillation', True)
-    >>> plan_potential(gm, (2.5, 1.5), (2.5, 8.5), {"escape": "navigation"}).status
+    >>> plan_potential(gm, (2.5, 1.5), (2.5, 8.5), {"model": "khatib", "escape": "navigation"}).status
     'reached'
     """
     params = validate(params)  # a raw mapping from a direct call is checked too
@@ -292,6 +302,8 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     from .potential import build_field, field_distance_map, resolve_params
 
     params = dict(params or {})
+    if params.get("model") is None:  # the planner's default: a complete model (gridfield.navfield)
+        params["model"] = PLANNER_MODEL
     s, g = _as_xy(start, "start"), _as_xy(goal, "goal")
     t0 = time.perf_counter()
     resolved = resolve_params(params, unit=gridmap.grid.resolution)
@@ -301,13 +313,17 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
         return Path(np.array([s]), "no_path", "potential", params=merged, seconds=0.0,
                     extra={"stop_reason": "unreachable", "hint": unreachable_hint(s, g),
                            "diagnosis": {"reachable": False}, "build_seconds": time.perf_counter() - t0})
+    nf = resolved["model"] in ("nf1", "nf2", "nf-blend")
     dmap = None
-    if cache is not None and not vortex:
-        key = ("brushfire", gridmap, resolved["metric"], resolved["saturate"])
-        if key not in cache:
-            cache[key] = field_distance_map(gridmap, resolved)
-        dmap = cache[key]
-    field = build_field(gridmap, g, params, dmap=dmap)
+    if nf:
+        field = _nf_field(gridmap, s, g, params, resolved["model"], cache)
+    else:
+        if cache is not None and not vortex:
+            key = ("brushfire", gridmap, resolved["metric"], resolved["saturate"])
+            if key not in cache:
+                cache[key] = field_distance_map(gridmap, resolved)
+            dmap = cache[key]
+        field = build_field(gridmap, g, params, dmap=dmap)
     if cache is not None:  # the latest field, for planners.plan(..., return_field=True)
         cache["field"] = field
     build = time.perf_counter() - t0
@@ -327,7 +343,46 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
             extra["stop_reason"] = "unreachable"
         extra["hint"] = diag["hint"]
         extra["diagnosis"] = diag
+    if nf and len(points):
+        extra["median_clearance"] = float(np.median(_distance_at(field, points)[0]))
+        if field.map is not gridmap:  # an open border: the field's ring lies outside the grid
+            _note_outside(extra, gridmap.grid, points)
     return replace(path, points=points, status=status, params=merged, extra=extra)
+
+
+#: The ``model`` the potential planner builds when none is given: the complete ``nf1``
+#: (:mod:`gridfield.navfield`); ``model="khatib"`` asks for the classic field.
+PLANNER_MODEL = "nf1"
+
+
+def _nf_field(gridmap: GridMap, start: Point, goal: Point, params: Mapping[str, Any], model: str,
+              cache: dict[Any, Any] | None) -> Any:
+    """The field of a complete model for one query: the fronts settled up to the start's value
+    (:func:`gridfield.navfield.nav_field` with ``stop_at``); the brushfire (and NF2's skeleton) once
+    per map in ``cache``."""
+    from .brushfire import brushfire
+    from .navfield import nav_field, nf_skeleton, work_maps
+
+    skel = None
+    around = work_maps(gridmap)[1]
+    if model == "nf2":
+        key: tuple[Any, ...] = ("nf2_skeleton", gridmap)
+        if cache is None or key not in cache:
+            made = nf_skeleton(around)
+            if cache is None:
+                return nav_field(gridmap, goal, params, dmap=made[0], skel=made[1:], stop_at=start)
+            cache[key] = made
+        dmap, sk, cost = cache[key]
+        skel = (sk, cost)
+    else:
+        key = ("nf_brushfire", gridmap)
+        if cache is None or key not in cache:
+            made_d = brushfire(around, metric="euclidean", compute_labels=False, compute_gvd=False)
+            if cache is None:
+                return nav_field(gridmap, goal, params, dmap=made_d, stop_at=start)
+            cache[key] = made_d
+        dmap = cache[key]
+    return nav_field(gridmap, goal, params, dmap=dmap, skel=skel, stop_at=start)
 
 
 # ----------------------------------------------------------------------------------------------

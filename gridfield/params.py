@@ -1,7 +1,7 @@
 """The one parameter registry: every planner parameter's type, default, scaling rule, range and meaning.
 
 Each concern is a frozen dataclass (:class:`Attraction`, :class:`Repulsion`, :class:`Model`,
-:class:`Vortex`, :class:`Follower`, :class:`Escape`, :class:`Navigation`) whose fields carry a
+:class:`NavFunction`, :class:`Vortex`, :class:`Follower`, :class:`Escape`, :class:`Navigation`) whose fields carry a
 :class:`Spec` in their metadata. :data:`REGISTRY` (name -> :class:`Spec`) is built from them, and
 everything else is generated from it: :func:`validate` (the check behind
 :func:`gridfield.planners.plan`), :func:`resolve` (defaults filled in, lengths scaled to the map),
@@ -57,6 +57,7 @@ __all__ = [
     "Escape",
     "Follower",
     "Model",
+    "NavFunction",
     "Navigation",
     "Params",
     "Repulsion",
@@ -334,11 +335,33 @@ class Model:
     Examples
     --------
     >>> Model().model, validate({"model": "vortex"}).group(Model).model
-    ('khatib', 'vortex')
+    (None, 'vortex')
     """
 
-    model: str = _p("model", "choice", "khatib", "'khatib' (attractive + repulsive) or 'vortex' (seed 003)",
-                    choices=("khatib", "vortex"), flag=False)
+    model: str | None = _p(
+        "model", "choice", None, "'khatib' (attractive + repulsive), 'vortex' (seed 003), or a complete model "
+        "(one minimum, the goal: gridfield.navfield): 'nf1' (obstacle-aware distance to the goal), 'nf2' "
+        "(Latombe's skeleton NF2, largest clearance), 'nf-blend' (nf1 slowed near obstacles within q_star)",
+        choices=("khatib", "vortex", "nf1", "nf2", "nf-blend"), allow_none=True,
+        scale="the potential planner: 'nf1'; build_field and the exact planner: 'khatib'", flag=False)
+
+
+@dataclass(frozen=True)
+class NavFunction:
+    """The complete potential models (:mod:`gridfield.navfield`: nf1, nf2, nf-blend).
+
+    Examples
+    --------
+    >>> n = validate({"attraction": "octile", "clearance_gain": 2}).group(NavFunction)
+    >>> n.attraction, n.clearance_gain
+    ('octile', 2.0)
+    """
+
+    attraction: str = _p("navfunction", "choice", "eikonal", "nf1's distance to the goal: 'eikonal' (fast "
+                         "marching, any-angle gradient paths) or 'octile' (the wavefront-octile values)",
+                         choices=("eikonal", "octile"), flag=False)
+    clearance_gain: float = _p("navfunction", "number", 1.0, "nf-blend: slowness 1 + clearance_gain*(q_star/D - 1)^2 "
+                               "within q_star of an obstacle (0: nf1)", minimum=0.0, flag=False)
 
 
 @dataclass(frozen=True)
@@ -453,7 +476,7 @@ class Navigation:
 
 
 #: The concerns, in the order help and docs list them.
-GROUPS: tuple[type, ...] = (Attraction, Repulsion, Model, Vortex, Follower, Escape, Navigation)
+GROUPS: tuple[type, ...] = (Attraction, Repulsion, Model, NavFunction, Vortex, Follower, Escape, Navigation)
 
 
 def _build() -> dict[str, Spec]:

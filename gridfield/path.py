@@ -58,6 +58,7 @@ PathExtra = TypedDict(
         "build_seconds": float,  # time building the field
         "hint": str,  # one line: why the run failed and what to try (gridfield.diagnose)
         "diagnosis": dict[str, Any],  # the diagnosis behind the hint (gridfield.diagnose.diagnose)
+        "median_clearance": float,  # median brushfire distance at the path's points (complete models; Path.min_clearance: the smallest)
         # -- navigation functions (gridfield.navigation) --
         "value": float,  # the navigation function's value at the start cell
         "grid_length": float,  # length of the path through cell centres
@@ -95,8 +96,9 @@ start, goal, field_seconds, follow_seconds
 stop_reason, stall_point, local_minima, oscillation, blocked_at, slid_steps, goal_appended, left_map, \
 outside_fraction, sampling, alpha_xy, escapes_tried, escapes_succeeded, escapes, navigation_segments
     How the follower (:func:`gridfield.follow.follow`, :func:`gridfield.follow.follow_many`) ended.
-build_seconds, hint, diagnosis
-    The potential planners: field build time, the one-line hint and its diagnosis.
+build_seconds, hint, diagnosis, median_clearance
+    The potential planners: field build time, the one-line hint and its diagnosis; the median
+    clearance along the path (the complete models of :mod:`gridfield.navfield`).
 value, grid_length, cells, reason
     Navigation functions: value at the start, grid length, the descent's cells, why no path.
 kappa, lambda, tried, kappa_tried, workspace_center, workspace_radius, followed, folds, star_centers
@@ -275,6 +277,8 @@ class Path:
             "follow_seconds": clean(self.extra.get("follow_seconds", self.seconds)),
             "hint": self.extra.get("hint"),
             **({"optimal": clean(self.extra["optimal"])} if "optimal" in self.extra else {}),
+            **({"median_clearance": clean(self.extra["median_clearance"])} if "median_clearance" in self.extra
+               else {}),
         }
 
     def __repr__(self) -> str:

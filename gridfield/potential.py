@@ -57,6 +57,11 @@ saturated distance (seed 004)
 vortex (seed 003)
     See :func:`vortex_field`.
 
+complete models (``model="nf1"``, ``"nf2"``, ``"nf-blend"``)
+    Numerical navigation functions with one minimum per free component, the goal: see
+    :mod:`gridfield.navfield`. :func:`build_field` builds ``"khatib"`` when ``model`` is unset; the
+    ``potential`` planner (:func:`gridfield.follow.plan_potential`) builds ``"nf1"``.
+
 Obstacle cells hold ``potential = +inf`` and zero gradients in every model. All returned arrays
 are float64, computed in float64: the fused kernel (compiled ahead of time, branch-free so that it
 vectorizes, IEEE division semantics) streams its outputs at ``np.copyto`` speed
@@ -126,6 +131,9 @@ REPULSIONS: tuple[str, ...] = REGISTRY["repulsion"].choices
 GRADIENTS: tuple[str, ...] = REGISTRY["gradient"].choices
 MODELS: tuple[str, ...] = REGISTRY["model"].choices
 _METRIC_CODE = {"euclidean": 0, "chessboard": 1, "taxicab": 2}
+#: The complete models, built by :func:`gridfield.navfield.nav_field` (kept here so that resolving
+#: parameters does not import it).
+_NF_MODELS = ("nf1", "nf2", "nf-blend")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -241,6 +249,10 @@ def resolve_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0
     p = {k: full[k] for k in DEFAULTS}
     p.update(given)
     p.update({k: full[k] for k in DEFAULTS})
+    if p["model"] is None:  # unset: the array API's model (the potential planner resolves it to 'nf1')
+        p["model"] = DEFAULTS["model"]
+    if p["model"] in _NF_MODELS:  # the complete models' own parameters (gridfield.navfield)
+        p["attraction"], p["clearance_gain"] = full["attraction"], full["clearance_gain"]
     if p["model"] == "khatib" and p["gradient"] == "finite_difference" and p["repulsive_power"] != 2:
         raise ParameterError(
             f"gradient='finite_difference' differentiates the potential 0.5*eta*(1/D - 1/q_star)**2, whose "
@@ -602,6 +614,9 @@ def build_field(
     ``model="vortex"``: :func:`vortex_field` on the lattice of the map's world (its circles, its
     start, its bounds at ``spacing``); the returned field's map is that lattice, not ``gridmap``,
     and ``dmap`` is not used.
+    ``model="nf1"``, ``"nf2"``, ``"nf-blend"``: the complete models of :mod:`gridfield.navfield`
+    (:func:`gridfield.navfield.nav_field`; ``dmap`` must then be Euclidean). With ``model`` unset
+    this function builds ``"khatib"`` (the potential *planner* defaults to ``"nf1"``).
     ``gradient="finite_difference"`` replaces the analytic gradient arrays by
     :func:`finite_difference_gradient` of ``U`` (for comparison; only with ``repulsive_power=2``).
 
@@ -648,6 +663,10 @@ def build_field(
     p = resolve_params(given, unit=gridmap.grid.resolution)
     if p["model"] == "vortex":
         return _build_vortex(gridmap, goal, p)
+    if p["model"] in _NF_MODELS:
+        from .navfield import nav_field
+
+        return nav_field(gridmap, goal, given, dmap=dmap)
     g = gridmap.check_point("goal", goal)
     goal_xy = (float(g[0]), float(g[1]))
     if dmap is None:

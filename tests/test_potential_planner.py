@@ -96,7 +96,7 @@ def test_no_step_of_any_rule_or_escape_enters_an_obstacle(case):
     h = gm.grid.resolution
     for variant in VARIANTS:
         params = {k: (v * h if k == "step" else v) for k, v in variant.items()}
-        p = plan("potential", gm, start, goal, params)
+        p = plan("potential", gm, start, goal, {"model": "khatib", **params})
         assert p.status in ("reached", "local_minimum", "max_iterations", "no_path"), (variant, p.status)
         assert_path_free(gm, p.points)
         if p.status != "reached":
@@ -153,7 +153,7 @@ def reachable(gm: GridMap, start, goal) -> bool:
 @given(case=random_maps())
 def test_navigation_escape_reaches_every_reachable_goal(case):
     gm, start, goal = case
-    p = plan("potential", gm, start, goal, {"escape": "navigation"})
+    p = plan("potential", gm, start, goal, {"model": "khatib", "escape": "navigation"})
     if reachable(gm, start, goal):
         assert p.status == "reached", p.extra.get("hint")
         assert np.allclose(p.end, goal)
@@ -179,9 +179,9 @@ def test_navigation_escape_on_every_moving_ai_map(shared_maps):
             s, g = scen.start_xy[i], scen.goal_xy[i]
             if not (gm.is_free(s)[0] and gm.is_free(g)[0]):
                 continue
-            d = plan("potential", gm, s, g, {}, cache=cache)
+            d = plan("potential", gm, s, g, {"model": "khatib"}, cache=cache)
             assert d.status != "collision" and (d.reached or d.extra.get("hint")), (map_file.name, i)
-            n = plan("potential", gm, s, g, {"escape": "navigation"}, cache=cache)
+            n = plan("potential", gm, s, g, {"model": "khatib", "escape": "navigation"}, cache=cache)
             if scen.no_path[i]:
                 assert n.status == "no_path", (map_file.name, i)
                 continue
@@ -197,7 +197,7 @@ def test_navigation_segments_are_recorded_and_drawn():
 
     gm = read_movingai_map(bundled_map("arena/arena.map"))
     scen = read_scen(bundled_map("arena/arena.map.scen"), map_height=gm.grid.rows)
-    p = plan("potential", gm, scen.start_xy[159], scen.goal_xy[159], {"escape": "navigation"})
+    p = plan("potential", gm, scen.start_xy[159], scen.goal_xy[159], {"model": "khatib", "escape": "navigation"})
     assert p.reached and p.extra["navigation_segments"]
     i0, i1 = p.extra["navigation_segments"][0]
     assert 0 <= i0 < i1 < len(p.points)
@@ -218,7 +218,7 @@ def test_same_map_at_two_resolutions_gives_the_same_path_in_cells():
         s = gm.grid.cell_to_world(np.array([[2, 2]]))[0]
         g = gm.grid.cell_to_world(np.array([[27, 37]]))[0]
         for esc in ("none", "navigation"):
-            p = plan("potential", gm, s, g, {"escape": esc})
+            p = plan("potential", gm, s, g, {"model": "khatib", "escape": esc})
             paths.append((p.status, (p.points - gm.grid.origin) / h))
     assert paths[0][0] == paths[2][0] and paths[1][0] == paths[3][0] == "reached"
     np.testing.assert_allclose(paths[0][1], paths[2][1], atol=1e-6)
@@ -307,7 +307,7 @@ def corridor_map() -> tuple[GridMap, tuple[float, float], tuple[float, float]]:
 
 def test_hint_names_the_passage_and_its_q_star_works():
     gm, s, g = corridor_map()
-    p = plan("potential", gm, s, g)
+    p = plan("potential", gm, s, g, {"model": "khatib"})
     assert p.status == "local_minimum"
     d = p.extra["diagnosis"]
     assert d["reachable"] and 0 < d["basin_share"] <= 1
@@ -315,8 +315,8 @@ def test_hint_names_the_passage_and_its_q_star_works():
     assert d["passage"]["clearance"] == pytest.approx(0.1)
     assert 1.4 <= d["passage"]["at"][0] <= 1.65  # in the corridor (x in [1.4, 1.65))
     assert "try --q-star" in p.extra["hint"] and "--escape navigation reaches it" in p.extra["hint"]
-    assert plan("potential", gm, s, g, {"q_star": d["suggest"]["q_star"]}).reached
-    assert plan("potential", gm, s, g, {"escape": "navigation"}).reached
+    assert plan("potential", gm, s, g, {"model": "khatib", "q_star": d["suggest"]["q_star"]}).reached
+    assert plan("potential", gm, s, g, {"model": "khatib", "escape": "navigation"}).reached
 
 
 def test_unreachable_goal_is_no_path_at_once():
@@ -386,7 +386,8 @@ def test_plan_scenario_json_has_optimal_and_times(capsys):
 
 def test_plan_text_prints_the_hint(capsys):
     m = REPO / "maps" / "arena"
-    assert main(["plan", str(m / "arena.map"), "--scenario", str(m / "arena.map.scen"), "--index", "159"]) == 0
+    assert main(["plan", str(m / "arena.map"), "--scenario", str(m / "arena.map.scen"), "--index", "159",
+                 "--param", "model=khatib"]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert lines[0].startswith("potential: local_minimum") and "(optimal 62.15)" in lines[0]
     assert lines[1].startswith("hint: ") and "--escape navigation" in lines[1]
@@ -427,7 +428,7 @@ def test_a_reached_run_ends_at_the_goal_even_when_the_last_hop_is_blocked():
 
     gm = read_movingai_map(bundled_map("arena/arena.map"))
     start, goal = (1.5, 45.5), (3.5, 47.5)
-    path, field = plan("potential", gm, start, goal, {"q_star": 1.0}, return_field=True)
+    path, field = plan("potential", gm, start, goal, {"model": "khatib", "q_star": 1.0}, return_field=True)
     many = follow_many(field, [start])[0]
     rows, cols = np.nonzero(gm.occupied)
     obstacles = shapely.union_all([box(c, r, c + 1, r + 1) for r, c in zip(rows, cols, strict=True)])
@@ -439,7 +440,7 @@ def test_a_reached_run_ends_at_the_goal_even_when_the_last_hop_is_blocked():
     scen = read_scen(bundled_map("arena/arena.map.scen"), map_height=gm.grid.rows)
     for k in range(0, len(scen), 7):
         s, g = tuple(scen.start_xy[k]), tuple(scen.goal_xy[k])
-        p = plan("potential", gm, s, g, {"q_star": 1.0})
+        p = plan("potential", gm, s, g, {"model": "khatib", "q_star": 1.0})
         if p.status == "reached":
             assert tuple(p.points[-1]) == g and p.length >= math.dist(s, g) - 1e-9
 

@@ -1,0 +1,541 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
+"""Compiled kernels behind :mod:`gridfield.navfield` (Cython, compiled at install; imported lazily).
+
+The fast marching method (Sethian 1996; Tsitsiklis 1995) over the free cells of a grid, in *cell
+units* (a step between orthogonal neighbours has length 1): a first-order upwind solution of the
+eikonal equation ``|grad T| = cost`` on the 4-neighbour stencil and on the 45-degree-rotated
+stencil of the diagonal neighbours (spacing ``sqrt 2``), the smaller of the two (the multi-stencil
+scheme of Hassouna & Farag, IEEE PAMI 29(9), 2007). A diagonal neighbour is used only when both
+cells beside the diagonal are free (the move rule of the wavefronts: no front through a corner the
+robot cannot pass). :func:`march` keeps the front in a binary heap indexed by cell (decrease-key in
+place: the exact order, the reference); :func:`march_buckets` in an untidy bucket queue (what
+:mod:`gridfield.navfield` uses). Also :func:`upwind` (the gradient arrays) and :func:`ascend`
+(steepest ascent onto a skeleton).
+
+Both marches start from *fixed sources*: cells with given values that are never changed (the goal cell and
+its neighbours at their exact Euclidean distance, or a skeleton's values). Every other cell gets a
+value strictly above the smallest of its accepted neighbours, so that discrete steepest descent
+from any reached cell ends at a source. Cells never reached keep ``inf``. With ``stop`` >= 0 the
+march ends once every cell up to the value of cell ``stop`` plus ``margin`` is accepted; the others
+are set to ``inf``.
+
+Nothing here validates input; :mod:`gridfield.navfield` does. Masks are ``uint8`` (or ``bool``),
+values ``float64``, indices ``int64``.
+"""
+
+from libc.math cimport INFINITY, sqrt
+from libc.stdint cimport int64_t, uint8_t
+from libc.stdint cimport int32_t
+from libc.stdlib cimport free as c_free, malloc, realloc
+
+import numpy as np
+
+ctypedef const uint8_t[:, :] mask_t
+ctypedef const double[:, :] val_t
+
+cdef double SQRT2 = 1.4142135623730951
+
+
+cdef inline void* _alloc(size_t n) noexcept nogil:
+    return malloc(n if n > 0 else 1)
+
+
+# ----------------------------------------------------------------------------------------------
+# an indexed binary min-heap of cells keyed by u[cell]
+# ----------------------------------------------------------------------------------------------
+cdef inline void _sift_up(int64_t* heap, int64_t* pos, const double* u, int64_t i) noexcept nogil:
+    cdef int64_t v = heap[i], p
+    cdef double key = u[v]
+    while i > 0:
+        p = (i - 1) >> 1
+        if u[heap[p]] <= key:
+            break
+        heap[i] = heap[p]
+        pos[heap[i]] = i
+        i = p
+    heap[i] = v
+    pos[v] = i
+
+
+cdef inline void _sift_down(int64_t* heap, int64_t* pos, const double* u, int64_t n, int64_t i) noexcept nogil:
+    cdef int64_t v = heap[i], c
+    cdef double key = u[v]
+    while True:
+        c = 2 * i + 1
+        if c >= n:
+            break
+        if c + 1 < n and u[heap[c + 1]] < u[heap[c]]:
+            c += 1
+        if u[heap[c]] >= key:
+            break
+        heap[i] = heap[c]
+        pos[heap[i]] = i
+        i = c
+    heap[i] = v
+    pos[v] = i
+
+
+cdef inline void _push_or_lower(int64_t* heap, int64_t* pos, double* u, int64_t* n, int64_t v, double val) noexcept nogil:
+    """Insert cell ``v`` with ``val``, or lower its key to ``val`` (never raise it)."""
+    if pos[v] < 0:
+        u[v] = val
+        heap[n[0]] = v
+        pos[v] = n[0]
+        n[0] += 1
+        _sift_up(heap, pos, u, pos[v])
+    elif val < u[v]:
+        u[v] = val
+        _sift_up(heap, pos, u, pos[v])
+
+
+cdef inline int64_t _pop(int64_t* heap, int64_t* pos, const double* u, int64_t* n) noexcept nogil:
+    cdef int64_t top = heap[0]
+    n[0] -= 1
+    pos[top] = -2  # accepted
+    if n[0] > 0:
+        heap[0] = heap[n[0]]
+        pos[heap[0]] = 0
+        _sift_down(heap, pos, u, n[0], 0)
+    return top
+
+
+cdef uint8_t* _pad_mask(mask_t m, int64_t w) noexcept nogil:
+    """Flat copy of ``m`` padded with a ring of zeros (malloc'd), padded width ``w``."""
+    cdef int64_t rows = m.shape[0], cols = m.shape[1], r, c, base
+    cdef int64_t n = (rows + 2) * w
+    cdef uint8_t* f = <uint8_t*>_alloc(n)
+    for r in range(n):
+        f[r] = 0
+    for r in range(rows):
+        base = (r + 1) * w + 1
+        for c in range(cols):
+            if m[r, c]:
+                f[base + c] = 1
+    return f
+
+
+cdef inline double _solve2(double a, double b, double f) noexcept nogil:
+    """The upwind update from the two axis minima ``a``, ``b`` (inf when absent) with cost ``f`` per unit."""
+    cdef double t, d
+    if a > b:
+        t = a
+        a = b
+        b = t
+    if a == INFINITY:
+        return INFINITY
+    if b - a >= f:
+        return a + f
+    d = a - b
+    return 0.5 * (a + b + sqrt(2.0 * f * f - d * d))
+
+
+cdef inline double _known(const double* u, const int64_t* pos, const uint8_t* free_, int64_t v) noexcept nogil:
+    """``u[v]`` if the cell is free and accepted (or a fixed source already accepted), else inf."""
+    if free_[v] and pos[v] == -2:
+        return u[v]
+    return INFINITY
+
+
+cdef inline double _update4(const double* u, const int64_t* pos, const uint8_t* free_, int64_t v, int64_t w,
+                            double f) noexcept nogil:
+    """The 4-neighbour stencil's update of cell ``v``."""
+    cdef double a, b, t
+    a = _known(u, pos, free_, v - 1)
+    t = _known(u, pos, free_, v + 1)
+    if t < a:
+        a = t
+    b = _known(u, pos, free_, v - w)
+    t = _known(u, pos, free_, v + w)
+    if t < b:
+        b = t
+    return _solve2(a, b, f)
+
+
+cdef inline double _update8(const double* u, const int64_t* pos, const uint8_t* free_, int64_t v, int64_t w,
+                            double f) noexcept nogil:
+    """The rotated stencil's update: the diagonals (+1,+1)/(-1,-1) and (+1,-1)/(-1,+1), spacing
+    sqrt 2, each usable only when both cells beside it are free."""
+    cdef double a = INFINITY, b = INFINITY, t
+    if free_[v + w] and free_[v + 1]:
+        a = _known(u, pos, free_, v + w + 1)
+    if free_[v - w] and free_[v - 1]:
+        t = _known(u, pos, free_, v - w - 1)
+        if t < a:
+            a = t
+    if free_[v + w] and free_[v - 1]:
+        b = _known(u, pos, free_, v + w - 1)
+    if free_[v - w] and free_[v + 1]:
+        t = _known(u, pos, free_, v - w + 1)
+        if t < b:
+            b = t
+    return _solve2(a, b, f * SQRT2)
+
+
+def march(mask_t free, val_t cost, const int64_t[:] src_r, const int64_t[:] src_c, const double[:] src_v,
+          bint diag, int64_t stop_r, int64_t stop_c, double margin):
+    """Fast marching from fixed sources over the free cells (cell units).
+
+    ``cost``: the slowness per cell (``1 / speed``, >= some positive number), or an empty array for
+    cost 1 everywhere. ``diag``: use the rotated stencil too. ``stop_r``/``stop_c``: the cell whose
+    acceptance (plus ``margin``) ends the march, or -1. Returns ``(T, accepted cells)``.
+    """
+    cdef int64_t rows = free.shape[0], cols = free.shape[1]
+    cdef int64_t w = cols + 2
+    cdef int64_t n = (rows + 2) * w
+    cdef int64_t i, r, c, v, nb, k, hn = 0, count = 0
+    cdef bint uniform = cost.shape[0] == 0
+    cdef double f, val, limit = INFINITY
+    cdef int64_t stop_v = (stop_r + 1) * w + stop_c + 1 if stop_r >= 0 else -1
+    cdef int64_t nsrc = src_r.shape[0]
+    cdef int64_t offs[4]
+    out = np.empty((rows, cols))
+    cdef double[:, ::1] o = out
+    cdef uint8_t* fr
+    cdef uint8_t* fixed
+    cdef double* u
+    cdef double* cst
+    cdef int64_t* heap
+    cdef int64_t* pos
+    offs[0] = 1
+    offs[1] = -1
+    offs[2] = w
+    offs[3] = -w
+    with nogil:
+        fr = _pad_mask(free, w)
+        fixed = <uint8_t*>_alloc(n)
+        u = <double*>_alloc(n * sizeof(double))
+        cst = <double*>_alloc((0 if uniform else n) * sizeof(double))
+        heap = <int64_t*>_alloc(n * sizeof(int64_t))
+        pos = <int64_t*>_alloc(n * sizeof(int64_t))
+        for i in range(n):
+            u[i] = INFINITY
+            pos[i] = -1
+            fixed[i] = 0
+        if not uniform:
+            for r in range(rows):
+                for c in range(cols):
+                    cst[(r + 1) * w + c + 1] = cost[r, c]
+        for k in range(nsrc):
+            v = (src_r[k] + 1) * w + src_c[k] + 1
+            if fr[v]:
+                _push_or_lower(heap, pos, u, &hn, v, src_v[k])
+                fixed[v] = 1
+        while hn > 0:
+            if u[heap[0]] > limit:
+                break
+            v = _pop(heap, pos, u, &hn)
+            count += 1
+            if v == stop_v:
+                limit = u[v] + margin
+            # the neighbours whose stencils hold the accepted cell: each recomputes that stencil only
+            # (its other stencil's inputs did not change), and keeps the smaller value
+            for k in range(8 if diag else 4):
+                if k < 4:
+                    nb = v + offs[k]
+                elif k == 4:
+                    nb = v + w + 1
+                elif k == 5:
+                    nb = v + w - 1
+                elif k == 6:
+                    nb = v - w + 1
+                else:
+                    nb = v - w - 1
+                if not fr[nb] or pos[nb] == -2 or fixed[nb]:
+                    continue
+                f = 1.0 if uniform else cst[nb]
+                if k < 4:
+                    val = _update4(u, pos, fr, nb, w, f)
+                else:
+                    val = _update8(u, pos, fr, nb, w, f)
+                if val < INFINITY:
+                    _push_or_lower(heap, pos, u, &hn, nb, val)
+        for r in range(rows):
+            for c in range(cols):
+                v = (r + 1) * w + c + 1
+                o[r, c] = u[v] if pos[v] == -2 else INFINITY
+        c_free(fr)
+        c_free(fixed)
+        c_free(u)
+        c_free(cst)
+        c_free(heap)
+        c_free(pos)
+    return out, count
+
+
+# ----------------------------------------------------------------------------------------------
+# fast marching with an untidy bucket queue (Yatziv, Bartesaghi & Sapiro, J. Comput. Phys. 212, 2006)
+# ----------------------------------------------------------------------------------------------
+cdef inline bint _bpush(int32_t** data, int64_t* size, int64_t* cap, int64_t b, int32_t v) noexcept nogil:
+    cdef int64_t nc
+    cdef int32_t* p
+    if size[b] == cap[b]:
+        nc = cap[b] * 2 if cap[b] > 0 else 64
+        p = <int32_t*>realloc(data[b], nc * sizeof(int32_t))
+        if p == NULL:
+            return False
+        data[b] = p
+        cap[b] = nc
+    data[b][size[b]] = v
+    size[b] += 1
+    return True
+
+
+def march_buckets(mask_t free, val_t cost, const int64_t[:] src_r, const int64_t[:] src_c, const double[:] src_v,
+                  bint diag, int64_t stop_r, int64_t stop_c, double margin, double delta, double max_cost):
+    """:func:`march` with the priority queue replaced by buckets of width ``delta`` (cells), each
+    a first-in first-out list: O(1) per cell instead of a heap's O(log n). Cells of one bucket are
+    accepted in arrival order, so values may differ from the exact march by about ``delta``; every
+    cell still gets a value strictly above an accepted neighbour's (the upwind update), so descent
+    still ends at a source. The sources must be sorted by value; ``max_cost`` bounds ``cost``.
+    Returns ``(T, accepted cells)``; raises MemoryError when a bucket cannot grow.
+    """
+    cdef int64_t rows = free.shape[0], cols = free.shape[1]
+    cdef int64_t w = cols + 2
+    cdef int64_t n = (rows + 2) * w
+    cdef int64_t i, r, c, v, nb, k, count = 0, live = 0, cur, bk, sp = 0, slot
+    cdef bint uniform = cost.shape[0] == 0, ok = True
+    cdef double f, val, limit = INFINITY, inv = 1.0 / delta
+    cdef int64_t stop_v = (stop_r + 1) * w + stop_c + 1 if stop_r >= 0 else -1
+    cdef int64_t nsrc = src_r.shape[0]
+    cdef int64_t nbk = <int64_t>(max_cost * SQRT2 * inv) + 4
+    cdef int64_t offs[8]
+    out = np.empty((rows, cols))
+    cdef double[:, ::1] o = out
+    cdef uint8_t* fr
+    cdef uint8_t* fixed
+    cdef uint8_t* done
+    cdef double* u
+    cdef double* kv
+    cdef double* cst
+    cdef int32_t** data
+    cdef int64_t* size
+    cdef int64_t* cap
+    offs[0] = 1
+    offs[1] = -1
+    offs[2] = w
+    offs[3] = -w
+    offs[4] = w + 1
+    offs[5] = w - 1
+    offs[6] = -w + 1
+    offs[7] = -w - 1
+    with nogil:
+        fr = _pad_mask(free, w)
+        fixed = <uint8_t*>_alloc(n)
+        done = <uint8_t*>_alloc(n)
+        u = <double*>_alloc(n * sizeof(double))
+        kv = <double*>_alloc(n * sizeof(double))
+        cst = <double*>_alloc((0 if uniform else n) * sizeof(double))
+        data = <int32_t**>_alloc(nbk * sizeof(int32_t*))
+        size = <int64_t*>_alloc(nbk * sizeof(int64_t))
+        cap = <int64_t*>_alloc(nbk * sizeof(int64_t))
+        for i in range(nbk):
+            data[i] = NULL
+            size[i] = 0
+            cap[i] = 0
+        for i in range(n):
+            u[i] = INFINITY
+            kv[i] = INFINITY
+            fixed[i] = 0
+            done[i] = 0
+        if not uniform:
+            for r in range(rows):
+                for c in range(cols):
+                    cst[(r + 1) * w + c + 1] = cost[r, c]
+        for k in range(nsrc):  # every source is fixed from the start (at its smallest given value)
+            v = (src_r[k] + 1) * w + src_c[k] + 1
+            if fr[v] and src_v[k] < u[v]:
+                u[v] = src_v[k]
+                fixed[v] = 1
+        cur = <int64_t>(src_v[0] * inv) if nsrc > 0 else 0
+        while ok:
+            # the sources due by this bucket join the queue
+            while sp < nsrc and <int64_t>(src_v[sp] * inv) <= cur:
+                v = (src_r[sp] + 1) * w + src_c[sp] + 1
+                if fr[v] and not done[v] and src_v[sp] == u[v]:
+                    ok = _bpush(data, size, cap, cur % nbk, <int32_t>v) and ok
+                    live += 1
+                sp += 1
+            if live == 0:
+                if sp >= nsrc:
+                    break
+                cur = <int64_t>(src_v[sp] * inv)
+                continue
+            if cur * delta > limit:
+                break
+            slot = cur % nbk
+            i = 0
+            while i < size[slot] and ok:
+                v = data[slot][i]
+                i += 1
+                live -= 1
+                if done[v]:
+                    continue
+                done[v] = 1
+                kv[v] = u[v]
+                count += 1
+                if v == stop_v:
+                    limit = u[v] + margin
+                for k in range(8 if diag else 4):
+                    nb = v + offs[k]
+                    if not fr[nb] or done[nb] or fixed[nb]:
+                        continue
+                    f = 1.0 if uniform else cst[nb]
+                    if k < 4:
+                        val = _update4b(kv, fr, nb, w, f)
+                    else:
+                        val = _update8b(kv, fr, nb, w, f)
+                    if val < u[nb]:
+                        u[nb] = val
+                        bk = <int64_t>(val * inv)
+                        if bk < cur:
+                            bk = cur
+                        ok = _bpush(data, size, cap, bk % nbk, <int32_t>nb)
+                        live += 1
+            size[slot] = 0
+            cur += 1
+        for r in range(rows):
+            for c in range(cols):
+                v = (r + 1) * w + c + 1
+                o[r, c] = u[v] if done[v] else INFINITY
+        for i in range(nbk):
+            c_free(data[i])
+        c_free(data)
+        c_free(size)
+        c_free(cap)
+        c_free(fr)
+        c_free(fixed)
+        c_free(done)
+        c_free(u)
+        c_free(kv)
+        c_free(cst)
+    if not ok:
+        raise MemoryError("march_buckets: out of memory for the bucket queue")
+    return out, count
+
+
+cdef inline double _update4b(const double* kv, const uint8_t* free_, int64_t v, int64_t w, double f) noexcept nogil:
+    """:func:`_update4` on the array of accepted values (``inf`` where not accepted)."""
+    cdef double a = kv[v - 1], b = kv[v - w], t
+    t = kv[v + 1]
+    if t < a:
+        a = t
+    t = kv[v + w]
+    if t < b:
+        b = t
+    return _solve2(a, b, f)
+
+
+cdef inline double _update8b(const double* kv, const uint8_t* free_, int64_t v, int64_t w, double f) noexcept nogil:
+    """:func:`_update8` on the array of accepted values."""
+    cdef double a = INFINITY, b = INFINITY, t
+    cdef bint up = free_[v + w], down = free_[v - w], right = free_[v + 1], left = free_[v - 1]
+    if up and right:
+        a = kv[v + w + 1]
+    if down and left:
+        t = kv[v - w - 1]
+        if t < a:
+            a = t
+    if up and left:
+        b = kv[v + w - 1]
+    if down and right:
+        t = kv[v - w + 1]
+        if t < b:
+            b = t
+    return _solve2(a, b, f * SQRT2)
+
+
+def upwind(val_t t, bint diagonal=False):
+    """Upwind differences of ``t`` per cell along x (columns) and y (rows): towards the lower
+    neighbour (the left/lower one on a tie), 0 where no neighbour is lower and on non-finite cells;
+    non-finite neighbours are never used (:func:`gridfield.navigation.upwind_gradient`'s rule).
+    With ``diagonal``, a cell with no lower 4-neighbour takes the difference towards its lowest
+    diagonal neighbour whose two side cells are finite (the march's rotated stencil can leave a
+    cell whose only lower neighbour is diagonal)."""
+    cdef int64_t rows = t.shape[0], cols = t.shape[1], r, c, dr, dc, bdr, bdc
+    cdef double v, a, b, best
+    gx = np.zeros((rows, cols))
+    gy = np.zeros((rows, cols))
+    cdef double[:, ::1] ox = gx
+    cdef double[:, ::1] oy = gy
+    with nogil:
+        for r in range(rows):
+            for c in range(cols):
+                v = t[r, c]
+                if not (v < INFINITY):
+                    continue
+                a = t[r, c - 1] if c > 0 else INFINITY
+                b = t[r, c + 1] if c + 1 < cols else INFINITY
+                if a <= b:
+                    if a < v:
+                        ox[r, c] = v - a
+                elif b < v:
+                    ox[r, c] = b - v
+                a = t[r - 1, c] if r > 0 else INFINITY
+                b = t[r + 1, c] if r + 1 < rows else INFINITY
+                if a <= b:
+                    if a < v:
+                        oy[r, c] = v - a
+                elif b < v:
+                    oy[r, c] = b - v
+                if diagonal and ox[r, c] == 0.0 and oy[r, c] == 0.0:
+                    # no lower 4-neighbour: the lowest diagonal one (both cells beside it finite),
+                    # whose drop (v - d) over the diagonal gives the gradient -(v - d) (dc, dr) / 2
+                    best = v
+                    bdr = 0
+                    bdc = 0
+                    for dr in range(-1, 2, 2):
+                        for dc in range(-1, 2, 2):
+                            if r + dr < 0 or r + dr >= rows or c + dc < 0 or c + dc >= cols:
+                                continue
+                            if not (t[r + dr, c] < INFINITY and t[r, c + dc] < INFINITY):
+                                continue
+                            if t[r + dr, c + dc] < best:
+                                best = t[r + dr, c + dc]
+                                bdr = dr
+                                bdc = dc
+                    if bdr != 0:
+                        ox[r, c] = -0.5 * (v - best) * bdc
+                        oy[r, c] = -0.5 * (v - best) * bdr
+    return gx, gy
+
+
+def ascend(val_t dist, mask_t free, mask_t target, int64_t r0, int64_t c0):
+    """Steepest ascent of ``dist`` over the free 8-neighbours (no corner cutting) from ``(r0, c0)``
+    until a cell of ``target`` or a cell with no higher neighbour; the visited cells, shape (K, 2)."""
+    cdef int64_t rows = free.shape[0], cols = free.shape[1]
+    cdef int64_t r = r0, c = c0, k, nr, nc, br, bc, count = 0
+    cdef double best, d
+    cdef int64_t dr[8]
+    cdef int64_t dc[8]
+    dr[:] = [0, 0, 1, -1, 1, 1, -1, -1]
+    dc[:] = [1, -1, 0, 0, 1, -1, 1, -1]
+    out = np.empty((rows * cols if rows * cols < 1 << 20 else 1 << 20, 2), np.int64)
+    cdef int64_t[:, ::1] o = out
+    cdef int64_t cap = o.shape[0]
+    with nogil:
+        while count < cap:
+            o[count, 0] = r
+            o[count, 1] = c
+            count += 1
+            if target[r, c]:
+                break
+            best = dist[r, c]
+            br = -1
+            bc = -1
+            for k in range(8):
+                nr = r + dr[k]
+                nc = c + dc[k]
+                if nr < 0 or nr >= rows or nc < 0 or nc >= cols or not free[nr, nc]:
+                    continue
+                if k >= 4 and not (free[r + dr[k], c] and free[r, c + dc[k]]):
+                    continue
+                d = dist[nr, nc]
+                if d > best:
+                    best = d
+                    br = nr
+                    bc = nc
+            if br < 0:
+                break
+            r = br
+            c = bc
+    return out[:count].copy()

@@ -1,0 +1,569 @@
+"""Complete potential models: numerical navigation functions for the ``potential`` planner.
+
+The classic field (:mod:`gridfield.potential`, ``model="khatib"``) has local minima in every
+concavity. The models here are the numerical potential fields of Barraquand, Langlois & Latombe
+("Numerical potential field techniques for robot path planning", IEEE Trans. SMC 22(2), 1992;
+Latombe, *Robot Motion Planning*, 1991, ch. 7): on every free component they have exactly one
+minimum, the goal, so the follower (:mod:`gridfield.follow`, unchanged) reaches every reachable
+goal. Each gives the usual :class:`~gridfield.potential.Field` (``U``, ``dU/dx``, ``dU/dy``
+computed once).
+
+``model="nf1"``
+    ``U`` is the obstacle-aware distance to the goal over the free cells. ``attraction="eikonal"``
+    (default): the first-order fast marching solution of ``|grad U| = 1`` on the 4- and the
+    diagonal 8-neighbour stencils (:mod:`gridfield._kernels_eikonal`), so that the gradient paths run
+    at any angle; ``attraction="octile"``: the octile wavefront of ``wavefront-octile`` (the same
+    values). Latombe's NF1 is the L1 wavefront; the Euclidean version is the one a gradient
+    follower needs (no staircase).
+``model="nf2"``
+    Latombe's NF2: the skeleton of the free space (the brushfire's GVD, plus the medial axis inside
+    one obstacle's concavities, see :func:`skeleton`), the goal joined to it by steepest ascent of
+    the clearance, and a wavefront from the goal that runs along the skeleton at speed 1 and
+    elsewhere at speed ``1 / NF2_OFF_SKELETON_COST`` (3), so that from every other cell the
+    descent first climbs onto the skeleton and then follows it. Latombe propagates along the
+    skeleton only and then down from it; the slow front off the skeleton is what bridges the gaps a
+    grid skeleton has (one-cell doors) without a second minimum. Paths keep the largest clearance
+    the map allows, at the price of length.
+``model="nf-blend"``
+    The eikonal distance with the brushfire repulsion as a traversal cost: the front moves at speed
+    ``1 / (1 + clearance_gain * (q_star / D - 1)**2)`` within ``q_star`` of an obstacle (``D`` the
+    brushfire distance), speed 1 beyond (as Nav2's NavFn plans on an inflated costmap). It keeps off
+    the walls like the Khatib field, and it has no spurious minimum *by construction*: ``U`` is
+    a travel time from the goal, so every cell but the goal has a lower neighbour, whatever
+    ``q_star`` and ``clearance_gain`` are (no condition on the passage width). The price is
+    length: the path trades up to ``clearance_gain`` times the extra cost for clearance.
+
+Why one minimum (what :func:`gridfield.basins.basins` checks): the march accepts cells by
+increasing value and gives every cell a value strictly above its smallest accepted 4-neighbour (the
+upwind update ``u >= min(a, b) + ...``), and the skeleton values of NF2 are a shortest-path tree
+(each cell above its parent). So discrete steepest descent from every reached cell ends at the goal.
+
+``border`` is honoured as the wavefronts do: with ``"open"`` the fronts run on the map inside a
+one-cell free ring (:func:`gridfield.escapes.navigation_map`'s rule), and the field lives on that
+ringed map (:func:`work_maps`; ``Field.map`` is then two cells wider and taller than the given
+map), so that the follower can pass round the grid where the shortest way does; with ``"wall"``
+the fronts stop at the grid's edge and the field lives on the map itself. Cells the front never reaches (other free
+components) hold ``inf``; obstacle cells ``inf`` and zero gradients.
+
+The gradient arrays are upwind differences (the rule of :func:`gridfield.navigation.upwind_gradient`,
+compiled): along each axis the difference towards the lower neighbour, the direction the front
+came from.
+
+Examples
+--------
+>>> from gridfield.grid import Grid, GridMap
+>>> occ = np.zeros((10, 10), bool); occ[4:6, 0:7] = True
+>>> f = nav_field(GridMap(Grid((10, 10), 1.0, border="wall"), occ), (2.5, 8.5), {"model": "nf1"})
+>>> bool(np.isinf(f.potential[occ]).all()), round(float(f.potential[1, 2]), 2)
+(True, 14.19)
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .brushfire import DistanceMap, brushfire
+from .errors import ParameterError
+from .grid import GridMap
+
+__all__ = ["NF_MODELS", "blend_cost", "eikonal", "nav_field", "nf2_cost", "nf_potential", "nf_skeleton", "skeleton",
+           "work_maps"]
+
+#: The complete models (values of the ``model`` parameter built here).
+NF_MODELS: tuple[str, ...] = ("nf1", "nf2", "nf-blend")
+#: The follower's progress window for these models: off (0). The distance to the goal may grow for
+#: a long way along a detour (a maze), which the no-progress rule would take for a stall; a field
+#: with one minimum cannot trap the follower, and the step budget still bounds it.
+NF_PROGRESS_WINDOW = 0
+#: The follower's sampling for ``nf-blend`` unless given: ``nearest`` (the cell's own upwind
+#: gradient). The blend's slowness is steep next to walls (up to ``1 + 9 clearance_gain`` with the
+#: default ``q_star`` of 4 cells), and the bilinear blend of a one-cell door's steep side cells
+#: turns the follower's one-cell steps across the door instead of through it.
+NF_BLEND_SAMPLING = "nearest"
+#: Cells beyond the start's value the march settles when it is told where the start is (a planned
+#: query): the follower's bilinear samples around the path read cells up to ~sqrt 2 cells higher.
+STOP_MARGIN_CELLS = 4.0
+#: Medial-axis cells: the nearest obstacle cells of two 8-neighbours lie at least this many cells
+#: apart (squared), and the cell is at least ``SKELETON_MIN_CLEARANCE`` cells from its obstacle.
+SKELETON_SPREAD2 = 9.0
+SKELETON_MIN_CLEARANCE = 1.5
+#: NF2's slowness off the skeleton (1 on it): the front runs along the skeleton and reaches the
+#: other cells from it, so the descent from a cell climbs onto the skeleton and runs along it to
+#: the goal. A finite cost (where Latombe's NF2 propagates along the skeleton only) bridges the gaps
+#: of a grid skeleton (one-cell doors, where no two fronts meet by the skeleton's rule) and keeps
+#: one minimum by construction (the march's rule), whatever the skeleton's connectivity.
+NF2_OFF_SKELETON_COST = 3.0
+#: Cells from the skeleton over which NF2's slowness rises from 1 to :data:`NF2_OFF_SKELETON_COST`.
+NF2_VALLEY_CELLS = 3.0
+#: Width (cells) of the buckets of the march's priority queue: values agree with an exact
+#: (binary-heap) march to about this (``tests/test_nf.py``).
+BUCKET_CELLS = 0.125
+SQRT2 = math.sqrt(2.0)
+
+
+@functools.cache
+def _kernels() -> Any:
+    from . import _kernels_eikonal  # type: ignore[attr-defined]  # a compiled extension, no stubs
+
+    return _kernels_eikonal
+
+
+def _ring(gridmap: GridMap) -> tuple[NDArray[np.bool_], int]:
+    """The free mask the fronts run on and the offset of the grid in it (1 with an open border)."""
+    free = ~np.asarray(gridmap.occupied, dtype=bool)
+    if gridmap.grid.border == "wall":
+        return free, 0
+    return np.pad(free, 1, constant_values=True), 1
+
+
+def _sources(gridmap: GridMap, free: NDArray[np.bool_], off: int, goals: ArrayLike
+             ) -> tuple[tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]], list[tuple[int, int]]]:
+    """The fixed sources of every goal (:func:`_goal_sources`, checked to lie in free cells) and the
+    goal cells, in the coordinates of the (possibly ringed) mask ``free``."""
+    grid = gridmap.grid
+    res = grid.resolution
+    pts = np.asarray(goals, dtype=float)
+    pts = pts.reshape(1, 2) if pts.shape == (2,) else pts
+    rr, cc, vv, cells = [], [], [], []
+    for p in pts:
+        g = gridmap.check_point("goal", p)
+        cell = grid.cell_of(g[0], g[1])
+        assert cell is not None
+        cx, cy = grid.origin[0] + (cell[1] + 0.5) * res, grid.origin[1] + (cell[0] + 0.5) * res
+        r, c, v = _goal_sources(free, (cell[0] + off, cell[1] + off), ((g[0] - cx) / res, (g[1] - cy) / res))
+        rr.append(r)
+        cc.append(c)
+        vv.append(v)
+        cells.append((cell[0] + off, cell[1] + off))
+    return (np.concatenate(rr), np.concatenate(cc), np.concatenate(vv)), cells
+
+
+def _goal_sources(free: NDArray[np.bool_], cell: tuple[int, int], offset: tuple[float, float]
+                  ) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
+    """The goal cell and its free 8-neighbours (no corner cutting) at their exact Euclidean
+    distance (cells) from the goal point; ``offset``: the goal's position in its cell, in cells,
+    from the cell centre."""
+    r0, c0 = cell
+    rows, cols = free.shape
+    rr, cc, vv = [r0], [c0], [math.hypot(offset[0], offset[1])]
+    for dr in (-1, 0, 1):
+        for dc in (-1, 0, 1):
+            r, c = r0 + dr, c0 + dc
+            if (dr, dc) == (0, 0) or not (0 <= r < rows and 0 <= c < cols) or not free[r, c]:
+                continue
+            if dr and dc and not (free[r0 + dr, c0] and free[r0, c0 + dc]):
+                continue
+            rr.append(r)
+            cc.append(c)
+            vv.append(math.hypot(dc - offset[0], dr - offset[1]))
+    return np.array(rr, np.int64), np.array(cc, np.int64), np.array(vv)
+
+
+def eikonal(gridmap: GridMap, goal: ArrayLike, *, cost: NDArray[np.float64] | None = None,
+            stop_at: ArrayLike | None = None, margin: float = STOP_MARGIN_CELLS) -> NDArray[np.float64]:
+    """The obstacle-aware Euclidean distance (or travel time) to ``goal`` over the free cells, by
+    fast marching (first-order upwind on the 4- and 8-neighbour stencils), in world units.
+
+    Parameters
+    ----------
+    gridmap : GridMap
+        Its ``border`` is honoured (open: the front may pass round the grid through a one-cell ring).
+    goal : (x, y), or an array of shape (k, 2)
+        In a free cell; several goals (one per free component, say) start the front together.
+    cost : ndarray, optional
+        Slowness per cell (``1 / speed``, finite and >= 1 on free cells); default 1 everywhere.
+    stop_at : (x, y), optional
+        Settle only the cells up to this point's value plus ``margin`` cells (``inf`` beyond).
+    margin : float
+        See ``stop_at``.
+
+    Returns
+    -------
+    ndarray of float64, the grid's shape
+        ``inf`` on obstacles and cells the front does not reach.
+
+    Examples
+    --------
+    On an empty grid the values are close to the straight-line distance:
+
+    >>> from gridfield.grid import Grid
+    >>> t = eikonal(GridMap(Grid((40, 40), 1.0), np.zeros((40, 40), bool)), (0.5, 0.5))
+    >>> round(float(t[30, 40 - 1]) / math.hypot(30, 39), 3)
+    1.006
+    """
+    grid = gridmap.grid
+    free, off = _ring(gridmap)
+    res = grid.resolution
+    src, _ = _sources(gridmap, free, off, goal)
+    if cost is None:
+        cst = np.empty((0, 0))
+    else:
+        cst = np.where(np.isfinite(cost), cost, 1.0)
+        if off:
+            cst = np.pad(cst, 1, constant_values=1.0)
+    sr = sc = -1
+    if stop_at is not None:
+        s = grid.cell_of(*_xy(stop_at))
+        if s is not None:
+            sr, sc = s[0] + off, s[1] + off
+    t = _march(free, cst, src, sr, sc, margin)
+    if off:
+        t = t[1:-1, 1:-1]
+    t *= res
+    return np.ascontiguousarray(t)
+
+
+def _march(free: NDArray[np.bool_], cost: NDArray[np.float64],
+           src: tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]], sr: int, sc: int,
+           margin: float) -> NDArray[np.float64]:
+    """The compiled march (bucket queue of width :data:`BUCKET_CELLS`) from the sources, sorted here."""
+    order = np.argsort(src[2], kind="stable")
+    r, c, v = (np.ascontiguousarray(a[order]) for a in src)
+    cost = np.ascontiguousarray(cost, dtype=np.float64)
+    top = float(cost[~np.isnan(cost)].max()) if cost.size else 1.0
+    t, _ = _kernels().march_buckets(free.view(np.uint8), cost, r, c, v, True, sr, sc, float(margin), BUCKET_CELLS,
+                                    max(top, 1.0))
+    return t
+
+
+def _xy(p: ArrayLike) -> tuple[float, float]:
+    a = np.asarray(p, dtype=float).reshape(-1)
+    return float(a[0]), float(a[1])
+
+
+def skeleton(dmap: DistanceMap) -> NDArray[np.bool_]:
+    """The skeleton of the free space NF2 runs along: the brushfire's GVD (cells where the fronts of
+    two obstacles meet) plus the medial axis inside one obstacle's concavities, which the GVD of
+    labels does not see (a room whose walls are one obstacle): free cells whose nearest obstacle
+    cell and a free 8-neighbour's lie at least 3 cells apart, the one farther from its obstacle
+    marked, at least 1.5 cells from an obstacle.
+
+    Parameters
+    ----------
+    dmap : DistanceMap
+        A Euclidean brushfire with ``nearest_row``/``nearest_col`` (and ``gvd`` when computed).
+
+    Returns
+    -------
+    ndarray of bool, the grid's shape
+
+    Examples
+    --------
+    A corridor 5 cells wide between two walls of one obstacle: the skeleton is its middle row.
+
+    >>> from gridfield.grid import Grid
+    >>> occ = np.zeros((7, 12), bool); occ[0] = occ[-1] = True; occ[:, 0] = True
+    >>> sk = skeleton(brushfire(GridMap(Grid((7, 12), 1.0), occ), metric="euclidean"))
+    >>> np.flatnonzero(sk[:, 6]).tolist()
+    [3]
+    """
+    occ = np.asarray(dmap.map.occupied, dtype=bool)
+    free = ~occ
+    d = np.where(free & np.isfinite(dmap.distance), dmap.distance, 0.0) / dmap.grid.resolution
+    if dmap.nearest_row is None or dmap.nearest_col is None:
+        raise ParameterError("skeleton needs a distance map with its nearest obstacle cells (compute_nearest=True)")
+    nr = dmap.nearest_row.astype(np.float64)
+    nc = dmap.nearest_col.astype(np.float64)
+    sk = np.zeros(occ.shape, bool)
+    rows, cols = occ.shape
+    for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):
+        a = (slice(0, rows - dr), slice(max(-dc, 0), cols - max(dc, 0)))
+        b = (slice(dr, rows), slice(max(dc, 0), cols - max(-dc, 0)))
+        both = free[a] & free[b]
+        spread = (nr[a] - nr[b]) ** 2 + (nc[a] - nc[b]) ** 2
+        meet = both & (spread >= SKELETON_SPREAD2)
+        first = meet & (d[a] >= d[b])
+        sk[a] |= first
+        sk[b] |= meet & ~first
+    sk &= d >= SKELETON_MIN_CLEARANCE
+    if dmap.gvd is not None:
+        sk |= dmap.gvd & free
+    return sk
+
+
+def nf_skeleton(gridmap: GridMap) -> tuple[DistanceMap, NDArray[np.bool_], NDArray[np.float64]]:
+    """What NF2 computes once per map: the Euclidean brushfire (labels and GVD) of ``gridmap``, its
+    :func:`skeleton` and the slowness :func:`nf2_cost` (the potential planner keeps them in its
+    ``cache``).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+
+    Returns
+    -------
+    dmap, skeleton, cost : DistanceMap, ndarray of bool, ndarray of float64
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid
+    >>> occ = np.zeros((7, 12), bool); occ[0] = occ[-1] = True
+    >>> d, sk, cost = nf_skeleton(GridMap(Grid((7, 12), 1.0), occ))
+    >>> d.gvd is not None, np.flatnonzero(sk[:, 6]).tolist(), cost[:, 6].round(2).tolist()
+    (True, [3], [3.0, 2.33, 1.67, 1.0, 1.67, 2.33, 3.0])
+    """
+    dmap = brushfire(gridmap, metric="euclidean", compute_labels=True, compute_gvd=True)
+    sk = skeleton(dmap)
+    return dmap, sk, nf2_cost(sk)
+
+
+def nf2_cost(sk: NDArray[np.bool_]) -> NDArray[np.float64]:
+    """NF2's slowness: 1 on the skeleton, rising linearly with the distance to it to
+    :data:`NF2_OFF_SKELETON_COST` at :data:`NF2_VALLEY_CELLS` cells and beyond (a valley a follower
+    with one-cell steps can run down; a one-cell line of speed 1 would make it zigzag across).
+
+    Parameters
+    ----------
+    sk : ndarray of bool
+        The skeleton (:func:`skeleton`).
+
+    Returns
+    -------
+    ndarray of float64
+        The slowness, in [1, :data:`NF2_OFF_SKELETON_COST`].
+
+    Examples
+    --------
+    >>> sk = np.zeros((1, 7), bool); sk[0, 0] = True
+    >>> nf2_cost(sk).round(3).tolist()
+    [[1.0, 1.667, 2.333, 3.0, 3.0, 3.0, 3.0]]
+    """
+    from scipy import ndimage
+
+    if not sk.any():
+        return np.full(sk.shape, NF2_OFF_SKELETON_COST)
+    dsk = ndimage.distance_transform_edt(~sk)
+    return 1.0 + (NF2_OFF_SKELETON_COST - 1.0) * np.minimum(dsk / NF2_VALLEY_CELLS, 1.0)
+
+
+def _nf2_values(gridmap: GridMap, goals: ArrayLike, dmap: DistanceMap, sk: NDArray[np.bool_],
+                stop_at: ArrayLike | None, cost_map: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+    """NF2's U (world units): the travel time from the goal(s) at speed 1 along the skeleton and
+    each goal's steepest ascent of the clearance onto it, and slower off it (:func:`nf2_cost`)."""
+    k = _kernels()
+    grid = gridmap.grid
+    free, off = _ring(gridmap)
+    skel = np.pad(sk, off, constant_values=False) if off else sk
+    dist = np.where(np.isfinite(dmap.distance), dmap.distance, 0.0)
+    if off:
+        dist = np.pad(dist, 1, constant_values=0.0)
+    cost = nf2_cost(sk) if cost_map is None else cost_map
+    cost = np.pad(cost, 1, constant_values=NF2_OFF_SKELETON_COST) if off else cost.copy()
+    src, cells = _sources(gridmap, free, off, goals)
+    for r0, c0 in cells:
+        climb = k.ascend(dist, free.view(np.uint8), skel.view(np.uint8), r0, c0)
+        cost[climb[:, 0], climb[:, 1]] = 1.0
+    src = (src[0], src[1], src[2] * cost[src[0], src[1]])
+    res = grid.resolution
+    sr = sc = -1
+    if stop_at is not None:
+        s = grid.cell_of(*_xy(stop_at))
+        if s is not None:
+            sr, sc = s[0] + off, s[1] + off
+    u = _march(free, cost, src, sr, sc, STOP_MARGIN_CELLS * NF2_OFF_SKELETON_COST)
+    if off:
+        u = u[1:-1, 1:-1]
+    return np.ascontiguousarray(u * res)
+
+
+def blend_cost(dmap: DistanceMap, q_star: float, gain: float) -> NDArray[np.float64]:
+    """The slowness of ``nf-blend``: ``1 + gain * (q_star / D - 1)**2`` for ``D < q_star``, 1 beyond
+    (``D`` the brushfire distance; the shape of the Khatib repulsion ``(1/D - 1/q_star)**2``
+    scaled by ``q_star**2``).
+
+    Parameters
+    ----------
+    dmap : DistanceMap
+        A Euclidean brushfire of the map.
+    q_star : float
+        Distance of influence (world units).
+    gain : float
+        ``clearance_gain`` (>= 0).
+
+    Returns
+    -------
+    ndarray of float64
+        >= 1 on free cells, ``inf`` on obstacle cells.
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid
+    >>> occ = np.zeros((1, 5), bool); occ[0, 0] = True
+    >>> blend_cost(brushfire(GridMap(Grid((1, 5), 1.0), occ)), 3.0, 1.0).round(3).tolist()
+    [[inf, 5.0, 1.25, 1.0, 1.0]]
+    """
+    d = dmap.distance
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rep = np.where(d < q_star, (q_star / d - 1.0) ** 2, 0.0)
+    cost = 1.0 + gain * rep
+    cost[~np.isfinite(d) & ~dmap.map.occupied] = 1.0  # no obstacle at all
+    cost[dmap.map.occupied] = np.inf
+    return cost
+
+
+def nf_potential(gridmap: GridMap, goals: ArrayLike, params: Mapping[str, Any] | None = None, *,
+                 dmap: DistanceMap | None = None,
+                 skel: tuple[NDArray[np.bool_], NDArray[np.float64]] | None = None,
+                 stop_at: ArrayLike | None = None) -> tuple[NDArray[np.float64], dict[str, Any], GridMap, DistanceMap]:
+    """The potential array of a complete model, from one goal or several (one per free component:
+    the components' fields in one array, as :func:`gridfield.basins.basins` checks them).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+    goals : (x, y) or array of shape (k, 2)
+        In free cells (several: the fronts start together; ``attraction='octile'`` takes one).
+    params : mapping, optional
+        As for :func:`nav_field` (``model`` defaults to ``"nf1"`` here).
+    dmap, skel, stop_at
+        As for :func:`nav_field`.
+
+    Returns
+    -------
+    U : ndarray of float64
+        On the first map of :func:`work_maps`.
+    params : dict
+        Resolved.
+    work : GridMap
+        The map ``U`` lives on (:func:`work_maps`).
+    dmap : DistanceMap
+        The brushfire used (of the second map of :func:`work_maps`).
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid
+    >>> occ = np.zeros((1, 5), bool); occ[0, 2] = True
+    >>> U, p, work, _ = nf_potential(GridMap(Grid((1, 5), 1.0, border="wall"), occ), [(0.5, 0.5), (4.5, 0.5)])
+    >>> U.tolist(), p["model"]
+    ([[0.0, 1.0, inf, 1.0, 0.0]], 'nf1')
+    """
+    from .potential import resolve_params
+
+    given = dict(params or {})
+    given.setdefault("model", "nf1")
+    p = resolve_params(given, unit=gridmap.grid.resolution)
+    model = p["model"]
+    if model not in NF_MODELS:
+        raise ParameterError(f"nav_field builds the models {NF_MODELS}, got model={model!r}")
+    g = np.asarray(goals, dtype=float)
+    work, around = work_maps(gridmap)
+    if dmap is not None and (dmap.metric != "euclidean" or dmap.grid.shape != work.grid.shape):
+        raise ParameterError(f"the {model} model needs a Euclidean brushfire of work_maps(gridmap)[1] (shape "
+                             f"{work.grid.shape}), got metric {dmap.metric!r}, shape {dmap.grid.shape}")
+    if model == "nf2":
+        if dmap is None or dmap.gvd is None:
+            dmap, sk, cost = nf_skeleton(around)
+        elif skel is None:
+            sk = skeleton(dmap)
+            cost = nf2_cost(sk)
+        else:
+            sk, cost = skel
+        U = _nf2_values(work, g, dmap, sk, stop_at, cost)
+    else:
+        if dmap is None:
+            dmap = brushfire(around, metric="euclidean", compute_labels=False, compute_gvd=False)
+        if model == "nf-blend":
+            U = eikonal(work, g, cost=blend_cost(dmap, p["q_star"], p["clearance_gain"]), stop_at=stop_at)
+        elif p["attraction"] == "octile":
+            from .navigation import wavefront
+
+            if np.asarray(g, dtype=float).size != 2:
+                raise ParameterError("attraction='octile' (the octile wavefront) takes one goal")
+            U = np.ascontiguousarray(wavefront(work, g, costs="octile").value)
+        else:
+            U = eikonal(work, g, stop_at=stop_at)
+    return U, p, work, dmap
+
+
+def nav_field(gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] | None = None, *,
+              dmap: DistanceMap | None = None,
+              skel: tuple[NDArray[np.bool_], NDArray[np.float64]] | None = None,
+              stop_at: ArrayLike | None = None) -> Any:
+    """The :class:`~gridfield.potential.Field` of a complete model (``model`` one of :data:`NF_MODELS`).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+    goal : (x, y)
+        In a free cell.
+    params : mapping, optional
+        Resolved or raw parameters (:func:`gridfield.potential.resolve_params`); read: ``model``,
+        ``attraction`` (nf1), ``q_star`` and ``clearance_gain`` (nf-blend).
+    dmap : DistanceMap, optional
+        A Euclidean brushfire of ``gridmap`` to reuse (``Field.distance``; NF2 needs its labels and GVD).
+    skel : (ndarray of bool, ndarray of float64), optional
+        NF2's :func:`skeleton` of ``dmap`` and its :func:`nf2_cost`, to reuse (see :func:`nf_skeleton`).
+    stop_at : (x, y), optional
+        The start of a planned query: the fronts settle only the cells up to its value plus
+        :data:`STOP_MARGIN_CELLS` cells (``inf`` beyond), which is all the follower reads. Leave it
+        out for the whole field (plots, basins).
+
+    Returns
+    -------
+    Field
+        ``params`` resolved, with ``progress_window`` 0 unless given (:data:`NF_PROGRESS_WINDOW`).
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid
+    >>> gm = GridMap(Grid((6, 6), 1.0, border="wall"), np.zeros((6, 6), bool))
+    >>> f = nav_field(gm, (0.5, 0.5), {"model": "nf1", "attraction": "octile"})
+    >>> round(float(f.potential[5, 5]), 4), f.params["model"], f.params["progress_window"]
+    (7.0711, 'nf1', 0)
+    """
+    from .potential import Field
+
+    U, p, work, dmap = nf_potential(gridmap, goal, params, dmap=dmap, skel=skel, stop_at=stop_at)
+    g = gridmap.check_point("goal", goal)
+    goal_xy = (float(g[0]), float(g[1]))
+    given = dict(params or {})
+    gx, gy = _kernels().upwind(U, True)
+    res = gridmap.grid.resolution
+    if res != 1.0:
+        gx /= res
+        gy /= res
+    if "progress_window" not in given:
+        p["progress_window"] = NF_PROGRESS_WINDOW
+    if p["model"] == "nf-blend" and "sampling" not in given:
+        p["sampling"] = NF_BLEND_SAMPLING
+    return Field(work, U, gx, gy, goal_xy, p, dmap)
+
+
+def work_maps(gridmap: GridMap) -> tuple[GridMap, GridMap]:
+    """The maps a complete model's field lives on: ``(fronts, distances)``. With a ``wall`` border
+    both are ``gridmap``. With an ``open`` border the fronts run on ``gridmap`` inside a one-cell
+    free ring with a wall beyond (:func:`gridfield.escapes.navigation_map`'s rule: a path may pass
+    round the grid), and the brushfire on the same ring with an open border (no wall to keep off).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+
+    Returns
+    -------
+    fronts, distances : GridMap
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid
+    >>> a, b = work_maps(GridMap(Grid((2, 3), 1.0), np.zeros((2, 3), bool)))
+    >>> a.grid.shape, a.grid.border, b.grid.border, a.grid.origin
+    ((4, 5), 'wall', 'open', (-1.0, -1.0))
+    """
+    g = gridmap.grid
+    if g.border == "wall":
+        return gridmap, gridmap
+    from .grid import Grid
+
+    res = g.resolution
+    occ = np.pad(np.asarray(gridmap.occupied, dtype=bool), 1, constant_values=False)
+    shape = (g.rows + 2, g.cols + 2)
+    origin = (g.origin[0] - res, g.origin[1] - res)
+    return (GridMap(Grid(shape, res, origin, border="wall"), occ),
+            GridMap(Grid(shape, res, origin, border="open"), occ))

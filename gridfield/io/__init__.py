@@ -45,9 +45,9 @@ from ..world import World, world_from_dict
 from ._bitmap import UNKNOWN_CHOICES as UNKNOWN_CHOICES
 from ._bitmap import read_bitmap, write_bitmap
 from ._common import PathLike as PathLike
-from ._costmap import is_costmap_yaml as _is_costmap_yaml
-from ._costmap import from_occupancy_grid, read_costmap, to_occupancy_grid, write_costmap
 from ._common import _check_file
+from ._costmap import from_occupancy_grid, read_costmap, to_occupancy_grid, write_costmap
+from ._costmap import is_costmap_yaml as _is_costmap_yaml
 from ._movingai import Scenarios, read_movingai_map, read_scen
 from ._npz import NPZ_ARRAY_NAMES, load_field, read_npz, read_npz_arrays, save_field, write_npz
 from ._ros import ROS_MODES as ROS_MODES

@@ -10,13 +10,13 @@ raw mode: the grey level itself is the OccupancyGrid value, levels above 100 bec
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path as FsPath
 from typing import Any
 
 import numpy as np
 import yaml
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
 from ..errors import GridfieldError, MapFormatError, ParameterError, shorten
 from ..grid import Grid, GridMap
@@ -226,7 +226,9 @@ def from_occupancy_grid(data: ArrayLike | Sequence[int], width: int, height: int
         occupied |= is_unknown
     if border is None:
         border = "wall" if unknown == "occupied" else "open"
-    grid = Grid((int(height), int(width)), res, (x0, y0), border)  # checks the resolution and the border
+    if border not in ("open", "wall"):
+        raise ParameterError(f"border must be 'open' or 'wall', got {shorten(border)}")
+    grid = Grid((int(height), int(width)), res, (x0, y0), "open" if border == "open" else "wall")
     meta = {"format": "occupancy_grid", "occupancy": grid_values, "unknown_fraction": float(is_unknown.mean())}
     return GridMap(grid, np.ascontiguousarray(occupied), source="OccupancyGrid", meta=meta)
 

@@ -1,0 +1,312 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
+"""Compiled kernels behind :mod:`gridfield.navfn`: the NavFn navigation function and its gradient path.
+
+The arithmetic follows ROS 2 Nav2's ``nav2_navfn_planner`` (``navfn.cpp``, after Brock and
+Konolige's planar-wave interpolation), written anew here: float32 potentials, the same priority
+blocks and their capacity, the same order of updates, so that the potentials agree to the bit with
+NavFn's on the same cost array. Arrays are flat, indexed ``row * nx + col`` (row 0 = lowest y, as
+the costmap's), ``nx`` columns; the cost array is NavFn's (``COST_NEUTRAL + COST_FACTOR * cost``,
+254 = blocked, its outer ring blocked). Nothing here validates input: :mod:`gridfield.navfn` does.
+"""
+
+from libc.math cimport hypotf, round as c_round
+from libc.stdint cimport int64_t, uint8_t
+from libc.stdlib cimport free as c_free, malloc
+
+import numpy as np
+
+cdef float POT_HIGH = 1.0e10
+cdef int COST_OBS = 254
+cdef int COST_NEUTRAL = 50
+cdef int BUF = 10000  # PRIORITYBUFSIZE: a block holds at most this many cells (more are dropped, as NavFn does)
+cdef double INVSQRT2 = 0.707106781
+
+
+cdef struct Blocks:
+    int* cur
+    int* nxt
+    int* over
+    int ncur
+    int nnxt
+    int nover
+    float threshold
+
+
+cdef inline void _push(int* buf, int* count, int n, int ns, uint8_t* pending, const uint8_t* cost) noexcept nogil:
+    if n >= 0 and n < ns and not pending[n] and cost[n] < COST_OBS and count[0] < BUF:
+        buf[count[0]] = n
+        count[0] += 1
+        pending[n] = 1
+
+
+cdef inline void _update(int n, int nx, int ns, float* pot, const uint8_t* cost, uint8_t* pending,
+                         Blocks* b) noexcept nogil:
+    cdef float l = pot[n - 1], r = pot[n + 1], u = pot[n - nx], d = pot[n + nx]
+    cdef float lo_x = l if l < r else r
+    cdef float lo_y = u if u < d else d
+    cdef float hf, diff, base, p, v, ratio, le, re, ue, de
+    if cost[n] >= COST_OBS:
+        return
+    hf = <float>cost[n]
+    diff = lo_x - lo_y
+    base = lo_y
+    if diff < 0:
+        diff = -diff
+        base = lo_x
+    if diff >= hf:
+        p = base + hf  # one neighbour only
+    else:
+        ratio = diff / hf
+        v = <float>(-0.2301 * ratio * ratio + 0.5307 * ratio + 0.7040)  # quadratic fit of the planar wave
+        p = base + hf * v
+    if p < pot[n]:
+        le = <float>(INVSQRT2 * <float>cost[n - 1])
+        re = <float>(INVSQRT2 * <float>cost[n + 1])
+        ue = <float>(INVSQRT2 * <float>cost[n - nx])
+        de = <float>(INVSQRT2 * <float>cost[n + nx])
+        pot[n] = p
+        if p < b.threshold:
+            if l > p + le:
+                _push(b.nxt, &b.nnxt, n - 1, ns, pending, cost)
+            if r > p + re:
+                _push(b.nxt, &b.nnxt, n + 1, ns, pending, cost)
+            if u > p + ue:
+                _push(b.nxt, &b.nnxt, n - nx, ns, pending, cost)
+            if d > p + de:
+                _push(b.nxt, &b.nnxt, n + nx, ns, pending, cost)
+        else:
+            if l > p + le:
+                _push(b.over, &b.nover, n - 1, ns, pending, cost)
+            if r > p + re:
+                _push(b.over, &b.nover, n + 1, ns, pending, cost)
+            if u > p + ue:
+                _push(b.over, &b.nover, n - nx, ns, pending, cost)
+            if d > p + de:
+                _push(b.over, &b.nover, n + nx, ns, pending, cost)
+
+
+def propagate(const uint8_t[::1] cost, int nx, int ny, int source, int target, bint stop_at_target,
+              int cycles):
+    """NavFn's Dijkstra propagation (``propNavFnDijkstra``) from the cell ``source`` (potential 0).
+
+    Parameters
+    ----------
+    cost : uint8, shape (nx * ny,)
+        NavFn's cost array (outer ring 254).
+    source, target : int
+        Flat indices: the propagation starts at ``source``; with ``stop_at_target`` it stops after
+        the first cycle that gives ``target`` a potential.
+    cycles : int
+        Cycle limit (NavFn: ``max(nx * ny / 20, nx + ny)``).
+
+    Returns
+    -------
+    (ndarray of float32, int, bool)
+        The potentials (1e10 where unassigned), the cycles run, whether it ended before the limit.
+    """
+    cdef int ns = nx * ny
+    pot_arr = np.full(ns, POT_HIGH, dtype=np.float32)
+    cdef float[::1] potv = pot_arr
+    cdef float* pot = &potv[0]
+    cdef const uint8_t* c = &cost[0]
+    cdef uint8_t* pending = <uint8_t*>malloc(ns if ns > 0 else 1)
+    cdef int* b1 = <int*>malloc(BUF * sizeof(int))
+    cdef int* b2 = <int*>malloc(BUF * sizeof(int))
+    cdef int* b3 = <int*>malloc(BUF * sizeof(int))
+    cdef int* tmp
+    cdef Blocks b
+    cdef int cycle = 0, i, k
+    if pending == NULL or b1 == NULL or b2 == NULL or b3 == NULL:
+        c_free(pending); c_free(b1); c_free(b2); c_free(b3)
+        raise MemoryError("navfn: cannot allocate the propagation buffers")
+    with nogil:
+        for i in range(ns):
+            pending[i] = 0
+        b.cur = b1
+        b.nxt = b2
+        b.over = b3
+        b.ncur = 0
+        b.nnxt = 0
+        b.nover = 0
+        b.threshold = <float>COST_OBS
+        pot[source] = 0.0
+        _push(b.cur, &b.ncur, source + 1, ns, pending, c)
+        _push(b.cur, &b.ncur, source - 1, ns, pending, c)
+        _push(b.cur, &b.ncur, source - nx, ns, pending, c)
+        _push(b.cur, &b.ncur, source + nx, ns, pending, c)
+        while cycle < cycles:
+            if b.ncur == 0 and b.nnxt == 0:
+                break
+            for i in range(b.ncur):
+                pending[b.cur[i]] = 0
+            for i in range(b.ncur):
+                _update(b.cur[i], nx, ns, pot, c, pending, &b)
+            b.ncur = b.nnxt
+            b.nnxt = 0
+            tmp = b.cur
+            b.cur = b.nxt
+            b.nxt = tmp
+            if b.ncur == 0:
+                b.threshold += 2 * COST_NEUTRAL  # priInc
+                b.ncur = b.nover
+                b.nover = 0
+                tmp = b.cur
+                b.cur = b.over
+                b.over = tmp
+            if stop_at_target and pot[target] < POT_HIGH:
+                break
+            cycle += 1
+    c_free(pending)
+    c_free(b1)
+    c_free(b2)
+    c_free(b3)
+    return pot_arr, cycle, cycle < cycles
+
+
+cdef inline float _grad(const float* pot, int n, int nx, int ns, float* gy) noexcept nogil:
+    """NavFn's ``gradCell``: the normalized gradient at cell ``n`` (x returned, y in gy[0]); 0, 0 when flat."""
+    cdef float cv, dx = 0.0, dy = 0.0, norm
+    gy[0] = 0.0
+    if n < nx or n > ns - nx:
+        return 0.0
+    cv = pot[n]
+    if cv >= POT_HIGH:
+        if pot[n - 1] < POT_HIGH:
+            dx = -COST_OBS
+        elif pot[n + 1] < POT_HIGH:
+            dx = COST_OBS
+        if pot[n - nx] < POT_HIGH:
+            dy = -COST_OBS
+        elif pot[n + nx] < POT_HIGH:
+            dy = COST_OBS
+    else:
+        if pot[n - 1] < POT_HIGH:
+            dx += pot[n - 1] - cv
+        if pot[n + 1] < POT_HIGH:
+            dx += cv - pot[n + 1]
+        if pot[n - nx] < POT_HIGH:
+            dy += pot[n - nx] - cv
+        if pot[n + nx] < POT_HIGH:
+            dy += cv - pot[n + nx]
+    norm = hypotf(dx, dy)
+    if norm > 0:
+        norm = <float>(1.0 / norm)
+        gy[0] = norm * dy
+        return norm * dx
+    return 0.0
+
+
+cdef inline int _trunc_int(float v) noexcept nogil:
+    # C's float -> int conversion; out of range gives INT_MIN as x86 does (NavFn's `int minp = potarr[...]`)
+    if v >= 2147483648.0 or v < -2147483648.0 or v != v:
+        return -2147483647 - 1
+    return <int>v
+
+
+def gradient_path(const float[::1] pot, int nx, int ny, int from_x, int from_y, int to_x, int to_y, int max_steps,
+                  float step=0.5):
+    """NavFn's ``calcPath``: half-cell steps down the bilinearly interpolated normalized gradient.
+
+    Parameters
+    ----------
+    pot : float32, shape (nx * ny,)
+        Potentials of :func:`propagate` (0 at ``(to_x, to_y)``).
+    from_x, from_y : int
+        Cell (column, row) the path starts from.
+    to_x, to_y : int
+        The cell of potential 0: the path's last point.
+    max_steps : int
+        Step limit (Nav2: ``max(nx, ny) * max_cycles_factor``, 4).
+
+    Returns
+    -------
+    (ndarray of float32, shape (k, 2), int)
+        The points ``(x, y)`` in cells (a cell's index at its centre), and a status: 0 reached,
+        1 out of bounds, 2 no path (high potential), 3 zero gradient, 4 out of steps. Only status 0
+        keeps the points (NavFn returns no path otherwise).
+    """
+    cdef int ns = nx * ny
+    out = np.zeros((max(max_steps, 1), 2), dtype=np.float32)
+    cdef float[:, ::1] o = out
+    cdef const float* p = &pot[0]
+    cdef int stc = from_y * nx + from_x
+    cdef float dx = 0.0, dy = 0.0, x1, x2, y1, y2, gx, gy, ss
+    cdef float g00x, g01x, g10x, g11x, g00y, g01y, g10y, g11y, tmp
+    cdef int npath = 0, i, nearest, stcnx, stcpx, minc, minp, sti, k, status = 4
+    cdef bint osc
+    with nogil:
+        for i in range(max_steps):
+            nearest = stc + <int>c_round(dx) + <int>(nx * c_round(dy))
+            if nearest > ns - 1:
+                nearest = ns - 1
+            if nearest < 0:
+                nearest = 0
+            if p[nearest] < COST_NEUTRAL:
+                o[npath, 0] = <float>to_x
+                o[npath, 1] = <float>to_y
+                npath += 1
+                status = 0
+                break
+            if stc < nx or stc > ns - nx:
+                status = 1
+                break
+            o[npath, 0] = stc % nx + dx
+            o[npath, 1] = stc // nx + dy
+            npath += 1
+            osc = npath > 2 and o[npath - 1, 0] == o[npath - 3, 0] and o[npath - 1, 1] == o[npath - 3, 1]
+            stcnx = stc + nx
+            stcpx = stc - nx
+            if (p[stc] >= POT_HIGH or p[stc + 1] >= POT_HIGH or p[stc - 1] >= POT_HIGH or p[stcnx] >= POT_HIGH
+                    or p[stcnx + 1] >= POT_HIGH or p[stcnx - 1] >= POT_HIGH or p[stcpx] >= POT_HIGH
+                    or p[stcpx + 1] >= POT_HIGH or p[stcpx - 1] >= POT_HIGH or osc):
+                # next to unassigned cells (or oscillating): step to the lowest of the 8 neighbours
+                minc = stc
+                minp = _trunc_int(p[stc])
+                for k in range(8):
+                    if k < 3:
+                        sti = stcpx - 1 + k
+                    elif k == 3:
+                        sti = stc - 1
+                    elif k == 4:
+                        sti = stc + 1
+                    else:
+                        sti = stcnx - 1 + (k - 5)
+                    if p[sti] < <float>minp:
+                        minp = _trunc_int(p[sti])
+                        minc = sti
+                stc = minc
+                dx = 0.0
+                dy = 0.0
+                if p[stc] >= POT_HIGH:
+                    status = 2
+                    break
+            else:
+                g00x = _grad(p, stc, nx, ns, &g00y)
+                g01x = _grad(p, stc + 1, nx, ns, &g01y)
+                g10x = _grad(p, stcnx, nx, ns, &g10y)
+                g11x = _grad(p, stcnx + 1, nx, ns, &g11y)
+                x1 = <float>((1.0 - dx) * g00x + dx * g01x)
+                x2 = <float>((1.0 - dx) * g10x + dx * g11x)
+                gx = <float>((1.0 - dy) * x1 + dy * x2)
+                y1 = <float>((1.0 - dx) * g00y + dx * g01y)
+                y2 = <float>((1.0 - dx) * g10y + dx * g11y)
+                gy = <float>((1.0 - dy) * y1 + dy * y2)
+                if gx == 0.0 and gy == 0.0:
+                    status = 3
+                    break
+                ss = step / hypotf(gx, gy)
+                dx += gx * ss
+                dy += gy * ss
+                if dx > 1.0:
+                    stc += 1
+                    dx -= 1.0
+                if dx < -1.0:
+                    stc -= 1
+                    dx += 1.0
+                if dy > 1.0:
+                    stc += nx
+                    dy -= 1.0
+                if dy < -1.0:
+                    stc -= nx
+                    dy += 1.0
+    return out[:npath].copy(), status

@@ -393,7 +393,7 @@ def inflate(
     Parameters
     ----------
     gridmap : GridMap
-        Occupied cells are the lethal obstacles. Outside the grid is not an obstacle (Nav2's
+        Occupied cells are the lethal obstacles (of a :class:`Costmap`: its cells of cost 254). Outside the grid is not an obstacle (Nav2's
         inflation does not inflate the map's edge), whatever ``gridmap.grid.border`` says.
     robot_radius : float
         The inscribed radius (m), ``>= 0`` (Nav2's ``robot_radius`` default 0.1).
@@ -435,7 +435,8 @@ def inflate(
     r, big_r, k, lut = _check_inflation(robot_radius, inflation_radius, cost_scaling_factor, lut_precision)
     grid = gridmap.grid
     res = grid.resolution
-    obstacles = np.asarray(gridmap.occupied, dtype=bool)
+    # a costmap's own obstacles are its lethal cells (not the inscribed or unknown ones it blocks)
+    obstacles = gridmap.cost == LETHAL_OBSTACLE if isinstance(gridmap, Costmap) else np.asarray(gridmap.occupied, bool)
     unk: NDArray[np.bool_] | None = None
     if keep_unknown:
         if unknown is None:

@@ -257,10 +257,7 @@ def plan_navfn(target: GridMap, start: NDArray[np.float64], goal: NDArray[np.flo
     field_seconds = time.perf_counter() - t0
     out_params = {**dict(params), "costmap": dict(cm.inflation)}
     best: tuple[NDArray[np.float64], tuple[int, int]] | None
-    if pot[g_idx] < POT_HIGH:
-        best = (g, g_cell)
-    else:
-        best = _tolerance_goal(pot, cm, g, opts.goal_tolerance)
+    best = (g, g_cell) if pot[g_idx] < POT_HIGH else _tolerance_goal(pot, cm, g, opts.goal_tolerance)
     if best is None:
         return Path(s[None, :], "no_path", "navfn", int(cycles), out_params, time.perf_counter() - t0,
                     extra={"value": math.inf, "reason": "the goal is unreachable from the start (NavFn's potential "
@@ -301,8 +298,8 @@ def plan_navfn(target: GridMap, start: NDArray[np.float64], goal: NDArray[np.flo
 
 def _clearance(cm: Costmap, points: NDArray[np.float64]) -> float:
     """Smallest exact distance of the path's cells to a blocked cell of the costmap (``cost >= 253``)."""
-    from .navigation._field import _min_clearance
     from .navigation import NavigationField
+    from .navigation._field import _min_clearance
 
     nav = NavigationField(cm, np.zeros(cm.shape), points[-1], (0, 0), "navfn")
     return _min_clearance(nav, points)

@@ -59,6 +59,7 @@ def _load(args: argparse.Namespace) -> Any:
     from ._common import load_target
 
     unknown = None
+    gm: Any
     suffix = Path(args.map).suffix.lower()
     if args.keep_unknown:
         data = read_yaml(args.map) if suffix in (".yaml", ".yml") else None

@@ -1,5 +1,6 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
-"""Compiled kernels behind :mod:`gridfield.navfn`: the NavFn navigation function and its gradient path.
+"""Compiled kernels behind :mod:`gridfield.navfn` (the NavFn navigation function and its gradient path)
+and :class:`gridfield.costmap.Costmap`'s point queries.
 
 The arithmetic follows ROS 2 Nav2's ``nav2_navfn_planner`` (``navfn.cpp``, after Brock and
 Konolige's planar-wave interpolation), written anew here: float32 potentials, the same priority
@@ -9,8 +10,8 @@ the costmap's), ``nx`` columns; the cost array is NavFn's (``COST_NEUTRAL + COST
 254 = blocked, its outer ring blocked). Nothing here validates input: :mod:`gridfield.navfn` does.
 """
 
-from libc.math cimport hypotf, round as c_round
-from libc.stdint cimport int64_t, uint8_t
+from libc.math cimport NAN, floor, hypotf, isfinite, round as c_round
+from libc.stdint cimport int32_t, int64_t, uint8_t
 from libc.stdlib cimport free as c_free, malloc
 
 import numpy as np
@@ -310,3 +311,123 @@ def gradient_path(const float[::1] pot, int nx, int ny, int from_x, int from_y, 
                     stc -= nx
                     dy += 1.0
     return out[:npath].copy(), status
+
+
+# ----------------------------------------------------------------------------------------------
+# Costmap queries (gridfield.costmap.Costmap): many points, one pass each
+# ----------------------------------------------------------------------------------------------
+
+cdef inline int64_t _cell(double v, double origin, double res) noexcept nogil:
+    """gridfield.grid._cell_index for one value: floor((v - origin) / res) on the cell boundaries
+    origin + i * res as computed in floating point."""
+    cdef double i = floor((v - origin) / res)
+    if v >= origin + (i + 1) * res:
+        i += 1
+    if v < origin + i * res:
+        i -= 1
+    if i < -1.0:
+        return -1
+    if i > 4.0e18:
+        return <int64_t>4.0e18
+    return <int64_t>i
+
+
+cdef inline bint _corners(double x, double y, double x0, double y0, double res, int64_t rows, int64_t cols,
+                          int64_t* r0, int64_t* r1, int64_t* c0, int64_t* c1, double* tx, double* ty) noexcept nogil:
+    """The four cell centres round (x, y) and the bilinear weights (clamped at the outer centres);
+    False when the point is outside the grid."""
+    cdef int64_t r, c
+    cdef double fx, fy
+    if not (isfinite(x) and isfinite(y)):
+        return False
+    r = _cell(y, y0, res)
+    c = _cell(x, x0, res)
+    if r < 0 or r >= rows or c < 0 or c >= cols:
+        return False
+    fx = (x - x0) / res - 0.5
+    fy = (y - y0) / res - 0.5
+    if fx < 0:
+        fx = 0
+    if fx > cols - 1:
+        fx = cols - 1
+    if fy < 0:
+        fy = 0
+    if fy > rows - 1:
+        fy = rows - 1
+    c0[0] = <int64_t>floor(fx)
+    r0[0] = <int64_t>floor(fy)
+    if c0[0] > cols - 2:
+        c0[0] = cols - 2 if cols >= 2 else 0
+    if r0[0] > rows - 2:
+        r0[0] = rows - 2 if rows >= 2 else 0
+    c1[0] = c0[0] + 1 if c0[0] + 1 < cols else cols - 1
+    r1[0] = r0[0] + 1 if r0[0] + 1 < rows else rows - 1
+    tx[0] = fx - c0[0]
+    ty[0] = fy - r0[0]
+    return True
+
+
+def query_cost(const uint8_t[:, ::1] cost, const double[:, :] pts, double x0, double y0, double res):
+    """The cost of the cell holding each point; 255 outside."""
+    cdef int64_t n = pts.shape[0], rows = cost.shape[0], cols = cost.shape[1], i, r, c
+    out = np.empty(n, dtype=np.uint8)
+    cdef uint8_t[::1] o = out
+    with nogil:
+        for i in range(n):
+            o[i] = 255
+            if isfinite(pts[i, 0]) and isfinite(pts[i, 1]):
+                r = _cell(pts[i, 1], y0, res)
+                c = _cell(pts[i, 0], x0, res)
+                if 0 <= r < rows and 0 <= c < cols:
+                    o[i] = cost[r, c]
+    return out
+
+
+def query_bilinear(const double[:, ::1] a, const double[:, ::1] b, const double[:, :] pts, double x0, double y0,
+                   double res, bint two):
+    """Bilinear interpolation of ``a`` (and of ``b`` when ``two``) between the cell centres; nan outside.
+    Returns shape (N,) or, with ``two``, (N, 2)."""
+    cdef int64_t n = pts.shape[0], rows = a.shape[0], cols = a.shape[1], i, r0, r1, c0, c1
+    cdef double tx, ty
+    out = np.empty((n, 2 if two else 1))
+    cdef double[:, ::1] o = out
+    with nogil:
+        for i in range(n):
+            if _corners(pts[i, 0], pts[i, 1], x0, y0, res, rows, cols, &r0, &r1, &c0, &c1, &tx, &ty):
+                o[i, 0] = ((a[r0, c0] * (1 - tx) + a[r0, c1] * tx) * (1 - ty)
+                           + (a[r1, c0] * (1 - tx) + a[r1, c1] * tx) * ty)
+                if two:
+                    o[i, 1] = ((b[r0, c0] * (1 - tx) + b[r0, c1] * tx) * (1 - ty)
+                               + (b[r1, c0] * (1 - tx) + b[r1, c1] * tx) * ty)
+            else:
+                o[i, 0] = NAN
+                if two:
+                    o[i, 1] = NAN
+    return out if two else out[:, 0]
+
+
+def query_nearest(const int32_t[:, ::1] nr, const int32_t[:, ::1] nc, const double[:, :] pts, double x0, double y0,
+                  double res):
+    """Of the nearest obstacle cells of the four centres round each point, the centre nearest the point."""
+    cdef int64_t n = pts.shape[0], rows = nr.shape[0], cols = nr.shape[1], i, k, r0, r1, c0, c1, rr, cc
+    cdef double tx, ty, best, ox, oy, d2
+    out = np.full((n, 2), NAN)
+    cdef double[:, ::1] o = out
+    with nogil:
+        for i in range(n):
+            if not _corners(pts[i, 0], pts[i, 1], x0, y0, res, rows, cols, &r0, &r1, &c0, &c1, &tx, &ty):
+                continue
+            best = 1.0e308
+            for k in range(4):
+                rr = r0 if k < 2 else r1
+                cc = c0 if k % 2 == 0 else c1
+                if nr[rr, cc] < 0:
+                    continue
+                ox = x0 + (nc[rr, cc] + 0.5) * res
+                oy = y0 + (nr[rr, cc] + 0.5) * res
+                d2 = (ox - pts[i, 0]) * (ox - pts[i, 0]) + (oy - pts[i, 1]) * (oy - pts[i, 1])
+                if d2 < best:
+                    best = d2
+                    o[i, 0] = ox
+                    o[i, 1] = oy
+    return out

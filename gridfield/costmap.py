@@ -211,30 +211,16 @@ class Costmap(GridMap):
         lethal = GridMap(self.grid.with_border("open"), self.cost == LETHAL_OBSTACLE)
         dm = brushfire(lethal, metric="euclidean", compute_steps=False, compute_labels=False, compute_gvd=False)
         assert dm.nearest_row is not None and dm.nearest_col is not None
-        return dm.distance, dm.nearest_row, dm.nearest_col
+        return (np.ascontiguousarray(dm.distance, dtype=np.float64), np.ascontiguousarray(dm.nearest_row, np.int32),
+                np.ascontiguousarray(dm.nearest_col, np.int32))
 
-    def _frac(self, points: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+    def _query(self, points: ArrayLike) -> tuple[Any, NDArray[np.float64], float, float, float]:
         from .grid import _as_points
+        from .navfn import _kernels
 
-        p = _as_points(points, "points")
-        g = self.grid
-        x0, y0 = g.origin
-        _, inside = g.world_to_cell(p)
-        fx = np.where(inside, (p[:, 0] - x0) / g.resolution - 0.5, 0.0)  # continuous column / row of the centres
-        fy = np.where(inside, (p[:, 1] - y0) / g.resolution - 0.5, 0.0)
-        return fx, fy, inside
-
-    def _corners(self, fx: NDArray[np.float64], fy: NDArray[np.float64]) -> tuple[Any, ...]:
-        g = self.grid
-        cx = np.clip(fx, 0.0, g.cols - 1.0)
-        cy = np.clip(fy, 0.0, g.rows - 1.0)
-        c0 = np.minimum(np.floor(cx).astype(np.intp), max(g.cols - 2, 0))
-        r0 = np.minimum(np.floor(cy).astype(np.intp), max(g.rows - 2, 0))
-        c1 = np.minimum(c0 + 1, g.cols - 1)
-        r1 = np.minimum(r0 + 1, g.rows - 1)
-        tx = cx - c0
-        ty = cy - r0
-        return r0, r1, c0, c1, tx, ty
+        p = np.ascontiguousarray(_as_points(points, "points"), dtype=np.float64)
+        x0, y0 = self.grid.origin
+        return _kernels(), p, float(x0), float(y0), float(self.grid.resolution)
 
     def cost_at(self, points: ArrayLike) -> NDArray[np.uint8]:
         """The cost of the cell containing each world point (255, no information, outside the grid).
@@ -255,10 +241,8 @@ class Costmap(GridMap):
         >>> cm.cost_at([[0.5, 0.5], [1.5, 0.2], [5.0, 0.0]]).tolist()
         [7, 9, 255]
         """
-        cells, inside = self.grid.world_to_cell(points)
-        out = np.full(len(cells), NO_INFORMATION, dtype=np.uint8)
-        r, c = cells[inside].T
-        out[inside] = self.cost[r, c]
+        k, p, x0, y0, res = self._query(points)
+        out: NDArray[np.uint8] = k.query_cost(self.cost, p, x0, y0, res)
         return out
 
     def distance(self, points: ArrayLike) -> NDArray[np.float64]:
@@ -283,14 +267,9 @@ class Costmap(GridMap):
         >>> cm.distance([[2.5, 0.5], [3.0, 0.5], [9.0, 0.5]]).tolist()
         [2.0, 2.5, nan]
         """
-        fx, fy, inside = self._frac(points)
+        k, p, x0, y0, res = self._query(points)
         d = self._nearest[0]
-        r0, r1, c0, c1, tx, ty = self._corners(fx, fy)
-        with np.errstate(invalid="ignore"):
-            top = d[r0, c0] * (1 - tx) + d[r0, c1] * tx
-            bot = d[r1, c0] * (1 - tx) + d[r1, c1] * tx
-            out = top * (1 - ty) + bot * ty
-        out[~inside] = np.nan
+        out: NDArray[np.float64] = k.query_bilinear(d, d, p, x0, y0, res, False)
         return out
 
     @cached_property
@@ -300,7 +279,7 @@ class Costmap(GridMap):
         with np.errstate(invalid="ignore", divide="ignore"):
             gx = np.where((d > 0) & np.isfinite(d), (cols - nc) * self.grid.resolution / d, 0.0)
             gy = np.where((d > 0) & np.isfinite(d), (rows - nr) * self.grid.resolution / d, 0.0)
-        return gx, gy
+        return np.ascontiguousarray(gx, dtype=np.float64), np.ascontiguousarray(gy, dtype=np.float64)
 
     def gradient(self, points: ArrayLike) -> NDArray[np.float64]:
         """Gradient of :meth:`distance`'s exact field: at each cell centre the unit vector away from its
@@ -323,15 +302,9 @@ class Costmap(GridMap):
         >>> cm.gradient([[2.5, 0.5]]).tolist()
         [[1.0, 0.0]]
         """
-        fx, fy, inside = self._frac(points)
+        k, p, x0, y0, res = self._query(points)
         gx, gy = self._unit_gradient
-        r0, r1, c0, c1, tx, ty = self._corners(fx, fy)
-        out = np.empty((len(fx), 2))
-        for k, a in enumerate((gx, gy)):
-            top = a[r0, c0] * (1 - tx) + a[r0, c1] * tx
-            bot = a[r1, c0] * (1 - tx) + a[r1, c1] * tx
-            out[:, k] = top * (1 - ty) + bot * ty
-        out[~inside] = np.nan
+        out: NDArray[np.float64] = k.query_bilinear(gx, gy, p, x0, y0, res, True)
         return out
 
     def nearest_obstacle(self, points: ArrayLike) -> NDArray[np.float64]:
@@ -355,26 +328,9 @@ class Costmap(GridMap):
         >>> cm.nearest_obstacle([[1.2, 0.5], [2.9, 1.4]]).tolist()
         [[0.5, 0.5], [3.5, 1.5]]
         """
-        from .grid import _as_points
-
-        p = _as_points(points, "points")
-        fx, fy, inside = self._frac(p)
+        k, p, x0, y0, res = self._query(points)
         _, nr, nc = self._nearest
-        r0, r1, c0, c1, _, _ = self._corners(fx, fy)
-        g = self.grid
-        x0, y0 = g.origin
-        best = np.full(len(fx), np.inf)
-        out = np.full((len(fx), 2), np.nan)
-        for rr, cc in ((r0, c0), (r0, c1), (r1, c0), (r1, c1)):
-            orow, ocol = nr[rr, cc], nc[rr, cc]
-            ox = x0 + (ocol + 0.5) * g.resolution
-            oy = y0 + (orow + 0.5) * g.resolution
-            d2 = (ox - p[:, 0]) ** 2 + (oy - p[:, 1]) ** 2
-            better = (orow >= 0) & (d2 < best)
-            best = np.where(better, d2, best)
-            out[better, 0] = ox[better]
-            out[better, 1] = oy[better]
-        out[~inside] = np.nan
+        out: NDArray[np.float64] = k.query_nearest(nr, nc, p, x0, y0, res)
         return out
 
 

@@ -317,10 +317,10 @@ def gradient_path(const float[::1] pot, int nx, int ny, int from_x, int from_y, 
 # Costmap queries (gridfield.costmap.Costmap): many points, one pass each
 # ----------------------------------------------------------------------------------------------
 
-cdef inline int64_t _cell(double v, double origin, double res) noexcept nogil:
-    """gridfield.grid._cell_index for one value: floor((v - origin) / res) on the cell boundaries
-    origin + i * res as computed in floating point."""
-    cdef double i = floor((v - origin) / res)
+cdef inline int64_t _cell(double v, double origin, double res, double inv) noexcept nogil:
+    """gridfield.grid._cell_index for one value: the cell of the boundaries origin + i * res as computed in
+    floating point (a first guess from the reciprocal ``inv``, then corrected as _cell_index corrects)."""
+    cdef double i = floor((v - origin) * inv)
     if v >= origin + (i + 1) * res:
         i += 1
     if v < origin + i * res:
@@ -340,12 +340,13 @@ cdef inline bint _corners(double x, double y, double x0, double y0, double res, 
     cdef double fx, fy
     if not (isfinite(x) and isfinite(y)):
         return False
-    r = _cell(y, y0, res)
-    c = _cell(x, x0, res)
+    cdef double inv = 1.0 / res
+    r = _cell(y, y0, res, inv)
+    c = _cell(x, x0, res, inv)
     if r < 0 or r >= rows or c < 0 or c >= cols:
         return False
-    fx = (x - x0) / res - 0.5
-    fy = (y - y0) / res - 0.5
+    fx = (x - x0) * inv - 0.5
+    fy = (y - y0) * inv - 0.5
     if fx < 0:
         fx = 0
     if fx > cols - 1:
@@ -367,23 +368,24 @@ cdef inline bint _corners(double x, double y, double x0, double y0, double res, 
     return True
 
 
-def query_cost(const uint8_t[:, ::1] cost, const double[:, :] pts, double x0, double y0, double res):
+def query_cost(const uint8_t[:, ::1] cost, const double[:, ::1] pts, double x0, double y0, double res):
     """The cost of the cell holding each point; 255 outside."""
     cdef int64_t n = pts.shape[0], rows = cost.shape[0], cols = cost.shape[1], i, r, c
+    cdef double inv = 1.0 / res
     out = np.empty(n, dtype=np.uint8)
     cdef uint8_t[::1] o = out
     with nogil:
         for i in range(n):
             o[i] = 255
             if isfinite(pts[i, 0]) and isfinite(pts[i, 1]):
-                r = _cell(pts[i, 1], y0, res)
-                c = _cell(pts[i, 0], x0, res)
+                r = _cell(pts[i, 1], y0, res, inv)
+                c = _cell(pts[i, 0], x0, res, inv)
                 if 0 <= r < rows and 0 <= c < cols:
                     o[i] = cost[r, c]
     return out
 
 
-def query_bilinear(const double[:, ::1] a, const double[:, ::1] b, const double[:, :] pts, double x0, double y0,
+def query_bilinear(const double[:, ::1] a, const double[:, ::1] b, const double[:, ::1] pts, double x0, double y0,
                    double res, bint two):
     """Bilinear interpolation of ``a`` (and of ``b`` when ``two``) between the cell centres; nan outside.
     Returns shape (N,) or, with ``two``, (N, 2)."""
@@ -406,7 +408,7 @@ def query_bilinear(const double[:, ::1] a, const double[:, ::1] b, const double[
     return out if two else out[:, 0]
 
 
-def query_nearest(const int32_t[:, ::1] nr, const int32_t[:, ::1] nc, const double[:, :] pts, double x0, double y0,
+def query_nearest(const int32_t[:, ::1] nr, const int32_t[:, ::1] nc, const double[:, ::1] pts, double x0, double y0,
                   double res):
     """Of the nearest obstacle cells of the four centres round each point, the centre nearest the point."""
     cdef int64_t n = pts.shape[0], rows = nr.shape[0], cols = nr.shape[1], i, k, r0, r1, c0, c1, rr, cc

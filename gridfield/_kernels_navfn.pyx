@@ -10,7 +10,7 @@ the costmap's), ``nx`` columns; the cost array is NavFn's (``COST_NEUTRAL + COST
 254 = blocked, its outer ring blocked). Nothing here validates input: :mod:`gridfield.navfn` does.
 """
 
-from libc.math cimport NAN, floor, hypotf, isfinite, round as c_round
+from libc.math cimport NAN, hypotf, isfinite, round as c_round
 from libc.stdint cimport int32_t, int64_t, uint8_t
 from libc.stdlib cimport free as c_free, malloc
 
@@ -317,10 +317,22 @@ def gradient_path(const float[::1] pot, int nx, int ny, int from_x, int from_y, 
 # Costmap queries (gridfield.costmap.Costmap): many points, one pass each
 # ----------------------------------------------------------------------------------------------
 
+cdef inline double _floor(double t) noexcept nogil:
+    """floor(t) for finite |t| < 2**62 without a libm call (the baseline x86-64 has no rounding instruction)."""
+    cdef double i = <double><int64_t>t
+    return i - 1.0 if i > t else i
+
+
 cdef inline int64_t _cell(double v, double origin, double res, double inv) noexcept nogil:
     """gridfield.grid._cell_index for one value: the cell of the boundaries origin + i * res as computed in
     floating point (a first guess from the reciprocal ``inv``, then corrected as _cell_index corrects)."""
-    cdef double i = floor((v - origin) * inv)
+    cdef double t = (v - origin) * inv
+    cdef double i
+    if t < -1.0:
+        return -1
+    if t > 4.0e18:
+        return <int64_t>4.0e18
+    i = _floor(t)
     if v >= origin + (i + 1) * res:
         i += 1
     if v < origin + i * res:
@@ -355,8 +367,8 @@ cdef inline bint _corners(double x, double y, double x0, double y0, double res, 
         fy = 0
     if fy > rows - 1:
         fy = rows - 1
-    c0[0] = <int64_t>floor(fx)
-    r0[0] = <int64_t>floor(fy)
+    c0[0] = <int64_t>fx  # fx, fy >= 0: truncation is floor
+    r0[0] = <int64_t>fy
     if c0[0] > cols - 2:
         c0[0] = cols - 2 if cols >= 2 else 0
     if r0[0] > rows - 2:

@@ -110,6 +110,17 @@ def read_costmap(yaml_path: PathLike) -> Any:
     ------
     MapFormatError
         A YAML that is not a costmap's, a ``mode`` other than ``raw``, an image that is not 8-bit grey.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from gridfield.grid import Grid
+    >>> from gridfield.costmap import Costmap
+    >>> cm = Costmap.from_costs(Grid((1, 3), 0.05), np.array([[0, 128, 255]], np.uint8), {"robot_radius": 0.1})
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     back = read_costmap(write_costmap(pathlib.Path(d) / "c.yaml", cm))
+    >>> back.cost.tolist(), back.inflation["robot_radius"], back.occupied.tolist()
+    ([[0, 128, 255]], 0.1, [[False, False, True]])
     """
     from ..costmap import Costmap
 
@@ -250,6 +261,13 @@ def to_occupancy_grid(gridmap: GridMap, *, unknown: ArrayLike | None = None) -> 
     dict
         ``data`` (int8, row-major from the origin), ``width``, ``height``, ``resolution``, ``origin``
         ``(x, y, 0.0)``: the keyword arguments of :func:`from_occupancy_grid`.
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid
+    >>> msg = to_occupancy_grid(GridMap(Grid((2, 2), 0.05), np.array([[True, False], [False, False]])))
+    >>> msg["data"].tolist(), msg["width"], msg["height"], msg["origin"]
+    ([100, 0, 0, 0], 2, 2, (0.0, 0.0, 0.0))
     """
     from ..costmap import Costmap
 

@@ -40,8 +40,16 @@ cdef inline void _push(int* buf, int* count, int n, int ns, uint8_t* pending, co
         pending[n] = 1
 
 
+cdef inline void _push_in(int* buf, int* count, int n, uint8_t* pending, const uint8_t* cost) noexcept nogil:
+    # _push for a neighbour of an updated cell: updated cells are inside the blocked ring, so n is in range
+    if not pending[n] and cost[n] < COST_OBS and count[0] < BUF:
+        buf[count[0]] = n
+        count[0] += 1
+        pending[n] = 1
+
+
 cdef inline void _update(int n, int nx, int ns, float* pot, const uint8_t* cost, uint8_t* pending,
-                         Blocks* b) noexcept nogil:
+                         Blocks* b, const float* edge) noexcept nogil:
     cdef float l = pot[n - 1], r = pot[n + 1], u = pot[n - nx], d = pot[n + nx]
     cdef float lo_x = l if l < r else r
     cdef float lo_y = u if u < d else d
@@ -61,29 +69,58 @@ cdef inline void _update(int n, int nx, int ns, float* pot, const uint8_t* cost,
         v = <float>(-0.2301 * ratio * ratio + 0.5307 * ratio + 0.7040)  # quadratic fit of the planar wave
         p = base + hf * v
     if p < pot[n]:
-        le = <float>(INVSQRT2 * <float>cost[n - 1])
-        re = <float>(INVSQRT2 * <float>cost[n + 1])
-        ue = <float>(INVSQRT2 * <float>cost[n - nx])
-        de = <float>(INVSQRT2 * <float>cost[n + nx])
+        le = edge[cost[n - 1]]  # (float)(INVSQRT2 * (float)cost), tabulated
+        re = edge[cost[n + 1]]
+        ue = edge[cost[n - nx]]
+        de = edge[cost[n + nx]]
         pot[n] = p
         if p < b.threshold:
             if l > p + le:
-                _push(b.nxt, &b.nnxt, n - 1, ns, pending, cost)
+                _push_in(b.nxt, &b.nnxt, n - 1, pending, cost)
             if r > p + re:
-                _push(b.nxt, &b.nnxt, n + 1, ns, pending, cost)
+                _push_in(b.nxt, &b.nnxt, n + 1, pending, cost)
             if u > p + ue:
-                _push(b.nxt, &b.nnxt, n - nx, ns, pending, cost)
+                _push_in(b.nxt, &b.nnxt, n - nx, pending, cost)
             if d > p + de:
-                _push(b.nxt, &b.nnxt, n + nx, ns, pending, cost)
+                _push_in(b.nxt, &b.nnxt, n + nx, pending, cost)
         else:
             if l > p + le:
-                _push(b.over, &b.nover, n - 1, ns, pending, cost)
+                _push_in(b.over, &b.nover, n - 1, pending, cost)
             if r > p + re:
-                _push(b.over, &b.nover, n + 1, ns, pending, cost)
+                _push_in(b.over, &b.nover, n + 1, pending, cost)
             if u > p + ue:
-                _push(b.over, &b.nover, n - nx, ns, pending, cost)
+                _push_in(b.over, &b.nover, n - nx, pending, cost)
             if d > p + de:
-                _push(b.over, &b.nover, n + nx, ns, pending, cost)
+                _push_in(b.over, &b.nover, n + nx, pending, cost)
+
+
+def navfn_costs(const uint8_t[:, ::1] cost, bint allow_unknown, int64_t clear_row, int64_t clear_col):
+    """NavFn's cost array of costmap costs (``setCostmap`` after ``clearRobotCell``, then ``setupNavFn``'s
+    blocked ring): ``50 + (int)(0.8 * c)`` below 253, 253 for unknown (255) with ``allow_unknown``, else 254."""
+    cdef int64_t rows = cost.shape[0], cols = cost.shape[1], r, c
+    cdef int v
+    out = np.empty((rows, cols), dtype=np.uint8)
+    cdef uint8_t[:, ::1] o = out
+    with nogil:
+        for r in range(rows):
+            for c in range(cols):
+                v = cost[r, c]
+                if r == clear_row and c == clear_col:
+                    v = 0
+                if v < 253:
+                    v = <int>(COST_NEUTRAL + 0.8 * v)
+                    o[r, c] = <uint8_t>(v if v < COST_OBS else COST_OBS - 1)
+                elif v == 255 and allow_unknown:
+                    o[r, c] = COST_OBS - 1
+                else:
+                    o[r, c] = COST_OBS
+        for c in range(cols):
+            o[0, c] = COST_OBS
+            o[rows - 1, c] = COST_OBS
+        for r in range(rows):
+            o[r, 0] = COST_OBS
+            o[r, cols - 1] = COST_OBS
+    return out
 
 
 def propagate(const uint8_t[::1] cost, int nx, int ny, int source, int target, bint stop_at_target,
@@ -116,11 +153,14 @@ def propagate(const uint8_t[::1] cost, int nx, int ny, int source, int target, b
     cdef int* b3 = <int*>malloc(BUF * sizeof(int))
     cdef int* tmp
     cdef Blocks b
+    cdef float edge[256]
     cdef int cycle = 0, i, k
     if pending == NULL or b1 == NULL or b2 == NULL or b3 == NULL:
         c_free(pending); c_free(b1); c_free(b2); c_free(b3)
         raise MemoryError("navfn: cannot allocate the propagation buffers")
     with nogil:
+        for i in range(256):
+            edge[i] = <float>(INVSQRT2 * <float>i)
         for i in range(ns):
             pending[i] = 0
         b.cur = b1
@@ -141,7 +181,7 @@ def propagate(const uint8_t[::1] cost, int nx, int ny, int source, int target, b
             for i in range(b.ncur):
                 pending[b.cur[i]] = 0
             for i in range(b.ncur):
-                _update(b.cur[i], nx, ns, pot, c, pending, &b)
+                _update(b.cur[i], nx, ns, pot, c, pending, &b, edge)
             b.ncur = b.nnxt
             b.nnxt = 0
             tmp = b.cur

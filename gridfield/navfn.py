@@ -40,7 +40,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .costmap import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION, Costmap, inflate
+from .costmap import Costmap, inflate
 from .errors import ParameterError
 from .grid import GridMap
 from .params import NavFn, validate
@@ -104,17 +104,9 @@ def navfn_costs(costmap: Costmap, *, allow_unknown: bool = True,
     >>> navfn_costs(cm)[1].tolist(), navfn_costs(cm, allow_unknown=False)[1].tolist()
     ([254, 130, 253, 254], [254, 130, 254, 254])
     """
-    c = costmap.cost.copy()
-    if clear is not None:
-        c[clear] = 0
-    ci = c.astype(np.int64)
-    scaled = np.trunc(COST_NEUTRAL + COST_FACTOR * ci).astype(np.int64)  # int v = 50 + 0.8 * v
-    out = np.where(ci < INSCRIBED_INFLATED_OBSTACLE, np.minimum(scaled, COST_OBS - 1), COST_OBS)
-    if allow_unknown:
-        out = np.where(ci == NO_INFORMATION, COST_OBS - 1, out)
-    out = out.astype(np.uint8)
-    out[0, :] = out[-1, :] = COST_OBS
-    out[:, 0] = out[:, -1] = COST_OBS
+    r, c = clear if clear is not None else (-1, -1)
+    out: NDArray[np.uint8] = _kernels().navfn_costs(np.ascontiguousarray(costmap.cost), bool(allow_unknown),
+                                                    int(r), int(c))
     return out
 
 

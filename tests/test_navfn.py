@@ -127,3 +127,16 @@ def test_the_planner_is_registered_and_plans_a_costmap_file(tmp_path):
              {"robot_radius": 0.1, "inflation_radius": 0.3})
     assert a.status == b.status == "reached"
     np.testing.assert_array_equal(a.points, b.points)
+
+
+def test_navfn_costs_are_setcostmaps_translation_for_every_cost():
+    c = np.arange(256, dtype=np.uint8).reshape(16, 16)
+    cm = Costmap.from_costs(Grid((16, 16), 1.0), c)
+    for allow in (True, False):
+        got = navfn_costs(cm, allow_unknown=allow, clear=(3, 4))
+        v = c.astype(int)
+        v[3, 4] = 0
+        want = np.where(v < 253, np.minimum([[int(50 + 0.8 * x) for x in row] for row in v], 253),
+                        np.where((v == 255) & allow, 253, 254))
+        want[0, :] = want[-1, :] = want[:, 0] = want[:, -1] = 254
+        np.testing.assert_array_equal(got, want)

@@ -11,9 +11,8 @@ from Cython.Build import cythonize
 from setuptools import Extension, setup
 
 #: The compiled modules, gridfield/<name>.pyx each.
-KERNELS = ["_kernels_anyangle", "_kernels_brushfire", "_kernels_follow", "_kernels_incremental", "_kernels_navfn",
-           "_kernels_navigation",
-           "_kernels_potential"]
+KERNELS = ["_kernels_anyangle", "_kernels_brushfire", "_kernels_follow", "_kernels_incremental", "_kernels_navigation",
+           "_kernels_potential", "_kernels_navfn"]
 #: Those with OpenMP loops (``prange``).
 OPENMP = {"_kernels_potential"}
 

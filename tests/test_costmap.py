@@ -260,3 +260,23 @@ def test_cli_costmap_writes_a_costmap_that_plan_navfn_plans_on(tmp_path):
 def test_cli_bad_input_is_one_line_and_exit_2(tmp_path, args, message):
     res = _cli("costmap", str(MAPS / "ros_maps" / "turtlebot3_world" / "map.yaml"), *args, cwd=tmp_path)
     assert res.returncode == 2 and message in res.stderr and len(res.stderr.strip().splitlines()) == 1, res.stderr
+
+
+def test_cli_plan_on_a_costmap_yaml_in_another_mode_is_exit_2(tmp_path):
+    cm = inflate(read_ros_map(MAPS / "ros_maps" / "turtlebot3_world" / "map.yaml"))
+    p = write_costmap(tmp_path / "cm.yaml", cm)
+    p.write_text(p.read_text().replace("mode: raw", "mode: scale"))
+    res = _cli("plan", "cm.yaml", "--planner", "navfn", "--start", "-2", "-0.5", "--goal", "1.5", "0.5", cwd=tmp_path)
+    assert res.returncode == 2 and "must say 'mode: raw'" in res.stderr and len(res.stderr.strip().splitlines()) == 1
+
+
+def test_cli_keep_unknown_and_the_navfn_field(tmp_path):
+    y = MAPS / "ros_maps" / "turtlebot3_world" / "map.yaml"
+    res = _cli("costmap", str(y), "--keep-unknown", "--lut-precision", "100", "--out", "cm.yaml", cwd=tmp_path)
+    assert res.returncode == 0 and "unknown" in res.stdout, res.stderr
+    cm = read(tmp_path / "cm.yaml")
+    assert (cm.cost == 255).mean() > 0.5 and cm.inflation["lut_precision"] == 100
+    res = _cli("field", "cm.yaml", "--planner", "navfn", "--goal", "1.5", "0.5", cwd=tmp_path)
+    assert res.returncode == 0 and "navfn navigation function" in res.stdout, res.stderr
+    res = _cli("costmap", str(MAPS / "movingai" / "arena" / "arena.map"), "--keep-unknown", cwd=tmp_path)
+    assert res.returncode == 2 and "--keep-unknown needs a ROS map YAML" in res.stderr

@@ -280,3 +280,40 @@ def test_cli_keep_unknown_and_the_navfn_field(tmp_path):
     assert res.returncode == 0 and "navfn navigation function" in res.stdout, res.stderr
     res = _cli("costmap", str(MAPS / "movingai" / "arena" / "arena.map"), "--keep-unknown", cwd=tmp_path)
     assert res.returncode == 2 and "--keep-unknown needs a ROS map YAML" in res.stderr
+
+
+def _echo_yaml(path: Path, data, width: int, height: int, res: float = 0.05, origin=(1.0, -2.0), qz: float = 0.0):
+    """An OccupancyGrid message as `ros2 topic echo --once /map` prints it (YAML)."""
+    import yaml
+
+    msg = {"header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": "map"},
+           "info": {"map_load_time": {"sec": 0, "nanosec": 0}, "resolution": res, "width": width, "height": height,
+                    "origin": {"position": {"x": origin[0], "y": origin[1], "z": 0.0},
+                               "orientation": {"x": 0.0, "y": 0.0, "z": qz, "w": 1.0}}},
+           "data": [int(v) for v in data]}
+    path.write_text(yaml.safe_dump(msg))
+    return path
+
+
+def test_an_echoed_occupancy_grid_message_is_read_and_planned_on(tmp_path):
+    rng = np.random.default_rng(2)
+    data = np.where(rng.random(40 * 30) < 0.1, 100, 0)
+    data[:5] = -1
+    p = _echo_yaml(tmp_path / "msg.yaml", data, 40, 30)
+    m = read(p)
+    assert m.shape == (30, 40) and m.grid.origin == (1.0, -2.0)
+    np.testing.assert_array_equal(to_occupancy_grid(m)["data"], data)
+    np.testing.assert_array_equal(read(p, unknown="free").occupied.reshape(-1), data == 100)
+    res = _cli("costmap", "msg.yaml", "--unknown", "free", cwd=tmp_path)
+    assert res.returncode == 0 and res.stdout.startswith("costmap 30x40 cells"), res.stderr
+
+
+def test_an_occupancy_grid_message_of_the_wrong_length_or_rotated_is_exit_2(tmp_path):
+    _echo_yaml(tmp_path / "short.yaml", [0] * 11, 4, 3)
+    res = _cli("costmap", "short.yaml", cwd=tmp_path)
+    assert res.returncode == 2 and len(res.stderr.strip().splitlines()) == 1
+    assert "has 11 values, but width * height = 4 * 3 = 12" in res.stderr
+    with pytest.raises(MapFormatError, match="rotated"):
+        read(_echo_yaml(tmp_path / "rot.yaml", [0] * 12, 4, 3, qz=0.3))
+    with pytest.raises(MapFormatError, match=r"data\[1\] = 120"):
+        read(_echo_yaml(tmp_path / "bad.yaml", [0, 120, 0, 0], 2, 2))

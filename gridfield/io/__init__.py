@@ -11,7 +11,8 @@ Supported inputs (:func:`read` picks by file name):
 
 Nav2 costmaps (a raw-mode map YAML with a ``costmap:`` mapping, read as a
 :class:`~gridfield.costmap.Costmap`): :func:`read_costmap`, :func:`write_costmap`; the fields of a
-``nav_msgs/OccupancyGrid``: :func:`from_occupancy_grid`, :func:`to_occupancy_grid`.
+``nav_msgs/OccupancyGrid``: :func:`from_occupancy_grid`, :func:`to_occupancy_grid`, and a message saved
+as YAML (``ros2 topic echo --once /map``): :func:`read_occupancy_grid`.
 
 Writers: :func:`write_bitmap`, :func:`write_ros_map`, :func:`write_npz`. Fields of
 :mod:`gridfield.potential` (arrays, goal, parameters, distance map): :func:`save_field` and
@@ -46,8 +47,9 @@ from ._bitmap import UNKNOWN_CHOICES as UNKNOWN_CHOICES
 from ._bitmap import read_bitmap, write_bitmap
 from ._common import PathLike as PathLike
 from ._common import _check_file
-from ._costmap import from_occupancy_grid, read_costmap, to_occupancy_grid, write_costmap
+from ._costmap import from_occupancy_grid, read_costmap, read_occupancy_grid, to_occupancy_grid, write_costmap
 from ._costmap import is_costmap_yaml as _is_costmap_yaml
+from ._costmap import is_occupancy_grid_yaml as _is_occupancy_grid_yaml
 from ._movingai import Scenarios, read_movingai_map, read_scen
 from ._npz import NPZ_ARRAY_NAMES, load_field, read_npz, read_npz_arrays, save_field, write_npz
 from ._ros import ROS_MODES as ROS_MODES
@@ -68,6 +70,7 @@ __all__ = [
     "read_movingai_map",
     "read_npz",
     "read_npz_arrays",
+    "read_occupancy_grid",
     "read_ros_map",
     "read_scen",
     "read_world",
@@ -162,6 +165,9 @@ def read(path: PathLike, **options: Any) -> World | GridMap:
         if _is_costmap_yaml(data):  # a Nav2 costmap (write_costmap): its costs, not thresholded
             _check_options(read_costmap, options, p, "costmap YAML")
             return read_costmap(p)
+        if _is_occupancy_grid_yaml(data):  # a nav_msgs/OccupancyGrid message (ros2 topic echo --once /map)
+            _check_options(read_occupancy_grid, options, p, "OccupancyGrid message YAML")
+            return read_occupancy_grid(p, **options)
         # a ROS map YAML names its image; one that lacks it still has an origin (a world has bounds instead)
         if isinstance(data, dict) and ("image" in data or ("origin" in data and "bounds" not in data)):
             reader, what = read_ros_map, "ROS map YAML"

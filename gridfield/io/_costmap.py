@@ -25,7 +25,8 @@ from ._common import PathLike, _choice
 from ._ros import _ros_params
 from ._yaml import read_yaml
 
-__all__ = ["from_occupancy_grid", "is_costmap_yaml", "read_costmap", "to_occupancy_grid", "write_costmap"]
+__all__ = ["from_occupancy_grid", "is_costmap_yaml", "is_occupancy_grid_yaml", "read_costmap", "read_occupancy_grid",
+           "to_occupancy_grid", "write_costmap"]
 
 #: The ``format`` of a costmap YAML's ``costmap:`` mapping.
 COSTMAP_FORMAT = "gridfield-nav2-costmap"
@@ -295,3 +296,69 @@ def to_occupancy_grid(gridmap: GridMap, *, unknown: ArrayLike | None = None) -> 
     x0, y0 = g.origin
     return {"data": np.ascontiguousarray(values.astype(np.int8).reshape(-1)), "width": g.cols, "height": g.rows,
             "resolution": float(g.resolution), "origin": (float(x0), float(y0), 0.0)}
+
+
+def is_occupancy_grid_yaml(data: Any) -> bool:
+    """Whether a parsed YAML document is a ``nav_msgs/OccupancyGrid`` message (``info`` and ``data``)."""
+    return isinstance(data, dict) and "info" in data and "data" in data and "image" not in data
+
+
+def read_occupancy_grid(path: PathLike, *, unknown: str = "occupied", border: str | None = None) -> GridMap:
+    """Read a ``nav_msgs/OccupancyGrid`` message saved as YAML (``ros2 topic echo --once /map > map_msg.yaml``).
+
+    Parameters
+    ----------
+    path : str or path-like
+        YAML with ``info`` (``width``, ``height``, ``resolution``, ``origin.position.x/y``,
+        ``origin.orientation``, which must be the identity rotation about z) and ``data``.
+    unknown, border
+        As :func:`from_occupancy_grid`.
+
+    Returns
+    -------
+    GridMap
+        :func:`from_occupancy_grid` of the message's fields.
+
+    Raises
+    ------
+    MapFormatError
+        A missing or malformed field, a rotated origin, a data length other than ``width * height``,
+        a value outside -1..100 (naming the file).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> text = ("info: {width: 2, height: 1, resolution: 0.05, origin: {position: {x: 1.0, y: 2.0, z: 0.0}, "
+    ...         "orientation: {x: 0.0, y: 0.0, z: 0.0, w: 1.0}}}\\ndata: [0, 100]\\n")
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = pathlib.Path(d) / "m.yaml"; _ = p.write_text(text)
+    ...     m = read_occupancy_grid(p)
+    >>> m.occupied.tolist(), m.grid.origin
+    ([[False, True]], (1.0, 2.0))
+    """
+    from ._common import _check_file
+
+    p = _check_file(path)
+    doc = read_yaml(p)
+    if not is_occupancy_grid_yaml(doc):
+        raise MapFormatError(f"{p}: not an OccupancyGrid message (it needs 'info' and 'data')")
+    info = doc["info"]
+    try:
+        width, height, res = info["width"], info["height"], info["resolution"]
+        pos = info.get("origin", {}).get("position", {})
+        quat = info.get("origin", {}).get("orientation", {})
+        x0, y0 = float(pos.get("x", 0.0)), float(pos.get("y", 0.0))
+        qx, qy, qz, qw = (float(quat.get(k, d)) for k, d in (("x", 0.0), ("y", 0.0), ("z", 0.0), ("w", 1.0)))
+    except (TypeError, ValueError, KeyError, AttributeError) as e:
+        raise MapFormatError(f"{p}: malformed OccupancyGrid 'info' ({shorten(e)}); it needs width, height, "
+                             "resolution and origin.position") from None
+    if abs(qx) > 1e-9 or abs(qy) > 1e-9 or abs(qz) > 1e-9:
+        raise MapFormatError(f"{p}: the origin is rotated (orientation {qx:g}, {qy:g}, {qz:g}, {qw:g}); gridfield "
+                             "grids are axis-aligned")
+    if not isinstance(doc["data"], list):
+        raise MapFormatError(f"{p}: 'data' must be a list of integers, got {shorten(doc['data'])}")
+    try:
+        return from_occupancy_grid(np.asarray(doc["data"], dtype=np.int64) if doc["data"] else np.zeros(0, np.int64),
+                                   width, height, res, (x0, y0), unknown=unknown, border=border)
+    except (ParameterError, GridfieldError, TypeError, ValueError, OverflowError) as e:
+        raise MapFormatError(f"{p}: {e}") from None

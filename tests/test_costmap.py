@@ -10,6 +10,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.ndimage import distance_transform_edt
 
 from gridfield.costmap import Costmap, inflate
@@ -317,3 +319,14 @@ def test_an_occupancy_grid_message_of_the_wrong_length_or_rotated_is_exit_2(tmp_
         read(_echo_yaml(tmp_path / "rot.yaml", [0] * 12, 4, 3, qz=0.3))
     with pytest.raises(MapFormatError, match=r"data\[1\] = 120"):
         read(_echo_yaml(tmp_path / "bad.yaml", [0, 120, 0, 0], 2, 2))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 18), st.integers(1, 18), st.integers(0, 2**32 - 1), st.sampled_from([0.03, 0.05, 0.1, 0.5, 1.0]),
+       st.floats(0.0, 1.0), st.floats(0.0, 2.0), st.floats(0.0, 20.0), st.sampled_from([None, 100, 7]))
+def test_inflation_matches_the_formula_on_random_grids(rows, cols, seed, res, robot, extra, k, lut):
+    occ = np.random.default_rng(seed).random((rows, cols)) < 0.15
+    big_r = robot + extra
+    cm = inflate(GridMap(Grid((rows, cols), res), occ), robot_radius=robot, inflation_radius=big_r,
+                 cost_scaling_factor=k, lut_precision=lut)
+    np.testing.assert_array_equal(cm.cost, _reference(occ, res, robot, big_r, k, lut))

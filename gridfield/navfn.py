@@ -163,7 +163,8 @@ def navfn(target: GridMap, goal: ArrayLike, *, params: Mapping[str, Any] | None 
     value = pot.reshape(rows, cols).astype(np.float64)
     value[pot.reshape(rows, cols) >= POT_HIGH] = np.inf
     return NavigationField(cm, value, g, cell, "navfn", {"allow_unknown": opts.allow_unknown},
-                           {"cost": cost, "iterations": int(cycles), "seconds": time.perf_counter() - t0})
+                           {"cost": cost.astype(np.float64), "iterations": int(cycles),
+                            "seconds": time.perf_counter() - t0})
 
 
 def _tolerance_goal(pot: NDArray[np.float32], cm: Costmap, goal: NDArray[np.float64],

@@ -135,7 +135,7 @@ def navfn(target: GridMap, goal: ArrayLike, *, params: Mapping[str, Any] | None 
     -------
     NavigationField
         ``kind="navfn"``; ``value`` the potential (float32 values, in NavFn's cost units: 50 a free
-        cell), ``inf`` where unassigned; ``map`` the costmap; ``aux["cost"]`` NavFn's cost array.
+        cell), ``inf`` where unassigned; ``map`` the costmap; ``aux["cost"]`` NavFn's cost array (as floats).
 
     Examples
     --------

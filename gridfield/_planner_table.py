@@ -64,6 +64,9 @@ PLANNERS: dict[str, Planner] = {
     "wavefront-octile": Planner("gridfield.navigation", "plan_wavefront_octile", "grid", (*_GRID_NAV, "connectivity")),
     "fmm": Planner("gridfield.navigation", "plan_fmm", "grid", (*_GRID_NAV, *_PATH)),
     "harmonic": Planner("gridfield.navigation", "plan_harmonic", "grid"),  # the field has no parameter
+    "navfn": Planner("gridfield.navfn", "plan_navfn", "grid",  # Nav2's NavFn on the (inflated) costmap
+                     ("allow_unknown", "goal_tolerance", "robot_radius", "inflation_radius", "cost_scaling_factor",
+                      "lut_precision")),
     "sphere-nav": Planner("gridfield.navigation", "plan_sphere_nav", "world",
                           (*_PATH, "progress_window", "kappa", "workspace_center", "workspace_radius")),
     "star-nav": Planner("gridfield.navigation", "plan_star_nav", "world",

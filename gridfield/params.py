@@ -1,7 +1,7 @@
 """The one parameter registry: every planner parameter's type, default, scaling rule, range and meaning.
 
 Each concern is a frozen dataclass (:class:`Attraction`, :class:`Repulsion`, :class:`Model`,
-:class:`NavFunction`, :class:`Vortex`, :class:`Follower`, :class:`Escape`, :class:`Navigation`) whose fields carry a
+:class:`NavFunction`, :class:`Vortex`, :class:`Follower`, :class:`Escape`, :class:`Navigation`, :class:`NavFn`) whose fields carry a
 :class:`Spec` in their metadata. :data:`REGISTRY` (name -> :class:`Spec`) is built from them, and
 everything else is generated from it: :func:`validate` (the check behind
 :func:`gridfield.planners.plan`), :func:`resolve` (defaults filled in, lengths scaled to the map),
@@ -58,6 +58,7 @@ __all__ = [
     "Follower",
     "Model",
     "NavFunction",
+    "NavFn",
     "Navigation",
     "Params",
     "Repulsion",
@@ -475,8 +476,40 @@ class Navigation:
         maximum=1e12, allow_none=True, scale="the disc inscribed in the world's bounds", flag=False)
 
 
+@dataclass(frozen=True)
+class NavFn:
+    """Nav2's NavFn planner (``navfn``) and the inflated costmap it plans on (:mod:`gridfield.costmap`).
+
+    ``goal_tolerance`` is NavFn's ``tolerance`` (a world distance, not scaled to the map), named apart
+    from the follower's ``tolerance``. The costmap options apply when the map is an occupancy grid;
+    a costmap file (``gridfield costmap``) is planned on with the costs it holds.
+
+    Examples
+    --------
+    >>> n = validate({"goal_tolerance": 0.25}).group(NavFn)
+    >>> n.goal_tolerance, n.allow_unknown, n.inflation_radius, n.cost_scaling_factor
+    (0.25, 'true', 0.55, 10.0)
+    """
+
+    allow_unknown: str = _p("navfn", "choice", "true", "navfn: unknown cells (cost 255) are traversable at NavFn cost "
+                            "253 ('true', Nav2's default) or blocked ('false')", choices=("true", "false"), flag=False)
+    goal_tolerance: float = _p("navfn", "number", 0.5, "navfn: NavFn's tolerance (world units): with an unreachable "
+                               "goal, plan to the nearest reachable point of the square of this half-width round it",
+                               minimum=0.0, flag=False)
+    robot_radius: float = _p("navfn", "number", 0.1, "navfn on an occupancy map: the inscribed radius of the inflated "
+                             "costmap (cost 253 within it)", minimum=0.0, flag=False)
+    inflation_radius: float = _p("navfn", "number", 0.55, "navfn on an occupancy map: how far the costmap inflation "
+                                 "spreads costs (>= robot_radius)", minimum=0.0, flag=False)
+    cost_scaling_factor: float = _p("navfn", "number", 10.0, "navfn on an occupancy map: the exponential decay of the "
+                                    "inflated costs (1 / world unit)", minimum=0.0, flag=False)
+    lut_precision: int | None = _p("navfn", "integer", None, "navfn on an occupancy map: None evaluates the inflation "
+                                   "on exact distances (legacy layer), 100 rounds them to 1/100 cell as the current "
+                                   "Nav2 inflation layer", minimum=1, allow_none=True, scale="exact distances",
+                                   flag=False)
+
+
 #: The concerns, in the order help and docs list them.
-GROUPS: tuple[type, ...] = (Attraction, Repulsion, Model, NavFunction, Vortex, Follower, Escape, Navigation)
+GROUPS: tuple[type, ...] = (Attraction, Repulsion, Model, NavFunction, Vortex, Follower, Escape, Navigation, NavFn)
 
 
 def _build() -> dict[str, Spec]:

@@ -30,7 +30,7 @@ def test_every_documented_command_is_there() -> None:
 
     from gridfield.cli import build_parser
 
-    documented = ["demo", "info", "brushfire", "field", "plan", "compare", "explore", "sweep"]
+    documented = ["demo", "info", "brushfire", "costmap", "field", "plan", "compare", "explore", "sweep"]
     sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
     assert list(sub.choices) == documented
     res = subprocess.run([sys.executable, "-m", "gridfield", "--help"], capture_output=True, text=True, check=True)

@@ -116,6 +116,8 @@ _OTHER = {
     "gradient_threshold": 0.3, "progress_window": 3, "confine_window": 3, "escape": "random_walk",
     "escape_tries": 2, "escape_radius": 1.0, "seed": 3, "connectivity": 4, "clearance_weight": 2.0,
     "kappa": 5.0, "lambda": 3.0, "workspace_center": (4.0, 4.0), "workspace_radius": 9.0,
+    "allow_unknown": "false", "goal_tolerance": 0.2, "robot_radius": 0.5, "inflation_radius": 1.5,
+    "cost_scaling_factor": 2.0, "lut_precision": 100,
 }
 
 
@@ -166,7 +168,7 @@ def test_star_nav_reads_no_parameter_it_does_not_declare():
                                "clearance_weight", "seed", "model"])
 
 
-@pytest.mark.parametrize("planner", ["potential", "wavefront", "wavefront-octile", "fmm", "harmonic"])
+@pytest.mark.parametrize("planner", ["potential", "wavefront", "wavefront-octile", "fmm", "harmonic", "navfn"])
 def test_a_grid_planner_reads_no_parameter_it_does_not_declare(planner):
     """Changing any parameter outside a planner's ``reads`` leaves its path unchanged (so the
     declared reads, and the "read by" derived from them, are complete); changing some it reads does

@@ -19,7 +19,7 @@ from .._version import __version__
 __all__ = ["COMMANDS", "main"]
 
 #: Sub-command modules, in the order ``--help`` lists them.
-COMMANDS = ("demo", "info", "brushfire", "field", "plan", "compare", "explore", "sweep")
+COMMANDS = ("demo", "info", "brushfire", "costmap", "field", "plan", "compare", "explore", "sweep")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -18,7 +18,7 @@ from ._common import (
 )
 
 #: Planners whose field ``gridfield field`` builds: the potential field and the navigation functions.
-FIELD_PLANNERS = ("potential", "wavefront", "wavefront-octile", "fmm", "harmonic", "sphere-nav", "star-nav")
+FIELD_PLANNERS = ("potential", "wavefront", "wavefront-octile", "fmm", "harmonic", "navfn", "sphere-nav", "star-nav")
 
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:

@@ -9,6 +9,11 @@ Supported inputs (:func:`read` picks by file name):
 - Moving AI ``.map``: :func:`read_movingai_map`; scenarios ``.scen``: :func:`read_scen`
 - ``.npz`` arrays written by gridfield: :func:`read_npz`, :func:`read_npz_arrays`
 
+Nav2 costmaps (a raw-mode map YAML with a ``costmap:`` mapping, read as a
+:class:`~gridfield.costmap.Costmap`): :func:`read_costmap`, :func:`write_costmap`; the fields of a
+``nav_msgs/OccupancyGrid``: :func:`from_occupancy_grid`, :func:`to_occupancy_grid`, and a message saved
+as YAML (``ros2 topic echo --once /map``): :func:`read_occupancy_grid`.
+
 Writers: :func:`write_bitmap`, :func:`write_ros_map`, :func:`write_npz`. Fields of
 :mod:`gridfield.potential` (arrays, goal, parameters, distance map): :func:`save_field` and
 :func:`load_field`.
@@ -42,6 +47,9 @@ from ._bitmap import UNKNOWN_CHOICES as UNKNOWN_CHOICES
 from ._bitmap import read_bitmap, write_bitmap
 from ._common import PathLike as PathLike
 from ._common import _check_file
+from ._costmap import from_occupancy_grid, read_costmap, read_occupancy_grid, to_occupancy_grid, write_costmap
+from ._costmap import is_costmap_yaml as _is_costmap_yaml
+from ._costmap import is_occupancy_grid_yaml as _is_occupancy_grid_yaml
 from ._movingai import Scenarios, read_movingai_map, read_scen
 from ._npz import NPZ_ARRAY_NAMES, load_field, read_npz, read_npz_arrays, save_field, write_npz
 from ._ros import ROS_MODES as ROS_MODES
@@ -54,19 +62,24 @@ __all__ = [
     "NPZ_ARRAY_NAMES",
     "Scenarios",
     "bundled_map",
+    "from_occupancy_grid",
     "load_field",
     "read",
     "read_bitmap",
+    "read_costmap",
     "read_movingai_map",
     "read_npz",
     "read_npz_arrays",
+    "read_occupancy_grid",
     "read_ros_map",
     "read_scen",
     "read_world",
     "read_yaml",
     "ros_occupancy_values",
     "save_field",
+    "to_occupancy_grid",
     "write_bitmap",
+    "write_costmap",
     "write_npz",
     "write_ros_map",
 ]
@@ -127,7 +140,7 @@ def read(path: PathLike, **options: Any) -> World | GridMap:
     Parameters
     ----------
     path : str or path-like
-        ``.yaml``/``.yml`` (a world, or a ROS map when it names an ``image`` or has an ``origin`` but no
+        ``.yaml``/``.yml`` (a world, a Nav2 costmap (:func:`read_costmap`) when it has a ``costmap:`` key, or a ROS map when it names an ``image`` or has an ``origin`` but no
         ``bounds``), ``.png``/``.pgm``/``.bmp``, ``.map`` (Moving AI) or ``.npz`` (gridfield).
     **options
         Keyword options of the format's reader (:func:`read_ros_map`, :func:`read_bitmap`,
@@ -149,6 +162,12 @@ def read(path: PathLike, **options: Any) -> World | GridMap:
     reader: Callable[..., GridMap]
     if suffix in (".yaml", ".yml"):
         data = read_yaml(p)
+        if _is_costmap_yaml(data):  # a Nav2 costmap (write_costmap): its costs, not thresholded
+            _check_options(read_costmap, options, p, "costmap YAML")
+            return read_costmap(p)
+        if _is_occupancy_grid_yaml(data):  # a nav_msgs/OccupancyGrid message (ros2 topic echo --once /map)
+            _check_options(read_occupancy_grid, options, p, "OccupancyGrid message YAML")
+            return read_occupancy_grid(p, **options)
         # a ROS map YAML names its image; one that lacks it still has an origin (a world has bounds instead)
         if isinstance(data, dict) and ("image" in data or ("origin" in data and "bounds" not in data)):
             reader, what = read_ros_map, "ROS map YAML"

@@ -113,7 +113,7 @@ def navigation_field(gridmap: GridMap, goal: ArrayLike, planner_name: str,
     ----------
     gridmap : GridMap
     goal : (x, y)
-    planner_name : {"wavefront", "wavefront-octile", "fmm", "harmonic", "sphere-nav"}
+    planner_name : {"wavefront", "wavefront-octile", "fmm", "harmonic", "navfn", "sphere-nav"}
     params : mapping
         Planner parameters (``connectivity``, ``clearance_weight``, ``q_star``, ``kappa``); others ignored.
         ``sphere-nav`` needs the map to have been rasterized from a world of circles; without ``kappa``
@@ -140,6 +140,12 @@ def navigation_field(gridmap: GridMap, goal: ArrayLike, planner_name: str,
         return fmm(gridmap, goal, **_common(p))
     if planner_name == "harmonic":
         return harmonic(gridmap, goal)
+    if planner_name == "navfn":  # Nav2's NavFn on the map's (inflated) costmap, from the goal over the whole map
+        from ..navfn import navfn
+
+        navfn_names = ("allow_unknown", "goal_tolerance", "robot_radius", "inflation_radius", "cost_scaling_factor",
+                       "lut_precision")
+        return cast(NavigationField, navfn(gridmap, goal, params={k: v for k, v in p.items() if k in navfn_names}))
     if planner_name == "sphere-nav":
         world = gridmap.world
         if world is None:
@@ -157,5 +163,5 @@ def navigation_field(gridmap: GridMap, goal: ArrayLike, planner_name: str,
                                {"kappa": kappa, "workspace_center": c0.tolist(), "workspace_radius": r0},
                                {"grad_x": grad[0], "grad_y": grad[1]})
     raise ParameterError(
-        f"unknown navigation planner {planner_name!r}; expected one of wavefront, wavefront-octile, fmm, harmonic, sphere-nav"
+        f"unknown navigation planner {planner_name!r}; expected one of wavefront, wavefront-octile, fmm, harmonic, navfn, sphere-nav"
     )

@@ -28,7 +28,7 @@ from ..grid import Grid, GridMap
 from ..path import NavigationAux, Path
 
 #: The kinds of :class:`NavigationField`.
-KINDS = ("wavefront", "fmm", "harmonic", "sphere-nav")
+KINDS = ("wavefront", "fmm", "harmonic", "sphere-nav", "navfn")  # navfn: gridfield.navfn (Nav2's NavFn)
 COSTS = ("unit", "octile")
 SQRT2 = math.sqrt(2.0)
 

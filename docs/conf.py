@@ -31,7 +31,7 @@ extensions = [
 
 exclude_patterns = ["_build", "figures/README.md", "api/README.md", "**/GALLERY_HEADER.rst"]
 templates_path: list[str] = []
-html_theme = "alabaster"
+html_theme = "furo"
 html_static_path: list[str] = []
 html_title = f"gridfield {release}"
 

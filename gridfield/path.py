@@ -63,6 +63,7 @@ PathExtra = TypedDict(
         "grid_length": float,  # length of the path through cell centres
         "cells": Any,  # (N, 2) int array: the cells of a discrete descent
         "reason": str,  # why there is no path
+        "finished_by": str,  # "wavefront": the follower stopped on a flat spot and the octile wavefront finished
         # -- sphere and star worlds (navigation.plan_sphere_nav, star.plan_star_nav) --
         "kappa": float,  # the kappa that was used
         "lambda": float,  # the lambda that was used (star-nav)
@@ -97,8 +98,10 @@ outside_fraction, sampling, alpha_xy, escapes_tried, escapes_succeeded, escapes,
     How the follower (:func:`gridfield.follow.follow`, :func:`gridfield.follow.follow_many`) ended.
 build_seconds, hint, diagnosis
     The potential planners: field build time, the one-line hint and its diagnosis.
-value, grid_length, cells, reason
-    Navigation functions: value at the start, grid length, the descent's cells, why no path.
+value, grid_length, cells, reason, finished_by
+    Navigation functions: value at the start, grid length, the descent's cells, why no path, and
+    ``"wavefront"`` when the follower stopped on a flat spot short of the goal and the octile
+    wavefront's descent from there finished the path.
 kappa, lambda, tried, kappa_tried, workspace_center, workspace_radius, followed, folds, star_centers
     Sphere and star worlds.
 nodes, edges, pinch, graph_seconds, optimal_length
@@ -246,6 +249,31 @@ class Path:
     def reached(self) -> bool:
         return self.status == "reached"
 
+    @property
+    def hint(self) -> str | None:
+        """Why a run did not reach its goal and what does, in one line; ``None`` for a run without one.
+
+        The ``potential`` planner gives every run that does not reach the goal a hint
+        (:func:`gridfield.diagnose.diagnose`, the same text as ``extra["hint"]``, ``gridfield plan``'s
+        ``hint:`` line and ``--json``'s ``hint``): where it stopped, the trap (described the same from
+        every start that drains into it: its basin, the narrowest passage on the way to the goal), a
+        ``--q-star`` only after a re-run with it reached the goal, and ``--escape navigation``, which
+        reaches every reachable goal. Navigation functions that cannot reach say why (``extra["reason"]``).
+
+        Examples
+        --------
+        >>> from gridfield.grid import Grid, GridMap
+        >>> from gridfield.planners import plan
+        >>> occ = np.zeros((10, 10), bool); occ[4:6, 0:7] = True
+        >>> p = plan("potential", GridMap(Grid((10, 10), 1.0), occ), (2.5, 1.5), (2.5, 8.5))
+        >>> p.status, p.hint.endswith("--escape navigation reaches it")
+        ('local_minimum', True)
+        >>> plan("potential", GridMap(Grid((10, 10), 1.0), occ), (2.5, 1.5), (7.5, 8.5)).hint is None
+        True
+        """
+        hint = self.extra.get("hint") or self.extra.get("reason")
+        return str(hint) if hint else None
+
     def to_json(self) -> dict[str, Any]:
         """The JSON object of ``gridfield plan --json`` (the public contract in README.md)."""
 
@@ -273,7 +301,7 @@ class Path:
             "seconds": clean(self.seconds),
             "field_seconds": clean(self.extra.get("field_seconds", 0.0)),
             "follow_seconds": clean(self.extra.get("follow_seconds", self.seconds)),
-            "hint": self.extra.get("hint"),
+            "hint": self.hint,
             **({"optimal": clean(self.extra["optimal"])} if "optimal" in self.extra else {}),
         }
 

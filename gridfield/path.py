@@ -275,35 +275,53 @@ class Path:
         return str(hint) if hint else None
 
     def to_json(self) -> dict[str, Any]:
-        """The JSON object of ``gridfield plan --json`` (the public contract in README.md)."""
+        """The JSON object of ``gridfield plan --json`` (the public contract in README.md).
 
-        def clean(v: Any) -> Any:
+        Numbers are JSON numbers, never strings: a value that is not finite is ``null``, and when one
+        is infinite the key ``infinite`` lists where (``{"params.d_star": 1}``: +inf; -1 for -inf);
+        NaN is ``null`` alone (no value).
+
+        Examples
+        --------
+        >>> p = Path(np.zeros((1, 2)), "reached", "demo", params={"d_star": math.inf, "eta": 1.0})
+        >>> j = p.to_json()
+        >>> j["params"], j["infinite"]
+        ({'d_star': None, 'eta': 1.0}, {'params.d_star': 1})
+        """
+        infinite: dict[str, int] = {}
+
+        def clean(v: Any, where: str) -> Any:
             if isinstance(v, float | np.floating):
                 v = float(v)
-                return v if math.isfinite(v) else (None if math.isnan(v) else ("inf" if v > 0 else "-inf"))
+                if math.isinf(v):
+                    infinite[where] = 1 if v > 0 else -1
+                return v if math.isfinite(v) else None
             if isinstance(v, np.integer):
                 return int(v)
             if isinstance(v, Mapping):
-                return {str(k): clean(x) for k, x in v.items()}
+                return {str(k): clean(x, f"{where}.{k}" if where else str(k)) for k, x in v.items()}
             if isinstance(v, list | tuple | np.ndarray):
-                return [clean(x) for x in (v.tolist() if isinstance(v, np.ndarray) else v)]
+                return [clean(x, f"{where}[{i}]") for i, x in enumerate(v.tolist() if isinstance(v, np.ndarray) else v)]
             return v
 
-        return {
+        out = {
             "planner": self.planner,
             "status": self.status,
-            "path": clean(self.points),
-            "end": clean(self.end),
-            "length": clean(self.length),
+            "path": clean(self.points, "path"),
+            "end": clean(self.end, "end"),
+            "length": clean(self.length, "length"),
             "iterations": int(self.iterations),
-            "min_clearance": clean(self.min_clearance),
-            "params": clean(dict(self.params)),
-            "seconds": clean(self.seconds),
-            "field_seconds": clean(self.extra.get("field_seconds", 0.0)),
-            "follow_seconds": clean(self.extra.get("follow_seconds", self.seconds)),
+            "min_clearance": clean(self.min_clearance, "min_clearance"),
+            "params": clean(dict(self.params), "params"),
+            "seconds": clean(self.seconds, "seconds"),
+            "field_seconds": clean(self.extra.get("field_seconds", 0.0), "field_seconds"),
+            "follow_seconds": clean(self.extra.get("follow_seconds", self.seconds), "follow_seconds"),
             "hint": self.hint,
-            **({"optimal": clean(self.extra["optimal"])} if "optimal" in self.extra else {}),
+            **({"optimal": clean(self.extra["optimal"], "optimal")} if "optimal" in self.extra else {}),
         }
+        if infinite:
+            out["infinite"] = infinite
+        return out
 
     def __repr__(self) -> str:
         x, y = self.end

@@ -43,9 +43,28 @@ def _home(obj: object) -> str | None:
     return None
 
 
+#: Names a page shows first (the entry point before the machinery it dispatches through).
+FIRST = {"planners": ["plan", "get_planner", "check_params"]}
+
+
+def _value(obj: object) -> str:
+    """A constant's value for its entry: the repr when short, else its type and size."""
+    text = repr(obj)
+    if len(text) <= 100 and "\n" not in text:
+        return text
+    size = f" of {len(obj)} entries" if hasattr(obj, "__len__") else ""  # type: ignore[arg-type]
+    return f"{type(obj).__name__}{size}"
+
+
+def _is_tuple_class(obj: object) -> bool:
+    return inspect.isclass(obj) and issubclass(obj, tuple)
+
+
 def _page(name: str) -> str:
     module = importlib.import_module(f"gridfield.{name}")
     names = list(getattr(module, "__all__", []))
+    first = [n for n in FIRST.get(name, []) if n in names]
+    names = first + [n for n in names if n not in first]
     title = f"gridfield.{name}"
     lines = [title, "=" * len(title), "", f".. automodule:: gridfield.{name}", "   :no-members:", ""]
     # a name another public module defines (and this one re-exports) is documented once, on its home page
@@ -62,15 +81,20 @@ def _page(name: str) -> str:
         lines += [f"   {n}" for n in documented] + [""]
     for n in names:
         obj = getattr(module, n)
-        if inspect.isclass(obj):
+        if _is_tuple_class(obj):  # a named tuple: its docstring lists the fields (not "Alias for field number 0")
+            lines += [f".. autoclass:: {n}", "   :no-members:", ""]
+        elif inspect.isclass(obj):
             directive = "autoexception" if issubclass(obj, BaseException) else "autoclass"
             lines += [f".. {directive}:: {n}", "   :members:", ""]
         elif _is_code(obj):
             lines += [f".. autofunction:: {n}", ""]
         elif isinstance(obj, types.GenericAlias):
             lines += [f".. py:data:: {n}", "", f"   {_comment_of(module, n)}", "", f"   Type alias: ``{obj}``.", ""]
-        else:
-            lines += [f".. autodata:: {n}", "   :no-value:", ""]
+        else:  # a constant: its ``#:`` comment and its value (never the docstring of its type)
+            note = _comment_of(module, n) or _comment_of(importlib.import_module(getattr(obj, "__module__", "")
+                                                                               or module.__name__), n)
+            value = _value(obj).replace("`", "'")
+            lines += [f".. py:data:: {n}", f"   :value: {value}", "", f"   {note}" if note else "", ""]
     return "\n".join(lines)
 
 
@@ -87,3 +111,33 @@ def write_api_pages(out: Path) -> None:
         path = out / fname
         if not path.exists() or path.read_text() != text:
             path.write_text(text)
+
+
+def cli_page() -> str:
+    """The command-line reference: every sub-command's ``--help``, generated from the parsers."""
+    import argparse
+    import os
+
+    from gridfield.cli import COMMANDS, build_parser
+
+    os.environ.setdefault("COLUMNS", "100")  # argparse wraps its help to the terminal width: a fixed one
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    lines = ["Command line", "============", "",
+             "Every sub-command of ``gridfield`` with its ``--help``, generated from the parsers on each build",
+             "(``docs/_api.py``), so it lists exactly the options the installed version takes. Bad input is",
+             "one line on stderr and exit code 2; a misspelt option gets a \"did you mean\".", "",
+             ".. code-block:: text", ""]
+    lines += ["   " + ln if ln else "" for ln in parser.format_help().splitlines()] + [""]
+    for name in COMMANDS:
+        title = f"gridfield {name}"
+        lines += [title, "-" * len(title), "", ".. code-block:: text", ""]
+        lines += ["   " + ln if ln else "" for ln in sub.choices[name].format_help().splitlines()] + [""]
+    return "\n".join(lines)
+
+
+def write_cli_page(path: Path) -> None:
+    """Write :func:`cli_page` to ``path`` (only when it changes)."""
+    text = cli_page()
+    if not path.exists() or path.read_text() != text:
+        path.write_text(text)

@@ -12,7 +12,7 @@ sys.path.insert(0, str(ROOT))  # document this checkout's gridfield, not another
 sys.path.insert(0, str(HERE))
 os.environ.setdefault("MPLBACKEND", "Agg")
 
-from _api import write_api_pages  # noqa: E402
+from _api import write_api_pages, write_cli_page  # noqa: E402
 
 import gridfield  # noqa: E402
 
@@ -31,12 +31,13 @@ extensions = [
 
 exclude_patterns = ["_build", "figures/README.md", "api/README.md", "**/GALLERY_HEADER.rst"]
 templates_path: list[str] = []
-html_theme = "alabaster"
+html_theme = "furo"
 html_static_path: list[str] = []
 html_title = f"gridfield {release}"
 
 # API reference: one page per public module, written from each module's __all__ on every build.
 write_api_pages(HERE / "api")
+write_cli_page(HERE / "cli.rst")  # the command-line reference, from the parsers
 autosummary_generate = False
 autodoc_default_options = {"members": True, "member-order": "bysource"}
 autodoc_typehints = "none"  # numpydoc's Parameters sections carry the types

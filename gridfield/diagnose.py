@@ -9,13 +9,21 @@ Every run of the ``potential`` planner that does not reach the goal carries ``ex
 - ``basin_share``: the share of the free cells whose discrete steepest descent on the potential
   ends where the stall's does (:func:`gridfield.follow.basins`): how much of the map leads into the
   same trap.
-- ``passage``: the narrowest point of the shortest path from the stall to the goal (its clearance,
+- ``trap``: the point that names the trap, the same whatever the start: the discrete sink of the
+  stall's cell (the cell where steepest descent on the potential ends), or, when that sink is the
+  goal's own (the minimum is displaced off the goal), the stall point.
+- ``passage``: the narrowest point of the shortest path from the trap to the goal (its clearance,
   the brushfire distance there, and where it is). When the repulsion's reach ``q_star`` is wider than
-  that clearance, the passage is closed by repulsion from both sides: the hint proposes a
-  ``q_star`` just below it.
+  that clearance, the passage is closed by repulsion from both sides.
+- ``tried`` and ``suggest``: a smaller ``q_star`` is proposed only after it was tried and reached:
+  the field is rebuilt on the same map with it (the brushfire reused; ``d_star`` and ``eta`` follow
+  it where they were the scaled defaults, as ``--q-star`` does on the command line) and followed
+  from the same start. ``tried`` lists each value tried and its status; ``suggest`` holds the first
+  value that reached, and the hint says "try --q-star X" only then. When none reached, the hint
+  says so and describes the passage.
 - the hint also names the escape that always works when the goal is reachable
-  (``--escape navigation``) and, for a follower pressed onto a wall (``stop_reason`` ``blocked``)
-  or out of steps, what happened there.
+  (``--escape navigation`` follows the octile wavefront out of every minimum) and, for a follower
+  pressed onto a wall (``stop_reason`` ``blocked``) or out of steps, what happened there.
 """
 
 from __future__ import annotations
@@ -72,8 +80,10 @@ def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None) -> d
     Returns
     -------
     dict
-        ``hint`` (one line), ``reachable``, ``basin_share``, ``stall`` (the point examined) and,
-        when known, ``passage`` (``clearance``, ``at``) and ``suggest`` (parameter -> value).
+        ``hint`` (one line), ``reachable``, ``basin_share``, ``stall`` (where the run stopped),
+        ``trap`` (the point the trap is described by) and, when known, ``passage`` (``clearance``,
+        ``at``), ``tried`` (``[q_star, status]`` of each re-run) and ``suggest`` (parameter -> a
+        value that was tried and reached).
 
     Examples
     --------
@@ -102,13 +112,18 @@ def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None) -> d
     cell = grid.cell_of(*stall)
     free = ~np.asarray(gm.occupied, dtype=bool)
     goal_basin = False
+    trap = stall
     if cell is not None and free[cell]:
         sink = esc.sink
         out["basin_share"] = float(np.count_nonzero(sink == sink[cell]) / max(int(np.count_nonzero(free)), 1))
         gcell = grid.cell_of(float(field.goal[0]), float(field.goal[1]))
         goal_basin = gcell is not None and bool(sink[gcell] == sink[cell])
+        if not goal_basin:  # the trap's own point: its sink cell, the same from every start draining there
+            rc = np.unravel_index(int(sink[cell]), grid.shape)
+            trap = tuple(grid.cell_to_world(np.array([[rc[0], rc[1]]]))[0].tolist())
     else:
         out["basin_share"] = math.nan
+    out["trap"] = list(trap)
     reason = path.extra.get("stop_reason", "")
     where = f"({_fmt(stall[0])}, {_fmt(stall[1])})"
     if path.status == "max_iterations":
@@ -122,26 +137,79 @@ def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None) -> d
                 "moves the potential's minimum off it")
     else:
         share = out["basin_share"]
-        trap = f" (its basin is {share:.0%} of the free space)" if math.isfinite(share) else ""
-        lead = f"local minimum of the potential at {where}{trap}"
+        basin = f"its basin is {share:.0%} of the free space" if math.isfinite(share) else ""
+        lead = (f"local minimum of the potential around ({_fmt(trap[0])}, {_fmt(trap[1])})"
+                f"{' (' + basin + ')' if basin else ''}")
     tips: list[str] = []
     q_star = float(field.params.get("q_star", math.nan)) if getattr(field, "params", None) else math.nan
     if reachable:
-        passage = _narrowest(field, stall)
+        passage = _narrowest(field, trap)
         if passage is not None:
             clearance, at = passage
             out["passage"] = {"clearance": clearance, "at": at}
             res = grid.resolution
             if math.isfinite(q_star) and q_star > clearance >= res:
-                new = round(0.9 * clearance, 12)
-                out["suggest"] = {"q_star": new}
-                tips.append(f"q_star {_fmt(q_star)} is wider than the half-width {_fmt(clearance)} of the passage "
-                            f"at ({_fmt(at[0])}, {_fmt(at[1])}); try --q-star {_fmt(new)}")
+                narrow = (f"q_star {_fmt(q_star)} is wider than the half-width {_fmt(clearance)} of the passage "
+                          f"at ({_fmt(at[0])}, {_fmt(at[1])})")
+                tried = _try_q_star(path, field, clearance)
+                out["tried"] = tried
+                good = [q for q, status in tried if status == "reached"]
+                if good:
+                    out["suggest"] = {"q_star": good[0]}
+                    tips.append(f"{narrow}; try --q-star {_fmt(good[0])}: re-run with it, it reaches the goal from this start")
+                elif tried:
+                    values = ", ".join(_fmt(q) for q, _ in tried)
+                    tips.append(f"{narrow}, but a smaller one does not reach either (--q-star {values} tried)")
+                else:
+                    tips.append(narrow)
         tips.append("the goal is reachable: --escape navigation reaches it")
     else:
         tips.append("the goal cannot be reached from here: no free path leads there")
     out["hint"] = lead + "; " + "; ".join(tips)
     return out
+
+
+#: The ``q_star`` values a failed run is re-run with, as fractions of the passage's half-width (largest
+#: first: the least change that reaches); each is rounded to the 3 digits the hint prints.
+Q_STAR_TRIES = (0.9, 0.5)
+
+
+def _try_q_star(path: Any, field: Any, clearance: float) -> list[list[Any]]:
+    """Re-run ``path``'s query with each ``q_star`` of :data:`Q_STAR_TRIES` until one reaches.
+
+    The field is rebuilt on the same map with the same brushfire (``field.distance``) and the same
+    parameters, except ``q_star`` and, where they were the scaled defaults of the old ``q_star``
+    (:func:`gridfield.params.resolve`), ``d_star`` and ``eta``, which are scaled again: what
+    ``gridfield plan ... --q-star X`` runs. Returns ``[[q_star, status], ...]`` in the order tried.
+    """
+    from .follow import follow
+    from .params import D_STAR_PER_Q_STAR, balanced_eta
+    from .potential import build_field
+
+    start = path.points[0]
+    unit = field.map.grid.resolution
+    base = {**field.params, **path.params}
+    q_old = float(base["q_star"])
+    d_old = float(base["d_star"])
+    derived_d = d_old == D_STAR_PER_Q_STAR * q_old
+    derived_eta = math.isclose(float(base["eta"]), balanced_eta(float(base["zeta"]), d_old, q_old,
+                                                                 float(base["repulsive_power"]), unit), rel_tol=1e-12)
+    tried: list[list[Any]] = []
+    for fraction in Q_STAR_TRIES:
+        q = float(_fmt(fraction * clearance))
+        if not 0 < q < q_old or any(q == t[0] for t in tried):
+            continue
+        params = {**base, "q_star": q}
+        if derived_d:
+            params.pop("d_star")
+        if derived_eta:
+            params.pop("eta")
+        params = {k: v for k, v in params.items() if v is not None}
+        rerun = follow(build_field(field.map, field.goal, params, dmap=field.distance), start, params=params)
+        tried.append([q, rerun.status])
+        if rerun.status == "reached":
+            break
+    return tried
 
 
 def _narrowest(field: Any, stall: tuple[float, float]) -> tuple[float, list[float]] | None:

@@ -64,6 +64,7 @@ PathExtra = TypedDict(
         "grid_length": float,  # length of the path through cell centres
         "cells": Any,  # (N, 2) int array: the cells of a discrete descent
         "reason": str,  # why there is no path
+        "finished_by": str,  # "wavefront": the follower stopped on a flat spot and the octile wavefront finished
         # -- sphere and star worlds (navigation.plan_sphere_nav, star.plan_star_nav) --
         "kappa": float,  # the kappa that was used
         "lambda": float,  # the lambda that was used (star-nav)
@@ -99,8 +100,10 @@ outside_fraction, sampling, alpha_xy, escapes_tried, escapes_succeeded, escapes,
 build_seconds, hint, diagnosis, median_clearance
     The potential planners: field build time, the one-line hint and its diagnosis; the median
     clearance along the path (the complete models of :mod:`gridfield.navfield`).
-value, grid_length, cells, reason
-    Navigation functions: value at the start, grid length, the descent's cells, why no path.
+value, grid_length, cells, reason, finished_by
+    Navigation functions: value at the start, grid length, the descent's cells, why no path, and
+    ``"wavefront"`` when the follower stopped on a flat spot short of the goal and the octile
+    wavefront's descent from there finished the path.
 kappa, lambda, tried, kappa_tried, workspace_center, workspace_radius, followed, folds, star_centers
     Sphere and star worlds.
 nodes, edges, pinch, graph_seconds, optimal_length
@@ -248,38 +251,81 @@ class Path:
     def reached(self) -> bool:
         return self.status == "reached"
 
-    def to_json(self) -> dict[str, Any]:
-        """The JSON object of ``gridfield plan --json`` (the public contract in README.md)."""
+    @property
+    def hint(self) -> str | None:
+        """Why a run did not reach its goal and what does, in one line; ``None`` for a run without one.
 
-        def clean(v: Any) -> Any:
+        The ``potential`` planner gives every run that does not reach the goal a hint
+        (:func:`gridfield.diagnose.diagnose`, the same text as ``extra["hint"]``, ``gridfield plan``'s
+        ``hint:`` line and ``--json``'s ``hint``): where it stopped, the trap (described the same from
+        every start that drains into it: its basin, the narrowest passage on the way to the goal), a
+        ``--q-star`` only after a re-run with it reached the goal, and ``--escape navigation``, which
+        reaches every reachable goal. Navigation functions that cannot reach say why (``extra["reason"]``).
+
+        Examples
+        --------
+        >>> from gridfield.grid import Grid, GridMap
+        >>> from gridfield.planners import plan
+        >>> occ = np.zeros((10, 10), bool); occ[4:6, 0:7] = True
+        >>> p = plan("potential", GridMap(Grid((10, 10), 1.0), occ), (2.5, 1.5), (2.5, 8.5))
+        >>> p.status, p.hint.endswith("--escape navigation reaches it")
+        ('local_minimum', True)
+        >>> plan("potential", GridMap(Grid((10, 10), 1.0), occ), (2.5, 1.5), (7.5, 8.5)).hint is None
+        True
+        """
+        hint = self.extra.get("hint") or self.extra.get("reason")
+        return str(hint) if hint else None
+
+    def to_json(self) -> dict[str, Any]:
+        """The JSON object of ``gridfield plan --json`` (the public contract in README.md).
+
+        Numbers are JSON numbers, never strings: a value that is not finite is ``null``, and when one
+        is infinite the key ``infinite`` lists where (``{"params.d_star": 1}``: +inf; -1 for -inf);
+        NaN is ``null`` alone (no value).
+
+        Examples
+        --------
+        >>> p = Path(np.zeros((1, 2)), "reached", "demo", params={"d_star": math.inf, "eta": 1.0})
+        >>> j = p.to_json()
+        >>> j["params"], j["infinite"]
+        ({'d_star': None, 'eta': 1.0}, {'params.d_star': 1})
+        """
+        infinite: dict[str, int] = {}
+
+        def clean(v: Any, where: str) -> Any:
             if isinstance(v, float | np.floating):
                 v = float(v)
-                return v if math.isfinite(v) else (None if math.isnan(v) else ("inf" if v > 0 else "-inf"))
+                if math.isinf(v):
+                    infinite[where] = 1 if v > 0 else -1
+                return v if math.isfinite(v) else None
             if isinstance(v, np.integer):
                 return int(v)
             if isinstance(v, Mapping):
-                return {str(k): clean(x) for k, x in v.items()}
+                return {str(k): clean(x, f"{where}.{k}" if where else str(k)) for k, x in v.items()}
             if isinstance(v, list | tuple | np.ndarray):
-                return [clean(x) for x in (v.tolist() if isinstance(v, np.ndarray) else v)]
+                return [clean(x, f"{where}[{i}]") for i, x in enumerate(v.tolist() if isinstance(v, np.ndarray) else v)]
             return v
 
-        return {
+        out = {
             "planner": self.planner,
             "status": self.status,
-            "path": clean(self.points),
-            "end": clean(self.end),
-            "length": clean(self.length),
+            "path": clean(self.points, "path"),
+            "end": clean(self.end, "end"),
+            "length": clean(self.length, "length"),
             "iterations": int(self.iterations),
-            "min_clearance": clean(self.min_clearance),
-            "params": clean(dict(self.params)),
-            "seconds": clean(self.seconds),
-            "field_seconds": clean(self.extra.get("field_seconds", 0.0)),
-            "follow_seconds": clean(self.extra.get("follow_seconds", self.seconds)),
-            "hint": self.extra.get("hint"),
-            **({"optimal": clean(self.extra["optimal"])} if "optimal" in self.extra else {}),
-            **({"median_clearance": clean(self.extra["median_clearance"])} if "median_clearance" in self.extra
-               else {}),
+            "min_clearance": clean(self.min_clearance, "min_clearance"),
+            "params": clean(dict(self.params), "params"),
+            "seconds": clean(self.seconds, "seconds"),
+            "field_seconds": clean(self.extra.get("field_seconds", 0.0), "field_seconds"),
+            "follow_seconds": clean(self.extra.get("follow_seconds", self.seconds), "follow_seconds"),
+            "hint": self.hint,
+            **({"optimal": clean(self.extra["optimal"], "optimal")} if "optimal" in self.extra else {}),
+            **({"median_clearance": clean(self.extra["median_clearance"], "median_clearance")}
+               if "median_clearance" in self.extra else {}),
         }
+        if infinite:
+            out["infinite"] = infinite
+        return out
 
     def __repr__(self) -> str:
         x, y = self.end

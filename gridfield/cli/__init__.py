@@ -31,6 +31,45 @@ class _Parser(argparse.ArgumentParser):
         message = " ".join(_cap(message).split())  # a huge or multi-line value stays one short line
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
+    def parse_known_args(self, args: Sequence[str] | None = None,  # type: ignore[override]
+                         namespace: argparse.Namespace | None = None) -> tuple[argparse.Namespace, list[str]]:
+        """argparse's, plus a "did you mean" for a misspelt option of the chosen sub-command (``--planer``)."""
+        ns, extras = super().parse_known_args(args, namespace)
+        sub = self._sub_parser(ns)
+        if extras and sub is not None and self.prog == "gridfield":
+            sub.error(_unrecognized(extras, sub))
+        return ns, extras
+
+    def _sub_parser(self, ns: argparse.Namespace) -> argparse.ArgumentParser | None:
+        for action in self._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                return action.choices.get(getattr(ns, "command", None) or "")  # type: ignore[return-value]
+        return None
+
+
+def _unrecognized(extras: Sequence[str], parser: argparse.ArgumentParser) -> str:
+    """``unrecognized arguments: --planer (did you mean --planner?)``: the closest option of ``parser``.
+
+    Examples
+    --------
+    >>> p = argparse.ArgumentParser(prog="x"); _ = p.add_argument("--planner")
+    >>> _unrecognized(["--planer", "fmm"], p)
+    'unrecognized arguments: --planer fmm (did you mean --planner?)'
+    """
+    import difflib
+
+    options = [o for a in parser._actions for o in a.option_strings if o.startswith("--")]
+    hints = []
+    for word in extras:
+        if word.startswith("--"):
+            close = difflib.get_close_matches(word.split("=", 1)[0], options, n=1, cutoff=0.6)
+            if close:
+                hints.append((word.split("=", 1)[0], close[0]))
+    text = "unrecognized arguments: " + " ".join(extras)
+    if len(hints) == 1:
+        return text + f" (did you mean {hints[0][1]}?)"
+    return text + (" (" + "; ".join(f"{w}: did you mean {c}?" for w, c in hints) + ")" if hints else "")
+
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(

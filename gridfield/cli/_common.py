@@ -14,11 +14,13 @@ __all__ = [
     "add_max_cells_argument",
     "add_param_arguments",
     "add_robot_arguments",
+    "check_coarse_cells",
     "check_figure_file",
     "collect_params",
     "load_gridmap",
     "load_target",
     "robot_target",
+    "warm_up",
 ]
 
 #: File suffixes a figure option (``--plot F``) accepts: matplotlib's static formats.
@@ -78,6 +80,59 @@ def check_figure_file(file: str | None, option: str = "--plot") -> None:
     if suffix not in FIGURE_SUFFIXES:
         what = f"suffix {suffix!r} is not a figure format" if suffix else "the file name needs a figure suffix"
         raise ParameterError(f"{option} {file}: {what}: {', '.join(FIGURE_SUFFIXES)}")
+
+
+def check_coarse_cells(world: Any, gridmap: Any, **points: Any) -> None:
+    """A start or goal that is free in the vector ``world`` but whose cell of its rasterization
+    ``gridmap`` is blocked: say that (not "inside an obstacle"), and what to do.
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> from gridfield.rasterize import as_gridmap
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"rectangle": [4, 4, 6, 6]}]})
+    >>> check_coarse_cells(w, as_gridmap(w, 1.0), start=(2.5, 2.5))
+    >>> check_coarse_cells(w, as_gridmap(w, 5.0), start=(2.5, 2.5))
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: start (2.5, 2.5) is free, but its cell of the 5 grid is blocked ...
+    """
+    for name, point in points.items():
+        if point is None or not world.contains_free(point) or bool(gridmap.is_free([point])[0]):
+            continue
+        h = gridmap.grid.resolution
+        raise ParameterError(
+            f"{name} ({point[0]:g}, {point[1]:g}) is free, but its cell of the {h:g} grid is blocked (rasterizing "
+            f"marks every cell an obstacle touches as occupied); use a finer --resolution, e.g. {h / 4:g}")
+
+
+def warm_up(planner: str) -> float:
+    """Run ``planner`` once on a tiny map (24 x 24 cells, or a 24 x 24 world with one disc) so that its
+    one-time start-up (imports, loading the compiled kernels, thread pools) is not counted in the
+    plan's time; returns the seconds it took, which the CLI prints apart ("+ N ms start-up")."""
+    import time
+    import warnings
+
+    import numpy as np
+
+    from ..errors import GridfieldError
+    from ..grid import Grid, GridMap
+    from ..planners import PLANNERS, plan
+    from ..world import world_from_dict
+
+    t0 = time.perf_counter()
+    if PLANNERS[planner][2] == "grid":
+        target: Any = GridMap(Grid((24, 24), 1.0, border="wall"), np.zeros((24, 24), bool))
+    else:
+        target = world_from_dict({"bounds": [0, 0, 24, 24], "border": "wall",
+                                  "obstacles": [{"circle": {"center": [16, 8], "radius": 1}}]})
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # (a tiny map may be too small for some planner's defaults)
+            plan(planner, target, (8.5, 8.5), (12.5, 12.5))  # a run that reaches: no hint to make
+    except GridfieldError:
+        pass
+    return time.perf_counter() - t0
 
 
 def load_target(args: argparse.Namespace) -> Any:

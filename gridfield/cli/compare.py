@@ -49,6 +49,10 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="start point (default: the world file's start)")
     p.add_argument("--goal", nargs=2, type=float, metavar=("X", "Y"),
                    help="goal point (default: the world file's goal)")
+    p.add_argument("--scenario", metavar="FILE",
+                   help="a Moving AI .scen file: take start and goal from its line --index (as gridfield plan does)")
+    p.add_argument("--index", type=int, default=None, metavar="N",
+                   help="which scenario of --scenario (0 = the first; default 0)")
     p.add_argument("--resolutions", nargs="+", type=float, metavar="R", default=None,
                    help=f"cell sizes of the convergence study (default: {' '.join(map(str, DEFAULT_RESOLUTIONS))})")
     p.add_argument("--planner", default="potential", choices=grid_planners,
@@ -66,8 +70,17 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     return p
 
 
-def _clean(v: Any) -> Any:
-    """JSON-safe values: NaN -> null, +-inf -> "inf"/"-inf", numpy scalars -> Python."""
+def _clean(v: Any, infinite: dict[str, int] | None = None, where: str = "") -> Any:
+    """JSON-safe values: numbers stay numbers, a value that is not finite is null (an infinity is
+    noted in ``infinite`` under its place, 1 for +inf and -1 for -inf, as ``plan --json`` does);
+    numpy scalars -> Python.
+
+    Examples
+    --------
+    >>> notes = {}
+    >>> _clean({"rows": [{"len": float("inf")}], "n": 2.0}, notes), notes
+    ({'rows': [{'len': None}], 'n': 2.0}, {'rows[0].len': 1})
+    """
     import numpy as np
 
     if isinstance(v, bool | np.bool_):
@@ -76,12 +89,23 @@ def _clean(v: Any) -> Any:
         return int(v)
     if isinstance(v, float | np.floating):
         f = float(v)
-        return f if math.isfinite(f) else (None if math.isnan(f) else ("inf" if f > 0 else "-inf"))
+        if math.isinf(f) and infinite is not None:
+            infinite[where] = 1 if f > 0 else -1
+        return f if math.isfinite(f) else None
     if isinstance(v, Mapping):
-        return {str(k): _clean(x) for k, x in v.items()}
+        return {str(k): _clean(x, infinite, f"{where}.{k}" if where else str(k)) for k, x in v.items()}
     if isinstance(v, list | tuple | np.ndarray):
-        return [_clean(x) for x in v]
+        return [_clean(x, infinite, f"{where}[{i}]") for i, x in enumerate(v)]
     return v
+
+
+def _json(doc: Mapping[str, Any]) -> None:
+    infinite: dict[str, int] = {}
+    out = _clean(doc, infinite)
+    if infinite:
+        out["infinite"] = infinite
+    json.dump(out, sys.stdout)
+    sys.stdout.write("\n")
 
 
 def _fmt(v: Any, spec: str) -> str:
@@ -95,15 +119,27 @@ def _print_table(rows: Sequence[Mapping[str, Any]], orders: Mapping[str, float],
     print(header)
     print(f"{'resolution':>10} {'cells':>9} {'build ms':>9} {'plan ms':>8} {'status':>14} {'exact':>14} "
           f"{'len/exact':>9} {'len/opt':>8} {'Hausdorff':>9} {'Frechet':>8} {'stall err':>9} {'clearance':>9}")
+    notes = []
     for r in rows:
-        status = "error" if r["status"].startswith("error") else r["status"]  # the message is in --json
+        status = r["status"]
+        if ":" in status:  # "skipped: why" / "error: why": the word in the table, the reason below it
+            word, why = status.split(":", 1)
+            notes.append(f"  resolution {r['resolution']:g}: {word}: {why.strip()}")
+            status = word
         print(f"{r['resolution']:>10g} {r['cells']:>9d} {r['build_ms']:>9.1f} {_fmt(r['plan_ms'], '8.1f')} "
               f"{status:>14} {r['exact_status']:>14} {_fmt(r['length_ratio'], '9.4f')} "
               f"{_fmt(r['length_ratio_optimal'], '8.4f')} {_fmt(r['hausdorff'], '9.4f')} {_fmt(r['frechet'], '8.4f')} "
               f"{_fmt(r['end_error'], '9.4f')} {_fmt(r['min_clearance'], '9.4f')}"
               + ("  COLLIDES" if r["collides"] else ""))
-    shown = ", ".join(f"{k} {v:.2f}" for k, v in orders.items() if not math.isnan(v))
-    print(f"observed order (error ~ h^p): {shown or 'not enough positive errors'}")
+    for note in notes:
+        print(note)
+    ran = [r for r in rows if ":" not in r["status"]]
+    if len(ran) < 2:
+        print(f"observed order (error ~ h^p): needs two resolutions that ran, {len(ran)} did")
+        return
+    shown = ", ".join(f"{k} {v:.2f}" if not math.isnan(v) else f"{k} - (fewer than two positive errors)"
+                      for k, v in orders.items())
+    print(f"observed order (error ~ h^p): {shown}")
 
 
 def _plot(file: str, rows: Sequence[Mapping[str, Any]], title: str) -> None:
@@ -114,9 +150,14 @@ def _plot(file: str, rows: Sequence[Mapping[str, Any]], title: str) -> None:
 
     names = {"hausdorff": "Hausdorff", "frechet": "Frechet", "end_error": "stall/end point",
              "length_error": "|length ratio - 1|"}
-    errors = {names[k]: v for k, v in study_errors(rows).items()}
-    h = [r["resolution"] for r in rows]
     from ..errors import GridfieldError
+
+    ran = [r for r in rows if ":" not in r["status"]]  # skipped and failed resolutions have no errors
+    if len(ran) < 2:
+        raise GridfieldError(f"{file}: the convergence plot needs two resolutions that ran, {len(ran)} did "
+                             "(see the table); give --resolutions at which start and goal are free")
+    errors = {names[k]: v for k, v in study_errors(ran).items()}
+    h = [r["resolution"] for r in ran]
 
     art = plot_convergence(h, errors, title=title)
     try:
@@ -166,13 +207,15 @@ def run(args: argparse.Namespace) -> int:
         if args.json:
             out = dict(result)
             out["world"] = args.map
-            json.dump(_clean(out), sys.stdout)
-            sys.stdout.write("\n")
+            _json(out)
         else:
             _print_batch(result)
         return 0
 
-    start, goal = endpoints(args, target)
+    from .plan import scenario
+
+    scen = scenario(args, target)
+    start, goal = (scen[0], scen[1]) if scen is not None else endpoints(args, target)
     target = robot_target(args, target, start=start, goal=goal)
     if args.resolutions is not None:
         resolutions = args.resolutions
@@ -184,12 +227,13 @@ def run(args: argparse.Namespace) -> int:
                              exact_planner=args.exact_planner)
     orders = study_orders(rows)
     if args.json:
-        json.dump(_clean({"world": args.map, "start": list(start), "goal": list(goal), "planner": args.planner,
-                          "exact_planner": args.exact_planner, "rows": rows, "order": orders}), sys.stdout)
-        sys.stdout.write("\n")
+        _json({"world": args.map, "start": list(start), "goal": list(goal), "planner": args.planner,
+               "exact_planner": args.exact_planner, "rows": rows, "order": orders,
+               **({"optimal": scen[2]} if scen is not None else {})})
     else:
+        opt = f", scenario optimal {scen[2]:.4g}" if scen is not None else ""
         _print_table(rows, orders, f"{args.map}: {args.planner} (grid) vs {args.exact_planner} (exact), "
-                                   f"start ({start[0]:g}, {start[1]:g}) goal ({goal[0]:g}, {goal[1]:g})")
+                                   f"start ({start[0]:g}, {start[1]:g}) goal ({goal[0]:g}, {goal[1]:g}){opt}")
     if args.plot:
         _plot(args.plot, rows, f"{args.planner} vs {args.exact_planner}")
         print(f"wrote {args.plot}", file=sys.stderr if args.json else sys.stdout)

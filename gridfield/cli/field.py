@@ -139,6 +139,8 @@ def run(args: argparse.Namespace) -> int:
 def _report(args: argparse.Namespace, field: Any, model: str, ms: float, ms_brushfire: float,
             star_figure: dict[str, Any] | None = None) -> int:
     """Print the field's summary and write the files asked for."""
+    import textwrap
+
     import numpy as np
 
     from ..io import write_npz
@@ -166,7 +168,11 @@ def _report(args: argparse.Namespace, field: Any, model: str, ms: float, ms_brus
         from .. import plot as gplot
 
         if args.plot:
-            _save_figure(gplot.plot_potential(field, ax=None), args.plot)
+            from ..plot.layers import _title_of
+
+            name = _title_of(field.map) or str(args.map)
+            title = f"{name}: {getattr(args, 'planner', 'potential')} field ({model}), goal ({gx:g}, {gy:g})"
+            _save_figure(gplot.plot_potential(field, ax=None, title="\n".join(textwrap.wrap(title, 70))), args.plot)
             print(f"wrote {args.plot}")
         if args.surface and star_figure is not None:
             _save_figure(gplot.plot_star_world(star_figure)[0], args.surface)

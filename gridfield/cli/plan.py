@@ -99,7 +99,13 @@ def run(args: argparse.Namespace) -> int:
         from ..rasterize import as_gridmap
 
         # rasterized once, here: the grid planner plans on it and --plot/--animate draw it
-        target, resolution = as_gridmap(target, resolution), None
+        world, target, resolution = target, as_gridmap(target, resolution), None
+        from ._common import check_coarse_cells
+
+        check_coarse_cells(world, target, start=start, goal=goal)
+    from ._common import warm_up
+
+    startup = warm_up(args.planner)  # one-time start-up, reported apart from the plan's own time
     # the field the potential planner followed comes back with the path: the figures draw it, not rebuild it
     path, field = plan(args.planner, target, start, goal, params, resolution=resolution, return_field=True)
     if scen is not None:
@@ -112,17 +118,19 @@ def run(args: argparse.Namespace) -> int:
         body = robot_clearance(workspace, _robot_from_args(args, workspace), path.points)
     if args.json:
         out = path.to_json()
+        out["startup_seconds"] = startup
         if robot:
             out["robot"] = _robot_text(args, workspace)
-            out["workspace_clearance"] = _json_number(clearance)
-            out["robot_clearance"] = None if body is None else _json_number(body)
+            out["workspace_clearance"] = _json_number(clearance, "workspace_clearance", out)
+            out["robot_clearance"] = None if body is None else _json_number(body, "robot_clearance", out)
         json.dump(out, sys.stdout)
         sys.stdout.write("\n")
     else:
         x, y = path.end
         opt = f" (optimal {path.extra['optimal']:.4g})" if "optimal" in path.extra else ""
         print(f"{path.planner}: {path.status} after {path.iterations} iterations, length {path.length:.4g}{opt}, "
-              f"end ({x:.4g}, {y:.4g}), min clearance {path.min_clearance:.4g}, {path.seconds * 1e3:.1f} ms")
+              f"end ({x:.4g}, {y:.4g}), min clearance {path.min_clearance:.4g}, {path.seconds * 1e3:.1f} ms "
+              f"(+ {startup * 1e3:.0f} ms start-up)")
         if path.extra.get("hint"):
             print(f"hint: {path.extra['hint']}")
         if robot:
@@ -147,9 +155,12 @@ def _robot_text(args: argparse.Namespace, workspace: object) -> str:
     return robot.describe() if robot is not None else "point"
 
 
-def _json_number(v: float) -> float | str | None:
-    """A float for JSON the way Path.to_json writes them: inf as "inf", NaN as null."""
+def _json_number(v: float, key: str, out: dict[str, object]) -> float | None:
+    """A float for JSON the way Path.to_json writes them: not finite as null, an infinity noted in
+    ``out["infinite"]`` under ``key`` (1 for +inf, -1 for -inf)."""
     import math
 
     v = float(v)
-    return v if math.isfinite(v) else (None if math.isnan(v) else ("inf" if v > 0 else "-inf"))
+    if math.isinf(v):
+        out.setdefault("infinite", {})[key] = 1 if v > 0 else -1  # type: ignore[index]
+    return v if math.isfinite(v) else None

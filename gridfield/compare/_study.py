@@ -97,8 +97,9 @@ def convergence_study(
     runs on the map's blocked cells as exact polygons (:func:`gridfield.gridpoly.grid_world`) and
     the grid planner on the map itself at its resolution and on block-downsampled copies
     (:func:`gridfield.gridpoly.block_downsample`, conservative) at the coarser resolutions, which
-    must be multiples of the map's. A resolution at which the start or goal falls in a blocked
-    coarse cell gives a row with status ``"error: ..."`` and NaN metrics.
+    must be multiples of the map's. A resolution at which the start or goal, free in the world, falls
+    in a blocked (coarse) cell is skipped: its row has status ``"skipped: ..."`` saying which point
+    and NaN metrics; any other failure of the grid planner gives status ``"error: ..."``.
 
     Parameters
     ----------
@@ -168,11 +169,21 @@ def convergence_study(
         t0 = time.perf_counter()
         gm = grid_at(i)
         raster_s = time.perf_counter() - t0
+        blocked = [name for name, point in (("start", s), ("goal", g)) if not bool(gm.is_free([point])[0])]
+        if kind_grid == "grid" and blocked:  # unusable here: its cell is blocked at this resolution
+            where = " and ".join(f"the {n}'s cell" for n in blocked) + (" are" if len(blocked) > 1 else " is")
+            row: dict[str, Any] = {"resolution": h, "cells": int(gm.grid.rows * gm.grid.cols),
+                                   "build_ms": 1e3 * raster_s, "plan_ms": math.nan}
+            row.update(_error_row(f"skipped: {where} blocked at this resolution (every cell an obstacle "
+                                  "touches is occupied)"))
+            row["exact_status"], row["exact_length"], row["optimal_length"] = exact.status, exact.length, optimal
+            rows.append({k: row[k] for k in STUDY_COLUMNS})
+            continue
         # a world planner on the grid side only tests the plumbing
         try:
             path = plan(grid_planner, gm if kind_grid == "grid" else world, s, g, params)
         except GridfieldError as e:
-            row: dict[str, Any] = {"resolution": h, "cells": int(gm.grid.rows * gm.grid.cols),
+            row = {"resolution": h, "cells": int(gm.grid.rows * gm.grid.cols),
                                    "build_ms": 1e3 * raster_s, "plan_ms": math.nan}
             row.update(_error_row(f"error: {e}"))
             row["exact_status"], row["exact_length"], row["optimal_length"] = exact.status, exact.length, optimal

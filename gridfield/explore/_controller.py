@@ -459,15 +459,15 @@ class Explorer(ExplorerView):
         return self.show_3d
 
     def _write_movie(self) -> None:
-        from matplotlib import animation
-
         from ..plot import save_plan_animation
+        from ..plot.animation import _ffmpeg_missing
 
         assert self.path is not None
         target = self._plan_target()
         assert target is not None  # a path was planned on it
         gif = self.movie_file.with_suffix(".gif")
-        files = [gif] + ([gif.with_suffix(".mp4")] if animation.writers.is_available("ffmpeg") else [])
+        # an MP4 too where ffmpeg runs: a system one, or imageio-ffmpeg's (the [video] extra)
+        files = [gif] + ([gif.with_suffix(".mp4")] if _ffmpeg_missing() is None else [])
         written = []
         for f in files:
             save_plan_animation(f, target, self.path, field=self.field, goal=self.goal, robot_shape=self.robot)

@@ -327,6 +327,18 @@ def extract_path(
         status = "reached" if reached else "local_minimum"
         iterations = len(cells) - 1
         extra: dict[str, Any] = {"value": v0, "grid_length": grid_length, "cells": cells}
+        params["method"] = "descent"
+        if not reached:  # a numerically flat spot (harmonic fields): finish on the wavefront from there
+            finish = _finish_on_wavefront(nav, points[-1])  # (the last cell's centre: no goal appended)
+            if finish is not None:
+                points = np.concatenate([points, finish.points[1:]])
+                cells = np.concatenate([cells, np.asarray(finish.extra["cells"])[1:]])
+                extra.update(cells=cells, finished_by="wavefront",
+                             grid_length=grid_length + float(finish.extra["grid_length"]))
+                status = "reached"
+                iterations = len(cells) - 1
+            else:
+                extra["reason"] = "the descent found a flat spot and no free path leads from there to the goal"
     else:
         step_len = 0.5 * res if step is None else float(step)
         tol = 0.5 * res if tolerance is None else float(tolerance)
@@ -349,6 +361,18 @@ def extract_path(
         extra = {"value": v0, "grid_length": float(np.hypot(*np.diff(centres, axis=0).T).sum()) if len(centres) > 1
                  else 0.0}
         iterations = int(iterations)
+        params.update(method="gradient", step=step_len, tolerance=tol, max_iterations=max_it)
+        if st == 1:  # a flat spot of the interpolated field (no lower neighbour cell): finish on the wavefront
+            finish = _finish_on_wavefront(nav, centres[-1])
+            if finish is not None:
+                pts = [centres, finish.points[1:]]
+                extra["grid_length"] += float(finish.extra["grid_length"])
+                status = "reached"
+                iterations += finish.iterations
+                extra["finished_by"] = "wavefront"
+            else:
+                extra["reason"] = (f"the fast-marching field is flat at ({centres[-1][0]:.4g}, {centres[-1][1]:.4g}) "
+                                   "and no free path leads from there to the goal")
         points = np.concatenate(pts)
         keep = np.ones(len(points), bool)
         keep[1:] = np.any(np.diff(points, axis=0) != 0, axis=1)
@@ -357,6 +381,20 @@ def extract_path(
     # a descent's points lie in its cell chain (start and goal in its first and last cells)
     clearance = _min_clearance(nav, points, extra["cells"] if method == "descent" else None)
     return Path(points, status, name, iterations, params, seconds, clearance, extra)
+
+
+def _finish_on_wavefront(nav: NavigationField, point: NDArray[np.float64]) -> Path | None:
+    """The octile wavefront's descent from ``point`` to ``nav``'s goal (a grid navigation function: no
+    flat spot), or None when the goal cannot be reached from there. Used where a follower of a
+    fast-marching or harmonic field stops short of the goal."""
+    from ._wavefront import wavefront
+
+    grid = nav.map.grid
+    if grid.cell_of(float(point[0]), float(point[1])) is None:
+        return None
+    wf = wavefront(nav.map, nav.goal, costs="octile", stop_at=point)
+    p = extract_path(wf, point, method="descent")
+    return p if p.status == "reached" else None
 
 
 def _min_clearance(nav: NavigationField, points: NDArray[np.float64],
@@ -394,5 +432,7 @@ def _plan_grid(nav: NavigationField, start: NDArray[np.float64], params: Mapping
                      max_iterations=params.get("max_iterations"), planner=name)
     extra = dict(p.extra)
     extra["field_seconds"] = field_seconds
-    return Path(p.points, p.status, name, p.iterations, {**dict(params), **dict(nav.params)}, p.seconds,
+    extra["build_seconds"] = field_seconds  # planners.plan reports it as the query's field_seconds
+    # the parameters it ran with: the given ones, the field's and the follower's (method, step, tolerance, ...)
+    return Path(p.points, p.status, name, p.iterations, {**dict(params), **dict(p.params)}, p.seconds,
                 p.min_clearance, extra)

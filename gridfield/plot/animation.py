@@ -39,19 +39,40 @@ __all__ = ["animate_brushfire", "save_plan_animation"]
 
 
 def _check_animation_file(file: PathLike) -> FsPath:
-    """Validate an animation file name: ``.gif``, or ``.mp4`` when ffmpeg is installed."""
-    from matplotlib import animation
+    """Validate an animation file name: ``.gif``, or ``.mp4`` when ffmpeg runs (system, or the ``[video]`` extra)."""
 
     p = FsPath(file)
     suffix = p.suffix.lower()
     if suffix not in ANIMATION_FORMATS:
-        raise ParameterError(f"{p}: unknown animation format {suffix!r}; use .gif (or .mp4 with ffmpeg installed)")
+        raise ParameterError(f"{p}: unknown animation format {suffix!r}; use .gif (or .mp4: ffmpeg, or the "
+                             "gridfield[video] extra)")
     if p.parent and not p.parent.exists():
         raise GridfieldError(f"{p}: the folder {p.parent} does not exist")
-    if suffix == ".mp4" and not animation.writers.is_available("ffmpeg"):
-        raise GridfieldError(f"{p}: writing MP4 needs ffmpeg on the PATH, which was not found; "
-                             "install ffmpeg or write a .gif instead")
+    if suffix == ".mp4" and (missing := _ffmpeg_missing()) is not None:
+        raise GridfieldError(f"{p}: {missing}")
     return p
+
+
+def _ffmpeg_missing() -> str | None:
+    """None when matplotlib's ffmpeg writer can run: a system ffmpeg, else the binary that
+    imageio-ffmpeg ships (the ``[video]`` extra), which is then made matplotlib's
+    ``animation.ffmpeg_path``; otherwise what to install."""
+    import matplotlib
+    from matplotlib import animation
+
+    if animation.writers.is_available("ffmpeg"):
+        return None
+    try:
+        import imageio_ffmpeg
+    except ImportError:
+        return ("writing MP4 needs ffmpeg, which was not found on the PATH: pip install 'gridfield[video]' "
+                "(imageio-ffmpeg ships one), install ffmpeg, or write a .gif instead")
+    try:
+        exe = imageio_ffmpeg.get_ffmpeg_exe()
+    except RuntimeError as e:  # installed without its binary (no wheel for this platform)
+        return f"writing MP4 needs ffmpeg: imageio-ffmpeg has none here ({e}); install ffmpeg or write a .gif"
+    matplotlib.rcParams["animation.ffmpeg_path"] = exe
+    return None if animation.writers.is_available("ffmpeg") else f"writing MP4: the ffmpeg at {exe} does not run"
 
 
 def _animation_figure(figsize: tuple[float, float], dpi: int) -> tuple[Figure, Axes]:

@@ -34,6 +34,7 @@ from .layers import (
     _frame,
     _grid_of,
     _gridmap_of,
+    _known_bounds,
     _legend,
     _log_ticks,
     _new_axes,
@@ -42,6 +43,7 @@ from .layers import (
     _point_or_none,
     _points_or_empty,
     _potential_scale,
+    _share,
     _title_of,
     _world_of,
 )
@@ -139,10 +141,13 @@ def plot_map(
     if world is not None:
         start = world.start if start is None else start
         goal = world.goal if goal is None else goal
-    _draw_paths(ax, paths, art, styles=path_styles)
+    map_bounds = gm.grid.bounds if gm is not None else world.bounds  # type: ignore[union-attr]
+    _draw_paths(ax, paths, art, styles=path_styles, bounds=map_bounds)
     _draw_endpoints(ax, art, _point_or_none(start, "start"), _point_or_none(goal, "goal"))
-    bounds = gm.grid.bounds if gm is not None else world.bounds  # type: ignore[union-attr]
-    _frame(ax, bounds, [p.points for p in paths])
+    # a ROS map is mostly unknown space: show its known part (and every path, start and goal)
+    bounds = _known_bounds(gm) if gm is not None else map_bounds
+    ends = [q for q in (_point_or_none(start, "start"), _point_or_none(goal, "goal")) if q is not None]
+    _frame(ax, bounds, [p.points for p in paths] + ([np.asarray(ends)] if ends else []))
     ax.set_title(_title_of(target) if title is None else title)
     if legend:
         _legend(ax, art)
@@ -359,7 +364,7 @@ def plot_potential(
         gy = np.asarray(field.grad_y, dtype=float)
         art.quiver = _decimated_quiver(ax, grid, gx, gy, finite, quiver_step)
     if path is not None:
-        _draw_paths(ax, [path], art, styles=[{"color": "tab:red"}])
+        _draw_paths(ax, [path], art, styles=[{"color": "tab:red"}], bounds=grid.bounds)
     if stall_points is not None:
         s = _points_or_empty(stall_points, "stall_points")
         if "stall" in art.markers:
@@ -667,14 +672,24 @@ def plot_basins(
     free = lab > 0
     nfree = max(int(free.sum()), 1)
     counts = np.bincount(lab.ravel(), minlength=n + 1)
-    handles = [Patch(facecolor=colors[1], edgecolor="0.3", label=f"goal basin ({100 * counts[1] / nfree:.0f} %)")]
+    minima = _points_or_empty(getattr(basins, "minima", None), "basins.minima")
+    goal_cell = getattr(basins, "goal_cell", None)
+    # label 1 drains to where the goal cell's descent ends: the goal itself, or a sink off it (the
+    # repulsion of nearby obstacles displaces the minimum), and then it is no "goal basin"
+    off = None
+    if len(minima) == n and goal_cell is not None:
+        sink = grid.cell_of(float(minima[0][0]), float(minima[0][1]))
+        off = minima[0] if sink is not None and tuple(sink) != tuple(goal_cell) else None
+    first = (f"goal basin ({_share(int(counts[1]), nfree, 0)})" if off is None else
+             f"basin of the goal cell's sink ({_share(int(counts[1]), nfree, 0)}; the sink is off the goal, "
+             f"at ({off[0]:.3g}, {off[1]:.3g}))")
+    handles = [Patch(facecolor=colors[1], edgecolor="0.3", label=first)]
     order = np.argsort(-counts[2:], kind="stable")[:max_legend] + 2 if n >= 2 else np.empty(0, int)
     for k in order:
         if counts[k]:
             handles.append(Patch(facecolor=colors[k], edgecolor="0.3",
-                                 label=f"minimum {k - 1} ({100 * counts[k] / nfree:.1f} %)"))
+                                 label=f"minimum {k - 1} ({_share(int(counts[k]), nfree)})"))
     hidden = int((counts[2:] > 0).sum()) - (len(handles) - 1)
-    minima = _points_or_empty(getattr(basins, "minima", None), "basins.minima")
     if len(minima) == n:  # row k - 1 is the sink of label k: row 0 is the goal's own sink
         minima = minima[1:]
     if len(minima):

@@ -182,8 +182,58 @@ def _points_or_empty(p: ArrayLike | None, name: str) -> NDArray[np.float64]:
 
 
 def _title_of(target: Any) -> str:
+    """The map's name for a title: its file name, or for a ROS map (whose YAML is usually ``map.yaml``)
+    its folder's name.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> _title_of(SimpleNamespace(source="maps/turtlebot3_world/map.yaml", meta={"format": "ros"}))
+    'turtlebot3_world'
+    >>> _title_of(SimpleNamespace(source="maps/arena/arena.map", meta={"format": "movingai"}))
+    'arena.map'
+    """
     src = getattr(target, "source", "") or getattr(_world_of(target), "source", "") or ""
-    return FsPath(src).name if src else ""
+    if not src:
+        return ""
+    meta = getattr(target, "meta", None) or {}
+    path = FsPath(src)
+    if meta.get("format") == "ros" and path.parent.name:
+        return path.parent.name
+    return path.name
+
+
+def _known_bounds(gm: GridMap, margin: int = 8) -> tuple[float, float, float, float]:
+    """The bounds of a ROS map's known part: its free cells, ``margin`` cells wider (the view
+    ``gridfield.demo.crop_to_known`` crops to); the whole map when nothing is free or it is no ROS map."""
+    free = ~np.asarray(gm.occupied, dtype=bool)
+    if (gm.meta or {}).get("format") != "ros" or not free.any():
+        return gm.grid.bounds
+    rows, cols = np.nonzero(free.any(axis=1))[0], np.nonzero(free.any(axis=0))[0]
+    r0, r1 = max(rows[0] - margin, 0), min(rows[-1] + margin + 1, gm.grid.rows)
+    c0, c1 = max(cols[0] - margin, 0), min(cols[-1] + margin + 1, gm.grid.cols)
+    (x0, y0), h = gm.grid.origin, gm.grid.resolution
+    return (x0 + c0 * h, y0 + r0 * h, x0 + c1 * h, y0 + r1 * h)
+
+
+def _share(count: int, total: int, digits: int = 1) -> str:
+    """A share of cells for a legend, with ``digits`` decimals: never "100 %" unless all, never
+    "0 %" for some.
+
+    Examples
+    --------
+    >>> _share(5, 5), _share(9999, 10000), _share(1, 10000), _share(123, 1000), _share(1, 3, 0)
+    ('100 %', '> 99.9 %', '< 0.1 %', '12.3 %', '33 %')
+    """
+    pct = 100.0 * count / max(total, 1)
+    step = 10.0 ** -digits
+    if count >= total:
+        return "100 %"
+    if pct >= 100.0 - step / 2:
+        return f"> {100.0 - step:.{digits}f} %"
+    if count > 0 and pct < step / 2:
+        return f"< {step:.{digits}f} %"
+    return f"{pct:.{digits}f} %"
 
 
 def _occupancy_layer(ax: Axes, gm: GridMap, *, alpha: float = 1.0, zorder: float = 0.0,
@@ -276,7 +326,11 @@ def _stall_points(path: Path | None) -> NDArray[np.float64]:
 
 
 def _draw_paths(ax: Axes, paths: Sequence[Path], art: Artists, *, zorder: float = 5.0,
-                styles: Sequence[Mapping[str, Any]] | None = None) -> None:
+                styles: Sequence[Mapping[str, Any]] | None = None,
+                bounds: tuple[float, float, float, float] | None = None) -> None:
+    """Each path, its navigation-escape stretches, its stall points and (the first) hint. The hint is
+    a text box below the axes, so it never covers the map; stall points outside ``bounds`` (a follower
+    that left an open-bordered map) get their own legend entry and the map's edge is drawn."""
     stalls = []
     for i, p in enumerate(paths):
         if not isinstance(p, Path):
@@ -299,14 +353,31 @@ def _draw_paths(ax: Axes, paths: Sequence[Path], art: Artists, *, zorder: float 
         if hint and "hint" not in art.extra:
             import textwrap
 
-            art.extra["hint"] = ax.text(0.01, 0.01, "\n".join(textwrap.wrap(f"hint: {hint}", 90)),
-                                        transform=ax.transAxes, fontsize=7, va="bottom", ha="left",
-                                        zorder=zorder + 3, bbox={"facecolor": "white", "alpha": 0.85,
-                                                                 "edgecolor": "0.6"})
+            # below the axes (under the x label), outside the map: it covers no stall point or path
+            art.extra["hint"] = ax.annotate("\n".join(textwrap.wrap(f"hint: {hint}", 100)), xy=(0.0, 0.0),
+                                            xycoords="axes fraction", xytext=(0, -36), textcoords="offset points",
+                                            fontsize=7, va="top", ha="left", zorder=zorder + 3, annotation_clip=False,
+                                            bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "0.6"})
     if stalls:
         s = np.concatenate(stalls)
-        art.markers["stall"] = ax.scatter(s[:, 0], s[:, 1], marker="X", s=90, color="red", edgecolor="white",
-                                          linewidth=0.8, zorder=zorder + 2, label="stall point")
+        outside = np.zeros(len(s), bool)
+        if bounds is not None:
+            xmin, ymin, xmax, ymax = bounds
+            outside = (s[:, 0] < xmin) | (s[:, 0] > xmax) | (s[:, 1] < ymin) | (s[:, 1] > ymax)
+        if (~outside).any():
+            art.markers["stall"] = ax.scatter(s[~outside, 0], s[~outside, 1], marker="X", s=90, color="red",
+                                              edgecolor="white", linewidth=0.8, zorder=zorder + 2, label="stall point")
+        if outside.any():
+            from matplotlib.patches import Rectangle
+
+            xmin, ymin, xmax, ymax = bounds  # type: ignore[misc]
+            art.extra["map_edge"] = ax.add_patch(Rectangle((xmin, ymin), xmax - xmin, ymax - ymin, fill=False,
+                                                           edgecolor="0.2", linestyle="--", linewidth=1.0,
+                                                           zorder=zorder + 1, label="edge of the map"))
+            art.markers["stall_outside"] = ax.scatter(s[outside, 0], s[outside, 1], marker="X", s=90,
+                                                      color="white", edgecolor="red", linewidth=1.2,
+                                                      zorder=zorder + 2,
+                                                      label="stall point outside the map (the follower left it)")
 
 
 def _draw_endpoints(ax: Axes, art: Artists, start: NDArray[np.float64] | None, goal: NDArray[np.float64] | None,

@@ -1,0 +1,94 @@
+"""Figures tell the truth, checked on the matplotlib artists (not pixels): the hint box covers no part
+of the map, the basin legend names a displaced goal sink and never says "0.0 %" or "100 %" for
+less, a stall point outside the map is marked as such, ROS maps are titled by their folder and shown
+by their known part, and ``field --plot`` says what the field is."""
+
+from __future__ import annotations
+
+import types
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+from gridfield.grid import Grid, GridMap
+from gridfield.io import bundled_map, read
+from gridfield.path import Path
+from gridfield.plot import plot_basins, plot_map
+
+
+@pytest.fixture(autouse=True)
+def _close():
+    yield
+    plt.close("all")
+
+
+def test_hint_box_covers_nothing_of_the_map() -> None:
+    gm = GridMap(Grid((20, 20), 1.0), np.zeros((20, 20), bool))
+    p = Path(np.array([[1.5, 1.5], [10.5, 1.2], [18.5, 0.8]]), "local_minimum", "potential",
+             extra={"hint": "a long hint " * 30, "stall_point": [18.5, 0.8]})
+    art = plot_map(gm, paths=[p])
+    art.figure.canvas.draw()
+    box = art.extra["hint"].get_bbox_patch().get_window_extent()
+    axes = art.ax.get_window_extent()
+    assert box.y1 <= axes.y0  # entirely below the axes: no stall point, path or end under it
+    labels = art.ax.xaxis.label.get_window_extent()
+    assert box.y1 <= labels.y0 + 1  # and below the x label
+
+
+def test_basin_legend_names_a_displaced_goal_sink_and_small_shares() -> None:
+    lab = np.ones((50, 100), int)
+    lab[0, 0] = 2  # one cell of 5000: 0.02 %
+    b = types.SimpleNamespace(label=lab, minima=np.array([[10.5, 10.5], [0.5, 0.5]]), goal_cell=(20, 20))
+    texts = [t.get_text() for t in plot_basins(b, grid=Grid((50, 100), 1.0)).legend.get_texts()]
+    assert not any(t.startswith("goal basin") for t in texts)  # the goal cell drains to (10.5, 10.5)
+    assert any("sink is off the goal, at (10.5, 10.5)" in t and "> 99 %" in t for t in texts), texts
+    assert any(t.startswith("minimum 1 (< 0.1 %)") for t in texts), texts
+    assert not any("0.0 %" in t or "(100 %" in t for t in texts)
+
+
+def test_goal_basin_when_the_sink_is_the_goal_cell() -> None:
+    b = types.SimpleNamespace(label=np.ones((4, 5), int), minima=np.array([[2.5, 1.5]]), goal_cell=(1, 2))
+    texts = [t.get_text() for t in plot_basins(b, grid=Grid((4, 5), 1.0)).legend.get_texts()]
+    assert texts[0] == "goal basin (100 %)"
+
+
+def test_stall_point_outside_the_map_is_marked_so() -> None:
+    gm = GridMap(Grid((10, 10), 1.0, origin=(-5.0, -5.0)), np.zeros((10, 10), bool))
+    p = Path(np.array([[0.0, 4.0], [-0.8, -5.2]]), "local_minimum", "potential",
+             extra={"stall_point": [-0.8, -5.2]})
+    art = plot_map(gm, paths=[p])
+    assert "stall" not in art.markers and "stall_outside" in art.markers
+    assert "outside the map" in art.markers["stall_outside"].get_label()
+    x0, y0, w, h = art.extra["map_edge"].get_bbox().bounds
+    assert (x0, y0, x0 + w, y0 + h) == gm.grid.bounds
+
+
+def test_ros_map_titled_by_folder_and_shown_by_its_known_part() -> None:
+    gm = read(bundled_map("turtlebot3_world/map.yaml"))
+    art = plot_map(gm)
+    assert art.ax.get_title() == "turtlebot3_world"
+    xmin, ymin, xmax, ymax = gm.grid.bounds
+    (x0, x1), (y0, y1) = art.ax.get_xlim(), art.ax.get_ylim()
+    assert (x1 - x0) < 0.5 * (xmax - xmin) and (y1 - y0) < 0.5 * (ymax - ymin)  # 384 x 384 cells, most unknown
+    free = np.argwhere(~gm.occupied)
+    pts = gm.grid.cell_to_world(free)
+    assert x0 <= pts[:, 0].min() and pts[:, 0].max() <= x1 and y0 <= pts[:, 1].min() and pts[:, 1].max() <= y1
+
+
+def test_field_plot_says_what_the_field_is(tmp_path, monkeypatch) -> None:
+    from gridfield import plot as gplot
+    from gridfield.cli import main
+
+    titles = []
+    real = gplot.plot_potential
+
+    def spy(*a, **k):
+        art = real(*a, **k)
+        titles.append(art.ax.get_title())
+        return art
+
+    monkeypatch.setattr(gplot, "plot_potential", spy)
+    assert main(["field", str(bundled_map("seed000.yaml")), "--goal", "22", "12", "--resolution", "0.5",
+                 "--plot", str(tmp_path / "f.png")]) == 0
+    assert titles and "seed000.yaml" in titles[0] and "khatib" in titles[0] and "goal (22, 12)" in titles[0]

@@ -446,7 +446,7 @@ def check_cells(shape_or_count: Sequence[float] | float, what: str, *, bytes_per
     what : str
         What is being sized, for the message (e.g. ``"map.png (image header)"``).
     bytes_per_cell : int
-        For the message's byte estimate.
+        For the message's byte estimate (within a :func:`job`, the job's figure times its workers).
 
     Returns
     -------
@@ -483,7 +483,8 @@ def check_cells(shape_or_count: Sequence[float] | float, what: str, *, bytes_per
             cells, memory = "more cells than a float can count", "unbounded memory"
         else:
             cells = f"{count:.0f} cells" if count < 1e15 else f"{count:.3g} cells"
-            memory = f"about {_bytes(count * bytes_per_cell)} of memory"
+            per_cell = _JOB[-1][1] * _JOB[-1][2] if _JOB else bytes_per_cell  # the job's own figure
+            memory = f"about {_bytes(count * per_cell)} of memory"
         raise SizeLimitError(
             f"{what}: {shape_text}{cells} would need {memory}, more "
             f"than the limit of {limit} cells; raise it with --max-cells N or the environment variable "

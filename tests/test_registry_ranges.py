@@ -127,3 +127,12 @@ def test_a_balanced_eta_that_leaves_the_floats_is_a_clear_error() -> None:
     for q in (5e-324, 1e300):
         with pytest.raises(ParameterError, match="give eta"):
             plan("potential", GRID, *GRID_ENDS, {"q_star": q})
+
+
+def test_the_weighted_wavefront_refuses_a_weight_beyond_the_range_when_called_directly() -> None:
+    """Its bucket queue grows with the weight: at 1e15 the kernel crashed the process (a segfault)."""
+    from gridfield.navigation import wavefront
+
+    with pytest.raises(ParameterError, match="clearance_weight must be at most 1000"):
+        wavefront(GRID, GRID_ENDS[1], clearance_weight=1e15)
+    assert np.isfinite(wavefront(GRID, GRID_ENDS[1], clearance_weight=1000.0).value).any()

@@ -228,6 +228,11 @@ def _check_weight(clearance_weight: Any) -> float:
         w = math.nan
     if not (math.isfinite(w) and w >= 0):
         raise ParameterError(f"clearance_weight must be a finite number >= 0, got {clearance_weight!r}")
+    from ..params import REGISTRY
+
+    most = REGISTRY["clearance_weight"].maximum  # the bucket queue of the weighted wavefront grows with w
+    if most is not None and w > most:
+        raise ParameterError(f"clearance_weight must be at most {most:g}, got {clearance_weight!r}")
     return w
 
 

@@ -459,6 +459,21 @@ def _build() -> dict[str, Spec]:
 #: name -> Spec, every parameter a planner may read.
 REGISTRY: dict[str, Spec] = _build()
 
+#: The concerns of a potential field: what :func:`gridfield.potential.build_field` reads and keeps, resolved,
+#: in ``Field.params`` (:func:`gridfield.potential.resolve_params`, :func:`gridfield.vortex.vortex_field`).
+FIELD_GROUPS: tuple[type, ...] = (Attraction, Repulsion, Model, Vortex)
+
+
+def names(*groups: type) -> tuple[str, ...]:
+    """The registry names of the parameters of these concerns, in their order.
+
+    Examples
+    --------
+    >>> names(Attraction, Model)
+    ('zeta', 'd_star', 'model')
+    """
+    return tuple(f.metadata["spec"].get("name_override", f.name) for cls in groups for f in dataclasses.fields(cls))
+
 _KIND_TYPES = {"number": "float", "integer": "int", "alpha": "float or (float, float)", "point": "(float, float)"}
 
 

@@ -70,15 +70,15 @@ from __future__ import annotations
 import contextlib
 import math
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _kernels_potential as _kp  # type: ignore[attr-defined]  # a compiled extension, no stubs
+from ._results import Field
 from .brushfire import DistanceMap, brushfire
-from .errors import GridfieldError, ParameterError
+from .errors import ParameterError
 from .grid import Grid, GridMap, _as_xy
 from .io import load_field, save_field  # re-exported: the .npz I/O of fields lives in gridfield.io
 from .params import REGISTRY, check
@@ -126,62 +126,6 @@ REPULSIONS: tuple[str, ...] = REGISTRY["repulsion"].choices
 GRADIENTS: tuple[str, ...] = REGISTRY["gradient"].choices
 MODELS: tuple[str, ...] = REGISTRY["model"].choices
 _METRIC_CODE = {"euclidean": 0, "chessboard": 1, "taxicab": 2}
-
-
-# ----------------------------------------------------------------------------------------------
-# the Field
-# ----------------------------------------------------------------------------------------------
-@dataclass(frozen=True, eq=False)
-class Field:
-    """A potential and its gradient on a grid, ready for a gradient-descent follower.
-
-    Attributes
-    ----------
-    map : GridMap
-        The occupancy map the field lives on (``field.grid`` is ``map.grid``).
-    potential : ndarray of float64
-        ``U`` at the cell centres; ``+inf`` on obstacle cells.
-    grad_x, grad_y : ndarray of float64
-        ``dU/dx`` and ``dU/dy`` in world units (for ``repulsive_power != 2``: the negative of the
-        force model, see the module docstring); 0 on obstacle cells. The force is ``-grad``.
-    goal : (float, float)
-    params : dict
-        The full resolved parameters (:func:`resolve_params`; defaults filled in).
-    distance : DistanceMap or None
-        The distance map behind the repulsion, when there is one.
-
-    Examples
-    --------
-    >>> occ = np.zeros((3, 4), bool); occ[0, 0] = True
-    >>> f = build_field(GridMap(Grid((3, 4), 1.0), occ), (3.5, 2.5), {"q_star": 1.5})
-    >>> f.grid.shape, float(f.potential[0, 0]), float(f.grad_x[0, 0])
-    ((3, 4), inf, 0.0)
-    """
-
-    map: GridMap
-    potential: NDArray[np.float64]
-    grad_x: NDArray[np.float64]
-    grad_y: NDArray[np.float64]
-    goal: tuple[float, float]
-    params: dict
-    distance: DistanceMap | None = None
-
-    def __repr__(self) -> str:
-        model = self.params.get("model", "khatib") if self.params else "khatib"
-        return (f"Field(shape={self.map.grid.shape}, resolution={self.map.grid.resolution:g}, "
-                f"goal=({self.goal[0]:.6g}, {self.goal[1]:.6g}), model={model!r})")
-
-    def __post_init__(self) -> None:
-        for name in ("potential", "grad_x", "grad_y"):
-            a = getattr(self, name)
-            if np.shape(a) != self.map.grid.shape:
-                raise GridfieldError(f"Field.{name} has shape {np.shape(a)}, but the grid has shape {self.map.grid.shape}")
-        object.__setattr__(self, "goal", (float(self.goal[0]), float(self.goal[1])))
-
-    @property
-    def grid(self) -> Grid:
-        """The grid geometry (``map.grid``)."""
-        return self.map.grid
 
 
 # ----------------------------------------------------------------------------------------------

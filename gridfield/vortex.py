@@ -20,18 +20,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any, cast
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._results import Field
 from .brushfire import brushfire
 from .errors import GridfieldError, ParameterError
 from .grid import Grid, GridMap, _as_xy
-from .params import check
-
-if TYPE_CHECKING:  # potential imports this module (build_field dispatches here): Field only for types
-    from .potential import Field
+from .params import FIELD_GROUPS, check, names, resolve
 
 __all__ = ["vortex_field", "vortex_lattice"]
 
@@ -143,7 +141,6 @@ def vortex_field(
     >>> f.grid.shape, float(f.potential[6, 6]), bool(np.isfinite(f.potential[0, 0]))
     ((13, 13), inf, True)
     """
-    from .potential import Field, resolve_params
     from .world import World
 
     cir = _circles_of(circles)
@@ -203,8 +200,12 @@ def vortex_field(
     gx, gy = -fX, -fY
     gx[occ] = 0.0
     gy[occ] = 0.0
-    params = resolve_params({"model": "vortex", "ka": ka, "kr": kr, "ko": ko, "spacing": h,
-                             "sample_radius": sample_radius})
+    # the field's parameters as potential.resolve_params resolves them: the field concerns, resolved at
+    # unit 1; the vortex model is defined by finite differences on its lattice
+    full = resolve({"model": "vortex", "ka": ka, "kr": kr, "ko": ko, "spacing": h, "sample_radius": sample_radius},
+                   unit=1.0)
+    params = {k: full[k] for k in names(*FIELD_GROUPS)}
+    params["gradient"] = "finite_difference"
     return Field(gridmap, U, gx, gy, goal_xy, params, brushfire(gridmap, metric="euclidean"))
 
 
@@ -230,7 +231,6 @@ def _circle_occupancy(grid: Grid, circles: NDArray[np.float64]) -> NDArray[np.bo
 
 def _build_vortex(gridmap: GridMap, goal: ArrayLike, p: dict[str, Any]) -> Field:
     """The vortex model's Field for :func:`gridfield.potential.build_field`: the lattice of the map's world."""
-    from .potential import Field
     from .world import World
 
     world = gridmap.world

@@ -155,7 +155,7 @@ class NavigationField:
 
     def to_field(self) -> Any:
         """The same arrays as a :class:`gridfield.potential.Field` (for its follower and plots)."""
-        from ..potential import Field
+        from .._results import Field
 
         return Field(self.map, self.value, self.grad_x, self.grad_y, (float(self.goal[0]), float(self.goal[1])),
                      {"navigation": self.kind, **dict(self.params)})

@@ -51,6 +51,7 @@ from ._planner_table import PLANNERS
 from .errors import ParameterError
 
 __all__ = [
+    "FIELD_GROUPS",
     "GROUPS",
     "REGISTRY",
     "Attraction",
@@ -64,6 +65,8 @@ __all__ = [
     "Vortex",
     "check",
     "help_text",
+    "known",
+    "names",
     "parse",
     "resolve",
     "validate",
@@ -601,6 +604,29 @@ def validate(params: Mapping[str, Any] | None) -> Params:
             raise _unknown(str(k))
         out[k] = REGISTRY[k].check(v)
     return Params(out)
+
+
+def known(record: Mapping[str, Any] | None) -> Params:
+    """The registry's names of a parameter record, checked by :func:`validate`; its other keys left out.
+
+    For the record a result keeps (``Field.params``, a follower's merged parameters), which may also
+    name its construction (a navigation field's ``navigation``, ``costs``): read it as typed groups,
+    ``known(field.params).group(Vortex)``, with the registry's defaults for the names it lacks.
+
+    Parameters
+    ----------
+    record : mapping or None
+
+    Returns
+    -------
+    Params
+
+    Examples
+    --------
+    >>> known({"ka": 10, "navigation": "wavefront"}).group(Vortex).ka
+    10.0
+    """
+    return validate({k: v for k, v in (record or {}).items() if k in REGISTRY})
 
 
 def parse(name: str, text: str) -> Any:

@@ -85,7 +85,6 @@ from .params import REGISTRY, check
 from .vortex import _build_vortex, vortex_field, vortex_lattice
 
 __all__ = [
-    "DEFAULTS",
     "GRADIENTS",
     "MODELS",
     "REPULSIONS",
@@ -101,26 +100,6 @@ __all__ = [
     "vortex_lattice",
 ]
 
-#: Defaults of the parameters :func:`build_field` reads (meanings and scaling rules: :mod:`gridfield.params`).
-#: ``saturate=None``: no saturation. ``spacing=None``: the map's resolution. ``sample_radius=None``:
-#: 1.05 x each circle's radius (seed 003's 2.1 for radius 2). ``ka``, ``kr``, ``ko``: seed 003.
-DEFAULTS: dict[str, Any] = {
-    "zeta": 1.0,
-    "d_star": None,
-    "eta": None,
-    "q_star": None,
-    "repulsive_power": 2.0,
-    "repulsion": "nearest",
-    "metric": "euclidean",
-    "gradient": "analytic",
-    "saturate": None,
-    "model": "khatib",
-    "ka": 25.0,
-    "kr": 30.0,
-    "ko": 5.0,
-    "spacing": None,
-    "sample_radius": None,
-}
 #: The options of ``repulsion``, ``gradient`` and ``model`` (the registry's choices).
 REPULSIONS: tuple[str, ...] = REGISTRY["repulsion"].choices
 GRADIENTS: tuple[str, ...] = REGISTRY["gradient"].choices
@@ -136,7 +115,7 @@ def resolve_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0
 
     Names and values are checked against the registry (:data:`gridfield.params.REGISTRY`); names a
     potential does not read (the follower's ``step``, ``alpha``, ...) pass through validated.
-    Defaults (:data:`DEFAULTS`): ``zeta=1``, ``repulsive_power=2``, ``repulsion='nearest'``,
+    Defaults (the registry's, of :data:`gridfield.params.FIELD_GROUPS`): ``zeta=1``, ``repulsive_power=2``, ``repulsion='nearest'``,
     ``metric='euclidean'``, ``gradient='analytic'``, ``model='khatib'``, ``saturate=None``; and,
     scaled to the map's length ``unit`` (its cell size) by :func:`gridfield.params.resolve`:
     ``q_star`` = 4 cells, ``d_star`` = 2 ``q_star``, ``eta`` balanced so that the repulsion at
@@ -153,7 +132,7 @@ def resolve_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0
     Returns
     -------
     dict
-        The potential parameters of :data:`DEFAULTS`, resolved, plus the other names given.
+        The potential parameters (of :data:`gridfield.params.FIELD_GROUPS`), resolved, plus the other names given.
 
     Raises
     ------
@@ -178,13 +157,14 @@ def resolve_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0
     ...
     gridfield.errors.ParameterError: q_star must be a number > 0 (inf allowed), got 0
     """
-    from .params import resolve, validate
+    from .params import FIELD_GROUPS, names, resolve, validate
 
     given = dict(validate(params))
     full = resolve(given, unit=unit)
-    p = {k: full[k] for k in DEFAULTS}
+    field_names = names(*FIELD_GROUPS)
+    p = {k: full[k] for k in field_names}
     p.update(given)
-    p.update({k: full[k] for k in DEFAULTS})
+    p.update({k: full[k] for k in field_names})
     if p["model"] == "khatib" and p["gradient"] == "finite_difference" and p["repulsive_power"] != 2:
         raise ParameterError(
             f"gradient='finite_difference' differentiates the potential 0.5*eta*(1/D - 1/q_star)**2, whose "

@@ -35,7 +35,7 @@ from ._kernels_follow import _bilinear2, _cell_values, _force_at, _force_many, _
 from ._kernels_follow import entry_point as _direct
 from .errors import ParameterError
 from .grid import Grid, GridMap, _as_points, _as_xy
-from .params import REGISTRY, check
+from .params import REGISTRY, Attraction, Model, Vortex, check, known
 
 __all__ = [
     "SAMPLINGS",
@@ -239,15 +239,18 @@ def attraction_force(goal: ArrayLike, params: Mapping[str, Any]) -> Callable[[Po
     ((-1.0, -0.0), (-2.0, -0.0))
     """
     gx, gy = _as_xy(goal, "goal")
-    if params.get("model", "khatib") == "vortex":
-        ka = float(params.get("ka", 25.0))
+    p = known(params)
+    if p.group(Model).model == "vortex":
+        ka = float(p.group(Vortex).ka)
 
         def vortex_attr(p: Point) -> tuple[float, float]:
             return -ka * (p[0] - gx), -ka * (p[1] - gy)
 
         return vortex_attr
-    zeta = float(params.get("zeta", 1.0))
-    d_star = float(params.get("d_star", math.inf))
+    a = p.group(Attraction)
+    zeta = float(a.zeta)
+    # an unresolved d_star (None: 2 q_star, scaled to a map this point function does not know): no conic part
+    d_star = math.inf if a.d_star is None else float(a.d_star)
 
     def attr(p: Point) -> tuple[float, float]:
         dx, dy = p[0] - gx, p[1] - gy

@@ -29,7 +29,7 @@ from ._results import Field
 from .brushfire import brushfire
 from .errors import GridfieldError, ParameterError
 from .grid import Grid, GridMap, _as_xy
-from .params import FIELD_GROUPS, check, names, resolve
+from .params import FIELD_GROUPS, Vortex, check, known, names, resolve
 
 __all__ = ["vortex_field", "vortex_lattice"]
 
@@ -266,9 +266,9 @@ def _vortex_norms(field: Any, params: Mapping[str, Any]) -> tuple[float, float]:
     gx, gy = field.grad_x, field.grad_y
     if isinstance(world, World) and world.start is not None:
         open_map = GridMap(field.map.grid, np.zeros(field.map.grid.shape, bool))
-        full = vortex_field(open_map, world, world.start, field.goal, ka=float(params.get("ka", 25.0)),
-                            kr=float(params.get("kr", 30.0)), ko=float(params.get("ko", 5.0)),
-                            sample_radius=params.get("sample_radius"))
+        v = known(params).group(Vortex)
+        full = vortex_field(open_map, world, world.start, field.goal, ka=float(v.ka), kr=float(v.kr), ko=float(v.ko),
+                            sample_radius=v.sample_radius)
         gx, gy = full.grad_x, full.grad_y
     nx = float(np.linalg.norm(np.asarray(gx, dtype=float), 2))
     ny = float(np.linalg.norm(np.asarray(gy, dtype=float), 2))
@@ -287,7 +287,8 @@ def _vortex_follower(field: Any, params: Mapping[str, Any]) -> dict[str, Any]:
     except the step rule).
     """
     merged = dict(params)
-    spacing = float(merged.get("spacing", field.map.grid.resolution))
+    spacing = known(merged).group(Vortex).spacing
+    spacing = field.map.grid.resolution if spacing is None else float(spacing)  # the registry's scale rule
     merged.setdefault("sampling", "nearest")
     merged.setdefault("tolerance", 0.4)
     merged.setdefault("confine_window", 0)  # seed 003's follower: no jitter rule

@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ParameterError
 from ..grid import Grid, GridMap
+from ..params import Navigation, Repulsion, validate
 from ..path import NavigationAux, Path
 
 #: The kinds of :class:`NavigationField`.
@@ -383,7 +384,8 @@ def _min_clearance(nav: NavigationField, points: NDArray[np.float64],
 # The planner adapter every grid construction shares
 # ----------------------------------------------------------------------------------------------
 def _common(params: Mapping[str, Any]) -> dict[str, Any]:
-    return {"clearance_weight": params.get("clearance_weight", 0.0), "q_star": params.get("q_star")}
+    p = validate(params)
+    return {"clearance_weight": p.group(Navigation).clearance_weight, "q_star": p.group(Repulsion).q_star}
 
 
 def _plan_grid(nav: NavigationField, start: NDArray[np.float64], params: Mapping[str, Any], name: str,

@@ -1,4 +1,5 @@
-"""The result types that several stages build and read: :class:`DistanceMap` and :class:`Field`.
+"""The result types that several stages build and read: :class:`DistanceMap` and :class:`Field`, and
+:class:`GradientField`, what a follower reads of a field.
 
 A leaf (it imports only ``errors`` and ``grid``), so that :mod:`gridfield.io` can build them when it
 reads a field file without importing the algorithms that compute them. Their public homes are
@@ -10,14 +11,15 @@ re-export them; import them from there. (:class:`gridfield.navigation.Navigation
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from .errors import GridfieldError
 from .grid import Grid, GridMap
 
-__all__ = ["DistanceMap", "Field"]
+__all__ = ["DistanceMap", "Field", "GradientField"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -188,3 +190,56 @@ class Field:
     def grid(self) -> Grid:
         """The grid geometry (``map.grid``)."""
         return self.map.grid
+
+
+class GradientField(Protocol):
+    """What a follower and the samplers read of a field: a potential and its gradient at the cell centres
+    of a grid map (public home :mod:`gridfield.sampling`).
+
+    :class:`Field` and :class:`gridfield.navigation.NavigationField` are gradient fields, and so is any
+    object with these read-only attributes (a field's ``distance`` map, when it has one, is used too).
+
+    Attributes
+    ----------
+    map : GridMap
+        The occupancy map the field lives on.
+    grid : Grid
+        ``map.grid``.
+    potential, grad_x, grad_y : ndarray of float64
+        The potential (or navigation value) and its derivatives along x and y at the cell centres
+        (the force is ``-grad``).
+    goal : (x, y)
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid, GridMap
+    >>> from gridfield.sampling import sample_force
+    >>> gm = GridMap(Grid((1, 2), 1.0), np.zeros((1, 2), bool))
+    >>> field: GradientField = Field(gm, np.zeros((1, 2)), np.ones((1, 2)), np.zeros((1, 2)), (1.5, 0.5), {})
+    >>> sample_force(field, [(0.5, 0.5)], sampling="nearest").tolist()   # the force is -grad
+    [[-1.0, -0.0]]
+    """
+
+    @property
+    def map(self) -> GridMap:
+        """The occupancy map the field lives on."""
+
+    @property
+    def grid(self) -> Grid:
+        """``map.grid``."""
+
+    @property
+    def potential(self) -> NDArray[np.float64]:
+        """The potential (or navigation value) at the cell centres."""
+
+    @property
+    def grad_x(self) -> NDArray[np.float64]:
+        """Its derivative along x at the cell centres (the force is ``-grad``)."""
+
+    @property
+    def grad_y(self) -> NDArray[np.float64]:
+        """Its derivative along y."""
+
+    @property
+    def goal(self) -> ArrayLike:
+        """The goal ``(x, y)``."""

@@ -470,6 +470,16 @@ FIELD_GROUPS: tuple[type, ...] = (Attraction, Repulsion, Model, Vortex)
 def names(*groups: type) -> tuple[str, ...]:
     """The registry names of the parameters of these concerns, in their order.
 
+    Parameters
+    ----------
+    *groups : type
+        Concerns of :data:`GROUPS` (``Attraction``, ...).
+
+    Returns
+    -------
+    tuple of str
+        Their parameters' names (``lambda`` for ``Navigation.lam``).
+
     Examples
     --------
     >>> names(Attraction, Model)

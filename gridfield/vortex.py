@@ -25,7 +25,7 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._results import Field
+from ._results import Field, GradientField
 from .brushfire import brushfire
 from .errors import GridfieldError, ParameterError
 from .grid import Grid, GridMap, _as_xy
@@ -253,7 +253,7 @@ def _build_vortex(gridmap: GridMap, goal: ArrayLike, p: dict[str, Any]) -> Field
                  field.distance)
 
 
-def _vortex_norms(field: Any, params: Mapping[str, Any]) -> tuple[float, float]:
+def _vortex_norms(field: GradientField, params: Mapping[str, Any]) -> tuple[float, float]:
     """Matrix 2-norms of seed 003's force components ``fX``, ``fY`` over the whole lattice.
 
     The seed's arrays are defined everywhere, inside the circles too, while a Field holds zeros on
@@ -278,7 +278,7 @@ def _vortex_norms(field: Any, params: Mapping[str, Any]) -> tuple[float, float]:
     return nx, ny
 
 
-def _vortex_follower(field: Any, params: Mapping[str, Any]) -> dict[str, Any]:
+def _vortex_follower(field: GradientField, params: Mapping[str, Any]) -> dict[str, Any]:
     """The follower parameters of seed 003's nearest-node follower on a vortex Field.
 
     Seed 003 steps ``x += spacing * (Fx / ||fX||_2, Fy / ||fY||_2)``, where ``||.||_2`` is the

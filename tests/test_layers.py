@@ -2,7 +2,8 @@
 in pyproject.toml (no import cycles, the layers, plotting never computes, matplotlib only where it draws).
 
 grimp (import-linter's graph) reads every import statement, function-local and ``TYPE_CHECKING`` ones
-included, so a cycle hidden inside a function breaks the contract as a module-level one does.
+included, so a cycle hidden inside a function breaks the contract as a module-level one does (the one
+exemption, by name in pyproject.toml: ``grid``'s type-only import of ``World`` for ``GridMap.world``).
 """
 
 from __future__ import annotations
@@ -47,7 +48,7 @@ def test_a_broken_contract_fails(tmp_path: Path, module: str, line: str, contrac
     target.write_text(target.read_text() + "\n\ndef _injected() -> None:\n" + line)
     r = _lint(tmp_path)
     assert r.returncode == 1, r.stdout[-3000:]
-    broken = [s for s in r.stdout.splitlines() if s.endswith("BROKEN")]
+    broken = [s for s in r.stdout.splitlines() if " BROKEN" in s]
     assert any(contract in s for s in broken), r.stdout[-3000:]
 
 

@@ -48,7 +48,7 @@ shadow.)
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any, cast
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -151,7 +151,7 @@ def navigation_field(gridmap: GridMap, goal: ArrayLike, planner_name: str,
         c0, r0 = _workspace(world, nav.workspace_center, nav.workspace_radius)
         _check_sphere_world(discs, c0, r0)
         g = np.asarray(goal, dtype=float).reshape(-1)
-        cast(Any, world).check_point("goal", g)  # GridMap.world is typed object (no import cycle)
+        world.check_point("goal", g)
         kappa = float(len(discs) + 1 if nav.kappa is None else nav.kappa)  # kappa=None: as when not given
         phi, grad = sphere_nav_function(discs, g, kappa=kappa, workspace_center=c0, workspace_radius=r0,
                                         grid=gridmap.grid)

@@ -10,9 +10,7 @@ names it knows and ignores the others). Planners are imported only when used.
 from __future__ import annotations
 
 import dataclasses
-import functools
 import importlib
-import inspect
 import time
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any, Literal, overload
@@ -164,8 +162,8 @@ def plan(
     the map's blocked cells as exact polygons (:func:`gridfield.gridpoly.grid_world`; on those,
     ``visibility`` is the any-angle optimum of :mod:`gridfield.anyangle`, its graph cached per map).
     With a ``cache`` dict (kept by the caller across calls on the same ``target`` object), the
-    rasterized grid, and for planners that take a ``cache`` their per-map work (the brushfire),
-    are computed once and reused.
+    rasterized grid and the planner's own per-map work (the brushfire of ``potential``, the graph of
+    ``visibility``; every planner function takes ``cache=None``) are computed once and reused.
 
     Parameters
     ----------
@@ -270,9 +268,7 @@ def _plan(
             gm = cache[key]
         s, g = gm.check_point("start", start), gm.check_point("goal", goal)
         t0 = time.perf_counter()
-        if cache is not None and _takes_cache(fn):
-            return _with_endpoints(fn(gm, s, g, merged, cache=cache), s, g, t0)
-        return _with_endpoints(fn(gm, s, g, merged), s, g, t0)
+        return _with_endpoints(fn(gm, s, g, merged, cache=cache), s, g, t0)
     world = target if isinstance(target, World) else target.world
     if not isinstance(world, World) and planner in GRID_VARIANTS:
         module, func = GRID_VARIANTS[planner]
@@ -288,11 +284,8 @@ def _plan(
         s, g = target.check_point("start", start), target.check_point("goal", goal)
     else:
         s, g = world.check_point("start", start), world.check_point("goal", goal)
-    if cache is not None and _takes_cache(fn):
-        t0 = time.perf_counter()
-        return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged, cache=cache), s, g, t0)
     t0 = time.perf_counter()
-    return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged), s, g, t0)
+    return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged, cache=cache), s, g, t0)
 
 
 def _point(name: str, value: Any) -> np.ndarray:
@@ -309,11 +302,6 @@ def _grid_world(gm: GridMap, cache: dict[Any, Any] | None) -> World:
     if key not in cache:
         cache[key] = grid_world(gm)
     return cache[key]
-
-
-@functools.cache
-def _takes_cache(fn: Callable[..., Path]) -> bool:
-    return "cache" in inspect.signature(fn).parameters
 
 
 def _with_endpoints(path: Path, start: np.ndarray, goal: np.ndarray, t0: float) -> Path:

@@ -98,3 +98,17 @@ def test_mypy_reads_the_stub(tmp_path: Path) -> None:
                        text=True, timeout=600)
     errors = [line for line in r.stdout.splitlines() if ": error:" in line]
     assert len(errors) == 1 and "use_api.py:8:" in errors[0] and "DistanceMap" in errors[0], r.stdout
+
+
+def test_every_planner_function_takes_cache() -> None:
+    """``plan`` passes ``cache=`` to every planner (it no longer inspects signatures)."""
+    import inspect
+
+    from gridfield.planners import GRID_VARIANTS, PLANNERS, get_planner
+
+    functions = [get_planner(name)[0] for name in PLANNERS]
+    functions += [getattr(__import__(module, fromlist=[func]), func) for module, func in GRID_VARIANTS.values()]
+    for fn in functions:
+        p = inspect.signature(fn).parameters.get("cache")
+        assert p is not None and p.kind is inspect.Parameter.KEYWORD_ONLY and p.default is None, fn.__qualname__
+    assert "inspect" not in inspect.getsource(__import__("gridfield.planners", fromlist=["plan"]))

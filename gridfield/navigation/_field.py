@@ -41,18 +41,6 @@ def _kernels() -> Any:
     return _kernels_navigation
 
 
-@functools.cache
-def _warm_followers() -> None:
-    """Load the compiled followers once per process (importing the extension module, a few
-    milliseconds), so that :attr:`Path.seconds` measures the path, not the start-up."""
-    k = _kernels()
-    one = np.zeros((1, 1))
-    free = np.ones((1, 1), bool)
-    k.descend(one, free, np.empty((0, 0)), 0, 0, 8, SQRT2, 0, 1.0)
-    k.follow_interpolated(one, one, one, free, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 1, SQRT2)
-    k.clearance_along(~free, np.zeros(1, np.int64), np.zeros(1, np.int64), False, 8)
-
-
 # ----------------------------------------------------------------------------------------------
 # The field object
 # ----------------------------------------------------------------------------------------------
@@ -294,7 +282,6 @@ def extract_path(
     >>> p.points.tolist()
     [[2.5, 2.5], [2.5, 1.5], [2.5, 0.5], [1.5, 0.5], [0.5, 0.5]]
     """
-    _warm_followers()
     t0 = time.perf_counter()
     gm = nav.map
     grid = gm.grid

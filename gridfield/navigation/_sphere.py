@@ -256,7 +256,8 @@ def _step_budget(fol: Follower, r0: float, planner: str) -> tuple[float, float, 
     return step, tol, max_it, int(fol.progress_window)
 
 
-def plan_sphere_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float64], params: Mapping[str, Any]) -> Path:
+def plan_sphere_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float64], params: Mapping[str, Any], *,
+                    cache: dict[Any, Any] | None = None) -> Path:
     """Planner ``sphere-nav``: follow the Rimon-Koditschek navigation function of a sphere world.
 
     The workspace is the disc inscribed in the world's bounds (or ``params["workspace_center"]`` /

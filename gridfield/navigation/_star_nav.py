@@ -293,7 +293,7 @@ def follow_star_nav(sw: StarWorld, starts: ArrayLike, *, kappa: float, lam: floa
 
 
 def plan_star_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float64],
-                  params: Mapping[str, Any]) -> Path:
+                  params: Mapping[str, Any], *, cache: dict[Any, Any] | None = None) -> Path:
     """Planner ``star-nav``: follow the star-world navigation function ``phi(h_lambda(q))``.
 
     Parameters (``params``, the registry's :class:`~gridfield.params.Navigation` and

@@ -173,7 +173,7 @@ def wavefront(
 
 
 def plan_wavefront(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[np.float64],
-                   params: Mapping[str, Any]) -> Path:
+                   params: Mapping[str, Any], *, cache: dict[Any, Any] | None = None) -> Path:
     """Planner ``wavefront``: unit-cost wavefront (``connectivity`` 8 or 4, optional
     ``clearance_weight``/``q_star``) and the descent of :func:`extract_path`.
 
@@ -208,7 +208,7 @@ def plan_wavefront(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[n
 
 
 def plan_wavefront_octile(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[np.float64],
-                          params: Mapping[str, Any]) -> Path:
+                          params: Mapping[str, Any], *, cache: dict[Any, Any] | None = None) -> Path:
     """Planner ``wavefront-octile``: octile-cost wavefront (Moving AI metric) and its descent: a shortest
     8-connected path without corner cutting.
 

@@ -79,7 +79,7 @@ _LAZY: dict[str, str] = {
     # navigation functions
     "NavigationField": "navigation", "navigation_field": "navigation", "wavefront": "navigation",
     # planning
-    "plan": "planners", "PLANNERS": "planners",
+    "plan": "planners", "plan_with_field": "planners", "Plan": "planners", "PLANNERS": "planners",
 }
 
 __all__ = sorted(["Grid", "GridMap", "GridfieldError", "MapFormatError", "ParameterError", "Path", "__version__",

@@ -26,7 +26,9 @@ from .navigation import navigation_field as navigation_field
 from .navigation import wavefront as wavefront
 from .path import Path as Path
 from .planners import PLANNERS as PLANNERS
+from .planners import Plan as Plan
 from .planners import plan as plan
+from .planners import plan_with_field as plan_with_field
 from .potential import build_field as build_field
 from .rasterize import rasterize as rasterize
 from .world import World as World
@@ -43,6 +45,7 @@ __all__ = [
     "NavigationField",
     "ParameterError",
     "Path",
+    "Plan",
     "World",
     "__version__",
     "apply_robot",
@@ -54,6 +57,7 @@ __all__ = [
     "load_field",
     "navigation_field",
     "plan",
+    "plan_with_field",
     "rasterize",
     "read",
     "read_world",

@@ -301,9 +301,9 @@ def plan_star_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float
     ``step`` (default 1/200 of the workspace radius), ``tolerance`` (default ``step``), ``max_iterations``
     (default: 50 crossings of the workspace's diameter + 1000 steps; a ``step`` whose default budget would
     exceed :data:`~gridfield.navigation._sphere.MAX_DEFAULT_ITERATIONS` is refused unless
-    ``max_iterations`` is given; 0: no step), ``progress_window`` (200; 0: off). Without ``kappa`` the values of :data:`KAPPA_LADDER` are tried and the first with no
-    spurious minimum detected (:func:`spurious_minima`) is used, and raised to the next values (twice
-    at most) when the path still ends in a ``local_minimum`` (one too close to an obstacle for the
+    ``max_iterations`` is given; 0: no step), ``progress_window`` (200; 0: off). Without ``kappa`` the
+    values of :data:`KAPPA_LADDER` are tried and the first with no spurious minimum detected
+    (:func:`spurious_minima`) is used, and raised to the next values (twice at most) when the path still ends in a ``local_minimum`` (one too close to an obstacle for the
     lattice check); with a ``kappa`` that leaves one, a :class:`StarNavWarning` says so (the path may
     then end in a ``local_minimum``). A ``lambda`` for which ``h_lambda`` folds (:func:`folds`) is also
     warned about.

@@ -34,7 +34,6 @@ import os
 import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
 from functools import partial
 from types import ModuleType
 from typing import Any, cast
@@ -42,128 +41,15 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import ArgumentTypeError, GridfieldError, ParameterError, shorten
-from .grid import Grid, GridMap
+from ._results import DistanceMap
+from .errors import ArgumentTypeError, ParameterError, shorten
+from .grid import GridMap
 
 __all__ = ["BORDER_LABEL", "METRICS", "DistanceMap", "brushfire"]
 
 METRICS = ("chessboard", "taxicab", "euclidean")
 #: Label of the wall border (outside the grid) in :attr:`DistanceMap.label`.
 BORDER_LABEL = -1
-
-
-@dataclass(frozen=True, eq=False)
-class DistanceMap:
-    """Result of :func:`brushfire`. Every array has the grid's shape.
-
-    Attributes
-    ----------
-    map : GridMap
-        The occupancy map the distances were computed on.
-    connectivity : int
-        4 or 8: the neighbourhood of the wavefront that numbers ``steps``.
-    metric : str
-        What ``distance`` measures: ``"chessboard"``, ``"taxicab"`` or ``"euclidean"``.
-    steps : ndarray of int32 or None
-        Wavefront number: 0 on obstacles, 1 on their neighbours, ... (the textbook's number minus 1).
-        ``-1`` everywhere when there is no obstacle at all (empty map, open border). ``None`` when
-        computed with ``compute_steps=False``.
-    distance : ndarray of float64
-        Distance from the cell's centre to the centre of the nearest obstacle cell in world units, by
-        ``metric`` (``inf`` where there is none). With ``saturate``, distances ``>= saturate`` are
-        replaced by ``far``.
-    nearest_row, nearest_col : ndarray of int32 or None
-        Cell index of the nearest obstacle cell: exactly at ``distance`` by ``metric``; on ties any one
-        of the nearest. The wall border's cells are row ``-1`` / ``rows`` or column ``-1`` / ``cols``
-        (never a corner of the ring). -1 on both where there is no obstacle. ``None`` when computed
-        with ``compute_nearest=False``.
-    label : ndarray of int32 or None
-        Label of the nearest obstacle: the world obstacle id when the grid was rasterized from a
-        world (``GridMap.obstacle_id``), else the 8-connected component number (1-based, numbered in
-        raster order of each component's first cell, as ``scipy.ndimage.label``);
-        :data:`BORDER_LABEL` for the wall border; 0 where there is no obstacle. Obstacle cells carry
-        their own label. ``None`` when computed with ``compute_labels=False``.
-    gvd : ndarray of bool or None
-        Generalized Voronoi diagram: free cells where the wavefronts of two different labels meet.
-        Of each pair of 8-neighbouring free cells with different labels, the one farther from its
-        obstacle (by ``distance`` before saturation) is marked; on a tie, the one with the smaller
-        label. So the GVD separates the labels' regions (no two 8-neighbouring free cells of
-        different labels remain once it is removed), it is one cell thick (an even gap between two
-        obstacles gives one column, not two), and every GVD cell is within one cell of equidistant
-        from two obstacles. With a wall border the wall is one of the obstacles.
-        ``None`` when computed with ``compute_gvd=False``.
-    saturate : float or None
-        Saturation radius used (seed 004), or None.
-    far : float
-        Value that replaced saturated distances.
-
-    Examples
-    --------
-    One obstacle cell on the left edge of a 3 x 5 grid: the wavefront numbers the cells by their
-    chessboard distance, and the euclidean metric agrees with ``scipy.ndimage``'s exact transform.
-
-    >>> import numpy as np
-    >>> from scipy.ndimage import distance_transform_edt
-    >>> from gridfield.grid import Grid, GridMap
-    >>> occ = np.zeros((3, 5), bool); occ[1, 0] = True
-    >>> gm = GridMap(Grid((3, 5), 0.5), occ)
-    >>> dm = brushfire(gm)
-    >>> dm.steps
-    array([[1, 1, 2, 3, 4],
-           [0, 1, 2, 3, 4],
-           [1, 1, 2, 3, 4]], dtype=int32)
-    >>> dm.nearest_row[0, 4], dm.nearest_col[0, 4], dm.label[0, 4]
-    (np.int32(1), np.int32(0), np.int32(1))
-    >>> bool(np.allclose(brushfire(gm, metric="euclidean").distance, 0.5 * distance_transform_edt(~occ)))
-    True
-    """
-
-    map: GridMap
-    connectivity: int
-    metric: str
-    steps: NDArray[np.int32] | None
-    distance: NDArray[np.float64]
-    nearest_row: NDArray[np.int32] | None
-    nearest_col: NDArray[np.int32] | None
-    label: NDArray[np.int32] | None
-    gvd: NDArray[np.bool_] | None
-    saturate: float | None = None
-    far: float = np.inf
-
-    def __repr__(self) -> str:
-        parts = [f"shape={self.grid.shape}", f"metric={self.metric!r}"]
-        d = self.distance[np.isfinite(self.distance)]
-        if d.size:
-            parts.append(f"max distance={float(d.max()):.6g}")
-        parts.append("labels" if self.label is not None else "no labels")
-        return f"DistanceMap({', '.join(parts)})"
-
-    @property
-    def grid(self) -> Grid:
-        return self.map.grid
-
-    def nearest_point(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """World coordinates ``(x, y)`` of the centre of each cell's nearest obstacle cell.
-
-        NaN where there is no obstacle at all. Wall-border cells lie just outside the grid.
-
-        Examples
-        --------
-        >>> import numpy as np
-        >>> from gridfield.grid import Grid, GridMap
-        >>> occ = np.zeros((1, 4), bool); occ[0, 0] = True
-        >>> x, y = brushfire(GridMap(Grid((1, 4), 0.5), occ)).nearest_point()
-        >>> x.tolist(), y.tolist()
-        ([[0.25, 0.25, 0.25, 0.25]], [[0.25, 0.25, 0.25, 0.25]])
-        """
-        if self.nearest_row is None or self.nearest_col is None:
-            raise GridfieldError("this distance map was computed with compute_nearest=False; "
-                                 "call brushfire(..., compute_nearest=True) to get nearest obstacles")
-        g = self.grid
-        x = g.origin[0] + (self.nearest_col + 0.5) * g.resolution
-        y = g.origin[1] + (self.nearest_row + 0.5) * g.resolution
-        none = (self.nearest_row == -1) & (self.nearest_col == -1) & (g.border == "open")
-        return np.where(none, np.nan, x), np.where(none, np.nan, y)
 
 
 _KERNELS: ModuleType | None = None
@@ -607,9 +493,17 @@ def brushfire(
 
 
 def __getattr__(name: str) -> Any:
-    """``gridfield.brushfire.IncrementalBrushfire``: lives in :mod:`gridfield.incremental` (imported on use)."""
-    if name == "IncrementalBrushfire":
-        from .incremental import IncrementalBrushfire
+    """``gridfield.brushfire.IncrementalBrushfire``: deprecated alias of
+    :class:`gridfield.incremental.IncrementalBrushfire` (import it from there; removed in the next release).
 
-        return IncrementalBrushfire
+    ``incremental`` builds on ``brushfire``, so this module never imports it statically (the layers of
+    ``ARCHITECTURE.md``, checked by ``lint-imports``): the alias loads it on use.
+    """
+    if name == "IncrementalBrushfire":
+        import importlib
+        import warnings
+
+        warnings.warn("gridfield.brushfire.IncrementalBrushfire is deprecated: import it from gridfield.incremental",
+                      DeprecationWarning, stacklevel=2)
+        return importlib.import_module("gridfield.incremental").IncrementalBrushfire
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -114,10 +114,10 @@ class _Run:
                         params: Mapping[str, Any] | None = None, *, note: str = "") -> tuple[Path, Any]:
         """Plan, record the row, and return the path with the field it followed (None but for the
         ``potential`` planner): the part draws that field instead of building it again."""
-        from .planners import plan
+        from .planners import plan_with_field
 
         t0 = time.perf_counter()
-        path, field_ = plan(planner, target, start, goal, params, return_field=True)
+        path, field_ = plan_with_field(planner, target, start, goal, params)
         ms = (time.perf_counter() - t0) * 1e3
         self.row(part, name, path, ms, note)
         return path, field_

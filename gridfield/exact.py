@@ -277,7 +277,8 @@ def _default_step(world: World) -> float:
     return min(xmax - xmin, ymax - ymin) / 100.0
 
 
-def plan_exact_potential(world: World, start: ArrayLike, goal: ArrayLike, params: Mapping[str, Any] | None) -> Path:
+def plan_exact_potential(world: World, start: ArrayLike, goal: ArrayLike, params: Mapping[str, Any] | None, *,
+                         cache: dict[Any, Any] | None = None) -> Path:
     """The ``exact-potential`` planner: :func:`gridfield.follow.descend` on exact forces.
 
     Parameters

@@ -15,13 +15,16 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Literal, cast
+from typing import TYPE_CHECKING, Literal, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .errors import ArgumentTypeError, GridfieldError, ParameterError, check_finite, check_positive, shorten
 from .limits import check_cells
+
+if TYPE_CHECKING:  # for the annotation only: world builds on grid (the layers of ARCHITECTURE.md)
+    from .world import World
 
 __all__ = ["BORDERS", "RESOLUTION_RANGE", "Grid", "GridMap", "check_resolution"]
 
@@ -349,7 +352,7 @@ class GridMap:
     grid: Grid
     occupied: NDArray[np.bool_]
     obstacle_id: NDArray[np.int32] | None = None
-    world: object | None = None
+    world: World | None = None
     source: str = ""
     meta: dict = field(default_factory=dict)
 

@@ -51,6 +51,7 @@ from ._planner_table import PLANNERS
 from .errors import ParameterError
 
 __all__ = [
+    "FIELD_GROUPS",
     "GROUPS",
     "REGISTRY",
     "Attraction",
@@ -66,6 +67,8 @@ __all__ = [
     "Vortex",
     "check",
     "help_text",
+    "known",
+    "names",
     "parse",
     "resolve",
     "validate",
@@ -525,6 +528,31 @@ def _build() -> dict[str, Spec]:
 #: name -> Spec, every parameter a planner may read.
 REGISTRY: dict[str, Spec] = _build()
 
+#: The concerns of a potential field: what :func:`gridfield.potential.build_field` reads and keeps, resolved,
+#: in ``Field.params`` (:func:`gridfield.potential.resolve_params`, :func:`gridfield.vortex.vortex_field`).
+FIELD_GROUPS: tuple[type, ...] = (Attraction, Repulsion, Model, Vortex)
+
+
+def names(*groups: type) -> tuple[str, ...]:
+    """The registry names of the parameters of these concerns, in their order.
+
+    Parameters
+    ----------
+    *groups : type
+        Concerns of :data:`GROUPS` (``Attraction``, ...).
+
+    Returns
+    -------
+    tuple of str
+        Their parameters' names (``lambda`` for ``Navigation.lam``).
+
+    Examples
+    --------
+    >>> names(Attraction, Model)
+    ('zeta', 'd_star', 'model')
+    """
+    return tuple(f.metadata["spec"].get("name_override", f.name) for cls in groups for f in dataclasses.fields(cls))
+
 _KIND_TYPES = {"number": "float", "integer": "int", "alpha": "float or (float, float)", "point": "(float, float)"}
 
 
@@ -652,6 +680,29 @@ def validate(params: Mapping[str, Any] | None) -> Params:
             raise _unknown(str(k))
         out[k] = REGISTRY[k].check(v)
     return Params(out)
+
+
+def known(record: Mapping[str, Any] | None) -> Params:
+    """The registry's names of a parameter record, checked by :func:`validate`; its other keys left out.
+
+    For the record a result keeps (``Field.params``, a follower's merged parameters), which may also
+    name its construction (a navigation field's ``navigation``, ``costs``): read it as typed groups,
+    ``known(field.params).group(Vortex)``, with the registry's defaults for the names it lacks.
+
+    Parameters
+    ----------
+    record : mapping or None
+
+    Returns
+    -------
+    Params
+
+    Examples
+    --------
+    >>> known({"ka": 10, "navigation": "wavefront"}).group(Vortex).ka
+    10.0
+    """
+    return validate({k: v for k, v in (record or {}).items() if k in REGISTRY})
 
 
 def parse(name: str, text: str) -> Any:

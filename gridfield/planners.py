@@ -10,12 +10,10 @@ names it knows and ignores the others). Planners are imported only when used.
 from __future__ import annotations
 
 import dataclasses
-import functools
 import importlib
-import inspect
 import time
 from collections.abc import Callable, Mapping
-from typing import TYPE_CHECKING, Any, Literal, overload
+from typing import TYPE_CHECKING, Any, Literal, NamedTuple, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -31,7 +29,7 @@ if TYPE_CHECKING:  # shapely (via world) is imported only when a plan is made: `
     from .potential import Field
     from .world import World
 
-__all__ = ["PARAMETERS", "PLANNERS", "Planner", "check_params", "get_planner", "plan"]
+__all__ = ["PARAMETERS", "PLANNERS", "Plan", "Planner", "check_params", "get_planner", "plan", "plan_with_field"]
 
 #: name -> :class:`Planner` ``(module, function, kind, reads)``: kind "grid"
 #: needs a GridMap, "world" a World; ``reads``, the parameters it reads. (The table is the leaf module
@@ -134,6 +132,61 @@ def get_planner(name: str) -> tuple[Callable[..., Path], str]:
     return fn, kind
 
 
+class Plan(NamedTuple):
+    """A path and the potential field it followed (:func:`plan_with_field`).
+
+    Attributes
+    ----------
+    path : Path
+        As :func:`plan` returns it.
+    field : Field or None
+        The :class:`~gridfield.potential.Field` the ``potential`` planner built and followed (its ``map``
+        is the grid planned on); ``None`` for the other planners and when no field was built (a goal
+        found unreachable at once).
+
+    Examples
+    --------
+    >>> from gridfield.io import read_world, bundled_map
+    >>> w = read_world(bundled_map("seed003_circles.yaml"))
+    >>> path, field = plan_with_field("potential", w, w.start, w.goal, {"ko": 5.0})
+    >>> path.status, field.goal == tuple(w.goal)
+    ('reached', True)
+    """
+
+    path: Path
+    field: Field | None
+
+
+def plan_with_field(planner: str, target: World | GridMap, start: ArrayLike, goal: ArrayLike,
+                    params: Mapping[str, Any] | None = None, *, resolution: float | None = None,
+                    cache: dict[Any, Any] | None = None) -> Plan:
+    """:func:`plan`, and the field the path followed, for a caller who draws it (so that it builds nothing again).
+
+    Parameters
+    ----------
+    planner, target, start, goal, params, resolution, cache
+        As for :func:`plan`.
+
+    Returns
+    -------
+    Plan
+        ``(path, field)``: the same path as :func:`plan` gives, and the ``potential`` planner's field
+        (``None`` for the other planners).
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid, GridMap
+    >>> gm = GridMap(Grid((1, 4), 1.0), np.zeros((1, 4), bool))
+    >>> plan_with_field("wavefront", gm, (0.5, 0.5), (3.5, 0.5)).field is None
+    True
+    """
+    # the potential planner leaves the field it built in the cache under "field" (gridfield.follow.plan_potential)
+    work: dict[Any, Any] = {} if cache is None else cache
+    work.pop("field", None)
+    path = _plan(planner, target, start, goal, params, resolution=resolution, cache=work)
+    return Plan(path, work.pop("field", None))
+
+
 @overload
 def plan(planner: str, target: World | GridMap, start: ArrayLike, goal: ArrayLike,
          params: Mapping[str, Any] | None = None, *, resolution: float | None = None,
@@ -164,8 +217,8 @@ def plan(
     the map's blocked cells as exact polygons (:func:`gridfield.gridpoly.grid_world`; on those,
     ``visibility`` is the any-angle optimum of :mod:`gridfield.anyangle`, its graph cached per map).
     With a ``cache`` dict (kept by the caller across calls on the same ``target`` object), the
-    rasterized grid, and for planners that take a ``cache`` their per-map work (the brushfire),
-    are computed once and reused.
+    rasterized grid and the planner's own per-map work (the brushfire of ``potential``, the graph of
+    ``visibility``; every planner function takes ``cache=None``) are computed once and reused.
 
     Parameters
     ----------
@@ -182,15 +235,13 @@ def plan(
     cache : dict, optional
         Per-map work kept by the caller across calls on the same ``target``.
     return_field : bool
-        Also hand back the potential :class:`~gridfield.potential.Field` the ``potential`` planner
-        built and followed (its ``map`` is the grid planned on), so that a caller who draws it
-        (:func:`gridfield.plot.plot_potential`, :func:`gridfield.plot.save_plan_animation`)
-        builds nothing again; ``None`` for the other planners and when no field was built (a goal
-        found unreachable at once). The path is the same as without it.
+        Deprecated (a ``DeprecationWarning``; removed in the next release): use
+        :func:`plan_with_field`, which returns ``Plan(path, field)``, the same pair.
 
     Returns
     -------
-    Path, or (Path, Field or None) with ``return_field=True``
+    Path
+        (With the deprecated ``return_field=True``: the :class:`Plan` of :func:`plan_with_field`.)
         The path; ``extra`` records the query's ``start`` and ``goal`` and its ``field_seconds`` /
         ``follow_seconds``.
 
@@ -211,25 +262,21 @@ def plan(
     >>> grid = plan("potential", w, w.start, w.goal, resolution=0.5)
     >>> grid.status, grid.length >= exact.length
     ('reached', True)
-    >>> w3 = read_world(bundled_map("seed003_circles.yaml"))
-    >>> path, field = plan("potential", w3, w3.start, w3.goal, {"ko": 5.0}, return_field=True)
-    >>> path.status, field.goal == tuple(w3.goal), field.potential.shape == field.map.shape
-    ('reached', True, True)
     >>> plan("nonsense", w, w.start, w.goal)
     Traceback (most recent call last):
     ...
     gridfield.errors.ParameterError: unknown planner 'nonsense'; expected one of ...
     """
-    if not return_field:
-        path = _plan(planner, target, start, goal, params, resolution=resolution, cache=cache)
-        if cache is not None:
-            cache.pop("field", None)  # a kept cache holds per-map work, not the latest field
-        return path
-    # the potential planner leaves the field it built in the cache under "field" (gridfield.follow.plan_potential)
-    work: dict[Any, Any] = {} if cache is None else cache
-    work.pop("field", None)
-    path = _plan(planner, target, start, goal, params, resolution=resolution, cache=work)
-    return path, work.pop("field", None)
+    if return_field:
+        import warnings
+
+        warnings.warn("plan(..., return_field=True) is deprecated: use plan_with_field(...), which returns "
+                      "Plan(path, field)", DeprecationWarning, stacklevel=2)
+        return plan_with_field(planner, target, start, goal, params, resolution=resolution, cache=cache)
+    path = _plan(planner, target, start, goal, params, resolution=resolution, cache=cache)
+    if cache is not None:
+        cache.pop("field", None)  # a kept cache holds per-map work, not the latest field
+    return path
 
 
 def _plan(
@@ -270,9 +317,7 @@ def _plan(
             gm = cache[key]
         s, g = gm.check_point("start", start), gm.check_point("goal", goal)
         t0 = time.perf_counter()
-        if cache is not None and _takes_cache(fn):
-            return _with_endpoints(fn(gm, s, g, merged, cache=cache), s, g, t0)
-        return _with_endpoints(fn(gm, s, g, merged), s, g, t0)
+        return _with_endpoints(fn(gm, s, g, merged, cache=cache), s, g, t0)
     world = target if isinstance(target, World) else target.world
     if not isinstance(world, World) and planner in GRID_VARIANTS:
         module, func = GRID_VARIANTS[planner]
@@ -288,11 +333,8 @@ def _plan(
         s, g = target.check_point("start", start), target.check_point("goal", goal)
     else:
         s, g = world.check_point("start", start), world.check_point("goal", goal)
-    if cache is not None and _takes_cache(fn):
-        t0 = time.perf_counter()
-        return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged, cache=cache), s, g, t0)
     t0 = time.perf_counter()
-    return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged), s, g, t0)
+    return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged, cache=cache), s, g, t0)
 
 
 def _point(name: str, value: Any) -> np.ndarray:
@@ -309,11 +351,6 @@ def _grid_world(gm: GridMap, cache: dict[Any, Any] | None) -> World:
     if key not in cache:
         cache[key] = grid_world(gm)
     return cache[key]
-
-
-@functools.cache
-def _takes_cache(fn: Callable[..., Path]) -> bool:
-    return "cache" in inspect.signature(fn).parameters
 
 
 def _with_endpoints(path: Path, start: np.ndarray, goal: np.ndarray, t0: float) -> Path:

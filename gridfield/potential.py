@@ -75,22 +75,21 @@ from __future__ import annotations
 import contextlib
 import math
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _kernels_potential as _kp  # type: ignore[attr-defined]  # a compiled extension, no stubs
+from ._results import Field
 from .brushfire import DistanceMap, brushfire
-from .errors import GridfieldError, ParameterError
+from .errors import ParameterError
 from .grid import Grid, GridMap, _as_xy
 from .io import load_field, save_field  # re-exported: the .npz I/O of fields lives in gridfield.io
 from .params import REGISTRY, check
 from .vortex import _build_vortex, vortex_field, vortex_lattice
 
 __all__ = [
-    "DEFAULTS",
     "GRADIENTS",
     "MODELS",
     "REPULSIONS",
@@ -106,26 +105,6 @@ __all__ = [
     "vortex_lattice",
 ]
 
-#: Defaults of the parameters :func:`build_field` reads (meanings and scaling rules: :mod:`gridfield.params`).
-#: ``saturate=None``: no saturation. ``spacing=None``: the map's resolution. ``sample_radius=None``:
-#: 1.05 x each circle's radius (seed 003's 2.1 for radius 2). ``ka``, ``kr``, ``ko``: seed 003.
-DEFAULTS: dict[str, Any] = {
-    "zeta": 1.0,
-    "d_star": None,
-    "eta": None,
-    "q_star": None,
-    "repulsive_power": 2.0,
-    "repulsion": "nearest",
-    "metric": "euclidean",
-    "gradient": "analytic",
-    "saturate": None,
-    "model": "khatib",
-    "ka": 25.0,
-    "kr": 30.0,
-    "ko": 5.0,
-    "spacing": None,
-    "sample_radius": None,
-}
 #: The options of ``repulsion``, ``gradient`` and ``model`` (the registry's choices).
 REPULSIONS: tuple[str, ...] = REGISTRY["repulsion"].choices
 GRADIENTS: tuple[str, ...] = REGISTRY["gradient"].choices
@@ -137,62 +116,6 @@ _NF_MODELS = ("nf1", "nf2", "nf-blend")
 
 
 # ----------------------------------------------------------------------------------------------
-# the Field
-# ----------------------------------------------------------------------------------------------
-@dataclass(frozen=True, eq=False)
-class Field:
-    """A potential and its gradient on a grid, ready for a gradient-descent follower.
-
-    Attributes
-    ----------
-    map : GridMap
-        The occupancy map the field lives on (``field.grid`` is ``map.grid``).
-    potential : ndarray of float64
-        ``U`` at the cell centres; ``+inf`` on obstacle cells.
-    grad_x, grad_y : ndarray of float64
-        ``dU/dx`` and ``dU/dy`` in world units (for ``repulsive_power != 2``: the negative of the
-        force model, see the module docstring); 0 on obstacle cells. The force is ``-grad``.
-    goal : (float, float)
-    params : dict
-        The full resolved parameters (:func:`resolve_params`; defaults filled in).
-    distance : DistanceMap or None
-        The distance map behind the repulsion, when there is one.
-
-    Examples
-    --------
-    >>> occ = np.zeros((3, 4), bool); occ[0, 0] = True
-    >>> f = build_field(GridMap(Grid((3, 4), 1.0), occ), (3.5, 2.5), {"q_star": 1.5})
-    >>> f.grid.shape, float(f.potential[0, 0]), float(f.grad_x[0, 0])
-    ((3, 4), inf, 0.0)
-    """
-
-    map: GridMap
-    potential: NDArray[np.float64]
-    grad_x: NDArray[np.float64]
-    grad_y: NDArray[np.float64]
-    goal: tuple[float, float]
-    params: dict
-    distance: DistanceMap | None = None
-
-    def __repr__(self) -> str:
-        model = self.params.get("model", "khatib") if self.params else "khatib"
-        return (f"Field(shape={self.map.grid.shape}, resolution={self.map.grid.resolution:g}, "
-                f"goal=({self.goal[0]:.6g}, {self.goal[1]:.6g}), model={model!r})")
-
-    def __post_init__(self) -> None:
-        for name in ("potential", "grad_x", "grad_y"):
-            a = getattr(self, name)
-            if np.shape(a) != self.map.grid.shape:
-                raise GridfieldError(f"Field.{name} has shape {np.shape(a)}, but the grid has shape {self.map.grid.shape}")
-        object.__setattr__(self, "goal", (float(self.goal[0]), float(self.goal[1])))
-
-    @property
-    def grid(self) -> Grid:
-        """The grid geometry (``map.grid``)."""
-        return self.map.grid
-
-
-# ----------------------------------------------------------------------------------------------
 # parameters
 # ----------------------------------------------------------------------------------------------
 def resolve_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0) -> dict[str, Any]:
@@ -200,7 +123,7 @@ def resolve_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0
 
     Names and values are checked against the registry (:data:`gridfield.params.REGISTRY`); names a
     potential does not read (the follower's ``step``, ``alpha``, ...) pass through validated.
-    Defaults (:data:`DEFAULTS`): ``zeta=1``, ``repulsive_power=2``, ``repulsion='nearest'``,
+    Defaults (the registry's, of :data:`gridfield.params.FIELD_GROUPS`): ``zeta=1``, ``repulsive_power=2``, ``repulsion='nearest'``,
     ``metric='euclidean'``, ``gradient='analytic'``, ``model='khatib'``, ``saturate=None``; and,
     scaled to the map's length ``unit`` (its cell size) by :func:`gridfield.params.resolve`:
     ``q_star`` = 4 cells, ``d_star`` = 2 ``q_star``, ``eta`` balanced so that the repulsion at
@@ -217,7 +140,7 @@ def resolve_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0
     Returns
     -------
     dict
-        The potential parameters of :data:`DEFAULTS`, resolved, plus the other names given.
+        The potential parameters (of :data:`gridfield.params.FIELD_GROUPS`), resolved, plus the other names given.
 
     Raises
     ------
@@ -242,15 +165,16 @@ def resolve_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0
     ...
     gridfield.errors.ParameterError: q_star must be a number > 0 (inf allowed), got 0
     """
-    from .params import resolve, validate
+    from .params import FIELD_GROUPS, names, resolve, validate
 
     given = dict(validate(params))
     full = resolve(given, unit=unit)
-    p = {k: full[k] for k in DEFAULTS}
+    field_names = names(*FIELD_GROUPS)
+    p = {k: full[k] for k in field_names}
     p.update(given)
-    p.update({k: full[k] for k in DEFAULTS})
+    p.update({k: full[k] for k in field_names})
     if p["model"] is None:  # unset: the array API's model (the potential planner resolves it to 'nf1')
-        p["model"] = DEFAULTS["model"]
+        p["model"] = "khatib"
     if p["model"] in _NF_MODELS:  # the complete models' own parameters (gridfield.navfield)
         p["attraction"], p["clearance_gain"] = full["attraction"], full["clearance_gain"]
     if p["model"] == "khatib" and p["gradient"] == "finite_difference" and p["repulsive_power"] != 2:

@@ -33,12 +33,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._kernels_follow import _bilinear2, _cell_values, _force_at, _force_many, _nearest2, _segment_blocked
 from ._kernels_follow import entry_point as _direct
+from ._results import GradientField
 from .errors import ParameterError
 from .grid import Grid, GridMap, _as_points, _as_xy
-from .params import REGISTRY, check
+from .params import REGISTRY, Attraction, Model, Vortex, check, known
 
 __all__ = [
     "SAMPLINGS",
+    "GradientField",
     "attraction_force",
     "grid_blocked",
     "grid_potential_sampler",
@@ -57,12 +59,12 @@ def _grid_args(gridmap: GridMap) -> tuple[NDArray[np.bool_], float, float, float
     return occ, float(g.origin[0]), float(g.origin[1]), float(g.resolution)
 
 
-def _field_arrays(field: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _field_arrays(field: GradientField) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     return (np.ascontiguousarray(field.grad_x, dtype=np.float64),
             np.ascontiguousarray(field.grad_y, dtype=np.float64))
 
 
-def grid_sampler(field: Any, *, sampling: str = "bilinear") -> Callable[[Point], tuple[float, float]]:
+def grid_sampler(field: GradientField, *, sampling: str = "bilinear") -> Callable[[Point], tuple[float, float]]:
     """``force(p) -> (fx, fy)``: the force ``-grad U`` of a Field at world points, from its arrays.
 
     ``bilinear`` interpolates among the free corner cells only (renormalized weights) and clamps to
@@ -102,7 +104,7 @@ def grid_sampler(field: Any, *, sampling: str = "bilinear") -> Callable[[Point],
     return force
 
 
-def sample_force(field: Any, points: ArrayLike, *, sampling: str = "bilinear") -> NDArray[np.float64]:
+def sample_force(field: GradientField, points: ArrayLike, *, sampling: str = "bilinear") -> NDArray[np.float64]:
     """The force ``-grad U`` of a Field at many world points at once, sampled like :func:`grid_sampler`.
 
     One compiled pass over the points: use it rather than a Python loop over ``grid_sampler`` calls
@@ -144,7 +146,7 @@ def sample_force(field: Any, points: ArrayLike, *, sampling: str = "bilinear") -
     return np.stack([fx, fy], axis=1)
 
 
-def grid_potential_sampler(field: Any, *, sampling: str = "bilinear") -> Callable[[Point], float]:
+def grid_potential_sampler(field: GradientField, *, sampling: str = "bilinear") -> Callable[[Point], float]:
     """``potential(p) -> U``: a Field's potential at world points, sampled like :func:`grid_sampler`.
 
     Only free corner cells enter the bilinear interpolation (obstacle cells hold ``+inf``); the
@@ -239,15 +241,18 @@ def attraction_force(goal: ArrayLike, params: Mapping[str, Any]) -> Callable[[Po
     ((-1.0, -0.0), (-2.0, -0.0))
     """
     gx, gy = _as_xy(goal, "goal")
-    if params.get("model", "khatib") == "vortex":
-        ka = float(params.get("ka", 25.0))
+    p = known(params)
+    if p.group(Model).model == "vortex":
+        ka = float(p.group(Vortex).ka)
 
         def vortex_attr(p: Point) -> tuple[float, float]:
             return -ka * (p[0] - gx), -ka * (p[1] - gy)
 
         return vortex_attr
-    zeta = float(params.get("zeta", 1.0))
-    d_star = float(params.get("d_star", math.inf))
+    a = p.group(Attraction)
+    zeta = float(a.zeta)
+    # an unresolved d_star (None: 2 q_star, scaled to a map this point function does not know): no conic part
+    d_star = math.inf if a.d_star is None else float(a.d_star)
 
     def attr(p: Point) -> tuple[float, float]:
         dx, dy = p[0] - gx, p[1] - gy
@@ -263,7 +268,7 @@ def attraction_force(goal: ArrayLike, params: Mapping[str, Any]) -> Callable[[Po
     return attr
 
 
-def _distance_at(field: Any, points: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+def _distance_at(field: GradientField, points: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Brushfire (Euclidean) distance of the cells containing the points (clamped to the grid), and
     whether each point lies inside the grid."""
     dmap = getattr(field, "distance", None)
@@ -281,7 +286,7 @@ def _distance_at(field: Any, points: NDArray[np.float64]) -> tuple[NDArray[np.fl
     return out, inside
 
 
-def _clearance(field: Any, points: NDArray[np.float64]) -> float:
+def _clearance(field: GradientField, points: NDArray[np.float64]) -> float:
     """Smallest brushfire distance at the cells of the path's points."""
     return float(np.min(_distance_at(field, points)[0])) if len(points) else math.nan
 

@@ -27,7 +27,6 @@ from __future__ import annotations
 from .navigation._star_nav import CLEARANCE_STEP as CLEARANCE_STEP
 from .navigation._star_nav import KAPPA_LADDER as KAPPA_LADDER
 from .navigation._star_nav import (
-    STAR_PARAMETERS,
     StarNavWarning,
     follow_star_nav,
     plan_star_nav,
@@ -43,7 +42,6 @@ from .navigation._star_obstacle import StarObstacle, find_star_center
 from .navigation._star_world import StarWorld, nav_function, star_betas, star_to_sphere, star_world
 
 __all__ = [
-    "STAR_PARAMETERS",
     "StarNavWarning",
     "StarObstacle",
     "StarWorld",

@@ -20,18 +20,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any, cast
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._results import Field, GradientField
 from .brushfire import brushfire
 from .errors import GridfieldError, ParameterError
 from .grid import Grid, GridMap, _as_xy
-from .params import check
-
-if TYPE_CHECKING:  # potential imports this module (build_field dispatches here): Field only for types
-    from .potential import Field
+from .params import FIELD_GROUPS, Vortex, check, known, names, resolve
 
 __all__ = ["vortex_field", "vortex_lattice"]
 
@@ -143,7 +141,6 @@ def vortex_field(
     >>> f.grid.shape, float(f.potential[6, 6]), bool(np.isfinite(f.potential[0, 0]))
     ((13, 13), inf, True)
     """
-    from .potential import Field, resolve_params
     from .world import World
 
     cir = _circles_of(circles)
@@ -203,8 +200,12 @@ def vortex_field(
     gx, gy = -fX, -fY
     gx[occ] = 0.0
     gy[occ] = 0.0
-    params = resolve_params({"model": "vortex", "ka": ka, "kr": kr, "ko": ko, "spacing": h,
-                             "sample_radius": sample_radius})
+    # the field's parameters as potential.resolve_params resolves them: the field concerns, resolved at
+    # unit 1; the vortex model is defined by finite differences on its lattice
+    full = resolve({"model": "vortex", "ka": ka, "kr": kr, "ko": ko, "spacing": h, "sample_radius": sample_radius},
+                   unit=1.0)
+    params = {k: full[k] for k in names(*FIELD_GROUPS)}
+    params["gradient"] = "finite_difference"
     return Field(gridmap, U, gx, gy, goal_xy, params, brushfire(gridmap, metric="euclidean"))
 
 
@@ -230,7 +231,6 @@ def _circle_occupancy(grid: Grid, circles: NDArray[np.float64]) -> NDArray[np.bo
 
 def _build_vortex(gridmap: GridMap, goal: ArrayLike, p: dict[str, Any]) -> Field:
     """The vortex model's Field for :func:`gridfield.potential.build_field`: the lattice of the map's world."""
-    from .potential import Field
     from .world import World
 
     world = gridmap.world
@@ -253,7 +253,7 @@ def _build_vortex(gridmap: GridMap, goal: ArrayLike, p: dict[str, Any]) -> Field
                  field.distance)
 
 
-def _vortex_norms(field: Any, params: Mapping[str, Any]) -> tuple[float, float]:
+def _vortex_norms(field: GradientField, params: Mapping[str, Any]) -> tuple[float, float]:
     """Matrix 2-norms of seed 003's force components ``fX``, ``fY`` over the whole lattice.
 
     The seed's arrays are defined everywhere, inside the circles too, while a Field holds zeros on
@@ -266,9 +266,9 @@ def _vortex_norms(field: Any, params: Mapping[str, Any]) -> tuple[float, float]:
     gx, gy = field.grad_x, field.grad_y
     if isinstance(world, World) and world.start is not None:
         open_map = GridMap(field.map.grid, np.zeros(field.map.grid.shape, bool))
-        full = vortex_field(open_map, world, world.start, field.goal, ka=float(params.get("ka", 25.0)),
-                            kr=float(params.get("kr", 30.0)), ko=float(params.get("ko", 5.0)),
-                            sample_radius=params.get("sample_radius"))
+        v = known(params).group(Vortex)
+        full = vortex_field(open_map, world, world.start, field.goal, ka=float(v.ka), kr=float(v.kr), ko=float(v.ko),
+                            sample_radius=v.sample_radius)
         gx, gy = full.grad_x, full.grad_y
     nx = float(np.linalg.norm(np.asarray(gx, dtype=float), 2))
     ny = float(np.linalg.norm(np.asarray(gy, dtype=float), 2))
@@ -278,7 +278,7 @@ def _vortex_norms(field: Any, params: Mapping[str, Any]) -> tuple[float, float]:
     return nx, ny
 
 
-def _vortex_follower(field: Any, params: Mapping[str, Any]) -> dict[str, Any]:
+def _vortex_follower(field: GradientField, params: Mapping[str, Any]) -> dict[str, Any]:
     """The follower parameters of seed 003's nearest-node follower on a vortex Field.
 
     Seed 003 steps ``x += spacing * (Fx / ||fX||_2, Fy / ||fY||_2)``, where ``||.||_2`` is the
@@ -287,7 +287,8 @@ def _vortex_follower(field: Any, params: Mapping[str, Any]) -> dict[str, Any]:
     except the step rule).
     """
     merged = dict(params)
-    spacing = float(merged.get("spacing", field.map.grid.resolution))
+    spacing = known(merged).group(Vortex).spacing
+    spacing = field.map.grid.resolution if spacing is None else float(spacing)  # the registry's scale rule
     merged.setdefault("sampling", "nearest")
     merged.setdefault("tolerance", 0.4)
     merged.setdefault("confine_window", 0)  # seed 003's follower: no jitter rule

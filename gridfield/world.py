@@ -230,9 +230,9 @@ def robot_from_value(value: Any, what: str = "robot") -> Robot:
             except (TypeError, ValueError):
                 raise MapFormatError(f"{what}.radius must be a number >= 0, got {v!r}") from None
             return Robot(radius=r)
-        from .cspace import check_robot_polygon
+        from ._polygons import _convex_polygon  # = cspace.check_robot_polygon (cspace builds on world)
 
-        return Robot(vertices=check_robot_polygon(_points(v, f"{what}.polygon"), f"{what}.polygon"))
+        return Robot(vertices=_convex_polygon(_points(v, f"{what}.polygon"), f"{what}.polygon"))
     except GridfieldError as e:
         if isinstance(e, MapFormatError):
             raise

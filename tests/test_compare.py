@@ -227,7 +227,7 @@ def fake_grid_planner(monkeypatch):
     """A 'grid planner' whose path bulges h away from the straight line: Hausdorff = h."""
     module = types.ModuleType("fake_compare_planners")
 
-    def plan_bulge(gridmap, start, goal, params):
+    def plan_bulge(gridmap, start, goal, params, *, cache=None):  # every planner takes cache=None
         h = gridmap.grid.resolution
         mid = (start + goal) / 2 + np.array([0.0, h])
         return Path(np.array([start, mid, goal]), "reached", "bulge", seconds=1e-3, extra={"build_seconds": 2e-3})
@@ -334,7 +334,7 @@ def test_batch_compare_on_seed000(monkeypatch):
 def _fake_planner_module(tmp_path, monkeypatch, name, first_line):
     """A PLANNERS entry ``name`` whose module (written to tmp_path) starts with ``first_line``."""
     module = f"fake_compare_{name}"
-    (tmp_path / f"{module}.py").write_text(f"{first_line}\n\ndef plan(gridmap, start, goal, params):\n    pass\n")
+    (tmp_path / f"{module}.py").write_text(f"{first_line}\n\ndef plan(gridmap, start, goal, params, *, cache=None):\n    pass\n")
     monkeypatch.syspath_prepend(str(tmp_path))
     monkeypatch.delitem(sys.modules, module, raising=False)
     monkeypatch.setitem(PLANNERS, name, Planner(module, "plan", "grid"))

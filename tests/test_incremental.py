@@ -246,7 +246,9 @@ def test_world_ids_of_new_cells():
 def test_reexported_from_brushfire_and_errors():
     import gridfield.brushfire as bf
 
-    assert bf.IncrementalBrushfire is IncrementalBrushfire
+    # a deprecated alias (brushfire never imports incremental, which builds on it: tests/test_layers.py)
+    with pytest.deprecated_call(match="gridfield.incremental"):
+        assert bf.IncrementalBrushfire is IncrementalBrushfire
     gm = GridMap(Grid((3, 3), 1.0), np.zeros((3, 3), bool))
     with pytest.raises(ParameterError, match="euclidean"):
         IncrementalBrushfire(gm, metric="chessboard")

@@ -34,7 +34,7 @@ def register(tmp_path, monkeypatch):
 
 
 PLAN_FAKE = """
-def plan_fake(world, start, goal, params):
+def plan_fake(world, start, goal, params, *, cache=None):
     raise AssertionError("never called")
 """
 

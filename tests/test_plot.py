@@ -374,9 +374,9 @@ def test_save_plan_animation_gif_over_the_map(tmp_path, corridor):
 
 def test_save_plan_animation_over_the_field_the_caller_has(tmp_path, seed000, monkeypatch):
     import gridfield.potential as potential
-    from gridfield.planners import plan
+    from gridfield.planners import plan_with_field
 
-    path, field = plan("potential", seed000, seed000.start, seed000.goal, resolution=0.25, return_field=True)
+    path, field = plan_with_field("potential", seed000, seed000.start, seed000.goal, resolution=0.25)
     assert field is not None and field.map.grid.resolution == 0.25
 
     def no(*_a, **_k):
@@ -468,22 +468,28 @@ def test_cli_plan_plot_and_animate_build_the_field_once(tmp_path, capsys, monkey
     assert fig.stat().st_size > 0 and gif.stat().st_size > 0
 
 
-def test_plan_return_field_is_the_field_followed_and_changes_no_path(seed000):
+def test_plan_with_field_is_the_field_followed_and_changes_no_path(seed000):
     import gridfield.potential as potential
-    from gridfield.planners import plan
+    from gridfield.planners import Plan, plan, plan_with_field
     from gridfield.rasterize import as_gridmap
 
     gm = as_gridmap(seed000, 0.5)
     alone = plan("potential", gm, seed000.start, seed000.goal)
-    path, field = plan("potential", gm, seed000.start, seed000.goal, return_field=True)
+    got = plan_with_field("potential", gm, seed000.start, seed000.goal)
+    assert isinstance(got, Plan) and isinstance(alone, type(got.path))
+    path, field = got
     assert np.array_equal(path.points, alone.points) and path.status == alone.status
     # an independent rebuild with the path's own (resolved) parameters gives the same arrays
     ref = potential.build_field(gm, seed000.goal, dict(seed000.params))
     assert field.map is gm
     assert np.array_equal(field.potential, ref.potential) and np.array_equal(field.grad_x, ref.grad_x)
     # other planners build no potential: None
-    assert plan("wavefront-octile", gm, seed000.start, seed000.goal, return_field=True)[1] is None
+    assert plan_with_field("wavefront-octile", gm, seed000.start, seed000.goal).field is None
     # a cache the caller keeps does not keep the field afterwards
     cache: dict = {}
-    plan("potential", gm, seed000.start, seed000.goal, cache=cache, return_field=True)
+    plan_with_field("potential", gm, seed000.start, seed000.goal, cache=cache)
     assert "field" not in cache
+    # the old spelling: the same pair, for one release, with a DeprecationWarning
+    with pytest.deprecated_call(match="plan_with_field"):
+        old_path, old_field = plan("potential", gm, seed000.start, seed000.goal, return_field=True)
+    assert np.array_equal(old_path.points, path.points) and np.array_equal(old_field.potential, field.potential)

@@ -15,8 +15,8 @@ from gridfield.brushfire import brushfire
 from gridfield.errors import GridfieldError, ParameterError
 from gridfield.grid import Grid, GridMap
 from gridfield.io import bundled_map, read_world
+from gridfield.params import FIELD_GROUPS, names
 from gridfield.potential import (
-    DEFAULTS,
     Field,
     attractive,
     build_field,
@@ -31,6 +31,10 @@ from gridfield.potential import (
 )
 from gridfield.rasterize import rasterize
 from gridfield.world import world_from_dict
+
+#: what build_field reads and keeps, in Field.params's order (the old potential.DEFAULTS)
+FIELD_NAMES = ("zeta", "d_star", "eta", "q_star", "repulsive_power", "repulsion", "metric", "gradient", "saturate",
+               "model", "ka", "kr", "ko", "spacing", "sample_radius")
 
 
 def centres(grid: Grid) -> tuple[np.ndarray, np.ndarray]:
@@ -53,7 +57,8 @@ def blocks_map(border: str = "open") -> GridMap:
 # ------------------------------------------------------------------------------------------------
 def test_resolve_params_defaults_and_passthrough():
     p = resolve_params(None, unit=0.5)
-    assert set(p) == set(DEFAULTS)
+    # the field's parameters (params.FIELD_GROUPS), written out here as the reference
+    assert list(p) == list(FIELD_NAMES) == list(names(*FIELD_GROUPS))
     # scaled defaults: q_star 4 cells, d_star 2 q_star, eta balancing the force at q_star/2
     assert (p["zeta"], p["d_star"], p["q_star"], p["repulsive_power"]) == (1.0, 4.0, 2.0, 2.0)
     rep_at_half = p["eta"] * (1 / 1.0 - 1 / 2.0) / 1.0**2
@@ -587,7 +592,7 @@ def test_obstacle_cells_are_inf_with_zero_gradient(params):
     assert np.all(f.grad_x[occ] == 0) and np.all(f.grad_y[occ] == 0)
     assert np.all(np.isfinite(f.potential[~occ])) and np.all(np.isfinite(f.grad_x)) and np.all(np.isfinite(f.grad_y))
     assert f.goal == (13.0, 9.5)
-    assert set(DEFAULTS) <= set(f.params)
+    assert set(FIELD_NAMES) <= set(f.params)
 
 
 def test_build_field_is_attractive_plus_repulsive():

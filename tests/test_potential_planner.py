@@ -24,7 +24,7 @@ from gridfield.errors import ParameterError
 from gridfield.grid import Grid, GridMap
 from gridfield.io import read_movingai_map, read_scen
 from gridfield.params import REGISTRY, balanced_eta, parse, resolve, validate
-from gridfield.planners import plan
+from gridfield.planners import plan, plan_with_field
 from gridfield.potential import build_field
 
 REPO = Path(__file__).resolve().parent.parent
@@ -428,7 +428,7 @@ def test_a_reached_run_ends_at_the_goal_even_when_the_last_hop_is_blocked():
 
     gm = read_movingai_map(bundled_map("arena/arena.map"))
     start, goal = (1.5, 45.5), (3.5, 47.5)
-    path, field = plan("potential", gm, start, goal, {"model": "khatib", "q_star": 1.0}, return_field=True)
+    path, field = plan_with_field("potential", gm, start, goal, {"model": "khatib", "q_star": 1.0})
     many = follow_many(field, [start])[0]
     rows, cols = np.nonzero(gm.occupied)
     obstacles = shapely.union_all([box(c, r, c + 1, r + 1) for r, c in zip(rows, cols, strict=True)])

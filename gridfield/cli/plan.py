@@ -80,7 +80,7 @@ def endpoints(args: argparse.Namespace, target: object) -> tuple[list[float], li
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..planners import PLANNERS, plan
+    from ..planners import PLANNERS, plan_with_field
     from ..world import World
     from ._common import check_figure_file
 
@@ -107,7 +107,7 @@ def run(args: argparse.Namespace) -> int:
 
     startup = warm_up(args.planner)  # one-time start-up, reported apart from the plan's own time
     # the field the potential planner followed comes back with the path: the figures draw it, not rebuild it
-    path, field = plan(args.planner, target, start, goal, params, resolution=resolution, return_field=True)
+    path, field = plan_with_field(args.planner, target, start, goal, params, resolution=resolution)
     if scen is not None:
         path = replace(path, extra={**path.extra, "optimal": optimal})
     if robot:

@@ -17,8 +17,9 @@ in either orientation and with or without a repeated closing vertex. Returned co
 counter-clockwise, start at the lowest vertex (lowest y, then lowest x), repeat no vertex and
 contain no collinear vertices; a degenerate result has 1 (point) or 2 (segment) rows.
 
-Layout of the package (one job per module): ``_polygons`` (convex polygons as normalized vertex
-arrays, :func:`minkowski_obstacle`, :func:`star_algorithm`), ``_vector`` (worlds:
+Layout of the package (one job per module), on the leaf ``gridfield._polygons`` (convex polygons as
+normalized vertex arrays, :func:`minkowski_obstacle`, :func:`star_algorithm`; below ``world``, which
+checks robot polygons with it): ``_vector`` (worlds:
 :func:`inflate_world`, :func:`cspace_world`), ``_grid`` (grids: :func:`inflate_grid`,
 :func:`cspace_grid` and the footprint dilation), ``_robot`` (a robot on any map:
 :func:`as_robot`, :func:`apply_robot`, :func:`centre_footprint` (discs on grids, decided at cell
@@ -29,8 +30,8 @@ public names. The submodules are private: import from ``gridfield.cspace``.
 
 from __future__ import annotations
 
+from .._polygons import minkowski_obstacle, star_algorithm
 from ._grid import cspace_grid, inflate_grid
-from ._polygons import minkowski_obstacle, star_algorithm
 from ._robot import (
     apply_robot,
     as_robot,

@@ -15,11 +15,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import ndimage
 
+from .._polygons import _as_geometry, _check_radius, _clean_convex, _convex_polygon
 from ..errors import ParameterError
 from ..grid import Grid, GridMap
 from ..limits import check_cells
 from ..rasterize import rasterize_geometry
-from ._polygons import _as_geometry, _check_radius, _clean_convex, _convex_polygon
 
 
 def inflate_grid(gridmap: GridMap, radius: float) -> GridMap:

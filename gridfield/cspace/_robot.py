@@ -17,13 +17,13 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 from shapely.geometry import Point
 
+from .._polygons import _as_geometry, _convex_polygon, minkowski_obstacle
 from ..errors import GridfieldError, ParameterError
 from ..grid import Grid, GridMap
 from ..limits import check_cells
 from ..rasterize import rasterize_geometry
 from ..world import Obstacle, Robot, World
 from ._grid import _dilate_gridmap, _runs
-from ._polygons import _as_geometry, _convex_polygon, minkowski_obstacle
 from ._vector import cspace_world, inflate_world
 
 

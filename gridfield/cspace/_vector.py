@@ -17,9 +17,9 @@ from numpy.typing import ArrayLike, NDArray
 from shapely.geometry import Point, Polygon
 from shapely.geometry.base import BaseGeometry
 
+from .._polygons import _as_geometry, _check_radius, _clean_convex, _convex_polygon, _kind, minkowski_obstacle
 from ..errors import ParameterError
 from ..world import CIRCLE_SEGMENTS, Obstacle, World
-from ._polygons import _as_geometry, _check_radius, _clean_convex, _convex_polygon, _kind, minkowski_obstacle
 
 
 def _circle_obstacle(oid: int, center: tuple[float, float], radius: float) -> Obstacle:

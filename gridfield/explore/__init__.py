@@ -4,7 +4,7 @@
 :func:`gridfield.planners.plan` on the map, or on its configuration space
 (:func:`gridfield.cspace.apply_robot`) once a robot is drawn and the C-space computed, so what the
 explorer shows is exactly what ``gridfield plan`` computes. The potential planner's background is
-the field that plan followed (``plan(..., return_field=True)``): one build per update.
+the field that plan followed (``plan_with_field(...)``): one build per update.
 
 Seed 004's workflow: draw obstacles, draw a convex robot, compute the configuration space (the
 C-obstacles are drawn in yellow beside the workspace obstacles), set the start and the goal,

@@ -377,7 +377,7 @@ class ExplorerModel:
         GridfieldError
             When the plan failed (:attr:`path` is None, :attr:`field` the background field).
         """
-        from ..planners import plan
+        from ..planners import plan_with_field
 
         self.n_updates += 1
         self.path = None
@@ -395,8 +395,8 @@ class ExplorerModel:
                 for name in ("start", "goal"):
                     check_robot_point(self._workspace(), self.robot, name, getattr(self, name))
             dmap = self._incremental_dmap() if target is self.cgridmap else None
-            self.path, field = plan(self.planner, target, self.start, self.goal, self.params, resolution=None,
-                                    cache=self._plan_cache(target, dmap), return_field=True)
+            self.path, field = plan_with_field(self.planner, target, self.start, self.goal, self.params, resolution=None,
+                                               cache=self._plan_cache(target, dmap))
             self.field = field if self.planner == "potential" else None
         except GridfieldError:
             self.field = self._background_field()

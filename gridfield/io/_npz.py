@@ -3,9 +3,9 @@
 Every array is sized from its ``.npy`` header (and checked against the size guard) before it is
 loaded, and no file stays open. :func:`save_field` and :func:`load_field` store a
 :class:`~gridfield.potential.Field` (with its distance map) in the same format; they live here, with
-the other ``.npz`` I/O, and :mod:`gridfield.potential` re-exports them. The data flow runs
-io -> ... -> potential: ``potential`` imports this package, never the reverse at import time, so
-:func:`load_field` imports ``Field`` and ``DistanceMap`` when it is called.
+the other ``.npz`` I/O, and :mod:`gridfield.potential` re-exports them. ``potential`` imports this
+package, never the reverse: ``Field`` and ``DistanceMap`` come from the leaf :mod:`gridfield._results`
+(imported when :func:`load_field` runs).
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from ..limits import check_cells
 from ._common import PathLike, _check_file
 
 if TYPE_CHECKING:
-    from ..potential import Field
+    from .._results import Field
 
 
 #: Array names gridfield gives to the fields an ``.npz`` file may hold (others are allowed too).
@@ -328,9 +328,8 @@ def load_field(path: PathLike) -> Field:
     >>> g.grid == f.grid, np.array_equal(g.grad_x, f.grad_x), np.array_equal(g.distance.distance, f.distance.distance)
     (True, True, True)
     """
-    from ..brushfire import DistanceMap
+    from .._results import DistanceMap, Field
     from ..errors import SizeLimitError
-    from ..potential import Field
 
     content = _npz_content(path)  # issue 17: every array sized from its header first; no file left open
     missing = [k for k in ("occupied", "potential", "grad_x", "grad_y", "resolution", "origin", "goal", "params")

@@ -48,13 +48,14 @@ shadow.)
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any, cast
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import ParameterError
 from ..grid import GridMap
+from ..params import Navigation, validate
 
 # Besides __all__, the names of the single-file module that callers use stay importable from here
 # (``X as X`` marks a re-export), among them the sphere-world terms the star worlds reuse.
@@ -115,7 +116,8 @@ def navigation_field(gridmap: GridMap, goal: ArrayLike, planner_name: str,
     goal : (x, y)
     planner_name : {"wavefront", "wavefront-octile", "fmm", "harmonic", "navfn", "sphere-nav"}
     params : mapping
-        Planner parameters (``connectivity``, ``clearance_weight``, ``q_star``, ``kappa``); others ignored.
+        Planner parameters (``connectivity``, ``clearance_weight``, ``q_star``, ``kappa``, checked by the
+        registry); its other parameters are ignored.
         ``sphere-nav`` needs the map to have been rasterized from a world of circles; without ``kappa``
         it uses the number of obstacles + 1.
 
@@ -131,11 +133,12 @@ def navigation_field(gridmap: GridMap, goal: ArrayLike, planner_name: str,
     >>> nav.potential, nav.grad_x
     (array([[0., 1., 2.]]), array([[0., 1., 1.]]))
     """
-    p = dict(params or {})
+    p = validate(params)
+    nav = p.group(Navigation)
     if planner_name == "wavefront":
-        return wavefront(gridmap, goal, connectivity=p.get("connectivity", 8), costs="unit", **_common(p))
+        return wavefront(gridmap, goal, connectivity=nav.connectivity, costs="unit", **_common(p))
     if planner_name == "wavefront-octile":
-        return wavefront(gridmap, goal, connectivity=p.get("connectivity", 8), costs="octile", **_common(p))
+        return wavefront(gridmap, goal, connectivity=nav.connectivity, costs="octile", **_common(p))
     if planner_name == "fmm":
         return fmm(gridmap, goal, **_common(p))
     if planner_name == "harmonic":
@@ -151,11 +154,11 @@ def navigation_field(gridmap: GridMap, goal: ArrayLike, planner_name: str,
         if world is None:
             raise ParameterError("the sphere-nav field needs a vector world of circles; this map is a grid")
         discs = _discs_of(world)
-        c0, r0 = _workspace(world, p.get("workspace_center"), p.get("workspace_radius"))
+        c0, r0 = _workspace(world, nav.workspace_center, nav.workspace_radius)
         _check_sphere_world(discs, c0, r0)
         g = np.asarray(goal, dtype=float).reshape(-1)
-        cast(Any, world).check_point("goal", g)  # GridMap.world is typed object (no import cycle)
-        kappa = float(p.get("kappa", len(discs) + 1))
+        world.check_point("goal", g)
+        kappa = float(len(discs) + 1 if nav.kappa is None else nav.kappa)  # kappa=None: as when not given
         phi, grad = sphere_nav_function(discs, g, kappa=kappa, workspace_center=c0, workspace_radius=r0,
                                         grid=gridmap.grid)
         (gr, gc), = gridmap.grid.world_to_cell(g)[0]

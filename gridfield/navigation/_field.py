@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ParameterError
 from ..grid import Grid, GridMap
+from ..params import Navigation, Repulsion, validate
 from ..path import NavigationAux, Path
 
 #: The kinds of :class:`NavigationField`.
@@ -38,18 +39,6 @@ def _kernels() -> Any:
     from .. import _kernels_navigation  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _kernels_navigation
-
-
-@functools.cache
-def _warm_followers() -> None:
-    """Load the compiled followers once per process (importing the extension module, a few
-    milliseconds), so that :attr:`Path.seconds` measures the path, not the start-up."""
-    k = _kernels()
-    one = np.zeros((1, 1))
-    free = np.ones((1, 1), bool)
-    k.descend(one, free, np.empty((0, 0)), 0, 0, 8, SQRT2, 0, 1.0)
-    k.follow_interpolated(one, one, one, free, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 1, SQRT2)
-    k.clearance_along(~free, np.zeros(1, np.int64), np.zeros(1, np.int64), False, 8)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -155,7 +144,7 @@ class NavigationField:
 
     def to_field(self) -> Any:
         """The same arrays as a :class:`gridfield.potential.Field` (for its follower and plots)."""
-        from ..potential import Field
+        from .._results import Field
 
         return Field(self.map, self.value, self.grad_x, self.grad_y, (float(self.goal[0]), float(self.goal[1])),
                      {"navigation": self.kind, **dict(self.params)})
@@ -298,7 +287,6 @@ def extract_path(
     >>> p.points.tolist()
     [[2.5, 2.5], [2.5, 1.5], [2.5, 0.5], [1.5, 0.5], [0.5, 0.5]]
     """
-    _warm_followers()
     t0 = time.perf_counter()
     gm = nav.map
     grid = gm.grid
@@ -428,7 +416,8 @@ def _min_clearance(nav: NavigationField, points: NDArray[np.float64],
 # The planner adapter every grid construction shares
 # ----------------------------------------------------------------------------------------------
 def _common(params: Mapping[str, Any]) -> dict[str, Any]:
-    return {"clearance_weight": params.get("clearance_weight", 0.0), "q_star": params.get("q_star")}
+    p = validate(params)
+    return {"clearance_weight": p.group(Navigation).clearance_weight, "q_star": p.group(Repulsion).q_star}
 
 
 def _plan_grid(nav: NavigationField, start: NDArray[np.float64], params: Mapping[str, Any], name: str,

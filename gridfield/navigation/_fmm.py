@@ -98,7 +98,7 @@ def fmm(
 
 
 def plan_fmm(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[np.float64],
-             params: Mapping[str, Any]) -> Path:
+             params: Mapping[str, Any], *, cache: dict[Any, Any] | None = None) -> Path:
     """Planner ``fmm``: fast-marching geodesic distance followed along its gradient (``step``, at most
     one cell, default half a cell; ``tolerance``; ``max_iterations``; optional ``clearance_weight``/``q_star``).
 

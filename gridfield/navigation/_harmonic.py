@@ -230,7 +230,7 @@ def harmonic(
 
 
 def plan_harmonic(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[np.float64],
-                  params: Mapping[str, Any]) -> Path:
+                  params: Mapping[str, Any], *, cache: dict[Any, Any] | None = None) -> Path:
     """Planner ``harmonic``: harmonic navigation function (:func:`harmonic`) and steepest descent over
     the 8 neighbour cells.
 

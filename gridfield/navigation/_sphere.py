@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import GridfieldError, ParameterError
 from ..grid import Grid
-from ..params import validate
+from ..params import Follower, Navigation, validate
 from ..path import Path
 
 
@@ -222,7 +222,42 @@ def _follow_sphere_nav(start: NDArray[np.float64], goal: NDArray[np.float64], di
 KAPPA_LADDER = (2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0, 48.0, 64.0)
 
 
-def plan_sphere_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float64], params: Mapping[str, Any]) -> Path:
+#: The largest default step budget of ``sphere-nav`` and ``star-nav`` (50 crossings of the workspace's
+#: diameter + 1000 steps; ten times that of their default step, 1/200 of the workspace radius). A smaller
+#: ``step``, whose default budget would exceed it, is refused up front unless ``max_iterations`` is given:
+#: a star-nav step costs about a millisecond, and ``step=1e-9`` made the budget ~1e12 steps.
+MAX_DEFAULT_ITERATIONS = 210_000
+
+
+def _step_budget(fol: Follower, r0: float, planner: str) -> tuple[float, float, int, int]:
+    """``step``, ``tolerance``, ``max_iterations`` and ``progress_window`` of a follower on a workspace disc of
+    radius ``r0``: the given values, else 1/200 of ``r0``, ``step``, and 50 crossings of the diameter + 1000.
+
+    Examples
+    --------
+    >>> _step_budget(Follower(), 5.0, "sphere-nav")
+    (0.025, 0.025, 21000, 200)
+    >>> _step_budget(Follower(step=1e-9), 5.0, "star-nav")
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: star-nav: step=1e-09 is too small for the default step budget ...
+    """
+    step = r0 / 200 if fol.step is None else float(fol.step)
+    tol = step if fol.tolerance is None else float(fol.tolerance)
+    if fol.max_iterations is not None:
+        max_it = int(fol.max_iterations)
+    else:
+        max_it = 50 * int(2 * r0 / step) + 1000
+        if max_it > MAX_DEFAULT_ITERATIONS:
+            raise ParameterError(
+                f"{planner}: step={step:g} is too small for the default step budget (50 crossings of the workspace's "
+                f"diameter {2 * r0:g} + 1000 = {max_it:.3g} steps, more than {MAX_DEFAULT_ITERATIONS}); use "
+                f"step >= {2 * r0 / ((MAX_DEFAULT_ITERATIONS - 1000) // 50):.3g} or give max_iterations")
+    return step, tol, max_it, int(fol.progress_window)
+
+
+def plan_sphere_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float64], params: Mapping[str, Any], *,
+                    cache: dict[Any, Any] | None = None) -> Path:
     """Planner ``sphere-nav``: follow the Rimon-Koditschek navigation function of a sphere world.
 
     The workspace is the disc inscribed in the world's bounds (or ``params["workspace_center"]`` /
@@ -268,7 +303,8 @@ def plan_sphere_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.flo
     params = validate(params)  # a raw mapping from a direct call is checked too
     t0 = time.perf_counter()
     discs = _discs_of(world)
-    c0, r0 = _workspace(world, params.get("workspace_center"), params.get("workspace_radius"))
+    nav = params.group(Navigation)
+    c0, r0 = _workspace(world, nav.workspace_center, nav.workspace_radius)
     _check_sphere_world(discs, c0, r0)
     start = np.asarray(start, dtype=float)
     goal = np.asarray(goal, dtype=float)
@@ -276,17 +312,8 @@ def plan_sphere_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.flo
         if not _rk_terms(p[:1], p[1:], goal, discs, c0, r0)[4][0]:
             raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}) is not in the free space of the sphere world "
                                  f"(inside the workspace disc of radius {r0:g} and outside every disc)")
-    step = float(params.get("step", r0 / 200))
-    if not (math.isfinite(step) and step > 0):
-        raise ParameterError(f"step must be a positive number, got {step!r}")
-    tol = float(params.get("tolerance", step))
-    if not (math.isfinite(tol) and tol >= 0):
-        raise ParameterError(f"tolerance must be a finite number >= 0, got {tol!r}")
-    max_it = int(params.get("max_iterations", 50 * int(min(2 * r0 / step, 1e7)) + 1000))  # a tiny step: capped
-    window = int(params.get("progress_window", 200))
-    kappas = [float(params["kappa"])] if params.get("kappa") is not None else list(KAPPA_LADDER)
-    if not all(math.isfinite(k) and k > 0 for k in kappas):
-        raise ParameterError(f"kappa must be a positive number, got {params.get('kappa')!r}")
+    step, tol, max_it, window = _step_budget(params.group(Follower), r0, "sphere-nav")
+    kappas = [float(nav.kappa)] if nav.kappa is not None else list(KAPPA_LADDER)  # the registry: finite, > 0
     tried = []
     for kappa in kappas:
         pts, status, its = _follow_sphere_nav(start, goal, discs, c0, r0, kappa, step, tol, max_it, window)

@@ -21,25 +21,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import GridfieldError, ParameterError
-from ..params import validate
+from ..params import Follower, Navigation, Params, validate
 from ..path import Path
 from ._field import NavigationField
+from ._sphere import _step_budget
 from ._star_world import StarWorld, _check_free, _model_terms, nav_function, star_to_sphere, star_world
-
-# ==============================================================================================
-# THE PARAMETERS OF star-nav: name -> default, allowed range (inclusive), meaning.
-# (One place, to be ported to the parameter registry; ``lambda`` is the key in params dicts, world
-# files and ``--param lambda=...``; Python arguments call it ``lam``.)
-# ==============================================================================================
-STAR_PARAMETERS: dict[str, dict[str, Any]] = {
-    "kappa": {"default": None, "range": (1.0, 1000.0),
-              "meaning": "navigation function exponent; default: the smallest of KAPPA_LADDER with no "
-                         "spurious minimum detected (seed 002: 3)"},
-    "lambda": {"default": 10.0, "range": (1e-6, 1e12),
-               "meaning": "star-to-sphere switch parameter: larger keeps h_lambda closer to the identity "
-                          "away from the obstacles (too small folds h_lambda; seed 002: 1; the default "
-                          "reached the goal most often over 24 random spiky worlds, benchmarks/star_nav.py)"},
-}
 
 #: a follower step whose segment would touch an obstacle is cut to this fraction of the exact clearance
 CLEARANCE_STEP = 0.5
@@ -52,19 +38,12 @@ class StarNavWarning(UserWarning):
     """``kappa`` too small (spurious local minima detected) or ``lambda`` too small (``h_lambda`` folds)."""
 
 
-def _param(params: Mapping[str, Any], name: str) -> float | None:
-    spec = STAR_PARAMETERS[name]
-    value = params.get(name, spec["default"])
-    if value is None:
-        return None
-    lo, hi = spec["range"]
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        v = math.nan
-    if isinstance(value, bool) or not (math.isfinite(v) and lo <= v <= hi):
-        raise ParameterError(f"{name} must be a number in [{lo:g}, {hi:g}] ({spec['meaning']}), got {value!r}")
-    return v
+def _star_params(params: Mapping[str, Any] | None) -> tuple[Params, float | None, float]:
+    """The checked parameters (the registry's rules: ``kappa`` and ``lambda`` finite numbers > 0), ``kappa``
+    (None: chosen from :data:`KAPPA_LADDER`) and ``lambda``."""
+    p = validate(params)  # a raw mapping from a direct call is checked too
+    nav = p.group(Navigation)
+    return p, nav.kappa, float(nav.lam)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -200,7 +179,8 @@ def follow_star_nav(sw: StarWorld, starts: ArrayLike, *, kappa: float, lam: floa
     step, tolerance : float
         The step length and the goal tolerance.
     max_iterations, window : int
-        The step budget, and the steps without a new lowest ``phi`` that end a start as ``local_minimum``.
+        The step budget, and the steps without a new lowest ``phi`` that end a start as ``local_minimum``
+        (0: no such rule).
 
     Returns
     -------
@@ -263,7 +243,7 @@ def follow_star_nav(sw: StarWorld, starts: ArrayLike, *, kappa: float, lam: floa
         best[idx[go & better]] = log_phi[go & better]
         since[idx[go & better]] = 0
         since[idx[go & ~better]] += 1
-        flat = go & (since[idx] >= window)
+        flat = go & (since[idx] >= window) if window else np.zeros_like(go)  # window 0: no progress rule
         if flat.any():
             status[idx[flat]] = "local_minimum"
             ends[idx[flat]] = it - 1
@@ -313,14 +293,17 @@ def follow_star_nav(sw: StarWorld, starts: ArrayLike, *, kappa: float, lam: floa
 
 
 def plan_star_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float64],
-                  params: Mapping[str, Any]) -> Path:
+                  params: Mapping[str, Any], *, cache: dict[Any, Any] | None = None) -> Path:
     """Planner ``star-nav``: follow the star-world navigation function ``phi(h_lambda(q))``.
 
-    Parameters (``params``): ``kappa`` and ``lambda`` (:data:`~gridfield.star.STAR_PARAMETERS`); ``step`` (default 1/200
-    of the workspace radius), ``tolerance`` (default ``step``), ``max_iterations``, ``progress_window``
-    (200). Without ``kappa`` the values of :data:`KAPPA_LADDER` are tried and the first with no
-    spurious minimum detected (:func:`spurious_minima`) is used, and raised to the next values (twice
-    at most) when the path still ends in a ``local_minimum`` (one too close to an obstacle for the
+    Parameters (``params``, the registry's :class:`~gridfield.params.Navigation` and
+    :class:`~gridfield.params.Follower`): ``kappa``, ``lambda``, ``workspace_center``, ``workspace_radius``;
+    ``step`` (default 1/200 of the workspace radius), ``tolerance`` (default ``step``), ``max_iterations``
+    (default: 50 crossings of the workspace's diameter + 1000 steps; a ``step`` whose default budget would
+    exceed :data:`~gridfield.navigation._sphere.MAX_DEFAULT_ITERATIONS` is refused unless
+    ``max_iterations`` is given; 0: no step), ``progress_window`` (200; 0: off). Without ``kappa`` the
+    values of :data:`KAPPA_LADDER` are tried and the first with no spurious minimum detected
+    (:func:`spurious_minima`) is used, and raised to the next values (twice at most) when the path still ends in a ``local_minimum`` (one too close to an obstacle for the
     lattice check); with a ``kappa`` that leaves one, a :class:`StarNavWarning` says so (the path may
     then end in a ``local_minimum``). A ``lambda`` for which ``h_lambda`` folds (:func:`folds`) is also
     warned about.
@@ -350,29 +333,17 @@ def plan_star_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float
     >>> p.status, p.extra["kappa"], p.extra["lambda"]
     ('reached', 3.0, 1.0)
     """
-    params = validate(params)  # a raw mapping from a direct call is checked too
+    params, kappa, lam = _star_params(params)
     t0 = time.perf_counter()
-    kappa = _param(params, "kappa")
-    lam = _param(params, "lambda")
-    assert lam is not None
-    sw = star_world(world, goal, workspace_center=params.get("workspace_center"),
-                    workspace_radius=params.get("workspace_radius"))
+    nav = params.group(Navigation)
+    sw = star_world(world, goal, workspace_center=nav.workspace_center, workspace_radius=nav.workspace_radius)
     start = np.asarray(start, dtype=float).reshape(2)
     try:
         _check_free(sw, "start", start)
     except ParameterError as e:
         raise GridfieldError(str(e)) from None
     r0 = sw.workspace_radius
-    step = float(params.get("step", r0 / 200))
-    if not (math.isfinite(step) and step > 0):
-        raise ParameterError(f"step must be a positive number, got {params.get('step')!r}")
-    tol = float(params.get("tolerance", step))
-    if not (math.isfinite(tol) and tol >= 0):
-        raise ParameterError(f"tolerance must be a finite number >= 0, got {params.get('tolerance')!r}")
-    max_it = int(params.get("max_iterations", 50 * int(min(2 * r0 / step, 1e7)) + 1000))  # a tiny step: capped
-    window = int(params.get("progress_window", 200))
-    if max_it < 1 or window < 1:
-        raise ParameterError(f"max_iterations and progress_window must be >= 1, got {max_it}, {window}")
+    step, tol, max_it, window = _step_budget(params.group(Follower), r0, "star-nav")
     n_folds = _warn_folds(sw, lam)
     given = kappa is not None
     kappa, tried = _choose_kappa(sw, kappa, lam)
@@ -428,12 +399,10 @@ def star_nav_field(gridmap: Any, goal: ArrayLike, params: Mapping[str, Any] | No
     world = getattr(gridmap, "world", None)
     if world is None or not hasattr(world, "obstacles"):
         raise ParameterError("the star-nav field needs a vector world of star-shaped obstacles; this map is a grid")
-    p = dict(params or {})
-    kappa = _param(p, "kappa")
-    lam = _param(p, "lambda")
-    assert lam is not None
+    p, kappa, lam = _star_params(params)
+    nav = p.group(Navigation)
     g = np.asarray(goal, dtype=float).reshape(-1)
-    sw = star_world(world, g, workspace_center=p.get("workspace_center"), workspace_radius=p.get("workspace_radius"))
+    sw = star_world(world, g, workspace_center=nav.workspace_center, workspace_radius=nav.workspace_radius)
     kappa, _ = _choose_kappa(sw, kappa, lam)
     xs, ys = gridmap.grid.cell_centers()
     x, y = np.meshgrid(xs, ys)

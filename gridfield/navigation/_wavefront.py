@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import GridfieldError, ParameterError
 from ..grid import GridMap
-from ..params import validate
+from ..params import Navigation, validate
 from ..path import Path
 from ._field import (
     COSTS,
@@ -173,7 +173,7 @@ def wavefront(
 
 
 def plan_wavefront(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[np.float64],
-                   params: Mapping[str, Any]) -> Path:
+                   params: Mapping[str, Any], *, cache: dict[Any, Any] | None = None) -> Path:
     """Planner ``wavefront``: unit-cost wavefront (``connectivity`` 8 or 4, optional
     ``clearance_weight``/``q_star``) and the descent of :func:`extract_path`.
 
@@ -203,12 +203,12 @@ def plan_wavefront(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[n
     """
     params = validate(params)  # a raw mapping from a direct call is checked too
     t0 = time.perf_counter()
-    nav = wavefront(gridmap, goal, connectivity=params.get("connectivity", 8), costs="unit", **_common(params))
+    nav = wavefront(gridmap, goal, connectivity=params.group(Navigation).connectivity, costs="unit", **_common(params))
     return _plan_grid(nav, start, params, "wavefront", time.perf_counter() - t0)
 
 
 def plan_wavefront_octile(gridmap: GridMap, start: NDArray[np.float64], goal: NDArray[np.float64],
-                          params: Mapping[str, Any]) -> Path:
+                          params: Mapping[str, Any], *, cache: dict[Any, Any] | None = None) -> Path:
     """Planner ``wavefront-octile``: octile-cost wavefront (Moving AI metric) and its descent: a shortest
     8-connected path without corner cutting.
 
@@ -236,5 +236,5 @@ def plan_wavefront_octile(gridmap: GridMap, start: NDArray[np.float64], goal: ND
     """
     params = validate(params)  # a raw mapping from a direct call is checked too
     t0 = time.perf_counter()
-    nav = wavefront(gridmap, goal, connectivity=params.get("connectivity", 8), costs="octile", **_common(params))
+    nav = wavefront(gridmap, goal, connectivity=params.group(Navigation).connectivity, costs="octile", **_common(params))
     return _plan_grid(nav, start, params, "wavefront-octile", time.perf_counter() - t0)

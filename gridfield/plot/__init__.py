@@ -3,8 +3,8 @@
 Plotting never computes: every function draws the result it is given (a map, a distance map, a
 field, basins, paths) and computes nothing from it. A :class:`~gridfield.world.World` is drawn as
 its vector outlines; occupancy only when a :class:`~gridfield.grid.GridMap` is given; a potential
-only when the caller passes the field it already has (``gridfield.planners.plan(...,
-return_field=True)`` hands back the field a ``potential`` path followed).
+only when the caller passes the field it already has (``gridfield.planners.plan_with_field(...)``
+hands back the field a ``potential`` path followed).
 
 The package has three layers: :mod:`gridfield.plot.layers` (occupancy, outlines, paths, endpoints,
 legend, quiver, and the :class:`Artists` record), the figures (one function per figure:

@@ -162,7 +162,7 @@ def save_plan_animation(
         The path animated, one frame per point (sampled down to ``max_frames``).
     field : Field, optional
         Background potential: the field the path followed, as the caller has it
-        (``gridfield.planners.plan(..., return_field=True)`` hands it back); nothing is rebuilt here.
+        (``gridfield.planners.plan_with_field(...)`` hands it back); nothing is rebuilt here.
     goal : (x, y), optional
         The goal the path was planned to (see :func:`gridfield.plot.save_plan_figure`).
     fps, max_frames : int

@@ -5,7 +5,8 @@ Each figure function takes the result it draws (a :class:`~gridfield.grid.GridMa
 :class:`~gridfield.potential.Field`, :class:`~gridfield.follow.Basins`, paths) and computes nothing
 from it: a World is drawn as its vector outlines, occupancy only when a GridMap is given, and a
 potential only when the caller passes the field it already has. The figures of results (grid vs
-exact, convergence, a plan written to a file) are in :mod:`gridfield.plot.results`, re-exported here.
+exact, convergence, a plan written to a file) are in :mod:`gridfield.plot.results` (which builds on this module; :mod:`gridfield.plot` re-exports
+both).
 """
 
 from __future__ import annotations
@@ -55,13 +56,10 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "plot_basins",
     "plot_brushfire",
-    "plot_comparison",
-    "plot_convergence",
     "plot_map",
     "plot_potential",
     "plot_star_world",
     "plot_surface",
-    "save_plan_figure",
 ]
 
 
@@ -715,5 +713,21 @@ def plot_basins(
     return art
 
 
-# re-exported (gridfield.plot.results draws its maps with plot_map above, so it is imported last)
-from .results import plot_comparison, plot_convergence, save_plan_figure  # noqa: E402
+_MOVED_TO_RESULTS = ("plot_comparison", "plot_convergence", "save_plan_figure")
+
+
+def __getattr__(name: str) -> Any:
+    """``gridfield.plot.figures.plot_comparison`` (and ``plot_convergence``, ``save_plan_figure``): deprecated
+    aliases of :mod:`gridfield.plot.results` (import them from ``gridfield.plot``; removed in the next release).
+
+    ``results`` draws its maps with :func:`plot_map`, so this module never imports it statically (the
+    layers of ``ARCHITECTURE.md``, checked by ``lint-imports``): the aliases load it on use.
+    """
+    if name in _MOVED_TO_RESULTS:
+        import importlib
+        import warnings
+
+        warnings.warn(f"gridfield.plot.figures.{name} is deprecated: import it from gridfield.plot "
+                      "(or gridfield.plot.results)", DeprecationWarning, stacklevel=2)
+        return getattr(importlib.import_module("gridfield.plot.results"), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -5,6 +5,9 @@ cleaning of computed vertex cycles: counter-clockwise, lowest vertex first, no d
 collinear vertex), and the two independent constructions of a C-obstacle ``O ⊕ (−R)``:
 :func:`minkowski_obstacle` (convex hull of the vertex differences) and :func:`star_algorithm`
 (edges merged by direction, seed 004). Also the radius check both disc inflations share.
+
+A leaf below :mod:`gridfield.world` (it imports only ``errors``), so that ``world`` checks a robot
+polygon with the normalization ``cspace`` uses without importing ``cspace``, which builds on ``world``.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.base import BaseGeometry
 
-from ..errors import ParameterError
+from .errors import ParameterError
 
 #: Relative tolerance for collinearity: |sin| of the turn between two edges below which a
 #: vertex counts as collinear.

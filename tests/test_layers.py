@@ -1,0 +1,65 @@
+"""The layers of ARCHITECTURE.md, enforced: ``lint-imports`` checks the contracts of ``[tool.importlinter]``
+in pyproject.toml (no import cycles, the layers, plotting never computes, matplotlib only where it draws).
+
+grimp (import-linter's graph) reads every import statement, function-local and ``TYPE_CHECKING`` ones
+included, so a cycle hidden inside a function breaks the contract as a module-level one does (the one
+exemption, by name in pyproject.toml: ``grid``'s type-only import of ``World`` for ``GridMap.world``).
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+LINT = shutil.which("lint-imports")
+
+pytestmark = pytest.mark.skipif(LINT is None, reason="import-linter is not installed (pip install -e .[test])")
+
+
+def _lint(cwd: Path) -> subprocess.CompletedProcess[str]:
+    # --no-cache: the cache is keyed by file times, and the copy below has fresh ones anyway
+    return subprocess.run([str(LINT), "--no-cache"], cwd=cwd, capture_output=True, text=True, timeout=300)
+
+
+def test_every_contract_is_kept() -> None:
+    r = _lint(ROOT)
+    assert r.returncode == 0, r.stdout[-6000:] + r.stderr[-2000:]
+    assert "0 broken" in r.stdout
+    assert "no import cycles" in r.stdout  # the contract that gives "0 cycles" ran
+
+
+@pytest.mark.parametrize(("module", "line", "contract"), [
+    # the cycle world <-> cspace that world's robot parser used to make (function-local)
+    ("world.py", "    from .cspace import check_robot_polygon  # noqa\n", "no import cycles"),
+    # an upward import without a cycle: io reading a field with the algorithm that built it
+    ("io/_npz.py", "    from ..potential import build_field  # noqa\n", "layers"),
+    # a figure computing its own distance map
+    ("plot/layers.py", "    from ..brushfire import brushfire  # noqa\n", "plotting never computes"),
+])
+def test_a_broken_contract_fails(tmp_path: Path, module: str, line: str, contract: str) -> None:
+    """The check can fail: the same sources with one bad import, function-local, in a copy."""
+    shutil.copy(ROOT / "pyproject.toml", tmp_path)
+    shutil.copytree(ROOT / "gridfield", tmp_path / "gridfield", ignore=shutil.ignore_patterns("*.so", "*.c", "__pycache__"))
+    target = tmp_path / "gridfield" / module
+    target.write_text(target.read_text() + "\n\ndef _injected() -> None:\n" + line)
+    r = _lint(tmp_path)
+    assert r.returncode == 1, r.stdout[-3000:]
+    broken = [s for s in r.stdout.splitlines() if " BROKEN" in s]
+    assert any(contract in s for s in broken), r.stdout[-3000:]
+
+
+def test_contract_names_every_module_of_the_package() -> None:
+    """``exhaustive = true``: a module left out of the layers is reported (here: checked independently)."""
+    import tomllib
+
+    cfg = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["importlinter"]
+    (layers,) = [c for c in cfg["contracts"] if c["type"] == "layers"]
+    listed = {name.strip() for layer in layers["layers"] for name in layer.replace(":", "|").split("|")}
+    package = ROOT / "gridfield"
+    modules = {p.stem for p in package.glob("*.py") if p.stem != "__init__"}
+    modules |= {p.parent.name for p in package.glob("*/__init__.py")}
+    assert modules == listed, (sorted(modules - listed), sorted(listed - modules))

@@ -29,6 +29,7 @@ Every run of the ``potential`` planner that does not reach the goal carries ``ex
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -65,7 +66,8 @@ def unreachable_hint(start: Any, goal: Any) -> str:
             f"({_fmt(start[0])}, {_fmt(start[1])}): no free path joins them on this map")
 
 
-def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None) -> dict[str, Any]:
+def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None, *,
+             follow: Callable[..., Any] | None = None) -> dict[str, Any]:
     """The diagnosis of a potential-field run that did not reach its goal (see the module docstring).
 
     Parameters
@@ -76,6 +78,10 @@ def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None) -> d
         The field it followed (``map``, ``potential``, ``goal``, ``distance``, ``params``).
     escape : NavigationEscape, optional
         Reused for its wavefront and basins when the caller has one.
+    follow : callable, optional
+        ``follow(field, start, params=...) -> Path``, the follower a proposed ``q_star`` is re-run with
+        (:func:`gridfield.follow.follow`, which passes itself: diagnose sits below the follower). Without
+        it no ``q_star`` is proposed, only the passage is named.
 
     Returns
     -------
@@ -151,7 +157,7 @@ def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None) -> d
             if math.isfinite(q_star) and q_star > clearance >= res:
                 narrow = (f"q_star {_fmt(q_star)} is wider than the half-width {_fmt(clearance)} of the passage "
                           f"at ({_fmt(at[0])}, {_fmt(at[1])})")
-                tried = _try_q_star(path, field, clearance)
+                tried = _try_q_star(path, field, clearance, follow) if follow is not None else []
                 out["tried"] = tried
                 good = [q for q, status in tried if status == "reached"]
                 if good:
@@ -174,7 +180,7 @@ def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None) -> d
 Q_STAR_TRIES = (0.9, 0.5)
 
 
-def _try_q_star(path: Any, field: Any, clearance: float) -> list[list[Any]]:
+def _try_q_star(path: Any, field: Any, clearance: float, follow: Callable[..., Any]) -> list[list[Any]]:
     """Re-run ``path``'s query with each ``q_star`` of :data:`Q_STAR_TRIES` until one reaches.
 
     The field is rebuilt on the same map with the same brushfire (``field.distance``) and the same
@@ -182,7 +188,6 @@ def _try_q_star(path: Any, field: Any, clearance: float) -> list[list[Any]]:
     (:func:`gridfield.params.resolve`), ``d_star`` and ``eta``, which are scaled again: what
     ``gridfield plan ... --q-star X`` runs. Returns ``[[q_star, status], ...]`` in the order tried.
     """
-    from .follow import follow
     from .params import D_STAR_PER_Q_STAR, balanced_eta
     from .potential import build_field
 

@@ -336,7 +336,7 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     status = path.status
     points = path.points
     if status != "reached" and esc is not None:
-        diag = diagnose(path, field, esc)
+        diag = diagnose(path, field, esc, follow=follow)  # follow: the re-runs of a proposed q_star
         if not math.isfinite(esc.value(s)):  # large maps: found unreachable only now
             diag = {"reachable": False, "hint": unreachable_hint(s, g)}
             status, points = "no_path", points[:1]

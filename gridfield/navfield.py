@@ -443,11 +443,15 @@ def nf_potential(gridmap: GridMap, goals: ArrayLike, params: Mapping[str, Any] |
     >>> U.tolist(), p["model"]
     ([[0.0, 1.0, inf, 1.0, 0.0]], 'nf1')
     """
-    from .potential import resolve_params
+    from .params import FIELD_GROUPS, names, resolve, validate
 
-    given = dict(params or {})
-    given.setdefault("model", "nf1")
-    p = resolve_params(given, unit=gridmap.grid.resolution)
+    # potential.resolve_params for a complete model, from the registry (potential dispatches here, so
+    # this module does not import it): the field's parameters resolved, the other names given kept
+    given = dict(validate({"model": "nf1", **dict(params or {})}))
+    full = resolve(given, unit=gridmap.grid.resolution)
+    field_names = names(*FIELD_GROUPS)
+    p = {**{k: full[k] for k in field_names}, **given, **{k: full[k] for k in field_names}}
+    p["attraction"], p["clearance_gain"] = full["attraction"], full["clearance_gain"]
     model = p["model"]
     if model not in NF_MODELS:
         raise ParameterError(f"nav_field builds the models {NF_MODELS}, got model={model!r}")
@@ -517,7 +521,7 @@ def nav_field(gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] | Non
     >>> round(float(f.potential[5, 5]), 4), f.params["model"], f.params["progress_window"]
     (7.0711, 'nf1', 0)
     """
-    from .potential import Field
+    from ._results import Field
 
     U, p, work, dmap = nf_potential(gridmap, goal, params, dmap=dmap, skel=skel, stop_at=stop_at)
     g = gridmap.check_point("goal", goal)

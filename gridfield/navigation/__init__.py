@@ -47,8 +47,9 @@ shadow.)
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Mapping
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -144,7 +145,8 @@ def navigation_field(gridmap: GridMap, goal: ArrayLike, planner_name: str,
     if planner_name == "harmonic":
         return harmonic(gridmap, goal)
     if planner_name == "navfn":  # Nav2's NavFn on the map's (inflated) costmap, from the goal over the whole map
-        from ..navfn import navfn
+        # by name, as planners.plan loads a planner: navfn builds on this package (NavigationField)
+        navfn = importlib.import_module("gridfield.navfn").navfn
 
         navfn_names = ("allow_unknown", "goal_tolerance", "robot_radius", "inflation_radius", "cost_scaling_factor",
                        "lut_precision")

@@ -380,12 +380,17 @@ def _finish_on_wavefront(nav: NavigationField, point: NDArray[np.float64]) -> Pa
     """The octile wavefront's descent from ``point`` to ``nav``'s goal (a grid navigation function: no
     flat spot), or None when the goal cannot be reached from there. Used where a follower of a
     fast-marching or harmonic field stops short of the goal."""
-    from ._wavefront import wavefront
-
     grid = nav.map.grid
-    if grid.cell_of(float(point[0]), float(point[1])) is None:
+    stop = grid.cell_of(float(point[0]), float(point[1]))
+    if stop is None:
         return None
-    wf = wavefront(nav.map, nav.goal, costs="octile", stop_at=point)
+    # what _wavefront.wavefront(nav.map, nav.goal, costs="octile", stop_at=point) builds, from the kernel
+    # itself: _wavefront builds on this module, so importing it here would tie the two both ways
+    g, (gr, gc) = _goal_cell(nav.map, nav.goal)
+    value = _kernels().wavefront_uniform(~nav.map.occupied, gr, gc, 8, SQRT2, int(stop[0]), int(stop[1]),
+                                         grid.resolution)
+    wf = NavigationField(nav.map, value, g, (gr, gc), "wavefront",
+                         {"connectivity": 8, "costs": "octile", "clearance_weight": 0.0, "q_star": None}, {})
     p = extract_path(wf, point, method="descent")
     return p if p.status == "reached" else None
 

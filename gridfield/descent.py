@@ -670,8 +670,8 @@ def descend(
                 moves = random_jump(x, y, escape_radius, rng, blocked)
             elif escape == "navigation":
                 assert navigate is not None
-                # the jitter before the stall stays out of the path: the escape starts where the
-                # dithering began (or here, when that way is not shorter)
+                # the jitter before the stall stays out of the path: the escape starts at the point of
+                # this descent (where the dithering began, the best one, or here) that keeps it shortest
                 cut = navigation_cut(navigate, xs, ys, r.dither_starts(reason, xs, ys, since, best_idx), since)
                 moves = navigation_moves(navigate, xs[cut], ys[cut], final=tried >= escape_tries, blocked=blocked)
                 if moves and cut < n - 1:

@@ -73,8 +73,14 @@ def _clean_disconnect() -> None:
     (as its ``on_close`` does) and a write that fails because the stream closed is consumed.
     Incoming messages are not touched."""
     from matplotlib.backends.backend_webagg import WebAggApplication
-    from tornado.iostream import StreamClosedError
-    from tornado.websocket import WebSocketClosedError
+
+    from ..errors import GridfieldError
+
+    try:
+        from tornado.iostream import StreamClosedError
+        from tornado.websocket import WebSocketClosedError
+    except ImportError:
+        raise GridfieldError("--web needs tornado: pip install 'gridfield[web]' (or pip install tornado)") from None
 
     handler: Any = WebAggApplication.WebSocket
     if getattr(handler, "_gridfield_clean_disconnect", False):

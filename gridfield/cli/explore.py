@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import Any
 
 from ._common import add_map_arguments, add_param_arguments, add_robot_arguments, collect_params, load_target
 
@@ -61,6 +62,76 @@ def _use_webagg(port: int) -> None:
     matplotlib.rcParams["webagg.address"] = "127.0.0.1"
     matplotlib.rcParams["webagg.port"] = port
     matplotlib.rcParams["webagg.open_in_browser"] = False
+    _clean_disconnect()
+
+
+def _clean_disconnect() -> None:
+    """A browser tab that closes is a clean disconnect: matplotlib's WebAgg socket handler sends the
+    next frames to a socket that is gone, and tornado raised (``WebSocketClosedError``) or left a
+    failed write unretrieved (``StreamClosedError``), two tracebacks on the server per closed tab.
+    The handler's two send methods are wrapped once: a closed socket is dropped from its figure
+    (as its ``on_close`` does) and a write that fails because the stream closed is consumed.
+    Incoming messages are not touched."""
+    from matplotlib.backends.backend_webagg import WebAggApplication
+
+    from ..errors import GridfieldError
+
+    try:
+        from tornado.iostream import StreamClosedError
+        from tornado.websocket import WebSocketClosedError
+    except ImportError:
+        raise GridfieldError("--web needs tornado: pip install 'gridfield[web]' (or pip install tornado)") from None
+
+    handler: Any = WebAggApplication.WebSocket
+    if getattr(handler, "_gridfield_clean_disconnect", False):
+        return
+
+    def closed(ws: Any) -> None:
+        manager = getattr(ws, "manager", None)
+        if manager is not None and ws in getattr(manager, "web_sockets", ()):
+            manager.remove_web_socket(ws)
+
+    def consume(ws: Any, future: Any) -> None:
+        if future is None:
+            return
+
+        def done(f: Any) -> None:
+            if not f.cancelled() and isinstance(f.exception(), StreamClosedError | WebSocketClosedError):
+                closed(ws)
+
+        future.add_done_callback(done)
+
+    def send_json(self: Any, content: Any) -> None:
+        import json
+
+        try:
+            consume(self, self.write_message(json.dumps(content)))
+        except WebSocketClosedError:
+            closed(self)
+
+    original_binary = handler.send_binary
+
+    def send_binary(self: Any, blob: Any) -> None:
+        write = self.write_message
+        futures: list[Any] = []
+
+        def keep(*a: Any, **k: Any) -> Any:
+            futures.append(write(*a, **k))
+            return futures[-1]
+
+        self.write_message = keep
+        try:
+            original_binary(self, blob)
+        except WebSocketClosedError:
+            closed(self)
+        finally:
+            del self.write_message
+        for f in futures:
+            consume(self, f)
+
+    handler.send_json = send_json
+    handler.send_binary = send_binary
+    handler._gridfield_clean_disconnect = True
 
 
 #: What the served page may send (matplotlib's mpl.js): the device pixel ratio, the canvas size in CSS pixels,

@@ -143,7 +143,14 @@ class Explorer(ExplorerView):
                 f"cspace={self.cspace_on}, updates={self.n_updates})")
 
     # -- widgets ---------------------------------------------------------------------------
-    def _slider_range(self, name: str) -> tuple[float, float]:
+    def _slider_range(self, name: str, value: float | None = None) -> tuple[float, float]:
+        """A slider's range: centred on ``value`` (the value in use, e.g. the default scaled to the
+        map), so it starts in the middle and can go either way: 0 to twice it for the gains (``zeta``,
+        ``eta``), a tenth of it to 1.9 times it for the lengths (which must stay > 0); the fixed
+        ranges below for a value that is 0, infinite (d_star's right end) or not given."""
+        if value is not None and math.isfinite(value) and value > 0:
+            lo = 0.0 if name in ("zeta", "eta") else value / 10.0
+            return lo, 2.0 * value - lo
         xmin, ymin, xmax, ymax = self._bounds()
         span = max(xmax - xmin, ymax - ymin)
         res = self.gridmap.grid.resolution if self.gridmap is not None else span / 200.0
@@ -163,8 +170,8 @@ class Explorer(ExplorerView):
         # every slider shows the value in use: the given one, or the registry's default scaled to the map
         in_use = self._params_in_use()
         for i, name in enumerate(SLIDER_PARAMS):
-            lo, hi = self._slider_range(name)
             v = float(in_use[name])
+            lo, hi = self._slider_range(name, v)
             if name == "d_star" and math.isinf(v):
                 v = hi
             lo, hi = min(lo, v), max(hi, v)  # the range always holds the value in use

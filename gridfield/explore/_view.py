@@ -99,11 +99,19 @@ class ExplorerView(ExplorerModel):
                                        zorder=8, label="stall")
         self._redraw_map()
         _frame(ax, self._bounds())
+        self._place_colorbar()
         self.colorbar = self.figure.colorbar(self.field_image, cax=self.cax)
         self.colorbar.set_label("U − min U (log scale)", fontsize=8)
         self.cax.tick_params(labelsize=7)
         self.status_text = self.figure.text(0.05, 0.02, "", fontsize=9, family="monospace")
         self.ax.set_title("click: start, then goal", fontsize=10)
+
+    def _place_colorbar(self) -> None:
+        """The colour bar beside the map as drawn (equal aspect: a tall map is drawn narrower than its
+        axes box), as tall as the map: it stays clear of the sliders' labels at the right."""
+        self.ax.apply_aspect()
+        pos = self.ax.get_position(original=False)
+        self.cax.set_position((pos.x1 + 0.012, pos.y0, 0.012, pos.height))
 
     # -- drawing ---------------------------------------------------------------------------
     def _set_message(self, text: str) -> None:

@@ -362,7 +362,9 @@ def plot_potential(
         gy = np.asarray(field.grad_y, dtype=float)
         art.quiver = _decimated_quiver(ax, grid, gx, gy, finite, quiver_step)
     if path is not None:
-        _draw_paths(ax, [path], art, styles=[{"color": "tab:red"}], bounds=grid.bounds)
+        # the map is the world's bounds where there is a world (a vortex lattice reaches beyond them)
+        _draw_paths(ax, [path], art, styles=[{"color": "tab:red"}],
+                    bounds=world.bounds if world is not None else grid.bounds)
     if stall_points is not None:
         s = _points_or_empty(stall_points, "stall_points")
         if "stall" in art.markers:

@@ -542,3 +542,24 @@ def test_real_holes_are_kept():
     real, sliver = [(2, 2), (4, 2), (4, 4), (2, 4)], [(6, 6), (7, 6), (6.5, 6 + 1e-15)]
     out = _drop_slivers(shapely.Polygon(outer, [real, sliver]))
     assert len(out.interiors) == 1 and out.area == pytest.approx(96.0)
+
+
+def test_point_clear_but_its_cell_centre_blocked_is_named():
+    from gridfield.cspace import apply_robot, check_robot_point
+    from gridfield.grid import Grid, GridMap
+
+    occ = np.zeros((5, 5), bool)
+    occ[2, 2] = True
+    gm = GridMap(Grid((5, 5), 1.0), occ)
+    c = apply_robot(gm, 0.6)
+    check_robot_point(gm, 0.6, "start", (0.5, 0.5), cspace=c)
+    with pytest.raises(GridfieldError, match=r"start \(1\.1, 2\.5\) is 0\.9 from the nearest occupied cell, enough "
+                                             r"for the robot \(disc of radius 0\.6\), but the centre of its cell "
+                                             r"\(1\.5, 2\.5\) is 0\.5 from it"):
+        check_robot_point(gm, 0.6, "start", (1.1, 2.5), cspace=c)
+
+
+def test_polygon_robot_with_absurd_coordinates_is_refused_without_warnings():
+    r = cli("plan", str(bundled_map("seed000.yaml")), "--resolution", "0.1", "--robot", "0,0 1e300,0 0,1")
+    line = one_line_error(r)  # was: two numpy overflow warnings, then a verdict from overflowed products
+    assert "--robot must hold coordinates within ±1e+100" in line, line

@@ -563,3 +563,18 @@ def test_polygon_robot_with_absurd_coordinates_is_refused_without_warnings():
     r = cli("plan", str(bundled_map("seed000.yaml")), "--resolution", "0.1", "--robot", "0,0 1e300,0 0,1")
     line = one_line_error(r)  # was: two numpy overflow warnings, then a verdict from overflowed products
     assert "--robot must hold coordinates within ±1e+100" in line, line
+
+
+def test_dask_cluster_without_workers_ends_the_sweep(tmp_path, monkeypatch):
+    import distributed
+
+    import gridfield.sweep._backends as backends
+    from gridfield.sweep import run_sweep
+
+    monkeypatch.setattr(backends, "NO_WORKER_TIMEOUT", 2.0)
+    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        monkeypatch.setattr(client, "scatter", lambda target, **kw: target)  # no worker to scatter to: embed it
+        with pytest.raises(GridfieldError, match=r"the Dask cluster failed \(TimeoutError: no worker for 2 s "
+                                                 r"\(all died, none restarted\)\); the rows written so far are kept"):
+            run_sweep(_sweep_runs(), tmp_path / "rows.csv", scheduler=client, progress=False, batch_size=4)

@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.base import BaseGeometry
 
-from .errors import ParameterError
+from .errors import ParameterError, shorten
 
 #: Relative tolerance for collinearity: |sin| of the turn between two edges below which a
 #: vertex counts as collinear.
@@ -30,6 +30,11 @@ _COLLINEAR_TOL = 1e-12
 # ----------------------------------------------------------------------------------------
 # Convex polygons as vertex arrays
 # ----------------------------------------------------------------------------------------
+#: Largest coordinate of a polygon vertex: cross products of edges (squares of coordinates, times the
+#: vertex count) stay finite floats.
+COORD_MAX = 1e100
+
+
 def _vertices(value: ArrayLike, name: str) -> NDArray[np.float64]:
     try:
         v = np.asarray(value, dtype=np.float64)
@@ -41,6 +46,9 @@ def _vertices(value: ArrayLike, name: str) -> NDArray[np.float64]:
         raise ParameterError(f"{name} must be an (N, 2) array of vertices (x, y), got shape {np.shape(v)}")
     if not np.all(np.isfinite(v)):
         raise ParameterError(f"{name} must hold finite numbers, got {v.tolist()}")
+    if np.any(np.abs(v) > COORD_MAX):
+        raise ParameterError(f"{name} must hold coordinates within ±{COORD_MAX:g} (so that the products of the "
+                             f"convexity test stay finite), got {shorten(v.tolist())}")
     return _merge_duplicates(v)
 
 

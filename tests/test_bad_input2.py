@@ -542,3 +542,39 @@ def test_real_holes_are_kept():
     real, sliver = [(2, 2), (4, 2), (4, 4), (2, 4)], [(6, 6), (7, 6), (6.5, 6 + 1e-15)]
     out = _drop_slivers(shapely.Polygon(outer, [real, sliver]))
     assert len(out.interiors) == 1 and out.area == pytest.approx(96.0)
+
+
+def test_point_clear_but_its_cell_centre_blocked_is_named():
+    from gridfield.cspace import apply_robot, check_robot_point
+    from gridfield.grid import Grid, GridMap
+
+    occ = np.zeros((5, 5), bool)
+    occ[2, 2] = True
+    gm = GridMap(Grid((5, 5), 1.0), occ)
+    c = apply_robot(gm, 0.6)
+    check_robot_point(gm, 0.6, "start", (0.5, 0.5), cspace=c)
+    with pytest.raises(GridfieldError, match=r"start \(1\.1, 2\.5\) is 0\.9 from the nearest occupied cell, enough "
+                                             r"for the robot \(disc of radius 0\.6\), but the centre of its cell "
+                                             r"\(1\.5, 2\.5\) is 0\.5 from it"):
+        check_robot_point(gm, 0.6, "start", (1.1, 2.5), cspace=c)
+
+
+def test_polygon_robot_with_absurd_coordinates_is_refused_without_warnings():
+    r = cli("plan", str(bundled_map("seed000.yaml")), "--resolution", "0.1", "--robot", "0,0 1e300,0 0,1")
+    line = one_line_error(r)  # was: two numpy overflow warnings, then a verdict from overflowed products
+    assert "--robot must hold coordinates within ±1e+100" in line, line
+
+
+def test_dask_cluster_without_workers_ends_the_sweep(tmp_path, monkeypatch):
+    import distributed
+
+    import gridfield.sweep._backends as backends
+    from gridfield.sweep import run_sweep
+
+    monkeypatch.setattr(backends, "NO_WORKER_TIMEOUT", 2.0)
+    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        monkeypatch.setattr(client, "scatter", lambda target, **kw: target)  # no worker to scatter to: embed it
+        with pytest.raises(GridfieldError, match=r"the Dask cluster failed \(TimeoutError: no worker for 2 s "
+                                                 r"\(all died, none restarted\)\); the rows written so far are kept"):
+            run_sweep(_sweep_runs(), tmp_path / "rows.csv", scheduler=client, progress=False, batch_size=4)

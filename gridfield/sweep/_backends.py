@@ -26,6 +26,9 @@ POOL_RESTARTS = 3
 #: Seconds to wait for a Dask scheduler to answer.
 SCHEDULER_TIMEOUT = 10
 
+#: Seconds a Dask cluster may have no worker at all (all dead, none restarted) before the sweep ends.
+NO_WORKER_TIMEOUT = 120.0
+
 
 class SweepInterrupted(KeyboardInterrupt):
     """The sweep was stopped by a signal (SIGINT or SIGTERM); the rows written so far are kept."""
@@ -123,7 +126,7 @@ def _local_results(batches: Sequence[list[Run]], workers: int) -> Iterator[list[
 
 def _dask_results(batches: Sequence[list[Run]], scheduler: Any) -> Iterator[list[dict[str, Any]]]:
     try:
-        from distributed import Client, as_completed
+        from distributed import Client
     except ImportError:
         raise GridfieldError("--scheduler needs Dask: pip install 'gridfield[dask]'") from None
     from ..io import read
@@ -140,18 +143,18 @@ def _dask_results(batches: Sequence[list[Run]], scheduler: Any) -> Iterator[list
     try:
         # The map's content travels with the tasks (workers need not see the submitter's files):
         # each map is read here once and replicated to the workers, and each task is a batch of its runs.
-        shipped: dict[tuple[Any, ...], Any] = {}
-        for b in batches:
-            key = (b[0].map, b[0].resolution, b[0].robot)
-            if key not in shipped:
-                try:
-                    target = _with_robot(read(b[0].map), b[0].robot)
-                except GridfieldError:
-                    target = None  # every run of the map reports the error in its row
-                shipped[key] = client.scatter(target, broadcast=True, hash=False) if target is not None else None
-            futures.append(client.submit(run_batch, b, shipped[key], pure=False))
         try:
-            for fut in as_completed(futures):
+            shipped: dict[tuple[Any, ...], Any] = {}
+            for b in batches:
+                key = (b[0].map, b[0].resolution, b[0].robot)
+                if key not in shipped:
+                    try:
+                        target = _with_robot(read(b[0].map), b[0].robot)
+                    except GridfieldError:
+                        target = None  # every run of the map reports the error in its row
+                    shipped[key] = client.scatter(target, broadcast=True, hash=False) if target is not None else None
+                futures.append(client.submit(run_batch, b, shipped[key], pure=False))
+            for fut in _completed(client, futures):
                 yield fut.result()
         except _cluster_failures() as e:  # raised here, never by the caller's row writing (that is not thrown in)
             raise GridfieldError(
@@ -165,6 +168,37 @@ def _dask_results(batches: Sequence[list[Run]], scheduler: Any) -> Iterator[list
                 client.close()
         except _cluster_failures():
             pass  # the scheduler is gone: nothing left to cancel or close
+
+
+def _completed(client: Any, futures: list[Any]) -> Iterator[Any]:
+    """The futures as they finish; a cluster left without any worker for :data:`NO_WORKER_TIMEOUT` seconds
+    (all of them dead, none restarted) raises a TimeoutError instead of waiting for ever."""
+    import time
+
+    from distributed import as_completed
+    from distributed.comm import CommClosedError
+
+    ac = as_completed(futures)
+    idle_since: float | None = None
+    checked = time.monotonic()
+    while not ac.is_empty():
+        if ac.has_ready():
+            yield from ac.next_batch(block=False)
+            idle_since = None
+            continue
+        time.sleep(0.02)
+        now = time.monotonic()
+        if now - checked < 1.0:
+            continue
+        checked = now
+        if client.status in ("closing", "closed"):
+            raise CommClosedError(f"the client lost the scheduler (client {client.status})")
+        if client.scheduler_info().get("workers"):
+            idle_since = None
+        elif idle_since is None:
+            idle_since = now
+        elif now - idle_since >= NO_WORKER_TIMEOUT:
+            raise TimeoutError(f"no worker for {NO_WORKER_TIMEOUT:g} s (all died, none restarted)")
 
 
 def _cluster_failures() -> tuple[type[BaseException], ...]:

@@ -88,6 +88,8 @@ VARIANTS: dict[str, dict[str, Any]] = {
     "nf2": {"model": "nf2"},
     "nf_blend": {"model": "nf-blend"},
 }
+#: The variants run when ``--variants`` is not given (issue 12's three, as before the models came).
+DEFAULT_VARIANTS = ("defaults", "random_walk", "navigation")
 STATUS_COLUMNS = ("reached", "local_minimum", "collision", "max_iterations", "no_path", "error")
 NOT_AVAILABLE = "n/a"
 #: resolved parameters kept per run in the JSON dump (the ones issue 12 makes scale with the map)
@@ -566,7 +568,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--maps-root", type=Path, default=DEFAULT_ROOT,
                     help="folder holding movingai/ and ros_maps/ (default: ../shared/maps beside the repository)")
     ap.add_argument("--per-map", type=int, default=20, help="scenarios (Moving AI) or random pairs (ROS) per map")
-    ap.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS))
+    ap.add_argument("--variants", nargs="+", default=list(DEFAULT_VARIANTS), choices=list(VARIANTS),
+                    help=f"default: {' '.join(DEFAULT_VARIANTS)} (the variants of issue 12; the models: khatib nf1 "
+                         "nf1_octile nf2 nf_blend)")
     ap.add_argument("--workers", type=int, default=2, help="worker processes (spawn), one map each at a time")
     ap.add_argument("--limit-maps", type=int, default=None,
                     help="only the N smallest Moving AI and the N smallest ROS maps (quick runs)")

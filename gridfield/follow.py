@@ -376,6 +376,9 @@ def _nf_field(gridmap: GridMap, start: Point, goal: Point, params: Mapping[str, 
         skel = (sk, cost)
     else:
         key = ("nf_brushfire", gridmap)
+        shared = ("brushfire", gridmap, "euclidean", None)  # the classic field's (or the explorer's)
+        if cache is not None and key not in cache and around is gridmap and shared in cache:
+            cache[key] = cache[shared]  # a wall border: the same Euclidean distances
         if cache is None or key not in cache:
             made_d = brushfire(around, metric="euclidean", compute_labels=False, compute_gvd=False)
             if cache is None:

@@ -118,6 +118,7 @@ _OTHER = {
     "kappa": 5.0, "lambda": 3.0, "workspace_center": (4.0, 4.0), "workspace_radius": 9.0,
     "allow_unknown": "false", "goal_tolerance": 0.2, "robot_radius": 0.5, "inflation_radius": 1.5,
     "cost_scaling_factor": 2.0, "lut_precision": 100,
+    "attraction": "octile", "clearance_gain": 3.0,
 }
 
 
@@ -182,7 +183,11 @@ def test_a_grid_planner_reads_no_parameter_it_does_not_declare(planner):
     occ = np.zeros((24, 24), bool)
     occ[8:16, 10:13] = True
     occ[3:6, 16:20] = True
-    _ignores_undeclared(planner, GridMap(Grid(occ.shape, 0.5), occ), (1.25, 5.25), (10.75, 6.25), {})
+    gm = GridMap(Grid(occ.shape, 0.5), occ)
+    _ignores_undeclared(planner, gm, (1.25, 5.25), (10.75, 6.25), {})
+    if planner == "potential":  # the classic field too, and each complete model
+        for model in ("khatib", "nf2", "nf-blend"):
+            _ignores_undeclared(planner, gm, (1.25, 5.25), (10.75, 6.25), {"model": model})
 
 
 @pytest.mark.parametrize("name", list(PLANNERS))

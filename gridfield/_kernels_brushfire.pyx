@@ -34,9 +34,21 @@ run on raw row pointers; indices are guarded as in the reference code, so bounds
 """
 
 
-from libc.math cimport sqrt
 from libc.stdint cimport int32_t, int64_t, uint8_t
 from libc.stdlib cimport free, malloc
+
+
+cdef extern from "_brushfire_rows.h" nogil:
+    # the vectorizable row loops, in C (int32, one clone per ISA level: see the header)
+    void gf_chamfer_fwd_pre(const int32_t* up, int32_t edge_row, int32_t pad, const uint8_t* occ, int32_t* t,
+                            int64_t cols, int conn8)
+    void gf_chamfer_bwd_pre(const int32_t* down, int32_t edge_row, int32_t pad, const int32_t* s, int32_t* t,
+                            int64_t cols, int conn8)
+    void gf_scale_row(const int32_t* s, double res, double* d, int64_t cols)
+    void gf_column_down(const uint8_t* occ, const int32_t* prev, int32_t* vrow, int32_t r, int64_t c0, int64_t c1)
+    void gf_column_up(const int32_t* prev, int32_t* vrow, int32_t r, int64_t c0, int64_t c1)
+    void gf_edt_gather(const int32_t* v, int32_t r, int32_t inf, int64_t* g, int64_t* rowv, int64_t cols)
+    void gf_edt_distance(const int64_t* val, double res, double* d, int64_t cols)
 
 import numpy as np
 
@@ -291,66 +303,30 @@ def chamfer_steps(occ_t occ, bint top, bint bottom, bint side, bint conn8, i32_2
 
     ``top``, ``bottom``, ``side``: whether the rows above / below the array and the columns beside it
     are a wall (obstacles) or open."""
-    cdef int64_t rows = occ.shape[0], cols = occ.shape[1], r, c, a
+    cdef int64_t rows = occ.shape[0], cols = occ.shape[1], r
     if rows == 0 or cols == 0:
         return
     cdef int64_t inf = rows + cols + 4
     cdef int64_t top_edge = 0 if top else inf
     cdef int64_t bottom_edge = 0 if bottom else inf
     cdef int64_t edge = 0 if side else inf
-    cdef int32_t* p
+    cdef int32_t pad = <int32_t>inf  # the columns beside the row: never win
     cdef int32_t* t
-    cdef const uint8_t* orow
     cdef int32_t* srow
-    cdef const int32_t* prev
-    cdef double* drow
     with nogil:
-        p = <int32_t*>_alloc((cols + 2) * sizeof(int32_t))  # the neighbouring row, padded (padding never wins)
         t = <int32_t*>_alloc(cols * sizeof(int32_t))
-        p[0] = <int32_t>inf
-        p[cols + 1] = <int32_t>inf
         for r in range(rows):  # forward: up-left, up, up-right, left
-            orow = &occ[r, 0]
             srow = &steps[r, 0]
-            if r == 0:
-                for c in range(cols):
-                    p[c + 1] = <int32_t>top_edge
-            else:
-                prev = &steps[r - 1, 0]
-                for c in range(cols):
-                    p[c + 1] = prev[c]
-            if conn8:
-                for c in range(cols):
-                    a = _lmin(_lmin(p[c], p[c + 1]), p[c + 2]) + 1
-                    t[c] = <int32_t>(a - a * orow[c])
-            else:
-                for c in range(cols):
-                    a = <int64_t>p[c + 1] + 1
-                    t[c] = <int32_t>(a - a * orow[c])
+            gf_chamfer_fwd_pre(NULL if r == 0 else &steps[r - 1, 0], <int32_t>top_edge, pad, &occ[r, 0], t, cols,
+                               conn8)
             _scan_right(t, srow, cols, edge)
         for r in range(rows - 1, -1, -1):  # backward: down-right, down, down-left, right
             srow = &steps[r, 0]
-            if r == rows - 1:
-                for c in range(cols):
-                    p[c + 1] = <int32_t>bottom_edge
-            else:
-                prev = &steps[r + 1, 0]
-                for c in range(cols):
-                    p[c + 1] = prev[c]
-            if conn8:
-                for c in range(cols):
-                    t[c] = <int32_t>(_lmin(_lmin(p[c], p[c + 1]), p[c + 2]) + 1)
-            else:
-                for c in range(cols):
-                    t[c] = <int32_t>(<int64_t>p[c + 1] + 1)
-            for c in range(cols):  # a separate loop: fewer arrays, so the compiler vectorizes both
-                t[c] = t[c] if t[c] < srow[c] else srow[c]
+            gf_chamfer_bwd_pre(NULL if r == rows - 1 else &steps[r + 1, 0], <int32_t>bottom_edge, pad, srow, t, cols,
+                               conn8)
             _scan_left(t, srow, cols, edge)
             if write_distance:
-                drow = &distance[r, 0]
-                for c in range(cols):
-                    drow[c] = srow[c] * resolution
-        free(p)
+                gf_scale_row(srow, resolution, &distance[r, 0], cols)
         free(t)
 
 
@@ -680,25 +656,17 @@ def column_block(int64_t c0, int64_t c1, occ_t occ, bint wall, i32_2d vr):
     """Columns ``c0:c1``: ``vr[r, c]`` = row of the obstacle nearest to ``(r, c)`` in column ``c``
     (ties: the one above). Wall border: rows ``-1`` and ``rows`` count as obstacles. No obstacle in
     the column: ``+-BIG``. Two sweeps over the rows, each a branch-free loop over the columns."""
-    cdef int64_t rows = occ.shape[0], cols = occ.shape[1], r, c, p, a, b, s, last
+    cdef int64_t rows = occ.shape[0], cols = occ.shape[1], r, c, last
     if rows == 0 or c1 <= c0:
         return
     cdef int64_t top = -1 if wall else -_BIG
     cdef int64_t bottom = rows if wall else _BIG
-    cdef const uint8_t* orow
-    cdef int32_t* vrow
-    cdef const int32_t* prev
     with nogil:
         for c in range(c0, c1):
             vr[0, c] = 0 if occ[0, c] else <int32_t>top
         for r in range(1, rows):
-            # nearest obstacle at or above: r on an obstacle, else the one of the row above (branch-free)
-            orow = &occ[r, 0]
-            prev = &vr[r - 1, 0]
-            vrow = &vr[r, 0]
-            for c in range(c0, c1):
-                p = prev[c]
-                vrow[c] = <int32_t>(p + (r - p) * orow[c])
+            # nearest obstacle at or above: r on an obstacle, else the one of the row above
+            gf_column_down(&occ[r, 0], &vr[r - 1, 0], &vr[r, 0], <int32_t>r, c0, c1)
         last = rows - 1
         for c in range(c0, c1):
             if bottom - last < last - vr[last, c]:
@@ -706,14 +674,7 @@ def column_block(int64_t c0, int64_t c1, occ_t occ, bint wall, i32_2d vr):
         for r in range(rows - 2, -1, -1):
             # The row below holds its final nearest row b. If b lies below r, it is also r's nearest
             # obstacle below (r is free, or b == r); keep the one above (a) unless b is strictly nearer.
-            prev = &vr[r + 1, 0]
-            vrow = &vr[r, 0]
-            for c in range(c0, c1):
-                a = vrow[c]
-                b = prev[c]
-                s = (b - r) < (r - a)
-                vrow[c] = <int32_t>(a + (b - a) * s)
-
+            gf_column_up(&vr[r + 1, 0], &vr[r, 0], <int32_t>r, c0, c1)
 
 cdef inline int64_t _floordiv(int64_t a, int64_t b) noexcept nogil:
     # Python's floor division for b > 0
@@ -782,7 +743,7 @@ def edt_rows(int64_t r0, int64_t r1, const int32_t[:, ::1] vr, bint wall, double
     ``vr`` holds the column pass result; it may be the very array ``nearest_row`` (each row is copied
     to a buffer before it is overwritten). Labels: see :func:`_gather_labels`.
     """
-    cdef int64_t rows = vr.shape[0], cols = vr.shape[1], r, c, v, d, a
+    cdef int64_t rows = vr.shape[0], cols = vr.shape[1], r, c, a
     cdef int64_t n = cols
     if rows == 0 or cols == 0 or r1 <= r0:
         return
@@ -795,8 +756,6 @@ def edt_rows(int64_t r0, int64_t r1, const int32_t[:, ::1] vr, bint wall, double
     cdef int64_t* arg
     cdef int64_t* bnr
     cdef int64_t* bnc
-    cdef const int32_t* vrow
-    cdef double* drow
     cdef int32_t* rrow
     cdef int32_t* crow
     with nogil:
@@ -813,16 +772,9 @@ def edt_rows(int64_t r0, int64_t r1, const int32_t[:, ::1] vr, bint wall, double
             g[n + 1] = 0 if wall else inf
             rowv[0] = r
             rowv[n + 1] = r
-            vrow = &vr[r, 0]
-            for c in range(n):
-                v = vrow[c]
-                rowv[c + 1] = v
-                d = r - v if r >= v else v - r
-                g[c + 1] = d if d < inf else inf
+            gf_edt_gather(&vr[r, 0], <int32_t>r, <int32_t>inf, g, rowv, n)
             _edt_1d(g, n, inf, s, t, val, arg)
-            drow = &distance[r, 0]
-            for c in range(n):
-                drow[c] = sqrt(<double>val[c]) * resolution
+            gf_edt_distance(val, resolution, &distance[r, 0], n)
             for c in range(n):
                 a = arg[c]
                 bnr[c] = rowv[a]

@@ -1,0 +1,129 @@
+/* Row loops of gridfield/_kernels_brushfire.pyx, in C so that GCC vectorizes them for the CPU.
+ *
+ * The same arithmetic as the Cython loops they replace, in int32 (every value fits: distances in cells
+ * stay below a few times rows + cols, rows below 2**30): GCC vectorizes int32 compare-selects at every
+ * ISA level, while the int64 selects of the earlier loops only vectorized with AVX-512 (SSE2 has no
+ * 64-bit compare), so the baseline build ran them scalar. Each function is compiled three times on
+ * x86-64 Linux (x86-64-v4 / AVX2 / baseline, picked by the loader for the CPU), as in
+ * _potential_rows.h. Integer arithmetic and one multiplication by the resolution: results are
+ * bit-identical across the clones and to the earlier loops (no FMA: -ffp-contract=off in setup.py).
+ */
+#ifndef GRIDFIELD_BRUSHFIRE_ROWS_H
+#define GRIDFIELD_BRUSHFIRE_ROWS_H
+
+#include <math.h>
+#include <stdint.h>
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && __GNUC__ >= 11
+#define GF_BF_FN __attribute__((target_clones("arch=x86-64-v4", "avx2", "default"))) static
+#elif defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+#define GF_BF_FN __attribute__((target_clones("avx2", "default"))) static
+#else
+#define GF_BF_FN static inline
+#endif
+
+static inline int32_t gf_min32(int32_t a, int32_t b) { return a < b ? a : b; }
+
+/* Forward pass, one row: t[c] = 0 on an obstacle, else 1 + the least of the up-left, up, up-right
+ * neighbours (conn8) or of the up neighbour. `up` is the previous row of steps, NULL for the first
+ * row (every neighbour is then `edge_row`); the columns beside the grid count as `pad` (as the padded
+ * row of the earlier loop). */
+GF_BF_FN void gf_chamfer_fwd_pre(const int32_t *restrict up, int32_t edge_row, int32_t pad, const uint8_t *restrict occ,
+                                 int32_t *restrict t, int64_t cols, int conn8) {
+    const int n = (int)cols;
+    if (up == NULL) {
+        const int32_t inner = edge_row + 1;
+        const int32_t side = (conn8 ? gf_min32(pad, edge_row) : edge_row) + 1;
+        for (int c = 0; c < n; c++) t[c] = occ[c] ? 0 : inner;
+        if (n > 0) {
+            t[0] = occ[0] ? 0 : side;
+            t[n - 1] = occ[n - 1] ? 0 : side;
+        }
+        return;
+    }
+    if (!conn8) {
+        for (int c = 0; c < n; c++) t[c] = occ[c] ? 0 : up[c] + 1;
+        return;
+    }
+    if (n == 1) {
+        t[0] = occ[0] ? 0 : gf_min32(gf_min32(pad, up[0]), pad) + 1;
+        return;
+    }
+    for (int c = 1; c < n - 1; c++) {
+        const int32_t a = gf_min32(gf_min32(up[c - 1], up[c]), up[c + 1]) + 1;
+        t[c] = occ[c] ? 0 : a;
+    }
+    t[0] = occ[0] ? 0 : gf_min32(gf_min32(pad, up[0]), up[1]) + 1;
+    t[n - 1] = occ[n - 1] ? 0 : gf_min32(gf_min32(up[n - 2], up[n - 1]), pad) + 1;
+}
+
+/* Backward pass, one row: t[c] = min(s[c], 1 + the least of the down neighbours), `down` as `up` above. */
+GF_BF_FN void gf_chamfer_bwd_pre(const int32_t *restrict down, int32_t edge_row, int32_t pad,
+                                 const int32_t *restrict s, int32_t *restrict t, int64_t cols, int conn8) {
+    const int n = (int)cols;
+    if (down == NULL) {
+        const int32_t inner = edge_row + 1;
+        const int32_t side = (conn8 ? gf_min32(pad, edge_row) : edge_row) + 1;
+        for (int c = 0; c < n; c++) t[c] = gf_min32(inner, s[c]);
+        if (n > 0) {
+            t[0] = gf_min32(side, s[0]);
+            t[n - 1] = gf_min32(side, s[n - 1]);
+        }
+        return;
+    }
+    if (!conn8) {
+        for (int c = 0; c < n; c++) t[c] = gf_min32(down[c] + 1, s[c]);
+        return;
+    }
+    if (n == 1) {
+        t[0] = gf_min32(gf_min32(gf_min32(pad, down[0]), pad) + 1, s[0]);
+        return;
+    }
+    for (int c = 1; c < n - 1; c++) {
+        const int32_t a = gf_min32(gf_min32(down[c - 1], down[c]), down[c + 1]) + 1;
+        t[c] = gf_min32(a, s[c]);
+    }
+    t[0] = gf_min32(gf_min32(gf_min32(pad, down[0]), down[1]) + 1, s[0]);
+    t[n - 1] = gf_min32(gf_min32(gf_min32(down[n - 2], down[n - 1]), pad) + 1, s[n - 1]);
+}
+
+/* distance = steps * resolution, one row */
+GF_BF_FN void gf_scale_row(const int32_t *restrict s, double res, double *restrict d, int64_t cols) {
+    const int n = (int)cols;
+    for (int c = 0; c < n; c++) d[c] = (double)s[c] * res;
+}
+
+/* Column pass, downward step: vrow[c] = r on an obstacle, else the row above's value (columns c0:c1). */
+GF_BF_FN void gf_column_down(const uint8_t *restrict occ, const int32_t *restrict prev, int32_t *restrict vrow,
+                             int32_t r, int64_t c0, int64_t c1) {
+    for (int c = (int)c0; c < (int)c1; c++) vrow[c] = occ[c] ? r : prev[c];
+}
+
+/* Column pass, upward step: keep the nearest obstacle above (vrow) unless the one below (prev) is
+ * strictly nearer. Rows are below 2**30 and the sentinels +-2**30: no difference overflows. */
+GF_BF_FN void gf_column_up(const int32_t *restrict prev, int32_t *restrict vrow, int32_t r, int64_t c0, int64_t c1) {
+    for (int c = (int)c0; c < (int)c1; c++) {
+        const int32_t a = vrow[c], b = prev[c];
+        vrow[c] = (b - r) < (r - a) ? b : a;
+    }
+}
+
+/* Row pass input: g[c + 1] = min(|r - v[c]|, inf), rowv[c + 1] = v[c] (int64, for the envelope). */
+GF_BF_FN void gf_edt_gather(const int32_t *restrict v, int32_t r, int32_t inf, int64_t *restrict g,
+                            int64_t *restrict rowv, int64_t cols) {
+    const int n = (int)cols;
+    for (int c = 0; c < n; c++) {
+        const int32_t x = v[c];
+        const int32_t d = r >= x ? r - x : x - r;
+        g[c + 1] = d < inf ? d : inf;
+        rowv[c + 1] = x;
+    }
+}
+
+/* Row pass output: distance = sqrt(val) * res. */
+GF_BF_FN void gf_edt_distance(const int64_t *restrict val, double res, double *restrict d, int64_t cols) {
+    const int n = (int)cols;
+    for (int c = 0; c < n; c++) d[c] = sqrt((double)val[c]) * res;
+}
+
+#endif

@@ -45,6 +45,8 @@ cdef extern from "_brushfire_rows.h" nogil:
     void gf_chamfer_bwd_pre(const int32_t* down, int32_t edge_row, int32_t pad, const int32_t* s, int32_t* t,
                             int64_t cols, int conn8)
     void gf_scale_row(const int32_t* s, double res, double* d, int64_t cols)
+    void gf_scan_right(const int32_t* t, int32_t* s, int64_t cols, int32_t edge)
+    void gf_scan_left(const int32_t* t, int32_t* s, int64_t cols, int32_t edge)
     void gf_column_down(const uint8_t* occ, const int32_t* prev, int32_t* vrow, int32_t r, int64_t c0, int64_t c1)
     void gf_column_up(const int32_t* prev, int32_t* vrow, int32_t r, int64_t c0, int64_t c1)
     void gf_edt_gather(const int32_t* v, int32_t r, int32_t inf, int64_t* g, int64_t* rowv, int64_t cols)
@@ -89,82 +91,6 @@ cdef inline void* _alloc(size_t n) noexcept nogil:
 # The scans s[c] = min(t[c], s[c -+ 1] + 1) are latency bound (one compare-select chain per row): they
 # run as 4 interleaved chains over 4 segments of the row, then the carry of each segment's end is
 # pushed into the next segment for as long as it improves it (a few cells at most in practice).
-cdef inline void _scan_right(const int32_t* t, int32_t* s, int64_t cols, int64_t edge) noexcept nogil:
-    """Left-to-right scan ``s[c] = min(t[c], s[c - 1] + 1)``, ``s[-1] = edge``."""
-    cdef int64_t n = _lmax(0, cols // 4 - 17)  # segment length (not a multiple of the page size)
-    cdef int64_t l0 = edge, l1 = _NOINFO, l2 = _NOINFO, l3 = _NOINFO, a, j, c, k, end, v
-    for j in range(n):
-        a = _lmin(t[j], l0 + 1)
-        s[j] = <int32_t>a
-        l0 = a
-        a = _lmin(t[n + j], l1 + 1)
-        s[n + j] = <int32_t>a
-        l1 = a
-        a = _lmin(t[2 * n + j], l2 + 1)
-        s[2 * n + j] = <int32_t>a
-        l2 = a
-        a = _lmin(t[3 * n + j], l3 + 1)
-        s[3 * n + j] = <int32_t>a
-        l3 = a
-    if n == 0:
-        l3 = edge
-    for c in range(4 * n, cols):
-        a = _lmin(t[c], l3 + 1)
-        s[c] = <int32_t>a
-        l3 = a
-    for k in range(1, 4):
-        c = k * n
-        end = cols if k == 3 else c + n
-        if c == 0:
-            continue
-        v = <int64_t>s[c - 1] + 1
-        while c < end and v < s[c]:
-            s[c] = <int32_t>v
-            v += 1
-            c += 1
-
-
-cdef inline void _scan_left(const int32_t* t, int32_t* s, int64_t cols, int64_t edge) noexcept nogil:
-    """Right-to-left scan ``s[c] = min(t[c], s[c + 1] + 1)``, ``s[cols] = edge`` (x = cols - 1 - c)."""
-    cdef int64_t n = _lmax(0, cols // 4 - 17)
-    cdef int64_t top = cols - 1
-    cdef int64_t l0 = edge, l1 = _NOINFO, l2 = _NOINFO, l3 = _NOINFO, a, j, c, k, end, v, x
-    for j in range(n):
-        c = top - j
-        a = _lmin(t[c], l0 + 1)
-        s[c] = <int32_t>a
-        l0 = a
-        c = top - n - j
-        a = _lmin(t[c], l1 + 1)
-        s[c] = <int32_t>a
-        l1 = a
-        c = top - 2 * n - j
-        a = _lmin(t[c], l2 + 1)
-        s[c] = <int32_t>a
-        l2 = a
-        c = top - 3 * n - j
-        a = _lmin(t[c], l3 + 1)
-        s[c] = <int32_t>a
-        l3 = a
-    if n == 0:
-        l3 = edge
-    for x in range(4 * n, cols):
-        c = top - x
-        a = _lmin(t[c], l3 + 1)
-        s[c] = <int32_t>a
-        l3 = a
-    for k in range(1, 4):
-        x = k * n
-        end = cols if k == 3 else x + n
-        if x == 0:
-            continue
-        v = <int64_t>s[top - x + 1] + 1
-        while x < end and v < s[top - x]:
-            s[top - x] = <int32_t>v
-            v += 1
-            x += 1
-
-
 cdef inline void _scan_right_idx(const int32_t* t, const int64_t* ti, int32_t* s, nidx_t* si, int64_t cols,
                                  int64_t edge, int64_t edge_i) noexcept nogil:
     """:func:`_scan_right` carrying the nearest-cell index ``si`` of the winner."""
@@ -319,12 +245,12 @@ def chamfer_steps(occ_t occ, bint top, bint bottom, bint side, bint conn8, i32_2
             srow = &steps[r, 0]
             gf_chamfer_fwd_pre(NULL if r == 0 else &steps[r - 1, 0], <int32_t>top_edge, pad, &occ[r, 0], t, cols,
                                conn8)
-            _scan_right(t, srow, cols, edge)
+            gf_scan_right(t, srow, cols, <int32_t>edge)
         for r in range(rows - 1, -1, -1):  # backward: down-right, down, down-left, right
             srow = &steps[r, 0]
             gf_chamfer_bwd_pre(NULL if r == rows - 1 else &steps[r + 1, 0], <int32_t>bottom_edge, pad, srow, t, cols,
                                conn8)
-            _scan_left(t, srow, cols, edge)
+            gf_scan_left(t, srow, cols, <int32_t>edge)
             if write_distance:
                 gf_scale_row(srow, resolution, &distance[r, 0], cols)
         free(t)

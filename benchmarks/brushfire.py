@@ -7,6 +7,12 @@ Usage::
     python benchmarks/brushfire.py --sizes 4096 --maps random --no-compile
     python benchmarks/brushfire.py --sizes 4096 --maps random --no-compile --compare-kernels /tmp/old.so
 
+``--brief`` times only the rows of the kernels brief's target table (random map; OpenCV DIST_C and DIST_L2
+precise, scipy edt + indices, gridfield chessboard distance and Euclidean + nearest), interleaved, and
+reports each row's minimum **wall** time and minimum **thread CPU** time (``time.thread_time``: user +
+system time of the calling thread, which excludes the time other jobs hold the core; every
+single-threaded row runs on the calling thread). Use it on a shared machine.
+
 ``--compare-kernels FILE`` adds rows running ``brushfire`` on another build of the kernels (an extension
 module compiled from an older ``_kernels_brushfire.pyx`` under the name ``_kernels_brushfire_old``, so
 that both load in one process), interleaved with the others.
@@ -30,6 +36,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -285,6 +292,50 @@ def summary_table(groups: list[list[Row]]) -> str:
          "edt+idx / gf eucl 2 thr (>= 2.8)", "peak / returned (<= ~2)"], lines, align="llrrrrrrrr")
 
 
+def brief_rows(n: int, repeat: int, opencv: Any, old: Any | None) -> str:
+    """The brief's table: min wall and min thread-CPU time per row, interleaved, and their ratios."""
+    import time
+
+    ms = {m.key: m for m in methods(random_map(n), opencv=opencv, old=old)}
+    keys = [k for k in ("cv_c", "gf_c", "old_c", "cv_l2", "edt_i", "gf_e_n1", "old_e_n1", "gf_e_n", "old_e_n")
+            if k in ms]
+    wall: dict[str, list[float]] = {k: [] for k in keys}
+    cpu: dict[str, list[float]] = {k: [] for k in keys}
+    for k in keys:
+        ms[k].fn()
+    for _ in range(repeat):
+        for k in keys:
+            w0, c0 = time.perf_counter(), time.thread_time()
+            ms[k].fn()
+            cpu[k].append((time.thread_time() - c0) * 1e3)
+            wall[k].append((time.perf_counter() - w0) * 1e3)
+    lines = [[ms[k].label, ms[k].threads, f"{min(wall[k]):.1f}", f"{statistics.median(wall[k]):.1f}",
+              f"{min(cpu[k]):.1f}" if ms[k].threads == "1" else "n/a"] for k in keys]
+    out = [markdown_table(["method", "threads", "min wall ms", "median wall ms", "min thread CPU ms"], lines), ""]
+    wmin = {k: min(v) for k, v in wall.items()}
+    cmin = {k: min(v) for k, v in cpu.items()}
+
+    def ratio(a: str, b: str, d: dict[str, float]) -> str:
+        return f"{d[a] / d[b]:.2f}" if a in d and b in d else "n/a"
+
+    rows = []
+    for what, (a, b), (oa, ob), clocks in (
+            ("DIST_C throughput / gf chessboard distance (higher is better)", ("cv_c", "gf_c"), ("cv_c", "old_c"),
+             "both"),
+            ("gf Euclidean + nearest time / DIST_L2 precise, 1 thread (lower is better)", ("gf_e_n1", "cv_l2"),
+             ("old_e_n1", "cv_l2"), "both"),
+            ("scipy edt + indices / gf Euclidean + nearest, 1 thread (higher is better)", ("edt_i", "gf_e_n1"),
+             ("edt_i", "old_e_n1"), "both"),
+            ("scipy edt + indices / gf Euclidean + nearest, 2 threads (higher is better)", ("edt_i", "gf_e_n"),
+             ("edt_i", "old_e_n"), "wall")):
+        cells = [what, ratio(oa, ob, wmin), ratio(a, b, wmin)]
+        cells += [ratio(oa, ob, cmin), ratio(a, b, cmin)] if clocks == "both" else ["n/a", "n/a"]
+        rows.append(cells)
+    out.append(markdown_table(["ratio (minima)", "old kernels, wall", "this build, wall", "old kernels, CPU",
+                               "this build, CPU"], rows))
+    return "\n".join(out)
+
+
 # ----------------------------------------------------------------------------------------------
 # first call in a fresh process (the kernels are compiled at install: nothing to compile or load)
 # ----------------------------------------------------------------------------------------------
@@ -333,6 +384,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--repeat", type=int, default=5, help="timed rounds per map and size (default 5)")
     parser.add_argument("--no-opencv", action="store_true", help="leave OpenCV out even if it is installed")
     parser.add_argument("--no-compile", action="store_true", help="skip the first-call (compile/cache) timing")
+    parser.add_argument("--brief", action="store_true", help="only the brief's target rows (random map, first size), "
+                        "min wall and min thread-CPU times")
     parser.add_argument("--compare-kernels", metavar="FILE",
                         help="also time an older build of the kernels (module _kernels_brushfire_old at FILE)")
     args = parser.parse_args(argv)
@@ -349,6 +402,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     if note:
         print(note)
     print()
+    if args.brief:
+        if opencv is None:
+            raise SystemExit("--brief needs OpenCV (pip install opencv-python-headless)")
+        old = load_old_kernels(args.compare_kernels) if args.compare_kernels else None
+        print(f"### Brief's rows: random map, {args.sizes[0]}x{args.sizes[0]}, {args.repeat} interleaved rounds")
+        print()
+        print(brief_rows(args.sizes[0], args.repeat, opencv, old))
+        return 0
     all_rows: list[list[Row]] = []
     for n in args.sizes:
         for name in args.maps:

@@ -610,6 +610,15 @@ cdef inline int64_t _floordiv(int64_t a, int64_t b) noexcept nogil:
     return q
 
 
+cdef inline int64_t _floordiv_exact(int64_t a, int64_t b) noexcept nogil:
+    # floor(a / b) for b > 0 and |a| < 2**53 by one double division: the quotient is exact when a / b
+    # is an integer, and otherwise lies at least 1 / b from one, farther than its rounding error
+    # (|a / b| * 2**-53 < 1 / b), so truncation and the sign correction give Python's a // b
+    cdef double q = <double>a / <double>b
+    cdef int64_t t = <int64_t>q
+    return t - ((<double>t != q) & (q < 0))
+
+
 cdef bint _edt_1d(const int64_t* g, int64_t n, int64_t inf, int64_t* s, int64_t* t, int64_t* val,
                   int64_t* arg) noexcept nogil:
     cdef int64_t q = -1, u, gu, fu, sq, tq, gs, w, x
@@ -633,7 +642,7 @@ cdef bint _edt_1d(const int64_t* g, int64_t n, int64_t inf, int64_t* s, int64_t*
             sq = s[q]
             gs = g[sq]
             # first x where u is strictly nearer than s[q] (floor division of an integer ratio)
-            w = 1 + _floordiv(u * u - sq * sq + fu - gs * gs, 2 * (u - sq))
+            w = 1 + _floordiv_exact(u * u - sq * sq + fu - gs * gs, 2 * (u - sq))
             if w <= n:
                 q += 1
                 s[q] = u

@@ -4,7 +4,9 @@
 Chessboard and taxicab (:func:`chamfer_steps`, :func:`chamfer_nearest`)
     The classic two-pass raster transform with a 3x3 mask (Rosenfeld & Pfaltz 1966), exact for both
     metrics. Each row is done in two stages: the neighbours in the previous row (a branch-free loop
-    the compiler vectorizes), then the left (right) neighbour (a scan, run as 4 interleaved chains).
+    the compiler vectorizes; C in ``_brushfire_rows.h``), then the left (right) neighbour (a scan:
+    a blocked prefix minimum in ``_brushfire_rows.h`` for the distance alone, 4 interleaved chains
+    here when the nearest cell rides along).
     The nearest obstacle cell is carried along: the neighbour that gives a cell its final value has a
     nearest obstacle at exactly that distance, so the carried cell is an exact nearest obstacle.
     Sequential over the rows.
@@ -88,9 +90,10 @@ cdef inline void* _alloc(size_t n) noexcept nogil:
 # ----------------------------------------------------------------------------------------------
 # chessboard / taxicab: two-pass raster transform
 # ----------------------------------------------------------------------------------------------
-# The scans s[c] = min(t[c], s[c -+ 1] + 1) are latency bound (one compare-select chain per row): they
-# run as 4 interleaved chains over 4 segments of the row, then the carry of each segment's end is
-# pushed into the next segment for as long as it improves it (a few cells at most in practice).
+# The index-carrying scans s[c] = min(t[c], s[c -+ 1] + 1) are latency bound (one compare-select chain
+# per row): they run as 4 interleaved chains over 4 segments of the row, then the carry of each
+# segment's end is pushed into the next segment for as long as it improves it (a few cells at most
+# in practice). The distance-only scans are gf_scan_right/gf_scan_left of _brushfire_rows.h.
 cdef inline void _scan_right_idx(const int32_t* t, const int64_t* ti, int32_t* s, nidx_t* si, int64_t cols,
                                  int64_t edge, int64_t edge_i) noexcept nogil:
     """:func:`_scan_right` carrying the nearest-cell index ``si`` of the winner."""

@@ -14,7 +14,10 @@
 #include <math.h>
 #include <stdint.h>
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && __GNUC__ >= 11
+/* GF_NO_CLONES (a -D flag): one baseline copy of each function, to check it against the clones */
+#if defined(GF_NO_CLONES)
+#define GF_BF_FN static inline
+#elif defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && __GNUC__ >= 11
 #define GF_BF_FN __attribute__((target_clones("arch=x86-64-v4", "avx2", "default"))) static
 #elif defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
 #define GF_BF_FN __attribute__((target_clones("avx2", "default"))) static

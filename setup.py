@@ -19,6 +19,10 @@ OPENMP = {"_kernels_potential"}
 # -O3 vectorizes the branch-free loops; no -ffast-math and no contraction into FMA, so that the
 # results are bit-identical to the reference arithmetic; -fno-math-errno and -fno-trapping-math (no
 # errno, no FP traps: neither changes a result) let sqrt and selects between divisions vectorize.
+# setuptools puts Python's own CFLAGS first (sysconfig: -DNDEBUG -g -fwrapv -O3 -Wall here), for a
+# wheel (pip wheel ., build isolation) as for build_ext --inplace: what is measured is what ships.
+# No -march: a wheel must run on any x86-64; the hot row loops pick their ISA at load time instead
+# (target_clones in _potential_rows.h and _brushfire_rows.h).
 _CFLAGS = ["-O3", "-ffp-contract=off", "-fno-math-errno", "-fno-trapping-math"]
 
 

@@ -5,6 +5,17 @@ Usage::
     python benchmarks/brushfire.py                                  # 512^2 ... 8192^2, several minutes
     python benchmarks/brushfire.py --sizes 512 1024 --repeat 3      # a quick run
     python benchmarks/brushfire.py --sizes 4096 --maps random --no-compile
+    python benchmarks/brushfire.py --sizes 4096 --maps random --no-compile --compare-kernels /tmp/old.so
+
+``--brief`` times only the rows of the kernels brief's target table (random map; OpenCV DIST_C and DIST_L2
+precise, scipy edt + indices, gridfield chessboard distance and Euclidean + nearest), interleaved, and
+reports each row's minimum **wall** time and minimum **thread CPU** time (``time.thread_time``: user +
+system time of the calling thread, which excludes the time other jobs hold the core; every
+single-threaded row runs on the calling thread). Use it on a shared machine.
+
+``--compare-kernels FILE`` adds rows running ``brushfire`` on another build of the kernels (an extension
+module compiled from an older ``_kernels_brushfire.pyx`` under the name ``_kernels_brushfire_old``, so
+that both load in one process), interleaved with the others.
 
 For every map (``random``: ~20 % of the cells blocked at random; ``maze``: a perfect maze of 14-cell
 corridors and 2-cell walls, ~13 % blocked, generated with vectorized numpy) and size, every method
@@ -25,6 +36,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -89,9 +101,23 @@ class Method:
     floor: bool = False  # a reference, not a distance transform
 
 
-def methods(occ: np.ndarray, *, opencv: Any | None) -> list[Method]:
+def load_old_kernels(path: str) -> Any:
+    """The extension module at ``path`` (built under the name ``_kernels_brushfire_old``)."""
+    import importlib.machinery
+    import importlib.util
+
+    loader = importlib.machinery.ExtensionFileLoader("_kernels_brushfire_old", path)
+    spec = importlib.util.spec_from_file_location("_kernels_brushfire_old", path, loader=loader)
+    assert spec is not None
+    module = importlib.util.module_from_spec(spec)
+    loader.exec_module(module)
+    return module
+
+
+def methods(occ: np.ndarray, *, opencv: Any | None, old: Any | None = None) -> list[Method]:
     from scipy import ndimage
 
+    import gridfield.brushfire as gb
     from gridfield.brushfire import brushfire
     from gridfield.grid import Grid, GridMap
 
@@ -102,6 +128,16 @@ def methods(occ: np.ndarray, *, opencv: Any | None) -> list[Method]:
 
     def bf(threads: int, **kw: Any) -> Callable[[], Any]:
         return lambda: brushfire(gm, threads=threads, **kw)
+
+    def bf_old(threads: int, **kw: Any) -> Callable[[], Any]:
+        def run() -> Any:
+            new = gb._kernels()
+            gb._KERNELS = old
+            try:
+                return brushfire(gm, threads=threads, **kw)
+            finally:
+                gb._KERNELS = new
+        return run
 
     lean = {"compute_nearest": False, "compute_labels": False}
     out = [Method("floor", "stream a float32 grid once (np.copyto)", "1", lambda: np.copyto(dst, src), floor=True)]
@@ -144,6 +180,15 @@ def methods(occ: np.ndarray, *, opencv: Any | None) -> list[Method]:
                bf(2, metric="euclidean", compute_labels=False)),
         Method("gf_e_full", "gridfield euclidean, default call (+ labels, GVD)", "2", bf(2, metric="euclidean")),
     ]
+    if old is not None:
+        out += [
+            Method("old_c", "OLD kernels: chessboard: steps + distance", "1", bf_old(1, **lean)),
+            Method("old_c_n", "OLD kernels: chessboard + nearest obstacle", "1", bf_old(1, compute_labels=False)),
+            Method("old_e_n1", "OLD kernels: euclidean + nearest obstacle", "1",
+                   bf_old(1, metric="euclidean", compute_labels=False)),
+            Method("old_e_n", "OLD kernels: euclidean + nearest obstacle", "2",
+                   bf_old(2, metric="euclidean", compute_labels=False)),
+        ]
     return out
 
 
@@ -155,9 +200,9 @@ class Row:
     timing: Timing
 
 
-def run_group(name: str, n: int, repeat: int, opencv: Any | None) -> list[Row]:
+def run_group(name: str, n: int, repeat: int, opencv: Any | None, old: Any | None = None) -> list[Row]:
     occ = MAPS[name](n)
-    ms = methods(occ, opencv=opencv)
+    ms = methods(occ, opencv=opencv, old=old)
     timings = round_robin({m.key: m.fn for m in ms}, repeat=repeat)
     for m in ms:
         peak, size = peak_memory(m.fn)
@@ -204,6 +249,22 @@ def targets(rows: list[Row]) -> list[str]:
         ratio = med["edt_i"] / med[key]
         check(ratio >= 2.8, f"euclidean + nearest ({thr}) >= 2.8x faster than scipy edt + indices: {ratio:.2f}x "
                             f"({med[key]:.0f} vs {med['edt_i']:.0f} ms)")
+    if "old_c" in med:
+        out.append("")
+        out.append("Brief's table (ratios of this run's medians; OLD = the --compare-kernels build):")
+        out.append("")
+        lines = []
+        for what, new, old in (("DIST_C throughput / gf chessboard (higher is better)", ("cv_c", "gf_c"), ("cv_c", "old_c")),
+                               ("gf eucl+nearest 1 thr time / DIST_L2 precise (lower is better)", ("gf_e_n1", "cv_l2"),
+                                ("old_e_n1", "cv_l2")),
+                               ("scipy edt+indices / gf eucl+nearest 1 thr (higher is better)", ("edt_i", "gf_e_n1"),
+                                ("edt_i", "old_e_n1")),
+                               ("scipy edt+indices / gf eucl+nearest 2 thr (higher is better)", ("edt_i", "gf_e_n"),
+                                ("edt_i", "old_e_n"))):
+            if all(k in med for k in new + old):
+                lines.append([what, f"{med[old[0]] / med[old[1]]:.2f}", f"{med[new[0]] / med[new[1]]:.2f}"])
+        out.append(markdown_table(["ratio", "OLD kernels", "this build"], lines))
+        out.append("")
     worst = max((r.timing.peak_bytes / r.timing.result_bytes, r.method.label) for r in rows
                 if r.method.key.startswith("gf_") and r.timing.peak_bytes is not None and r.timing.result_bytes)
     check(worst[0] <= 2.2, f"peak memory <= ~2x the returned arrays: worst {worst[0]:.2f}x ({worst[1]})")
@@ -229,6 +290,50 @@ def summary_table(groups: list[list[Row]]) -> str:
          "cdt+idx / gf default (>= 2.5)", "gf eucl+nearest 1 thr / DIST_L2 (<= 1.5)",
          "gf eucl+nearest 2 thr / DIST_L2 (<= 1.5)", "edt+idx / gf eucl 1 thr (>= 2.8)",
          "edt+idx / gf eucl 2 thr (>= 2.8)", "peak / returned (<= ~2)"], lines, align="llrrrrrrrr")
+
+
+def brief_rows(n: int, repeat: int, opencv: Any, old: Any | None) -> str:
+    """The brief's table: min wall and min thread-CPU time per row, interleaved, and their ratios."""
+    import time
+
+    ms = {m.key: m for m in methods(random_map(n), opencv=opencv, old=old)}
+    keys = [k for k in ("cv_c", "gf_c", "old_c", "cv_l2", "edt_i", "gf_e_n1", "old_e_n1", "gf_e_n", "old_e_n")
+            if k in ms]
+    wall: dict[str, list[float]] = {k: [] for k in keys}
+    cpu: dict[str, list[float]] = {k: [] for k in keys}
+    for k in keys:
+        ms[k].fn()
+    for _ in range(repeat):
+        for k in keys:
+            w0, c0 = time.perf_counter(), time.thread_time()
+            ms[k].fn()
+            cpu[k].append((time.thread_time() - c0) * 1e3)
+            wall[k].append((time.perf_counter() - w0) * 1e3)
+    lines = [[ms[k].label, ms[k].threads, f"{min(wall[k]):.1f}", f"{statistics.median(wall[k]):.1f}",
+              f"{min(cpu[k]):.1f}" if ms[k].threads == "1" else "n/a"] for k in keys]
+    out = [markdown_table(["method", "threads", "min wall ms", "median wall ms", "min thread CPU ms"], lines), ""]
+    wmin = {k: min(v) for k, v in wall.items()}
+    cmin = {k: min(v) for k, v in cpu.items()}
+
+    def ratio(a: str, b: str, d: dict[str, float]) -> str:
+        return f"{d[a] / d[b]:.2f}" if a in d and b in d else "n/a"
+
+    rows = []
+    for what, (a, b), (oa, ob), clocks in (
+            ("DIST_C throughput / gf chessboard distance (higher is better)", ("cv_c", "gf_c"), ("cv_c", "old_c"),
+             "both"),
+            ("gf Euclidean + nearest time / DIST_L2 precise, 1 thread (lower is better)", ("gf_e_n1", "cv_l2"),
+             ("old_e_n1", "cv_l2"), "both"),
+            ("scipy edt + indices / gf Euclidean + nearest, 1 thread (higher is better)", ("edt_i", "gf_e_n1"),
+             ("edt_i", "old_e_n1"), "both"),
+            ("scipy edt + indices / gf Euclidean + nearest, 2 threads (higher is better)", ("edt_i", "gf_e_n"),
+             ("edt_i", "old_e_n"), "wall")):
+        cells = [what, ratio(oa, ob, wmin), ratio(a, b, wmin)]
+        cells += [ratio(oa, ob, cmin), ratio(a, b, cmin)] if clocks == "both" else ["n/a", "n/a"]
+        rows.append(cells)
+    out.append(markdown_table(["ratio (minima)", "old kernels, wall", "this build, wall", "old kernels, CPU",
+                               "this build, CPU"], rows))
+    return "\n".join(out)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -279,6 +384,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--repeat", type=int, default=5, help="timed rounds per map and size (default 5)")
     parser.add_argument("--no-opencv", action="store_true", help="leave OpenCV out even if it is installed")
     parser.add_argument("--no-compile", action="store_true", help="skip the first-call (compile/cache) timing")
+    parser.add_argument("--brief", action="store_true", help="only the brief's target rows (random map, first size), "
+                        "min wall and min thread-CPU times")
+    parser.add_argument("--compare-kernels", metavar="FILE",
+                        help="also time an older build of the kernels (module _kernels_brushfire_old at FILE)")
     args = parser.parse_args(argv)
 
     opencv = None
@@ -293,10 +402,19 @@ def main(argv: Sequence[str] | None = None) -> int:
     if note:
         print(note)
     print()
+    if args.brief:
+        if opencv is None:
+            raise SystemExit("--brief needs OpenCV (pip install opencv-python-headless)")
+        old = load_old_kernels(args.compare_kernels) if args.compare_kernels else None
+        print(f"### Brief's rows: random map, {args.sizes[0]}x{args.sizes[0]}, {args.repeat} interleaved rounds")
+        print()
+        print(brief_rows(args.sizes[0], args.repeat, opencv, old))
+        return 0
     all_rows: list[list[Row]] = []
     for n in args.sizes:
         for name in args.maps:
-            rows = run_group(name, n, args.repeat, opencv)
+            rows = run_group(name, n, args.repeat, opencv,
+                             load_old_kernels(args.compare_kernels) if args.compare_kernels else None)
             occupied = float(MAPS[name](min(n, 512)).mean())
             print(f"### {name} map, {n}x{n} ({n * n / 1e6:.1f} M cells, ~{occupied:.0%} blocked), "
                   f"medians of {args.repeat}")

@@ -4,7 +4,9 @@
 Chessboard and taxicab (:func:`chamfer_steps`, :func:`chamfer_nearest`)
     The classic two-pass raster transform with a 3x3 mask (Rosenfeld & Pfaltz 1966), exact for both
     metrics. Each row is done in two stages: the neighbours in the previous row (a branch-free loop
-    the compiler vectorizes), then the left (right) neighbour (a scan, run as 4 interleaved chains).
+    the compiler vectorizes; C in ``_brushfire_rows.h``), then the left (right) neighbour (a scan:
+    a blocked prefix minimum in ``_brushfire_rows.h`` for the distance alone, 4 interleaved chains
+    here when the nearest cell rides along).
     The nearest obstacle cell is carried along: the neighbour that gives a cell its final value has a
     nearest obstacle at exactly that distance, so the carried cell is an exact nearest obstacle.
     Sequential over the rows.
@@ -34,9 +36,23 @@ run on raw row pointers; indices are guarded as in the reference code, so bounds
 """
 
 
-from libc.math cimport sqrt
 from libc.stdint cimport int32_t, int64_t, uint8_t
 from libc.stdlib cimport free, malloc
+
+
+cdef extern from "_brushfire_rows.h" nogil:
+    # the vectorizable row loops, in C (int32, one clone per ISA level: see the header)
+    void gf_chamfer_fwd_pre(const int32_t* up, int32_t edge_row, int32_t pad, const uint8_t* occ, int32_t* t,
+                            int64_t cols, int conn8)
+    void gf_chamfer_bwd_pre(const int32_t* down, int32_t edge_row, int32_t pad, const int32_t* s, int32_t* t,
+                            int64_t cols, int conn8)
+    void gf_scale_row(const int32_t* s, double res, double* d, int64_t cols)
+    void gf_scan_right(const int32_t* t, int32_t* s, int64_t cols, int32_t edge)
+    void gf_scan_left(const int32_t* t, int32_t* s, int64_t cols, int32_t edge)
+    void gf_column_down(const uint8_t* occ, const int32_t* prev, int32_t* vrow, int32_t r, int64_t c0, int64_t c1)
+    void gf_column_up(const int32_t* prev, int32_t* vrow, int32_t r, int64_t c0, int64_t c1)
+    void gf_edt_gather(const int32_t* v, int32_t r, int32_t inf, int64_t* g, int64_t* rowv, int64_t cols)
+    void gf_edt_distance(const int64_t* val, double res, double* d, int64_t cols)
 
 import numpy as np
 
@@ -74,85 +90,10 @@ cdef inline void* _alloc(size_t n) noexcept nogil:
 # ----------------------------------------------------------------------------------------------
 # chessboard / taxicab: two-pass raster transform
 # ----------------------------------------------------------------------------------------------
-# The scans s[c] = min(t[c], s[c -+ 1] + 1) are latency bound (one compare-select chain per row): they
-# run as 4 interleaved chains over 4 segments of the row, then the carry of each segment's end is
-# pushed into the next segment for as long as it improves it (a few cells at most in practice).
-cdef inline void _scan_right(const int32_t* t, int32_t* s, int64_t cols, int64_t edge) noexcept nogil:
-    """Left-to-right scan ``s[c] = min(t[c], s[c - 1] + 1)``, ``s[-1] = edge``."""
-    cdef int64_t n = _lmax(0, cols // 4 - 17)  # segment length (not a multiple of the page size)
-    cdef int64_t l0 = edge, l1 = _NOINFO, l2 = _NOINFO, l3 = _NOINFO, a, j, c, k, end, v
-    for j in range(n):
-        a = _lmin(t[j], l0 + 1)
-        s[j] = <int32_t>a
-        l0 = a
-        a = _lmin(t[n + j], l1 + 1)
-        s[n + j] = <int32_t>a
-        l1 = a
-        a = _lmin(t[2 * n + j], l2 + 1)
-        s[2 * n + j] = <int32_t>a
-        l2 = a
-        a = _lmin(t[3 * n + j], l3 + 1)
-        s[3 * n + j] = <int32_t>a
-        l3 = a
-    if n == 0:
-        l3 = edge
-    for c in range(4 * n, cols):
-        a = _lmin(t[c], l3 + 1)
-        s[c] = <int32_t>a
-        l3 = a
-    for k in range(1, 4):
-        c = k * n
-        end = cols if k == 3 else c + n
-        if c == 0:
-            continue
-        v = <int64_t>s[c - 1] + 1
-        while c < end and v < s[c]:
-            s[c] = <int32_t>v
-            v += 1
-            c += 1
-
-
-cdef inline void _scan_left(const int32_t* t, int32_t* s, int64_t cols, int64_t edge) noexcept nogil:
-    """Right-to-left scan ``s[c] = min(t[c], s[c + 1] + 1)``, ``s[cols] = edge`` (x = cols - 1 - c)."""
-    cdef int64_t n = _lmax(0, cols // 4 - 17)
-    cdef int64_t top = cols - 1
-    cdef int64_t l0 = edge, l1 = _NOINFO, l2 = _NOINFO, l3 = _NOINFO, a, j, c, k, end, v, x
-    for j in range(n):
-        c = top - j
-        a = _lmin(t[c], l0 + 1)
-        s[c] = <int32_t>a
-        l0 = a
-        c = top - n - j
-        a = _lmin(t[c], l1 + 1)
-        s[c] = <int32_t>a
-        l1 = a
-        c = top - 2 * n - j
-        a = _lmin(t[c], l2 + 1)
-        s[c] = <int32_t>a
-        l2 = a
-        c = top - 3 * n - j
-        a = _lmin(t[c], l3 + 1)
-        s[c] = <int32_t>a
-        l3 = a
-    if n == 0:
-        l3 = edge
-    for x in range(4 * n, cols):
-        c = top - x
-        a = _lmin(t[c], l3 + 1)
-        s[c] = <int32_t>a
-        l3 = a
-    for k in range(1, 4):
-        x = k * n
-        end = cols if k == 3 else x + n
-        if x == 0:
-            continue
-        v = <int64_t>s[top - x + 1] + 1
-        while x < end and v < s[top - x]:
-            s[top - x] = <int32_t>v
-            v += 1
-            x += 1
-
-
+# The index-carrying scans s[c] = min(t[c], s[c -+ 1] + 1) are latency bound (one compare-select chain
+# per row): they run as 4 interleaved chains over 4 segments of the row, then the carry of each
+# segment's end is pushed into the next segment for as long as it improves it (a few cells at most
+# in practice). The distance-only scans are gf_scan_right/gf_scan_left of _brushfire_rows.h.
 cdef inline void _scan_right_idx(const int32_t* t, const int64_t* ti, int32_t* s, nidx_t* si, int64_t cols,
                                  int64_t edge, int64_t edge_i) noexcept nogil:
     """:func:`_scan_right` carrying the nearest-cell index ``si`` of the winner."""
@@ -291,66 +232,30 @@ def chamfer_steps(occ_t occ, bint top, bint bottom, bint side, bint conn8, i32_2
 
     ``top``, ``bottom``, ``side``: whether the rows above / below the array and the columns beside it
     are a wall (obstacles) or open."""
-    cdef int64_t rows = occ.shape[0], cols = occ.shape[1], r, c, a
+    cdef int64_t rows = occ.shape[0], cols = occ.shape[1], r
     if rows == 0 or cols == 0:
         return
     cdef int64_t inf = rows + cols + 4
     cdef int64_t top_edge = 0 if top else inf
     cdef int64_t bottom_edge = 0 if bottom else inf
     cdef int64_t edge = 0 if side else inf
-    cdef int32_t* p
+    cdef int32_t pad = <int32_t>inf  # the columns beside the row: never win
     cdef int32_t* t
-    cdef const uint8_t* orow
     cdef int32_t* srow
-    cdef const int32_t* prev
-    cdef double* drow
     with nogil:
-        p = <int32_t*>_alloc((cols + 2) * sizeof(int32_t))  # the neighbouring row, padded (padding never wins)
         t = <int32_t*>_alloc(cols * sizeof(int32_t))
-        p[0] = <int32_t>inf
-        p[cols + 1] = <int32_t>inf
         for r in range(rows):  # forward: up-left, up, up-right, left
-            orow = &occ[r, 0]
             srow = &steps[r, 0]
-            if r == 0:
-                for c in range(cols):
-                    p[c + 1] = <int32_t>top_edge
-            else:
-                prev = &steps[r - 1, 0]
-                for c in range(cols):
-                    p[c + 1] = prev[c]
-            if conn8:
-                for c in range(cols):
-                    a = _lmin(_lmin(p[c], p[c + 1]), p[c + 2]) + 1
-                    t[c] = <int32_t>(a - a * orow[c])
-            else:
-                for c in range(cols):
-                    a = <int64_t>p[c + 1] + 1
-                    t[c] = <int32_t>(a - a * orow[c])
-            _scan_right(t, srow, cols, edge)
+            gf_chamfer_fwd_pre(NULL if r == 0 else &steps[r - 1, 0], <int32_t>top_edge, pad, &occ[r, 0], t, cols,
+                               conn8)
+            gf_scan_right(t, srow, cols, <int32_t>edge)
         for r in range(rows - 1, -1, -1):  # backward: down-right, down, down-left, right
             srow = &steps[r, 0]
-            if r == rows - 1:
-                for c in range(cols):
-                    p[c + 1] = <int32_t>bottom_edge
-            else:
-                prev = &steps[r + 1, 0]
-                for c in range(cols):
-                    p[c + 1] = prev[c]
-            if conn8:
-                for c in range(cols):
-                    t[c] = <int32_t>(_lmin(_lmin(p[c], p[c + 1]), p[c + 2]) + 1)
-            else:
-                for c in range(cols):
-                    t[c] = <int32_t>(<int64_t>p[c + 1] + 1)
-            for c in range(cols):  # a separate loop: fewer arrays, so the compiler vectorizes both
-                t[c] = t[c] if t[c] < srow[c] else srow[c]
-            _scan_left(t, srow, cols, edge)
+            gf_chamfer_bwd_pre(NULL if r == rows - 1 else &steps[r + 1, 0], <int32_t>bottom_edge, pad, srow, t, cols,
+                               conn8)
+            gf_scan_left(t, srow, cols, <int32_t>edge)
             if write_distance:
-                drow = &distance[r, 0]
-                for c in range(cols):
-                    drow[c] = srow[c] * resolution
-        free(p)
+                gf_scale_row(srow, resolution, &distance[r, 0], cols)
         free(t)
 
 
@@ -680,25 +585,17 @@ def column_block(int64_t c0, int64_t c1, occ_t occ, bint wall, i32_2d vr):
     """Columns ``c0:c1``: ``vr[r, c]`` = row of the obstacle nearest to ``(r, c)`` in column ``c``
     (ties: the one above). Wall border: rows ``-1`` and ``rows`` count as obstacles. No obstacle in
     the column: ``+-BIG``. Two sweeps over the rows, each a branch-free loop over the columns."""
-    cdef int64_t rows = occ.shape[0], cols = occ.shape[1], r, c, p, a, b, s, last
+    cdef int64_t rows = occ.shape[0], cols = occ.shape[1], r, c, last
     if rows == 0 or c1 <= c0:
         return
     cdef int64_t top = -1 if wall else -_BIG
     cdef int64_t bottom = rows if wall else _BIG
-    cdef const uint8_t* orow
-    cdef int32_t* vrow
-    cdef const int32_t* prev
     with nogil:
         for c in range(c0, c1):
             vr[0, c] = 0 if occ[0, c] else <int32_t>top
         for r in range(1, rows):
-            # nearest obstacle at or above: r on an obstacle, else the one of the row above (branch-free)
-            orow = &occ[r, 0]
-            prev = &vr[r - 1, 0]
-            vrow = &vr[r, 0]
-            for c in range(c0, c1):
-                p = prev[c]
-                vrow[c] = <int32_t>(p + (r - p) * orow[c])
+            # nearest obstacle at or above: r on an obstacle, else the one of the row above
+            gf_column_down(&occ[r, 0], &vr[r - 1, 0], &vr[r, 0], <int32_t>r, c0, c1)
         last = rows - 1
         for c in range(c0, c1):
             if bottom - last < last - vr[last, c]:
@@ -706,14 +603,7 @@ def column_block(int64_t c0, int64_t c1, occ_t occ, bint wall, i32_2d vr):
         for r in range(rows - 2, -1, -1):
             # The row below holds its final nearest row b. If b lies below r, it is also r's nearest
             # obstacle below (r is free, or b == r); keep the one above (a) unless b is strictly nearer.
-            prev = &vr[r + 1, 0]
-            vrow = &vr[r, 0]
-            for c in range(c0, c1):
-                a = vrow[c]
-                b = prev[c]
-                s = (b - r) < (r - a)
-                vrow[c] = <int32_t>(a + (b - a) * s)
-
+            gf_column_up(&vr[r + 1, 0], &vr[r, 0], <int32_t>r, c0, c1)
 
 cdef inline int64_t _floordiv(int64_t a, int64_t b) noexcept nogil:
     # Python's floor division for b > 0
@@ -721,6 +611,15 @@ cdef inline int64_t _floordiv(int64_t a, int64_t b) noexcept nogil:
     if (a % b != 0) and (a < 0):
         q -= 1
     return q
+
+
+cdef inline int64_t _floordiv_exact(int64_t a, int64_t b) noexcept nogil:
+    # floor(a / b) for b > 0 and |a| < 2**53 by one double division: the quotient is exact when a / b
+    # is an integer, and otherwise lies at least 1 / b from one, farther than its rounding error
+    # (|a / b| * 2**-53 < 1 / b), so truncation and the sign correction give Python's a // b
+    cdef double q = <double>a / <double>b
+    cdef int64_t t = <int64_t>q
+    return t - ((<double>t != q) & (q < 0))
 
 
 cdef bint _edt_1d(const int64_t* g, int64_t n, int64_t inf, int64_t* s, int64_t* t, int64_t* val,
@@ -746,7 +645,7 @@ cdef bint _edt_1d(const int64_t* g, int64_t n, int64_t inf, int64_t* s, int64_t*
             sq = s[q]
             gs = g[sq]
             # first x where u is strictly nearer than s[q] (floor division of an integer ratio)
-            w = 1 + _floordiv(u * u - sq * sq + fu - gs * gs, 2 * (u - sq))
+            w = 1 + _floordiv_exact(u * u - sq * sq + fu - gs * gs, 2 * (u - sq))
             if w <= n:
                 q += 1
                 s[q] = u
@@ -782,7 +681,7 @@ def edt_rows(int64_t r0, int64_t r1, const int32_t[:, ::1] vr, bint wall, double
     ``vr`` holds the column pass result; it may be the very array ``nearest_row`` (each row is copied
     to a buffer before it is overwritten). Labels: see :func:`_gather_labels`.
     """
-    cdef int64_t rows = vr.shape[0], cols = vr.shape[1], r, c, v, d, a
+    cdef int64_t rows = vr.shape[0], cols = vr.shape[1], r, c, a
     cdef int64_t n = cols
     if rows == 0 or cols == 0 or r1 <= r0:
         return
@@ -795,8 +694,6 @@ def edt_rows(int64_t r0, int64_t r1, const int32_t[:, ::1] vr, bint wall, double
     cdef int64_t* arg
     cdef int64_t* bnr
     cdef int64_t* bnc
-    cdef const int32_t* vrow
-    cdef double* drow
     cdef int32_t* rrow
     cdef int32_t* crow
     with nogil:
@@ -813,16 +710,9 @@ def edt_rows(int64_t r0, int64_t r1, const int32_t[:, ::1] vr, bint wall, double
             g[n + 1] = 0 if wall else inf
             rowv[0] = r
             rowv[n + 1] = r
-            vrow = &vr[r, 0]
-            for c in range(n):
-                v = vrow[c]
-                rowv[c + 1] = v
-                d = r - v if r >= v else v - r
-                g[c + 1] = d if d < inf else inf
+            gf_edt_gather(&vr[r, 0], <int32_t>r, <int32_t>inf, g, rowv, n)
             _edt_1d(g, n, inf, s, t, val, arg)
-            drow = &distance[r, 0]
-            for c in range(n):
-                drow[c] = sqrt(<double>val[c]) * resolution
+            gf_edt_distance(val, resolution, &distance[r, 0], n)
             for c in range(n):
                 a = arg[c]
                 bnr[c] = rowv[a]

@@ -8,7 +8,7 @@ obstacle corners where it wraps round an obstacle (Lozano-Pérez & Wesley 1979),
 
 Vertices
     the *convex corners*: cell corners where exactly one of the four surrounding cells is blocked
-    (outside the grid counts as blocked for a wall border, free for an open one). Corners with two
+    (outside the grid counts as blocked: see "Border" below). Corners with two
     adjacent blocked cells lie on a straight edge, three blocked is a reflex corner, and at a pinch
     point (two diagonal blocked cells) each free side is a 90-degree wedge: no shortest path bends at
     any of them.
@@ -24,6 +24,15 @@ Edges
 Queries
     the start and the goal are joined to the corners they see along taut directions (one compiled
     pass over the corners each), then A* with the straight-line heuristic runs over the graph.
+
+Border
+    Paths stay on the map with either border, as those of the grid planners (``wavefront``,
+    ``wavefront-octile``, ``fmm``: they never step outside the grid): the free space is the closed
+    union of the map's free cells, so a path may run along the map's edge beside free cells but not
+    between a blocked cell and the edge, nor outside. The border only decides the clearance: an
+    ``open`` border is no obstacle (:meth:`AnyAngleGraph.clearance` measures to the blocked cells
+    alone), a ``wall`` is one. (A vector world with an open border is another matter: there the plane
+    outside the bounds is free, :mod:`gridfield.visibility`.)
 
 The graph of a map is built once and cached (per map content; :func:`grid_graph`), so many queries
 on one map pay only for the two visibility passes and the search. Build and query times on
@@ -82,8 +91,9 @@ def _kernels() -> Any:
 
 
 def _padded_blocked(gm: GridMap) -> NDArray[np.uint8]:
+    # the frame is blocked for either border: paths stay on the map (module docstring, "Border")
     rows, cols = gm.shape
-    B = np.full((rows + 2, cols + 2), 1 if gm.grid.border == "wall" else 0, dtype=np.uint8)
+    B = np.ones((rows + 2, cols + 2), dtype=np.uint8)
     B[1:-1, 1:-1] = gm.occupied
     return B
 
@@ -95,7 +105,7 @@ def convex_corners(blocked_padded: NDArray[np.uint8]) -> tuple[NDArray[np.float6
     Parameters
     ----------
     blocked_padded : ndarray of uint8, shape (rows + 2, cols + 2)
-        The blocked cells with a one-cell frame (1 for a wall border, 0 for an open one).
+        The blocked cells with a one-cell frame (1 for the map's outside, 0 to let paths leave it).
 
     Returns
     -------
@@ -105,7 +115,7 @@ def convex_corners(blocked_padded: NDArray[np.uint8]) -> tuple[NDArray[np.float6
 
     Examples
     --------
-    >>> B = np.zeros((3, 3), np.uint8); B[1, 1] = 1      # one blocked cell in a 1 x 1 grid, open border
+    >>> B = np.zeros((3, 3), np.uint8); B[1, 1] = 1      # one blocked cell in a 1 x 1 grid, a free frame
     >>> [a.tolist() for a in convex_corners(B)]
     [[0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0], [1.0, -1.0, 1.0, -1.0], [1.0, 1.0, -1.0, -1.0]]
     """

@@ -177,7 +177,8 @@ def test_random_grids_match_brute_force_and_octile_bounds(case):
     # cell centres: the brute force, and the octile bounds
     s, t = (a[1] + 0.5, a[0] + 0.5), (b[1] + 0.5, b[0] + 0.5)
     pts, length = g.shortest_path(s, t)
-    ref = brute_force(occ, wall, s, t)
+    frame = True  # paths stay on the map with either border (module docstring, "Border")
+    ref = brute_force(occ, frame, s, t)
     oct_len = octile(occ, wall, a, b)
     if math.isinf(ref):
         assert math.isinf(length) and math.isinf(oct_len)
@@ -190,22 +191,22 @@ def test_random_grids_match_brute_force_and_octile_bounds(case):
         assert length >= (max(dx, dy) + (SQRT2 - 1) * min(dx, dy)) / math.sqrt(4 - 2 * SQRT2) - 1e-12
         assert pts[0].tolist() == list(s) and pts[-1].tolist() == list(t)
         assert float(np.hypot(*np.diff(pts, axis=0).T).sum()) == pytest.approx(length, abs=1e-9)
-        check_path(pts, occ, wall)
+        check_path(pts, occ, frame)
     # points off the centres, anywhere in their cells (1/4 lattice: on edges and corners too)
     s2 = (a[1] + da[0] / 4, a[0] + da[1] / 4)
     t2 = (b[1] + db[0] / 4, b[0] + db[1] / 4)
-    pinches = {tuple(c) for c in pinch_points(occ, wall).tolist()}
+    pinches = {tuple(c) for c in pinch_points(occ, frame).tolist()}
     if s2 in pinches or t2 in pinches:
         with pytest.raises(GridfieldError, match="pinch point"):
             g.shortest_path(s2, t2)
         return
     pts2, length2 = g.shortest_path(s2, t2)
-    ref2 = brute_force(occ, wall, s2, t2)
+    ref2 = brute_force(occ, frame, s2, t2)
     if math.isinf(ref2):
         assert math.isinf(length2)
     else:
         assert length2 == pytest.approx(ref2, abs=1e-9)
-        check_path(pts2, occ, wall)
+        check_path(pts2, occ, frame)
 
 
 def test_staircase_breaks_the_octile_metric_bound():
@@ -236,10 +237,41 @@ def test_pinch_points_block_passage():
         g.shortest_path((2.0, 2.0), (0.5, 0.5))
     pts, length = g.shortest_path((0.5, 3.5), (3.5, 0.5))
     assert math.isinf(length) and len(pts) == 0
+    # with an open border the only way round runs along the map's lower edge, outside the free cells
+    # (below the wall in column 1): not a path on the map (test_open_border_paths_stay_on_the_map)
     gm_open = GridMap(Grid(occ.shape, 1.0, border="open"), occ)
     pts, length = grid_graph(gm_open).shortest_path((0.5, 3.5), (3.5, 0.5))
-    assert length == pytest.approx(brute_force(occ, False, (0.5, 3.5), (3.5, 0.5)), abs=1e-9)
-    check_path(pts, occ, False)
+    assert math.isinf(length) and len(pts) == 0
+
+
+@pytest.mark.parametrize("where", ["column", "row", "touching"])
+def test_open_border_paths_stay_on_the_map(where):
+    """A map whose only connection runs outside the grid (along its edge): with an open border the
+    outside is free for clearance, but no planner's path leaves the map, so every planner agrees
+    there is no path (the any-angle optimum ran along the edge before)."""
+    occ = np.zeros((5, 6), bool)
+    if where == "column":
+        occ[:, 2] = True         # a full column: the two halves meet only outside the map
+    elif where == "row":
+        occ[2, :] = True
+    else:
+        occ[0:3, 2] = True       # a wall from the bottom edge ...
+        occ[2:5, 3] = True       # ... and one to the top edge, overlapping (no pinch): only the edges join
+    s, t = ((0.5, 2.5), (5.5, 2.5)) if where != "row" else ((2.5, 0.5), (2.5, 4.5))
+    assert math.isinf(brute_force(occ, True, s, t))  # the map's free cells: no connection
+    assert math.isfinite(brute_force(occ, False, s, t))  # the free plane round the map: one
+    for border in ("open", "wall"):
+        gm = GridMap(Grid(occ.shape, 1.0, border=border), occ)
+        pts, length = grid_graph(gm).shortest_path(s, t)
+        assert math.isinf(length) and len(pts) == 0, border
+        for name in ("visibility", "wavefront", "wavefront-octile"):
+            assert plan(name, gm, s, t).status == "no_path", (border, name)
+    # the border still decides the clearance: an open border is no obstacle
+    occ2 = np.zeros((4, 4), bool)
+    occ2[2, 2] = True
+    for border, expect in (("open", math.sqrt(2)), ("wall", 0.5)):  # to the cell (2, 2), or to x = 0
+        g2 = grid_graph(GridMap(Grid(occ2.shape, 1.0, border=border), occ2))
+        assert g2.clearance([[0.5, 1.0], [1.0, 1.0]]) == pytest.approx(expect)
 
 
 def test_world_units_and_errors():

@@ -1,0 +1,294 @@
+/* Row loops of gridfield/_kernels_brushfire.pyx, in C so that GCC vectorizes them for the CPU.
+ *
+ * The same arithmetic as the Cython loops they replace, in int32 (every value fits: distances in cells
+ * stay below a few times rows + cols, rows below 2**30): GCC vectorizes int32 compare-selects at every
+ * ISA level, while the int64 selects of the earlier loops only vectorized with AVX-512 (SSE2 has no
+ * 64-bit compare), so the baseline build ran them scalar. Each function is compiled three times on
+ * x86-64 Linux (x86-64-v4 / AVX2 / baseline, picked by the loader for the CPU), as in
+ * _potential_rows.h. Integer arithmetic and one multiplication by the resolution: results are
+ * bit-identical across the clones and to the earlier loops (no FMA: -ffp-contract=off in setup.py).
+ */
+#ifndef GRIDFIELD_BRUSHFIRE_ROWS_H
+#define GRIDFIELD_BRUSHFIRE_ROWS_H
+
+#include <math.h>
+#include <stdint.h>
+
+/* GF_NO_CLONES (a -D flag): one baseline copy of each function, to check it against the clones */
+#if defined(GF_NO_CLONES)
+#define GF_BF_FN static inline
+#elif defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && __GNUC__ >= 11
+#define GF_BF_FN __attribute__((target_clones("arch=x86-64-v4", "avx2", "default"))) static
+#elif defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+#define GF_BF_FN __attribute__((target_clones("avx2", "default"))) static
+#else
+#define GF_BF_FN static inline
+/* The horizontal scans of the chamfer passes as a prefix (suffix) minimum, which vectorizes:
+ *   right: s[c] = min(t[c], s[c - 1] + 1), s[-1] = edge  <=>  s[c] = c + min(edge + 1, min_{j <= c} (t[j] - j))
+ *   left:  s[c] = min(t[c], s[c + 1] + 1), s[n] = edge   <=>  s[c] = -c + min(edge + n, min_{j >= c} (t[j] + j))
+ * Exact integer identities, so the values are those of the recurrences. Blocks of 8: first the
+ * minimum within each block in registers (log steps of shifted minima), then one pass carrying the
+ * running minimum from block to block (one scalar min per block: the only serial chain). */
+typedef int32_t gf_v8i __attribute__((vector_size(32)));
+#define GF_V8_MIN(a, b) (((a) < (b)) & (a)) | (~((a) < (b)) & (b))
+
+GF_BF_FN void gf_scan_right(const int32_t *restrict t, int32_t *restrict s, int64_t cols, int32_t edge) {
+    const int n = (int)cols;
+    const gf_v8i iota = {0, 1, 2, 3, 4, 5, 6, 7};
+    const gf_v8i big = {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX};
+    const gf_v8i sh1 = {8, 0, 1, 2, 3, 4, 5, 6}, sh2 = {8, 8, 0, 1, 2, 3, 4, 5}, sh4 = {8, 8, 8, 8, 0, 1, 2, 3};
+    const int nb = n / 8 * 8;
+    int c;
+    for (c = 0; c < nb; c += 8) {
+        gf_v8i x, y;
+        __builtin_memcpy(&x, t + c, sizeof x);
+        x -= iota + c;
+        y = __builtin_shuffle(x, big, sh1);
+        x = GF_V8_MIN(x, y);
+        y = __builtin_shuffle(x, big, sh2);
+        x = GF_V8_MIN(x, y);
+        y = __builtin_shuffle(x, big, sh4);
+        x = GF_V8_MIN(x, y);
+        __builtin_memcpy(s + c, &x, sizeof x);
+    }
+    int32_t carry = edge + 1;
+    for (c = 0; c < nb; c += 8) {
+        gf_v8i x;
+        const int32_t last = s[c + 7];
+        __builtin_memcpy(&x, s + c, sizeof x);
+        const gf_v8i cv = big * 0 + carry;
+        x = GF_V8_MIN(x, cv);
+        x += iota + c;
+        __builtin_memcpy(s + c, &x, sizeof x);
+        carry = gf_min32(carry, last);
+    }
+    for (c = nb; c < n; c++) {
+        carry = gf_min32(carry, t[c] - c);
+        s[c] = carry + c;
+    }
+}
+
+GF_BF_FN void gf_scan_left(const int32_t *restrict t, int32_t *restrict s, int64_t cols, int32_t edge) {
+    const int n = (int)cols;
+    const gf_v8i iota = {0, 1, 2, 3, 4, 5, 6, 7};
+    const gf_v8i big = {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX};
+    const gf_v8i sh1 = {1, 2, 3, 4, 5, 6, 7, 8}, sh2 = {2, 3, 4, 5, 6, 7, 8, 8}, sh4 = {4, 5, 6, 7, 8, 8, 8, 8};
+    const int head = n % 8; /* blocks of 8 end at n; the first `head` cells are done last, one by one */
+    int c;
+    for (c = head; c < n; c += 8) {
+        gf_v8i x, y;
+        __builtin_memcpy(&x, t + c, sizeof x);
+        x += iota + c;
+        y = __builtin_shuffle(x, big, sh1);
+        x = GF_V8_MIN(x, y);
+        y = __builtin_shuffle(x, big, sh2);
+        x = GF_V8_MIN(x, y);
+        y = __builtin_shuffle(x, big, sh4);
+        x = GF_V8_MIN(x, y);
+        __builtin_memcpy(s + c, &x, sizeof x);
+    }
+    int32_t carry = edge + n;
+    for (c = n - 8; c >= head; c -= 8) {
+        gf_v8i x;
+        const int32_t first = s[c];
+        __builtin_memcpy(&x, s + c, sizeof x);
+        const gf_v8i cv = big * 0 + carry;
+        x = GF_V8_MIN(x, cv);
+        x -= iota + c;
+        __builtin_memcpy(s + c, &x, sizeof x);
+        carry = gf_min32(carry, first);
+    }
+    for (c = head - 1; c >= 0; c--) {
+        carry = gf_min32(carry, t[c] + c);
+        s[c] = carry - c;
+    }
+}
+
+#endif
+
+static inline int32_t gf_min32(int32_t a, int32_t b) { return a < b ? a : b; }
+
+/* Forward pass, one row: t[c] = 0 on an obstacle, else 1 + the least of the up-left, up, up-right
+ * neighbours (conn8) or of the up neighbour. `up` is the previous row of steps, NULL for the first
+ * row (every neighbour is then `edge_row`); the columns beside the grid count as `pad` (as the padded
+ * row of the earlier loop). */
+GF_BF_FN void gf_chamfer_fwd_pre(const int32_t *restrict up, int32_t edge_row, int32_t pad, const uint8_t *restrict occ,
+                                 int32_t *restrict t, int64_t cols, int conn8) {
+    const int n = (int)cols;
+    if (up == NULL) {
+        const int32_t inner = edge_row + 1;
+        const int32_t side = (conn8 ? gf_min32(pad, edge_row) : edge_row) + 1;
+        for (int c = 0; c < n; c++) t[c] = occ[c] ? 0 : inner;
+        if (n > 0) {
+            t[0] = occ[0] ? 0 : side;
+            t[n - 1] = occ[n - 1] ? 0 : side;
+        }
+        return;
+    }
+    if (!conn8) {
+        for (int c = 0; c < n; c++) t[c] = occ[c] ? 0 : up[c] + 1;
+        return;
+    }
+    if (n == 1) {
+        t[0] = occ[0] ? 0 : gf_min32(gf_min32(pad, up[0]), pad) + 1;
+        return;
+    }
+    for (int c = 1; c < n - 1; c++) {
+        const int32_t a = gf_min32(gf_min32(up[c - 1], up[c]), up[c + 1]) + 1;
+        t[c] = occ[c] ? 0 : a;
+    }
+    t[0] = occ[0] ? 0 : gf_min32(gf_min32(pad, up[0]), up[1]) + 1;
+    t[n - 1] = occ[n - 1] ? 0 : gf_min32(gf_min32(up[n - 2], up[n - 1]), pad) + 1;
+}
+
+/* Backward pass, one row: t[c] = min(s[c], 1 + the least of the down neighbours), `down` as `up` above. */
+GF_BF_FN void gf_chamfer_bwd_pre(const int32_t *restrict down, int32_t edge_row, int32_t pad,
+                                 const int32_t *restrict s, int32_t *restrict t, int64_t cols, int conn8) {
+    const int n = (int)cols;
+    if (down == NULL) {
+        const int32_t inner = edge_row + 1;
+        const int32_t side = (conn8 ? gf_min32(pad, edge_row) : edge_row) + 1;
+        for (int c = 0; c < n; c++) t[c] = gf_min32(inner, s[c]);
+        if (n > 0) {
+            t[0] = gf_min32(side, s[0]);
+            t[n - 1] = gf_min32(side, s[n - 1]);
+        }
+        return;
+    }
+    if (!conn8) {
+        for (int c = 0; c < n; c++) t[c] = gf_min32(down[c] + 1, s[c]);
+        return;
+    }
+    if (n == 1) {
+        t[0] = gf_min32(gf_min32(gf_min32(pad, down[0]), pad) + 1, s[0]);
+        return;
+    }
+    for (int c = 1; c < n - 1; c++) {
+        const int32_t a = gf_min32(gf_min32(down[c - 1], down[c]), down[c + 1]) + 1;
+        t[c] = gf_min32(a, s[c]);
+    }
+    t[0] = gf_min32(gf_min32(gf_min32(pad, down[0]), down[1]) + 1, s[0]);
+    t[n - 1] = gf_min32(gf_min32(gf_min32(down[n - 2], down[n - 1]), pad) + 1, s[n - 1]);
+}
+
+/* distance = steps * resolution, one row */
+GF_BF_FN void gf_scale_row(const int32_t *restrict s, double res, double *restrict d, int64_t cols) {
+    const int n = (int)cols;
+    for (int c = 0; c < n; c++) d[c] = (double)s[c] * res;
+}
+
+/* Column pass, downward step: vrow[c] = r on an obstacle, else the row above's value (columns c0:c1). */
+GF_BF_FN void gf_column_down(const uint8_t *restrict occ, const int32_t *restrict prev, int32_t *restrict vrow,
+                             int32_t r, int64_t c0, int64_t c1) {
+    for (int c = (int)c0; c < (int)c1; c++) vrow[c] = occ[c] ? r : prev[c];
+}
+
+/* Column pass, upward step: keep the nearest obstacle above (vrow) unless the one below (prev) is
+ * strictly nearer. Rows are below 2**30 and the sentinels +-2**30: no difference overflows. */
+GF_BF_FN void gf_column_up(const int32_t *restrict prev, int32_t *restrict vrow, int32_t r, int64_t c0, int64_t c1) {
+    for (int c = (int)c0; c < (int)c1; c++) {
+        const int32_t a = vrow[c], b = prev[c];
+        vrow[c] = (b - r) < (r - a) ? b : a;
+    }
+}
+
+/* Row pass input: g[c + 1] = min(|r - v[c]|, inf), rowv[c + 1] = v[c] (int64, for the envelope). */
+GF_BF_FN void gf_edt_gather(const int32_t *restrict v, int32_t r, int32_t inf, int64_t *restrict g,
+                            int64_t *restrict rowv, int64_t cols) {
+    const int n = (int)cols;
+    for (int c = 0; c < n; c++) {
+        const int32_t x = v[c];
+        const int32_t d = r >= x ? r - x : x - r;
+        g[c + 1] = d < inf ? d : inf;
+        rowv[c + 1] = x;
+    }
+}
+
+/* Row pass output: distance = sqrt(val) * res. */
+GF_BF_FN void gf_edt_distance(const int64_t *restrict val, double res, double *restrict d, int64_t cols) {
+    const int n = (int)cols;
+    for (int c = 0; c < n; c++) d[c] = sqrt((double)val[c]) * res;
+}
+
+/* The horizontal scans of the chamfer passes as a prefix (suffix) minimum, which vectorizes:
+ *   right: s[c] = min(t[c], s[c - 1] + 1), s[-1] = edge  <=>  s[c] = c + min(edge + 1, min_{j <= c} (t[j] - j))
+ *   left:  s[c] = min(t[c], s[c + 1] + 1), s[n] = edge   <=>  s[c] = -c + min(edge + n, min_{j >= c} (t[j] + j))
+ * Exact integer identities, so the values are those of the recurrences. Blocks of 8: first the
+ * minimum within each block in registers (log steps of shifted minima), then one pass carrying the
+ * running minimum from block to block (one scalar min per block: the only serial chain). */
+typedef int32_t gf_v8i __attribute__((vector_size(32)));
+#define GF_V8_MIN(a, b) (((a) < (b)) & (a)) | (~((a) < (b)) & (b))
+
+GF_BF_FN void gf_scan_right(const int32_t *restrict t, int32_t *restrict s, int64_t cols, int32_t edge) {
+    const int n = (int)cols;
+    const gf_v8i iota = {0, 1, 2, 3, 4, 5, 6, 7};
+    const gf_v8i big = {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX};
+    const gf_v8i sh1 = {8, 0, 1, 2, 3, 4, 5, 6}, sh2 = {8, 8, 0, 1, 2, 3, 4, 5}, sh4 = {8, 8, 8, 8, 0, 1, 2, 3};
+    const int nb = n / 8 * 8;
+    int c;
+    for (c = 0; c < nb; c += 8) {
+        gf_v8i x, y;
+        __builtin_memcpy(&x, t + c, sizeof x);
+        x -= iota + c;
+        y = __builtin_shuffle(x, big, sh1);
+        x = GF_V8_MIN(x, y);
+        y = __builtin_shuffle(x, big, sh2);
+        x = GF_V8_MIN(x, y);
+        y = __builtin_shuffle(x, big, sh4);
+        x = GF_V8_MIN(x, y);
+        __builtin_memcpy(s + c, &x, sizeof x);
+    }
+    int32_t carry = edge + 1;
+    for (c = 0; c < nb; c += 8) {
+        gf_v8i x;
+        const int32_t last = s[c + 7];
+        __builtin_memcpy(&x, s + c, sizeof x);
+        const gf_v8i cv = big * 0 + carry;
+        x = GF_V8_MIN(x, cv);
+        x += iota + c;
+        __builtin_memcpy(s + c, &x, sizeof x);
+        carry = gf_min32(carry, last);
+    }
+    for (c = nb; c < n; c++) {
+        carry = gf_min32(carry, t[c] - c);
+        s[c] = carry + c;
+    }
+}
+
+GF_BF_FN void gf_scan_left(const int32_t *restrict t, int32_t *restrict s, int64_t cols, int32_t edge) {
+    const int n = (int)cols;
+    const gf_v8i iota = {0, 1, 2, 3, 4, 5, 6, 7};
+    const gf_v8i big = {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX};
+    const gf_v8i sh1 = {1, 2, 3, 4, 5, 6, 7, 8}, sh2 = {2, 3, 4, 5, 6, 7, 8, 8}, sh4 = {4, 5, 6, 7, 8, 8, 8, 8};
+    const int head = n % 8; /* blocks of 8 end at n; the first `head` cells are done last, one by one */
+    int c;
+    for (c = head; c < n; c += 8) {
+        gf_v8i x, y;
+        __builtin_memcpy(&x, t + c, sizeof x);
+        x += iota + c;
+        y = __builtin_shuffle(x, big, sh1);
+        x = GF_V8_MIN(x, y);
+        y = __builtin_shuffle(x, big, sh2);
+        x = GF_V8_MIN(x, y);
+        y = __builtin_shuffle(x, big, sh4);
+        x = GF_V8_MIN(x, y);
+        __builtin_memcpy(s + c, &x, sizeof x);
+    }
+    int32_t carry = edge + n;
+    for (c = n - 8; c >= head; c -= 8) {
+        gf_v8i x;
+        const int32_t first = s[c];
+        __builtin_memcpy(&x, s + c, sizeof x);
+        const gf_v8i cv = big * 0 + carry;
+        x = GF_V8_MIN(x, cv);
+        x -= iota + c;
+        __builtin_memcpy(s + c, &x, sizeof x);
+        carry = gf_min32(carry, first);
+    }
+    for (c = head - 1; c >= 0; c--) {
+        carry = gf_min32(carry, t[c] + c);
+        s[c] = carry - c;
+    }
+}
+
+#endif

@@ -507,8 +507,8 @@ class NavFn:
                                     "inflated costs (1 / world unit)", minimum=0.0, flag=False)
     lut_precision: int | None = _p("navfn", "integer", None, "navfn on an occupancy map: None evaluates the inflation "
                                    "on exact distances (legacy layer), 100 rounds them to 1/100 cell as the current "
-                                   "Nav2 inflation layer", minimum=1, allow_none=True, scale="exact distances",
-                                   flag=False)
+                                   "Nav2 inflation layer", minimum=1, maximum=10000, allow_none=True,
+                                   scale="exact distances", flag=False)  # the lookup table grows with it
 
 
 #: The concerns, in the order help and docs list them.
@@ -830,7 +830,8 @@ def balanced_eta(zeta: float, d_star: float, q_star: float, power: float, unit: 
         eta = float(attraction / ((1.0 / db - inv_q) / db**power))
     except (ZeroDivisionError, OverflowError):
         eta = math.nan
-    if not (math.isfinite(eta) and eta > 0):  # q_star so small or large that (q_star/2)**p leaves the floats
+    # q_star so small or large that (q_star/2)**p leaves the floats (no attraction: eta 0 balances it)
+    if not (math.isfinite(eta) and (eta > 0 or (eta == 0 and attraction == 0))):
         raise ParameterError(f"q_star = {q_star:g} with repulsive_power {power:g}: the balanced eta (the repulsion "
                              f"at q_star/2 equal to the attraction) is not a finite positive number; give eta, or a "
                              f"q_star nearer the map's scale")

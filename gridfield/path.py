@@ -267,10 +267,11 @@ class Path:
         >>> from gridfield.grid import Grid, GridMap
         >>> from gridfield.planners import plan
         >>> occ = np.zeros((10, 10), bool); occ[4:6, 0:7] = True
-        >>> p = plan("potential", GridMap(Grid((10, 10), 1.0), occ), (2.5, 1.5), (2.5, 8.5))
+        >>> classic = {"model": "khatib"}   # the classic field (the default nf1 model does not stall)
+        >>> p = plan("potential", GridMap(Grid((10, 10), 1.0), occ), (2.5, 1.5), (2.5, 8.5), classic)
         >>> p.status, p.hint.endswith("--escape navigation reaches it")
         ('local_minimum', True)
-        >>> plan("potential", GridMap(Grid((10, 10), 1.0), occ), (2.5, 1.5), (7.5, 8.5)).hint is None
+        >>> plan("potential", GridMap(Grid((10, 10), 1.0), occ), (2.5, 1.5), (7.5, 8.5), classic).hint is None
         True
         """
         hint = self.extra.get("hint") or self.extra.get("reason")

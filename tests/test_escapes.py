@@ -74,7 +74,7 @@ def test_mdr_arena_query_is_close_to_the_octile_optimum(mdr):
     """Before: 16.45 m (3.85x the octile optimum 4.27 m; a 6 m detour into a dead end, its jitter and
     the wander after two escapes). Now the escape starts where the path is shortest."""
     opt = plan("wavefront-octile", mdr, MDR_START, MDR_GOAL, {})
-    p = plan("potential", mdr, MDR_START, MDR_GOAL, {"escape": "navigation"})
+    p = plan("potential", mdr, MDR_START, MDR_GOAL, {"model": "khatib", "escape": "navigation"})
     assert opt.reached and p.reached and np.allclose(p.end, MDR_GOAL)
     assert p.extra["escapes_tried"] >= 1
     assert p.length <= 1.15 * opt.length, (p.length, opt.length)
@@ -84,7 +84,7 @@ def test_mdr_arena_query_is_close_to_the_octile_optimum(mdr):
 
 def test_mdr_arena_without_an_escape_is_unchanged(mdr):
     """The classic field without an escape still stalls where it did (the cut is the escape's)."""
-    p = plan("potential", mdr, MDR_START, MDR_GOAL, {})
+    p = plan("potential", mdr, MDR_START, MDR_GOAL, {"model": "khatib"})
     assert p.status == "local_minimum"
     assert max_cell_visits(mdr, p.points) > 2  # the jitter the navigation escape cuts
 

@@ -12,6 +12,9 @@ from gridfield.grid import Grid, GridMap
 from gridfield.io import bundled_map, read
 from gridfield.planners import plan
 
+#: the classic field (the potential planner defaults to the complete nf1 model, which does not stall)
+KHATIB = {"model": "khatib"}
+
 
 def cup_map() -> GridMap:
     """A cup open towards the starts (left), the goal behind its bottom (right): one trap."""
@@ -26,7 +29,7 @@ def test_one_trap_one_description_whatever_the_start() -> None:
     gm = cup_map()
     goal = (35.5, 20.5)
     starts = [(8.5, 15.5), (5.5, 25.5), (15.5, 20.5), (10.5, 19.5)]
-    paths = [plan("potential", gm, s, goal) for s in starts]
+    paths = [plan("potential", gm, s, goal, KHATIB) for s in starts]
     assert all(p.status == "local_minimum" for p in paths)
     ends = {tuple(np.round(p.end, 3)) for p in paths}
     assert len(ends) > 1  # the runs stop at different points of the trap ...
@@ -68,15 +71,15 @@ def test_arena_suggestion_reaches_as_readme_shows() -> None:
     gm = read(bundled_map("arena/arena.map"))
     sc = read_scen(bundled_map("arena/arena.map.scen"), map_height=gm.grid.rows)
     s, g = sc.start_xy[159], sc.goal_xy[159]
-    p = plan("potential", gm, s, g)
+    p = plan("potential", gm, s, g, KHATIB)
     assert p.status == "local_minimum"
     q = _suggested(p.hint)
     assert q == pytest.approx(0.9)
-    assert plan("potential", gm, s, g, {"q_star": q}).reached
+    assert plan("potential", gm, s, g, {**KHATIB, "q_star": q}).reached
 
 
 def test_path_hint_property_and_json() -> None:
     gm = cup_map()
-    p = plan("potential", gm, (8.5, 15.5), (35.5, 20.5))
+    p = plan("potential", gm, (8.5, 15.5), (35.5, 20.5), KHATIB)
     assert p.hint == p.extra["hint"] and p.to_json()["hint"] == p.hint
-    assert plan("potential", gm, (25.5, 20.5), (35.5, 20.5)).hint is None
+    assert plan("potential", gm, (25.5, 20.5), (35.5, 20.5), KHATIB).hint is None

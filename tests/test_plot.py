@@ -461,10 +461,9 @@ def test_cli_plan_plot_and_animate_build_the_field_once(tmp_path, capsys, monkey
     rc = main(["plan", str(bundled_map("seed000.yaml")), "--resolution", "0.5", "--plot", str(fig),
                "--animate", str(gif)])
     assert rc == 0, capsys.readouterr().err
-    # once on the plan's map (the CLI's warm-up builds one on its own 24 x 24 map first, to time the
-    # start-up apart)
+    # once on the plan's map (the CLI's warm-up may build one on its own 24 x 24 map first, to time the
+    # start-up apart; seed000's world asks for the classic field, the warm-up plans with the default)
     assert len([c for c in calls if c != (24, 24)]) == 1, calls
-    assert len(calls) == 2, calls
     assert fig.stat().st_size > 0 and gif.stat().st_size > 0
 
 

@@ -19,6 +19,7 @@ import pytest
 
 from gridfield.errors import GridfieldError, ParameterError
 from gridfield.grid import Grid, GridMap
+from gridfield.navigation import StarNavWarning
 from gridfield.params import REGISTRY, Spec
 from gridfield.planners import PLANNERS, plan
 from gridfield.world import world_from_dict
@@ -106,6 +107,8 @@ def test_a_parameter_at_its_extremes_gives_a_result_or_a_clear_error(name: str) 
                 try:
                     path = plan(planner, target, start, goal, params)
                 except GridfieldError:
+                    continue
+                except StarNavWarning:  # star-nav's own word for a kappa or lambda that leaves minima or folds
                     continue
                 except Exception as e:  # the point of the test: any other exception fails
                     pytest.fail(f"{planner} with {name}={value!r}: {type(e).__name__}: {e}")

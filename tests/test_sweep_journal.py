@@ -289,7 +289,7 @@ W = "maps: [{path: seed000.yaml, resolution: 0.5}]\n"
         (W + "params: {" + ", ".join(f"{k}: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]" for k in
                                      ("zeta", "eta", "q_star", "d_star", "step", "alpha", "tolerance", "ka", "kr"))
          + "}", "1e+09 combinations x 1 planners exceed 1e+08 runs"),
-        ("maps: [{path: seed000.yaml, resolution: 0.5, random_pairs: {n: 1000000000}}]", "pairs exceed 1e+08 runs"),
+        ("maps: [{path: seed000.yaml, resolution: 0.5, random_pairs: {n: 1000000000}}]", "the spec expands to 1e+09 runs"),
     ],
 )
 def test_bad_specs_are_refused_before_anything_runs(tmp_path: Path, body: str, message: str, monkeypatch) -> None:

@@ -247,11 +247,13 @@ def _step_budget(fol: Follower, r0: float, planner: str) -> tuple[float, float, 
     if fol.max_iterations is not None:
         max_it = int(fol.max_iterations)
     else:
-        max_it = 50 * int(2 * r0 / step) + 1000
+        crossings = 2 * r0 / step  # a float: a subnormal step gives inf, refused below (no OverflowError)
+        budget = 50.0 * crossings + 1000
+        max_it = 50 * int(crossings) + 1000 if math.isfinite(crossings) else MAX_DEFAULT_ITERATIONS + 1
         if max_it > MAX_DEFAULT_ITERATIONS:
             raise ParameterError(
                 f"{planner}: step={step:g} is too small for the default step budget (50 crossings of the workspace's "
-                f"diameter {2 * r0:g} + 1000 = {max_it:.3g} steps, more than {MAX_DEFAULT_ITERATIONS}); use "
+                f"diameter {2 * r0:g} + 1000 = {budget:.3g} steps, more than {MAX_DEFAULT_ITERATIONS}); use "
                 f"step >= {2 * r0 / ((MAX_DEFAULT_ITERATIONS - 1000) // 50):.3g} or give max_iterations")
     return step, tol, max_it, int(fol.progress_window)
 

@@ -8,8 +8,9 @@ start, goal, params, cache=cache)`` (one ``cache`` dict per map, as a batch user
 brushfire is computed once per map; ``--no-cache``: none), once per variant:
 
 - ``defaults``: ``params={}``;
-- ``random_walk``: ``{"escape": "random_walk"}``;
-- ``navigation``: ``{"escape": "navigation"}``; where the installed gridfield does not know this
+- ``random_walk``: ``{"model": "khatib", "escape": "random_walk"}`` (the escapes are the classic field's:
+  the complete models never stall);
+- ``navigation``: ``{"model": "khatib", "escape": "navigation"}``; where the installed gridfield does not know this
   escape (it raises ``ParameterError`` naming the value) the variant is reported as "n/a";
 - ``khatib``: ``{"model": "khatib"}`` (the classic field, the default before the complete models);
   ``nf1``, ``nf1_octile`` (``attraction: octile``), ``nf2``, ``nf_blend`` (``model: nf-blend``): the
@@ -79,8 +80,8 @@ DEFAULT_ROOT = HERE.parent.parent / "shared" / "maps"
 #: variant name -> the params given to plan()
 VARIANTS: dict[str, dict[str, Any]] = {
     "defaults": {},
-    "random_walk": {"escape": "random_walk"},
-    "navigation": {"escape": "navigation"},
+    "random_walk": {"model": "khatib", "escape": "random_walk"},
+    "navigation": {"model": "khatib", "escape": "navigation"},
     # the classic field and the complete models (gridfield.navfield); "defaults" is nf1 since they came
     "khatib": {"model": "khatib"},
     "nf1": {"model": "nf1"},

@@ -120,6 +120,10 @@ def run(args: argparse.Namespace) -> int:
         field = navigation_field(gridmap, goal, args.planner, check_params(params)).to_field()
         ms = (time.perf_counter() - t0) * 1e3
         return _report(args, field, f"{args.planner} navigation function", ms, 0.0)
+    if params.get("model") is None:  # what `plan` follows on this map: the potential planner's default model
+        from ..follow import PLANNER_MODEL
+
+        params = {**params, "model": PLANNER_MODEL}
     resolved = resolve_params(params)
     dmap, ms_brushfire = None, 0.0
     if resolved["model"] == "khatib":  # the vortex model works on its own lattice
@@ -131,8 +135,12 @@ def run(args: argparse.Namespace) -> int:
     field = build_field(gridmap, goal, params, dmap=dmap)
     ms = (time.perf_counter() - t0) * 1e3
     p = field.params
-    model = "vortex (seed 003)" if p["model"] == "vortex" else (
-        f"khatib, {p['repulsion']} repulsion, p={p['repulsive_power']:g}, {p['gradient']} gradient")
+    if p["model"] == "vortex":
+        model = "vortex (seed 003)"
+    elif p["model"] == "khatib":
+        model = f"khatib, {p['repulsion']} repulsion, p={p['repulsive_power']:g}, {p['gradient']} gradient"
+    else:
+        model = f"{p['model']}, a complete model: one minimum, the goal"
     return _report(args, field, model, ms, ms_brushfire)
 
 

@@ -443,15 +443,9 @@ def nf_potential(gridmap: GridMap, goals: ArrayLike, params: Mapping[str, Any] |
     >>> U.tolist(), p["model"]
     ([[0.0, 1.0, inf, 1.0, 0.0]], 'nf1')
     """
-    from .params import FIELD_GROUPS, names, resolve, validate
+    from .params import resolve_field
 
-    # potential.resolve_params for a complete model, from the registry (potential dispatches here, so
-    # this module does not import it): the field's parameters resolved, the other names given kept
-    given = dict(validate({"model": "nf1", **dict(params or {})}))
-    full = resolve(given, unit=gridmap.grid.resolution)
-    field_names = names(*FIELD_GROUPS)
-    p = {**{k: full[k] for k in field_names}, **given, **{k: full[k] for k in field_names}}
-    p["attraction"], p["clearance_gain"] = full["attraction"], full["clearance_gain"]
+    p = resolve_field({"model": "nf1", **dict(params or {})}, unit=gridmap.grid.resolution)
     model = p["model"]
     if model not in NF_MODELS:
         raise ParameterError(f"nav_field builds the models {NF_MODELS}, got model={model!r}")

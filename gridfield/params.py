@@ -71,6 +71,7 @@ __all__ = [
     "names",
     "parse",
     "resolve",
+    "resolve_field",
     "validate",
 ]
 
@@ -807,6 +808,43 @@ def resolve(params: Mapping[str, Any] | None, *, unit: float) -> dict[str, Any]:
         p["escape_radius"] = ESCAPE_RADIUS_CELLS * unit
     if p["max_iterations"] is None:
         p["max_iterations"] = MAX_ITERATIONS
+    return p
+
+
+def resolve_field(params: Mapping[str, Any] | None, *, unit: float) -> dict[str, Any]:
+    """The parameters a potential field is built with: those of :data:`FIELD_GROUPS` resolved, the
+    other names given kept, and a complete model's own (``attraction``, ``clearance_gain``).
+
+    The one resolution behind :func:`gridfield.potential.resolve_params` and the complete models of
+    :mod:`gridfield.navfield` (which cannot import ``potential``: it dispatches to them). ``model``
+    unset stays ``None`` for the caller to choose.
+
+    Parameters
+    ----------
+    params : mapping, optional
+        Parameter names and values (checked by :func:`validate`).
+    unit : float
+        The map's length unit (cell size) the length defaults scale with.
+
+    Returns
+    -------
+    dict
+        The field parameters in :data:`FIELD_GROUPS` order, then the other names given.
+
+    Examples
+    --------
+    >>> p = resolve_field({"model": "nf1", "step": 0.1}, unit=0.5)
+    >>> p["q_star"], p["attraction"], p["step"]
+    (2.0, 'eikonal', 0.1)
+    """
+    given = dict(validate(params))
+    full = resolve(given, unit=unit)
+    field_names = names(*FIELD_GROUPS)
+    p = {k: full[k] for k in field_names}
+    p.update(given)
+    p.update({k: full[k] for k in field_names})
+    if p["model"] in ("nf1", "nf2", "nf-blend"):  # the complete models' own parameters (NavFunction)
+        p.update({k: full[k] for k in names(NavFunction)})
     return p
 
 

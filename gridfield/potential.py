@@ -165,18 +165,12 @@ def resolve_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0
     ...
     gridfield.errors.ParameterError: q_star must be a number > 0 (inf allowed), got 0
     """
-    from .params import FIELD_GROUPS, names, resolve, validate
+    from .params import resolve_field
 
-    given = dict(validate(params))
-    full = resolve(given, unit=unit)
-    field_names = names(*FIELD_GROUPS)
-    p = {k: full[k] for k in field_names}
-    p.update(given)
-    p.update({k: full[k] for k in field_names})
+    given = dict(params or {})
+    p = resolve_field(given, unit=unit)
     if p["model"] is None:  # unset: the array API's model (the potential planner resolves it to 'nf1')
         p["model"] = "khatib"
-    if p["model"] in _NF_MODELS:  # the complete models' own parameters (gridfield.navfield)
-        p["attraction"], p["clearance_gain"] = full["attraction"], full["clearance_gain"]
     if p["model"] == "khatib" and p["gradient"] == "finite_difference" and p["repulsive_power"] != 2:
         raise ParameterError(
             f"gradient='finite_difference' differentiates the potential 0.5*eta*(1/D - 1/q_star)**2, whose "

@@ -1,13 +1,18 @@
 """Any-angle optimum on Moving AI maps (``gridfield.anyangle``) beside the octile wavefront.
 
 Run ``python benchmarks/anyangle.py [--root ../shared/maps/movingai] [--maps NAME ...] [--queries 50]
-[--compare-numba OLD.py]``.
-For each map: the graph is built once in this process (timed; kernels warmed up on a tiny map
-first; wall-clock and process CPU seconds, the latter less sensitive to other jobs on a shared
-machine), then ``--queries`` scenarios spread evenly over the ``.scen`` file are answered, each by
+[--no-lazy] [--compare-numba OLD.py]``.
+For each map: the per-map part (convex corners, their buckets, the blocked runs: all the lazy search
+needs) and then the visibility graph are built once in this process (each timed; kernels warmed up
+on a tiny map first; wall-clock and process CPU seconds, the latter less sensitive to other jobs on
+a shared machine), then ``--queries`` scenarios spread evenly over the ``.scen`` file are answered,
+each by
 
-- ``any-angle query``: :meth:`AnyAngleGraph.shortest_path` with the graph cached (the two visibility
-  passes from start and goal, then A*);
+- ``any-angle query``: :meth:`AnyAngleGraph.shortest_path` with ``search="graph"``, the graph cached
+  (the two visibility passes from start and goal, then A* over the graph);
+- ``lazy query`` (unless ``--no-lazy``): ``search="lazy"``, A* over the corners whose visible
+  neighbours are found when a corner is expanded (no graph); checked against the graph search's
+  length (1e-9 relative) and for free segments (``lazy failed``);
 - ``plan('visibility')``: the public call on the map with a cache (query + result checks + clearance);
 - ``plan('wavefront-octile')``: the octile wavefront from the goal and its descent, the same query.
 
@@ -49,11 +54,13 @@ def _warm_up() -> None:
     occ = np.zeros((12, 12), bool)
     occ[3:9, 5] = True
     gm = GridMap(Grid((12, 12), 1.0, border="wall"), occ)
-    grid_graph(gm, cache={}).shortest_path((0.5, 5.5), (11.5, 5.5))
+    g = grid_graph(gm, cache={})
+    for search in ("graph", "lazy"):
+        g.shortest_path((0.5, 5.5), (11.5, 5.5), search=search)
     plan("wavefront-octile", gm, (0.5, 5.5), (11.5, 5.5))
 
 
-def bench_map(folder: Path, n_queries: int) -> dict:
+def bench_map(folder: Path, n_queries: int, lazy: bool = True) -> dict:
     from gridfield.anyangle import grid_graph
     from gridfield.io import read_movingai_map, read_scen
     from gridfield.planners import plan
@@ -64,17 +71,25 @@ def bench_map(folder: Path, n_queries: int) -> dict:
     cache: dict = {}
     t0, c0 = time.perf_counter(), time.process_time()
     graph = grid_graph(m, cache=cache)
+    prep, prep_cpu = time.perf_counter() - t0, time.process_time() - c0
+    graph.edges  # noqa: B018  (the visibility graph: built on first use)
     build, build_cpu = time.perf_counter() - t0, time.process_time() - c0
     ok_idx = np.flatnonzero(~scen.no_path & (scen.optimal > 0))
     idx = ok_idx[np.linspace(0, len(ok_idx) - 1, min(n_queries, len(ok_idx))).astype(int)]
     tol = scen.tolerance()
-    t_q, t_plan, t_oct, ratios = [], [], [], []
-    bad = 0
+    t_q, t_plan, t_oct, ratios, t_lazy = [], [], [], [], []
+    bad = bad_lazy = 0
     for k in idx:
         s, g = scen.start_xy[k], scen.goal_xy[k]
         t0 = time.perf_counter()
-        pts, length = graph.shortest_path(s, g)
+        pts, length = graph.shortest_path(s, g, search="graph")
         t_q.append(time.perf_counter() - t0)
+        if lazy:
+            t0 = time.perf_counter()
+            lpts, llen = graph.shortest_path(s, g, search="lazy")
+            t_lazy.append(time.perf_counter() - t0)
+            if not (abs(llen - length) <= 1e-9 * length and all(graph.visible(a, b) for a, b in itertools.pairwise(lpts))):
+                bad_lazy += 1
         t0 = time.perf_counter()
         p = plan("visibility", m, s, g, cache=cache)
         t_plan.append(time.perf_counter() - t0)
@@ -90,7 +105,9 @@ def bench_map(folder: Path, n_queries: int) -> dict:
     ms = lambda v: statistics.median(v) * 1e3  # noqa: E731
     return {
         "map": folder.name, "shape": m.shape, "corners": graph.n_nodes, "edges": graph.n_edges, "build_s": build,
-        "build_cpu_s": build_cpu,
+        "build_cpu_s": build_cpu, "prep_s": prep, "prep_cpu_s": prep_cpu,
+        "lazy_ms": ms(t_lazy) if t_lazy else math.nan, "lazy_max_ms": max(t_lazy) * 1e3 if t_lazy else math.nan,
+        "bad_lazy": bad_lazy,
         "queries": len(idx), "query_ms": ms(t_q), "query_max_ms": max(t_q) * 1e3, "plan_ms": ms(t_plan),
         "octile_ms": ms(t_oct), "ratio_median": statistics.median(ratios), "ratio_max": max(ratios), "bad": bad,
     }
@@ -130,6 +147,7 @@ def compare_numba(folder: Path, n_queries: int, old, rounds: int) -> dict:
                 use(k)
                 c0 = time.process_time()
                 graphs[key] = aa._build(m)
+                graphs[key].edges  # noqa: B018  (the graph is built on first use)
                 build[key].append(time.process_time() - c0)
         if not np.array_equal(graphs[None].edges, graphs["old"].edges):
             raise SystemExit(f"error: {folder.name}: the two graphs differ")
@@ -143,7 +161,7 @@ def compare_numba(folder: Path, n_queries: int, old, rounds: int) -> dict:
             for key, k in (pair if i % 2 == 0 else pair[::-1]):
                 use(k)
                 t0 = time.perf_counter()
-                lengths.append(graph.shortest_path(s, g)[1])
+                lengths.append(graph.shortest_path(s, g, search="graph")[1])
                 query[key].append(time.perf_counter() - t0)
             if lengths[0] != lengths[1]:
                 raise SystemExit(f"error: {folder.name}: query {kq} lengths differ: {lengths}")
@@ -159,22 +177,27 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--root", type=Path, default=DEFAULT_ROOT, help="folder of the Moving AI map folders")
     ap.add_argument("--maps", nargs="+", default=list(DEFAULT_MAPS), help="map folder names")
     ap.add_argument("--queries", type=int, default=50, help="scenarios per map (spread over the file)")
+    ap.add_argument("--no-lazy", action="store_true", help="do not run the lazy search (search='lazy')")
     ap.add_argument("--compare-numba", type=Path, default=None, metavar="OLD.py",
                     help="also time this numba _kernels_anyangle.py side by side (needs numba)")
     ap.add_argument("--rounds", type=int, default=3, help="graph builds per kernel module with --compare-numba")
     args = ap.parse_args(argv)
     _warm_up()
     old = None if args.compare_numba is None else load_numba(args.compare_numba)
-    print("| map | size | convex corners | graph edges | graph build s (wall / CPU) | queries | any-angle query ms (median / max) "
-          "| plan('visibility') ms | plan('wavefront-octile') ms | octile / any-angle (median / max) | failed checks |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    print("| map | size | convex corners | graph edges | per-map part s (wall / CPU) | graph build s (wall / CPU) | queries "
+          "| any-angle query ms (median / max) | lazy query ms (median / max) "
+          "| plan('visibility') ms | plan('wavefront-octile') ms | octile / any-angle (median / max) | failed checks "
+          "| lazy failed |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     failed = 0
     for name in args.maps:
-        r = bench_map(args.root / name, args.queries)
-        failed += r["bad"]
-        print(f"| {r['map']} | {r['shape'][1]} x {r['shape'][0]} | {r['corners']} | {r['edges']} | {r['build_s']:.2f} / {r['build_cpu_s']:.2f} "
-              f"| {r['queries']} | {r['query_ms']:.2f} / {r['query_max_ms']:.1f} | {r['plan_ms']:.2f} "
-              f"| {r['octile_ms']:.1f} | {r['ratio_median']:.4f} / {r['ratio_max']:.4f} | {r['bad']} |", flush=True)
+        r = bench_map(args.root / name, args.queries, lazy=not args.no_lazy)
+        failed += r["bad"] + r["bad_lazy"]
+        print(f"| {r['map']} | {r['shape'][1]} x {r['shape'][0]} | {r['corners']} | {r['edges']} "
+              f"| {r['prep_s']:.3f} / {r['prep_cpu_s']:.3f} | {r['build_s']:.2f} / {r['build_cpu_s']:.2f} "
+              f"| {r['queries']} | {r['query_ms']:.2f} / {r['query_max_ms']:.1f} | {r['lazy_ms']:.2f} / {r['lazy_max_ms']:.1f} "
+              f"| {r['plan_ms']:.2f} | {r['octile_ms']:.1f} | {r['ratio_median']:.4f} / {r['ratio_max']:.4f} | {r['bad']} "
+              f"| {r['bad_lazy']} |", flush=True)
     if old is not None:
         import gridfield.anyangle as aa
 

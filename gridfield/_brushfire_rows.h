@@ -23,87 +23,6 @@
 #define GF_BF_FN __attribute__((target_clones("avx2", "default"))) static
 #else
 #define GF_BF_FN static inline
-/* The horizontal scans of the chamfer passes as a prefix (suffix) minimum, which vectorizes:
- *   right: s[c] = min(t[c], s[c - 1] + 1), s[-1] = edge  <=>  s[c] = c + min(edge + 1, min_{j <= c} (t[j] - j))
- *   left:  s[c] = min(t[c], s[c + 1] + 1), s[n] = edge   <=>  s[c] = -c + min(edge + n, min_{j >= c} (t[j] + j))
- * Exact integer identities, so the values are those of the recurrences. Blocks of 8: first the
- * minimum within each block in registers (log steps of shifted minima), then one pass carrying the
- * running minimum from block to block (one scalar min per block: the only serial chain). */
-typedef int32_t gf_v8i __attribute__((vector_size(32)));
-#define GF_V8_MIN(a, b) (((a) < (b)) & (a)) | (~((a) < (b)) & (b))
-
-GF_BF_FN void gf_scan_right(const int32_t *restrict t, int32_t *restrict s, int64_t cols, int32_t edge) {
-    const int n = (int)cols;
-    const gf_v8i iota = {0, 1, 2, 3, 4, 5, 6, 7};
-    const gf_v8i big = {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX};
-    const gf_v8i sh1 = {8, 0, 1, 2, 3, 4, 5, 6}, sh2 = {8, 8, 0, 1, 2, 3, 4, 5}, sh4 = {8, 8, 8, 8, 0, 1, 2, 3};
-    const int nb = n / 8 * 8;
-    int c;
-    for (c = 0; c < nb; c += 8) {
-        gf_v8i x, y;
-        __builtin_memcpy(&x, t + c, sizeof x);
-        x -= iota + c;
-        y = __builtin_shuffle(x, big, sh1);
-        x = GF_V8_MIN(x, y);
-        y = __builtin_shuffle(x, big, sh2);
-        x = GF_V8_MIN(x, y);
-        y = __builtin_shuffle(x, big, sh4);
-        x = GF_V8_MIN(x, y);
-        __builtin_memcpy(s + c, &x, sizeof x);
-    }
-    int32_t carry = edge + 1;
-    for (c = 0; c < nb; c += 8) {
-        gf_v8i x;
-        const int32_t last = s[c + 7];
-        __builtin_memcpy(&x, s + c, sizeof x);
-        const gf_v8i cv = big * 0 + carry;
-        x = GF_V8_MIN(x, cv);
-        x += iota + c;
-        __builtin_memcpy(s + c, &x, sizeof x);
-        carry = gf_min32(carry, last);
-    }
-    for (c = nb; c < n; c++) {
-        carry = gf_min32(carry, t[c] - c);
-        s[c] = carry + c;
-    }
-}
-
-GF_BF_FN void gf_scan_left(const int32_t *restrict t, int32_t *restrict s, int64_t cols, int32_t edge) {
-    const int n = (int)cols;
-    const gf_v8i iota = {0, 1, 2, 3, 4, 5, 6, 7};
-    const gf_v8i big = {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX};
-    const gf_v8i sh1 = {1, 2, 3, 4, 5, 6, 7, 8}, sh2 = {2, 3, 4, 5, 6, 7, 8, 8}, sh4 = {4, 5, 6, 7, 8, 8, 8, 8};
-    const int head = n % 8; /* blocks of 8 end at n; the first `head` cells are done last, one by one */
-    int c;
-    for (c = head; c < n; c += 8) {
-        gf_v8i x, y;
-        __builtin_memcpy(&x, t + c, sizeof x);
-        x += iota + c;
-        y = __builtin_shuffle(x, big, sh1);
-        x = GF_V8_MIN(x, y);
-        y = __builtin_shuffle(x, big, sh2);
-        x = GF_V8_MIN(x, y);
-        y = __builtin_shuffle(x, big, sh4);
-        x = GF_V8_MIN(x, y);
-        __builtin_memcpy(s + c, &x, sizeof x);
-    }
-    int32_t carry = edge + n;
-    for (c = n - 8; c >= head; c -= 8) {
-        gf_v8i x;
-        const int32_t first = s[c];
-        __builtin_memcpy(&x, s + c, sizeof x);
-        const gf_v8i cv = big * 0 + carry;
-        x = GF_V8_MIN(x, cv);
-        x -= iota + c;
-        __builtin_memcpy(s + c, &x, sizeof x);
-        carry = gf_min32(carry, first);
-    }
-    for (c = head - 1; c >= 0; c--) {
-        carry = gf_min32(carry, t[c] + c);
-        s[c] = carry - c;
-    }
-}
-
 #endif
 
 static inline int32_t gf_min32(int32_t a, int32_t b) { return a < b ? a : b; }
@@ -290,5 +209,25 @@ GF_BF_FN void gf_scan_left(const int32_t *restrict t, int32_t *restrict s, int64
         s[c] = carry - c;
     }
 }
+
+/* Memory of the large output arrays (see _take / _release in _kernels_brushfire.pyx): anonymous
+ * mappings on Linux, advised for transparent huge pages as numpy advises its own large arrays; malloc
+ * elsewhere. gf_map returns NULL when out of memory. */
+#if defined(__linux__)
+#include <sys/mman.h>
+static inline void *gf_map(size_t n) {
+    void *p = mmap(NULL, n, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) return NULL;
+#ifdef MADV_HUGEPAGE
+    madvise(p, n, MADV_HUGEPAGE);
+#endif
+    return p;
+}
+static inline void gf_unmap(void *p, size_t n) { munmap(p, n); }
+#else
+#include <stdlib.h>
+static inline void *gf_map(size_t n) { return malloc(n); }
+static inline void gf_unmap(void *p, size_t n) { (void)n; free(p); }
+#endif
 
 #endif

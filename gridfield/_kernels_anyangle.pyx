@@ -30,7 +30,7 @@ from libc.string cimport memcpy
 
 import numpy as np
 
-__all__ = ["N_BINS", "astar", "run_extents", "segment_free", "visibility_edges", "visibility_edges_culled",
+__all__ = ["N_BINS", "astar", "lazy_astar", "run_extents", "segment_free", "visibility_edges", "visibility_edges_culled",
            "visible_from", "visible_from_culled"]
 
 #: Angular bins of the occlusion table (over the pseudo-angle, see :func:`_pseudo_angle`).
@@ -740,11 +740,67 @@ cdef bint _block_hidden(const double* D, int64_t nb, double px, double py, doubl
     return True
 
 
+cdef inline void _pseudo_dir(double a, double* dx, double* dy) noexcept nogil:
+    """A direction whose :func:`_pseudo_angle` is ``a`` (in [0, 4])."""
+    if a < 1.0:
+        dx[0] = 1.0 - a
+        dy[0] = a
+    elif a < 2.0:
+        dx[0] = 1.0 - a
+        dy[0] = 2.0 - a
+    elif a < 3.0:
+        dx[0] = a - 3.0
+        dy[0] = 2.0 - a
+    else:
+        dx[0] = a - 3.0
+        dy[0] = a - 4.0
+
+
+cdef void _half_plane_bins(double* D, int64_t nb, double scale, double hx, double hy) noexcept nogil:
+    """Block every bin ``b`` whose neighbours ``b - 1 .. b + 1`` lie strictly outside the half-plane
+    ``hx * dy - hy * dx >= 0``: both ends of that three-bin arc (less than 180 degrees) are outside,
+    so every direction of it is, and the one bin of margin covers the rounding of a candidate's bin."""
+    cdef int64_t b
+    cdef double ax, ay, bx, by
+    for b in range(nb):
+        if D[b] < 0:
+            continue
+        _pseudo_dir(_wrap(b - 1, nb) / scale, &ax, &ay)
+        _pseudo_dir(_wrap(b + 2, nb) / scale, &bx, &by)
+        if hx * ay - hy * ax < 0 and hx * by - hy * bx < 0:
+            D[b] = -1.0
+
+
+cdef struct Prune:  # the lazy search's filters of :func:`_visible_set` (NULL: none, every visible corner)
+    double hx        # taut half-plane: only directions (dx, dy) with hx * dy - hy * dx >= 0
+    double hy
+    const uint8_t* closed  # corners already closed: not reported (:func:`_improves`)
+    const double* g        # their best start distances so far: a corner is walked only if gu + d < g[j]
+    double gu
+    double best            # and only if gu + d + |j - goal| < best
+    double gx
+    double gy
+
+
+cdef inline bint _improves(const Prune* pr, int64_t j, double d2, const double* vx, const double* vy) noexcept nogil:
+    """Whether the edge to the visible corner ``j`` (squared length ``d2``) is worth reporting: ``j``
+    open, ``gu + d < g[j]`` and ``gu + d + |j - goal| < best``."""
+    cdef double nd, tx, ty
+    if pr.closed[j]:
+        return False
+    nd = pr.gu + sqrt(d2)
+    if nd >= pr.g[j]:
+        return False
+    tx = vx[j] - pr.gx
+    ty = vy[j] - pr.gy
+    return nd + sqrt(tx * tx + ty * ty) < pr.best
+
+
 cdef int64_t _visible_set(const uint8_t* B, int64_t R, int64_t W, const Ext* ext, double px, double py,
                           double self_q, const double* vx, const double* vy, const double* qx, const double* qy,
                           const int64_t* bstart, const int64_t* bverts, int64_t nbx, int64_t nby, double bsize,
                           int64_t jmin, double* D, int64_t nb, double* part, int64_t* out_j,
-                          double* out_d) noexcept nogil:
+                          double* out_d, const Prune* pr) noexcept nogil:
     """Corners seen from ``p`` along taut directions, nearest blocks first, with occlusion culling.
 
     ``self_q`` is ``qx * qy`` of the corner at ``p`` (0 for a free point: every direction). Corners
@@ -757,9 +813,12 @@ cdef int64_t _visible_set(const uint8_t* B, int64_t R, int64_t W, const Ext* ext
     ring of blocks. Only corners ``j >= jmin`` are reported; with ``jmin > 0`` the corners must be
     numbered row by row (lattice ``y`` then ``x``) and ``p`` be corner ``jmin - 1``, so that
     directions pointing down hold none. Returns how many were written to ``out_j``/``out_d``.
-    ``part``: scratch of ``4 * nb`` doubles.
+    ``part``: scratch of ``4 * nb`` doubles. ``pr`` (NULL: none): the lazy search's filters
+    (:class:`Prune`): corners outside its half-plane are neither walked nor reported (the bins wholly
+    outside it, with one bin of margin each side, are blocked from the start); the others are walked
+    as usual (their failed walks feed the occlusion table) but reported only if :func:`_improves`.
     """
-    cdef double scale = nb / 4.0, sgn, near, near2, worst, dx, dy, p, d2
+    cdef double scale = nb / 4.0, sgn, near, near2, worst, dx, dy, p, d2, nd, tx, ty
     cdef double runs[4]
     cdef double xs[6]
     cdef double ys[6]
@@ -787,6 +846,16 @@ cdef int64_t _visible_set(const uint8_t* B, int64_t R, int64_t W, const Ext* ext
         runs[1] = _axis_run(B, R, W, px, py, 1, False)
         if jmin == 0:
             runs[3] = _axis_run(B, R, W, px, py, -1, False)
+    if pr != NULL and (pr.hx != 0.0 or pr.hy != 0.0):
+        _half_plane_bins(D, nb, scale, pr.hx, pr.hy)
+        if pr.hy > 0:  # right: (1, 0) gives -hy
+            runs[0] = -1.0
+        if pr.hx < 0:  # up: (0, 1) gives hx
+            runs[1] = -1.0
+        if pr.hy < 0:  # left
+            runs[2] = -1.0
+        if pr.hx > 0:  # down
+            runs[3] = -1.0
     for b in range(nb):
         if D[b] == INFINITY:
             n_inf += 1
@@ -837,7 +906,7 @@ cdef int64_t _visible_set(const uint8_t* B, int64_t R, int64_t W, const Ext* ext
                         dx = vx[j] - px
                         dy = vy[j] - py
                         if dx == 0.0 and dy == 0.0:
-                            if jmin == 0:  # p is this corner
+                            if jmin == 0 and pr == NULL:  # p is this corner
                                 out_j[m] = j
                                 out_d[m] = 0.0
                                 m += 1
@@ -846,12 +915,14 @@ cdef int64_t _visible_set(const uint8_t* B, int64_t R, int64_t W, const Ext* ext
                         if p * self_q > 0 or p * (qx[j] * qy[j]) > 0:
                             continue
                         d2 = dx * dx + dy * dy
+                        if pr != NULL and pr.hx * dy - pr.hy * dx < 0:
+                            continue
                         if dx == 0.0 or dy == 0.0:  # on an axis through p: its free run decides
                             if dy == 0.0:
                                 t = 0 if dx > 0 else 2
                             else:
                                 t = 1 if dy > 0 else 3
-                            if runs[t] >= 0 and d2 <= runs[t] * runs[t]:
+                            if runs[t] >= 0 and d2 <= runs[t] * runs[t] and (pr == NULL or _improves(pr, j, d2, vx, vy)):
                                 out_j[m] = j
                                 out_d[m] = sqrt(d2)
                                 m += 1
@@ -863,6 +934,8 @@ cdef int64_t _visible_set(const uint8_t* B, int64_t R, int64_t W, const Ext* ext
                             continue
                         hit = _walk_hit(B, W, px, py, vx[j], vy[j])
                         if hit == -1:
+                            if pr != NULL and not _improves(pr, j, d2, vx, vy):
+                                continue  # walked all the same: a failed walk feeds the occlusion table
                             out_j[m] = j
                             out_d[m] = sqrt(d2)
                             m += 1
@@ -912,7 +985,7 @@ def visibility_edges_culled(blk_t B, f64c_1d vx, f64c_1d vy, f64c_1d qx, f64c_1d
             with nogil:
                 for i in range(n):
                     k = _visible_set(b, R, W, &ext, pvx[i], pvy[i], pqx[i] * pqy[i], pvx, pvy, pqx, pqy, pbs, pbv,
-                                     nbx, nby, bsize, i + 1, D, _NB, part, out_j, out_d)
+                                     nbx, nby, bsize, i + 1, D, _NB, part, out_j, out_d, NULL)
                     if not _edges_reserve(&e, e.m + k):
                         ok = False
                         break
@@ -950,7 +1023,7 @@ def visible_from_culled(blk_t B, tuple ext, double px, double py, f64c_1d vx, f6
             raise MemoryError("visible_from_culled: no memory")
         with nogil:
             k = _visible_set(&B[0, 0], R, W, &e, px, py, 0.0, &vx[0], &vy[0], &qx[0], &qy[0], &bstart[0],
-                             &bverts[0], nbx, nby, bsize, 0, D, _NB, part, out_j, out_d)
+                             &bverts[0], nbx, nby, bsize, 0, D, _NB, part, out_j, out_d, NULL)
             for t in range(k):
                 o[out_j[t]] = out_d[t]
     finally:
@@ -959,3 +1032,129 @@ def visible_from_culled(blk_t B, tuple ext, double px, double py, f64c_1d vx, f6
         free(out_j)
         free(out_d)
     return res
+
+
+# ----------------------------------------------------------------------------------------------
+# Lazy A*: the corners' visible neighbours computed when a corner is expanded (no per-map graph)
+# ----------------------------------------------------------------------------------------------
+def lazy_astar(blk_t B, tuple ext, f64c_1d vx, f64c_1d vy, f64c_1d qx, f64c_1d qy, i64c_1d bstart, i64c_1d bverts,
+               int64_t nbx, int64_t nby, double bsize, double sx, double sy, f64c_1d start_d, f64c_1d goal_d,
+               double gx, double gy):
+    """A* over the convex corners from the point ``s`` to the point ``g`` without a graph.
+
+    ``start_d[j]`` / ``goal_d[j]``: length of the segment start -> corner j / corner j -> goal (inf:
+    not visible along a taut direction; :func:`visible_from_culled`). Expanding a corner ``u`` runs
+    the nearest-first visibility search of :func:`_visible_set` from it, restricted to
+
+    - taut directions at ``u`` (the quadrant rule of :func:`visibility_edges`) and at the corner seen;
+    - the *taut turn* from ``u``'s parent ``p``: the path ``p -> u -> v`` must bend round ``u``'s
+      blocked cell, ``cross(u - p, v - u)`` of the same sign as ``cross(u - p, c)`` (``c`` the
+      direction of that cell from ``u``) or 0. Otherwise the wedge inside the turn is free near
+      ``u`` and cutting it shortens the path strictly, so no shortest path (and no optimal ``g`` of
+      ``v``) uses the turn; with ties any optimal parent's turn may be pruned for that reason;
+    - corners not closed, that the edge would improve (``g[u] + |uv| < g[v]``) and whose ``f`` stays
+      below the best goal length found.
+
+    The heuristic is the straight-line distance to the goal (consistent), so the first time the
+    popped ``f`` reaches the best goal length found, that length is optimal. Returns the length (inf:
+    unreachable), the predecessor of every corner (-1: the start, -2: none), the corner from which
+    the goal was entered (-1: none) and how many corners were expanded.
+    """
+    cdef int64_t R = B.shape[0], W = B.shape[1], n = vx.shape[0], j, u, v, k, t, pu, expanded = 0
+    cdef Ext ex = _ext(ext, R, W)
+    cdef double best = INFINITY, f, gu, nd, tx, ty, d1x, d1y, sgn
+    cdef int64_t last = -1
+    cdef bint ok = True
+    g_arr = np.full(n, np.inf)
+    pred_arr = np.full(n, -2, np.int64)
+    closed_arr = np.zeros(n, np.uint8)
+    if n == 0:
+        return best, pred_arr, last, expanded
+    cdef double[::1] g = g_arr
+    cdef int64_t[::1] pred = pred_arr
+    cdef uint8_t[::1] closed = closed_arr
+    cdef Prune pr
+    cdef Heap h
+    h.size = 0
+    h.cap = 1024
+    h.k = <double*>malloc(h.cap * sizeof(double))
+    h.v = <int64_t*>malloc(h.cap * sizeof(int64_t))
+    cdef double* D = <double*>malloc(_NB * sizeof(double))
+    cdef double* part = <double*>malloc(4 * _NB * sizeof(double))
+    cdef int64_t* out_j = <int64_t*>malloc(n * sizeof(int64_t))
+    cdef double* out_d = <double*>malloc(n * sizeof(double))
+    pr.closed = &closed[0]
+    pr.g = &g[0]
+    pr.gx = gx
+    pr.gy = gy
+    try:
+        if h.k == NULL or h.v == NULL or D == NULL or part == NULL or out_j == NULL or out_d == NULL:
+            raise MemoryError("lazy_astar: no memory")
+        with nogil:
+            for j in range(n):
+                if start_d[j] < INFINITY:
+                    g[j] = start_d[j]
+                    pred[j] = -1
+                    tx = vx[j] - gx
+                    ty = vy[j] - gy
+                    if not _heap_push(&h, g[j] + sqrt(tx * tx + ty * ty), j):
+                        ok = False
+                        break
+            while ok and h.size > 0:
+                f = h.k[0]
+                u = h.v[0]
+                _heap_pop(&h)
+                if f >= best:
+                    break
+                if closed[u]:
+                    continue
+                closed[u] = 1
+                expanded += 1
+                gu = g[u]
+                if goal_d[u] < INFINITY and gu + goal_d[u] < best:
+                    best = gu + goal_d[u]
+                    last = u
+                pu = pred[u]
+                if pu >= 0:
+                    d1x = vx[u] - vx[pu]
+                    d1y = vy[u] - vy[pu]
+                else:
+                    d1x = vx[u] - sx
+                    d1y = vy[u] - sy
+                # the side of the turn that wraps round u's blocked cell (direction (qx, qy)); 0 when
+                # u is the start itself (no parent direction: every taut direction)
+                sgn = d1x * qy[u] - d1y * qx[u]
+                if sgn > 0:
+                    pr.hx = d1x
+                    pr.hy = d1y
+                elif sgn < 0:
+                    pr.hx = -d1x
+                    pr.hy = -d1y
+                else:
+                    pr.hx = 0.0
+                    pr.hy = 0.0
+                pr.gu = gu
+                pr.best = best
+                k = _visible_set(&B[0, 0], R, W, &ex, vx[u], vy[u], qx[u] * qy[u], &vx[0], &vy[0], &qx[0], &qy[0],
+                                 &bstart[0], &bverts[0], nbx, nby, bsize, 0, D, _NB, part, out_j, out_d, &pr)
+                for t in range(k):
+                    v = out_j[t]
+                    nd = gu + out_d[t]
+                    if nd < g[v]:
+                        g[v] = nd
+                        pred[v] = u
+                        tx = vx[v] - gx
+                        ty = vy[v] - gy
+                        if not _heap_push(&h, nd + sqrt(tx * tx + ty * ty), v):
+                            ok = False
+                            break
+        if not ok:
+            raise MemoryError("lazy_astar: no memory for the heap")
+    finally:
+        free(h.k)
+        free(h.v)
+        free(D)
+        free(part)
+        free(out_j)
+        free(out_d)
+    return best, pred_arr, last, expanded

@@ -53,6 +53,10 @@ cdef extern from "_brushfire_rows.h" nogil:
     void gf_column_up(const int32_t* prev, int32_t* vrow, int32_t r, int64_t c0, int64_t c1)
     void gf_edt_gather(const int32_t* v, int32_t r, int32_t inf, int64_t* g, int64_t* rowv, int64_t cols)
     void gf_edt_distance(const int64_t* val, double res, double* d, int64_t cols)
+    void* gf_map(size_t n)
+    void gf_unmap(void* p, size_t n)
+
+from cython.view cimport array as cvarray
 
 import numpy as np
 
@@ -85,6 +89,121 @@ cdef inline int64_t _lmax(int64_t a, int64_t b) noexcept nogil:
 
 cdef inline void* _alloc(size_t n) noexcept nogil:
     return malloc(n if n > 0 else 1)
+
+
+# ----------------------------------------------------------------------------------------------
+# memory of the large output arrays, reused from call to call
+# ----------------------------------------------------------------------------------------------
+# A fresh array of several MB costs the kernel a page fault and the zeroing of every page when it is
+# first written (clear_page: a third of the samples of a 4096^2 chessboard call, whose 192 MB of steps
+# and distance are written once). `empty` takes its memory from blocks that earlier results gave back
+# when they were freed, so a program that computes map after map of one size (replanning) writes into
+# pages it already has. The blocks of the dropped results are kept, oldest dropped first when more
+# than `pool_limit()` bytes (or _SLOTS blocks) would be kept; those bytes stay resident. Blocks are
+# anonymous mappings (gf_map) with a header of _HDR bytes holding the mapping's length. All of it runs
+# with the GIL held (allocation in `empty`, release in the array's deallocation): no lock needed.
+DEF _SLOTS = 16
+DEF _HDR = 64
+DEF _MIN_POOLED = 1 << 20  # smaller arrays: numpy's own allocation
+DEF _ROUND = 1 << 21  # mapping lengths are multiples of 2 MiB (a huge page)
+cdef char* _pool_ptr[_SLOTS]
+cdef size_t _pool_len[_SLOTS]
+cdef int _pool_n = 0
+cdef size_t _pool_bytes = 0
+cdef size_t _pool_limit = 512 << 20
+
+
+cdef void _evict_oldest() noexcept:
+    global _pool_n, _pool_bytes
+    cdef int i
+    gf_unmap(_pool_ptr[0], _pool_len[0])
+    _pool_bytes -= _pool_len[0]
+    for i in range(1, _pool_n):
+        _pool_ptr[i - 1] = _pool_ptr[i]
+        _pool_len[i - 1] = _pool_len[i]
+    _pool_n -= 1
+
+
+cdef void _release(void* data) noexcept:
+    """``callback_free_data`` of the arrays made by :func:`empty`: keep the block for the next call."""
+    global _pool_n, _pool_bytes
+    cdef char* base = <char*>data - _HDR
+    cdef size_t n = (<size_t*>base)[0]
+    if n > _pool_limit:
+        gf_unmap(base, n)
+        return
+    while _pool_n > 0 and (_pool_n == _SLOTS or _pool_bytes + n > _pool_limit):
+        _evict_oldest()
+    _pool_ptr[_pool_n] = base
+    _pool_len[_pool_n] = n
+    _pool_n += 1
+    _pool_bytes += n
+
+
+cdef char* _take(size_t nbytes):
+    """The data pointer of a block of at least ``nbytes``: a kept one of at most 5/4 the length
+    needed (the smallest such), else a new mapping."""
+    global _pool_n, _pool_bytes
+    cdef size_t need = (nbytes + _HDR + _ROUND - 1) // _ROUND * _ROUND
+    cdef int i, best = -1
+    cdef char* base
+    for i in range(_pool_n):
+        if need <= _pool_len[i] <= need + need // 4 and (best < 0 or _pool_len[i] < _pool_len[best]):
+            best = i
+    if best >= 0:
+        base = _pool_ptr[best]
+        _pool_bytes -= _pool_len[best]
+        for i in range(best + 1, _pool_n):
+            _pool_ptr[i - 1] = _pool_ptr[i]
+            _pool_len[i - 1] = _pool_len[i]
+        _pool_n -= 1
+        return base + _HDR
+    base = <char*>gf_map(need)
+    if base == NULL:
+        raise MemoryError(f"cannot allocate {nbytes} bytes")
+    (<size_t*>base)[0] = need
+    return base + _HDR
+
+
+_FORMATS = {np.dtype(np.int32): "i", np.dtype(np.float64): "d", np.dtype(np.bool_): "?"}
+
+
+def empty(shape, dtype):
+    """``np.empty(shape, dtype)`` (C order; int32, float64 or bool) whose memory, when the array is
+    at least 1 MiB, is a block given back by an earlier array of this function if one fits (see
+    :func:`pool_limit`). The array does not own its memory (``flags.owndata`` is False): its base
+    frees the block."""
+    dt = np.dtype(dtype)
+    shape = tuple(int(x) for x in shape)
+    cdef size_t nbytes = dt.itemsize
+    for x in shape:
+        nbytes *= <size_t>x
+    if nbytes < _MIN_POOLED or dt not in _FORMATS:
+        return np.empty(shape, dt)
+    cdef cvarray block = cvarray(shape=shape, itemsize=dt.itemsize, format=_FORMATS[dt], mode="c",
+                                 allocate_buffer=False)
+    block.data = _take(nbytes)
+    block.callback_free_data = _release
+    return np.asarray(block)
+
+
+def pool_limit(limit=None):
+    """The most bytes :func:`empty` keeps for reuse (default 512 MiB); with ``limit``, set it (0: keep
+    none; kept blocks beyond it are unmapped now) and return the previous one."""
+    global _pool_limit
+    cdef size_t old = _pool_limit
+    if limit is not None:
+        if limit < 0:
+            raise ValueError(f"limit must be >= 0 bytes, got {limit!r}")
+        _pool_limit = <size_t>limit
+        while _pool_n > 0 and _pool_bytes > _pool_limit:
+            _evict_oldest()
+    return old
+
+
+def pool_bytes():
+    """Bytes kept for reuse now, and in how many blocks."""
+    return _pool_bytes, _pool_n
 
 
 # ----------------------------------------------------------------------------------------------
@@ -622,9 +741,12 @@ cdef inline int64_t _floordiv_exact(int64_t a, int64_t b) noexcept nogil:
     return t - ((<double>t != q) & (q < 0))
 
 
-cdef bint _edt_1d(const int64_t* g, int64_t n, int64_t inf, int64_t* s, int64_t* t, int64_t* val,
-                  int64_t* arg) noexcept nogil:
-    cdef int64_t q = -1, u, gu, fu, sq, tq, gs, w, x
+cdef bint _edt_1d_sq(const int64_t* g, int64_t n, int64_t inf, int64_t* s, int64_t* t, int64_t* fs, int64_t* val,
+                     int64_t* arg) noexcept nogil:
+    # The lower envelope (Meijster et al. 2000): the stack holds the site s[q], the first x it wins,
+    # t[q] (strictly increasing: a site is pushed only where it is strictly nearer than the top), and
+    # its g**2, fs[q], so that a comparison does not wait for the load of g[s[q]] after that of s[q].
+    cdef int64_t q = -1, u, gu, fu, sq, tq, fq, w, x, d1, d2, lo, hi
     for u in range(n + 2):
         gu = g[u]
         if gu >= inf:
@@ -633,33 +755,50 @@ cdef bint _edt_1d(const int64_t* g, int64_t n, int64_t inf, int64_t* s, int64_t*
         while q >= 0:
             sq = s[q]
             tq = t[q]
-            gs = g[sq]
-            if (tq - sq) * (tq - sq) + gs * gs <= (tq - u) * (tq - u) + fu:
+            fq = fs[q]
+            d1 = tq - sq
+            d2 = tq - u
+            if d1 * d1 + fq <= d2 * d2 + fu:
                 break
             q -= 1
         if q < 0:
             q = 0
             s[0] = u
             t[0] = 1
+            fs[0] = fu
         else:
             sq = s[q]
-            gs = g[sq]
             # first x where u is strictly nearer than s[q] (floor division of an integer ratio)
-            w = 1 + _floordiv_exact(u * u - sq * sq + fu - gs * gs, 2 * (u - sq))
+            w = 1 + _floordiv_exact(u * u - sq * sq + fu - fs[q], 2 * (u - sq))
             if w <= n:
                 q += 1
                 s[q] = u
                 t[q] = w
+                fs[q] = fu
     if q < 0:
         return False
-    for x in range(n, 0, -1):
+    # site s[q] wins x in t[q] .. t[q + 1] - 1 (t[0] = 1): one branch-free loop per site
+    hi = n
+    while q >= 0:
         sq = s[q]
-        gs = g[sq]
-        val[x - 1] = (x - sq) * (x - sq) + gs * gs
-        arg[x - 1] = sq
-        if x == t[q]:
-            q -= 1
+        fq = fs[q]
+        lo = t[q]
+        for x in range(lo, hi + 1):
+            d1 = x - sq
+            val[x - 1] = d1 * d1 + fq
+            arg[x - 1] = sq
+        hi = lo - 1
+        q -= 1
     return True
+
+
+cdef bint _edt_1d(const int64_t* g, int64_t n, int64_t inf, int64_t* s, int64_t* t, int64_t* val,
+                  int64_t* arg) noexcept nogil:
+    # the envelope for callers without a buffer for the stack's g**2 (_kernels_incremental)
+    cdef int64_t* fs = <int64_t*>_alloc((n + 2) * sizeof(int64_t))
+    cdef bint found = _edt_1d_sq(g, n, inf, s, t, fs, val, arg)
+    free(fs)
+    return found
 
 
 def edt_1d(const int64_t[::1] g, int64_t n, int64_t inf, int64_t[::1] s, int64_t[::1] t, int64_t[::1] val,
@@ -690,6 +829,7 @@ def edt_rows(int64_t r0, int64_t r1, const int32_t[:, ::1] vr, bint wall, double
     cdef int64_t* rowv
     cdef int64_t* s
     cdef int64_t* t
+    cdef int64_t* fs
     cdef int64_t* val
     cdef int64_t* arg
     cdef int64_t* bnr
@@ -701,6 +841,7 @@ def edt_rows(int64_t r0, int64_t r1, const int32_t[:, ::1] vr, bint wall, double
         rowv = <int64_t*>_alloc((n + 2) * sizeof(int64_t))
         s = <int64_t*>_alloc((n + 2) * sizeof(int64_t))
         t = <int64_t*>_alloc((n + 2) * sizeof(int64_t))
+        fs = <int64_t*>_alloc((n + 2) * sizeof(int64_t))
         val = <int64_t*>_alloc(n * sizeof(int64_t))
         arg = <int64_t*>_alloc(n * sizeof(int64_t))
         bnr = <int64_t*>_alloc(n * sizeof(int64_t))
@@ -711,7 +852,7 @@ def edt_rows(int64_t r0, int64_t r1, const int32_t[:, ::1] vr, bint wall, double
             rowv[0] = r
             rowv[n + 1] = r
             gf_edt_gather(&vr[r, 0], <int32_t>r, <int32_t>inf, g, rowv, n)
-            _edt_1d(g, n, inf, s, t, val, arg)
+            _edt_1d_sq(g, n, inf, s, t, fs, val, arg)
             gf_edt_distance(val, resolution, &distance[r, 0], n)
             for c in range(n):
                 a = arg[c]
@@ -729,6 +870,7 @@ def edt_rows(int64_t r0, int64_t r1, const int32_t[:, ::1] vr, bint wall, double
         free(rowv)
         free(s)
         free(t)
+        free(fs)
         free(val)
         free(arg)
         free(bnr)

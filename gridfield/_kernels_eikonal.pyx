@@ -281,13 +281,25 @@ cdef inline bint _bpush(int32_t** data, int64_t* size, int64_t* cap, int64_t b, 
 
 
 def march_buckets(mask_t free, val_t cost, const int64_t[:] src_r, const int64_t[:] src_c, const double[:] src_v,
-                  bint diag, int64_t stop_r, int64_t stop_c, double margin, double delta, double max_cost):
+                  bint diag, int64_t stop_r, int64_t stop_c, double margin, double delta, double max_cost,
+                  double hweight=0.0, int64_t[:] box=None, double reopen=INFINITY):
     """:func:`march` with the priority queue replaced by buckets of width ``delta`` (cells), each
     a first-in first-out list: O(1) per cell instead of a heap's O(log n). Cells of one bucket are
     accepted in arrival order, so values may differ from the exact march by about ``delta``; every
     cell still gets a value strictly above an accepted neighbour's (the upwind update), so descent
     still ends at a source. The sources must be sorted by value; ``max_cost`` bounds ``cost``.
     Returns ``(T, accepted cells)``; raises MemoryError when a bucket cannot grow.
+
+    ``hweight`` > 0 with a stop cell: the A*-ordered truncated march (as NavFn's A* mode): the
+    buckets are keyed by ``T + hweight * h`` with ``h`` the Euclidean distance (cells) to the stop
+    cell, and the march ends once every cell of key up to ``T(stop) + margin`` is accepted. A cell
+    is still given the upwind update from its accepted neighbours, so it stays strictly above one
+    of them (descent still ends at a source). A neighbour whose value it needed may be accepted after
+    it (the heuristic is not a bound for the 2-neighbour update); the cell is then lowered and
+    accepted again when its value drops by more than ``reopen`` cells (label correcting; inf:
+    never), so that the values approach the full march's. ``box``
+    (int64, length 4), when given, receives the accepted cells' bounding box ``r0, r1, c0, c1``
+    (inclusive; ``r0 > r1`` when none).
     """
     cdef int64_t rows = free.shape[0], cols = free.shape[1]
     cdef int64_t w = cols + 2
@@ -297,7 +309,11 @@ def march_buckets(mask_t free, val_t cost, const int64_t[:] src_r, const int64_t
     cdef double f, val, limit = INFINITY, inv = 1.0 / delta
     cdef int64_t stop_v = (stop_r + 1) * w + stop_c + 1 if stop_r >= 0 else -1
     cdef int64_t nsrc = src_r.shape[0]
-    cdef int64_t nbk = <int64_t>(max_cost * SQRT2 * inv) + 4
+    cdef bint astar = hweight > 0.0 and stop_r >= 0
+    cdef bint reacc = astar and reopen < INFINITY
+    cdef double hw = hweight if astar else 0.0, key, sr = <double>(stop_r + 1), sc = <double>(stop_c + 1), dr, dc
+    cdef int64_t nbk = <int64_t>((max_cost + hw) * SQRT2 * inv) + 4
+    cdef int64_t br0 = rows, br1 = -1, bc0 = cols, bc1 = -1, vr, vc
     cdef int64_t offs[8]
     out = np.empty((rows, cols))
     cdef double[:, ::1] o = out
@@ -349,8 +365,15 @@ def march_buckets(mask_t free, val_t cost, const int64_t[:] src_r, const int64_t
         cur = <int64_t>(src_v[0] * inv) if nsrc > 0 else 0
         while ok:
             # the sources due by this bucket join the queue
-            while sp < nsrc and <int64_t>(src_v[sp] * inv) <= cur:
+            while sp < nsrc:
                 v = (src_r[sp] + 1) * w + src_c[sp] + 1
+                key = src_v[sp]
+                if astar:
+                    dr = <double>(v // w) - sr
+                    dc = <double>(v % w) - sc
+                    key = key + hw * sqrt(dr * dr + dc * dc)
+                if <int64_t>(key * inv) > cur:
+                    break
                 if fr[v] and not done[v] and src_v[sp] == u[v]:
                     ok = _bpush(data, size, cap, cur % nbk, <int32_t>v) and ok
                     live += 1
@@ -358,7 +381,13 @@ def march_buckets(mask_t free, val_t cost, const int64_t[:] src_r, const int64_t
             if live == 0:
                 if sp >= nsrc:
                     break
-                cur = <int64_t>(src_v[sp] * inv)
+                v = (src_r[sp] + 1) * w + src_c[sp] + 1
+                key = src_v[sp]
+                if astar:
+                    dr = <double>(v // w) - sr
+                    dc = <double>(v % w) - sc
+                    key = key + hw * sqrt(dr * dr + dc * dc)
+                cur = <int64_t>(key * inv)
                 continue
             if cur * delta > limit:
                 break
@@ -373,20 +402,41 @@ def march_buckets(mask_t free, val_t cost, const int64_t[:] src_r, const int64_t
                 done[v] = 1
                 kv[v] = u[v]
                 count += 1
-                if v == stop_v:
+                vr = v // w - 1
+                vc = v % w - 1
+                if vr < br0:
+                    br0 = vr
+                if vr > br1:
+                    br1 = vr
+                if vc < bc0:
+                    bc0 = vc
+                if vc > bc1:
+                    bc1 = vc
+                if v == stop_v and u[v] + margin < limit:
                     limit = u[v] + margin
                 for k in range(8 if diag else 4):
                     nb = v + offs[k]
-                    if not fr[nb] or done[nb] or fixed[nb]:
+                    if not fr[nb] or fixed[nb] or (done[nb] and not reacc):
                         continue
                     f = 1.0 if uniform else cst[nb]
                     if k < 4:
                         val = _update4b(kv, fr, nb, w, f)
                     else:
                         val = _update8b(kv, fr, nb, w, f)
+                    if done[nb]:
+                        # A* order: a cell accepted before a neighbour its update needed is lowered
+                        # and accepted again (label correcting), so its dependents are redone too
+                        if val >= u[nb] - reopen:
+                            continue
+                        done[nb] = 0
                     if val < u[nb]:
                         u[nb] = val
-                        bk = <int64_t>(val * inv)
+                        key = val
+                        if astar:
+                            dr = <double>(nb // w) - sr
+                            dc = <double>(nb % w) - sc
+                            key = val + hw * sqrt(dr * dr + dc * dc)
+                        bk = <int64_t>(key * inv)
                         if bk < cur:
                             bk = cur
                         ok = _bpush(data, size, cap, bk % nbk, <int32_t>nb)
@@ -408,6 +458,11 @@ def march_buckets(mask_t free, val_t cost, const int64_t[:] src_r, const int64_t
         c_free(u)
         c_free(kv)
         c_free(cst)
+    if box is not None and box.shape[0] >= 4:
+        box[0] = br0
+        box[1] = br1
+        box[2] = bc0
+        box[3] = bc1
     if not ok:
         raise MemoryError("march_buckets: out of memory for the bucket queue")
     return out, count
@@ -444,19 +499,23 @@ cdef inline double _update8b(const double* kv, const uint8_t* free_, int64_t v, 
     return _solve2(a, b, f * SQRT2)
 
 
-def upwind(val_t t, bint diagonal=False):
+def upwind(val_t t, bint diagonal=False, mask_t free=None):
     """Upwind differences of ``t`` per cell along x (columns) and y (rows): towards the lower
     neighbour (the left/lower one on a tie), 0 where no neighbour is lower and on non-finite cells;
     non-finite neighbours are never used (:func:`gridfield.navigation.upwind_gradient`'s rule).
     With ``diagonal``, a cell with no lower 4-neighbour takes the difference towards its lowest
     diagonal neighbour whose two side cells are finite (the march's rotated stencil can leave a
-    cell whose only lower neighbour is diagonal)."""
+    cell whose only lower neighbour is diagonal). ``free`` (the shape of ``t``), when given: the two
+    side cells of a diagonal need only be free there (the march's rule), not finite: the rim of a
+    truncated march, where a free side cell may not be settled yet."""
     cdef int64_t rows = t.shape[0], cols = t.shape[1], r, c, dr, dc, bdr, bdc
     cdef double v, a, b, best
     gx = np.zeros((rows, cols))
     gy = np.zeros((rows, cols))
     cdef double[:, ::1] ox = gx
     cdef double[:, ::1] oy = gy
+    cdef bint byfree = free is not None
+    cdef const uint8_t[:, :] fm = free if byfree else np.zeros((1, 1), np.uint8)
     with nogil:
         for r in range(rows):
             for c in range(cols):
@@ -487,7 +546,10 @@ def upwind(val_t t, bint diagonal=False):
                         for dc in range(-1, 2, 2):
                             if r + dr < 0 or r + dr >= rows or c + dc < 0 or c + dc >= cols:
                                 continue
-                            if not (t[r + dr, c] < INFINITY and t[r, c + dc] < INFINITY):
+                            if byfree:
+                                if not (fm[r + dr, c] and fm[r, c + dc]):
+                                    continue
+                            elif not (t[r + dr, c] < INFINITY and t[r, c + dc] < INFINITY):
                                 continue
                             if t[r + dr, c + dc] < best:
                                 best = t[r + dr, c + dc]

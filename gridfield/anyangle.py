@@ -23,7 +23,19 @@ Edges
     this; on open maps it changes little.
 Queries
     the start and the goal are joined to the corners they see along taut directions (one compiled
-    pass over the corners each), then A* with the straight-line heuristic runs over the graph.
+    pass over the corners each), then A* with the straight-line heuristic runs over the graph
+    (``search="graph"``, the default :data:`SEARCH`).
+Lazy search
+    ``search="lazy"`` needs no graph: A* over the same corners, each corner's visible neighbours
+    found by the same compiled nearest-first pass when the corner is expanded, restricted to taut
+    directions and to the *taut turn* from the corner's parent (the path must bend round the
+    corner's blocked cell; any other turn leaves a free wedge inside it near the corner, so cutting
+    it is strictly shorter: the standard taut-path pruning of any-angle search, e.g. Oh & Leong,
+    Edge N-Level Sparse Visibility Graphs, SoCS 2017), and to corners the edge improves within the
+    best goal length found. The per-map part is then only the corners, their buckets and the
+    blocked runs; the same optimum (``tests/test_anyangle.py``), but every expansion costs one
+    visibility pass, and a query expands tens to thousands of corners: 10-100x slower per query
+    than the graph search on the Moving AI maps (benchmarks/README.md).
 
 Border
     Paths stay on the map with either border, as those of the grid planners (``wavefront``,
@@ -34,8 +46,9 @@ Border
     alone), a ``wall`` is one. (A vector world with an open border is another matter: there the plane
     outside the bounds is free, :mod:`gridfield.visibility`.)
 
-The graph of a map is built once and cached (per map content; :func:`grid_graph`), so many queries
-on one map pay only for the two visibility passes and the search. Build and query times on
+The corners of a map are found once and cached (per map content; :func:`grid_graph`), and its
+visibility graph is built on the first graph search and kept with them, so many queries on one map
+pay only for the two visibility passes and the search. Build and query times on
 512 x 512 Moving AI maps, beside the octile wavefront on the same queries: ``benchmarks/README.md``,
 "Any-angle optimum on grid maps".
 
@@ -72,6 +85,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._kernels import kernels
 from .errors import GridfieldError, ParameterError
 from .grid import Grid, GridMap
 from .params import validate
@@ -85,9 +99,7 @@ _GRAPHS: OrderedDict[tuple[Any, ...], AnyAngleGraph] = OrderedDict()
 
 
 def _kernels() -> Any:
-    from . import _kernels_anyangle  # type: ignore[attr-defined]  # a compiled extension, no stubs
-
-    return _kernels_anyangle
+    return kernels("anyangle")
 
 
 def _padded_blocked(gm: GridMap) -> NDArray[np.uint8]:
@@ -128,19 +140,32 @@ def convex_corners(blocked_padded: NDArray[np.uint8]) -> tuple[NDArray[np.float6
     return x.astype(np.float64), y.astype(np.float64), qx, qy
 
 
+#: The default search of :meth:`AnyAngleGraph.shortest_path` (and so of :func:`plan_anyangle`):
+#: ``"lazy"`` (A* over the corners, each corner's visible neighbours found when it is expanded; no
+#: per-map graph) or ``"graph"`` (A* over the taut visibility graph, built on first use and kept).
+#: Both give the same optimum; the figures behind the choice: benchmarks/README.md, "Any-angle
+#: optimum on grid maps".
+SEARCH = "graph"
+SEARCHES = ("lazy", "graph")
+
+
 @dataclass(frozen=True, eq=False)
 class AnyAngleGraph:
-    """The taut visibility graph of a grid map's convex corners; build it with :func:`grid_graph`.
+    """A grid map's convex corners and the searches over them; build it with :func:`grid_graph`.
+
+    The per-map part is the corner list, its 32 x 32 buckets and the blocked runs (milliseconds);
+    the taut visibility graph over the corners (``edges``) is built on first use only (by the
+    ``"graph"`` search or by reading :attr:`edges`) and then kept.
 
     Attributes
     ----------
     grid : Grid
     nodes : ndarray, shape (n, 2)
         Convex corners in world coordinates.
-    edges : ndarray of int, shape (m, 2)
-        Taut visible pairs ``i < j``.
     seconds : float
-        Build time.
+        Time of the per-map part (corners, buckets, runs).
+    edges : ndarray of int, shape (m, 2)
+        Taut visible pairs ``i < j`` (built on first access; :attr:`graph_seconds`).
 
     Examples
     --------
@@ -154,16 +179,12 @@ class AnyAngleGraph:
 
     grid: Grid
     nodes: NDArray[np.float64]
-    edges: NDArray[np.intp]
     seconds: float
     _B: NDArray[np.uint8] = field(repr=False)
     _vx: NDArray[np.float64] = field(repr=False)
     _vy: NDArray[np.float64] = field(repr=False)
     _qx: NDArray[np.float64] = field(repr=False)
     _qy: NDArray[np.float64] = field(repr=False)
-    _indptr: NDArray[np.int64] = field(repr=False)
-    _indices: NDArray[np.int64] = field(repr=False)
-    _weights: NDArray[np.float64] = field(repr=False)
     _blocks: tuple[Any, ...] = field(repr=False)
     _ext: tuple[Any, ...] = field(repr=False)
     _lazy: dict[str, Any] = field(default_factory=dict, repr=False)
@@ -173,8 +194,37 @@ class AnyAngleGraph:
         return len(self._vx)
 
     @property
+    def edges(self) -> NDArray[np.intp]:
+        """The taut visibility graph's edges ``(m, 2)``, pairs ``i < j`` (built on first access)."""
+        return self._graph()["edges"]
+
+    @property
     def n_edges(self) -> int:
         return len(self.edges)
+
+    @property
+    def graph_built(self) -> bool:
+        """Whether the visibility graph (:attr:`edges`) has been built."""
+        return "edges" in self._lazy
+
+    @property
+    def graph_seconds(self) -> float:
+        """Time the visibility graph took to build (building it if it was not)."""
+        return float(self._graph()["seconds"])
+
+    def _graph(self) -> dict[str, Any]:
+        if "edges" not in self._lazy:
+            k = _kernels()
+            t0 = time.perf_counter()
+            vx, vy = self._vx, self._vy
+            ei, ej = k.visibility_edges_culled(self._B, vx, vy, self._qx, self._qy, *self._blocks)
+            w = np.hypot(vx[ej] - vx[ei], vy[ej] - vy[ei])
+            indptr, indices, weights = _symmetric_csr(len(vx), ei, ej, w)
+            edges = np.empty((len(ei), 2), dtype=np.intp)
+            edges[:, 0], edges[:, 1] = ei, ej
+            self._lazy.update(csr=(indptr, indices, weights), seconds=time.perf_counter() - t0)
+            self._lazy["edges"] = edges
+        return self._lazy
 
     # -- coordinates --------------------------------------------------------------------
     def _lattice(self, point: ArrayLike, name: str) -> tuple[float, float]:
@@ -261,17 +311,46 @@ class AnyAngleGraph:
         b = self._lattice(q, "q")
         return bool(_kernels().segment_free(self._B, a[0], a[1], b[0], b[1]))
 
-    def shortest_path(self, start: ArrayLike, goal: ArrayLike) -> tuple[NDArray[np.float64], float]:
+    def shortest_path(self, start: ArrayLike, goal: ArrayLike, *, search: str | None = None
+                      ) -> tuple[NDArray[np.float64], float]:
         """The Euclidean shortest path from ``start`` to ``goal``: vertices ``(k, 2)`` and length.
 
         An empty ``(0, 2)`` array and ``inf`` when the goal cannot be reached.
+
+        Parameters
+        ----------
+        start, goal : array_like, shape (2,)
+            World points in the free space.
+        search : {"lazy", "graph"}, optional
+            :data:`SEARCH` when not given. Both find the optimum (module docstring, "Queries").
+
+        Returns
+        -------
+        points : ndarray, shape (k, 2)
+        length : float
 
         Raises
         ------
         GridfieldError
             when a point is not finite, outside the map, inside a blocked cell or on a pinch point
             (a corner between two diagonally touching blocked cells: its side is ambiguous).
+        ParameterError
+            for an unknown ``search``.
+
+        Examples
+        --------
+        >>> occ = np.zeros((5, 5), bool); occ[0:4, 2] = True
+        >>> g = grid_graph(GridMap(Grid((5, 5), 1.0, border="wall"), occ))
+        >>> [round(g.shortest_path([0.5, 2.5], [4.5, 2.5], search=s)[1], 9) for s in SEARCHES]
+        [5.242640687, 5.242640687]
         """
+        pts, length, _ = self._search(start, goal, SEARCH if search is None else search)
+        return pts, length
+
+    def _search(self, start: ArrayLike, goal: ArrayLike, search: str) -> tuple[NDArray[np.float64], float, int]:
+        """:meth:`shortest_path` and how many corners the search expanded (-1: not counted)."""
+        if search not in SEARCHES:
+            raise ParameterError(f"search must be one of {', '.join(map(repr, SEARCHES))}, got {search!r}")
         k = _kernels()
         sx, sy = self._lattice(start, "start")
         gx, gy = self._lattice(goal, "goal")
@@ -280,18 +359,24 @@ class AnyAngleGraph:
         s_w = np.array([x0 + sx * h, y0 + sy * h])
         g_w = np.array([x0 + gx * h, y0 + gy * h])
         if k.segment_free(self._B, sx, sy, gx, gy):
-            return np.array([s_w, g_w]), float(math.hypot(gx - sx, gy - sy) * h)
-        sd = k.visible_from_culled(self._B, self._ext, sx, sy, self._vx, self._vy, self._qx, self._qy, *self._blocks)
-        gd = k.visible_from_culled(self._B, self._ext, gx, gy, self._vx, self._vy, self._qx, self._qy, *self._blocks)
-        best, pred, last = k.astar(self._indptr, self._indices, self._weights, self._vx, self._vy, sd, gd, gx, gy)
+            return np.array([s_w, g_w]), float(math.hypot(gx - sx, gy - sy) * h), 0
+        corners = (self._vx, self._vy, self._qx, self._qy)
+        sd = k.visible_from_culled(self._B, self._ext, sx, sy, *corners, *self._blocks)
+        gd = k.visible_from_culled(self._B, self._ext, gx, gy, *corners, *self._blocks)
+        if search == "lazy":
+            best, pred, last, expanded = k.lazy_astar(self._B, self._ext, *corners, *self._blocks, sx, sy, sd, gd,
+                                                      gx, gy)
+        else:
+            best, pred, last = k.astar(*self._graph()["csr"], self._vx, self._vy, sd, gd, gx, gy)
+            expanded = -1
         if not math.isfinite(best):
-            return np.empty((0, 2)), math.inf
+            return np.empty((0, 2)), math.inf, int(expanded)
         order = [int(last)]
         while pred[order[-1]] >= 0:
             order.append(int(pred[order[-1]]))
         order.reverse()
         mid = self.nodes[order]
-        return np.vstack([s_w, mid, g_w]), float(best * h)
+        return np.vstack([s_w, mid, g_w]), float(best * h), int(expanded)
 
 
 _KEYS: weakref.WeakKeyDictionary[GridMap, tuple[Any, ...]] = weakref.WeakKeyDictionary()
@@ -316,15 +401,10 @@ def _build(gm: GridMap) -> AnyAngleGraph:
     B = _padded_blocked(gm)
     vx, vy, qx, qy = convex_corners(B)
     blocks = _buckets(vx, vy, gm.shape)
-    ei, ej = k.visibility_edges_culled(B, vx, vy, qx, qy, *blocks)
-    w = np.hypot(vx[ej] - vx[ei], vy[ej] - vy[ei])
-    indptr, indices, weights = _symmetric_csr(len(vx), ei, ej, w)
     (x0, y0), h = gm.grid.origin, gm.grid.resolution
     nodes = np.column_stack([x0 + vx * h, y0 + vy * h])
-    edges = np.empty((len(ei), 2), dtype=np.intp)
-    edges[:, 0], edges[:, 1] = ei, ej
-    return AnyAngleGraph(gm.grid, nodes, edges, time.perf_counter() - t0, B, vx, vy, qx, qy,
-                         indptr, indices, weights, blocks, k.run_extents(B))
+    ext = k.run_extents(B)
+    return AnyAngleGraph(gm.grid, nodes, time.perf_counter() - t0, B, vx, vy, qx, qy, blocks, ext)
 
 
 def _symmetric_csr(n: int, ei: NDArray[np.integer[Any]], ej: NDArray[np.integer[Any]], w: NDArray[np.float64]
@@ -432,8 +512,10 @@ def plan_anyangle(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: M
 
     Returns a :class:`~gridfield.path.Path` (``planner="visibility"``) with status ``"reached"``,
     or ``"no_path"`` (one point, the start) when the goal cannot be reached. ``seconds`` is the
-    query time (the graph comes from :func:`grid_graph`); ``extra`` holds ``nodes``, ``edges``,
-    ``graph_seconds`` and ``optimal_length``; ``min_clearance`` is the exact distance of the path
+    query time (the corners come from :func:`grid_graph`; the search is :data:`SEARCH`); ``extra``
+    holds ``nodes`` (convex corners), ``graph_seconds`` (the per-map part, plus the visibility
+    graph's build when it was built), ``edges`` (only when the visibility graph was built: the
+    ``"graph"`` search) and ``optimal_length``; ``min_clearance`` is the exact distance of the path
     to the blocked cells (0 where it touches one).
 
     Parameters
@@ -462,11 +544,16 @@ def plan_anyangle(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: M
     """
     params = validate(params)  # a raw mapping from a direct call is checked too
     graph = grid_graph(gridmap, cache=cache)
+    if SEARCH == "graph":
+        graph._graph()  # before the query, as when the graph was built with the corners (a straight-line answer too)
     t0 = time.perf_counter()
-    pts, length = graph.shortest_path(start, goal)
+    pts, length, _ = graph._search(start, goal, SEARCH)
     seconds = time.perf_counter() - t0
-    extra = {"nodes": graph.n_nodes, "edges": graph.n_edges, "graph_seconds": graph.seconds,
-             "optimal_length": length, "pinch": "block"}
+    extra: dict[str, Any] = {"nodes": graph.n_nodes}
+    if graph.graph_built:  # the graph search (or a caller) built the graph: its size and time
+        extra["edges"] = graph.n_edges
+    extra.update(graph_seconds=graph.seconds + (graph.graph_seconds if graph.graph_built else 0.0),
+                 optimal_length=length, pinch="block")
     if not math.isfinite(length):
         s = np.asarray(start, dtype=float).reshape(1, 2)
         return Path(s, "no_path", "visibility", iterations=graph.n_nodes, params=dict(params or {}),

@@ -24,6 +24,8 @@ al. 2000) with the nearest obstacle cell. All are exact. Connected obstacle comp
 in strips. The kernels release the GIL and run on a small thread pool (``threads``). They are
 compiled ahead of time, at install: nothing is compiled at run time, so the first call in a process
 costs what the later ones do (``benchmarks/README.md``, "Brushfire", "First call in a fresh process").
+The grid-sized result arrays reuse the memory of earlier results that were freed (up to 512 MiB is
+kept; their ``flags.owndata`` is False), which spares repeated calls the page faults of fresh memory.
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ import os
 import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from functools import partial
 from types import ModuleType
 from typing import Any, cast
@@ -41,9 +44,11 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
+from ._kernels import kernels
 from ._results import DistanceMap
 from .errors import ArgumentTypeError, ParameterError, shorten
 from .grid import GridMap
+from .limits import check_grid
 
 __all__ = ["BORDER_LABEL", "METRICS", "DistanceMap", "brushfire"]
 
@@ -52,17 +57,11 @@ METRICS = ("chessboard", "taxicab", "euclidean")
 BORDER_LABEL = -1
 
 
-_KERNELS: ModuleType | None = None
 
 
 def _kernels() -> ModuleType:
     """The compiled kernels, imported on first use."""
-    global _KERNELS
-    if _KERNELS is None:
-        from . import _kernels_brushfire  # type: ignore[attr-defined]  # a compiled extension, no stubs
-
-        _KERNELS = _kernels_brushfire
-    return _KERNELS
+    return kernels("brushfire")
 
 
 #: Grids with fewer cells run on one thread unless ``threads`` says otherwise: below about 1M cells
@@ -363,10 +362,52 @@ def brushfire(
     >>> brushfire(GridMap(Grid((1, 5), 0.5), occ[1:2]), saturate=1.0).distance
     array([[0. , 0.5, inf, inf, inf]])
     """
+    req = _validate(gridmap, connectivity, metric, saturate, far, compute_steps, compute_nearest, compute_labels,
+                    compute_gvd, threads)
+    if not req.wall and not req.occ.any():  # no obstacle at all: nothing is reached
+        return _unreached(req)
+    job = _Job(req)
+    job.run_independent()
+    job.run_rows()
+    job.saturate()
+    return job.assemble()
+
+
+@dataclass
+class _Request:
+    """The checked arguments of one :func:`brushfire` call."""
+
+    gridmap: GridMap
+    connectivity: int
+    metric: str
+    saturate: float | None
+    far: float
+    want_steps: bool
+    want_nearest: bool
+    want_label: bool
+    want_gvd: bool
+    wall: bool
+    occ: NDArray[np.bool_]
+    nthreads: int
+
+
+def _as_float(value: Any) -> float:
+    """``value`` as a float; NaN for what is not a number (booleans and strings included)."""
+    try:
+        return float(value) if not isinstance(value, bool | str) else math.nan
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def _validate(gridmap: GridMap, connectivity: int, metric: str | None, saturate: float | None, far: float,
+              compute_steps: bool, compute_nearest: bool, compute_labels: bool | None, compute_gvd: bool | None,
+              threads: int | None) -> _Request:
+    """Phase 1 of :func:`brushfire`: check every argument (one clear error for the first bad one)."""
     if not isinstance(gridmap, GridMap):
         hint = " (wrap an occupancy array: GridMap(Grid(occupied.shape, resolution), occupied))" if isinstance(
             gridmap, np.ndarray) else ""
         raise ArgumentTypeError(f"gridmap must be a GridMap, got {type(gridmap).__name__}{hint}")
+    check_grid(gridmap.grid.shape, "brushfire", f"brushfire of {gridmap.source or 'the grid map'}")  # bytes, up front
     if isinstance(connectivity, bool) or connectivity not in (4, 8):
         raise ParameterError(f"connectivity must be 4 or 8, got {connectivity!r}")
     if metric is None:
@@ -381,10 +422,7 @@ def brushfire(
         if not (np.isfinite(saturate) and saturate > 0):
             raise ParameterError(f"saturate must be a positive finite distance, got {saturate!r}")
     given_far = far
-    try:
-        far = float(far) if not isinstance(far, bool | str) else math.nan
-    except (TypeError, ValueError):
-        far = math.nan
+    far = _as_float(far)
     if math.isnan(far):
         raise ParameterError(f"far must be a number (inf allowed), got {shorten(given_far)}")
     want_steps = _check_flag("compute_steps", compute_steps)
@@ -393,103 +431,135 @@ def brushfire(
     want_gvd = want_label if compute_gvd is None else _check_flag("compute_gvd", compute_gvd)
     if want_gvd and not want_label:
         raise ParameterError("compute_gvd=True needs the labels; pass compute_labels=True or compute_gvd=False")
-
-    grid = gridmap.grid
-    shape = grid.shape
-    wall = grid.border == "wall"
     occ = np.ascontiguousarray(gridmap.occupied, dtype=bool)
-    nthreads = _thread_count(threads, occ.size)
+    return _Request(gridmap, connectivity, metric, saturate, far, want_steps, want_nearest, want_label, want_gvd,
+                    gridmap.grid.border == "wall", occ, _thread_count(threads, occ.size))
 
-    if not wall and not occ.any():  # no obstacle at all: nothing is reached
-        minus = np.full(shape, -1, np.int32)
-        return DistanceMap(
-            gridmap, connectivity, metric, minus if want_steps else None, np.full(shape, np.inf if saturate is None else far),
-            minus.copy() if want_nearest else None, minus.copy() if want_nearest else None,
-            np.zeros(shape, np.int32) if want_label else None, np.zeros(shape, bool) if want_gvd else None,
-            saturate, far,
-        )
 
-    k = _kernels()
-    occ8 = occ.view(np.uint8)
-    rows, cols = shape
-    res = float(grid.resolution)
-    step8 = connectivity == 8
-    # the Euclidean metric and a metric other than the connectivity's compute the steps in a pass of
-    # their own; otherwise the steps are the distance in cells, computed anyway
-    separate_steps = metric == "euclidean" or metric != ("chessboard" if step8 else "taxicab")
-    steps = np.empty(shape, np.int32) if want_steps or not separate_steps else None
-    distance = np.empty(shape, np.float64)
-    nearest_row = nearest_col = label = gvd = vr = None
-    # labels are gathered from `flat`: the label grid raveled, plus one element for the wall
-    flat, comp_map, use_map = _NO_MAP, _NO_MAP, False
-    if want_label:
-        label = np.empty(shape, np.int32)
-        flat = np.empty(rows * cols + 1, np.int32)
-        if gridmap.obstacle_id is not None:
-            flat[:-1] = gridmap.obstacle_id.ravel()
-            flat[-1] = BORDER_LABEL
+def _unreached(req: _Request) -> DistanceMap:
+    """The map of a grid without any obstacle and with an open border: no cell is reached."""
+    shape = req.gridmap.grid.shape
+    minus = np.full(shape, -1, np.int32)
+    return DistanceMap(
+        req.gridmap, req.connectivity, req.metric, minus if req.want_steps else None,
+        np.full(shape, np.inf if req.saturate is None else req.far),
+        minus.copy() if req.want_nearest else None, minus.copy() if req.want_nearest else None,
+        np.zeros(shape, np.int32) if req.want_label else None, np.zeros(shape, bool) if req.want_gvd else None,
+        req.saturate, req.far,
+    )
 
-    # 1. independent tasks for all threads: the chamfer passes (in strips on large grids), the
-    #    component labelling (in strips) and the column pass of the Euclidean transform (in blocks)
-    tasks: list[Callable[[], object]] = []
-    chamfers: list[_Chamfer] = []
-    strips = None
-    if want_label and gridmap.obstacle_id is None:
-        strips = _Strips(k, occ8, flat[:-1].reshape(shape), 1 if nthreads <= 1 else min(rows, 8 * nthreads))
-        tasks += strips.tasks()
-    if separate_steps and want_steps:  # the steps by the connectivity's metric, the distance by another
-        chamfers.append(_Chamfer(k, occ8, wall, step8, cast("NDArray[np.int32]", steps), distance, res, False, None,
-                                 nthreads))
-    if metric == "euclidean":
-        key: NDArray[np.int32] | NDArray[np.float64] = distance  # what orders the cells for the GVD
-        vr = np.empty(shape, np.int32)  # column pass result, becomes nearest_row
-        tasks += _chunks(k.column_block, cols, nthreads, occ8, wall, vr, min_size=64)
-    else:
-        key = np.empty(shape, np.int32) if separate_steps else cast("NDArray[np.int32]", steps)
-        nearest = None
-        if want_nearest or want_label:  # labels are looked up at the nearest obstacle
-            nearest_row, nearest_col = np.empty(shape, np.int32), np.empty(shape, np.int32)
-            nearest = (nearest_row, nearest_col)
-        chamfers.append(_Chamfer(k, occ8, wall, metric == "chessboard", key, distance, res, True, nearest,
-                                 nthreads))
-    for chamfer in chamfers:
-        tasks = chamfer.tasks() + tasks
-    _run(tasks, nthreads)
-    del tasks
-    for chamfer in chamfers:
-        chamfer.finish()
-    del chamfers
-    if strips is not None:
-        comp_map, use_map = strips.merge(), True
-        flat[-1] = len(comp_map) - 1
-        del strips
 
-    # 2. per row: the Euclidean envelope (with labels) and the GVD; or labels and GVD together
-    if metric == "euclidean":
-        if want_nearest:
-            nearest_row, nearest_col = vr, np.empty(shape, np.int32)
-        _run(_chunks(k.edt_rows, rows, nthreads, vr, wall, res, distance, vr,
-                     _NO_COMP if nearest_col is None else nearest_col, want_nearest, flat, comp_map, use_map,
-                     want_label, _NO_COMP if label is None else label), nthreads)
-        del vr
-        if want_gvd:
-            gvd = np.empty(shape, bool)
-            _run(_chunks(k.gvd_rows, rows, nthreads, label, key, occ8, gvd), nthreads)
-    elif want_label:
-        gvd = np.empty(shape, bool) if want_gvd else _NO_GVD
-        _run(_chunks(k.label_gvd_rows, rows, nthreads, nearest_row, nearest_col, flat, comp_map, use_map, label,
-                     want_gvd, key, occ8, gvd), nthreads)
-        if not want_gvd:
-            gvd = None
-    del flat, comp_map, key
-    if not want_nearest:
-        nearest_row = nearest_col = None
+class _Job:
+    """One :func:`brushfire` call after validation: set up (:meth:`__init__`), run the kernels
+    (:meth:`run_independent`, :meth:`run_rows`, :meth:`saturate`), assemble (:meth:`assemble`)."""
 
-    # 3. saturation
-    if saturate is not None:
-        _run(_chunks(k.saturate_rows, rows, nthreads, distance, saturate, far), nthreads)
-    return DistanceMap(gridmap, connectivity, metric, steps if want_steps else None, distance, nearest_row,
-                       nearest_col, label, gvd, saturate, far)
+    def __init__(self, req: _Request) -> None:
+        """Phase 2: the output arrays and the label lookup table."""
+        self.req = req
+        self.k = _kernels()
+        # the grid-sized arrays reuse the memory of dropped results (see the kernels' `empty`)
+        self.empty: Callable[[tuple[int, ...], Any], NDArray[Any]] = getattr(self.k, "empty", np.empty)
+        shape = req.gridmap.grid.shape
+        self.shape = shape
+        self.occ8 = req.occ.view(np.uint8)
+        self.res = float(req.gridmap.grid.resolution)
+        self.step8 = req.connectivity == 8
+        # the Euclidean metric and a metric other than the connectivity's compute the steps in a pass of
+        # their own; otherwise the steps are the distance in cells, computed anyway
+        self.separate_steps = req.metric == "euclidean" or req.metric != ("chessboard" if self.step8 else "taxicab")
+        self.steps = self.empty(shape, np.int32) if req.want_steps or not self.separate_steps else None
+        self.distance = self.empty(shape, np.float64)
+        self.nearest_row: NDArray[np.int32] | None = None
+        self.nearest_col: NDArray[np.int32] | None = None
+        self.label: NDArray[np.int32] | None = None
+        self.gvd: NDArray[np.bool_] | None = None
+        self.vr: NDArray[np.int32] | None = None
+        self.key: NDArray[np.int32] | NDArray[np.float64] | None = None  # what orders the cells for the GVD
+        # labels are gathered from `flat`: the label grid raveled, plus one element for the wall
+        self.flat, self.comp_map, self.use_map = _NO_MAP, _NO_MAP, False
+        if req.want_label:
+            rows, cols = shape
+            self.label = self.empty(shape, np.int32)
+            self.flat = self.empty((rows * cols + 1,), np.int32)
+            if req.gridmap.obstacle_id is not None:
+                self.flat[:-1] = req.gridmap.obstacle_id.ravel()
+                self.flat[-1] = BORDER_LABEL
+
+    def run_independent(self) -> None:
+        """Phase 3: independent tasks for all threads: the chamfer passes (in strips on large grids), the
+        component labelling (in strips) and the column pass of the Euclidean transform (in blocks)."""
+        req, k, occ8, shape, nthreads = self.req, self.k, self.occ8, self.shape, self.req.nthreads
+        tasks: list[Callable[[], object]] = []
+        chamfers: list[_Chamfer] = []
+        strips = None
+        if req.want_label and req.gridmap.obstacle_id is None:
+            strips = _Strips(k, occ8, self.flat[:-1].reshape(shape), 1 if nthreads <= 1 else min(shape[0], 8 * nthreads))
+            tasks += strips.tasks()
+        if self.separate_steps and req.want_steps:  # the steps by the connectivity's metric, the distance by another
+            chamfers.append(_Chamfer(k, occ8, req.wall, self.step8, cast("NDArray[np.int32]", self.steps),
+                                     self.distance, self.res, False, None, nthreads))
+        if req.metric == "euclidean":
+            self.key = self.distance
+            self.vr = self.empty(shape, np.int32)  # column pass result, becomes nearest_row
+            tasks += _chunks(k.column_block, shape[1], nthreads, occ8, req.wall, self.vr, min_size=64)
+        else:
+            self.key = self.empty(shape, np.int32) if self.separate_steps else cast("NDArray[np.int32]", self.steps)
+            nearest = None
+            if req.want_nearest or req.want_label:  # labels are looked up at the nearest obstacle
+                self.nearest_row, self.nearest_col = self.empty(shape, np.int32), self.empty(shape, np.int32)
+                nearest = (self.nearest_row, self.nearest_col)
+            chamfers.append(_Chamfer(k, occ8, req.wall, req.metric == "chessboard", cast("NDArray[np.int32]", self.key), self.distance, self.res,
+                                     True, nearest, nthreads))
+        for chamfer in chamfers:
+            tasks = chamfer.tasks() + tasks
+        _run(tasks, nthreads)
+        del tasks
+        for chamfer in chamfers:
+            chamfer.finish()
+        del chamfers
+        if strips is not None:
+            self.comp_map, self.use_map = strips.merge(), True
+            self.flat[-1] = len(self.comp_map) - 1
+
+    def run_rows(self) -> None:
+        """Phase 4, per row: the Euclidean envelope (with labels) and the GVD; or labels and GVD together."""
+        req, k, shape, nthreads = self.req, self.k, self.shape, self.req.nthreads
+        rows = shape[0]
+        if req.metric == "euclidean":
+            vr = self.vr
+            if req.want_nearest:
+                self.nearest_row, self.nearest_col = vr, self.empty(shape, np.int32)
+            _run(_chunks(k.edt_rows, rows, nthreads, vr, req.wall, self.res, self.distance, vr,
+                         _NO_COMP if self.nearest_col is None else self.nearest_col, req.want_nearest, self.flat,
+                         self.comp_map, self.use_map, req.want_label, _NO_COMP if self.label is None else self.label),
+                 nthreads)
+            self.vr = vr = None
+            if req.want_gvd:
+                self.gvd = self.empty(shape, bool)
+                _run(_chunks(k.gvd_rows, rows, nthreads, self.label, self.key, self.occ8, self.gvd), nthreads)
+        elif req.want_label:
+            gvd = self.empty(shape, bool) if req.want_gvd else _NO_GVD
+            _run(_chunks(k.label_gvd_rows, rows, nthreads, self.nearest_row, self.nearest_col, self.flat,
+                         self.comp_map, self.use_map, self.label, req.want_gvd, self.key, self.occ8, gvd), nthreads)
+            self.gvd = gvd if req.want_gvd else None
+        self.flat = self.comp_map = _NO_MAP
+        self.key = None
+        if not req.want_nearest:
+            self.nearest_row = self.nearest_col = None
+
+    def saturate(self) -> None:
+        """Phase 5: distances at or beyond the saturation radius become ``far``."""
+        req = self.req
+        if req.saturate is not None:
+            _run(_chunks(self.k.saturate_rows, self.shape[0], req.nthreads, self.distance, req.saturate, req.far),
+                 req.nthreads)
+
+    def assemble(self) -> DistanceMap:
+        """Phase 6: the result."""
+        req = self.req
+        return DistanceMap(req.gridmap, req.connectivity, req.metric, self.steps if req.want_steps else None,
+                           self.distance, self.nearest_row, self.nearest_col, self.label, self.gvd, req.saturate,
+                           req.far)
 
 
 def __getattr__(name: str) -> Any:

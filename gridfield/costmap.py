@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._kernels import kernels
 from .errors import ParameterError
 from .grid import GridMap
 
@@ -215,12 +216,11 @@ class Costmap(GridMap):
                 np.ascontiguousarray(dm.nearest_col, np.int32))
 
     def _query(self, points: ArrayLike) -> tuple[Any, NDArray[np.float64], float, float, float]:
-        from . import _kernels_navfn  # type: ignore[attr-defined]  # compiled, no stubs (the query loops)
         from .grid import _as_points
 
         p = np.ascontiguousarray(_as_points(points, "points"), dtype=np.float64)
         x0, y0 = self.grid.origin
-        return _kernels_navfn, p, float(x0), float(y0), float(self.grid.resolution)
+        return kernels("navfn"), p, float(x0), float(y0), float(self.grid.resolution)
 
     def cost_at(self, points: ArrayLike) -> NDArray[np.uint8]:
         """The cost of the cell containing each world point (255, no information, outside the grid).

@@ -20,7 +20,10 @@ folder. The parts:
     functions' humps, the attractive part, the mapped space and the surface with the path;
 ``turtlebot3``, ``arena``
     a ROS map and a Moving AI map: brushfire, potential, basins and a wavefront path next to
-    the potential path.
+    the potential path (the default complete field, ``nf1``). On the arena the classic Khatib
+    field (``model: khatib``) stalls in a local minimum by the goal: ``arena_classic_vs_complete.png``
+    shows that run (stall point and hint) next to the complete field's run that reaches, and the
+    summary has a row and a note for each.
 ``moving``
     seed 000 with an obstacle walking across the robot's way: every frame the obstacle moves, the
     distance map and the potential are updated where they changed (:mod:`gridfield.incremental`),
@@ -46,12 +49,12 @@ from .errors import GridfieldError
 from .grid import Grid, GridMap
 from .path import Path
 
-__all__ = ["DEMO_PARTS", "SUMMARY_COLUMNS", "DemoResult", "demo", "run_demo"]
+__all__ = ["DEMO_PARTS", "SUMMARY_COLUMNS", "DemoResult", "classic_vs_complete_figure", "demo", "run_demo"]
 
 #: The demo's parts, in the order they run.
 DEMO_PARTS = ("maps", "seed000", "convergence", "seed003", "seed002", "turtlebot3", "arena", "moving")
 #: Columns of ``summary.csv`` (and of the rows :func:`run_demo` returns).
-SUMMARY_COLUMNS = ("part", "map", "planner", "status", "length", "steps", "ms", "note")
+SUMMARY_COLUMNS = ("part", "map", "planner", "model", "status", "length", "steps", "ms", "note")
 
 #: The grid maps run with gridfield's defaults, which scale with the map's cell size
 #: (gridfield.params: q_star 4 cells, d_star 2 q_star, balanced eta, step 1 cell).
@@ -124,8 +127,10 @@ class _Run:
 
     def row(self, part: str, name: str, path: Path, ms: float, note: str = "") -> None:
         stall = _stall_note(path)
+        # the field's model, for the planners that follow one (star-nav carries the world file's params too)
+        model = path.params.get("model") if path.planner in _FIELD_PLANNERS else None
         self.result.rows.append({
-            "part": part, "map": name, "planner": path.planner, "status": path.status,
+            "part": part, "map": name, "planner": path.planner, "model": model or "", "status": path.status,
             "length": round(path.length, 3), "steps": int(path.iterations), "ms": round(ms, 1),
             "note": "; ".join(s for s in (note, stall) if s),
         })
@@ -143,6 +148,10 @@ class _Run:
 
     def add_file(self, p: FsPath) -> None:
         self.result.files.append(FsPath(p))
+
+
+#: Planners whose ``model`` parameter chooses the field they follow (the summary's ``model`` column).
+_FIELD_PLANNERS = ("potential", "exact-potential")
 
 
 def _stall_note(path: Path) -> str:
@@ -255,7 +264,8 @@ def _part_seed000(run: _Run) -> None:
     art = plot_surface(fields["seed000"], path=grid_paths["seed000"], max_cells=60 if run.quick else 150,
                        title="seed 000: potential surface (capped) and the follower's path")
     run.save(art.figure, "seed000_surface.png")
-    art = plot_basins(basins(field_seg), title="seed 000 + segment: where steepest descent ends")
+    art = plot_basins(basins(field_seg), title="seed 000 + segment: where steepest descent ends",
+                      legend_loc="below")  # inside, "best" covers the triangle (it avoids markers only)
     run.save(art.figure, "seed000_segment_basins.png")
     gif = run.out / "seed000_segment_follower.gif"
     save_plan_animation(gif, maps["seed000_segment"], grid_paths["seed000_segment"], field=field_seg, goal=seg.goal,
@@ -322,7 +332,8 @@ def _part_seed002(run: _Run) -> None:
 
 
 def _grid_map_part(run: _Run, part: str, gm: GridMap, start: Sequence[float], goal: Sequence[float],
-                   params: Mapping[str, Any], title: str, *, note: str = "") -> None:
+                   params: Mapping[str, Any], title: str, *, note: str = "") -> tuple[Path, Any]:
+    """The 2 x 2 figure of a grid map; returns the potential run and the field it followed."""
     from .brushfire import brushfire
     from .follow import basins
     from .plot import plot_basins, plot_brushfire, plot_map, plot_potential
@@ -343,6 +354,7 @@ def _grid_map_part(run: _Run, part: str, gm: GridMap, start: Sequence[float], go
     plot_map(gm, axes[1, 1], paths=paths, start=start, goal=goal, title="paths")
     fig.suptitle(title)
     run.save(fig, f"{part}.png")
+    return pot, field_
 
 
 def _part_turtlebot3(run: _Run) -> None:
@@ -360,9 +372,81 @@ def _part_arena(run: _Run) -> None:
     scen = read_scen(bundled_map("arena/arena.map.scen"), map_height=gm.shape[0])
     i = int(np.argmax(scen.optimal))
     start, goal = scen.start_xy[i].tolist(), scen.goal_xy[i].tolist()
-    _grid_map_part(run, "arena", gm, start, goal, {},
-                   f"Moving AI 'arena' (49x49), scenario {i}: optimal octile length {scen.optimal[i]:g}",
-                   note=f"scenario {i}, optimal {scen.optimal[i]:g}")
+    note = f"scenario {i}, optimal {scen.optimal[i]:g}"
+    complete, complete_field = _grid_map_part(
+        run, "arena", gm, start, goal, {},
+        f"Moving AI 'arena' (49x49), scenario {i}: optimal octile length {scen.optimal[i]:g}", note=note)
+    classic, classic_field = run.plan_with_field("arena", "arena", gm, "potential", start, goal, CLASSIC_PARAMS,
+                                                 note=f"{note}; classic field")
+    fig = classic_vs_complete_figure(classic, classic_field, complete, complete_field,
+                                     f"Moving AI 'arena', scenario {i}: the classic field stalls, the complete "
+                                     "field reaches (same map, start and goal)")
+    run.save(fig, "arena_classic_vs_complete.png")
+    line = "arena, scenario {}: {}".format(i, "; ".join(_run_words(p) for p in (classic, complete)))
+    run.result.notes.append(line)
+    run.log(line)
+
+
+#: The classic field of the stall-versus-complete comparison (the planner's default is the complete nf1).
+CLASSIC_PARAMS: dict[str, Any] = {"model": "khatib"}
+
+
+def _model_name(path: Path) -> str:
+    model = str(path.params.get("model") or "")
+    kind = "complete field" if model not in ("khatib", "vortex") else "classic field"
+    return f"{kind} (model: {model})" if model else kind
+
+
+def _run_words(path: Path) -> str:
+    """'classic field (model: khatib): local_minimum at (x, y), length 80' and the like."""
+    where = ""
+    if path.status == "local_minimum":
+        from .plot.layers import _stall_points
+
+        s = _stall_points(path)
+        where = f" at ({s[-1, 0]:.3g}, {s[-1, 1]:.3g})" if len(s) else ""
+    return f"{_model_name(path)}: {path.status}{where}, length {path.length:.4g}"
+
+
+def classic_vs_complete_figure(classic: Path, classic_field: Any, complete: Path, complete_field: Any,
+                               title: str) -> Any:
+    """One figure, two panels: the classic field's run (its stall point and hint) and the complete field's.
+
+    Parameters
+    ----------
+    classic, complete : Path
+        The two ``potential`` runs on one map from one start to one goal.
+    classic_field, complete_field : Field
+        The fields they followed (``plan_with_field``).
+    title : str
+        The figure's title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Left: the classic run over its potential; right: the complete one. Each panel's title names
+        the model, the status and the length.
+
+    Examples
+    --------
+    >>> import numpy as np, matplotlib.pyplot as plt
+    >>> from gridfield.planners import plan_with_field
+    >>> occ = np.zeros((12, 16), bool); occ[2:10, 8] = True
+    >>> gm = GridMap(Grid((12, 16), 1.0, border="wall"), occ)
+    >>> runs = [plan_with_field("potential", gm, (2.5, 6.5), (13.5, 6.5), p) for p in (CLASSIC_PARAMS, {})]
+    >>> fig = classic_vs_complete_figure(*runs[0], *runs[1], "a wall")
+    >>> [ax.get_title().rsplit(":", 1)[0] for ax in fig.axes if ax.get_label() != "<colorbar>"]
+    ['classic field (model: khatib)', 'complete field (model: nf1)']
+    >>> plt.close(fig)
+    """
+    from .plot import plot_potential
+
+    fig, axes = _figure(1, 2, (14.0, 7.0))
+    fig.get_layout_engine().set(rect=(0.0, 0.08, 1.0, 0.92))  # room below the axes for the hint's box
+    for ax, path, field_ in zip(axes.ravel(), (classic, complete), (classic_field, complete_field), strict=True):
+        plot_potential(field_, ax, path=path, title=f"{_model_name(path)}: {path.status}, length {path.length:.4g}")
+    fig.suptitle(title)
+    return fig
 
 
 #: The moving-obstacle part: potential parameters (nearest-obstacle repulsion, so the field can be
@@ -459,7 +543,8 @@ def _part_moving(run: _Run) -> None:
     length = float(np.linalg.norm(np.diff(np.array(trail), axis=0), axis=1).sum())
     med = float(np.median(inc_ms)) if inc_ms else 0.0
     run.result.rows.append({
-        "part": "moving", "map": "seed000 + walker", "planner": "potential (replanned)", "status": status,
+        "part": "moving", "map": "seed000 + walker", "planner": "potential (replanned)",
+        "model": str(field.params.get("model") or ""), "status": status,
         "length": round(length, 3), "steps": len(frames), "ms": round(med, 2),
         "note": f"per frame: incremental distance + field {med:.2f} ms (median) vs full brushfire + field "
                 f"{full_ms:.1f} ms; robot {robot_speed:g} m/frame",
@@ -658,12 +743,13 @@ def run_demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, p
              log: Callable[[str], None] | None = None) -> list[dict[str, Any]]:
     """Run every part of the demo, write its files to ``out_dir`` and return the summary rows.
 
-    Each row holds :data:`SUMMARY_COLUMNS`: ``part``, ``map``, ``planner``, ``status``, ``length``,
+    Each row holds :data:`SUMMARY_COLUMNS`: ``part``, ``map``, ``planner``, ``model`` (the field's
+    ``model`` parameter where the planner has one: ``khatib``, ``vortex``, ``nf1``, ...; else empty), ``status``, ``length``,
     ``steps`` (iterations), ``ms`` (wall time of the planner call) and a ``note``. The files are the
     figures (``maps.png``, ``seed000_paths.png``, ``seed000_segment_potential.png``,
     ``seed000_surface.png``, ``seed000_segment_basins.png``, ``convergence.png``, ``seed003_vortex.png``,
     ``seed002_star_world.png``,
-    ``turtlebot3.png``, ``arena.png``), the animation ``seed000_segment_follower.gif`` and
+    ``turtlebot3.png``, ``arena.png``, ``arena_classic_vs_complete.png``), the animation ``seed000_segment_follower.gif`` and
     ``summary.md`` / ``summary.csv``. ``parts`` and ``log`` are as in :func:`demo`, which also returns
     the files written and the steps skipped.
 

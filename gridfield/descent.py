@@ -13,19 +13,20 @@ give the same points, status and details for every step rule, sampling, border, 
 escape.
 
 Step rules (names: Choset et al. ch. 4; registry: gridfield.params)
-    ``normalized``: ``x += step * F/|F|`` (seed 000).
+    ``normalized``: ``x += step * F/|F|`` (the classic Khatib-potential follower).
     ``scaled``: ``x += alpha * F``; with ``min_speed > 0`` a step shorter than ``min_speed`` is
-    stretched to ``min_speed`` along ``F`` (seed 004). ``alpha`` may be a pair ``(ax, ay)`` (used by
-    seed 003's follower, whose x and y steps are scaled by different constants).
+    stretched to ``min_speed`` along ``F`` (the saturated-potential follower of the configuration-space
+    explorer). ``alpha`` may be a pair ``(ax, ay)`` (used by the vortex field's nearest-node follower,
+    whose x and y steps are scaled by different constants).
 
 Stop rules, checked in this order before every step
-    ``reached``: the current point is closer than ``tolerance`` to the goal (the seed's
-    ``norm(x - Xf) < 0.1``). The goal itself is then appended to the path, as the seed's
+    ``reached``: the current point is closer than ``tolerance`` to the goal (the reference
+    follower's ``norm(x - Xf) < 0.1``). The goal itself is then appended to the path, as its
     ``P = [P Xf]`` does (unless that last hop is blocked; ``extra["goal_appended"]`` tells).
     ``local_minimum``, four detectors:
 
     - *oscillation*: the point is back within ``revisit_tolerance`` of the point two steps back
-      (seed 000; default tolerance ``1e-6 * step``). The stall point is the one of the two
+      (the reference follower's test; default tolerance ``1e-6 * step``). The stall point is the one of the two
       alternating points with the smaller ``|F|``; both are in ``extra["oscillation"]``.
     - *no progress*: the best distance to the goal has not improved by more than
       ``1e-3 * step`` during the last ``progress_window`` steps (0 disables). On grids the
@@ -34,7 +35,7 @@ Stop rules, checked in this order before every step
     - *confined* (normalized rule): the last ``confine_window`` steps stayed within a box of side
       ``2 * step`` (a jitter about an equilibrium, which never exactly revisits a point). The stall point is
       the point of that stretch with the smallest ``|F|``.
-    - *small gradient*: ``|F| <= gradient_threshold`` (seed 004), or ``F`` is zero or not
+    - *small gradient*: ``|F| <= gradient_threshold`` (the saturated-potential follower), or ``F`` is zero or not
       finite. The stall point is the current point.
 
     - *blocked*: the step would enter an obstacle (or leave a walled map) and so would every
@@ -54,14 +55,14 @@ Steps never enter an obstacle
 
 A stalled run is never reported as ``reached``.
 
-Escapes (seed 000's bonus question), tried when a local minimum is detected
+Escapes (the Khatib-potential exercise's bonus question), tried when a local minimum is detected
     ``random_walk``: jump a length ``r ~ U(0, escape_radius]`` in a uniformly random direction,
     resampling (up to 100 times) until the straight jump is not blocked, then resume descending.
-    ``potential_increase``: the seed's ``Path_generator_esc``: from the stall point move along
+    ``potential_increase``: the reference ``Path_generator_esc``: from the stall point move along
     ``F_rep + 0.05 * F_attr`` with a step that starts at ``step`` and grows by 1.25 per sub-step
     until the potential is at least 25 % above the local minimum's (at most 60 sub-steps; a
     blocked sub-step fails the escape). The k-th escape from the same minimum requires an
-    increase by ``1.25**k`` (the seed's rule is deterministic, so repeating it unchanged would
+    increase by ``1.25**k`` (that rule is deterministic, so repeating it unchanged would
     retrace the same jump).
     ``navigation`` (grid fields: :class:`gridfield.escapes.NavigationEscape`): drive down the
     octile wavefront to the first cell of the goal's basin (the last try: to the goal). Before it
@@ -77,9 +78,9 @@ Escapes (seed 000's bonus question), tried when a local minimum is detected
     ``max(3 * step, tolerance)`` from the one it left). ``extra`` counts ``escapes_tried`` and
     ``escapes_succeeded`` and logs each escape.
 
-    How often each escape succeeds on the seed 000 segment world is measured by
-    ``benchmarks/follow.py --escapes 50`` (``benchmarks/README.md``, "Escapes on the seed 000
-    segment world").
+    How often each escape succeeds on the Khatib-potential segment world (``seed000_segment.yaml``)
+    is measured by ``benchmarks/follow.py --escapes 50`` (``benchmarks/README.md``, "Escapes on the
+    seed 000 segment world").
 
 Examples
 --------
@@ -92,9 +93,10 @@ A quadratic bowl ``U = |x - g|^2 / 2`` with a normalized step:
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -104,10 +106,11 @@ from numpy.typing import ArrayLike, NDArray
 from .errors import ParameterError
 from .escapes import cut_loops, navigation_cut, navigation_finish, navigation_moves, potential_increase, random_jump
 from .grid import _as_xy
-from .params import REGISTRY, check
+from .params import REGISTRY, Escape, Follower, check, group, names, resolve
 from .path import Path
 
-__all__ = ["ESCAPES", "RULE_PARAMS", "STEP_RULES", "Rules", "descend", "goal_hop", "rules", "without_loops"]
+__all__ = ["DESCEND_UNIT", "ESCAPES", "FOLLOWER_GROUPS", "STEP_RULES", "Rules", "descend", "goal_hop", "resolve_rules",
+           "rules", "without_loops"]
 
 #: The step rules and the escapes (the registry's choices for ``step_rule`` and ``escape``).
 STEP_RULES: tuple[str, ...] = REGISTRY["step_rule"].choices
@@ -178,13 +181,16 @@ class Rules:
         The confined rule's box side (``2 * unit``).
     same_radius : float
         An escape that stalls within this of where it started found the same minimum.
+    follower, escapes : gridfield.params.Follower, gridfield.params.Escape
+        The checked parameter groups the constants above were resolved from (a parameter the
+        rules read that has no constant here is read from them).
 
     Examples
     --------
-    >>> r = rules(step=0.5)
+    >>> r = resolve_rules({"step": 0.5, "tolerance": 0.1})
     >>> r.reached(0.4), r.small_gradient(0.0), r.next_point(0.0, 0.0, 3.0, 4.0, 5.0)
     (False, True, (0.3, 0.4))
-    >>> r = rules(step_rule="scaled", alpha=0.1, min_speed=1.0, tolerance=0.5)
+    >>> r = resolve_rules({"step_rule": "scaled", "alpha": 0.1, "min_speed": 1.0, "tolerance": 0.5})
     >>> r.unit, r.confine_window, r.next_point(0.0, 0.0, 3.0, 4.0, 5.0)
     (0.5, 0, (0.6, 0.8))
     """
@@ -207,6 +213,16 @@ class Rules:
     min_gain: float
     box: float
     same_radius: float
+    follower: Follower
+    escapes: Escape
+
+    def record(self) -> dict[str, Any]:
+        """The rules as a parameter record: every parameter of the groups, then the resolved constants."""
+        out = {name: getattr(g, f.name) for g in (self.follower, self.escapes) for f in dataclasses.fields(g)
+               for name in (f.metadata["spec"].get("name_override", f.name),)}
+        out.update((f.name, getattr(self, f.name)) for f in dataclasses.fields(self)
+                   if f.name not in ("follower", "escapes"))
+        return out
 
     # -- stop rules (distances and |F| as floats or arrays alike) ----------------------------------
     def reached(self, d: Any) -> Any:
@@ -275,7 +291,7 @@ class Rules:
 
         Examples
         --------
-        >>> r = rules(step=1.0)
+        >>> r = resolve_rules({"step": 1.0})
         >>> r.dither_starts("no_progress", [0, 1, 2, 3, 3.2, 3.1], [0, 0, 0, 0, 0.3, 0.1], 0, 0)
         [0, 2, 5]
         >>> r.dither_starts("blocked", [0.0, 5.0], [0.0, 0.0], 0, 0)
@@ -306,25 +322,42 @@ class Rules:
         return np.argmin(np.where(np.isnan(f), np.inf, f), axis=-1)
 
 
-#: The parameters :func:`rules` (and so :func:`descend`) takes from the registry, in its order;
-#: callers pass ``{k: params[k] for k in RULE_PARAMS}`` of their resolved parameters.
-RULE_PARAMS: tuple[str, ...] = ("step_rule", "step", "alpha", "min_speed", "tolerance", "max_iterations",
-                                "gradient_threshold", "progress_window", "confine_window", "escape",
-                                "escape_tries", "escape_radius")
+#: The follower's concerns (:class:`gridfield.params.Follower` and :class:`gridfield.params.Escape`):
+#: their registry parameters are what :func:`descend` takes as keywords.
+FOLLOWER_GROUPS: tuple[type, ...] = (Follower, Escape)
+
+#: The lengths the rules use: a value is required (a resolved default, never ``None``).
+_NEEDED = ("step", "tolerance", "max_iterations", "escape_radius")
+
+#: The length unit of :func:`descend`'s defaults when called directly (the registry's scaled
+#: defaults: ``step`` 1 unit, ``tolerance`` = ``step``, ``escape_radius`` 6 units).
+DESCEND_UNIT = 0.1
 
 
-def rules(*, step_rule: str = "normalized", step: float = 0.1, alpha: Any = 0.1, min_speed: float = 0.0,
-          tolerance: float = 0.1, max_iterations: int = 10_000, gradient_threshold: float = 0.0,
-          progress_window: int = 200, confine_window: int = 20, revisit_tolerance: float | None = None,
-          escape: str = "none", escape_tries: int = 10, escape_radius: float = 6.0) -> Rules:
-    """Check the follower's parameters (:mod:`gridfield.params`) and resolve its :class:`Rules`.
+def _checked(values: Any) -> Any:
+    """A follower concern (a dataclass of :mod:`gridfield.params`) with every value checked by the
+    registry, and the lengths the rules use present."""
+    out = {}
+    for f in dataclasses.fields(values):
+        name = f.metadata["spec"].get("name_override", f.name)
+        v = getattr(values, f.name)
+        out[f.name] = check(name, v) if name in _NEEDED else REGISTRY[name].check(v)
+    return dataclasses.replace(values, **out)
+
+
+def rules(follower: Follower, escapes: Escape | None = None, *, revisit_tolerance: float | None = None) -> Rules:
+    """Check the follower's resolved parameters (typed groups of :mod:`gridfield.params`) and
+    resolve its :class:`Rules`.
 
     Parameters
     ----------
-    step_rule, step, alpha, min_speed, tolerance, max_iterations, gradient_threshold
-        As in :func:`descend`.
-    progress_window, confine_window, revisit_tolerance, escape, escape_tries, escape_radius
-        As in :func:`descend`.
+    follower : gridfield.params.Follower
+        The step and stop rules' parameters, resolved (``step``, ``tolerance`` and
+        ``max_iterations`` given: :func:`gridfield.params.resolve` fills them in).
+    escapes : gridfield.params.Escape, optional
+        The escape's parameters, resolved (``escape_radius`` given); default: no escape.
+    revisit_tolerance : float, optional
+        The oscillation radius (default ``1e-6 * unit``); not a registry parameter.
 
     Returns
     -------
@@ -332,35 +365,64 @@ def rules(*, step_rule: str = "normalized", step: float = 0.1, alpha: Any = 0.1,
 
     Examples
     --------
-    >>> r = rules(step=0.5, tolerance=0.5)
+    >>> r = rules(Follower(step=0.5, tolerance=0.5, max_iterations=100), Escape(escape_radius=3.0))
     >>> r.unit, r.box, r.min_gain, r.same_radius
     (0.5, 1.0, 0.0005, 1.5)
-    >>> rules(escape="jump")
+    >>> rules(Follower(step=0.5, max_iterations=100), Escape(escape_radius=3.0))
     Traceback (most recent call last):
     ...
-    gridfield.errors.ParameterError: escape must be one of ...
+    gridfield.errors.ParameterError: tolerance must be a finite number > 0, got None
     """
-    step_rule = check("step_rule", step_rule)
-    escape = check("escape", escape)
-    step = check("step", step)
-    ax, ay = _gains(alpha)
-    min_speed = check("min_speed", min_speed)
-    tolerance = check("tolerance", tolerance)
-    max_iterations = check("max_iterations", max_iterations)
-    gradient_threshold = check("gradient_threshold", gradient_threshold)
-    progress_window = check("progress_window", progress_window)
-    confine_window = check("confine_window", confine_window)
-    normalized = step_rule == "normalized"
-    if not normalized:  # scaled steps shrink where the field is weak: no fixed box to judge by
-        confine_window = 0
-    escape_tries = check("escape_tries", escape_tries)
-    escape_radius = check("escape_radius", escape_radius)
-    unit = step if normalized else tolerance
+    f = _checked(follower)
+    e = _checked(Escape(escape_radius=1.0) if escapes is None else escapes)
+    ax, ay = _gains(f.alpha)
+    normalized = f.step_rule == "normalized"
+    # scaled steps shrink where the field is weak: no fixed box to judge by
+    confine_window = f.confine_window if normalized else 0
+    unit = f.step if normalized else f.tolerance
     rev_tol = 1e-6 * unit if revisit_tolerance is None else check("revisit_tolerance", revisit_tolerance,
                                                                        minimum=0.0)
-    return Rules(normalized, step, ax, ay, min_speed, tolerance, max_iterations, gradient_threshold,
-                 progress_window, confine_window, escape, escape_tries, escape_radius, unit, rev_tol,
-                 1e-3 * unit, 2.0 * unit, max(3.0 * unit, tolerance))
+    return Rules(normalized, f.step, ax, ay, f.min_speed, f.tolerance, f.max_iterations, f.gradient_threshold,
+                 f.progress_window, confine_window, e.escape, e.escape_tries, e.escape_radius, unit, rev_tol,
+                 1e-3 * unit, 2.0 * unit, max(3.0 * unit, f.tolerance), f, e)
+
+
+def resolve_rules(params: Mapping[str, Any] | None = None, *, unit: float = DESCEND_UNIT,
+                  revisit_tolerance: float | None = None) -> Rules:
+    """The :class:`Rules` of follower parameters given by name: checked as function arguments
+    (``None`` is refused), the others the registry's defaults scaled to ``unit``.
+
+    Parameters
+    ----------
+    params : mapping, optional
+        Names of the follower's concerns (:data:`FOLLOWER_GROUPS`) and their values.
+    unit : float
+        The length unit of the scaled defaults (:func:`gridfield.params.resolve`).
+    revisit_tolerance : float, optional
+        As in :func:`rules`.
+
+    Returns
+    -------
+    Rules
+
+    Examples
+    --------
+    >>> r = resolve_rules({"step": 0.5})
+    >>> r.step, r.tolerance, r.escape_radius, r.max_iterations
+    (0.5, 0.5, 0.6000000000000001, 10000)
+    >>> resolve_rules({"q_star": 1.0})
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: q_star is no follower parameter; the follower's: step_rule, ...
+    """
+    allowed = names(*FOLLOWER_GROUPS)
+    given = {}
+    for k, v in (params or {}).items():
+        if k not in allowed:
+            raise ParameterError(f"{k} is no follower parameter; the follower's: {', '.join(allowed)}")
+        given[k] = check(k, tuple(v.tolist()) if isinstance(v, np.ndarray) else v)
+    full = resolve(given, unit=check("unit", unit, minimum=0.0, strict=True))
+    return rules(group(Follower, full), group(Escape, full), revisit_tolerance=revisit_tolerance)
 
 
 def _free_step(x: float, y: float, sx: float, sy: float,
@@ -455,26 +517,16 @@ def descend(
     start: ArrayLike,
     goal: ArrayLike,
     *,
-    step_rule: str = "normalized",
-    step: float = 0.1,
-    alpha: float | tuple[float, float] = 0.1,
-    min_speed: float = 0.0,
-    tolerance: float = 0.1,
-    max_iterations: int = 10_000,
     blocked: Callable[[Point, Point], bool] | None = None,
     potential: Callable[[Point], float] | None = None,
     attraction: Callable[[Point], tuple[float, float]] | None = None,
     navigate: Callable[..., list[Point]] | None = None,
-    gradient_threshold: float = 0.0,
-    progress_window: int = 200,
-    confine_window: int = 20,
     revisit_tolerance: float | None = None,
-    escape: str = "none",
-    escape_tries: int = 10,
-    escape_radius: float = 6.0,
     rng: np.random.Generator | int | None = None,
     append_goal: bool = True,
     planner: str = "potential",
+    spec: Rules | None = None,
+    **params: Any,
 ) -> Path:
     """Follow the force field ``force`` from ``start`` until a stop rule fires.
 
@@ -484,17 +536,6 @@ def descend(
         ``force((x, y)) -> (fx, fy)``, the force ``F = -grad U`` at a point.
     start, goal : (2,) array_like
         World points.
-    step_rule : {"normalized", "scaled"}
-    step : float
-        Step length of the normalized rule (> 0); also the length unit of the stop rules.
-    alpha : float or (float, float)
-        Gain of the scaled rule (> 0), or one gain per axis.
-    min_speed : float
-        Minimum step length of the scaled rule (0: none).
-    tolerance : float
-        Reached when closer than this to the goal.
-    max_iterations : int
-        Step budget (escape moves count as steps).
     blocked : callable, optional
         ``blocked((x, y), (x2, y2)) -> bool``: whether the straight move enters an obstacle or
         leaves a walled map. ``None``: nothing blocks.
@@ -505,26 +546,26 @@ def descend(
     navigate : callable, optional
         ``navigate((x, y), final=bool) -> [points]``: the moves of the ``navigation`` escape
         (:class:`gridfield.escapes.NavigationEscape`); needed by that escape.
-    gradient_threshold : float
-        Local minimum when ``|F| <= gradient_threshold``.
-    progress_window : int
-        Local minimum when the distance to the goal has not improved over this many steps (0: off).
-    confine_window : int
-        Local minimum when the last this many steps stayed within a box of 2 steps (a jitter about
-        an equilibrium that never exactly revisits a point; 0: off).
     revisit_tolerance : float, optional
         Oscillation when the point is this close to the point two steps back
         (default ``1e-6 * step``; for the scaled rule ``1e-6 * tolerance``).
-    escape : {"none", "random_walk", "potential_increase", "navigation"}
-    escape_tries : int
-    escape_radius : float
-        Maximum jump length ``a`` of the random walk.
     rng : numpy.random.Generator or int, optional
         Random source of the random-walk escape (an int seeds a new Generator).
     append_goal : bool
         Append the goal to the path when reached.
     planner : str
         The name the returned Path carries (the planner that runs the follower).
+    spec : Rules, optional
+        The resolved rules (:func:`rules`, from the registry's typed groups); the grid follower
+        and the exact planner pass them. Not together with ``**params``.
+    **params
+        The follower's parameters by their registry names (:data:`FOLLOWER_GROUPS`:
+        :class:`gridfield.params.Follower` and :class:`gridfield.params.Escape`: ``step_rule``,
+        ``step``, ``alpha``, ``min_speed``, ``tolerance``, ``max_iterations``,
+        ``gradient_threshold``, ``progress_window``, ``confine_window``, ``escape``,
+        ``escape_tries``, ``escape_radius``, ...; ``sampling`` and ``seed`` are the grid
+        follower's), checked as the registry checks them; the others take the registry's
+        defaults scaled to :data:`DESCEND_UNIT` (:func:`resolve_rules`).
 
     Returns
     -------
@@ -554,22 +595,11 @@ def descend(
     ...
     gridfield.errors.ParameterError: step must be a finite number > 0, got 0
     """
-    r = rules(step_rule=step_rule, step=step, alpha=alpha, min_speed=min_speed, tolerance=tolerance,
-              max_iterations=max_iterations, gradient_threshold=gradient_threshold,
-              progress_window=progress_window, confine_window=confine_window,
-              revisit_tolerance=revisit_tolerance, escape=escape, escape_tries=escape_tries,
-              escape_radius=escape_radius)
-    escape, escape_tries, escape_radius = r.escape, r.escape_tries, r.escape_radius
+    r = _descend_rules(spec, params, revisit_tolerance)
+    rng = _escape_inputs(r.escape, potential, attraction, navigate, rng)
+    escape, escape_tries = r.escape, r.escape_tries
     max_iterations, progress_window, confine_window = r.max_iterations, r.progress_window, r.confine_window
-    unit, same_radius, box = r.unit, r.same_radius, r.box
-    if escape == "potential_increase" and (potential is None or attraction is None):
-        raise ParameterError("escape='potential_increase' needs the potential and the attractive force "
-                             "(pass potential= and attraction=)")
-    if escape == "navigation" and navigate is None:
-        raise ParameterError("escape='navigation' follows a grid navigation function: it needs navigate= "
-                             "(the grid follower, gridfield.follow.follow, provides it)")
-    if escape == "random_walk" and not isinstance(rng, np.random.Generator):
-        rng = np.random.default_rng(rng)
+    box = r.box
 
     x, y = _as_xy(start, "start")
     gx, gy = _as_xy(goal, "goal")
@@ -589,15 +619,6 @@ def descend(
     since = 0  # index of the first point of the current descent (after the last escape move)
     pinned = False  # no free descent step from the current point
 
-    def settle(outcome: str, where: list[float] | None = None) -> None:
-        """Classify the pending escape (the last one) by how the follower stopped next."""
-        if log and log[-1]["outcome"] is None:
-            if outcome == "local_minimum" and where is not None:
-                frm = log[-1]["from"]
-                near = math.hypot(where[0] - frm[0], where[1] - frm[1]) <= same_radius
-                outcome = "same_minimum" if near else "other_minimum"
-            log[-1]["outcome"] = outcome
-
     fx = fy = fn = 0.0
     sqrt = math.sqrt
     # the rules (bound once: they run every step)
@@ -606,11 +627,7 @@ def descend(
     append_x, append_y = xs.append, ys.append
     dx, dy = x - gx, y - gy
     d = sqrt(dx * dx + dy * dy)
-    while True:
-        if reached(d):
-            status = "reached"
-            extra["stop_reason"] = "goal"
-            break
+    while not reached(d):  # the stop rules, in the order of STOP_RULES: the goal first
         n = len(xs)
         reason = ""
         stall = -1
@@ -642,10 +659,7 @@ def descend(
             fx, fy = force((x, y))
             fx, fy = float(fx), float(fy)
             fn = sqrt(fx * fx + fy * fy)
-            if len(fns) < n:
-                fns.append(fn)
-            else:  # recomputed at the same point after a failed escape
-                fns[n - 1] = fn
+            fns.append(fn)
             if fn < win_min:
                 win_min, win_idx = fn, n - 1
             if small_gradient(fn):
@@ -653,46 +667,25 @@ def descend(
                 stall = n - 1
 
         if reason:
+            # -- a local minimum: stop, or escape ---------------------------------------------
             where = [xs[stall], ys[stall]]
             minima.append(where)
-            settle("local_minimum", where)
+            _settle(log, r, "local_minimum", where)
             if escape == "none" or tried >= escape_tries:
                 status = "local_minimum"
                 extra["stop_reason"] = reason
                 extra["stall_point"] = where
                 break
             tried += 1
-            again = sum(1 for e in log if math.hypot(e["from"][0] - where[0], e["from"][1] - where[1]) <= same_radius)
-            entry: dict[str, Any] = {"from": where, "at_iteration": it, "kind": escape, "outcome": None}
-            moves: list[Point]
-            if escape == "random_walk":
-                assert isinstance(rng, np.random.Generator)
-                moves = random_jump(x, y, escape_radius, rng, blocked)
-            elif escape == "navigation":
-                assert navigate is not None
-                # the jitter before the stall stays out of the path: the escape starts at the point of
-                # this descent (where the dithering began, the best one, or here) that keeps it shortest
-                cut = navigation_cut(navigate, xs, ys, r.dither_starts(reason, xs, ys, since, best_idx), since)
-                moves = navigation_moves(navigate, xs[cut], ys[cut], final=tried >= escape_tries, blocked=blocked)
-                if moves and cut < n - 1:
-                    entry["dropped"] = n - 1 - cut  # the points after the cut, before the escape
-                    del xs[cut + 1:], ys[cut + 1:], fns[cut + 1:]
-            else:
-                assert potential is not None and attraction is not None
-                moves, entry["required_potential"] = potential_increase(
-                    x, y, force, attraction, potential, first_step=unit, repeat=again, blocked=blocked)
-            if not moves:
-                entry["outcome"] = "no_jump"
-                log.append(entry)
+            moves = _escape_moves(r, reason, where, (xs, ys, fns), since, best_idx, it, tried, log,
+                                  (force, potential, attraction, navigate, blocked), rng)
+            if not moves:  # the force is computed again at the same point
+                del fns[n - 1:]
                 continue
-            entry["to"] = [moves[-1][0], moves[-1][1]]
-            entry["points"] = [len(xs) - 1, len(xs) - 1 + len(moves)]  # the escape's stretch of the path
-            log.append(entry)
-            for q in moves:
-                xs.append(q[0])
-                ys.append(q[1])
-                fns.append(math.nan)
-                it += 1
+            xs.extend([q[0] for q in moves])
+            ys.extend([q[1] for q in moves])
+            fns.extend([math.nan] * len(moves))
+            it += len(moves)
             x, y = moves[-1]
             dx, dy = x - gx, y - gy
             d = sqrt(dx * dx + dy * dy)
@@ -721,10 +714,101 @@ def descend(
             best, best_it, best_idx = d, it, len(xs) - 1
             win_min, win_idx = math.inf, len(xs) - 1
 
-    settle(status)
+    status = status or "reached"  # (the loop ends without a status when the goal is reached)
+    extra.setdefault("stop_reason", "goal")
+    _settle(log, r, status)
     extra["slid_steps"] = slid
-    if status == "reached" and append_goal and (x, y) != (gx, gy):
-        hop = goal_hop(x, y, (gx, gy), blocked, navigate)
+    points = _descent_points(r, status, append_goal, xs, ys, (gx, gy), blocked, navigate, log, extra, minima, tried)
+    return Path(points, status, planner, iterations=it, params=r.record(),
+                seconds=time.perf_counter() - t0, extra=extra)
+
+
+#: The stop rules in the order both followers check them before every step (:func:`descend` and
+#: :func:`gridfield.follow.follow_many`; ``tests/test_follower_spec.py`` checks they agree): each
+#: name is a ``stop_reason`` (``reached`` is the reason ``goal``; ``small_gradient`` includes
+#: ``undefined_force``).
+STOP_RULES: tuple[str, ...] = ("goal", "blocked", "oscillation", "confined", "no_progress", "max_iterations",
+                               "small_gradient")
+
+
+def _descend_rules(spec: Rules | None, params: Mapping[str, Any], revisit_tolerance: float | None) -> Rules:
+    """:func:`descend`'s rules: ``spec``, or resolved from its keywords (not both)."""
+    if spec is None:
+        return resolve_rules(params, revisit_tolerance=revisit_tolerance)
+    if params or revisit_tolerance is not None:
+        raise ParameterError("descend takes the rules (spec=) or the follower's parameters, not both")
+    return spec
+
+
+def _escape_inputs(escape: str, potential: Any, attraction: Any, navigate: Any, rng: Any) -> Any:
+    """Check that the escape has what it needs; the random source (a Generator for the random walk)."""
+    if escape == "potential_increase" and (potential is None or attraction is None):
+        raise ParameterError("escape='potential_increase' needs the potential and the attractive force "
+                             "(pass potential= and attraction=)")
+    if escape == "navigation" and navigate is None:
+        raise ParameterError("escape='navigation' follows a grid navigation function: it needs navigate= "
+                             "(the grid follower, gridfield.follow.follow, provides it)")
+    if escape == "random_walk" and not isinstance(rng, np.random.Generator):
+        return np.random.default_rng(rng)
+    return rng
+
+
+def _settle(log: list[dict[str, Any]], r: Rules, outcome: str, where: list[float] | None = None) -> None:
+    """Classify the pending escape (the last one of ``log``) by how the follower stopped next."""
+    if log and log[-1]["outcome"] is None:
+        if outcome == "local_minimum" and where is not None:
+            frm = log[-1]["from"]
+            near = math.hypot(where[0] - frm[0], where[1] - frm[1]) <= r.same_radius
+            outcome = "same_minimum" if near else "other_minimum"
+        log[-1]["outcome"] = outcome
+
+
+def _escape_moves(r: Rules, reason: str, where: list[float], path: tuple[list[float], list[float], list[float]],
+                  since: int, best_idx: int, it: int, tried: int, log: list[dict[str, Any]],
+                  field: tuple[Any, Any, Any, Any, Any], rng: Any) -> list[Point]:
+    """One escape from the stall at ``where`` (the ``tried``-th): its moves (none: no jump), logged in
+    ``log``; the navigation escape first cuts the jitter before the stall from ``path`` (in place)."""
+    xs, ys, fns = path
+    force, potential, attraction, navigate, blocked = field
+    n = len(xs)
+    x, y = xs[-1], ys[-1]
+    again = sum(1 for e in log if math.hypot(e["from"][0] - where[0], e["from"][1] - where[1]) <= r.same_radius)
+    entry: dict[str, Any] = {"from": where, "at_iteration": it, "kind": r.escape, "outcome": None}
+    moves: list[Point]
+    if r.escape == "random_walk":
+        assert isinstance(rng, np.random.Generator)
+        moves = random_jump(x, y, r.escape_radius, rng, blocked)
+    elif r.escape == "navigation":
+        assert navigate is not None
+        # the jitter before the stall stays out of the path: the escape starts at the point of
+        # this descent (where the dithering began, the best one, or here) that keeps it shortest
+        cut = navigation_cut(navigate, xs, ys, r.dither_starts(reason, xs, ys, since, best_idx), since)
+        moves = navigation_moves(navigate, xs[cut], ys[cut], final=tried >= r.escape_tries, blocked=blocked)
+        if moves and cut < n - 1:
+            entry["dropped"] = n - 1 - cut  # the points after the cut, before the escape
+            del xs[cut + 1:], ys[cut + 1:], fns[cut + 1:]
+    else:
+        assert potential is not None and attraction is not None
+        moves, entry["required_potential"] = potential_increase(
+            x, y, force, attraction, potential, first_step=r.unit, repeat=again, blocked=blocked)
+    if not moves:
+        entry["outcome"] = "no_jump"
+        log.append(entry)
+        return moves
+    entry["to"] = [moves[-1][0], moves[-1][1]]
+    entry["points"] = [len(xs) - 1, len(xs) - 1 + len(moves)]  # the escape's stretch of the path
+    log.append(entry)
+    return moves
+
+
+def _descent_points(r: Rules, status: str, append_goal: bool, xs: list[float], ys: list[float], goal: Point,
+                    blocked: Any, navigate: Any, log: list[dict[str, Any]], extra: dict[str, Any],
+                    minima: list[list[float]], tried: int) -> NDArray[np.float64]:
+    """The path of a finished descent: the goal hop of a reached run appended, the navigation escape's
+    loops cut; ``extra`` completed (``goal_appended``, the stall points, the escape log)."""
+    x, y = xs[-1], ys[-1]
+    if status == "reached" and append_goal and (x, y) != goal:
+        hop = goal_hop(x, y, goal, blocked, navigate)
         if hop is not None:
             xs.extend(q[0] for q in hop)
             ys.extend(q[1] for q in hop)
@@ -733,13 +817,12 @@ def descend(
         extra["goal_appended"] = False
     if minima:
         extra["local_minima"] = minima
-    if escape != "none":
+    if r.escape != "none":
         extra["escapes_tried"] = tried
         extra["escapes_succeeded"] = sum(1 for e in log if e["outcome"] in ("reached", "other_minimum"))
         extra["escapes"] = log
     points = np.column_stack([xs, ys])
-    if escape == "navigation":  # the loops of the path (jitter, detours that came back) are cut too
+    if r.escape == "navigation":  # the loops of the path (jitter, detours that came back) are cut too
         points = without_loops(points, r.box, blocked, log)
         extra["navigation_segments"] = [e["points"] for e in log if "points" in e]
-    return Path(points, status, planner, iterations=it, params=dict(vars(r)),
-                seconds=time.perf_counter() - t0, extra=extra)
+    return points

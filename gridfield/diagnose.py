@@ -37,7 +37,7 @@ from numpy.typing import NDArray
 
 from .escapes import NavigationEscape
 
-__all__ = ["diagnose", "unreachable_hint"]
+__all__ = ["diagnose", "robot_no_path", "unreachable_hint"]
 
 
 def _fmt(v: float) -> str:
@@ -64,6 +64,57 @@ def unreachable_hint(start: Any, goal: Any) -> str:
     """
     return (f"the goal ({_fmt(goal[0])}, {_fmt(goal[1])}) cannot be reached from the start "
             f"({_fmt(start[0])}, {_fmt(start[1])}): no free path joins them on this map")
+
+
+def robot_no_path(path: Any, point: Any, robot: str, start: Any, goal: Any) -> Any:
+    """A ``no_path`` run in a robot's configuration space, its hint saying when the robot closes the passage.
+
+    ``point`` is the same search (planner, parameters, start, goal) on the map without the robot's
+    shape. When it does not end ``no_path`` either, the goal is cut off by the robot's size or shape,
+    not by the map: the hint says so and how the point's run ended (``a point reaches it`` only when
+    it did); ``extra["diagnosis"]`` gets ``robot_closes_passage`` (True) and ``point_status``.
+    Otherwise (or when ``path`` is not ``no_path``) ``path`` is returned unchanged.
+
+    Parameters
+    ----------
+    path : Path
+        The run in the configuration space.
+    point : Path
+        The same run for a point robot.
+    robot : str
+        The robot, as its ``describe()`` says (``"disc of radius 0.4"``).
+    start, goal : (x, y)
+        The run's end points, world coordinates.
+
+    Returns
+    -------
+    Path
+        ``path``, with a new ``extra["hint"]`` and ``extra["diagnosis"]`` when the robot closes the passage.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gridfield.path import Path
+    >>> blocked = Path(np.array([[1.0, 2.0]]), "no_path", "wavefront")
+    >>> point = Path(np.array([[1.0, 2.0], [3.0, 2.0]]), "reached", "wavefront")
+    >>> print(robot_no_path(blocked, point, "disc of radius 0.4", (1, 2), (3, 2)).hint)
+    the robot (disc of radius 0.4) closes the passage: the goal (3, 2) cannot be reached by it from the start
+    (1, 2), but a point reaches it (wavefront on the map without the robot's shape, length 2)
+    """
+    import dataclasses
+
+    if path.status != "no_path" or point.status == "no_path":
+        return path
+    if point.status == "reached":
+        verdict = f"a point reaches it ({point.planner} on the map without the robot's shape, length {point.length:.4g})"
+    else:
+        verdict = (f"a free path joins them for a point ({point.planner} on the map without the robot's shape "
+                   f"ends {point.status}, not no_path)")
+    hint = (f"the robot ({robot}) closes the passage: the goal ({_fmt(goal[0])}, {_fmt(goal[1])}) cannot be reached "
+            f"by it from the start ({_fmt(start[0])}, {_fmt(start[1])}), but {verdict}")
+    diagnosis = {**path.extra.get("diagnosis", {}), "reachable": False, "robot_closes_passage": True,
+                 "point_status": point.status}
+    return dataclasses.replace(path, extra={**path.extra, "hint": hint, "diagnosis": diagnosis})
 
 
 def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None, *,

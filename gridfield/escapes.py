@@ -122,7 +122,7 @@ def random_jump(x: float, y: float, radius: float, rng: np.random.Generator, blo
 def potential_increase(x: float, y: float, force: Callable[[Point], tuple[float, float]],
                        attraction: Callable[[Point], tuple[float, float]], potential: Callable[[Point], float], *,
                        first_step: float, repeat: int = 0, blocked: Blocked = None) -> tuple[list[Point], float]:
-    """Seed 000's ``Path_generator_esc``: climb out of a local minimum along the repulsion.
+    """The Khatib-potential escape ``Path_generator_esc``: climb out of a local minimum along the repulsion.
 
     From the stall point move along ``F_rep + 0.05 * F_attr`` (``F_rep = F - F_attr``) with a step
     that starts at ``first_step`` and grows by 1.25 per sub-step, until the potential is at least

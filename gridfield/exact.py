@@ -61,10 +61,10 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike
 
-from .descent import RULE_PARAMS, descend
+from .descent import descend, rules
 from .errors import GridfieldError, ParameterError
 from .follow import resolve_follow_params
-from .params import validate
+from .params import Escape, Follower, group, validate
 from .path import Path
 from .potential import resolve_params
 from .sampling import attraction_force
@@ -288,7 +288,7 @@ def plan_exact_potential(world: World, start: ArrayLike, goal: ArrayLike, params
         Free points of the world (a point inside an obstacle raises :class:`GridfieldError`).
     params : mapping
         Potential parameters (:func:`gridfield.potential.resolve_params`) and follower parameters
-        (:data:`gridfield.follow.FOLLOW_DEFAULTS`; ``step`` defaults to the world's resolution, else
+        (:func:`gridfield.follow.resolve_follow_params`; ``step`` defaults to the world's resolution, else
         1/100 of its smaller side; ``sampling`` is ignored).
 
     Returns
@@ -333,7 +333,7 @@ def plan_exact_potential(world: World, start: ArrayLike, goal: ArrayLike, params
     path = descend(
         field.force, s, g, blocked=field.blocked, potential=potential, attraction=attraction,
         rng=np.random.default_rng(fp["seed"]), planner="exact-potential",
-        **{k: fp[k] for k in RULE_PARAMS},
+        spec=rules(group(Follower, fp), group(Escape, fp)),
     )
     extra = dict(path.extra)
     extra["build_seconds"] = build

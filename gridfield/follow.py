@@ -3,8 +3,8 @@
 :func:`follow` runs the follower's rules (:func:`gridfield.descent.descend`, the specification:
 step rules, stop rules, escapes) on a :class:`~gridfield.potential.Field` sampled by
 :mod:`gridfield.sampling`; :func:`follow_many` runs the same rules vectorized over many starts and
-is tested equal to it; :func:`plan_potential` builds the field and follows it. Seed 003's vortex
-follower (steps scaled by the force arrays' norms) is set up by :mod:`gridfield.vortex`.
+is tested equal to it; :func:`plan_potential` builds the field and follows it. The vortex field's
+nearest-node follower (steps scaled by the force arrays' norms) is set up by :mod:`gridfield.vortex`.
 
 The names that moved out of this module (``descend``, the samplers, ``basins``) are still
 importable from here.
@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -36,11 +36,22 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._kernels_follow import _blocked_many, _force_many
 from .basins import Basins, basins, descent_successor
-from .descent import _SLIDES, ESCAPES, RULE_PARAMS, STEP_RULES, Point, Rules, descend, goal_hop, rules, without_loops
+from .descent import (
+    _SLIDES,
+    ESCAPES,
+    FOLLOWER_GROUPS,
+    STEP_RULES,
+    Point,
+    Rules,
+    descend,
+    goal_hop,
+    rules,
+    without_loops,
+)
 from .errors import GridfieldError, ParameterError
 from .escapes import NavigationEscape, navigation_map
 from .grid import Grid, GridMap, _as_xy
-from .params import check, validate
+from .params import MAX_ITERATIONS, Escape, Follower, check, group, names, validate
 from .path import Path
 from .sampling import (
     SAMPLINGS,
@@ -58,7 +69,6 @@ from .vortex import _vortex_follower
 
 __all__ = [
     "ESCAPES",
-    "FOLLOW_DEFAULTS",
     "SAMPLINGS",
     "STEP_RULES",
     "Basins",
@@ -76,35 +86,15 @@ __all__ = [
     "sample_force",
 ]
 
-#: Follower parameters and their defaults (the registry's, :mod:`gridfield.params`). ``None``
-#: lengths scale with the map: ``step`` 1 cell (exact planner: see :mod:`gridfield.exact`),
-#: ``tolerance`` ``step`` for the normalized rule or 1 cell for the scaled rule, ``escape_radius``
-#: 6 cells.
-FOLLOW_DEFAULTS: dict[str, Any] = {
-    "step_rule": "normalized",
-    "step": None,
-    "alpha": 0.1,
-    "min_speed": 0.0,
-    "tolerance": None,
-    "max_iterations": 10_000,
-    "sampling": "bilinear",
-    "gradient_threshold": 0.0,
-    "progress_window": 200,
-    "confine_window": 20,
-    "escape": "none",
-    "escape_tries": 10,
-    "escape_radius": None,
-    "seed": 0,
-}
-
-
 def resolve_follow_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0) -> dict[str, Any]:
     """The follower parameters of ``params`` with defaults filled in and values validated.
 
     Parameters
     ----------
     params : mapping, optional
-        May hold other (potential) parameters; only the names in :data:`FOLLOW_DEFAULTS` are read.
+        May hold other (potential) parameters; only the follower's are read (the registry's
+        :class:`gridfield.params.Follower` and :class:`gridfield.params.Escape`,
+        :data:`gridfield.descent.FOLLOWER_GROUPS`).
         Checked against the registry (:mod:`gridfield.params`).
     unit : float
         The map's length unit (a grid's cell size): ``step`` defaults to 1 unit, ``tolerance`` to
@@ -113,7 +103,7 @@ def resolve_follow_params(params: Mapping[str, Any] | None = None, *, unit: floa
     Returns
     -------
     dict
-        Every key of :data:`FOLLOW_DEFAULTS`, validated and resolved.
+        Every parameter of the follower's groups, in the registry's order, validated and resolved.
 
     Examples
     --------
@@ -128,35 +118,31 @@ def resolve_follow_params(params: Mapping[str, Any] | None = None, *, unit: floa
     from .params import resolve
 
     full = resolve(params, unit=check("unit", unit, minimum=0.0, strict=True))
-    out = {k: full[k] for k in FOLLOW_DEFAULTS}
-    if out["max_iterations"] is None:
-        out["max_iterations"] = FOLLOW_DEFAULTS["max_iterations"]
-    return out
+    return {k: full[k] for k in names(*FOLLOWER_GROUPS)}
 
 
 @dataclass(frozen=True)
 class _Setup:
     params: dict[str, Any]
-    kwargs: dict[str, Any]
+    rules: Rules
     sampling: str
     vortex: bool
 
 
 def _setup(field: Any, params: Mapping[str, Any] | None) -> _Setup:
-    """Resolve the follower parameters for a Field (with seed 003's follower for the vortex model)."""
+    """Resolve the follower parameters for a Field (with the nearest-node follower for the vortex model)."""
     merged = dict(field.params or {})
     merged.update(params or {})
     grid: Grid = field.map.grid
-    vortex = merged.get("model", "khatib") == "vortex"
+    vortex = merged.get("model") == "vortex"
     if vortex:
         merged = _vortex_follower(field, merged)
     if merged.get("max_iterations") is None:  # enough to cross every free cell once
-        merged["max_iterations"] = max(FOLLOW_DEFAULTS["max_iterations"], int(np.count_nonzero(~field.map.occupied)))
+        merged["max_iterations"] = max(MAX_ITERATIONS, int(np.count_nonzero(~field.map.occupied)))
     p = resolve_follow_params(merged, unit=grid.resolution)
     out = dict(merged)
     out.update(p)
-    kwargs = {k: p[k] for k in RULE_PARAMS}
-    return _Setup(out, kwargs, p["sampling"], vortex)
+    return _Setup(out, rules(group(Follower, p), group(Escape, p)), p["sampling"], vortex)
 
 
 def _note_outside(extra: dict[str, Any], grid: Grid, pts: NDArray[np.float64]) -> None:
@@ -177,7 +163,7 @@ def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = N
     start : (2,) array_like
         World point in a free cell of the field's map.
     params : mapping, optional
-        Follower parameters (:data:`FOLLOW_DEFAULTS`); the field's own params are the base.
+        Follower parameters (:func:`resolve_follow_params`); the field's own params are the base.
     navigation : gridfield.escapes.NavigationEscape, optional
         The navigation escape's state to use for ``escape="navigation"`` (made here when omitted).
 
@@ -217,12 +203,13 @@ def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = N
         potential = grid_potential_sampler(field, sampling=setup.sampling)
         attraction = attraction_force(goal, p)
     path = descend(force, s, goal, blocked=blocked, potential=potential, attraction=attraction, navigate=navigate,
-                   rng=np.random.default_rng(p["seed"]), **setup.kwargs)
+                   rng=np.random.default_rng(p["seed"]), spec=setup.rules)
     extra = dict(path.extra)
     extra["sampling"] = setup.sampling
     _note_outside(extra, grid_map.grid, path.points)
     if setup.vortex:
-        extra["alpha_xy"] = list(setup.kwargs["alpha"]) if isinstance(setup.kwargs["alpha"], tuple) else None
+        alpha = setup.rules.follower.alpha
+        extra["alpha_xy"] = list(alpha) if isinstance(alpha, tuple) else None
     return replace(path, params=p, min_clearance=_clearance(field, path.points), extra=extra)
 
 
@@ -459,25 +446,15 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
     [('reached', 11), ('reached', 8)]
     """
     setup = _setup(field, params)
-    p, kw = setup.params, setup.kwargs
+    p, r = setup.params, setup.rules
     grid_map: GridMap = field.map
-    S = np.asarray(starts, dtype=float)
-    if S.ndim != 2 or S.shape[1] != 2:
-        raise ParameterError(f"starts must have shape (N, 2), got {S.shape}")
-    ok = np.isfinite(S).all(axis=1) & grid_map.grid.contains(S) & grid_map.is_free(S)
-    if not ok.all():
-        i = int(np.flatnonzero(~ok)[0])
-        try:
-            grid_map.check_point("start", S[i])
-        except GridfieldError as e:
-            raise type(e)(f"starts[{i}]: {e}") from None
+    S = _checked_starts(grid_map, starts)
     goal = _as_xy(field.goal, "goal")
     gx, gy = _field_arrays(field)
     occ, x0, y0, res = _grid_args(grid_map)
     nearest = setup.sampling == "nearest"
     wall = grid_map.grid.border == "wall"
-    r = rules(**kw)  # the rules descend runs, applied below to arrays of points
-    cw, window, max_it = r.confine_window, r.progress_window, r.max_iterations
+    cw, max_it = r.confine_window, r.max_iterations
 
     t0 = time.perf_counter()
     N = len(S)
@@ -508,36 +485,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
     while len(a.ids):
         dx, dy = a.X - goal[0], a.Y - goal[1]
         d = np.sqrt(dx * dx + dy * dy)
-        done = r.reached(d)
-        finish(done, 1, "goal")
-        ox, oy = a.X - a.P2x, a.Y - a.P2y
-        osc_m = ~done & r.oscillating(np.sqrt(ox * ox + oy * oy))
-        if osc_m.any():
-            idx = a.ids[osc_m]
-            first = r.older_stalls(a.F2[osc_m], a.F1[osc_m])
-            stall[idx, 0] = np.where(first, a.P2x[osc_m], a.P1x[osc_m])
-            stall[idx, 1] = np.where(first, a.P2y[osc_m], a.P1y[osc_m])
-            osc[idx, 0, 0], osc[idx, 0, 1] = a.P1x[osc_m], a.P1y[osc_m]
-            osc[idx, 1, 0], osc[idx, 1, 1] = a.X[osc_m], a.Y[osc_m]
-            finish(osc_m, 2, "oscillation")
-        done |= osc_m
-        if cw and it >= cw:
-            cf_m = ~done & r.confined(np.ptp(a.RX, axis=1), np.ptp(a.RY, axis=1))
-            if cf_m.any():
-                order = (np.arange(it - cw, it) % (cw + 1))  # the stretch's points before the current one
-                k = order[r.weakest(a.RF[cf_m][:, order])]
-                rows = np.flatnonzero(cf_m)
-                idx = a.ids[cf_m]
-                stall[idx, 0], stall[idx, 1] = a.RX[rows, k], a.RY[rows, k]
-                finish(cf_m, 2, "confined")
-            done |= cf_m
-        if window:
-            np_m = ~done & r.stalled(it - a.best_it)
-            if np_m.any():
-                idx = a.ids[np_m]
-                stall[idx, 0], stall[idx, 1] = a.win_x[np_m], a.win_y[np_m]
-                finish(np_m, 2, "no_progress")
-            done |= np_m
+        done = _stops_before_step(r, a, d, it, stall, osc, finish)
         if it >= max_it:
             finish(~done, 4, "max_iterations")
             break
@@ -569,21 +517,8 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         _blocked_many(occ, x0, y0, res, wall, a.X, a.Y, NX, NY, ob)
         hit = ob & ~bad
         if hit.any():  # the fallback steps of descend, in the same order, for the blocked points
-            todo = np.flatnonzero(hit)
-            SX, SY = NX[todo] - a.X[todo], NY[todo] - a.Y[todo]
-            for s in range(len(_SLIDES)):
-                CX, CY = Rules.slide(a.X[todo], a.Y[todo], SX, SY, s)
-                cb = np.empty(len(todo), np.bool_)
-                _blocked_many(occ, x0, y0, res, wall, a.X[todo], a.Y[todo], CX, CY, cb)
-                freed = ~cb
-                NX[todo[freed]], NY[todo[freed]] = CX[freed], CY[freed]
-                slid[a.ids[todo[freed]]] += 1
-                todo, SX, SY = todo[cb], SX[cb], SY[cb]
-                if not len(todo):
-                    break
-            pinned = np.zeros(n, np.bool_)
-            pinned[todo] = True
-            if len(todo):
+            pinned = _slide_many(a, hit, NX, NY, slid, (occ, x0, y0, res, wall))
+            if pinned.any():
                 idx = a.ids[pinned]
                 coll[idx, 0], coll[idx, 1] = NX[pinned], NY[pinned]
                 stall[idx, 0], stall[idx, 1] = a.X[pinned], a.Y[pinned]
@@ -613,6 +548,20 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         a.win_y = np.where(imp, a.Y, a.win_y)
     seconds = time.perf_counter() - t0
 
+    return _many_paths(field, S, params, p, r, setup.sampling, keep_paths, (hist_x, hist_y, hist_ids),
+                       (code, end_it, reason, stall, osc, coll, slid, last), goal, seconds)
+
+
+def _many_paths(field: Any, S: NDArray[np.float64], params: Mapping[str, Any] | None, p: dict[str, Any], r: Rules,
+                sampling: str, keep_paths: bool, hist: tuple[list[Any], list[Any], list[Any]], ends: tuple[Any, ...],
+                goal: Point, seconds: float) -> list[Path]:
+    """:func:`follow_many`'s Paths from the positions it recorded (``hist``) and how each point stopped
+    (``ends``): goal hops, stall details, loops cut, clearances; the stalled points of an escaping
+    follower re-run by :func:`follow`."""
+    hist_x, hist_y, hist_ids = hist
+    code, end_it, reason, stall, osc, coll, slid, last = ends
+    grid_map: GridMap = field.map
+    N = len(S)
     # paths: hist[k] holds the positions after k moves of the points still moving then; a stable
     # sort by point id lists each point's positions in step order
     if keep_paths:
@@ -633,7 +582,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         else:
             pts = np.array([S[i], last[i]]) if n_i else S[i][None, :]
         status = _CODES[code[i]]
-        extra: dict[str, Any] = {"stop_reason": reason[i], "slid_steps": int(slid[i]), "sampling": setup.sampling}
+        extra: dict[str, Any] = {"stop_reason": reason[i], "slid_steps": int(slid[i]), "sampling": sampling}
         if status == "reached":
             lx, ly = float(last[i, 0]), float(last[i, 1])
             if (lx, ly) != goal:
@@ -676,3 +625,81 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
         paths.append(Path(pts, status, "potential", iterations=int(end_it[i]), params=p, seconds=per,
                           min_clearance=float(clear[i]), extra=extra))
     return paths
+
+
+def _checked_starts(grid_map: GridMap, starts: ArrayLike) -> NDArray[np.float64]:
+    """The starts of :func:`follow_many` as an (N, 2) array, each in a free cell (else the first bad one named)."""
+    S = np.asarray(starts, dtype=float)
+    if S.ndim != 2 or S.shape[1] != 2:
+        raise ParameterError(f"starts must have shape (N, 2), got {S.shape}")
+    ok = np.isfinite(S).all(axis=1) & grid_map.grid.contains(S) & grid_map.is_free(S)
+    if not ok.all():
+        i = int(np.flatnonzero(~ok)[0])
+        try:
+            grid_map.check_point("start", S[i])
+        except GridfieldError as e:
+            raise type(e)(f"starts[{i}]: {e}") from None
+    return S
+
+
+def _stops_before_step(r: Rules, a: _Active, d: NDArray[np.float64], it: int, stall: NDArray[np.float64],
+                       osc: NDArray[np.float64], finish: Callable[[NDArray[np.bool_], int, str], None]
+                       ) -> NDArray[np.bool_]:
+    """The stop rules before the step, in :data:`gridfield.descent.STOP_RULES` order up to the step
+    budget (goal, oscillation, confined, no progress; ``blocked`` was found by the step before): the
+    points that stop, each finished with its reason and stall point."""
+    cw = r.confine_window
+    done: NDArray[np.bool_] = r.reached(d)
+    finish(done, 1, "goal")
+    ox, oy = a.X - a.P2x, a.Y - a.P2y
+    osc_m = ~done & r.oscillating(np.sqrt(ox * ox + oy * oy))
+    if osc_m.any():
+        idx = a.ids[osc_m]
+        first = r.older_stalls(a.F2[osc_m], a.F1[osc_m])
+        stall[idx, 0] = np.where(first, a.P2x[osc_m], a.P1x[osc_m])
+        stall[idx, 1] = np.where(first, a.P2y[osc_m], a.P1y[osc_m])
+        osc[idx, 0, 0], osc[idx, 0, 1] = a.P1x[osc_m], a.P1y[osc_m]
+        osc[idx, 1, 0], osc[idx, 1, 1] = a.X[osc_m], a.Y[osc_m]
+        finish(osc_m, 2, "oscillation")
+    done |= osc_m
+    if cw and it >= cw:
+        cf_m = ~done & r.confined(np.ptp(a.RX, axis=1), np.ptp(a.RY, axis=1))
+        if cf_m.any():
+            order = (np.arange(it - cw, it) % (cw + 1))  # the stretch's points before the current one
+            k = order[r.weakest(a.RF[cf_m][:, order])]
+            rows = np.flatnonzero(cf_m)
+            idx = a.ids[cf_m]
+            stall[idx, 0], stall[idx, 1] = a.RX[rows, k], a.RY[rows, k]
+            finish(cf_m, 2, "confined")
+        done |= cf_m
+    if r.progress_window:
+        np_m = ~done & r.stalled(it - a.best_it)
+        if np_m.any():
+            idx = a.ids[np_m]
+            stall[idx, 0], stall[idx, 1] = a.win_x[np_m], a.win_y[np_m]
+            finish(np_m, 2, "no_progress")
+        done |= np_m
+    return done
+
+
+def _slide_many(a: _Active, hit: NDArray[np.bool_], NX: NDArray[np.float64], NY: NDArray[np.float64],
+                slid: NDArray[np.int64], grid: tuple[Any, ...]) -> NDArray[np.bool_]:
+    """The fallback steps of :func:`gridfield.descent.descend` (``_SLIDES``, in order) for the blocked
+    points ``hit``: the first free one replaces ``NX, NY`` (in place, counted in ``slid``); the points
+    with none (pinned) are returned."""
+    occ, x0, y0, res, wall = grid
+    todo = np.flatnonzero(hit)
+    SX, SY = NX[todo] - a.X[todo], NY[todo] - a.Y[todo]
+    for s in range(len(_SLIDES)):
+        CX, CY = Rules.slide(a.X[todo], a.Y[todo], SX, SY, s)
+        cb = np.empty(len(todo), np.bool_)
+        _blocked_many(occ, x0, y0, res, wall, a.X[todo], a.Y[todo], CX, CY, cb)
+        freed = ~cb
+        NX[todo[freed]], NY[todo[freed]] = CX[freed], CY[freed]
+        slid[a.ids[todo[freed]]] += 1
+        todo, SX, SY = todo[cb], SX[cb], SY[cb]
+        if not len(todo):
+            break
+    pinned = np.zeros(len(hit), np.bool_)
+    pinned[todo] = True
+    return pinned

@@ -61,6 +61,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._kernels import kernels
 from .brushfire import BORDER_LABEL, DistanceMap, brushfire
 from .errors import GridfieldError, ParameterError
 from .grid import GridMap
@@ -73,16 +74,8 @@ ID_MAX = 2**31 - 1
 #: A window of the grid: ``(r0, r1, c0, c1)``, rows ``r0:r1`` and columns ``c0:c1``.
 Window = tuple[int, int, int, int]
 
-_KERNELS: ModuleType | None = None
-
-
 def _kernels() -> ModuleType:
-    global _KERNELS
-    if _KERNELS is None:
-        from . import _kernels_incremental  # type: ignore[attr-defined]  # a compiled extension, no stubs
-
-        _KERNELS = _kernels_incremental
-    return _KERNELS
+    return kernels("incremental")
 
 
 def _union(a: Window | None, b: Window | None) -> Window | None:
@@ -272,22 +265,7 @@ class IncrementalBrushfire:
             if len(both):
                 r, c = divmod(int(both[0]), shape[1])
                 raise ParameterError(f"cell ({r}, {c}) is both occupied and freed")
-        new_ids: NDArray[Any] | None = None
-        if ids is not None:
-            if self._ids is None:
-                raise ParameterError("ids are only for maps with world obstacle ids (GridMap.obstacle_id)")
-            new_ids = np.asarray(ids)
-            n_given = 0 if occupied is None else (int(np.count_nonzero(occupied)) if np.asarray(occupied).dtype == bool
-                                                  else len(np.asarray(occupied).reshape(-1, 2)))
-            if not np.issubdtype(new_ids.dtype, np.integer) or new_ids.ndim > 1 or (
-                    new_ids.ndim == 1 and len(new_ids) != n_given):
-                raise ParameterError(f"ids must be one integer or one per occupied cell ({n_given}), got {ids!r}")
-            if new_ids.size and not (new_ids.min() >= 1 and new_ids.max() <= ID_MAX):
-                bad = new_ids.ravel()[np.flatnonzero((new_ids.ravel() < 1) | (new_ids.ravel() > ID_MAX))[0]]
-                raise ParameterError(f"ids must be obstacle ids in 1..{ID_MAX} (0 is 'no obstacle'; ids are stored "
-                                     f"as 32-bit integers), got {int(bad)}")
-            if new_ids.ndim == 1:
-                new_ids = new_ids[pos]
+        new_ids = None if ids is None else self._given_ids(ids, occupied, pos)
         keep = ~self._occ[orr, occ_c]
         if new_ids is None and self._ids is not None and keep.any() and self._max_id >= ID_MAX:
             raise ParameterError(f"no default obstacle id left: the largest, {ID_MAX}, is in use; give ids= "
@@ -301,7 +279,30 @@ class IncrementalBrushfire:
         self.last_changed = 0
         if not len(orr) and not len(frr):
             return None
-        k = _kernels()
+        window = self._apply(_kernels(), orr, occ_c, frr, frc, new_ids)
+        self.last_window = window
+        return window
+
+    def _given_ids(self, ids: int | ArrayLike, occupied: ArrayLike | None, pos: Any) -> NDArray[Any]:
+        """:meth:`update`'s ``ids`` checked, one per occupied cell in the order of the cells (or one for all)."""
+        if self._ids is None:
+            raise ParameterError("ids are only for maps with world obstacle ids (GridMap.obstacle_id)")
+        new_ids = np.asarray(ids)
+        n_given = 0 if occupied is None else (int(np.count_nonzero(occupied)) if np.asarray(occupied).dtype == bool
+                                              else len(np.asarray(occupied).reshape(-1, 2)))
+        if not np.issubdtype(new_ids.dtype, np.integer) or new_ids.ndim > 1 or (
+                new_ids.ndim == 1 and len(new_ids) != n_given):
+            raise ParameterError(f"ids must be one integer or one per occupied cell ({n_given}), got {ids!r}")
+        if new_ids.size and not (new_ids.min() >= 1 and new_ids.max() <= ID_MAX):
+            bad = new_ids.ravel()[np.flatnonzero((new_ids.ravel() < 1) | (new_ids.ravel() > ID_MAX))[0]]
+            raise ParameterError(f"ids must be obstacle ids in 1..{ID_MAX} (0 is 'no obstacle'; ids are stored "
+                                 f"as 32-bit integers), got {int(bad)}")
+        return new_ids[pos] if new_ids.ndim == 1 else new_ids
+
+    def _apply(self, k: ModuleType, orr: NDArray[np.int64], occ_c: NDArray[np.int64], frr: NDArray[np.int64],
+               frc: NDArray[np.int64], new_ids: NDArray[Any] | None) -> Window | None:
+        """Free ``(frr, frc)``, occupy ``(orr, occ_c)`` (cells that change), update distances and labels;
+        the window of every change."""
         boxes: list[Window] = []
         # component numbers (maps without ids): kept in place while the change provably renumbers nothing
         in_place = self._want_label and self._ids is None and not self._labels_dirty
@@ -336,7 +337,6 @@ class IncrementalBrushfire:
                 self._local_labels(k, boxes, self._comp)
             else:
                 self._labels_dirty = True
-        self.last_window = window
         return window
 
     def _pad(self, box: Window, m: Sequence[int]) -> Window:
@@ -428,8 +428,7 @@ class IncrementalBrushfire:
         """The component number of every obstacle cell and each component's first cell (raster index;
         ``first[0] = -1`` and ``first[K + 1] = rows * cols`` as sentinels), computed when missing."""
         if self._comp is None or self._first is None:
-            from . import _kernels_brushfire as kb  # type: ignore[attr-defined]  # a compiled extension, no stubs
-
+            kb = kernels("brushfire")
             rows, cols = self._grid.shape
             comp = np.empty((rows, cols), np.int32)
             count = kb.label_components(self._occ8, comp)

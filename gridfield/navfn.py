@@ -31,7 +31,6 @@ planner.
 
 from __future__ import annotations
 
-import functools
 import math
 import time
 from collections.abc import Mapping
@@ -40,6 +39,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._kernels import kernels
 from .costmap import Costmap, inflate
 from .errors import ParameterError
 from .grid import GridMap
@@ -56,11 +56,8 @@ POT_HIGH = np.float32(1.0e10)
 MAX_CYCLES_FACTOR = 4
 
 
-@functools.cache
 def _kernels() -> Any:
-    from . import _kernels_navfn  # type: ignore[attr-defined]  # a compiled extension, no stubs
-
-    return _kernels_navfn
+    return kernels("navfn")
 
 
 def _as_costmap(target: GridMap, options: NavFn, cache: dict[Any, Any] | None = None) -> Costmap:

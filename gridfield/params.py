@@ -66,6 +66,7 @@ __all__ = [
     "Spec",
     "Vortex",
     "check",
+    "group",
     "help_text",
     "known",
     "names",
@@ -292,7 +293,7 @@ class Attraction:
 
     Examples
     --------
-    >>> validate({"zeta": 0.8, "d_star": 2}).group(Attraction)   # seed 001's chi and d*
+    >>> validate({"zeta": 0.8, "d_star": 2}).group(Attraction)   # the attractive/repulsive exercise's chi and d*
     Attraction(zeta=0.8, d_star=2.0)
     """
 
@@ -309,7 +310,7 @@ class Repulsion:
 
     Examples
     --------
-    >>> r = validate({"eta": 0.8, "q_star": 2}).group(Repulsion)   # seed 001's eta and Q*
+    >>> r = validate({"eta": 0.8, "q_star": 2}).group(Repulsion)   # the attractive/repulsive exercise's eta and Q*
     >>> r.eta, r.q_star, r.repulsion
     (0.8, 2.0, 'nearest')
     """
@@ -329,7 +330,7 @@ class Repulsion:
                      choices=("euclidean", "chessboard", "taxicab"))
     gradient: str = _p("repulsion", "choice", "analytic", "'analytic' (from the nearest-obstacle vector) or "
                        "'finite_difference' (numpy.gradient of U)", choices=("analytic", "finite_difference"))
-    saturate: float | None = _p("repulsion", "number", None, "saturation radius of the distance (seed 004; "
+    saturate: float | None = _p("repulsion", "number", None, "saturation radius of the distance (the saturated potential; "
                                 "none: no saturation)", minimum=0.0, strict=True, allow_none=True, flag=False)
 
 
@@ -344,7 +345,7 @@ class Model:
     """
 
     model: str | None = _p(
-        "model", "choice", None, "'khatib' (attractive + repulsive), 'vortex' (seed 003), or a complete model "
+        "model", "choice", None, "'khatib' (attractive + repulsive), 'vortex' (the vortex field), or a complete model "
         "(one minimum, the goal: gridfield.navfield): 'nf1' (obstacle-aware distance to the goal), 'nf2' "
         "(Latombe's skeleton NF2, largest clearance), 'nf-blend' (nf1 slowed near obstacles within q_star)",
         choices=("khatib", "vortex", "nf1", "nf2", "nf-blend"), allow_none=True,
@@ -371,11 +372,11 @@ class NavFunction:
 
 @dataclass(frozen=True)
 class Vortex:
-    """Seed 003's vortex model (charges on a lattice).
+    """The vortex field (charges on a lattice, with a rotational term).
 
     Examples
     --------
-    >>> v = validate({"ko": 10}).group(Vortex)   # seed 003's failing obstacle charge
+    >>> v = validate({"ko": 10}).group(Vortex)   # the vortex field's failing obstacle charge
     >>> v.ka, v.kr, v.ko
     (25.0, 30.0, 10.0)
     """
@@ -397,7 +398,7 @@ class Follower:
 
     Examples
     --------
-    >>> f = validate({"step_rule": "scaled", "alpha": 2.1}).group(Follower)   # seed 002's alpha
+    >>> f = validate({"step_rule": "scaled", "alpha": 2.1}).group(Follower)   # the star-world follower's alpha
     >>> f.step_rule, f.alpha, f.step
     ('scaled', 2.1, None)
     """
@@ -407,7 +408,7 @@ class Follower:
     step: float | None = _p("follower", "number", None, "step length of the normalized follower", minimum=0.0,
                             strict=True, allow_none=True, scale=f"{STEP_CELLS:g} cell")
     alpha: float = _p("follower", "alpha", 0.1, "gain of the gradient-scaled follower", minimum=0.0, strict=True)
-    min_speed: float = _p("follower", "number", 0.0, "minimum step length of the scaled follower (seed 004)",
+    min_speed: float = _p("follower", "number", 0.0, "minimum step length of the scaled follower",
                           minimum=0.0)
     tolerance: float | None = _p("follower", "number", None, "stop when within this distance of the goal",
                                  minimum=0.0, strict=True, allow_none=True,
@@ -417,7 +418,7 @@ class Follower:
                                     "(grid follower)")
     sampling: str = _p("follower", "choice", "bilinear", "sampling of the gradient arrays",
                        choices=("bilinear", "nearest"))
-    gradient_threshold: float = _p("follower", "number", 0.0, "local minimum when |F| falls below this (seed 004)",
+    gradient_threshold: float = _p("follower", "number", 0.0, "local minimum when |F| falls below this",
                                    minimum=0.0)
     progress_window: int = _p("follower", "integer", 200, "local minimum when the distance to the goal has not "
                               "improved over this many steps (0: off)", minimum=0)
@@ -437,7 +438,7 @@ class Escape:
     """
 
     escape: str = _p("escape", "choice", "none", "at a local minimum: 'none' (stop), 'random_walk' (random jumps), "
-                     "'potential_increase' (seed 000's bonus) or 'navigation' (follow the octile wavefront from "
+                     "'potential_increase' (climb the potential until it rises 25 %) or 'navigation' (follow the octile wavefront from "
                      "the goal until the descent resumes; reaches every reachable goal)",
                      choices=("none", "random_walk", "potential_increase", "navigation"))
     escape_tries: int = _p("escape", "integer", 10, "how many escapes to try", minimum=0)
@@ -454,7 +455,7 @@ class Navigation:
 
     Examples
     --------
-    >>> n = validate({"kappa": 3, "lambda": 1}).group(Navigation)   # seed 002's star world
+    >>> n = validate({"kappa": 3, "lambda": 1}).group(Navigation)   # the star-world navigation function's
     >>> n.kappa, n.lam, n.connectivity
     (3.0, 1.0, 8)
     """
@@ -470,7 +471,7 @@ class Navigation:
     lam: float = field(default=10.0, metadata={"spec": dict(
         group="navigation", kind="number", default=10.0, name_override="lambda",
         meaning="star-nav: switch parameter of the star-to-sphere transformation (larger: closer to the "
-                "identity away from the obstacles; too small folds the map; seed 002: 1)",
+                "identity away from the obstacles; too small folds the map; the star-world exercise: 1)",
         minimum=0.0, strict=True, flag=False)})
     workspace_center: tuple[float, float] | None = _p(
         "navigation", "point", None, "centre of the disc workspace of a sphere or star world", allow_none=True,
@@ -630,8 +631,35 @@ class Params(Mapping[str, Any]):
 
     def group(self, cls: type) -> Any:
         """The values of one concern as its frozen dataclass (defaults for names not given)."""
-        names = {f.metadata["spec"].get("name_override", f.name): f.name for f in dataclasses.fields(cls)}
-        return cls(**{names[k]: v for k, v in self._d.items() if k in names})
+        return group(cls, self._d)
+
+
+def group(cls: type, values: Mapping[str, Any]) -> Any:
+    """The values of one concern (a dataclass of :data:`GROUPS`) taken from a parameter mapping.
+
+    The typed view of already checked values (:func:`resolve`'s, a :class:`Params`): the names of
+    ``cls`` found in ``values`` fill its fields, the others keep the registry's defaults.
+
+    Parameters
+    ----------
+    cls : type
+        A concern (``Follower``, ``Escape``, ...).
+    values : mapping
+        Parameter name -> value (other names are ignored).
+
+    Returns
+    -------
+    object
+        An instance of ``cls``.
+
+    Examples
+    --------
+    >>> f = group(Follower, resolve({"step": 0.5}, unit=1.0))
+    >>> f.step, f.tolerance, f.max_iterations
+    (0.5, 0.5, 10000)
+    """
+    fields = {f.metadata["spec"].get("name_override", f.name): f.name for f in dataclasses.fields(cls)}
+    return cls(**{fields[k]: v for k, v in values.items() if k in fields})
 
 
 def _unknown(name: str) -> ParameterError:

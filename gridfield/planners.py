@@ -315,11 +315,16 @@ def _plan(
             if key not in cache:
                 cache[key] = as_gridmap(target, resolution)
             gm = cache[key]
+        from .limits import check_grid
+
+        check_grid(gm.grid.shape, f"plan:{planner}", f"plan {planner} on {gm.source or 'the grid map'}")  # bytes
         s, g = gm.check_point("start", start), gm.check_point("goal", goal)
         t0 = time.perf_counter()
         return _with_endpoints(fn(gm, s, g, merged, cache=cache), s, g, t0)
     world = target if isinstance(target, World) else target.world
     if not isinstance(world, World) and planner in GRID_VARIANTS:
+        assert isinstance(target, GridMap)  # a World is its own world
+        _guard_seconds(planner, target, merged, cache)
         module, func = GRID_VARIANTS[planner]
         fn = getattr(importlib.import_module(module), func)
         s, g = target.check_point("start", start), target.check_point("goal", goal)
@@ -329,6 +334,7 @@ def _plan(
         # a bitmap / ROS / Moving AI map: its blocked cells as exact polygons (gridfield.gridpoly),
         # built once per map object; "visibility" then runs on the grid itself (gridfield.anyangle)
         assert isinstance(target, GridMap)  # a World is its own world
+        _guard_seconds(planner, target, merged, cache)  # the stages' summed estimate, before the polygons
         world = _grid_world(target, cache)
         s, g = target.check_point("start", start), target.check_point("goal", goal)
     else:
@@ -340,6 +346,64 @@ def _plan(
 def _point(name: str, value: Any) -> np.ndarray:
     """A start/goal point as a float array of shape (2,), or a ParameterError saying what was expected."""
     return np.array(_as_xy(value, name))
+
+
+def search_stages(planner: str, gm: GridMap, params: Mapping[str, Any] | None = None
+                  ) -> list[tuple[str, dict[str, float]]]:
+    """The searches a world planner runs on a grid map, with their units of work (:mod:`gridfield.limits`).
+
+    Counted on the blocked cells without building anything (:func:`gridfield.limits.grid_map_work`):
+    the any-angle graph for ``visibility``, the exact polygons and the descent among them for
+    ``exact-potential`` (at most ``max_iterations`` follower steps), the polygons for the
+    navigation functions; none for the grid planners (their cost is their cells: the size guard).
+
+    Parameters
+    ----------
+    planner : str
+    gm : GridMap
+    params : mapping, optional
+        ``max_iterations`` is read.
+
+    Returns
+    -------
+    list of (str, dict)
+        Stage names and work, for :func:`gridfield.limits.check_stages`.
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid
+    >>> occ = np.zeros((4, 5), bool); occ[1:3, 1:3] = True
+    >>> search_stages("visibility", GridMap(Grid((4, 5), 1.0), occ))
+    [('any-angle graph', {'convex corner': 4.0})]
+    """
+    from .limits import grid_map_work
+    from .params import MAX_ITERATIONS
+
+    kind = get_planner(planner)[1]
+    if kind == "grid":
+        return []
+    work = grid_map_work(gm.occupied)
+    if planner == "visibility":
+        return [("any-angle graph", {"convex corner": work["convex corner"]})]
+    stages = [("exact polygons", {"blocked run": work["blocked run"]})]
+    if planner == "exact-potential":
+        steps = (params or {}).get("max_iterations")
+        stages.append(("exact potential", {"obstacle vertex": work["obstacle vertex"],
+                                           "follower step among grid polygons": MAX_ITERATIONS if steps is None
+                                           else float(steps)}))
+    return stages
+
+
+def _guard_seconds(planner: str, gm: GridMap, params: Mapping[str, Any], cache: dict[Any, Any] | None) -> None:
+    """Refuse up front a world planner on a grid map whose searches together would take too long."""
+    from .limits import check_stages
+
+    key = ("search_stages", planner, gm, params.get("max_iterations"))
+    if cache is not None and key in cache:  # already checked (a batch of pairs on one map)
+        return
+    check_stages(search_stages(planner, gm, params), f"{planner} on {gm.source or 'the grid map'}")
+    if cache is not None:
+        cache[key] = True
 
 
 def _grid_world(gm: GridMap, cache: dict[Any, Any] | None) -> World:

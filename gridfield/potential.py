@@ -86,6 +86,7 @@ from .brushfire import DistanceMap, brushfire
 from .errors import ParameterError
 from .grid import Grid, GridMap, _as_xy
 from .io import load_field, save_field  # re-exported: the .npz I/O of fields lives in gridfield.io
+from .limits import check_grid
 from .params import REGISTRY, check
 from .vortex import _build_vortex, vortex_field, vortex_lattice
 
@@ -575,6 +576,7 @@ def build_field(
     """
     if not isinstance(gridmap, GridMap):
         raise ParameterError(f"build_field needs a GridMap, got {type(gridmap).__name__}")
+    check_grid(gridmap.grid.shape, "field", f"build_field on {gridmap.source or 'the grid map'}")  # bytes, up front
     from .params import validate
 
     given = dict(validate(params))

@@ -4,7 +4,7 @@
 gradient arrays: ``bilinear`` interpolation between the four surrounding cell centres that are
 *free* (obstacle cells' weights are dropped and the rest renormalized, so obstacle cells'
 zero gradients never blend in), clamped to the grid (no extrapolation); or ``nearest`` (the
-cell containing the point, seed 003). :func:`grid_blocked` walks the cells a segment crosses
+cell containing the point, the vortex field's follower). :func:`grid_blocked` walks the cells a segment crosses
 exactly. **Open border**: what lies outside the grid is free space; the follower may leave
 the grid, and the field there is the field at the nearest point of the grid (clamping).
 **Wall border**: leaving the grid is blocked, like entering an obstacle.
@@ -26,11 +26,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._chunkcache import is_lazy
 from ._kernels_follow import _bilinear2, _cell_values, _force_at, _force_many, _nearest2, _segment_blocked
 from ._kernels_follow import entry_point as _direct
 from ._results import GradientField
@@ -64,6 +65,20 @@ def _field_arrays(field: GradientField) -> tuple[NDArray[np.float64], NDArray[np
             np.ascontiguousarray(field.grad_y, dtype=np.float64))
 
 
+def _lazy_force(field: GradientField, sampling: str) -> Callable[[Point], tuple[float, float]]:
+    from . import _chunkcache as cc
+
+    g = field.map.grid
+    mk: Callable[..., Any] = cc.nearest2 if sampling == "nearest" else cc.bilinear2
+    f = mk(field.grad_x, field.grad_y, field.map.occupied, g.origin[0], g.origin[1], g.resolution)
+
+    def force(p: Point) -> tuple[float, float]:
+        vx, vy = f(p[0], p[1])
+        return -vx, -vy
+
+    return force
+
+
 def grid_sampler(field: GradientField, *, sampling: str = "bilinear") -> Callable[[Point], tuple[float, float]]:
     """``force(p) -> (fx, fy)``: the force ``-grad U`` of a Field at world points, from its arrays.
 
@@ -93,6 +108,8 @@ def grid_sampler(field: GradientField, *, sampling: str = "bilinear") -> Callabl
     (-3.0, -0.0)
     """
     check("sampling", sampling)
+    if is_lazy(field):  # a field read from a Zarr store: sampled through its chunk cache
+        return _lazy_force(field, sampling)
     gx, gy = _field_arrays(field)
     occ, x0, y0, res = _grid_args(field.map)
     nearest = sampling == "nearest"
@@ -137,6 +154,9 @@ def sample_force(field: GradientField, points: ArrayLike, *, sampling: str = "bi
     if not np.isfinite(pts).all():
         k = int(np.flatnonzero(~np.isfinite(pts).all(axis=1))[0])
         raise ParameterError(f"points must be finite; point {k} is {pts[k].tolist()}")
+    if is_lazy(field):
+        f = _lazy_force(field, sampling)
+        return np.array([f((x, y)) for x, y in pts.tolist()], dtype=np.float64).reshape(-1, 2)
     gx, gy = _field_arrays(field)
     occ, x0, y0, res = _grid_args(field.map)
     xs, ys = np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1])
@@ -172,6 +192,13 @@ def grid_potential_sampler(field: GradientField, *, sampling: str = "bilinear") 
     (2.0, 3.0)
     """
     check("sampling", sampling)
+    if is_lazy(field):
+        from . import _chunkcache as cc
+
+        g = field.map.grid
+        mk: Callable[..., Any] = cc.nearest2 if sampling == "nearest" else cc.bilinear2
+        fu = mk(field.potential, field.potential, field.map.occupied, g.origin[0], g.origin[1], g.resolution)
+        return lambda p: fu(p[0], p[1])[0]
     u = np.ascontiguousarray(field.potential, dtype=np.float64)
     occ, x0, y0, res = _grid_args(field.map)
     kern = _direct(_nearest2 if sampling == "nearest" else _bilinear2, u, u, occ, x0, y0, res, x0, y0)
@@ -207,6 +234,12 @@ def grid_blocked(gridmap: GridMap) -> Callable[[Point, Point], bool]:
     >>> bw((0.5, 1.5), (-1.0, 1.5))
     True
     """
+    if is_lazy(gridmap):
+        from ._chunkcache import segment_blocked
+
+        g = gridmap.grid
+        return segment_blocked(cast("Any", gridmap.occupied), g.origin[0], g.origin[1], g.resolution, g.border == "wall",
+                               _segment_blocked)
     occ, x0, y0, res = _grid_args(gridmap)
     wall = gridmap.grid.border == "wall"
     kern = _direct(_segment_blocked, occ, x0, y0, res, wall, x0, y0, x0, y0)
@@ -272,6 +305,10 @@ def _distance_at(field: GradientField, points: NDArray[np.float64]) -> tuple[NDA
     """Brushfire (Euclidean) distance of the cells containing the points (clamped to the grid), and
     whether each point lies inside the grid."""
     dmap = getattr(field, "distance", None)
+    if is_lazy(field):  # a stored field: its stored distances, read chunk by chunk (NaN when none was stored)
+        from ._chunkcache import cell_values
+
+        return cell_values(None if dmap is None else dmap.distance, field.map.grid, points)
     if dmap is None:
         from .brushfire import brushfire
 

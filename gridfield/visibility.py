@@ -477,28 +477,69 @@ def visibility_graph(world: World, *, pinch: str = "block") -> VisibilityGraph:
     scale = max(1.0, abs(xmin), abs(ymin), abs(xmax), abs(ymax), xmax - xmin, ymax - ymin)
     tol = 1e-9 * scale
 
+    union, parts, part_tree = _area_parts(world, tol)
+    segments, segment_ids, segment_tree, seg_coords = _segment_index(world)
+    rings = _rings(union)
+    rv, _, rn = rings
+    edges_geom = shapely.linestrings(np.stack([rv, rn], axis=1)) if len(rv) else np.empty(0, dtype=object)
+    edge_tree = shapely.STRtree(edges_geom)
+    vtree = cKDTree(rv) if len(rv) else None
+    special = _special_ring_vertices(rings, edge_tree, vtree, segments, segment_tree, tol)
+    special_pts = _special_points(rv[special], segments, segment_tree, seg_coords, union, parts, tol)
+
+    nodes, prev, nxt, wedge, critical = _nodes(rings, special, special_pts, union, parts, edge_tree, vtree,
+                                               segment_tree, seg_coords, pinch, tol, scale)
+    if world.border == "wall":  # the outer corners of the wall frame are never reached
+        inside = ((nodes[:, 0] >= xmin - tol) & (nodes[:, 0] <= xmax + tol)
+                  & (nodes[:, 1] >= ymin - tol) & (nodes[:, 1] <= ymax + tol))
+        nodes, prev, nxt, wedge = nodes[inside], prev[inside], nxt[inside], wedge[inside]
+
+    graph = VisibilityGraph(
+        world=world, pinch=pinch, nodes=nodes, edges=np.empty((0, 2), dtype=np.intp), weights=np.empty(0),
+        obstacles=union, _tol=tol, _parts=parts, _part_tree=part_tree, _segments=segments,
+        _segment_tree=segment_tree, _segment_ids=segment_ids, _seg_coords=seg_coords, _prev=prev, _next=nxt, _wedge=wedge,
+        _critical=tuple(critical)
+    )
+    edges = _bitangent_edges(graph, nodes, prev, nxt, tol)
+    weights = np.hypot(*(nodes[edges[:, 0]] - nodes[edges[:, 1]]).T)
+    object.__setattr__(graph, "edges", edges)
+    object.__setattr__(graph, "weights", weights)
+    object.__setattr__(graph, "seconds", time.perf_counter() - t0)
+    return graph
+
+
+# the phases of visibility_graph, in order
+
+def _area_parts(world: World, tol: float) -> tuple[Any, NDArray[Any], Any]:
+    """The union of the area obstacles (prepared) and its parts shrunk by ``tol``, with their STRtree.
+
+    Visibility is tested against the obstacles shrunk by ``tol``: a segment along an edge or
+    grazing a corner stays admissible when rounding puts it 1e-16 inside (rotated maps).
+    """
     union = _area_union(world)
     shapely.prepare(union)
-    # Visibility is tested against the obstacles shrunk by ``tol``: a segment along an edge or
-    # grazing a corner stays admissible when rounding puts it 1e-16 inside (rotated maps).
     shrunk = shapely.buffer(union, -tol, join_style="mitre", mitre_limit=10.0) if not union.is_empty else union
     parts = np.asarray([g for g in shapely.get_parts(shrunk) if isinstance(g, Polygon) and not g.is_empty],
                        dtype=object)
     part_tree = shapely.STRtree(parts)
     shapely.prepare(parts)
-    union_prepared = union
+    return union, parts, part_tree
 
+
+def _segment_index(world: World) -> tuple[NDArray[Any], NDArray[np.intp], Any, NDArray[np.float64]]:
+    """The segment obstacles: geometries, ids, their STRtree and end points ``(k, 2, 2)``."""
     seg_obs = [ob for ob in world.obstacles if ob.kind == "segment"]
     segments = np.asarray([ob.geometry for ob in seg_obs], dtype=object)
     segment_ids = np.asarray([ob.id for ob in seg_obs], dtype=np.intp)
     segment_tree = shapely.STRtree(segments)
     seg_coords = np.asarray([np.asarray(s.coords)[[0, -1]] for s in segments], dtype=float).reshape(-1, 2, 2)
+    return segments, segment_ids, segment_tree, seg_coords
 
-    # ---- ring vertices, and which of them are special (touch something else)
-    rv, rp, rn = _rings(union)
-    edges_geom = shapely.linestrings(np.stack([rv, rn], axis=1)) if len(rv) else np.empty(0, dtype=object)
-    edge_tree = shapely.STRtree(edges_geom)
-    vtree = cKDTree(rv) if len(rv) else None
+
+def _special_ring_vertices(rings: tuple[NDArray[np.float64], ...], edge_tree: Any, vtree: Any, segments: NDArray[Any],
+                           segment_tree: Any, tol: float) -> NDArray[np.bool_]:
+    """Which ring vertices touch something else: another vertex, another ring edge, a segment."""
+    rv, _, rn = rings
     special = np.zeros(len(rv), dtype=bool)
     if vtree is not None:
         counts = np.asarray([len(g) for g in vtree.query_ball_point(rv, tol)])
@@ -509,25 +550,63 @@ def visibility_graph(world: World, *, pinch: str = "block") -> VisibilityGraph:
         if len(segments):
             vi, _ = segment_tree.query(shapely.points(rv), predicate="dwithin", distance=tol)
             special[vi] = True
+    return special
 
-    # ---- special points: special ring vertices, segment end points and segment intersections
-    cand = [rv[special]]
+
+def _special_points(special_rv: NDArray[np.float64], segments: NDArray[Any], segment_tree: Any,
+                    seg_coords: NDArray[np.float64], union: Any, parts: NDArray[Any], tol: float) -> NDArray[np.float64]:
+    """Special ring vertices, segment end points and segment intersections (with the area
+    boundaries and with each other), deduplicated."""
+    cand = [special_rv]
     if len(segments):
         cand.append(seg_coords.reshape(-1, 2))
         if len(parts):
-            boundary = shapely.boundary(union_prepared)
+            boundary = shapely.boundary(union)
             cand.append(shapely.get_coordinates(shapely.intersection(segments, boundary)))
         si, sj = segment_tree.query(segments, predicate="intersects")
         pair = si < sj
         if pair.any():
             cand.append(shapely.get_coordinates(shapely.intersection(segments[si[pair]], segments[sj[pair]])))
-    special_pts = _dedupe(np.concatenate(cand) if cand else np.empty((0, 2)), tol)
+    return _dedupe(np.concatenate(cand) if cand else np.empty((0, 2)), tol)
 
+
+def _occupied_directions(c: NDArray[np.float64], rings: tuple[NDArray[np.float64], ...], edge_tree: Any, vtree: Any,
+                         segment_tree: Any, seg_coords: NDArray[np.float64], tol: float) -> list[tuple[float, float]]:
+    """The angular sectors ``(start, width)`` round the point ``c`` taken by obstacles touching it."""
+    rv, rp, rn = rings
+    pt = Point(c)
+    occupied: list[tuple[float, float]] = []
+    if vtree is not None:
+        for k in vtree.query_ball_point(c, tol):
+            sb, sa = _angle(rn[k] - c), _angle(rp[k] - c)
+            occupied.append((float(sb), float(np.mod(sa - sb, _TWO_PI))))
+        for j in edge_tree.query(pt, predicate="dwithin", distance=tol):
+            if np.hypot(*(rv[j] - c)) > tol and np.hypot(*(rn[j] - c)) > tol:
+                occupied.append((float(_angle(rn[j] - c)), math.pi))
+    for j in segment_tree.query(pt, predicate="dwithin", distance=tol):
+        for end in seg_coords[j]:
+            if np.hypot(*(c - end)) > tol:
+                occupied.append((float(_angle(end - c)), 0.0))
+    return occupied
+
+
+def _nodes(rings: tuple[NDArray[np.float64], ...], special: NDArray[np.bool_], special_pts: NDArray[np.float64],
+           union: Any, parts: NDArray[Any], edge_tree: Any, vtree: Any, segment_tree: Any,
+           seg_coords: NDArray[np.float64], pinch: str, tol: float, scale: float) -> tuple[Any, ...]:
+    """The graph's nodes: ``nodes, prev, next, wedge`` arrays (ring neighbours and free wedge, NaN
+    where none) and the critical points ``(point, free arcs)`` of the ``block`` rule."""
+    rv, rp, rn = rings
     node_pts: list[NDArray[np.float64]] = []
     node_prev: list[NDArray[np.float64]] = []
     node_next: list[NDArray[np.float64]] = []
     node_wedge: list[NDArray[np.float64]] = []
     critical: list[tuple[NDArray[np.float64], tuple[tuple[float, float], ...]]] = []
+
+    def add(c: NDArray[np.float64], wedge: NDArray[np.float64]) -> None:
+        node_pts.append(c[None, :])
+        node_prev.append(np.full((1, 2), np.nan))
+        node_next.append(np.full((1, 2), np.nan))
+        node_wedge.append(wedge)
 
     # ordinary convex corners: a strict left turn of a ring (obstacle on the left)
     plain = ~special
@@ -542,22 +621,9 @@ def visibility_graph(world: World, *, pinch: str = "block") -> VisibilityGraph:
         node_wedge.append(np.full((convex.sum(), 2), np.nan))
 
     for c in special_pts:
-        pt = Point(c)
-        if len(parts) and shapely.contains(union_prepared, pt):
+        if len(parts) and shapely.contains(union, Point(c)):
             continue  # inside an area obstacle: never on a path
-        occupied: list[tuple[float, float]] = []
-        if vtree is not None:
-            for k in vtree.query_ball_point(c, tol):
-                sb, sa = _angle(rn[k] - c), _angle(rp[k] - c)
-                occupied.append((float(sb), float(np.mod(sa - sb, _TWO_PI))))
-            for j in edge_tree.query(pt, predicate="dwithin", distance=tol):
-                if np.hypot(*(rv[j] - c)) > tol and np.hypot(*(rn[j] - c)) > tol:
-                    occupied.append((float(_angle(rn[j] - c)), math.pi))
-        for j in segment_tree.query(pt, predicate="dwithin", distance=tol):
-            for end in seg_coords[j]:
-                if np.hypot(*(c - end)) > tol:
-                    occupied.append((float(_angle(end - c)), 0.0))
-        arcs = _free_arcs(occupied)
+        arcs = _free_arcs(_occupied_directions(c, rings, edge_tree, vtree, segment_tree, seg_coords, tol))
         if not arcs:
             continue
         if pinch == "block":
@@ -565,39 +631,27 @@ def visibility_graph(world: World, *, pinch: str = "block") -> VisibilityGraph:
                 critical.append((c, tuple(arcs)))
             for s, w in arcs:
                 if w > math.pi + _ANGLE_EPS:  # a path can only bend round a side wider than a half-plane
-                    node_pts.append(c[None, :])
-                    node_prev.append(np.full((1, 2), np.nan))
-                    node_next.append(np.full((1, 2), np.nan))
-                    node_wedge.append(np.array([[s, w]]) if len(arcs) > 1 else np.full((1, 2), np.nan))
-        else:
-            if len(arcs) > 1 or arcs[0][1] > math.pi + _ANGLE_EPS:
-                node_pts.append(c[None, :])
-                node_prev.append(np.full((1, 2), np.nan))
-                node_next.append(np.full((1, 2), np.nan))
-                node_wedge.append(np.full((1, 2), np.nan))
+                    add(c, np.array([[s, w]]) if len(arcs) > 1 else np.full((1, 2), np.nan))
+        elif len(arcs) > 1 or arcs[0][1] > math.pi + _ANGLE_EPS:
+            add(c, np.full((1, 2), np.nan))
 
     nodes = np.concatenate(node_pts) if node_pts else np.empty((0, 2))
     prev = np.concatenate(node_prev) if node_prev else np.empty((0, 2))
     nxt = np.concatenate(node_next) if node_next else np.empty((0, 2))
     wedge = np.concatenate(node_wedge) if node_wedge else np.empty((0, 2))
-    if world.border == "wall":  # the outer corners of the wall frame are never reached
-        inside = ((nodes[:, 0] >= xmin - tol) & (nodes[:, 0] <= xmax + tol)
-                  & (nodes[:, 1] >= ymin - tol) & (nodes[:, 1] <= ymax + tol))
-        nodes, prev, nxt, wedge = nodes[inside], prev[inside], nxt[inside], wedge[inside]
+    return nodes, prev, nxt, wedge, critical
 
-    graph = VisibilityGraph(
-        world=world, pinch=pinch, nodes=nodes, edges=np.empty((0, 2), dtype=np.intp), weights=np.empty(0),
-        obstacles=union_prepared, _tol=tol, _parts=parts, _part_tree=part_tree, _segments=segments,
-        _segment_tree=segment_tree, _segment_ids=segment_ids, _seg_coords=seg_coords, _prev=prev, _next=nxt, _wedge=wedge,
-        _critical=tuple(critical)
-    )
 
-    # ---- edges: bitangent pairs that see each other
+def _bitangent_edges(graph: VisibilityGraph, nodes: NDArray[np.float64], prev: NDArray[np.float64],
+                     nxt: NDArray[np.float64], tol: float) -> NDArray[np.intp]:
+    """Bitangent pairs ``i < j`` of the nodes that see each other, ``(m, 2)``.
+
+    The tangent test at both ends runs by broadcasting over blocks of rows (no gathers over n^2
+    pairs): the pair (i, j) is kept when the ring neighbours of i lie on one side of the line i-j,
+    and those of j too; nodes without ring neighbours (NaN) always pass.
+    """
     n = len(nodes)
     ei, ej = [], []
-    # tangent test at both ends by broadcasting over blocks of rows (no gathers over n^2 pairs):
-    # the pair (i, j) is kept when the ring neighbours of i lie on one side of the line i-j, and
-    # those of j too; nodes without ring neighbours (NaN) always pass
     has = ~np.isnan(prev[:, 0])
     da = np.where(has[:, None], prev - nodes, 0.0)
     db = np.where(has[:, None], nxt - nodes, 0.0)
@@ -624,13 +678,9 @@ def visibility_graph(world: World, *, pinch: str = "block") -> VisibilityGraph:
         vis = graph._admissible(nodes[ii], nodes[jj])
         ei.append(ii[vis])
         ej.append(jj[vis])
-    edges = np.stack([np.concatenate(ei), np.concatenate(ej)], axis=1).astype(np.intp) if ei else \
-        np.empty((0, 2), dtype=np.intp)
-    weights = np.hypot(*(nodes[edges[:, 0]] - nodes[edges[:, 1]]).T)
-    object.__setattr__(graph, "edges", edges)
-    object.__setattr__(graph, "weights", weights)
-    object.__setattr__(graph, "seconds", time.perf_counter() - t0)
-    return graph
+    if not ei:
+        return np.empty((0, 2), dtype=np.intp)
+    return np.stack([np.concatenate(ei), np.concatenate(ej)], axis=1).astype(np.intp)
 
 
 # ----------------------------------------------------------------------------------------

@@ -1,12 +1,12 @@
-"""Seed 003's vortex model: the lattice, the field, and the follower's step scaling.
+"""The vortex field: the lattice, the field, and the follower's step scaling.
 
-Seed 003 samples its field on a lattice of nodes (``X = -5:0.4:5``, both ends included): a
+The vortex field is sampled on a lattice of nodes (``X = -5:0.4:5``, both ends included): a
 repulsive charge at the start, a quadratic attraction to the goal, and charges sampled on a circle
 around each circular obstacle, with a rotational term that turns the follower around the circles
 (:func:`vortex_field`). As a gridfield :class:`~gridfield.grid.Grid` the nodes are the cell
 centres (:func:`vortex_lattice`); :func:`gridfield.potential.build_field` builds this field for
 ``model="vortex"``. The rotational part has no potential, so the follower cannot use a normalized
-step: seed 003's follower moves from node to node with steps scaled by the matrix 2-norms of the
+step: its nearest-node follower moves from node to node with steps scaled by the matrix 2-norms of the
 two force arrays (:func:`_vortex_norms`, read by :func:`gridfield.follow.follow`).
 
 Examples
@@ -35,9 +35,9 @@ __all__ = ["vortex_field", "vortex_lattice"]
 
 
 def vortex_lattice(bounds: Sequence[float], spacing: float, *, border: str = "open") -> Grid:
-    """The grid whose cell **centres** are seed 003's lattice nodes ``xmin:spacing:xmax`` (MATLAB colon).
+    """The grid whose cell **centres** are the vortex field's lattice nodes ``xmin:spacing:xmax`` (MATLAB colon).
 
-    Seed 003 samples its field at ``X = -5:0.4:5`` (26 nodes per axis, both ends included). As a
+    The vortex field is sampled at ``X = -5:0.4:5`` (26 nodes per axis, both ends included). As a
     gridfield :class:`Grid` that is 26 x 26 cells of size 0.4 with origin ``(-5.2, -5.2)``: the
     grid covers half a spacing beyond the bounds on each side.
 
@@ -77,7 +77,7 @@ def _circles_of(obj: Any) -> NDArray[np.float64]:
         bad = [ob for ob in obj.obstacles if ob.kind != "circle"]
         if bad:
             raise ParameterError(
-                f"the vortex model (seed 003) samples charges on circles; obstacle {bad[0].id} is a {bad[0].kind}"
+                f"the vortex model samples charges on circles; obstacle {bad[0].id} is a {bad[0].kind}"
             )
         return np.array([(*cast("tuple[float, float]", ob.center), ob.radius) for ob in obj.obstacles], dtype=np.float64).reshape(-1, 3)
     c = np.asarray(obj, dtype=np.float64)
@@ -98,7 +98,7 @@ def vortex_field(
     sample_radius: float | None = None,
     spacing: float | None = None,
 ) -> Field:
-    """Seed 003's field: start repulsion, goal attraction, boundary charges with a rotational term.
+    """The vortex field: start repulsion, goal attraction, boundary charges with a rotational term.
 
     On the lattice nodes (the cell centres of ``grid``):
 
@@ -236,7 +236,7 @@ def _build_vortex(gridmap: GridMap, goal: ArrayLike, p: dict[str, Any]) -> Field
     world = gridmap.world
     if not isinstance(world, World) or world.start is None:
         raise ParameterError(
-            "the vortex model (seed 003) needs a world file with circle obstacles and a start point "
+            "the vortex model needs a world file with circle obstacles and a start point "
             f"({gridmap.source or 'this map'} has {'no start' if isinstance(world, World) else 'no vector world'})"
         )
     spacing = p["spacing"] if p["spacing"] is not None else gridmap.grid.resolution
@@ -254,7 +254,7 @@ def _build_vortex(gridmap: GridMap, goal: ArrayLike, p: dict[str, Any]) -> Field
 
 
 def _vortex_norms(field: GradientField, params: Mapping[str, Any]) -> tuple[float, float]:
-    """Matrix 2-norms of seed 003's force components ``fX``, ``fY`` over the whole lattice.
+    """Matrix 2-norms of the vortex field's force components ``fX``, ``fY`` over the whole lattice.
 
     The seed's arrays are defined everywhere, inside the circles too, while a Field holds zeros on
     obstacle cells; the norms are therefore taken from the same field rebuilt on the lattice without
@@ -274,14 +274,14 @@ def _vortex_norms(field: GradientField, params: Mapping[str, Any]) -> tuple[floa
     ny = float(np.linalg.norm(np.asarray(gy, dtype=float), 2))
     if not (nx > 0 and ny > 0 and math.isfinite(nx) and math.isfinite(ny)):
         raise GridfieldError(f"the vortex field's force components have matrix norms {nx:g}, {ny:g}; "
-                             "cannot scale the steps (seed 003's follower divides by them)")
+                             "cannot scale the steps (the nearest-node follower divides by them)")
     return nx, ny
 
 
 def _vortex_follower(field: GradientField, params: Mapping[str, Any]) -> dict[str, Any]:
-    """The follower parameters of seed 003's nearest-node follower on a vortex Field.
+    """The follower parameters of the vortex field's nearest-node follower on a vortex Field.
 
-    Seed 003 steps ``x += spacing * (Fx / ||fX||_2, Fy / ||fY||_2)``, where ``||.||_2`` is the
+    The nearest-node follower steps ``x += spacing * (Fx / ||fX||_2, Fy / ||fY||_2)``, where ``||.||_2`` is the
     matrix 2-norm (largest singular value) of each force component's array: the scaled rule with
     one gain per axis, nearest-node sampling, tolerance 0.4 and no jitter rule (given values win,
     except the step rule).
@@ -291,7 +291,7 @@ def _vortex_follower(field: GradientField, params: Mapping[str, Any]) -> dict[st
     spacing = field.map.grid.resolution if spacing is None else float(spacing)  # the registry's scale rule
     merged.setdefault("sampling", "nearest")
     merged.setdefault("tolerance", 0.4)
-    merged.setdefault("confine_window", 0)  # seed 003's follower: no jitter rule
+    merged.setdefault("confine_window", 0)  # the nearest-node follower: no jitter rule
     merged["step_rule"] = "scaled"
     nx, ny = _vortex_norms(field, merged)
     merged["alpha"] = (spacing / nx, spacing / ny)

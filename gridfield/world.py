@@ -2,7 +2,7 @@
 
 A world is what the exact planners work on and what the rasterizer turns into a grid.
 Obstacles may be polygons (convex or not, any orientation; at least 3 distinct vertices, listed in
-order or sorted with ``vertex_order: sort``), circles, segments, rectangles and points; in seed 000's
+order or sorted with ``vertex_order: sort``), circles, segments, rectangles and points; in the Khatib-potential exercise's
 ``b_matrix`` an obstacle with two vertices is a segment and one with one vertex a point. Each carries a
 1-based ``id`` that survives rasterization (``GridMap.obstacle_id``), so that potentials
 can be summed per obstacle.
@@ -31,7 +31,7 @@ __all__ = ["CIRCLE_SEGMENTS", "VERTEX_ORDERS", "Obstacle", "Robot", "World", "ro
            "world_from_dict"]
 
 #: Values of the world file's ``vertex_order`` (per file, or per polygon): ``as_given`` (default) takes
-#: the vertices in the order listed; ``sort`` sorts them by angle around their centroid (seed 001's
+#: the vertices in the order listed; ``sort`` sorts them by angle around their centroid (the exercise's
 #: VerticesSorter), for files that list a polygon's vertices in any order.
 VERTEX_ORDERS = ("as_given", "sort")
 
@@ -49,7 +49,7 @@ class Obstacle:
     Attributes
     ----------
     id : int
-        1-based obstacle id (the seed 000 "B matrix" tag when the world came from one).
+        1-based obstacle id (the "B matrix" tag when the world came from one).
     kind : str
         ``"polygon"``, ``"circle"``, ``"segment"``, ``"point"``.
     geometry : shapely geometry
@@ -93,14 +93,15 @@ class Obstacle:
             assert self.center is not None and self.radius is not None
             d = np.hypot(p[:, 0] - self.center[0], p[:, 1] - self.center[1]) - self.radius
             return np.maximum(d, 0.0)
-        return shapely.distance(self.geometry, shapely.points(p))
+        dist: NDArray[np.float64] = shapely.distance(self.geometry, shapely.points(p))
+        return dist
 
     def bounds(self) -> tuple[float, float, float, float]:
         if self.kind == "circle":
             assert self.center is not None and self.radius is not None
             (cx, cy), r = self.center, self.radius
             return (cx - r, cy - r, cx + r, cy + r)
-        return tuple(self.geometry.bounds)  # type: ignore[return-value]
+        return tuple(self.geometry.bounds)
 
     def __repr__(self) -> str:
         x0, y0, x1, y1 = self.bounds()
@@ -402,7 +403,7 @@ def _points(value: Any, what: str) -> NDArray[np.float64]:
 def sort_vertices(pts: ArrayLike) -> NDArray[np.float64]:
     """Vertices sorted counter-clockwise by their angle around the centroid (mean) of the vertices.
 
-    Seed 001's VerticesSorter: a polygon whose vertices are listed in any order becomes the polygon
+    The VerticesSorter of the attractive/repulsive exercise: a polygon whose vertices are listed in any order becomes the polygon
     through them in angular order (a simple polygon when the vertices are in convex position, or more
     generally when the polygon is star-shaped about their centroid). Ties in angle are broken by the
     distance to the centroid.
@@ -486,6 +487,75 @@ def _shape_from_vertices(pts: NDArray[np.float64], oid: int, what: str, order: s
     return _polygon(pts, oid, what, order)
 
 
+def _polygon_entry(value: Any, oid: int, what: str, order: str) -> Obstacle:
+    """A ``polygon`` obstacle: a list of points, or ``{vertices, center, vertex_order}``."""
+    star_center = None
+    if isinstance(value, Mapping):
+        bad = sorted(set(value) - {"vertices", "center", "vertex_order"}, key=str)
+        if bad or "vertices" not in value:
+            raise MapFormatError(f"{what}.polygon must be a list of points or a mapping with 'vertices' and "
+                                 f"optional 'center' and 'vertex_order', got {value!r}")
+        if "vertex_order" in value:
+            order = _vertex_order(value["vertex_order"], f"{what}.polygon.vertex_order")
+        if value.get("center") is not None:
+            star_center = _point(value["center"], f"{what}.polygon.center")
+        value = value["vertices"]
+    return _polygon(_points(value, f"{what}.polygon"), oid, f"{what}.polygon", order, star_center)
+
+
+def _segment_entry(value: Any, oid: int, what: str) -> Obstacle:
+    """A ``segment`` obstacle: exactly two points."""
+    pts = _points(value, f"{what}.segment")
+    if len(pts) != 2:
+        raise MapFormatError(f"{what}.segment must have exactly two points, got {len(pts)}")
+    return _shape_from_vertices(pts, oid, f"{what}.segment")
+
+
+def _circle_entry(value: Any, oid: int, what: str) -> Obstacle:
+    """A ``circle`` obstacle: ``{center: [x, y], radius: r}`` (a polygon of CIRCLE_SEGMENTS per quarter)."""
+    if not isinstance(value, Mapping) or "center" not in value or "radius" not in value:
+        raise MapFormatError(f"{what}.circle must be {{center: [x, y], radius: r}}, got {shorten(value)}")
+    c = _point(value["center"], f"{what}.circle.center")
+    try:
+        r = float(value["radius"])
+    except (TypeError, ValueError):
+        r = math.nan
+    if not (math.isfinite(r) and r > 0):
+        raise MapFormatError(f"{what}.circle.radius must be a positive number, got {shorten(value['radius'])}")
+    geom = Point(c).buffer(r, quad_segs=CIRCLE_SEGMENTS)
+    return Obstacle(oid, "circle", geom, center=c, radius=r)
+
+
+def _rectangle_corners(value: Any, what: str) -> tuple[tuple[float, float], tuple[float, float]]:
+    """The lower and upper corners of a ``rectangle`` entry, in any of its three forms."""
+    if isinstance(value, Mapping):
+        if "min" in value and "max" in value:
+            return _point(value["min"], f"{what}.rectangle.min"), _point(value["max"], f"{what}.rectangle.max")
+        if "center" in value and "size" in value:
+            c = _point(value["center"], f"{what}.rectangle.center")
+            s = _point(value["size"], f"{what}.rectangle.size")
+            return (c[0] - s[0] / 2, c[1] - s[1] / 2), (c[0] + s[0] / 2, c[1] + s[1] / 2)
+        raise MapFormatError(
+            f"{what}.rectangle must be [xmin, ymin, xmax, ymax], {{min: [x, y], max: [x, y]}} "
+            f"or {{center: [x, y], size: [w, h]}}; got {shorten(value)}"
+        )
+    try:
+        xmin, ymin, xmax, ymax = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise MapFormatError(f"{what}.rectangle must be [xmin, ymin, xmax, ymax], got {shorten(value)}") from None
+    return (xmin, ymin), (xmax, ymax)
+
+
+def _rectangle_entry(value: Any, oid: int, what: str) -> Obstacle:
+    """A ``rectangle`` obstacle (a degenerate one is a segment or a point)."""
+    lo, hi = _rectangle_corners(value, what)
+    if not all(math.isfinite(v) for v in (*lo, *hi)) or hi[0] < lo[0] or hi[1] < lo[1]:
+        raise MapFormatError(f"{what}.rectangle needs finite min <= max, got {shorten(value)}")
+    pts = np.array([lo, (hi[0], lo[1]), hi, (lo[0], hi[1])])
+    return _shape_from_vertices(np.unique(pts, axis=0) if (hi[0] == lo[0] or hi[1] == lo[1]) else pts,
+                                oid, f"{what}.rectangle")
+
+
 def _obstacle(entry: Any, oid: int, what: str, order: str = "as_given") -> Obstacle:
     if not isinstance(entry, Mapping) or len(entry) != 1:
         raise MapFormatError(
@@ -493,61 +563,15 @@ def _obstacle(entry: Any, oid: int, what: str, order: str = "as_given") -> Obsta
         )
     (kind, value), = entry.items()
     if kind == "polygon":
-        star_center = None
-        if isinstance(value, Mapping):
-            bad = sorted(set(value) - {"vertices", "center", "vertex_order"}, key=str)
-            if bad or "vertices" not in value:
-                raise MapFormatError(f"{what}.polygon must be a list of points or a mapping with 'vertices' and "
-                                     f"optional 'center' and 'vertex_order', got {value!r}")
-            if "vertex_order" in value:
-                order = _vertex_order(value["vertex_order"], f"{what}.polygon.vertex_order")
-            if value.get("center") is not None:
-                star_center = _point(value["center"], f"{what}.polygon.center")
-            value = value["vertices"]
-        return _polygon(_points(value, f"{what}.polygon"), oid, f"{what}.polygon", order, star_center)
+        return _polygon_entry(value, oid, what, order)
     if kind == "point":
         return Obstacle(oid, "point", Point(_point(value, f"{what}.point")))
     if kind == "segment":
-        pts = _points(value, f"{what}.segment")
-        if len(pts) != 2:
-            raise MapFormatError(f"{what}.segment must have exactly two points, got {len(pts)}")
-        return _shape_from_vertices(pts, oid, f"{what}.segment")
+        return _segment_entry(value, oid, what)
     if kind == "circle":
-        if not isinstance(value, Mapping) or "center" not in value or "radius" not in value:
-            raise MapFormatError(f"{what}.circle must be {{center: [x, y], radius: r}}, got {shorten(value)}")
-        c = _point(value["center"], f"{what}.circle.center")
-        try:
-            r = float(value["radius"])
-        except (TypeError, ValueError):
-            r = math.nan
-        if not (math.isfinite(r) and r > 0):
-            raise MapFormatError(f"{what}.circle.radius must be a positive number, got {shorten(value['radius'])}")
-        geom = Point(c).buffer(r, quad_segs=CIRCLE_SEGMENTS)
-        return Obstacle(oid, "circle", geom, center=c, radius=r)
+        return _circle_entry(value, oid, what)
     if kind == "rectangle":
-        if isinstance(value, Mapping):
-            if "min" in value and "max" in value:
-                lo, hi = _point(value["min"], f"{what}.rectangle.min"), _point(value["max"], f"{what}.rectangle.max")
-            elif "center" in value and "size" in value:
-                c = _point(value["center"], f"{what}.rectangle.center")
-                s = _point(value["size"], f"{what}.rectangle.size")
-                lo, hi = (c[0] - s[0] / 2, c[1] - s[1] / 2), (c[0] + s[0] / 2, c[1] + s[1] / 2)
-            else:
-                raise MapFormatError(
-                    f"{what}.rectangle must be [xmin, ymin, xmax, ymax], {{min: [x, y], max: [x, y]}} "
-                    f"or {{center: [x, y], size: [w, h]}}; got {shorten(value)}"
-                )
-        else:
-            try:
-                xmin, ymin, xmax, ymax = (float(v) for v in value)
-            except (TypeError, ValueError):
-                raise MapFormatError(f"{what}.rectangle must be [xmin, ymin, xmax, ymax], got {shorten(value)}") from None
-            lo, hi = (xmin, ymin), (xmax, ymax)
-        if not all(math.isfinite(v) for v in (*lo, *hi)) or hi[0] < lo[0] or hi[1] < lo[1]:
-            raise MapFormatError(f"{what}.rectangle needs finite min <= max, got {shorten(value)}")
-        pts = np.array([lo, (hi[0], lo[1]), hi, (lo[0], hi[1])])
-        return _shape_from_vertices(np.unique(pts, axis=0) if (hi[0] == lo[0] or hi[1] == lo[1]) else pts,
-                                    oid, f"{what}.rectangle")
+        return _rectangle_entry(value, oid, what)
     raise MapFormatError(f"{what}: unknown obstacle kind {shorten(kind)}; expected polygon, circle, segment, rectangle "
                          "or point")
 
@@ -580,7 +604,7 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
     """Build a validated :class:`World` from the data of a world file.
 
     Keys: ``bounds`` (required), ``border`` (``open`` default, or ``wall``), ``obstacles``
-    (list), ``b_matrix`` (seed 000's three-row vertex matrix), ``start``, ``goal``, ``params``,
+    (list), ``b_matrix`` (the three-row vertex matrix of the segment worlds), ``start``, ``goal``, ``params``,
     ``resolution`` (default cell size when the world is rasterized), ``vertex_order``, ``robot`` (the
     robot's shape, see :func:`robot_from_value`; the commands plan in its configuration space).
 
@@ -588,7 +612,7 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
     ``{vertices: [...], center: [x, y], vertex_order: ...}`` (``center``: the point it is star-shaped
     about, for ``star-nav``). ``vertex_order`` (per file, overridden per polygon) is ``as_given``
     (default: the vertices must be listed in order around the polygon) or ``sort`` (they are sorted
-    by angle around their centroid, seed 001's VerticesSorter: :func:`sort_vertices`); it also applies
+    by angle around their centroid, the VerticesSorter: :func:`sort_vertices`); it also applies
     to the polygons of a ``b_matrix``, whose one- and two-vertex obstacles are points and segments.
 
     Parameters
@@ -621,11 +645,37 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
     """
     if not isinstance(data, Mapping):
         raise MapFormatError(f"{source or 'world'}: a world file must be a YAML mapping with at least 'bounds'")
-    known = {"bounds", "border", "obstacles", "b_matrix", "start", "goal", "params", "resolution", "name",
-             "description", "vertex_order", "robot"}
-    unknown = sorted(set(data) - known, key=str)
+    unknown = sorted(set(data) - _WORLD_KEYS, key=str)
     if unknown:
-        raise MapFormatError(f"{_where(source, unknown[0])}: unknown key; expected one of {sorted(known)}")
+        raise MapFormatError(f"{_where(source, unknown[0])}: unknown key; expected one of {sorted(_WORLD_KEYS)}")
+    bounds = _bounds(data, source)
+    border = data.get("border", "open")
+    if border not in BORDERS:
+        raise MapFormatError(f"{_where(source, 'border')}: expected one of {list(BORDERS)}, got {shorten(border)}")
+    obstacles = _obstacles(data, source, border)
+    resolution = _resolution(data, source)
+    params = _world_params(data, source)
+    robot = robot_from_value(data["robot"], _where(source, "robot")) if data.get("robot") is not None else None
+    world = World(bounds=bounds, obstacles=tuple(obstacles), border=border, params=dict(params),
+                  resolution=resolution, source=source)
+    start = goal = None
+    if data.get("start") is not None:
+        start = _point(data["start"], _where(source, "start"))
+        _check_in_world(world, "start", start, source)
+    if data.get("goal") is not None:
+        goal = _point(data["goal"], _where(source, "goal"))
+        _check_in_world(world, "goal", goal, source)
+    return World(bounds=bounds, obstacles=tuple(obstacles), border=border, start=start, goal=goal,
+                 params=dict(params), resolution=resolution, source=source, robot=robot)
+
+
+#: The keys of a world file.
+_WORLD_KEYS = frozenset({"bounds", "border", "obstacles", "b_matrix", "start", "goal", "params", "resolution",
+                         "name", "description", "vertex_order", "robot"})
+
+
+def _bounds(data: Mapping[str, Any], source: str) -> tuple[float, float, float, float]:
+    """The world file's ``bounds``: four finite numbers with max > min."""
     if "bounds" not in data:
         raise MapFormatError(f"{_where(source, 'bounds')}: missing; a world needs bounds: [xmin, ymin, xmax, ymax]")
     try:
@@ -638,10 +688,11 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
         raise MapFormatError(
             f"{_where(source, 'bounds')}: expected [xmin, ymin, xmax, ymax] with finite max > min, got {shorten(data['bounds'])}"
         )
-    border = data.get("border", "open")
-    if border not in BORDERS:
-        raise MapFormatError(f"{_where(source, 'border')}: expected one of {list(BORDERS)}, got {shorten(border)}")
+    return bounds[0], bounds[1], bounds[2], bounds[3]
 
+
+def _obstacles(data: Mapping[str, Any], source: str, border: str) -> list[Obstacle]:
+    """The world file's obstacles: its ``b_matrix`` first, then its ``obstacles``, numbered from 1."""
     order = _vertex_order(data.get("vertex_order", "as_given"), _where(source, "vertex_order"))
     obstacles: list[Obstacle] = []
     if "b_matrix" in data:
@@ -657,14 +708,25 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
             f"{source or 'world'}: the world is empty (no obstacles and an open border); "
             "add obstacles or set border: wall"
         )
+    return obstacles
+
+
+def _resolution(data: Mapping[str, Any], source: str) -> float | None:
+    """The world file's ``resolution`` (a positive number), or None."""
     resolution = data.get("resolution")
-    if resolution is not None:
-        try:
-            resolution = float(resolution)
-        except (TypeError, ValueError):
-            resolution = math.nan
-        if not (math.isfinite(resolution) and resolution > 0):
-            raise MapFormatError(f"{_where(source, 'resolution')}: must be a positive number, got {shorten(data['resolution'])}")
+    if resolution is None:
+        return None
+    try:
+        value = float(resolution)
+    except (TypeError, ValueError):
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise MapFormatError(f"{_where(source, 'resolution')}: must be a positive number, got {shorten(resolution)}")
+    return value
+
+
+def _world_params(data: Mapping[str, Any], source: str) -> Mapping[str, Any]:
+    """The world file's ``params`` mapping (values checked by the planners; NaN refused here)."""
     params = data.get("params") or {}
     if not isinstance(params, Mapping):
         raise MapFormatError(f"{_where(source, 'params')}: expected a mapping of parameter names to values")
@@ -673,18 +735,7 @@ def world_from_dict(data: Any, *, source: str = "") -> World:
             continue
         if isinstance(v, int | float) and math.isnan(v):
             raise MapFormatError(f"{_where(source, 'params.' + str(k))}: must not be NaN")
-    robot = robot_from_value(data["robot"], _where(source, "robot")) if data.get("robot") is not None else None
-    world = World(bounds=bounds, obstacles=tuple(obstacles), border=border, params=dict(params),
-                  resolution=resolution, source=source)
-    start = goal = None
-    if data.get("start") is not None:
-        start = _point(data["start"], _where(source, "start"))
-        _check_in_world(world, "start", start, source)
-    if data.get("goal") is not None:
-        goal = _point(data["goal"], _where(source, "goal"))
-        _check_in_world(world, "goal", goal, source)
-    return World(bounds=bounds, obstacles=tuple(obstacles), border=border, start=start, goal=goal,
-                 params=dict(params), resolution=resolution, source=source, robot=robot)
+    return params
 
 
 def _check_in_world(world: World, name: str, p: tuple[float, float], source: str) -> None:

@@ -180,10 +180,13 @@ def test_random_grids_match_brute_force_and_octile_bounds(case):
     frame = True  # paths stay on the map with either border (module docstring, "Border")
     ref = brute_force(occ, frame, s, t)
     oct_len = octile(occ, wall, a, b)
+    lazy_pts, lazy_length = g.shortest_path(s, t, search="lazy")  # the search without a graph
     if math.isinf(ref):
-        assert math.isinf(length) and math.isinf(oct_len)
+        assert math.isinf(length) and math.isinf(oct_len) and math.isinf(lazy_length) and len(lazy_pts) == 0
     else:
         assert length == pytest.approx(ref, abs=1e-9)
+        assert lazy_length == pytest.approx(ref, abs=1e-9)
+        check_path(lazy_pts, occ, frame)
         assert length <= oct_len + 1e-9  # an octile path is an any-angle path
         assert length >= math.dist(s, t) - 1e-12
         # the bound that holds: the obstacle-free octile *distance* over sqrt(4 - 2 sqrt 2) = 1.08239...
@@ -201,11 +204,13 @@ def test_random_grids_match_brute_force_and_octile_bounds(case):
             g.shortest_path(s2, t2)
         return
     pts2, length2 = g.shortest_path(s2, t2)
+    lazy2 = g.shortest_path(s2, t2, search="lazy")[1]
     ref2 = brute_force(occ, frame, s2, t2)
     if math.isinf(ref2):
-        assert math.isinf(length2)
+        assert math.isinf(length2) and math.isinf(lazy2)
     else:
         assert length2 == pytest.approx(ref2, abs=1e-9)
+        assert lazy2 == pytest.approx(ref2, abs=1e-9)
         check_path(pts2, occ, frame)
 
 
@@ -319,6 +324,41 @@ def test_polyanya_arena_lengths():
     want = np.array([q["expected_length"] for q in cases["queries"]])
     assert len(want) == 160
     np.testing.assert_allclose(got, want, atol=1e-4, rtol=0)
+    lazy = np.array([g.shortest_path((q["start"][0], H - q["start"][1]), (q["goal"][0], H - q["goal"][1]),
+                                     search="lazy")[1] for q in cases["queries"]])
+    np.testing.assert_allclose(lazy, want, atol=1e-4, rtol=0)
+
+
+@pytest.mark.parametrize(("name", "n"), [("den312d", 150), ("arena", 100), ("mapf_random-32-32-10", 150)])
+def test_lazy_search_finds_the_graphs_optimum_on_scenarios(name, n):
+    """Scenarios spread over small Moving AI maps (400 in all): the lazy search (no visibility graph)
+    and the graph search give the same length (1e-9 relative) and the lazy path's segments are free;
+    the graph is the reference (itself checked against the brute force and Polyanya's lengths above)."""
+    import itertools
+
+    folder = SHARED_MAPS / "movingai" / name
+    m = read_movingai_map(next(folder.glob("*.map")))
+    scen = read_scen(next(folder.glob("*.scen")))
+    ok = np.flatnonzero(~scen.no_path)
+    idx = ok[np.linspace(0, len(ok) - 1, min(n, len(ok))).astype(int)]
+    g = grid_graph(m, cache={})
+    assert not g.graph_built  # the per-map part alone so far
+    for k in idx:
+        s, t = scen.start_xy[k], scen.goal_xy[k]
+        pts, length = g.shortest_path(s, t, search="lazy")
+        want = g.shortest_path(s, t, search="graph")[1]
+        assert length == pytest.approx(want, rel=1e-9, abs=1e-12), (name, int(k))
+        assert all(g.visible(a, b) for a, b in itertools.pairwise(pts))
+        assert float(np.hypot(*np.diff(pts, axis=0).T).sum()) == pytest.approx(length, rel=1e-12)
+    assert g.graph_built
+
+
+def test_unknown_search_is_refused():
+    from gridfield.errors import ParameterError
+
+    g = grid_graph(GridMap(Grid((4, 4), 1.0), np.zeros((4, 4), bool)))
+    with pytest.raises(ParameterError, match="search must be one of 'lazy', 'graph'"):
+        g.shortest_path((0.5, 0.5), (3.5, 3.5), search="polyanya")
 
 
 MAPS = ["den312d", "mapf_random-32-32-10", "AR0011SR", "16room_000", "Berlin_0_256", "brc202d"]

@@ -659,3 +659,34 @@ def test_cli_rejects_a_bad_saturation_radius(capsys):
 
     assert main(["brushfire", str(REPO / "maps/arena/arena.map"), "--saturate", "-1"]) == 2
     assert "--saturate: expected a positive finite number" in capsys.readouterr().err
+
+
+def test_result_memory_is_reused_and_released():
+    """The grid-sized arrays reuse a freed result's block; what the block held does not leak into the
+    next result (checked against scipy); pool_limit(0) unmaps every kept block."""
+    import gridfield.brushfire as gb
+
+    k = gb._kernels()
+    old = k.pool_limit()
+    try:
+        a = k.empty((700, 700), np.float64)  # 3.9 MB: pooled
+        ptr = a.__array_interface__["data"][0]
+        a[:] = -7.0
+        del a
+        b = k.empty((700, 700), np.float64)
+        assert b.__array_interface__["data"][0] == ptr
+        assert not b.flags.owndata and b.flags.c_contiguous and b.flags.writeable
+        del b
+        rng = np.random.default_rng(5)
+        for p in (0.3, 0.01):  # the second map's results land in the first one's blocks
+            occ = rng.random((700, 700)) < p
+            d = brushfire(GridMap(Grid(occ.shape, 1.0), occ), metric="euclidean", compute_labels=False)
+            np.testing.assert_array_equal(d.distance, ndimage.distance_transform_edt(~occ))
+            c = brushfire(GridMap(Grid(occ.shape, 1.0), occ), compute_nearest=False, compute_labels=False)
+            np.testing.assert_array_equal(c.steps, ndimage.distance_transform_cdt(~occ, metric="chessboard"))
+            del d, c
+        assert k.pool_bytes()[1] > 0
+        k.pool_limit(0)
+        assert k.pool_bytes() == (0, 0)
+    finally:
+        k.pool_limit(old)

@@ -34,7 +34,7 @@ def quick_demo(tmp_path_factory):
 EXPECTED_FILES = {
     "maps.png", "summary.md", "summary.csv", "seed000_paths.png", "seed000_segment_potential.png",
     "seed000_surface.png", "seed000_segment_basins.png", "seed000_segment_follower.gif", "seed003_vortex.png",
-    "turtlebot3.png", "arena.png", "convergence.png", "seed002_star_world.png", "moving_obstacle.gif",
+    "turtlebot3.png", "arena.png", "arena_classic_vs_complete.png", "convergence.png", "seed002_star_world.png", "moving_obstacle.gif",
 }
 
 
@@ -75,6 +75,9 @@ def test_demo_summary_rows(quick_demo):
     seg = by[("seed000_segment", "potential")]
     assert seg["status"] == "local_minimum" and "stalls at (16.9" in seg["note"]
     assert by[("seed000", "exact-potential")]["status"] == "reached"
+    # the model column: the seed worlds ask for the classic field, the grid maps run the default nf1
+    assert by[("seed000", "potential")]["model"] == "khatib" and by[("turtlebot3", "potential")]["model"] == "nf1"
+    assert by[("arena", "wavefront-octile")]["model"] == "" and by[("star_two", "star-nav")]["model"] == ""
     assert by[("seed000_segment", "exact-potential")]["status"] == "local_minimum"
     # seed 003: Ko = 5 converges, Ko = 10 does not
     assert by[("seed003 Ko=5", "potential")]["status"] == "reached"
@@ -165,3 +168,53 @@ def test_demo_parts_draw_the_fields_their_plans_built(tmp_path, monkeypatch):
     plt.close("all")
     assert len(calls) == 2 and len(run.result.rows) == 2
     assert (tmp_path / "seed003_vortex.png").read_bytes()[:8] == PNG
+
+
+def test_arena_shows_the_classic_stall_next_to_the_complete_field(tmp_path, monkeypatch):
+    """issue 25: on the arena the classic field (model: khatib) stalls and the complete one (nf1)
+    reaches; one figure, two panels, checked on its artists against the scenario file's goal."""
+    import numpy as np
+
+    import gridfield.demo as demo_module
+    from gridfield.io import read_movingai_map, read_scen
+
+    figures = {}
+    run = demo_module._Run(tmp_path, True, lambda _line: None)
+    monkeypatch.setattr(run, "save", lambda fig, name: figures.setdefault(name, fig))
+    demo_module._part_arena(run)
+    gm = read_movingai_map(bundled_map("arena/arena.map"))
+    scen = read_scen(bundled_map("arena/arena.map.scen"), map_height=gm.shape[0])
+    i = int(np.argmax(scen.optimal))
+    goal = scen.goal_xy[i]
+    try:
+        fig = figures["arena_classic_vs_complete.png"]
+        axes = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
+        assert len(axes) == 2
+        classic, complete = axes
+        assert "khatib" in classic.get_title() and "local_minimum" in classic.get_title()
+        assert "nf1" in complete.get_title() and "reached" in complete.get_title()
+        # the stall marker: drawn inside the classic panel's axes, away from the goal; none on the other
+        stalls = [c for c in classic.collections if c.get_label() == "stall point"]
+        assert len(stalls) == 1
+        (x, y), = stalls[0].get_offsets().tolist()
+        x0, x1 = classic.get_xlim()
+        y0, y1 = classic.get_ylim()
+        assert x0 < x < x1 and y0 < y < y1
+        assert np.hypot(x - goal[0], y - goal[1]) > 1.0
+        assert not [c for c in complete.collections if c.get_label() == "stall point"]
+        assert any(t.get_text().startswith("hint:") for t in classic.texts)
+        # the complete run's path ends at the goal, the classic one's does not
+        (line,) = [ln for ln in complete.get_lines() if ln.get_label().startswith("potential")]
+        end = np.array([line.get_xdata()[-1], line.get_ydata()[-1]], float)
+        assert np.hypot(*(end - goal)) <= 0.5
+        (line,) = [ln for ln in classic.get_lines() if ln.get_label().startswith("potential")]
+        end = np.array([line.get_xdata()[-1], line.get_ydata()[-1]], float)
+        assert np.hypot(*(end - goal)) > 1.0
+    finally:
+        for f in figures.values():
+            plt.close(f)
+    # the table: both runs, with status, length and model
+    rows = {r["model"]: r for r in run.result.rows if r["planner"] == "potential"}
+    assert rows["khatib"]["status"] == "local_minimum" and "hint:" in rows["khatib"]["note"]
+    assert rows["nf1"]["status"] == "reached" and rows["nf1"]["length"] > 0
+    assert any("khatib" in n and "nf1" in n for n in run.result.notes)

@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 from scipy import ndimage
 
 import gridfield.descent as descent
-from gridfield.descent import rules
+from gridfield.descent import resolve_rules
 from gridfield.escapes import NavigationEscape, cut_loops, navigation_cut
 from gridfield.grid import Grid, GridMap
 from gridfield.io import read
@@ -145,7 +145,7 @@ def test_dither_starts_brute_force(seed, n, since, reason):
     ys = np.cumsum(rng.normal(0.0, 0.6, n)).tolist()
     since = min(since, n - 1)
     best = int(rng.integers(since, n))
-    r = rules(step=0.5, confine_window=4)  # box 1.0
+    r = resolve_rules({"step": 0.5, "confine_window": 4})  # box 1.0
     got = r.dither_starts(reason, xs, ys, since, best)
     # the longest tail within the box, by brute force
     boxed = min(j for j in range(since, n) if max(xs[j:]) - min(xs[j:]) <= r.box and max(ys[j:]) - min(ys[j:]) <= r.box)

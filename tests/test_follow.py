@@ -12,7 +12,6 @@ from hypothesis import strategies as st
 
 from gridfield.errors import GridfieldError, ParameterError
 from gridfield.follow import (
-    FOLLOW_DEFAULTS,
     attraction_force,
     basins,
     descend,
@@ -251,8 +250,10 @@ def test_parameter_errors(kw, match):
 
 
 def test_resolve_follow_params_defaults():
+    from gridfield.params import Escape, Follower, names
+
     p = resolve_follow_params({}, unit=0.05)
-    assert set(p) == set(FOLLOW_DEFAULTS)
+    assert list(p) == list(names(Follower, Escape))
     assert (p["step"], p["tolerance"]) == (0.05, 0.05)
     assert resolve_follow_params({"step_rule": "scaled"}, unit=0.05)["tolerance"] == 0.05
     with pytest.raises(ParameterError, match="start must be two finite numbers"):
@@ -548,13 +549,16 @@ def test_failed_jumps_are_counted_and_do_not_move():
     assert [e["outcome"] for e in extra["escapes"]] == ["no_jump"] * 3
 
 
-def test_rule_params_are_the_keywords_of_rules():
-    """RULE_PARAMS (what follow and the exact planner hand to descend) is exactly what rules() takes
-    from the registry (all but revisit_tolerance, which is not a registry parameter)."""
-    import inspect
+def test_descend_takes_the_follower_groups_names():
+    """descend's keywords are the registry names of Follower and Escape: another name is refused,
+    and the rules made from them carry the typed groups."""
+    from gridfield.descent import resolve_rules
+    from gridfield.params import Escape, Follower
 
-    from gridfield.descent import RULE_PARAMS, rules
-    from gridfield.params import REGISTRY
-
-    assert list(RULE_PARAMS) == [n for n in inspect.signature(rules).parameters if n != "revisit_tolerance"]
-    assert set(RULE_PARAMS) <= set(REGISTRY)
+    with pytest.raises(ParameterError, match="q_star is no follower parameter"):
+        descend(bowl(0, 0), (1.0, 1.0), (0.0, 0.0), q_star=1.0)
+    r = resolve_rules({"step": 0.5, "escape": "navigation"})
+    assert isinstance(r.follower, Follower) and isinstance(r.escapes, Escape)
+    assert (r.follower.step, r.follower.tolerance, r.escapes.escape) == (0.5, 0.5, "navigation")
+    with pytest.raises(ParameterError, match="not both"):
+        descend(bowl(0, 0), (1.0, 1.0), (0.0, 0.0), spec=r, step=0.5)

@@ -116,7 +116,9 @@ def test_bucket_queue_agrees_with_the_binary_heap_march():
         assert np.abs(fast[fin] - exact[fin]).max() <= BUCKET_CELLS * top
 
 
-def test_stop_at_settles_the_cells_up_to_the_start():
+def test_stop_at_settles_the_cells_up_to_the_start(monkeypatch):
+    # the plain (Dijkstra-ordered) truncation; the A*-ordered one is tests/test_nf_astar.py's
+    monkeypatch.setattr("gridfield.navfield.ASTAR_WEIGHT", 0.0)
     gm = wall_map(rooms())
     full = eikonal(gm, (5.5, 5.5))
     part = eikonal(gm, (5.5, 5.5), stop_at=(30.5, 30.5), margin=4.0)

@@ -22,9 +22,8 @@ from gridfield.world import world_from_dict
 
 PACKAGE = Path(__file__).resolve().parents[1] / "gridfield"
 
-#: Modules that still read parameters with defaults of their own: follow.py and descent.py are being
-#: changed by another piece of work (FOLLOW_DEFAULTS, descent.rules); they move to the registry after it.
-ALLOWED = {"follow.py", "descent.py", "params.py"}
+#: The one module that states parameter defaults (the follower's tables are gone too).
+ALLOWED = {"params.py"}
 
 #: The names gridfield gives a mapping of planner parameters.
 PARAM_MAPPINGS = {"params", "p", "merged"}

@@ -47,6 +47,22 @@ def test_basin_legend_names_a_displaced_goal_sink_and_small_shares() -> None:
     assert not any("0.0 %" in t or "(100 %" in t for t in texts)
 
 
+def test_basin_legend_says_when_the_sink_is_the_cell_beside_the_goal() -> None:
+    """The goal (22, 12) on a cell corner, its sink in the diagonal neighbour (21.5, 11.5): shown to 4
+    digits with "the cell beside the goal's" (to 3 digits the label read "off the goal, at (22, 12)"),
+    and the legend goes where it is asked to."""
+    b = types.SimpleNamespace(label=np.ones((20, 30), int), minima=np.array([[21.5, 11.5]]), goal_cell=(12, 22))
+    art = plot_basins(b, grid=Grid((20, 30), 1.0), legend_loc="upper right")
+    texts = [t.get_text() for t in art.legend.get_texts()]
+    assert "the sink is off the goal, at (21.5, 11.5), the cell beside the goal's" in texts[0], texts
+    assert art.legend._loc == 1  # matplotlib's code of "upper right"
+    below = plot_basins(b, grid=Grid((20, 30), 1.0), legend_loc="below")
+    below.figure.canvas.draw()
+    assert below.legend.get_window_extent().y1 <= below.ax.get_window_extent().y0  # under the map, covering none
+    far = types.SimpleNamespace(label=np.ones((20, 30), int), minima=np.array([[10.5, 10.5]]), goal_cell=(12, 22))
+    assert "beside" not in plot_basins(far, grid=Grid((20, 30), 1.0)).legend.get_texts()[0].get_text()
+
+
 def test_goal_basin_when_the_sink_is_the_goal_cell() -> None:
     b = types.SimpleNamespace(label=np.ones((4, 5), int), minima=np.array([[2.5, 1.5]]), goal_cell=(1, 2))
     texts = [t.get_text() for t in plot_basins(b, grid=Grid((4, 5), 1.0)).legend.get_texts()]

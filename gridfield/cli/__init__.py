@@ -112,7 +112,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     import warnings
 
-    from ..limits import job, out_of_memory, override, user_limit
+    from ..limits import job, out_of_memory, override, progress, user_limit
 
     def one_line_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
                          file: object = None, line: str | None = None) -> None:
@@ -120,7 +120,11 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     job_name, workers = _job(args)
     try:
-        with warnings.catch_warnings(), override(getattr(args, "max_cells", None)), job(job_name, workers=workers):
+        # a long search's progress line, on a terminal; sweeps and compare --batch show their own bar
+        own_bar = args.command == "sweep" or getattr(args, "batch", None) is not None
+        shown = False if getattr(args, "no_progress", False) or own_bar else None
+        with warnings.catch_warnings(), override(getattr(args, "max_cells", None)), job(job_name, workers=workers), \
+                progress(shown):
             user_limit()  # an empty or junk GRIDFIELD_MAX_CELLS is refused up front, as --max-cells is
             warnings.showwarning = one_line_warning  # e.g. star-nav's "kappa is too small": one line, no source
             try:

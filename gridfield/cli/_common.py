@@ -135,15 +135,31 @@ def warm_up(planner: str) -> float:
     return time.perf_counter() - t0
 
 
-def load_target(args: argparse.Namespace) -> Any:
-    """Read the map named on the command line: a World or a GridMap."""
+def load_target(args: argparse.Namespace, *, lazy: bool = False) -> Any:
+    """Read the map named on the command line: a World or a GridMap. A map read by chunks (BigTIFF,
+    ``.npy``, Zarr) is read whole (within the size guard) unless ``lazy`` (the chunked paths, ``--out``);
+    a stored distance map or field stays lazy."""
+    from .._chunkcache import LazyGridMap
+    from .._results import DistanceMap, Field
+
+    target = _read_target(args)
+    if isinstance(target, DistanceMap | Field) and not (isinstance(target, Field) and args.command == "plan"):
+        kind = "distance map" if isinstance(target, DistanceMap) else "potential field"
+        use = "gridfield plan F.zarr --start X Y follows a field store" if isinstance(target, Field) else (
+            "its grid and occupancy are read by gridfield.io.read(F.zarr).map")
+        raise ParameterError(f"{args.map} is a stored {kind}, not a map for gridfield {args.command}; {use}")
+    return target.to_gridmap() if isinstance(target, LazyGridMap) and not lazy else target
+
+
+def _read_target(args: argparse.Namespace) -> Any:
     from ..io import read
 
     options: dict[str, Any] = {}
     if getattr(args, "unknown", None) is not None:
         options["unknown"] = args.unknown
-    if getattr(args, "resolution", None) is not None and str(args.map).lower().endswith((".png", ".pgm", ".bmp")):
-        options["resolution"] = args.resolution  # a bitmap's pixel size
+    if getattr(args, "resolution", None) is not None and str(args.map).lower().rstrip("/").endswith(
+            (".png", ".pgm", ".bmp", ".npy", ".tif", ".tiff", ".zarr")):
+        options["resolution"] = args.resolution  # a raster's pixel size (a GeoTIFF's own is overridden)
     try:
         return read(args.map, **options)
     except TypeError as e:  # an option the format's reader does not take

@@ -8,9 +8,10 @@ import time
 from pathlib import Path
 from typing import Any
 
+from ._chunked import add_chunk_arguments
 from ._common import add_map_arguments, add_robot_arguments, robot_target
 
-_BITMAPS = (".png", ".pgm", ".bmp")
+_BITMAPS = (".png", ".pgm", ".bmp", ".npy", ".tif", ".tiff")  # rasters: --resolution is their pixel size
 
 
 def _positive(text: str) -> float:
@@ -43,6 +44,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="F",
                    help="save the distance heat map with iso-distance contours and the GVD (PNG, PDF, SVG, ...)")
     add_robot_arguments(p)
+    add_chunk_arguments(p)
     return p
 
 
@@ -55,6 +57,7 @@ def _check_output(file: str | None) -> None:
 
 def _load(args: argparse.Namespace) -> Any:
     """The map as a GridMap: bitmaps take --resolution as their pixel size, worlds are rasterized."""
+    from .._chunkcache import LazyGridMap
     from ..errors import ParameterError
     from ..io import read
     from ..rasterize import as_gridmap
@@ -69,6 +72,8 @@ def _load(args: argparse.Namespace) -> Any:
         target = read(args.map, **options)
     except TypeError as e:  # an option the format's reader does not take
         raise ParameterError(f"{args.map}: {e}") from None
+    if isinstance(target, LazyGridMap):  # the in-memory brushfire reads it whole (within the size guard)
+        target = target.to_gridmap()
     return as_gridmap(robot_target(args, target), None if bitmap else args.resolution)
 
 
@@ -115,7 +120,47 @@ def summary(dmap: Any, ms: float) -> str:
             f"{int(dmap.gvd.sum())} GVD cells, {labels}, {ms:.1f} ms")
 
 
+def _run_chunked(args: argparse.Namespace) -> int:
+    """``--out F.zarr``: the distance and nearest obstacle chunk by chunk (gridfield.chunked), to a store."""
+    from .._chunkcache import LazyGridMap
+    from ..errors import ParameterError
+    from . import _chunked
+    from ._common import load_target
+
+    if args.connectivity != 8:
+        raise ParameterError("--connectivity numbers the wavefront steps, which the chunked computation does not "
+                             "compute (it writes distance, nearest_row, nearest_col); leave it out with --out")
+    target = load_target(args, lazy=True)
+    gridmap = target if isinstance(target, LazyGridMap) else _load(args)
+    if isinstance(target, LazyGridMap) and _robot_given(args):
+        raise ParameterError("a robot's configuration space is computed in memory; not with a map read by chunks")
+    grid, occ = _chunked.lazy_occupancy(args, gridmap)
+    metric = args.metric or "chessboard"
+    _chunked.check_halo(args, args.saturate, grid.resolution)
+    with _chunked.scheduler(args) as sched:  # connect first: an unreachable scheduler fails before any work
+        from .. import chunked
+
+        d, nr, nc = chunked.distance(occ, metric=metric, resolution=grid.resolution, saturate=args.saturate,
+                                     return_nearest=True, border=grid.border)
+        t0 = time.perf_counter()
+        n = _chunked.write(args, {"occupied": occ, "distance": d, "nearest_row": nr, "nearest_col": nc}, grid,
+                           "distance", {"metric": metric, "saturate": args.saturate}, sched)
+    s = time.perf_counter() - t0
+    print(f"brushfire {grid.rows}x{grid.cols} cells of {grid.resolution:g} in {n} chunks of {args.chunks} "
+          f"({metric} distance, {grid.border} border{'' if args.saturate is None else f', saturated at {args.saturate:g}'}): "
+          f"wrote {args.out} (occupied, distance, nearest_row, nearest_col) in {s:.1f} s")
+    return 0
+
+
+def _robot_given(args: argparse.Namespace) -> bool:
+    return any(getattr(args, k, None) is not None for k in ("robot", "robot_radius"))
+
+
 def run(args: argparse.Namespace) -> int:
+    from . import _chunked
+
+    if _chunked.chunked(args):
+        return _run_chunked(args)
     import numpy as np
 
     from ..brushfire import brushfire

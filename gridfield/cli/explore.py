@@ -23,7 +23,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--goal", nargs=2, type=float, metavar=("X", "Y"), help="goal point (default: the world's)")
     # checked in run(): importing gridfield.explore here would load shapely for every `gridfield --help`
     p.add_argument("--planner", default="potential",
-                   help="planner shown first: potential (default), exact-potential or wavefront-octile")
+                   help="planner shown first: potential (default), exact-potential, wavefront-octile or navfn")
     p.add_argument("--save", metavar="F",
                    help="do not open a window: save a snapshot of the explorer (PNG) and exit (works headless)")
     p.add_argument("--movie", metavar="F", default=None,

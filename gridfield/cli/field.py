@@ -42,6 +42,9 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="save the basins of attraction of steepest descent (goal basin and local minima)")
     add_robot_arguments(p)
     add_param_arguments(p)
+    from ._chunked import add_chunk_arguments
+
+    add_chunk_arguments(p)
     return p
 
 
@@ -87,8 +90,62 @@ def _check_output(file: str | None) -> None:
         raise GridfieldError(f"{file}: the folder {Path(file).parent} does not exist")
 
 
-def run(args: argparse.Namespace) -> int:
+def _run_chunked(args: argparse.Namespace) -> int:
+    """``--out F.zarr``: the classic (khatib) field chunk by chunk (gridfield.chunked), to a store."""
+    from .._chunkcache import LazyGridMap
+    from ..errors import ParameterError
+    from ..params import validate
+    from ..potential import resolve_params
+    from ..rasterize import as_gridmap
+    from . import _chunked
 
+    if args.planner != "potential":
+        raise ParameterError(f"the chunked computation builds the potential field; not --planner {args.planner}")
+    target = load_target(args, lazy=True)
+    goal = _goal(args, target)
+    params = _world_params(target)
+    params.update(collect_params(args))
+    if params.get("model") is None:
+        params["model"] = "khatib"  # the chunked field is the classic one (the complete models need the whole map)
+    if params["model"] != "khatib":
+        raise ParameterError(f"the chunked computation builds the classic field (model khatib), not model "
+                             f"{params['model']!r}; the complete models solve over the whole map")
+    gridmap = target if isinstance(target, LazyGridMap) else as_gridmap(robot_target(args, target, goal=goal),
+                                                                          args.resolution)
+    grid = gridmap.grid
+    g = gridmap.check_point("goal", goal)
+    cell = grid.cell_of(float(g[0]), float(g[1]))
+    assert cell is not None  # check_point: inside the grid
+    # the chunked field's goal is the centre of the goal's cell (gridfield.chunked.field)
+    gxy = tuple(float(v) for v in grid.cell_to_world([cell])[0])
+    given = dict(validate(params))
+    p = resolve_params(given, unit=grid.resolution)
+    _chunked.check_halo(args, p["saturate"], grid.resolution)
+    _, occ = _chunked.lazy_occupancy(args, gridmap)
+    with _chunked.scheduler(args) as sched:  # connect first: an unreachable scheduler fails before any work
+        from .. import chunked
+
+        d, nr, nc = chunked.distance(occ, metric=p["metric"], resolution=grid.resolution, saturate=p["saturate"],
+                                     return_nearest=True, border=grid.border)
+        f = chunked.field(d, nr, nc, goal_cell=cell, resolution=grid.resolution, origin=grid.origin, params=given,
+                          metric=p["metric"])
+        arrays = {"occupied": occ, "distance": d, "nearest_row": nr, "nearest_col": nc,
+                  "U": f["U"], "dUdx": f["dUdx"], "dUdy": f["dUdy"]}
+        t0 = time.perf_counter()
+        n = _chunked.write(args, arrays, grid, "field",
+                           {"metric": p["metric"], "saturate": p["saturate"], "goal": gxy, "params": p}, sched)
+    s = time.perf_counter() - t0
+    print(f"field {grid.rows}x{grid.cols} cells of {grid.resolution:g} in {n} chunks of {args.chunks} (khatib, "
+          f"{p['repulsion']} repulsion), goal ({gxy[0]:g}, {gxy[1]:g}, the centre of its cell): wrote {args.out} "
+          f"({', '.join(arrays)}) in {s:.1f} s")
+    return 0
+
+
+def run(args: argparse.Namespace) -> int:
+    from ._chunked import chunked
+
+    if chunked(args):
+        return _run_chunked(args)
     from ..planners import check_params
     from ..potential import build_field, field_distance_map, resolve_params
     from ..rasterize import as_gridmap

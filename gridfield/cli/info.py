@@ -53,6 +53,11 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
     if suffix in ("png", "pgm", "bmp"):
         options["resolution"] = args.resolution
     workspace = read(args.map, **options)
+    from .._chunkcache import LazyGridMap
+
+    workspace = getattr(workspace, "map", workspace) if str(args.map).rstrip("/").endswith(".zarr") else workspace
+    if isinstance(workspace, LazyGridMap):  # a map read by chunks (or a store's map): read whole, size-guarded
+        workspace = workspace.to_gridmap()
     target = robot_target(args, workspace)
     if isinstance(target, World):
         return _describe_world(args, workspace, target)

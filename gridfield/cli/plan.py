@@ -6,6 +6,7 @@ import argparse
 import json
 import sys
 from dataclasses import replace
+from typing import TYPE_CHECKING, Any
 
 from ._common import (
     add_map_arguments,
@@ -15,6 +16,9 @@ from ._common import (
     load_target,
     robot_target,
 )
+
+if TYPE_CHECKING:
+    from ..path import Path
 
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -86,8 +90,10 @@ def run(args: argparse.Namespace) -> int:
 
     check_figure_file(args.plot)
     workspace = load_target(args)
-    scen = scenario(args, workspace)
     params = collect_params(args)
+    if _is_stored_field(workspace):  # a field store (gridfield field ... --out F.zarr): follow it by chunks
+        return _follow_stored(args, workspace, params)
+    scen = scenario(args, workspace)
     if scen is not None:
         start, goal, optimal = scen
     else:
@@ -108,6 +114,8 @@ def run(args: argparse.Namespace) -> int:
     startup = warm_up(args.planner)  # one-time start-up, reported apart from the plan's own time
     # the field the potential planner followed comes back with the path: the figures draw it, not rebuild it
     path, field = plan_with_field(args.planner, target, start, goal, params, resolution=resolution)
+    if robot and path.status == "no_path":
+        path = _robot_no_path(args, path, workspace, start, goal, params, resolution)
     if scen is not None:
         path = replace(path, extra={**path.extra, "optimal": optimal})
     if robot:
@@ -145,6 +153,64 @@ def run(args: argparse.Namespace) -> int:
         if args.animate:
             gplot.save_plan_animation(args.animate, target, path, field=field)
             print(f"wrote {args.animate}", file=sys.stderr if args.json else sys.stdout)
+    return 0
+
+
+def _robot_no_path(args: argparse.Namespace, path: Path, workspace: Any, start: list[float], goal: list[float],
+                   params: dict[str, Any], resolution: float | None) -> Path:
+    """A robot's ``no_path``: the same search for a point on the workspace says whether the robot closes the passage."""
+    from ..diagnose import robot_no_path
+    from ..planners import PLANNERS, plan_with_field
+    from ..world import World
+
+    point_target = workspace
+    if PLANNERS[args.planner][2] == "grid" and isinstance(workspace, World):
+        from ..rasterize import as_gridmap
+
+        point_target, resolution = as_gridmap(workspace, args.resolution), None
+    point, _ = plan_with_field(args.planner, point_target, start, goal, params, resolution=resolution)
+    return robot_no_path(path, point, _robot_text(args, workspace), start, goal)
+
+
+def _is_stored_field(target: object) -> bool:
+    from .._chunkcache import is_lazy
+    from .._results import Field
+
+    return isinstance(target, Field) and is_lazy(target)
+
+
+def _follow_stored(args: argparse.Namespace, field: object, params: dict[str, object]) -> int:
+    """``plan F.zarr --start X Y``: the follower on a stored field, reading only the chunks it crosses."""
+    from ..errors import ParameterError
+    from ..follow import follow
+
+    if args.planner != "potential":
+        raise ParameterError(f"{args.map} holds a potential field: it is followed by the potential planner, "
+                             f"not --planner {args.planner}")
+    for opt in ("plot", "animate", "scenario"):
+        if getattr(args, opt, None) is not None:
+            raise ParameterError(f"--{opt} does not apply to a field store ({args.map} is read by chunks)")
+    if args.start is None:
+        raise ParameterError(f"{args.map} names no start; pass --start X Y")
+    gx, gy = field.goal  # type: ignore[attr-defined]
+    grid = field.map.grid  # type: ignore[attr-defined]
+    if args.goal is not None and grid.cell_of(*args.goal) != grid.cell_of(gx, gy):  # the goal's cell, as built
+        raise ParameterError(f"{args.map} is the field of the goal ({gx:g}, {gy:g}); --goal "
+                             f"{args.goal[0]:g} {args.goal[1]:g} asks for another (build its field first)")
+    path = replace(follow(field, args.start, params=params), planner="potential")
+    cache = field.map.occupied.cache  # type: ignore[attr-defined]
+    if args.json:
+        out = path.to_json()
+        out["chunks_read"] = cache.reads
+        json.dump(out, sys.stdout)
+        sys.stdout.write("\n")
+    else:
+        x, y = path.end
+        print(f"{path.planner}: {path.status} after {path.iterations} iterations, length {path.length:.4g}, "
+              f"end ({x:.4g}, {y:.4g}), min clearance {path.min_clearance:.4g}, {path.seconds * 1e3:.1f} ms; "
+              f"read {cache.reads} chunk tiles of {args.map}")
+        if path.extra.get("hint"):
+            print(f"hint: {path.extra['hint']}")
     return 0
 
 

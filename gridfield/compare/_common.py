@@ -74,3 +74,35 @@ def _grid_factor(base: Any, h: float) -> int:
         raise ParameterError(f"on a grid map the resolutions must be multiples of the map's resolution {res:g} "
                              f"(coarser grids are block-downsampled), got {h:g}")
     return k
+
+
+def _guard_seconds(target: Any, exact_planner: str, params: Any, what: str) -> float:
+    """Refuse a comparison up front when the summed estimates of its searches exceed the time limit
+    (:func:`gridfield.limits.check_stages`): on a grid map the exact planner's stages on its polygons
+    and the any-angle optimum; on a vector world the exact potential's descent and the visibility
+    graph of the optimum. The grid planners' cost is their cells (the size guard) and is not summed."""
+    from ..grid import GridMap
+    from ..limits import check_stages
+    from ..params import MAX_ITERATIONS
+    from ..planners import search_stages
+
+    steps = (params or {}).get("max_iterations")
+    steps = MAX_ITERATIONS if steps is None else float(steps)
+    if isinstance(target, GridMap) and not isinstance(target.world, World):
+        stages = search_stages(exact_planner, target, params)
+        if exact_planner != "visibility":
+            stages += search_stages("visibility", target, params)  # the optimum (one graph for both)
+        return check_stages([(name if name != "any-angle graph" else "any-angle graph (optimum)", work)
+                             for name, work in stages], what)
+    world = target.world if isinstance(target, GridMap) else target
+    if not isinstance(world, World):
+        return 0.0
+    from ..gridpoly import source_grid
+
+    vertices = float(sum(len(ob.vertices) for ob in world.obstacles))
+    stages = []
+    if exact_planner == "exact-potential":
+        stages.append(("exact potential", {"obstacle vertex": vertices, "follower step": steps}))
+    if source_grid(world) is None:
+        stages.append(("visibility graph (optimum)", {"vertex pair": vertices * vertices}))
+    return check_stages(stages, what)

@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 from ..errors import GridfieldError, ParameterError, check_positive
 from ..path import Path
 from ..world import World
-from ._common import _as_world, _grid_factor, _optimum
+from ._common import _as_world, _grid_factor, _guard_seconds, _optimum
 from ._metrics import (
     collides,
     discrete_frechet,
@@ -137,6 +137,7 @@ def convergence_study(
     from ..planners import get_planner, plan
     from ..rasterize import rasterize
 
+    _guard_seconds(world, exact_planner, params, f"compare {exact_planner} on {getattr(world, 'source', None) or 'the map'}")
     world, base = _as_world(world, "convergence_study")
     hs = [check_positive("resolution", r) for r in resolutions]
     if not hs:

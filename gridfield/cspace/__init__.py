@@ -1,4 +1,4 @@
-"""Configuration space (seed 004): obstacles grown by the robot's shape.
+"""Configuration space (Lozano-Perez C-obstacles): obstacles grown by the robot's shape.
 
 Two robot models, each on vector worlds and on grids:
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -102,7 +103,7 @@ def _runs(footprint: NDArray[np.bool_]) -> list[tuple[int, int, int]]:
     return [(int(r) - m, int(a) - m, int(b) - 1 - m) for r, a, b in zip(starts[0], starts[1], ends[1], strict=True)]
 
 
-def _dilate(arr: NDArray, runs: list[tuple[int, int, int]], pad_value: int) -> NDArray:
+def _dilate(arr: NDArray[Any], runs: list[tuple[int, int, int]], pad_value: int) -> NDArray[Any]:
     """``out[y, x] = max over runs (dr, a, b) and s in [a, b] of arr[y - dr, x - s]``, with
     ``pad_value`` outside ``arr`` (a Minkowski-sum dilation by the footprint), via one 1-D
     running maximum per run (cost independent of the run's length)."""

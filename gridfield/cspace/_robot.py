@@ -123,7 +123,8 @@ def conservative_footprint(robot: Robot, resolution: float) -> NDArray[np.bool_]
         check_cells((2 * m + 1, 2 * m + 1), f"the footprint of the robot ({robot.describe()}) at cell size {h:g}")
         gap = np.maximum(np.abs(np.arange(-m, m + 1)) - 1, 0).astype(np.float64)
         d2 = gap[:, None] ** 2 + gap[None, :] ** 2
-        return d2 * (h * h) <= (r * r) * (1 + 1e-9)
+        inside: NDArray[np.bool_] = d2 * (h * h) <= (r * r) * (1 + 1e-9)
+        return inside
     assert robot.vertices is not None
     square = 0.5 * h * np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
     reach = minkowski_obstacle(square, robot.vertices)  # S ⊕ (−R)
@@ -170,7 +171,8 @@ def centre_footprint(radius: float, resolution: float) -> NDArray[np.bool_]:
     check_cells((2 * m + 1, 2 * m + 1), f"the footprint of a disc robot of radius {r:g} at cell size {h:g}")
     gap = np.maximum(np.abs(np.arange(-m, m + 1)) - 0.5, 0.0)
     d2 = gap[:, None] ** 2 + gap[None, :] ** 2
-    return d2 * (h * h) <= (r * r) * (1 + 1e-9)
+    inside: NDArray[np.bool_] = d2 * (h * h) <= (r * r) * (1 + 1e-9)
+    return inside
 
 
 def check_positive_resolution(resolution: float) -> float:
@@ -209,7 +211,7 @@ def apply_robot(target: World | GridMap, robot: Robot | float | ArrayLike | None
     """The configuration space of ``target`` for a robot that translates: what every command plans on.
 
     - a :class:`World`: exact C-obstacles, a disc's by :func:`inflate_world`, a convex polygon's
-      by :func:`cspace_world` (Minkowski sums, seed 004), plus, with ``border="wall"``, the bands
+      by :func:`cspace_world` (Minkowski sums), plus, with ``border="wall"``, the bands
       along the bounds where the robot would touch the wall; grid planners then rasterize them
       conservatively as usual, exact planners use them directly;
     - a :class:`GridMap` (bitmaps, ROS, Moving AI), a disc: a cell is blocked iff the disc placed
@@ -388,42 +390,53 @@ def check_robot_point(
     if r is None or p.shape != (2,) or not np.all(np.isfinite(p)):
         return
     where = f"{name} ({p[0]:g}, {p[1]:g})"
-    hint = "move it or make the robot smaller"
     if isinstance(target, World):
-        xmin, ymin, xmax, ymax = target.bounds
-        if not (xmin <= p[0] <= xmax and ymin <= p[1] <= ymax):
-            return
-        dists = [(float(ob.distance(p[None, :])[0]), f"obstacle {ob.id}") for ob in target.obstacles]
-        if target.border == "wall":
-            dists.append((float(min(p[0] - xmin, xmax - p[0], p[1] - ymin, ymax - p[1])), "the wall"))
-        if not dists:
-            return
-        d, what = min(dists)
-        if r.radius is not None:
-            if d <= r.radius:
-                raise GridfieldError(f"{where} is {d:.3g} from {what}, within the robot ({r.describe()}); {hint}")
-        else:
-            placed = r.outline(p)
-            for ob in target.obstacles:
-                hit = (placed.distance(Point(ob.center)) <= ob.radius
-                       if ob.kind == "circle" and ob.center is not None and ob.radius is not None
-                       else placed.intersects(ob.geometry))
-                if hit:
-                    raise GridfieldError(f"{where}: the robot ({r.describe()}) placed there overlaps obstacle {ob.id} "
-                                         f"(the reference point is {float(ob.distance(p[None, :])[0]):.3g} from it); {hint}")
-            if target.border == "wall":
-                bx0, by0, bx1, by1 = placed.bounds
-                if min(bx0 - xmin, xmax - bx1, by0 - ymin, ymax - by1) <= 0:
-                    raise GridfieldError(f"{where}: the robot ({r.describe()}) placed there touches the wall; {hint}")
+        _check_in_world(target, r, where, p)
+    elif isinstance(target, GridMap) and target.grid.contains(p)[0]:
+        _check_on_grid(target, r, where, p, cspace)
+
+
+_HINT = "move it or make the robot smaller"
+
+
+def _check_in_world(target: World, r: Robot, where: str, p: NDArray[np.float64]) -> None:
+    """:func:`check_robot_point` on a world's exact geometry."""
+    xmin, ymin, xmax, ymax = target.bounds
+    if not (xmin <= p[0] <= xmax and ymin <= p[1] <= ymax):
         return
-    if not isinstance(target, GridMap) or not target.grid.contains(p)[0]:
+    dists = [(float(ob.distance(p[None, :])[0]), f"obstacle {ob.id}") for ob in target.obstacles]
+    if target.border == "wall":
+        dists.append((float(min(p[0] - xmin, xmax - p[0], p[1] - ymin, ymax - p[1])), "the wall"))
+    if not dists:
         return
+    d, what = min(dists)
+    if r.radius is not None:
+        if d <= r.radius:
+            raise GridfieldError(f"{where} is {d:.3g} from {what}, within the robot ({r.describe()}); {_HINT}")
+        return
+    placed = r.outline(p)
+    for ob in target.obstacles:
+        hit = (placed.distance(Point(ob.center)) <= ob.radius
+               if ob.kind == "circle" and ob.center is not None and ob.radius is not None
+               else placed.intersects(ob.geometry))
+        if hit:
+            raise GridfieldError(f"{where}: the robot ({r.describe()}) placed there overlaps obstacle {ob.id} "
+                                 f"(the reference point is {float(ob.distance(p[None, :])[0]):.3g} from it); {_HINT}")
+    if target.border == "wall":
+        bx0, by0, bx1, by1 = placed.bounds
+        if min(bx0 - xmin, xmax - bx1, by0 - ymin, ymax - by1) <= 0:
+            raise GridfieldError(f"{where}: the robot ({r.describe()}) placed there touches the wall; {_HINT}")
+
+
+def _check_on_grid(target: GridMap, r: Robot, where: str, p: NDArray[np.float64],
+                   cspace: World | GridMap | None) -> None:
+    """:func:`check_robot_point` on a grid's occupied cells (and its grid C-space, when given)."""
     h = target.grid.resolution
     d = _grid_distance(target, p, r.extent + 2 * h)
     if r.radius is not None:
         if d <= r.radius:
             raise GridfieldError(f"{where} is {d:.3g} from the nearest occupied cell, within the robot "
-                                 f"({r.describe()}); {hint}")
+                                 f"({r.describe()}); {_HINT}")
     else:
         placed = r.outline(p)
         hits = rasterize_geometry(placed, target.grid) & target.occupied
@@ -432,7 +445,7 @@ def check_robot_point(
         outside = target.grid.border == "wall" and min(bx0 - xmin, xmax - bx1, by0 - ymin, ymax - by1) <= 0
         if hits.any() or outside:
             raise GridfieldError(f"{where}: the robot ({r.describe()}) placed there overlaps occupied cells "
-                                 f"(the reference point is {d:.3g} from the nearest); {hint}")
+                                 f"(the reference point is {d:.3g} from the nearest); {_HINT}")
     if isinstance(cspace, GridMap) and not cspace.is_free(p)[0]:
         if r.radius is not None:
             centre = target.grid.cell_to_world(np.asarray([target.grid.cell_of(float(p[0]), float(p[1]))]))[0]

@@ -28,7 +28,7 @@ from ..path import Path
 from ..world import Obstacle, Robot, World
 
 #: Planners the explorer offers, in order, when their module is installed.
-EXPLORER_PLANNERS = ("potential", "exact-potential", "wavefront-octile")
+EXPLORER_PLANNERS = ("potential", "exact-potential", "wavefront-octile", "navfn")
 #: Parameters with a slider.
 SLIDER_PARAMS = ("zeta", "eta", "q_star", "d_star", "step")
 #: The sliders each planner reads (the others are hidden while it is selected).
@@ -36,6 +36,7 @@ PLANNER_SLIDERS: dict[str, tuple[str, ...]] = {
     "potential": SLIDER_PARAMS,
     "exact-potential": SLIDER_PARAMS,
     "wavefront-octile": (),
+    "navfn": (),  # Nav2's NavFn: its costmap parameters have no slider (--param, the map's costmap)
 }
 
 
@@ -57,9 +58,9 @@ def available_planners(*, world: bool = True) -> list[str]:
     Examples
     --------
     >>> available_planners()
-    ['potential', 'exact-potential', 'wavefront-octile']
+    ['potential', 'exact-potential', 'wavefront-octile', 'navfn']
     >>> available_planners(world=False)
-    ['potential', 'wavefront-octile']
+    ['potential', 'wavefront-octile', 'navfn']
     """
     from ..planners import PLANNERS
 
@@ -398,6 +399,10 @@ class ExplorerModel:
             self.path, field = plan_with_field(self.planner, target, self.start, self.goal, self.params, resolution=None,
                                                cache=self._plan_cache(target, dmap))
             self.field = field if self.planner == "potential" else None
+            if self.planner == "navfn" and isinstance(target, GridMap):  # NavFn's potential, the field it descended
+                from ..navfn import navfn
+
+                self.field = navfn(target, np.asarray(self.goal), params=self.params)
         except GridfieldError:
             self.field = self._background_field()
             raise

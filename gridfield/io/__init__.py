@@ -8,6 +8,10 @@ Supported inputs (:func:`read` picks by file name):
 - bitmaps PNG, PGM (``P2`` ASCII and ``P5`` binary), BMP: :func:`read_bitmap`
 - Moving AI ``.map``: :func:`read_movingai_map`; scenarios ``.scen``: :func:`read_scen`
 - ``.npz`` arrays written by gridfield: :func:`read_npz`, :func:`read_npz_arrays`
+- maps larger than memory, read by chunks (a :class:`~gridfield._chunkcache.LazyGridMap`): BigTIFF /
+  GeoTIFF ``.tif``/``.tiff`` (:func:`read_tiff`), ``.npy`` memory maps (:func:`read_npy`), plain Zarr arrays
+  (:func:`read_zarr_array`); and gridfield's Zarr stores (``gridfield brushfire/field ... --out F.zarr``,
+  :func:`write_store`), read as lazy maps, distance maps or fields (:func:`read_store`)
 
 Nav2 costmaps (a raw-mode map YAML with a ``costmap:`` mapping, read as a
 :class:`~gridfield.costmap.Costmap`): :func:`read_costmap`, :func:`write_costmap`; the fields of a
@@ -28,7 +32,8 @@ naming the file (and the line, key or value at fault); errors of the underlying 
 
 Layout of the package (one format per module): ``_common`` (file checks), ``_yaml`` (YAML and
 world files, with the alias-bomb guard), ``_bitmap``, ``_ros``, ``_movingai``, ``_npz`` (also the
-fields' :func:`save_field` / :func:`load_field`); this ``__init__`` re-exports their public names and
+fields' :func:`save_field` / :func:`load_field`), ``_tiff`` (BigTIFF/GeoTIFF and ``.npy`` read by chunks),
+``_zarr`` (gridfield's Zarr store and plain Zarr arrays); this ``__init__`` re-exports their public names and
 holds :func:`read`, which picks the reader by file name, and :func:`bundled_map`. The submodules are
 private: import from ``gridfield.io``.
 """
@@ -36,13 +41,14 @@ private: import from ``gridfield.io``.
 from __future__ import annotations
 
 import inspect
+import os
 from collections.abc import Callable, Mapping
 from pathlib import Path as FsPath
 from typing import Any
 
 from ..errors import MapFormatError, ParameterError, shorten
 from ..grid import GridMap
-from ..world import World, world_from_dict
+from ..world import world_from_dict
 from ._bitmap import UNKNOWN_CHOICES as UNKNOWN_CHOICES
 from ._bitmap import read_bitmap, write_bitmap
 from ._common import PathLike as PathLike
@@ -55,11 +61,14 @@ from ._npz import NPZ_ARRAY_NAMES, load_field, read_npz, read_npz_arrays, save_f
 from ._ros import ROS_MODES as ROS_MODES
 from ._ros import SEMANTICS as SEMANTICS
 from ._ros import read_ros_map, ros_occupancy_values, write_ros_map
+from ._tiff import read_npy, read_tiff
 from ._yaml import YAML_EXPANDED_LIMIT as YAML_EXPANDED_LIMIT
 from ._yaml import read_world, read_yaml
+from ._zarr import STORE_ARRAYS, read_store, read_zarr, read_zarr_array, write_store
 
 __all__ = [
     "NPZ_ARRAY_NAMES",
+    "STORE_ARRAYS",
     "Scenarios",
     "bundled_map",
     "from_occupancy_grid",
@@ -68,13 +77,18 @@ __all__ = [
     "read_bitmap",
     "read_costmap",
     "read_movingai_map",
+    "read_npy",
     "read_npz",
     "read_npz_arrays",
     "read_occupancy_grid",
     "read_ros_map",
     "read_scen",
+    "read_store",
+    "read_tiff",
     "read_world",
     "read_yaml",
+    "read_zarr",
+    "read_zarr_array",
     "ros_occupancy_values",
     "save_field",
     "to_occupancy_grid",
@@ -82,6 +96,7 @@ __all__ = [
     "write_costmap",
     "write_npz",
     "write_ros_map",
+    "write_store",
 ]
 
 
@@ -130,8 +145,9 @@ def _check_options(reader: Callable[..., Any], options: Mapping[str, Any], p: Fs
         raise ParameterError(f"{p}: option{'s' if len(bad) > 1 else ''} {', '.join(bad)} {verb} to a {what}; {takes}")
 
 
-def read(path: PathLike, **options: Any) -> World | GridMap:
-    """Read any supported map or world file; a world YAML gives a :class:`World`, the rest a :class:`GridMap`.
+def read(path: PathLike, **options: Any) -> Any:
+    """Read any supported map or world file; a world YAML gives a :class:`World`, the rest a :class:`GridMap`
+    (a lazy one for the formats read by chunks; a gridfield Zarr store gives what it holds).
 
     ``options`` go to the format's reader (e.g. ``unknown="free"`` for ROS maps, ``resolution``
     for bitmaps). Options whose value is ``None`` mean "the default" and are dropped; an
@@ -141,14 +157,16 @@ def read(path: PathLike, **options: Any) -> World | GridMap:
     ----------
     path : str or path-like
         ``.yaml``/``.yml`` (a world, a Nav2 costmap (:func:`read_costmap`) when it has a ``costmap:`` key, or a ROS map when it names an ``image`` or has an ``origin`` but no
-        ``bounds``), ``.png``/``.pgm``/``.bmp``, ``.map`` (Moving AI) or ``.npz`` (gridfield).
+        ``bounds``), ``.png``/``.pgm``/``.bmp``, ``.map`` (Moving AI), ``.npz`` (gridfield),
+        ``.tif``/``.tiff`` (BigTIFF/GeoTIFF), ``.npy`` or a ``.zarr`` directory (a gridfield store or a
+        plain array), the last three read by chunks.
     **options
         Keyword options of the format's reader (:func:`read_ros_map`, :func:`read_bitmap`,
         :func:`read_movingai_map`; a world file and ``.npz`` take none).
 
     Returns
     -------
-    World or GridMap
+    World, GridMap, LazyGridMap, DistanceMap or Field
         What the format's reader returns.
 
     Examples
@@ -156,8 +174,12 @@ def read(path: PathLike, **options: Any) -> World | GridMap:
     >>> type(read(bundled_map("seed000.yaml"))).__name__, read(bundled_map("arena/arena.map")).shape
     ('World', (49, 49))
     """
-    p = _check_file(path)
     options = {k: v for k, v in options.items() if v is not None}
+    if isinstance(path, str | os.PathLike) and (
+            (FsPath(path).suffix.lower() == ".zarr" and not FsPath(path).is_file())
+            or (FsPath(path) / "zarr.json").is_file()):
+        return read_zarr(path, **options)  # a directory: a Zarr store or array
+    p = _check_file(path)
     suffix = p.suffix.lower()
     reader: Callable[..., GridMap]
     if suffix in (".yaml", ".yml"):
@@ -184,10 +206,14 @@ def read(path: PathLike, **options: Any) -> World | GridMap:
         reader, what = read_movingai_map, "Moving AI map"
     elif suffix == ".npz":
         reader, what = read_npz, "gridfield .npz file"
+    elif suffix in (".tif", ".tiff"):
+        reader, what = read_tiff, "TIFF raster"
+    elif suffix == ".npy":
+        reader, what = read_npy, ".npy array"
     else:
         raise MapFormatError(
             f"{p}: unknown map format {shorten(suffix)}; expected a world or ROS map .yaml, a .png/.pgm/.bmp bitmap, "
-            "a Moving AI .map or a gridfield .npz"
+            "a Moving AI .map, a gridfield .npz, a .tif/.tiff raster, a .npy array or a .zarr store"
         )
     _check_options(reader, options, p, what)
     return reader(p, **options)

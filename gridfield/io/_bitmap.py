@@ -21,7 +21,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import GridfieldError, MapFormatError, ParameterError, shorten
+from ..errors import GridfieldError, MapFormatError, ParameterError, SizeLimitError, shorten
 from ..grid import BORDERS, Grid, GridMap
 from ..limits import check_cells
 from ._common import PathLike, _check_file, _choice, _read_bytes
@@ -98,7 +98,7 @@ def _pnm_header(p: FsPath, data: bytes) -> tuple[bytes, list[int], int]:
 def _read_pgm(p: FsPath, data: bytes) -> _Pixels:
     """Decode a ``P2`` (ASCII) or ``P5`` (binary) PGM, 8 or 16 bits, to grey levels 0..255."""
     magic, (width, height, maxval), pos = _pnm_header(p, data)
-    check_cells((height, width), f"{p} (PGM header)")
+    _check_bitmap_cells((height, width), f"{p} (PGM header)")
     n = width * height
     if magic == b"P5":
         itemsize = 1 if maxval < 256 else 2
@@ -129,6 +129,19 @@ def _read_pgm(p: FsPath, data: bytes) -> _Pixels:
     return _Pixels(grey[..., None], "PGM")
 
 
+#: What a bitmap's size error adds: bitmaps are decoded whole, the big-map formats are read by chunks.
+IN_MEMORY_NOTE = ("PNG, PGM and BMP are in-memory formats (decoded whole); for a map larger than memory use a "
+                  "BigTIFF/GeoTIFF, a .npy file (memory-mapped) or a Zarr array, read by chunks "
+                  "(gridfield brushfire MAP --chunks N --out F.zarr)")
+
+
+def _check_bitmap_cells(shape: tuple[int, int], what: str) -> None:
+    try:
+        check_cells(shape, what)
+    except SizeLimitError as e:
+        raise SizeLimitError(f"{e}. {IN_MEMORY_NOTE}") from None
+
+
 def _read_pillow(p: FsPath, data: bytes) -> _Pixels:
     from PIL import Image, UnidentifiedImageError
 
@@ -141,7 +154,7 @@ def _read_pillow(p: FsPath, data: bytes) -> _Pixels:
             Image.MAX_IMAGE_PIXELS = None
             with Image.open(_io.BytesIO(data)) as im:
                 width, height = im.size
-                check_cells((height, width), f"{p} (image header)")
+                _check_bitmap_cells((height, width), f"{p} (image header)")
                 im.load()
                 fmt = im.format or "image"
                 mode = im.mode

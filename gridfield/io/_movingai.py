@@ -69,6 +69,36 @@ def _scen_lines(p: FsPath) -> Iterator[tuple[int, str]]:
         raise MapFormatError(f"{p}: cannot read: {e.strerror or e}") from None
 
 
+def _map_header(p: Any, lines: list[str]) -> tuple[dict[str, str], int]:
+    """The header of a Moving AI map (``type``, ``height``, ``width``, checked) and the index of its ``map`` line."""
+    header: dict[str, str] = {}
+    map_line = None
+    for i, raw in enumerate(lines):
+        ln = raw.strip()
+        if not ln:
+            continue
+        if ln.lower() == "map":
+            map_line = i
+            break
+        parts = ln.split()
+        if len(parts) != 2 or parts[0].lower() not in ("type", "height", "width"):
+            raise MapFormatError(
+                f"{p}: line {i + 1}: expected a header line 'type octile', 'height H', 'width W' or 'map', "
+                f"got {shorten(raw[:40])}"
+            )
+        header[parts[0].lower()] = parts[1]
+    if map_line is None:
+        raise MapFormatError(f"{p}: no 'map' line; a Moving AI map starts with type, height, width and 'map' lines")
+    for key in ("type", "height", "width"):
+        if key not in header:
+            raise MapFormatError(f"{p}: header has no '{key}' line before 'map' (line {map_line + 1})")
+    for key in ("height", "width"):
+        v = header[key]
+        if not v.isdigit() or int(v) <= 0:
+            raise MapFormatError(f"{p}: '{key}' must be a positive integer, got {shorten(v)}")
+    return header, map_line
+
+
 def read_movingai_map(path: PathLike, *, border: Literal["open", "wall"] = "wall") -> GridMap:
     """Read a Moving AI benchmark ``.map`` file.
 
@@ -103,34 +133,8 @@ def read_movingai_map(path: PathLike, *, border: Literal["open", "wall"] = "wall
     _choice("border", border, BORDERS)
     p = _check_file(path)
     lines = _text_lines(p, "Moving AI map")
-    header: dict[str, str] = {}
-    map_line = None
-    for i, raw in enumerate(lines):
-        ln = raw.strip()
-        if not ln:
-            continue
-        if ln.lower() == "map":
-            map_line = i
-            break
-        parts = ln.split()
-        if len(parts) != 2 or parts[0].lower() not in ("type", "height", "width"):
-            raise MapFormatError(
-                f"{p}: line {i + 1}: expected a header line 'type octile', 'height H', 'width W' or 'map', "
-                f"got {shorten(raw[:40])}"
-            )
-        header[parts[0].lower()] = parts[1]
-    if map_line is None:
-        raise MapFormatError(f"{p}: no 'map' line; a Moving AI map starts with type, height, width and 'map' lines")
-    for key in ("type", "height", "width"):
-        if key not in header:
-            raise MapFormatError(f"{p}: header has no '{key}' line before 'map' (line {map_line + 1})")
-    size: dict[str, int] = {}
-    for key in ("height", "width"):
-        v = header[key]
-        if not v.isdigit() or int(v) <= 0:
-            raise MapFormatError(f"{p}: '{key}' must be a positive integer, got {shorten(v)}")
-        size[key] = int(v)
-    h, w = size["height"], size["width"]
+    header, map_line = _map_header(p, lines)
+    h, w = int(header["height"]), int(header["width"])
     check_cells((h, w), f"{p} (Moving AI header)")
 
     first = map_line + 1
@@ -257,6 +261,35 @@ class Scenarios:
         return half_ulp + 1e-5 * length
 
 
+def _scen_fields(p: Any, i: int, raw: str, ln: str, cols: list[list[Any]]) -> list[str]:
+    """The 9 fields of data line ``i`` of a scenario file, checked and appended to ``cols``."""
+    parts = raw.strip("\n").split("\t") if "\t" in raw else ln.split()
+    parts = [s.strip() for s in parts]
+    if len(parts) != 9:
+        raise MapFormatError(
+            f"{p}: line {i + 1}: expected 9 fields (bucket map width height start_x start_y goal_x goal_y "
+            f"optimal), got {len(parts)}"
+        )
+    for j, s in enumerate(parts):
+        if len(s) > _SCEN_FIELD_MAX:
+            raise MapFormatError(f"{p}: line {i + 1}: the {_SCEN_FIELDS[j]} field is {len(s)} characters long; "
+                                 f"a scenario field has at most {_SCEN_FIELD_MAX}")
+        kind = np.float64 if j == 8 else np.int64 if j != 1 else None
+        if kind is None:
+            name = os.path.basename(s.replace("\\", "/"))
+            if len(name) > _SCEN_NAME_MAX:
+                raise MapFormatError(f"{p}: line {i + 1}: the map name is {len(name)} characters long; a file "
+                                     f"name has at most {_SCEN_NAME_MAX}")
+            cols[1].append(name)
+            continue
+        try:
+            cols[j].append(kind(s))
+        except (ValueError, OverflowError):
+            what = "optimal length" if j == 8 else _SCEN_FIELDS[j]
+            raise MapFormatError(f"{p}: line {i + 1}: {what} must be a number (in range), got {shorten(s)}") from None
+    return parts
+
+
 def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
     """Read a Moving AI scenario file (``.scen``).
 
@@ -300,30 +333,7 @@ def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
         if not numbers and not version and ln.lower().startswith("version"):
             version = ln.split(None, 1)[1].strip() if len(ln.split()) > 1 else ""
             continue
-        parts = raw.strip("\n").split("\t") if "\t" in raw else ln.split()
-        parts = [s.strip() for s in parts]
-        if len(parts) != 9:
-            raise MapFormatError(
-                f"{p}: line {i + 1}: expected 9 fields (bucket map width height start_x start_y goal_x goal_y "
-                f"optimal), got {len(parts)}"
-            )
-        for j, s in enumerate(parts):
-            if len(s) > _SCEN_FIELD_MAX:
-                raise MapFormatError(f"{p}: line {i + 1}: the {_SCEN_FIELDS[j]} field is {len(s)} characters long; "
-                                     f"a scenario field has at most {_SCEN_FIELD_MAX}")
-            kind = np.float64 if j == 8 else np.int64 if j != 1 else None
-            if kind is None:
-                name = os.path.basename(s.replace("\\", "/"))
-                if len(name) > _SCEN_NAME_MAX:
-                    raise MapFormatError(f"{p}: line {i + 1}: the map name is {len(name)} characters long; a file "
-                                         f"name has at most {_SCEN_NAME_MAX}")
-                cols[1].append(name)
-                continue
-            try:
-                cols[j].append(kind(s))
-            except (ValueError, OverflowError):
-                what = "optimal length" if j == 8 else _SCEN_FIELDS[j]
-                raise MapFormatError(f"{p}: line {i + 1}: {what} must be a number (in range), got {shorten(s)}") from None
+        parts = _scen_fields(p, i, raw, ln, cols)
         dot = parts[8].find(".")
         decimals = max(decimals, len(parts[8]) - dot - 1 if dot >= 0 else 0)
         numbers.append(i + 1)

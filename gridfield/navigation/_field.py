@@ -12,7 +12,6 @@ start into a planner's :class:`~gridfield.path.Path`.
 
 from __future__ import annotations
 
-import functools
 import math
 import time
 from collections.abc import Mapping
@@ -23,6 +22,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._kernels import kernels
 from ..errors import ParameterError
 from ..grid import Grid, GridMap
 from ..params import Navigation, Repulsion, validate
@@ -34,11 +34,8 @@ COSTS = ("unit", "octile")
 SQRT2 = math.sqrt(2.0)
 
 
-@functools.cache
 def _kernels() -> Any:
-    from .. import _kernels_navigation  # type: ignore[attr-defined]  # a compiled extension, no stubs
-
-    return _kernels_navigation
+    return kernels("navigation")
 
 
 # ----------------------------------------------------------------------------------------------

@@ -309,9 +309,33 @@ def plot_potential(
     (True, [[5.0, 4.0]])
     >>> import matplotlib.pyplot as plt; plt.close(art.figure)
     """
-    from matplotlib.colors import LogNorm, Normalize
-
     grid = _grid_of(field)
+    finite = _potential_free_cells(field, grid, levels)
+    z, lo, hi, label = _potential_scale(np.asarray(field.potential, dtype=float), finite, cap, log)
+    ax = _new_axes(ax)
+    art = Artists(ax)
+    _draw_potential_shading(ax, art, grid, z, lo, hi, log, levels, cmap)
+    _draw_potential_obstacles(ax, art, grid, finite, _world_of(field))
+    if quiver:
+        art.quiver = _decimated_quiver(ax, grid, np.asarray(field.grad_x, dtype=float),
+                                       np.asarray(field.grad_y, dtype=float), finite, quiver_step)
+    _draw_potential_run(ax, art, field, grid, path, stall_points)
+    if colorbar:
+        art.colorbar = ax.figure.colorbar(art.mappable, ax=ax, shrink=0.85, label=label)
+        if log:
+            art.colorbar.set_ticks(_log_ticks(lo, hi))
+    shown = [path.points] if path is not None else []
+    if stall_points is not None:
+        shown.append(_points_or_empty(stall_points, "stall_points"))
+    _frame(ax, grid.bounds, shown)
+    ax.set_title(title if title is not None else "potential")
+    if path is not None or "stall" in art.markers:
+        _legend(ax, art)
+    return art
+
+
+def _potential_free_cells(field: Any, grid: Grid, levels: int) -> NDArray[np.bool_]:
+    """plot_potential, phase 1: check the input; the free cells with a finite potential."""
     gm = _gridmap_of(field)
     u = np.asarray(field.potential, dtype=float)
     if u.shape != grid.shape:
@@ -323,13 +347,16 @@ def plot_potential(
         raise GridfieldError("the potential has no finite value on a free cell; nothing to plot")
     if levels < 2:
         raise ParameterError(f"levels must be at least 2, got {levels}")
-    z, lo, hi, label = _potential_scale(u, finite, cap, log)
-    ax = _new_axes(ax)
-    art = Artists(ax)
-    xs, ys = grid.cell_centers()
+    return finite
+
+
+def _draw_potential_shading(ax: Axes, art: Artists, grid: Grid, z: NDArray[np.float64], lo: float, hi: float,
+                            log: bool, levels: int, cmap: str) -> None:
+    """plot_potential, phase 2: the potential as filled contours (an image on a single row or column)."""
+    from matplotlib.colors import LogNorm, Normalize
+
     # Obstacle cells hold the top of the colour range (the potential is +inf there) instead of
     # being masked, so that the filled contours reach the obstacle overlay without white gaps.
-    zm = z
     if log:
         lv = np.geomspace(lo, hi, levels)
         norm: Any = LogNorm(vmin=lo, vmax=hi)
@@ -339,28 +366,34 @@ def plot_potential(
     if min(grid.shape) >= 2:
         # Contour on the cell centres plus the grid's outer edges (edge values repeated), so that
         # the filled contours cover the whole extent like the images do.
+        xs, ys = grid.cell_centers()
         xe = np.concatenate([[grid.bounds[0]], xs, [grid.bounds[2]]])
         ye = np.concatenate([[grid.bounds[1]], ys, [grid.bounds[3]]])
-        art.contours = ax.contourf(xe, ye, np.pad(zm, 1, mode="edge"), levels=lv, norm=norm, cmap=cmap, zorder=0)
+        art.contours = ax.contourf(xe, ye, np.pad(z, 1, mode="edge"), levels=lv, norm=norm, cmap=cmap, zorder=0)
         art.mappable = art.contours
     else:  # a single row or column cannot be contoured
-        art.mappable = ax.imshow(zm, origin="lower", extent=grid.extent, cmap=cmap, norm=norm,
+        art.mappable = ax.imshow(z, origin="lower", extent=grid.extent, cmap=cmap, norm=norm,
                                  interpolation="nearest", zorder=0)
+
+
+def _draw_potential_obstacles(ax: Axes, art: Artists, grid: Grid, finite: NDArray[np.bool_], world: Any) -> None:
+    """plot_potential, phase 3: the obstacle overlay (cells without a finite potential) and the world's outlines."""
     occ = ~finite
     if occ.any():
-        data = np.ma.masked_array(np.ones(grid.shape), mask=~occ)
         from matplotlib.colors import ListedColormap
 
+        data = np.ma.masked_array(np.ones(grid.shape), mask=~occ)
         art.image = ax.imshow(data, origin="lower", extent=grid.extent, cmap=ListedColormap([OCCUPIED_COLOR]),
                               vmin=0.5, vmax=1.5, interpolation="nearest", zorder=1)
         art.obstacles.append(art.image)
-    world = _world_of(field)
     if world is not None:
         art.obstacles += _draw_outlines(ax, world, color="white", zorder=2)
-    if quiver:
-        gx = np.asarray(field.grad_x, dtype=float)
-        gy = np.asarray(field.grad_y, dtype=float)
-        art.quiver = _decimated_quiver(ax, grid, gx, gy, finite, quiver_step)
+
+
+def _draw_potential_run(ax: Axes, art: Artists, field: Any, grid: Grid, path: Path | None,
+                        stall_points: ArrayLike | None) -> None:
+    """plot_potential, phase 4: the path (with its stall points), explicit stall points, start and goal."""
+    world = _world_of(field)
     if path is not None:
         # the map is the world's bounds where there is a world (a vortex lattice reaches beyond them)
         _draw_paths(ax, [path], art, styles=[{"color": "tab:red"}],
@@ -376,18 +409,6 @@ def plot_potential(
     start = path.points[0] if path is not None and len(path.points) else None
     goal = getattr(field, "goal", None)
     _draw_endpoints(ax, art, _point_or_none(start, "start"), _point_or_none(goal, "goal"))
-    if colorbar:
-        art.colorbar = ax.figure.colorbar(art.mappable, ax=ax, shrink=0.85, label=label)
-        if log:
-            art.colorbar.set_ticks(_log_ticks(lo, hi))
-    shown = [path.points] if path is not None else []
-    if stall_points is not None:
-        shown.append(_points_or_empty(stall_points, "stall_points"))
-    _frame(ax, grid.bounds, shown)
-    ax.set_title(title if title is not None else "potential")
-    if path is not None or "stall" in art.markers:
-        _legend(ax, art)
-    return art
 
 
 def plot_surface(
@@ -618,6 +639,7 @@ def plot_basins(
     grid: Grid | None = None,
     max_legend: int = 6,
     title: str | None = None,
+    legend_loc: str = "best",
 ) -> Artists:
     """Each free cell coloured by where gradient descent from it ends.
 
@@ -632,6 +654,10 @@ def plot_basins(
         Needed only when ``basins`` does not carry its grid.
     max_legend : int
         At most this many local-minimum basins get a legend entry (largest first).
+    title : str, optional
+    legend_loc : str
+        Where the legend goes: matplotlib's ``loc`` (``"best"`` avoids the markers, not the obstacles), or
+        ``"below"``: under the axes in two columns, covering nothing of the map.
 
     Returns
     -------
@@ -676,13 +702,15 @@ def plot_basins(
     goal_cell = getattr(basins, "goal_cell", None)
     # label 1 drains to where the goal cell's descent ends: the goal itself, or a sink off it (the
     # repulsion of nearby obstacles displaces the minimum), and then it is no "goal basin"
-    off = None
+    off, beside = None, False
     if len(minima) == n and goal_cell is not None:
         sink = grid.cell_of(float(minima[0][0]), float(minima[0][1]))
         off = minima[0] if sink is not None and tuple(sink) != tuple(goal_cell) else None
+        beside = off is not None and max(abs(int(a) - int(b)) for a, b in zip(sink, goal_cell, strict=True)) == 1  # type: ignore[arg-type]
+    near = ", the cell beside the goal's" if beside else ""
     first = (f"goal basin ({_share(int(counts[1]), nfree, 0)})" if off is None else
-             f"basin of the goal cell's sink ({_share(int(counts[1]), nfree, 0)}; the sink is off the goal, "
-             f"at ({off[0]:.3g}, {off[1]:.3g}))")
+             f"basin of the goal cell's sink ({_share(int(counts[1]), nfree, 0)};\nthe sink is off the goal, "
+             f"at ({off[0]:.4g}, {off[1]:.4g}){near})")
     handles = [Patch(facecolor=colors[1], edgecolor="0.3", label=first)]
     order = np.argsort(-counts[2:], kind="stable")[:max_legend] + 2 if n >= 2 else np.empty(0, int)
     for k in order:
@@ -709,7 +737,9 @@ def plot_basins(
         handles.append(art.markers["goal"])
     if hidden > 0:
         handles.append(Patch(facecolor="none", edgecolor="none", label=f"(+{hidden} smaller basins)"))
-    art.legend = ax.legend(handles=handles, loc="best", fontsize=7.5, framealpha=0.85)
+    where: dict[str, Any] = ({"loc": "upper center", "bbox_to_anchor": (0.5, -0.1), "ncols": 2}
+                             if legend_loc == "below" else {"loc": legend_loc})
+    art.legend = ax.legend(handles=handles, fontsize=7.5, framealpha=0.85, **where)
     _frame(ax, grid.bounds)
     ax.set_title(title if title is not None else "basins of attraction")
     return art

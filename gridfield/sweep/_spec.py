@@ -183,11 +183,9 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
     >>> len(runs), output.name, sorted({r.planner for r in runs}), sum(r.any_angle for r in runs)
     (80, 'sweep_example.csv', ['potential', 'wavefront-octile'], 40)
     """
-    from ..grid import Grid, GridMap
-    from ..io import read, read_scen, read_yaml
+    from ..io import read_yaml
+    from ..limits import job_planners
     from ..planners import PLANNERS
-    from ..rasterize import as_gridmap
-    from ..world import World
 
     spec_path = FsPath(path)
     spec = read_yaml(spec_path)
@@ -200,6 +198,24 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
         output = _spec_path(spec.get("output", spec_path.with_suffix(".csv").name), base, f"{where}: output")
     output = FsPath(output)
     _Journal.check_unlocked(output)
+    planners = _spec_planners(spec, where)
+    combos = _spec_combos(spec, planners, where)
+    job_planners([p for p in planners if PLANNERS[p][2] == "grid"])  # each map below is sized for them
+
+    any_angle_all = _flag(spec, "optimal_any_angle", where)
+    maps = _need(spec, "maps", where)
+    if not isinstance(maps, list) or not maps:
+        raise MapFormatError(f"{where}: maps must be a non-empty list")
+    runs: list[Run] = []
+    for i, entry in enumerate(maps):
+        runs += _map_runs(entry, f"{where}: maps[{i}]", spec, base, planners, combos, len(runs), any_angle_all)
+    return runs, output
+
+
+def _spec_planners(spec: Mapping[str, Any], where: str) -> list[str]:
+    """The spec's ``planners`` (a name or a non-empty list of known names)."""
+    from ..planners import PLANNERS
+
     planners = spec.get("planners", ["potential"])
     if isinstance(planners, str):
         planners = [planners]
@@ -208,6 +224,12 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
     for p in planners:
         if not isinstance(p, str) or p not in PLANNERS:
             raise MapFormatError(f"{where}: planners: unknown planner {shorten(p)}; expected one of {', '.join(PLANNERS)}")
+    return planners
+
+
+def _spec_combos(spec: Mapping[str, Any], planners: list[str], where: str) -> list[dict[str, Any]]:
+    """Every combination of the spec's ``params`` values, validated for every planner (after the run
+    count is bounded arithmetically, before anything is expanded)."""
     grid = spec.get("params") or {}
     if not isinstance(grid, Mapping):
         raise MapFormatError(f"{where}: params must map parameter names to a value or a list of values")
@@ -236,95 +258,117 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
             except ParameterError as e:
                 raise MapFormatError(f"{where}: params ({planner}): {e}") from None
         combos.append(params)
-    from ..limits import job_planners
+    return combos
 
-    job_planners([p for p in planners if PLANNERS[p][2] == "grid"])  # each map below is sized for them
 
-    any_angle_all = _flag(spec, "optimal_any_angle", where)
-    maps = _need(spec, "maps", where)
-    if not isinstance(maps, list) or not maps:
-        raise MapFormatError(f"{where}: maps must be a non-empty list")
-    runs: list[Run] = []
-    for i, entry in enumerate(maps):
-        w = f"{where}: maps[{i}]"
-        if isinstance(entry, str):
-            entry = {"path": entry}
-        if not isinstance(entry, Mapping):
-            raise MapFormatError(f"{w}: expected a map file name or a mapping with 'path', got {shorten(entry)}")
-        _unknown_keys(entry, MAP_KEYS, w)
-        map_path = _spec_path(_need(entry, "path", w), base, f"{w}.path")
-        resolution = entry.get("resolution")
-        robot = _robot_key(entry, spec, w)
-        if resolution is not None:
-            try:
-                resolution = check_positive("resolution", resolution if isinstance(resolution, int | float) and not  # type: ignore[arg-type]  # "" is rejected by check_positive on purpose
-                                            isinstance(resolution, bool) else "")
-            except ParameterError:
-                raise MapFormatError(f"{w}.resolution: must be a positive finite number, got {shorten(resolution)}") from None
+def _map_runs(entry: Any, w: str, spec: Mapping[str, Any], base: FsPath, planners: list[str],
+              combos: list[dict[str, Any]], before: int, any_angle_all: bool) -> list[Run]:
+    """The runs of one ``maps`` entry (``before``: the runs of the entries before it)."""
+    from ..world import World
+
+    if isinstance(entry, str):
+        entry = {"path": entry}
+    if not isinstance(entry, Mapping):
+        raise MapFormatError(f"{w}: expected a map file name or a mapping with 'path', got {shorten(entry)}")
+    _unknown_keys(entry, MAP_KEYS, w)
+    map_path = _spec_path(_need(entry, "path", w), base, f"{w}.path")
+    resolution = entry.get("resolution")
+    robot = _robot_key(entry, spec, w)
+    if resolution is not None:
         try:
-            target = _with_robot(read(map_path), robot)
-            # the grid every grid planner will use, sized against the memory limit before anything runs
-            gm = as_gridmap(target, resolution) if isinstance(target, GridMap) or entry.get("random_pairs") or (
-                entry.get("scenarios")) else None
-            if gm is None and isinstance(target, World):
-                res = resolution if resolution is not None else target.resolution
-                if res is not None:
-                    Grid.covering(target.bounds, res)
-                elif any(PLANNERS[p][2] == "grid" for p in planners):
-                    raise MapFormatError(f"{map_path}: a world without 'resolution'; give the map entry a resolution")
-        except GridfieldError as e:
-            raise MapFormatError(f"{w}: {e}") from None
-        if not isinstance(target, World) and not isinstance(getattr(target, "world", None), World):
-            exact = [p for p in planners if PLANNERS[p][2] == "world" and p not in GRID_MAP_EXACT]
-            if exact:
-                raise MapFormatError(f"{w}: planner {exact[0]!r} needs a vector world, but {map_path.name} is a grid map")
-        pairs = _pairs(entry, w)
-        rp = entry.get("random_pairs")
-        if rp is not None:
-            if not isinstance(rp, Mapping):
-                raise MapFormatError(f"{w}.random_pairs: expected a mapping {{n: N, seed: S}}, got {shorten(rp)}")
-            _unknown_keys(rp, ("n", "seed"), f"{w}.random_pairs")
-            n = _integer(rp.get("n", 10), f"{w}.random_pairs.n", minimum=1)
-            if n > MAX_RUNS:
-                raise MapFormatError(f"{w}.random_pairs.n: {n} pairs exceed {MAX_RUNS:g} runs")
-            if len(runs) + len(planners) * len(combos) * (len(pairs) + n) > _run_limit():
-                raise _too_many(w, len(runs) + len(planners) * len(combos) * (len(pairs) + n),
-                                f"with this entry's {n} random pairs")
-            seed = _integer(rp.get("seed", 0), f"{w}.random_pairs.seed", minimum=0)
-            try:
-                pairs += _random_pairs(gm, n, seed)
-            except GridfieldError as e:
-                raise MapFormatError(f"{w}.random_pairs: {e}") from None
-        if entry.get("limit") is not None and not entry.get("scenarios"):
-            raise MapFormatError(f"{w}.limit: limits the scenarios, but the entry has no 'scenarios'")
-        if entry.get("scenarios") is not None:
-            scen_path = _spec_path(entry["scenarios"], base, f"{w}.scenarios")
-            try:
-                scen = read_scen(scen_path)
-            except GridfieldError as e:
-                raise MapFormatError(f"{w}.scenarios: {e}") from None
-            assert gm is not None
-            wrong = np.flatnonzero((scen.width != gm.shape[1]) | (scen.height != gm.shape[0]))
-            if wrong.size:
-                k = int(wrong[0])
-                raise MapFormatError(
-                    f"{w}.scenarios: {scen_path.name}: scenario {k + 1} is for a {scen.width[k]} x {scen.height[k]} "
-                    f"map (width x height), but {map_path.name} is {gm.shape[1]} x {gm.shape[0]} cells"
-                )
-            limit = _integer(entry.get("limit", len(scen)), f"{w}.limit", minimum=1)
-            idx = np.flatnonzero(~scen.no_path)[:limit]
-            pairs += [(tuple(scen.start_xy[k]), tuple(scen.goal_xy[k]), float(scen.optimal[k])) for k in idx]
-        if not pairs and isinstance(target, World) and target.start and target.goal:
-            pairs.append((target.start, target.goal, math.nan))
-        if not pairs:
-            raise MapFormatError(f"{w}: no start/goal pairs (give pairs, random_pairs or scenarios)")
-        if len(runs) + len(planners) * len(combos) * len(pairs) > _run_limit():
-            raise _too_many(w, len(runs) + len(planners) * len(combos) * len(pairs), f"up to {w}")
-        any_angle = _flag(entry, "optimal_any_angle", w, default=any_angle_all)
-        for planner, params, (s, g, opt) in itertools.product(planners, combos, pairs):
-            runs.append(Run(str(map_path), resolution, planner, tuple(sorted(params.items())), s, g, opt, robot,
-                            any_angle))
-    return runs, output
+            resolution = check_positive("resolution", resolution if isinstance(resolution, int | float) and not  # type: ignore[arg-type]  # "" is rejected by check_positive on purpose
+                                        isinstance(resolution, bool) else "")
+        except ParameterError:
+            raise MapFormatError(f"{w}.resolution: must be a positive finite number, got {shorten(resolution)}") from None
+    target, gm = _map_target(entry, w, map_path, resolution, robot, planners)
+    pairs = _pairs(entry, w)
+    pairs += _random_entry_pairs(entry, w, gm, len(pairs), before, len(planners) * len(combos))
+    pairs += _scenario_pairs(entry, w, base, map_path, gm)
+    if not pairs and isinstance(target, World) and target.start and target.goal:
+        pairs.append((target.start, target.goal, math.nan))
+    if not pairs:
+        raise MapFormatError(f"{w}: no start/goal pairs (give pairs, random_pairs or scenarios)")
+    if before + len(planners) * len(combos) * len(pairs) > _run_limit():
+        raise _too_many(w, before + len(planners) * len(combos) * len(pairs), f"up to {w}")
+    any_angle = _flag(entry, "optimal_any_angle", w, default=any_angle_all)
+    return [Run(str(map_path), resolution, planner, tuple(sorted(params.items())), s, g, opt, robot, any_angle)
+            for planner, params, (s, g, opt) in itertools.product(planners, combos, pairs)]
+
+
+def _map_target(entry: Mapping[str, Any], w: str, map_path: FsPath, resolution: float | None,
+                robot: tuple[Any, ...], planners: list[str]) -> tuple[Any, Any]:
+    """The entry's map (read, the robot applied) and the grid the grid planners will use, sized against
+    the memory limit before anything runs (None when no grid is needed yet)."""
+    from ..grid import Grid, GridMap
+    from ..io import read
+    from ..planners import PLANNERS
+    from ..rasterize import as_gridmap
+    from ..world import World
+
+    try:
+        target = _with_robot(read(map_path), robot)
+        gm = as_gridmap(target, resolution) if isinstance(target, GridMap) or entry.get("random_pairs") or (
+            entry.get("scenarios")) else None
+        if gm is None and isinstance(target, World):
+            res = resolution if resolution is not None else target.resolution
+            if res is not None:
+                Grid.covering(target.bounds, res)
+            elif any(PLANNERS[p][2] == "grid" for p in planners):
+                raise MapFormatError(f"{map_path}: a world without 'resolution'; give the map entry a resolution")
+    except GridfieldError as e:
+        raise MapFormatError(f"{w}: {e}") from None
+    if not isinstance(target, World) and not isinstance(getattr(target, "world", None), World):
+        exact = [p for p in planners if PLANNERS[p][2] == "world" and p not in GRID_MAP_EXACT]
+        if exact:
+            raise MapFormatError(f"{w}: planner {exact[0]!r} needs a vector world, but {map_path.name} is a grid map")
+    return target, gm
+
+
+def _random_entry_pairs(entry: Mapping[str, Any], w: str, gm: Any, given: int, before: int,
+                        per_pair: int) -> list[Any]:
+    """The entry's ``random_pairs`` (none when absent); ``given`` pairs listed, ``per_pair`` runs each."""
+    rp = entry.get("random_pairs")
+    if rp is None:
+        return []
+    if not isinstance(rp, Mapping):
+        raise MapFormatError(f"{w}.random_pairs: expected a mapping {{n: N, seed: S}}, got {shorten(rp)}")
+    _unknown_keys(rp, ("n", "seed"), f"{w}.random_pairs")
+    n = _integer(rp.get("n", 10), f"{w}.random_pairs.n", minimum=1)
+    if n > MAX_RUNS:
+        raise MapFormatError(f"{w}.random_pairs.n: {n} pairs exceed {MAX_RUNS:g} runs")
+    if before + per_pair * (given + n) > _run_limit():
+        raise _too_many(w, before + per_pair * (given + n), f"with this entry's {n} random pairs")
+    seed = _integer(rp.get("seed", 0), f"{w}.random_pairs.seed", minimum=0)
+    try:
+        return _random_pairs(gm, n, seed)
+    except GridfieldError as e:
+        raise MapFormatError(f"{w}.random_pairs: {e}") from None
+
+
+def _scenario_pairs(entry: Mapping[str, Any], w: str, base: FsPath, map_path: FsPath, gm: Any) -> list[Any]:
+    """The entry's Moving AI ``scenarios`` (up to ``limit``, the solvable ones), checked against the map's size."""
+    from ..io import read_scen
+
+    if entry.get("limit") is not None and not entry.get("scenarios"):
+        raise MapFormatError(f"{w}.limit: limits the scenarios, but the entry has no 'scenarios'")
+    if entry.get("scenarios") is None:
+        return []
+    scen_path = _spec_path(entry["scenarios"], base, f"{w}.scenarios")
+    try:
+        scen = read_scen(scen_path)
+    except GridfieldError as e:
+        raise MapFormatError(f"{w}.scenarios: {e}") from None
+    assert gm is not None
+    wrong = np.flatnonzero((scen.width != gm.shape[1]) | (scen.height != gm.shape[0]))
+    if wrong.size:
+        k = int(wrong[0])
+        raise MapFormatError(
+            f"{w}.scenarios: {scen_path.name}: scenario {k + 1} is for a {scen.width[k]} x {scen.height[k]} "
+            f"map (width x height), but {map_path.name} is {gm.shape[1]} x {gm.shape[0]} cells"
+        )
+    limit = _integer(entry.get("limit", len(scen)), f"{w}.limit", minimum=1)
+    idx = np.flatnonzero(~scen.no_path)[:limit]
+    return [(tuple(scen.start_xy[k]), tuple(scen.goal_xy[k]), float(scen.optimal[k])) for k in idx]
 
 
 def _flag(mapping: Mapping[str, Any], key: str, where: str, *, default: bool = False) -> bool:

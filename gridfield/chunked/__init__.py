@@ -1,0 +1,23 @@
+"""Maps larger than one machine: the brushfire and its fields on ``dask.array`` chunks (issue 27).
+
+Every function takes and returns lazy ``dask.array`` arrays; nothing is computed until the caller asks
+(``.compute()``, ``.to_zarr()``, ``dask.compute``), on whatever scheduler is active (a
+``distributed.Client`` for a cluster). The per-block work runs gridfield's compiled kernels, and the results
+are bit-identical to the in-memory functions on the whole array. Dask is imported lazily (the ``[dask]``
+extra): importing this package does not import it.
+
+- :func:`distance`: the Euclidean, chessboard or taxicab distance with the nearest obstacle (exact for any
+  distance: a rechunk between the column and the row pass), or saturated with a halo only.
+- :func:`field`: the classic (khatib) potential and its gradient chunk by chunk, from the nearest cells.
+- :func:`labels`: the 8-connected obstacle components across chunks, numbered as the in-memory labels.
+- :func:`connect`: a ``distributed.Client``, or one clear error when the scheduler cannot be reached.
+"""
+
+from __future__ import annotations
+
+from ._cluster import connect
+from ._distance import BORDERS, METRICS, distance
+from ._field import field
+from ._labels import labels
+
+__all__ = ["BORDERS", "METRICS", "connect", "distance", "field", "labels"]

@@ -1,0 +1,277 @@
+"""Chunked brushfire distances on a ``dask.array`` of occupancy (exact, bit-identical to the in-memory one).
+
+Exact (no saturation, or the nearest obstacle asked for): the separable transform of
+:func:`gridfield.brushfire.brushfire`, split at its one seam. The column pass needs whole columns, the row
+pass whole rows; each is independent across its lines. So the occupancy is rechunked into strips of whole
+columns (the input's column chunks), the column pass (the compiled ``column_block``) gives every cell the
+global row of its nearest obstacle in its column (``int32``), that array is rechunked into strips of whole
+rows (the input's row chunks), and the row pass (:mod:`gridfield._kernels_chunked`: the same lower
+envelope, cimported) gives the distance and the nearest obstacle. The result is rechunked to the input's
+chunks (a slicing: the row chunks already agree). Memory per task: one strip, ``rows x chunk_cols`` of
+occupancy and ``int32`` for the column pass; ``chunk_rows x cols`` of ``int32`` in and ``float64`` (plus two
+``int32`` with the nearest obstacle) out for the row pass.
+
+Saturated (``saturate=`` and no nearest obstacle): a cell nearer than the radius has its nearest obstacle
+less than ``h = ceil(saturate / resolution) + 1`` cells away along each axis, and no obstacle inside a
+window is nearer than the true nearest one; so each chunk is computed on itself plus a halo of ``h``
+cells (the wall border is a halo of obstacles, which adds no nearer cell than the ring at rows/columns
+-1 and ``rows``/``cols``), by the in-memory brushfire, and cropped. No rechunk.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any, cast
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .._kernels import kernels
+from ..errors import ArgumentTypeError, ParameterError, check_positive, shorten
+
+if TYPE_CHECKING:
+    import dask.array as da
+
+__all__ = ["BORDERS", "METRICS", "distance"]
+
+METRICS = ("euclidean", "chessboard", "taxicab")
+BORDERS = ("wall", "open")
+
+
+def _dask_array() -> Any:
+    try:
+        import dask.array as da
+    except ImportError:
+        raise ParameterError("gridfield.chunked needs Dask: pip install 'gridfield[dask]'") from None
+    return da
+
+
+def check_occupied(occupied: object) -> da.Array:
+    """``occupied`` as a 2-D boolean ``dask.array``, or one clear error."""
+    da = _dask_array()
+    if not isinstance(occupied, da.Array):
+        hint = " (wrap it: dask.array.from_array(occupied, chunks=...))" if isinstance(occupied, np.ndarray) else ""
+        raise ArgumentTypeError(f"occupied must be a dask.array.Array, got {type(occupied).__name__}{hint}")
+    if occupied.ndim != 2:
+        raise ParameterError(f"occupied must be 2-D (rows, cols), got {occupied.ndim} dimension(s)")
+    if occupied.dtype != np.bool_:
+        raise ParameterError(f"occupied must be boolean (True = obstacle), got dtype {occupied.dtype}")
+    if any(math.isnan(c) for cs in occupied.chunks for c in cs):
+        raise ParameterError("occupied has unknown chunk sizes; call compute_chunk_sizes() first")
+    if occupied.size == 0:
+        raise ParameterError(f"occupied is empty, shape {occupied.shape}")
+    if max(occupied.shape) >= 2**30:
+        raise ParameterError(f"occupied has {occupied.shape} cells: each side must be below 2**30")
+    return occupied
+
+
+def _check_choice(name: str, value: object, choices: tuple[str, ...]) -> str:
+    if not isinstance(value, str) or value not in choices:
+        raise ParameterError(f"{name} must be one of {choices}, got {shorten(value)}")
+    return value
+
+
+def _column_pass(block: NDArray[np.bool_], wall: bool) -> NDArray[np.int32]:
+    """Whole columns: the global row of the nearest obstacle in each cell's column."""
+    kb = kernels("brushfire")
+
+    occ8 = np.ascontiguousarray(block, dtype=bool).view(np.uint8)
+    vr = np.empty(block.shape, np.int32)
+    kb.column_block(0, block.shape[1], occ8, wall, vr)
+    return vr
+
+
+def _row_pass(vr: NDArray[np.int32], metric: str, rows: int, wall: bool, resolution: float, nearest: bool,
+              block_info: dict[Any, Any] | None = None) -> NDArray[np.float64]:
+    """Whole rows (``vr`` of rows ``row0..``): the distance."""
+    kc = kernels("chunked")
+
+    row0 = int(block_info[0]["array-location"][0][0]) if block_info else 0
+    vr = np.ascontiguousarray(vr, dtype=np.int32)
+    d = np.empty(vr.shape, np.float64)
+    if metric == "euclidean":
+        no = np.empty((1, 1), np.int32)
+        kc.edt_rows_block(vr, row0, rows, wall, resolution, d, no, no, False)
+    else:
+        (kc.l1_rows_block if metric == "taxicab" else kc.linf_rows_block)(vr, row0, rows, wall, resolution, d)
+    return d
+
+
+def _window_pass(window: NDArray[np.bool_], metric: str, resolution: float, saturate: float, far: float,
+                 halo: int) -> NDArray[np.float64]:
+    """A chunk with its halo: the saturated distance by the in-memory brushfire, cropped to the chunk."""
+    from ..brushfire import brushfire
+    from ..grid import Grid, GridMap
+
+    gm = GridMap(Grid(window.shape, resolution, border="open"), np.ascontiguousarray(window, dtype=bool))
+    dm = brushfire(gm, metric=metric, saturate=saturate, far=far, compute_steps=False, compute_nearest=False,
+                   compute_labels=False, threads=1)
+    return dm.distance[halo:-halo, halo:-halo]
+
+
+def distance(
+    occupied: da.Array,
+    *,
+    metric: str = "euclidean",
+    resolution: float = 1.0,
+    saturate: float | None = None,
+    return_nearest: bool = False,
+    border: str = "wall",
+    far: float = math.inf,
+) -> Any:
+    """The brushfire distance (and nearest obstacle) of a chunked occupancy grid, exact for any distance.
+
+    Equal bit for bit to :func:`gridfield.brushfire.brushfire` on the whole array (``DistanceMap.distance``,
+    ``nearest_row``, ``nearest_col``), computed lazily with bounded memory per task (see the module notes).
+
+    Parameters
+    ----------
+    occupied : dask.array.Array
+        2-D boolean occupancy, ``True`` = obstacle, any chunks (they set the tasks' sizes).
+    metric : {"euclidean", "chessboard", "taxicab"}
+        The distance measured between cell centres.
+    resolution : float
+        Cell size in world units (distances are in world units).
+    saturate : float, optional
+        Saturation radius in world units: distances at or beyond it become ``far``. Without
+        ``return_nearest`` the chunks are computed with a halo of that radius only (no rechunk), so every
+        chunk must be at least ``ceil(saturate / resolution) + 1`` cells along each axis.
+    return_nearest : bool
+        Also return the nearest obstacle cell (row, column; the wall ring is rows/columns ``-1`` and
+        ``rows``/``cols``; ``-1`` when there is no obstacle at all). Euclidean only: the chessboard and
+        taxicab nearest cells of :func:`~gridfield.brushfire.brushfire` follow its raster passes' order
+        among equally near obstacles, which a chunked computation does not reproduce.
+    border : {"wall", "open"}
+        What lies outside the grid, as ``Grid.border``.
+    far : float
+        Value of saturated distances (default ``inf``).
+
+    Returns
+    -------
+    dask.array.Array or tuple of dask.array.Array
+        ``float64`` distance with ``occupied``'s chunks; with ``return_nearest`` the tuple
+        ``(distance, nearest_row, nearest_col)``, the latter two ``int32``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``occupied`` is not a dask array.
+    ParameterError
+        For an unknown metric or border, a non-positive resolution or saturation radius, a non-boolean or
+        non-2-D occupancy, chunks smaller than the saturation halo, ``return_nearest`` with a metric other
+        than Euclidean, or Dask not installed.
+
+    Examples
+    --------
+    >>> import dask.array as da, numpy as np
+    >>> occ = np.zeros((4, 6), bool); occ[1, 1] = True
+    >>> d = distance(da.from_array(occ, chunks=2), border="open")
+    >>> d.chunks
+    ((2, 2), (2, 2, 2))
+    >>> d.compute()[1]
+    array([1., 0., 1., 2., 3., 4.])
+    >>> _, nr, nc = distance(da.from_array(occ, chunks=2), return_nearest=True)
+    >>> int(nr[1, 5].compute()), int(nc[1, 5].compute())  # the wall ring beyond column 5
+    (1, 6)
+    """
+    da = _dask_array()
+    occupied = check_occupied(occupied)
+    metric = _check_choice("metric", metric, METRICS)
+    border = _check_choice("border", border, BORDERS)
+    res = check_positive("resolution", resolution)
+    if not isinstance(return_nearest, bool | np.bool_):
+        raise ParameterError(f"return_nearest must be True or False, got {shorten(return_nearest)}")
+    if return_nearest and metric != "euclidean":
+        raise ParameterError(f"return_nearest=True needs metric='euclidean' (got {metric!r}): the in-memory "
+                             "chessboard/taxicab nearest cells depend on its raster order among equally near "
+                             "obstacles, which the chunked passes do not reproduce")
+    sat = None if saturate is None else check_positive("saturate", saturate)
+    try:
+        far_v = float(far) if not isinstance(far, bool | str) else math.nan
+    except (TypeError, ValueError):
+        far_v = math.nan
+    if math.isnan(far_v):
+        raise ParameterError(f"far must be a number (inf allowed), got {shorten(far)}")
+    wall = border == "wall"
+    rows, cols = occupied.shape
+
+    halo = 0 if sat is None else math.ceil(sat / res) + 1
+    if sat is not None and not return_nearest and min(rows, cols) >= halo:  # (else: small, done exactly)
+        chunks = tuple(_halo_chunks(cs, halo, sat, res) for cs in occupied.chunks)
+        x = occupied if chunks == occupied.chunks else occupied.rechunk(chunks)
+        ext = da.overlap.overlap(x, depth={0: halo, 1: halo}, boundary={0: wall, 1: wall})
+        d = ext.map_blocks(_window_pass, metric, res, sat, far_v, halo, dtype=np.float64, chunks=chunks,
+                           meta=np.empty((0, 0), np.float64))
+        return d if chunks == occupied.chunks else d.rechunk(occupied.chunks)
+
+    strips = occupied.rechunk({0: -1, 1: occupied.chunks[1]}, method="tasks")
+    vr = strips.map_blocks(_column_pass, wall, dtype=np.int32, meta=np.empty((0, 0), np.int32))
+    vr_rows = vr.rechunk({0: occupied.chunks[0], 1: -1}, method="tasks")
+    if not return_nearest:
+        out = vr_rows.map_blocks(_row_pass, metric, rows, wall, res, False, dtype=np.float64,
+                                 meta=np.empty((0, 0), np.float64))
+        d = out.rechunk(occupied.chunks)
+        return d if sat is None else _saturated(d, sat, far_v)
+    dist, nr, nc = (a.rechunk(occupied.chunks) for a in _row_pass_nearest(vr_rows, rows, wall, res))
+    if sat is not None:
+        dist = _saturated(dist, sat, far_v)
+    return dist, nr, nc
+
+
+def _row_pass_triple(vr: NDArray[np.int32], row0: int, rows: int, wall: bool,
+                     resolution: float) -> tuple[NDArray[np.float64], NDArray[np.int32], NDArray[np.int32]]:
+    kc = kernels("chunked")
+
+    vr = np.ascontiguousarray(vr, dtype=np.int32)
+    d = np.empty(vr.shape, np.float64)
+    nr, nc = np.empty(vr.shape, np.int32), np.empty(vr.shape, np.int32)
+    kc.edt_rows_block(vr, row0, rows, wall, resolution, d, nr, nc, True)
+    return d, nr, nc
+
+
+def _row_pass_nearest(vr_rows: Any, rows: int, wall: bool, res: float) -> tuple[Any, Any, Any]:
+    """The Euclidean row pass with the nearest cell: one task per strip returning the three arrays, and
+    three arrays taking their part of it (no record array to split)."""
+    import operator
+
+    from dask.array import Array
+    from dask.base import tokenize
+    from dask.highlevelgraph import HighLevelGraph
+
+    name = "chunked-edt-rows-" + tokenize(vr_rows, rows, wall, res)
+    offsets = np.concatenate([[0], np.cumsum(vr_rows.chunks[0])[:-1]]).tolist()
+    layer = {(name, i): (_row_pass_triple, (vr_rows.name, i, 0), int(offsets[i]), rows, wall, res)
+             for i in range(len(vr_rows.chunks[0]))}
+    layers: dict[str, Any] = {**vr_rows.dask.layers, name: layer}
+    deps: dict[str, set[str]] = {**vr_rows.dask.dependencies, name: {vr_rows.name}}
+    outs = []
+    for k, part in enumerate(("distance", "nearest-row", "nearest-col")):
+        pname = f"{name}-{part}"
+        layers[pname] = {(pname, i, 0): (operator.getitem, (name, i), k) for i in range(len(offsets))}
+        deps[pname] = {name}
+        outs.append(pname)
+    graph = HighLevelGraph(layers, deps)
+    return cast("tuple[Any, Any, Any]", tuple(
+        Array(graph, pname, vr_rows.chunks, dtype=dtype, meta=np.empty((0, 0), dtype))
+        for pname, dtype in zip(outs, (np.float64, np.int32, np.int32), strict=True)))
+
+
+def _halo_chunks(chunks: tuple[int, ...], halo: int, sat: float, res: float) -> tuple[int, ...]:
+    """The chunks along one axis with a chunk smaller than the halo merged into its neighbour; an error if
+    the chunks themselves (all but the last) are smaller."""
+    if len(chunks) > 1 and min(chunks[:-1]) < halo:
+        raise ParameterError(f"chunks of {min(chunks[:-1])} cells are smaller than the saturation halo of {halo} "
+                             f"cells (saturate={sat} at resolution {res}); rechunk to at least {halo} cells per axis")
+    if len(chunks) > 1 and chunks[-1] < halo:
+        return (*chunks[:-2], chunks[-2] + chunks[-1])
+    return chunks
+
+
+def _saturate_block(d: NDArray[np.float64], sat: float, far: float) -> NDArray[np.float64]:
+    out = np.array(d, dtype=np.float64, copy=True)
+    out[out >= sat] = far
+    return out
+
+
+def _saturated(d: Any, sat: float, far: float) -> Any:
+    return d.map_blocks(_saturate_block, sat, far, dtype=np.float64, meta=np.empty((0, 0), np.float64))

@@ -1,0 +1,474 @@
+"""The gridfield Zarr store: maps, distance maps and fields larger than memory, written chunk by chunk.
+
+A store is a Zarr (v3) group directory. Its root attribute ``gridfield`` holds the grid metadata
+(:data:`FORMAT`, ``version``, ``kind`` = ``"map"``, ``"distance"`` or ``"field"``, ``shape``,
+``resolution``, ``origin``, ``border``, ``chunks``, ``occupied_cells`` and, as the kind has them,
+``metric``, ``saturate``, ``goal`` and ``params`` (JSON text)); its arrays are among
+:data:`STORE_ARRAYS`, all chunked alike. :func:`read_store` returns the usual result types (a
+:class:`~gridfield._chunkcache.LazyGridMap`, a :class:`~gridfield.brushfire.DistanceMap`, a
+:class:`~gridfield.potential.Field`) whose arrays are :class:`~gridfield._chunkcache.LazyArray` views of
+the Zarr arrays sharing one chunk cache: nothing is read whole.
+
+:func:`write_store` never leaves a half-written store under the final name: it writes ``NAME.partial/``,
+marks every chunk it completes in ``NAME.partial/.progress/``, and renames the directory when every chunk
+of every array is there. A run that stops (an exception, a kill) leaves the ``.partial`` directory; a
+re-run with the same arguments (the same ``resume_key``) writes only the chunks not yet marked.
+
+zarr is an optional dependency (the ``[dask]`` extra), imported inside the functions.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from collections.abc import Callable, Mapping
+from pathlib import Path as FsPath
+from typing import Any
+
+import numpy as np
+
+from .._chunkcache import DEFAULT_BUDGET, ChunkCache, LazyArray, LazyGridMap, Raster, lazy_grid
+from .._results import DistanceMap, Field
+from .._version import __version__
+from ..errors import GridfieldError, MapFormatError, ParameterError, shorten
+from ..grid import Grid
+from ._common import PathLike
+
+__all__ = ["FORMAT", "STORE_ARRAYS", "chunk_counter", "is_store", "read_store", "read_zarr", "read_zarr_array", "write_store"]
+
+#: The store format's version (``attrs["gridfield"]["format"]``).
+FORMAT = 1
+#: The arrays a store may hold, and their dtypes.
+STORE_ARRAYS: dict[str, str] = {
+    "occupied": "bool", "distance": "float64", "nearest_row": "int32", "nearest_col": "int32",
+    "U": "float64", "dUdx": "float64", "dUdy": "float64",
+}
+KINDS = ("map", "distance", "field")
+_MARK = "gridfield"
+_PROGRESS = ".progress"
+
+
+def _zarr() -> Any:
+    try:
+        import zarr
+    except ImportError:  # pragma: no cover - the [dask] extra installs it
+        raise GridfieldError("Zarr stores need the zarr package: pip install 'gridfield[dask]'") from None
+    return zarr
+
+
+def is_store(path: PathLike) -> bool:
+    """Whether ``path`` is a Zarr directory (a ``zarr.json`` at its root), gridfield's or not.
+
+    Examples
+    --------
+    >>> is_store("no/such/dir.zarr")
+    False
+    """
+    p = FsPath(path)
+    return p.is_dir() and (p / "zarr.json").is_file()
+
+
+# ---------------------------------------------------------------------------------------------
+# writing
+# ---------------------------------------------------------------------------------------------
+def _done_mark(progress: FsPath, name: str, i: int, j: int) -> FsPath:
+    return progress / f"{name}.{i}.{j}"
+
+
+def _mark_done(progress: FsPath, name: str, i: int, j: int) -> None:
+    """Record that chunk ``(i, j)`` of ``name`` is written (called after the chunk's data is on disk)."""
+    _done_mark(progress, name, i, j).touch()
+
+
+def write_store(path: PathLike, arrays: Mapping[str, Any], grid: Grid, *, kind: str,
+                attrs: Mapping[str, Any] | None = None, chunks: int | tuple[int, int] | None = None,
+                resume_key: str = "", scheduler: Any = "threads") -> FsPath:
+    """Write arrays (dask or numpy) and the grid metadata to a gridfield Zarr store, chunk by chunk.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The store's directory (conventionally ``*.zarr``); it must not exist yet.
+    arrays : mapping
+        Arrays named as in :data:`STORE_ARRAYS`, each of the grid's shape: dask arrays (computed
+        chunk by chunk, all in one graph) or numpy arrays.
+    grid : Grid
+    kind : {"map", "distance", "field"}
+    attrs : mapping, optional
+        Further metadata: ``metric``, ``saturate`` (distance and field), ``goal`` and ``params``
+        (field); JSON values.
+    chunks : int or (int, int), optional
+        The chunk shape of the store; default the first dask array's chunks (1024 for numpy).
+    resume_key : str
+        Identifies the run: a ``NAME.partial`` left by an interrupted run with the same key is
+        resumed, one with another key is refused.
+    scheduler : str or distributed.Client
+        How dask computes: ``"threads"``, ``"synchronous"`` or a client.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    ParameterError
+        Unknown array names, wrong shapes or kind.
+    GridfieldError
+        ``path`` exists, or a ``.partial`` of another run is in the way.
+
+    Examples
+    --------
+    >>> import tempfile, numpy as np
+    >>> from gridfield.grid import Grid
+    >>> d = tempfile.mkdtemp()
+    >>> occ = np.zeros((6, 5), bool); occ[2, 3] = True
+    >>> p = write_store(f"{d}/m.zarr", {"occupied": occ}, Grid((6, 5), 0.5), kind="map", chunks=4)
+    >>> m = read_store(p)
+    >>> m.shape, bool(m.occupied[2, 3]), m.occupied.chunks
+    ((6, 5), True, (4, 4))
+    """
+    try:
+        import dask
+        import dask.array as da
+    except ImportError:  # pragma: no cover - the [dask] extra installs it
+        raise GridfieldError("writing a Zarr store needs dask: pip install 'gridfield[dask]'") from None
+
+    zarr = _zarr()
+    out, ch, lazy = _check_write(path, arrays, grid, kind, chunks, da)
+    partial = out.with_name(out.name + ".partial")
+    progress = partial / _PROGRESS
+    meta = _metadata(grid, kind, ch, attrs)
+    group = _open_partial(zarr, partial, progress, grid, ch, lazy, meta, resume_key)
+    _write_chunks(dask, group, progress, ch, lazy, scheduler)
+    # every chunk is written: the metadata, then the rename makes the store appear whole (a stop before
+    # the rename leaves a .partial that resumes with nothing left to write; after it, the bookkeeping
+    # left inside the store is harmless and removed next)
+    occ_cells = _count(lazy["occupied"], scheduler)
+    group.attrs[_MARK] = {**meta, "occupied_cells": occ_cells}
+    _publish(partial, out)
+    done = zarr.open_group(str(out), mode="a")
+    if "gridfield_partial" in done.attrs:
+        del done.attrs["gridfield_partial"]
+    shutil.rmtree(out / _PROGRESS, ignore_errors=True)
+    return out
+
+
+def _check_write(path: PathLike, arrays: Mapping[str, Any], grid: Grid, kind: str,
+                 chunks: int | tuple[int, int] | None, da: Any) -> tuple[FsPath, tuple[int, int], dict[str, Any]]:
+    """write_store's checks: the kind, the array names and shapes, the target; the chunk shape and the
+    arrays as dask arrays of the store's dtypes and chunks."""
+    if kind not in KINDS:
+        raise ParameterError(f"kind must be one of {', '.join(map(repr, KINDS))}, got {shorten(kind)}")
+    bad = sorted(set(arrays) - set(STORE_ARRAYS))
+    if bad:
+        raise ParameterError(f"a gridfield store holds the arrays {', '.join(STORE_ARRAYS)}; not {', '.join(bad)}")
+    if "occupied" not in arrays:
+        raise ParameterError("a gridfield store needs the 'occupied' array")
+    out = FsPath(path)
+    if out.exists():
+        raise GridfieldError(f"{out}: already exists; remove it or choose another --out")
+    if not out.resolve().parent.is_dir():
+        raise GridfieldError(f"{out}: the folder {out.parent} does not exist")
+    if chunks is None:
+        first = next((a for a in arrays.values() if isinstance(a, da.Array)), None)
+        chunks = (first.chunksize[0], first.chunksize[1]) if first is not None else (1024, 1024)
+    c: Any = chunks
+    ch = (int(c), int(c)) if np.ndim(c) == 0 else (int(c[0]), int(c[1]))
+    if min(ch) < 1:
+        raise ParameterError(f"chunks must be positive, got {shorten(chunks)}")
+    ch = (min(ch[0], grid.rows), min(ch[1], grid.cols))
+    lazy: dict[str, Any] = {}
+    for name, a in arrays.items():
+        if tuple(a.shape) != grid.shape:
+            raise ParameterError(f"array {name!r} has shape {tuple(a.shape)}, but the grid has shape {grid.shape}")
+        a = a if isinstance(a, da.Array) else da.from_array(np.asarray(a), chunks=ch)
+        lazy[name] = a.astype(STORE_ARRAYS[name]).rechunk(ch)
+    return out, ch, lazy
+
+
+def _open_partial(zarr: Any, partial: FsPath, progress: FsPath, grid: Grid, ch: tuple[int, int],
+                  lazy: Mapping[str, Any], meta: Mapping[str, Any], resume_key: str) -> Any:
+    """The ``.partial`` group to write into: a new one, or the one an interrupted run with the same
+    arguments left (refused when its arguments differ)."""
+    if partial.exists():
+        try:
+            old = dict(zarr.open_group(str(partial), mode="r").attrs).get("gridfield_partial", {})
+        except Exception:
+            old = {}
+        if (old.get("resume_key") != resume_key or old.get("meta") != meta
+                or sorted(old.get("arrays", [])) != sorted(lazy)):
+            raise GridfieldError(f"{partial}: holds an interrupted run with other arguments; remove it to start over")
+        group = zarr.open_group(str(partial), mode="a")
+    else:
+        group = zarr.open_group(str(partial), mode="w")
+        for name in lazy:
+            group.create_array(name, shape=grid.shape, chunks=ch, dtype=STORE_ARRAYS[name],
+                               fill_value=False if name == "occupied" else 0)
+        group.attrs["gridfield_partial"] = {"resume_key": resume_key, "meta": dict(meta), "arrays": sorted(lazy)}
+        progress.mkdir()
+    return group
+
+
+def _write_chunks(dask: Any, group: Any, progress: FsPath, ch: tuple[int, int], lazy: Mapping[str, Any],
+                  scheduler: Any) -> None:
+    """Compute and write every chunk not yet marked done, marking each after its data is on disk."""
+    targets = {name: group[name] for name in lazy}
+
+    def write_block(block: np.ndarray, name: str, i: int, j: int) -> int:
+        r0, c0 = i * ch[0], j * ch[1]
+        targets[name][r0:r0 + block.shape[0], c0:c0 + block.shape[1]] = block
+        _mark_done(progress, name, i, j)
+        return 1
+
+    tasks = []
+    write = dask.delayed(write_block, pure=False)
+    for name, a in lazy.items():
+        blocks = a.to_delayed()  # one Delayed per chunk, sharing one graph
+        for i in range(blocks.shape[0]):
+            for j in range(blocks.shape[1]):
+                if not _done_mark(progress, name, i, j).exists():
+                    tasks.append(write(blocks[i, j], name, i, j))
+    if tasks:
+        kw = {"scheduler": scheduler} if isinstance(scheduler, str) else {"scheduler": scheduler.get}
+        dask.compute(*tasks, **kw)
+
+
+def _publish(partial: FsPath, out: FsPath) -> None:
+    """The rename that makes a complete store appear under its name (atomic on one file system)."""
+    os.replace(partial, out)
+
+
+def _count(occ: Any, scheduler: Any) -> int:
+    import dask.array as da  # write_store checked that dask is there (the [dask] extra)
+
+    n = da.count_nonzero(occ)
+    kw = {"scheduler": scheduler} if isinstance(scheduler, str) else {"scheduler": scheduler.get}
+    return int(n.compute(**kw))
+
+
+def _metadata(grid: Grid, kind: str, ch: tuple[int, int], attrs: Mapping[str, Any] | None) -> dict[str, Any]:
+    meta: dict[str, Any] = {
+        "format": FORMAT, "version": __version__, "kind": kind, "shape": list(grid.shape),
+        "resolution": grid.resolution, "origin": list(grid.origin), "border": grid.border, "chunks": list(ch),
+    }
+    extra = dict(attrs or {})
+    if "params" in extra:  # resolved parameters may hold inf or None: kept as JSON text
+        extra["params"] = json.dumps(extra["params"], default=_json_default)
+    if "goal" in extra:
+        extra["goal"] = [float(v) for v in extra["goal"]]
+    meta.update(extra)
+    return json.loads(json.dumps(meta, default=_json_default))
+
+
+def _json_default(v: Any) -> Any:
+    if isinstance(v, np.generic):
+        return v.item()
+    if isinstance(v, tuple | np.ndarray):
+        return list(v)
+    raise TypeError(f"not JSON: {type(v).__name__}")
+
+
+# ---------------------------------------------------------------------------------------------
+# reading
+# ---------------------------------------------------------------------------------------------
+def read_store(path: PathLike, *, cache_bytes: int = DEFAULT_BUDGET) -> Any:
+    """Read a gridfield Zarr store as lazy results: a map, a distance map or a field.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A store written by :func:`write_store` (``gridfield brushfire/field ... --out F.zarr``).
+    cache_bytes : int
+        The byte budget of the chunk cache the arrays share.
+
+    Returns
+    -------
+    LazyGridMap, DistanceMap or Field
+        By the store's ``kind``; every array is a :class:`~gridfield._chunkcache.LazyArray`.
+        A distance map has ``steps``, ``label`` and ``gvd`` None.
+
+    Raises
+    ------
+    MapFormatError
+        Not a Zarr directory, no gridfield metadata, an unknown format version, or missing arrays.
+
+    Examples
+    --------
+    >>> import tempfile, numpy as np
+    >>> from gridfield.grid import Grid
+    >>> d = tempfile.mkdtemp()
+    >>> occ = np.zeros((4, 4), bool); occ[0, 0] = True
+    >>> dist = np.hypot(*np.indices((4, 4)))
+    >>> p = write_store(f"{d}/d.zarr", {"occupied": occ, "distance": dist}, Grid((4, 4), 1.0), kind="distance",
+    ...                 attrs={"metric": "euclidean"}, chunks=2)
+    >>> dm = read_store(p)
+    >>> type(dm).__name__, dm.metric, float(dm.distance[3, 3]) == float(np.hypot(3, 3))
+    ('DistanceMap', 'euclidean', True)
+    """
+    zarr = _zarr()
+    p = FsPath(path)
+    node, meta = _open_store(zarr, p)
+    grid, kind = _store_grid(p, meta)
+    need = {"map": ["occupied"], "distance": ["occupied", "distance"], "field": ["occupied", "U", "dUdx", "dUdy"]}
+    if kind not in need:
+        raise MapFormatError(f"{p}: unknown store kind {shorten(kind)}")
+    names = set(node.array_keys())
+    missing = [n for n in need[kind] if n not in names]
+    if missing:
+        raise MapFormatError(f"{p}: a {kind} store without the array{'s' if len(missing) > 1 else ''} "
+                             f"{', '.join(missing)}")
+    cache = ChunkCache(cache_bytes)
+
+    def lazy(name: str, **kw: Any) -> Any:  # a LazyArray standing in for the result types' ndarrays
+        a = node[name]
+        if tuple(a.shape) != grid.shape:
+            raise MapFormatError(f"{p}: array {name} has shape {tuple(a.shape)}, the grid {grid.shape}")
+        return LazyArray(a, cache=cache, name=name, **kw)
+
+    gm = LazyGridMap(grid, lazy("occupied", nonzero=meta.get("occupied_cells")), source=str(p),
+                     meta={"store": dict(meta)})
+    if kind == "map":
+        return gm
+    dmap = None
+    if "distance" in names:
+        sat = meta.get("saturate")
+        dmap = DistanceMap(gm, 8, meta.get("metric", "euclidean"), None, lazy("distance"),
+                           lazy("nearest_row") if "nearest_row" in names else None,
+                           lazy("nearest_col") if "nearest_col" in names else None, None, None,
+                           saturate=None if sat is None else float(sat))
+    if kind == "distance":
+        return dmap
+    params = json.loads(meta["params"]) if isinstance(meta.get("params"), str) else {}
+    goal = meta.get("goal")
+    if goal is None:
+        raise MapFormatError(f"{p}: a field store without a goal")
+    return Field(gm, lazy("U"), lazy("dUdx"), lazy("dUdy"), (goal[0], goal[1]), params, dmap)
+
+
+def _open_store(zarr: Any, p: FsPath) -> tuple[Any, dict[str, Any]]:
+    """The store's root group and its gridfield metadata, or a MapFormatError saying what is not there."""
+    partial = p.with_name(p.name + ".partial")
+    if not p.exists():
+        hint = f" ({partial} is an interrupted write: re-run the command to resume it)" if partial.exists() else ""
+        raise MapFormatError(f"{p}: no such store{hint}")
+    if not is_store(p):
+        raise MapFormatError(f"{p}: not a Zarr store (no zarr.json)")
+    try:
+        node = zarr.open(str(p), mode="r")
+    except Exception as e:
+        raise MapFormatError(f"{p}: cannot open as a Zarr store: {shorten(str(e))}") from None
+    if not isinstance(node, zarr.Group):
+        raise MapFormatError(f"{p}: a Zarr array, not a gridfield store; read it with "
+                             "gridfield.io.read(path, resolution=...) as an occupancy raster")
+    meta = dict(node.attrs).get(_MARK)
+    if not isinstance(meta, dict):
+        raise MapFormatError(f"{p}: a Zarr store without gridfield grid metadata (no {_MARK!r} attribute in its "
+                             "root group); gridfield writes stores with gridfield.io.write_store or --out F.zarr")
+    if meta.get("format") != FORMAT:
+        raise MapFormatError(f"{p}: gridfield store format {shorten(meta.get('format'))}; this gridfield reads "
+                             f"format {FORMAT}")
+    return node, meta
+
+
+def _store_grid(p: FsPath, meta: Mapping[str, Any]) -> tuple[Any, Any]:
+    """The (lazy) grid and the kind the metadata describe."""
+    try:
+        grid = lazy_grid(tuple(meta["shape"]), meta["resolution"], tuple(meta["origin"]), meta["border"])
+        kind = meta["kind"]
+    except (KeyError, TypeError) as e:
+        raise MapFormatError(f"{p}: gridfield metadata lacks {shorten(str(e))}") from None
+    except GridfieldError as e:
+        raise MapFormatError(f"{p}: gridfield metadata: {e}") from None
+    return grid, kind
+
+
+def chunk_counter(obj: Any) -> Callable[[], int]:
+    """``n()`` -> the number of chunk tiles decoded so far by the cache behind a result of
+    :func:`read_store` (for reports and tests)."""
+    gm = getattr(obj, "map", obj)
+    cache = gm.occupied.cache
+    return lambda: cache.reads
+
+
+def read_zarr_array(path: PathLike, *, resolution: float = 1.0, origin: Any = (0.0, 0.0),
+                    border: str = "open") -> LazyGridMap:
+    """Read a plain 2-D Zarr array (not a gridfield store) as a lazy occupancy map; non-zero = obstacle,
+    row 0 = lowest y, read by its own chunks.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A Zarr array directory.
+    resolution : float
+    origin : (x, y)
+    border : {"open", "wall"}
+
+    Returns
+    -------
+    LazyGridMap
+
+    Examples
+    --------
+    >>> import tempfile, numpy as np, zarr
+    >>> d = tempfile.mkdtemp() + "/occ.zarr"
+    >>> z = zarr.open_array(d, mode="w", shape=(4, 4), chunks=(2, 2), dtype="uint8")
+    >>> z[1, 2] = 1
+    >>> m = read_zarr_array(d, resolution=0.5)
+    >>> bool(m.occupied[1, 2]), m.occupied.chunks
+    (True, (2, 2))
+    """
+    zarr = _zarr()
+    p = FsPath(path)
+    try:
+        z = zarr.open_array(str(p), mode="r")
+    except Exception as e:
+        raise MapFormatError(f"{p}: not a readable Zarr array: {shorten(str(e))}") from None
+    if z.ndim != 2 or z.dtype.kind not in "biuf":
+        raise MapFormatError(f"{p}: expected a 2-D array of booleans or numbers, got shape {z.shape}, dtype {z.dtype}")
+    try:
+        grid = lazy_grid(tuple(z.shape), resolution, tuple(origin), border)
+    except GridfieldError as e:
+        raise type(e)(f"{p}: {e}") from None
+    return LazyGridMap(grid, LazyArray(Raster(z), name="occupied"), source=str(p))
+
+
+def read_zarr(path: PathLike, **options: Any) -> Any:
+    """A Zarr directory: a gridfield store (:func:`read_store`; it takes ``cache_bytes`` only) or a plain
+    2-D array (:func:`read_zarr_array`).
+
+    Parameters
+    ----------
+    path : str or path-like
+        The Zarr directory.
+    **options
+        ``cache_bytes`` for a store; ``resolution``, ``origin``, ``border`` for a plain array.
+
+    Returns
+    -------
+    LazyGridMap, DistanceMap or Field
+        What :func:`read_store` or :func:`read_zarr_array` returns.
+
+    Examples
+    --------
+    >>> read_zarr("no/such.zarr")
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.MapFormatError: no/such.zarr: no such store
+    """
+    zarr = _zarr()
+    p = FsPath(path)
+    if not is_store(p):
+        return read_store(p, **options)  # its error names what is missing
+    try:
+        node = zarr.open(str(p), mode="r")
+    except Exception as e:
+        raise MapFormatError(f"{p}: cannot open as a Zarr store: {shorten(str(e))}") from None
+    if isinstance(node, zarr.Array):
+        return read_zarr_array(p, **options)
+    bad = sorted(set(options) - {"cache_bytes"})
+    if bad:
+        raise ParameterError(f"{p}: option{'s' if len(bad) > 1 else ''} {', '.join(bad)} "
+                             f"{'do' if len(bad) > 1 else 'does'} not apply to a gridfield store (its grid is stored)")
+    return read_store(p, **options)

@@ -435,8 +435,51 @@ class GridMap:
                 f"x in [{xmin:g}, {xmax:g}), y in [{ymin:g}, {ymax:g})"
             )
         if not self.is_free(p)[0]:
-            raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}) lies inside an obstacle")
+            near = self.nearest_free(p)
+            hint = "" if near is None else f"; the nearest free cell's centre is ({near[0]:.6g}, {near[1]:.6g})"
+            raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}) lies inside an obstacle{hint}")
         return p
+
+    def nearest_free(self, point: ArrayLike) -> NDArray[np.float64] | None:
+        """The centre of the free cell nearest to a point (Euclidean, between cell centres; ties to the
+        lowest row, then column), or ``None`` when the map has no free cell.
+
+        Searched in windows of growing size around the point (8, 64, 512 cells, then the whole map),
+        so that the answer costs what the distance to it needs. Used by :meth:`check_point` to say
+        where a start or goal inside an obstacle could go instead.
+
+        Parameters
+        ----------
+        point : (x, y)
+            A point inside the map.
+
+        Returns
+        -------
+        ndarray of shape (2,) or None
+
+        Examples
+        --------
+        >>> occ = np.zeros((3, 4), bool); occ[:, :2] = True
+        >>> GridMap(Grid((3, 4), 1.0), occ).nearest_free((0.5, 1.5)).tolist()
+        [2.5, 1.5]
+        """
+        p = np.asarray(point, dtype=np.float64).reshape(2)
+        rows, cols = self.shape
+        x0, y0 = self.grid.origin
+        h = self.grid.resolution
+        r0 = min(max(int(np.floor((p[1] - y0) / h)), 0), rows - 1)
+        c0 = min(max(int(np.floor((p[0] - x0) / h)), 0), cols - 1)
+        for half in (8, 64, 512, max(rows, cols)):
+            ra, rb, ca, cb = max(r0 - half, 0), min(r0 + half + 1, rows), max(c0 - half, 0), min(c0 + half + 1, cols)
+            rr, cc = np.nonzero(~np.asarray(self.occupied[ra:rb, ca:cb], dtype=bool))
+            if rr.size == 0:
+                continue
+            d2 = (rr + ra - r0) ** 2 + (cc + ca - c0) ** 2
+            k = int(np.argmin(d2))
+            # the nearest cell found lies within the window's inscribed radius, or the window is the map
+            if d2[k] <= half * half or (ra == 0 and ca == 0 and rb == rows and cb == cols):
+                return np.array([x0 + (cc[k] + ca + 0.5) * h, y0 + (rr[k] + ra + 0.5) * h])
+        return None
 
     def with_occupied(self, occupied: NDArray[np.bool_], **changes: object) -> GridMap:
         """A copy with another occupancy array (same grid), e.g. after inflation."""

@@ -572,7 +572,7 @@ def build_field(
     >>> build_field(GridMap(Grid((4, 6), 1.0), occ), (0.5, 1.5))
     Traceback (most recent call last):
     ...
-    gridfield.errors.GridfieldError: goal (0.5, 1.5) lies inside an obstacle
+    gridfield.errors.GridfieldError: goal (0.5, 1.5) lies inside an obstacle; the nearest free cell's centre is (1.5, 1.5)
     """
     if not isinstance(gridmap, GridMap):
         raise ParameterError(f"build_field needs a GridMap, got {type(gridmap).__name__}")

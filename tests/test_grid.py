@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from gridfield.errors import GridfieldError, ParameterError
@@ -198,3 +198,35 @@ def test_gridmap_validation_and_check_point() -> None:
         m.check_point("goal", (5, 5))
     with pytest.raises(ParameterError, match="goal must be finite numbers"):
         m.check_point("goal", (np.nan, 0.5))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 40), st.integers(1, 40), st.floats(0.0, 1.0), st.integers(0, 2**31 - 1),
+       st.floats(0.0, 1.0), st.floats(0.0, 1.0))
+def test_nearest_free_is_the_brute_force_nearest_free_cell(rows: int, cols: int, fill: float, seed: int,
+                                                           fx: float, fy: float) -> None:
+    """The suggestion for a start inside an obstacle is the free cell nearest to it, checked against
+    every free cell of the map (the distance, since equally near cells may tie)."""
+    occ = np.random.default_rng(seed).random((rows, cols)) < fill
+    gm = GridMap(Grid((rows, cols), 0.5, origin=(-1.0, 2.0)), occ)
+    p = np.array([-1.0 + fx * cols * 0.5 * 0.999, 2.0 + fy * rows * 0.5 * 0.999])
+    got = gm.nearest_free(p)
+    if occ.all():
+        assert got is None
+        return
+    r0, c0 = int((p[1] - 2.0) // 0.5), int((p[0] + 1.0) // 0.5)
+    rr, cc = np.nonzero(~occ)
+    best = np.min((rr - r0) ** 2 + (cc - c0) ** 2)
+    assert got is not None
+    gr, gc = gm.grid.cell_of(*got)
+    assert not occ[gr, gc]
+    assert (gr - r0) ** 2 + (gc - c0) ** 2 == best
+
+
+def test_a_start_inside_an_obstacle_is_told_the_nearest_free_point() -> None:
+    occ = np.zeros((3, 30), bool)
+    occ[:, :20] = True
+    gm = GridMap(Grid((3, 30), 1.0), occ)
+    with pytest.raises(GridfieldError, match=r"start \(5.5, 1.5\) lies inside an obstacle; the nearest free "
+                                             r"cell's centre is \(20.5, 1.5\)"):
+        gm.check_point("start", (5.5, 1.5))

@@ -435,12 +435,39 @@ class GridMap:
                 f"x in [{xmin:g}, {xmax:g}), y in [{ymin:g}, {ymax:g})"
             )
         if not self.is_free(p)[0]:
-            near = self.nearest_free(p)
-            hint = "" if near is None else f"; the nearest free cell's centre is ({near[0]:.6g}, {near[1]:.6g})"
-            raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}) lies inside an obstacle{hint}")
+            raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}) lies inside an obstacle{self._free_hint(p)}")
         return p
 
-    def nearest_free(self, point: ArrayLike) -> NDArray[np.float64] | None:
+    def _free_hint(self, p: NDArray[np.float64]) -> str:
+        """Where a point inside an obstacle could go: the nearest free cell, and when that one lies in a
+        pocket apart from the map's largest free region (8-connected), the nearest cell of that region
+        too (the largest region is labelled only for maps held in memory)."""
+        near = self.nearest_free(p)
+        if near is None:
+            return ""
+        text = f"; the nearest free cell's centre is ({near[0]:.6g}, {near[1]:.6g})"
+        if not isinstance(self.occupied, np.ndarray):
+            return text
+        from scipy import ndimage
+
+        labels, n = ndimage.label(~self.occupied, structure=np.ones((3, 3), bool))
+        if n < 2:
+            return text
+        sizes = np.bincount(labels.ravel())
+        sizes[0] = 0
+        big = int(np.argmax(sizes))
+        cell = self.grid.cell_of(near[0], near[1])
+        if cell is None or labels[cell] == big:
+            return text
+        main = self.nearest_free(p, among=labels == big)
+        if main is None:  # pragma: no cover - the largest region has cells
+            return text
+        k = int(sizes[labels[cell]])
+        return (f"{text}, in a pocket of {k} free cell{'' if k == 1 else 's'} closed off from the rest; the "
+                f"nearest cell of the map's largest free region ({int(sizes[big])} cells) is at "
+                f"({main[0]:.6g}, {main[1]:.6g})")
+
+    def nearest_free(self, point: ArrayLike, among: NDArray[np.bool_] | None = None) -> NDArray[np.float64] | None:
         """The centre of the free cell nearest to a point (Euclidean, between cell centres; ties to the
         lowest row, then column), or ``None`` when the map has no free cell.
 
@@ -452,6 +479,8 @@ class GridMap:
         ----------
         point : (x, y)
             A point inside the map.
+        among : ndarray of bool, optional
+            The cells to choose from (of the map's shape); default every free cell.
 
         Returns
         -------
@@ -471,7 +500,8 @@ class GridMap:
         c0 = min(max(int(np.floor((p[0] - x0) / h)), 0), cols - 1)
         for half in (8, 64, 512, max(rows, cols)):
             ra, rb, ca, cb = max(r0 - half, 0), min(r0 + half + 1, rows), max(c0 - half, 0), min(c0 + half + 1, cols)
-            rr, cc = np.nonzero(~np.asarray(self.occupied[ra:rb, ca:cb], dtype=bool))
+            win = ~np.asarray(self.occupied[ra:rb, ca:cb], dtype=bool) if among is None else among[ra:rb, ca:cb]
+            rr, cc = np.nonzero(win)
             if rr.size == 0:
                 continue
             d2 = (rr + ra - r0) ** 2 + (cc + ca - c0) ** 2

@@ -230,3 +230,17 @@ def test_a_start_inside_an_obstacle_is_told_the_nearest_free_point() -> None:
     with pytest.raises(GridfieldError, match=r"start \(5.5, 1.5\) lies inside an obstacle; the nearest free "
                                              r"cell's centre is \(20.5, 1.5\)"):
         gm.check_point("start", (5.5, 1.5))
+
+
+def test_a_point_next_to_a_closed_pocket_is_also_told_the_nearest_cell_of_the_open_region() -> None:
+    """An obstacle drawn as an outline encloses free cells: the nearest free cell can lie in that pocket,
+    from which nothing is reachable, so the error names the nearest cell of the largest free region too."""
+    occ = np.zeros((20, 20), bool)
+    occ[5:12, 5:12] = True      # a solid box with a one-cell hole (a pocket) at its centre
+    occ[8, 8] = False
+    gm = GridMap(Grid((20, 20), 1.0), occ)
+    with pytest.raises(GridfieldError) as e:
+        gm.check_point("goal", (7.5, 8.5))
+    msg = str(e.value)
+    assert "the nearest free cell's centre is (8.5, 8.5), in a pocket of 1 free cell closed off" in msg
+    assert msg.endswith("the nearest cell of the map's largest free region (351 cells) is at (4.5, 8.5)")

@@ -81,3 +81,20 @@ def test_plot_needs_two_resolutions_that_ran(tmp_path, capsys: pytest.CaptureFix
     assert main(["compare", ARENA, "--start", "10", "10", "--goal", "42", "42", "--planner", "wavefront-octile",
                  "--exact-planner", "visibility", "--plot", str(f)]) == 0
     assert f.is_file()
+
+
+def test_the_default_exact_planner_is_what_the_grid_planner_converges_to(capsys: pytest.CaptureFixture[str]) -> None:
+    """The potential planner's default model (complete) converges to the shortest path, so compare sets it
+    against ``visibility``; the classic field (a world file's ``model: khatib``, or ``--param``) against
+    ``exact-potential``, as before."""
+    assert main(["compare", ARENA, "--scenario", SCEN, "--index", "10", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["exact_planner"] == "visibility"
+    reached = [r for r in out["rows"] if r["status"] == "reached"]
+    assert reached and all(r["exact_status"] == "reached" for r in reached)
+    # against the shortest path, the complete field's length ratio is at least 1 (up to rounding)
+    assert all(r["length_ratio"] >= 1 - 1e-9 for r in reached)
+    assert main(["compare", str(bundled_map("seed000.yaml")), "--resolutions", "0.4", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["exact_planner"] == "exact-potential"  # the file says khatib
+    assert main(["compare", ARENA, "--scenario", SCEN, "--index", "10", "--param", "model=khatib", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["exact_planner"] == "exact-potential"

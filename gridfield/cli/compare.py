@@ -57,8 +57,10 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help=f"cell sizes of the convergence study (default: {' '.join(map(str, DEFAULT_RESOLUTIONS))})")
     p.add_argument("--planner", default="potential", choices=grid_planners,
                    help="grid planner (default: potential)")
-    p.add_argument("--exact-planner", default="exact-potential", choices=world_planners,
-                   help="exact planner (default: exact-potential)")
+    p.add_argument("--exact-planner", default=None, choices=world_planners,
+                   help="exact planner (default: the exact counterpart of --planner: exact-potential for the "
+                        "classic potential field (model khatib), visibility, the exact shortest path, for the "
+                        "complete models and the navigation functions, whose paths converge to it)")
     p.add_argument("--batch", type=int, metavar="N", default=None,
                    help="compare on N random start/goal pairs at --resolution instead")
     p.add_argument("--pair-seed", type=int, default=0, metavar="S", help="random seed of the --batch pairs")
@@ -223,6 +225,8 @@ def run(args: argparse.Namespace) -> int:
         resolutions = [grid_res * k for k in GRID_FACTORS]
     else:
         resolutions = list(DEFAULT_RESOLUTIONS)
+    if args.exact_planner is None:
+        args.exact_planner = exact_counterpart(args.planner, target, params)
     rows = convergence_study(target, start, goal, resolutions, params=params, grid_planner=args.planner,
                              exact_planner=args.exact_planner)
     orders = study_orders(rows)
@@ -238,3 +242,25 @@ def run(args: argparse.Namespace) -> int:
         _plot(args.plot, rows, f"{args.planner} vs {args.exact_planner}")
         print(f"wrote {args.plot}", file=sys.stderr if args.json else sys.stdout)
     return 0
+
+
+def exact_counterpart(planner: str, target: Any, params: dict[str, Any]) -> str:
+    """The exact planner a grid planner converges to: ``exact-potential`` for the classic potential field
+    (the potential planner with ``model`` khatib or vortex, from the command line or the world file),
+    ``visibility`` (the shortest path) for the complete models, the potential planner's default, and the
+    navigation functions.
+
+    Examples
+    --------
+    >>> exact_counterpart("potential", None, {"model": "khatib"}), exact_counterpart("potential", None, {})
+    ('exact-potential', 'visibility')
+    """
+    from ..world import World
+
+    if planner != "potential":
+        return "visibility"
+    world = target if isinstance(target, World) else getattr(target, "world", None)
+    base = dict(world.params) if isinstance(world, World) else {}
+    model = {**base, **params}.get("model")
+    return "exact-potential" if model in ("khatib", "vortex") else "visibility"
+

@@ -22,7 +22,7 @@ da = pytest.importorskip("dask.array")
 distributed = pytest.importorskip("distributed")
 
 from gridfield.brushfire import brushfire  # noqa: E402
-from gridfield.chunked import connect, distance, field, labels  # noqa: E402
+from gridfield.chunked import connect, distance, field, gvd, labels  # noqa: E402
 from gridfield.errors import ArgumentTypeError, GridfieldError, ParameterError  # noqa: E402
 from gridfield.grid import Grid, GridMap  # noqa: E402
 from gridfield.io import read  # noqa: E402
@@ -166,6 +166,34 @@ def test_cluster_maze_and_real_maps(client, shared_maps):
     from scipy import ndimage
 
     assert np.array_equal(labels(x).compute(), ndimage.label(occ, structure=np.ones((3, 3)))[0])
+
+
+@pytest.mark.parametrize("border", ["wall", "open"])
+def test_gvd_and_nearest_labels_equal_brushfire_on_small_maps(border):
+    """The label of each cell's nearest obstacle (two gathers along the separable passes) and the GVD (a
+    one-cell halo) on odd chunks, against the in-memory brushfire, bit for bit; maps without obstacles and
+    maps of one obstacle cell included."""
+    rng = np.random.default_rng(5)
+    cases = [np.zeros((6, 9), bool), np.eye(7, 11, 3, dtype=bool)]
+    cases += [rng.random(tuple(rng.integers(3, 50, 2))) < rng.choice([0.01, 0.05, 0.2, 0.5]) for _ in range(30)]
+    for occ in cases:
+        chunks = tuple(int(v) for v in rng.integers(2, 17, 2))
+        d, lab, g = dask.compute(*gvd(da.from_array(occ, chunks=chunks), border=border, resolution=0.5),
+                                 scheduler="synchronous")
+        ref = brushfire(GridMap(Grid(occ.shape, 0.5, border=border), occ), metric="euclidean")
+        assert np.array_equal(d, ref.distance), (occ.shape, chunks)
+        assert np.array_equal(lab, ref.label), (occ.shape, chunks)
+        assert np.array_equal(g, ref.gvd), (occ.shape, chunks)
+        assert g.dtype == bool and lab.dtype == np.int32
+
+
+def test_cluster_gvd_on_a_real_map(client, shared_maps):
+    """The GVD of a tiled Moving AI map on the cluster, chunks of 256 cells, equals the in-memory one."""
+    occ = tiled(shared_maps / "movingai" / "den312d" / "den312d.map", 1024)
+    d, lab, g = dask.compute(*gvd(da.from_array(occ, chunks=CHUNK), resolution=0.05))
+    ref = brushfire(GridMap(Grid(occ.shape, 0.05, border="wall"), occ), metric="euclidean")
+    assert np.array_equal(d, ref.distance) and np.array_equal(lab, ref.label) and np.array_equal(g, ref.gvd)
+    assert 0 < g.sum() < g.size  # a skeleton, not nothing or everything
 
 
 @pytest.mark.slow

@@ -9,6 +9,8 @@ extra): importing this package does not import it.
 - :func:`distance`: the Euclidean, chessboard or taxicab distance with the nearest obstacle (exact for any
   distance: a rechunk between the column and the row pass), or saturated with a halo only.
 - :func:`field`: the classic (khatib) potential and its gradient chunk by chunk, from the nearest cells.
+- :func:`gvd`: the Euclidean distance, the label of each cell's nearest obstacle and the GVD (two gathers
+  along the separable passes, then a one-cell halo).
 - :func:`labels`: the 8-connected obstacle components across chunks, numbered as the in-memory labels.
 - :func:`connect`: a ``distributed.Client``, or one clear error when the scheduler cannot be reached.
 """
@@ -18,6 +20,7 @@ from __future__ import annotations
 from ._cluster import connect
 from ._distance import BORDERS, METRICS, distance
 from ._field import field
+from ._gvd import gvd
 from ._labels import labels
 
-__all__ = ["BORDERS", "METRICS", "connect", "distance", "field", "labels"]
+__all__ = ["BORDERS", "METRICS", "connect", "distance", "field", "gvd", "labels"]

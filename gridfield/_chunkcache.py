@@ -292,7 +292,7 @@ class LazyGridMap(GridMap):
     """
 
     occupied: Any = None  # a LazyArray
-    meta: dict = field(default_factory=dict)
+    meta: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if not isinstance(self.grid, Grid):

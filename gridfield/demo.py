@@ -219,7 +219,7 @@ def _part_maps(run: _Run) -> None:
         if isinstance(target, GridMap) and target.meta.get("format") == "ros":
             target = crop_to_known(target)
         vector = not isinstance(target, GridMap)
-        if vector and target.resolution is not None:  # type: ignore[union-attr]
+        if vector and target.resolution is not None:
             target = as_gridmap(target)  # the world's own cells, drawn with its outlines
         plot_map(target, ax, legend=False, title="")
         if isinstance(target, GridMap):

@@ -565,7 +565,7 @@ def plot_star_world(
 
     def surface(pos: int, z: NDArray[np.float64], label: str, panel_title: str, cmap: str) -> Artists:
         ax = fig.add_subplot(2, 2, pos, projection="3d")
-        ax.view_init(elev=38, azim=-62)  # type: ignore[attr-defined]  # a 3-D Axes
+        ax.view_init(elev=38, azim=-62)  # a 3-D Axes
         zz = np.asarray(z, dtype=float)[::stride, ::stride]
         finite = np.isfinite(zz)
         lo = float(zz[finite].min()) if finite.any() else 0.0

@@ -84,7 +84,8 @@ def _y_on_edges(seg: NDArray[np.float64], x: NDArray[np.float64]) -> NDArray[np.
     safe = np.where(dx == 0, 1.0, dx)
     y = ay + ((x - ax) * (by - ay)) / safe
     y = np.where(x == bx, by, y)
-    return np.where(x == ax, ay, y)
+    exact: NDArray[np.float64] = np.where(x == ax, ay, y)
+    return exact
 
 
 def _edge_cells(

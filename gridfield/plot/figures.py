@@ -340,7 +340,7 @@ def _potential_free_cells(field: Any, grid: Grid, levels: int) -> NDArray[np.boo
     u = np.asarray(field.potential, dtype=float)
     if u.shape != grid.shape:
         raise GridfieldError(f"potential has shape {u.shape}, but the grid has shape {grid.shape}")
-    finite = np.isfinite(u)
+    finite: NDArray[np.bool_] = np.isfinite(u)
     if gm is not None:
         finite &= ~gm.occupied
     if not finite.any():

@@ -29,7 +29,7 @@ _EIGHT = np.ones((3, 3), bool)
 def _label_block(block: NDArray[np.bool_]) -> NDArray[np.int32]:
     from scipy import ndimage
 
-    lab: NDArray[np.int_]
+    lab: NDArray[np.integer[Any]]  # scipy's labels (int32 by default)
     lab, _ = ndimage.label(np.asarray(block, dtype=bool), structure=_EIGHT)
     return lab.astype(np.int32, copy=False)
 

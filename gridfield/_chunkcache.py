@@ -292,7 +292,7 @@ class LazyGridMap(GridMap):
     """
 
     occupied: Any = None  # a LazyArray
-    meta: dict = field(default_factory=dict)
+    meta: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if not isinstance(self.grid, Grid):
@@ -313,7 +313,8 @@ class LazyGridMap(GridMap):
 
     @property
     def occupied_fraction(self) -> float:
-        return self.occupied.count_nonzero() / max(self.occupied.size, 1)
+        occupied: LazyArray = self.occupied
+        return occupied.count_nonzero() / max(occupied.size, 1)
 
     def is_free(self, points: Any) -> NDArray[np.bool_]:
         """Whether each world point lies in a free cell (outside the grid: free iff the border is open)."""

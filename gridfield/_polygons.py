@@ -57,7 +57,7 @@ def _merge_duplicates(v: NDArray[np.float64]) -> NDArray[np.float64]:
     up to ``_COLLINEAR_TOL`` times the polygon's extent."""
     extent = float(np.max(np.abs(v - v[0]))) if len(v) else 0.0
     step = np.max(np.abs(v - np.roll(v, 1, axis=0)), axis=1)
-    keep = step > _COLLINEAR_TOL * extent
+    keep: NDArray[np.bool_] = step > _COLLINEAR_TOL * extent
     if not keep.any():
         return v[:1].copy()
     return v[keep]

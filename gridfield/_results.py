@@ -11,7 +11,7 @@ re-export them; import them from there. (:class:`gridfield.navigation.Navigation
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -171,7 +171,7 @@ class Field:
     grad_x: NDArray[np.float64]
     grad_y: NDArray[np.float64]
     goal: tuple[float, float]
-    params: dict
+    params: dict[str, Any]
     distance: DistanceMap | None = None
 
     def __repr__(self) -> str:

@@ -196,7 +196,8 @@ class AnyAngleGraph:
     @property
     def edges(self) -> NDArray[np.intp]:
         """The taut visibility graph's edges ``(m, 2)``, pairs ``i < j`` (built on first access)."""
-        return self._graph()["edges"]
+        edges: NDArray[np.intp] = self._graph()["edges"]
+        return edges
 
     @property
     def n_edges(self) -> int:
@@ -491,7 +492,7 @@ def grid_graph(gridmap: GridMap, *, cache: dict[Any, Any] | None = None) -> AnyA
         raise ParameterError(f"grid_graph needs a GridMap, got {type(gridmap).__name__}")
     key = _content_key(gridmap)
     store: Any = cache if cache is not None else _GRAPHS
-    graph = store.get(key)
+    graph: AnyAngleGraph | None = store.get(key)
     if graph is None:
         from .limits import check_seconds
 

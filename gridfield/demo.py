@@ -43,7 +43,7 @@ from pathlib import Path as FsPath
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from .errors import GridfieldError
 from .grid import Grid, GridMap
@@ -219,7 +219,7 @@ def _part_maps(run: _Run) -> None:
         if isinstance(target, GridMap) and target.meta.get("format") == "ros":
             target = crop_to_known(target)
         vector = not isinstance(target, GridMap)
-        if vector and target.resolution is not None:  # type: ignore[union-attr]
+        if vector and target.resolution is not None:
             target = as_gridmap(target)  # the world's own cells, drawn with its outlines
         plot_map(target, ax, legend=False, title="")
         if isinstance(target, GridMap):
@@ -458,15 +458,18 @@ MOVING_WALKER: dict[str, Any] = {"side": 1.6, "x": 19.4, "y": (3.0, 17.0), "spee
 MOVING_ROBOT_SPEED = 0.5
 
 
-def _walk(points: np.ndarray, distance: float) -> np.ndarray:
+def _walk(points: NDArray[np.float64], distance: float) -> NDArray[np.float64]:
     """The point ``distance`` along the polyline ``points`` (its end if shorter)."""
     seg = np.linalg.norm(np.diff(points, axis=0), axis=1)
     cum = np.concatenate([[0.0], np.cumsum(seg)])
+    point: NDArray[np.float64]
     if len(points) < 2 or distance >= cum[-1]:
-        return points[-1].copy()
+        point = points[-1].copy()
+        return point
     i = int(np.searchsorted(cum, distance, side="right")) - 1
     t = (distance - cum[i]) / seg[i] if seg[i] > 0 else 0.0
-    return points[i] + t * (points[i + 1] - points[i])
+    point = points[i] + t * (points[i + 1] - points[i])
+    return point
 
 
 def _part_moving(run: _Run) -> None:

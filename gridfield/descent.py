@@ -724,7 +724,8 @@ def descend(
 
 
 #: The stop rules in the order both followers check them before every step (:func:`descend` and
-#: :func:`gridfield.follow.follow_many`; ``tests/test_follower_spec.py`` checks they agree): each
+#: :func:`gridfield.follow.follow_many`, each spelling the order out in its loop: ``tests/test_stop_rules_order.py``
+#: checks both against this table, ``tests/test_follower_spec.py`` that they agree): each
 #: name is a ``stop_reason`` (``reached`` is the reason ``goal``; ``small_gradient`` includes
 #: ``undefined_force``).
 STOP_RULES: tuple[str, ...] = ("goal", "blocked", "oscillation", "confined", "no_progress", "max_iterations",

@@ -30,12 +30,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .escapes import NavigationEscape
+
+if TYPE_CHECKING:
+    from .path import Path
 
 __all__ = ["diagnose", "robot_no_path", "unreachable_hint"]
 
@@ -66,7 +69,7 @@ def unreachable_hint(start: Any, goal: Any) -> str:
             f"({_fmt(start[0])}, {_fmt(start[1])}): no free path joins them on this map")
 
 
-def robot_no_path(path: Any, point: Any, robot: str, start: Any, goal: Any) -> Any:
+def robot_no_path(path: Path, point: Path, robot: str, start: Any, goal: Any) -> Path:
     """A ``no_path`` run in a robot's configuration space, its hint saying when the robot closes the passage.
 
     ``point`` is the same search (planner, parameters, start, goal) on the map without the robot's

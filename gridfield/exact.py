@@ -189,6 +189,7 @@ class ExactField:
         """The potential at ``p`` (attractive + classic repulsive ``0.5*eta*(1/D - 1/q_star)**2``)."""
         gx, gy = self.goal
         dist = math.hypot(p[0] - gx, p[1] - gy)
+        u: float
         if self.d_star == 0.0:
             u = self.zeta * dist
         elif dist <= self.d_star:

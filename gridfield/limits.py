@@ -863,7 +863,7 @@ def progress(enabled: bool | None = None, *, stream: TextIO | None = None, inter
             return getattr(self._inner, name)
 
     real_stdout = sys.stdout
-    sys.stdout = _Erasing(real_stdout)  # type: ignore[assignment]
+    sys.stdout = _Erasing(real_stdout)
     thread = threading.Thread(target=tick, name="gridfield-progress", daemon=True)
     thread.start()
     try:

@@ -414,7 +414,8 @@ def _grid_world(gm: GridMap, cache: dict[Any, Any] | None) -> World:
     key = ("grid_world", gm)
     if key not in cache:
         cache[key] = grid_world(gm)
-    return cache[key]
+    world: World = cache[key]
+    return world
 
 
 def _with_endpoints(path: Path, start: np.ndarray, goal: np.ndarray, t0: float) -> Path:

@@ -586,7 +586,8 @@ def build_field(
     if p["model"] in _NF_MODELS:
         from .navfield import nav_field
 
-        return nav_field(gridmap, goal, given, dmap=dmap)
+        field: Field = nav_field(gridmap, goal, given, dmap=dmap)
+        return field
     g = gridmap.check_point("goal", goal)
     goal_xy = (float(g[0]), float(g[1]))
     if dmap is None:

@@ -84,7 +84,8 @@ def _y_on_edges(seg: NDArray[np.float64], x: NDArray[np.float64]) -> NDArray[np.
     safe = np.where(dx == 0, 1.0, dx)
     y = ay + ((x - ax) * (by - ay)) / safe
     y = np.where(x == bx, by, y)
-    return np.where(x == ax, ay, y)
+    exact: NDArray[np.float64] = np.where(x == ax, ay, y)
+    return exact
 
 
 def _edge_cells(
@@ -234,7 +235,7 @@ def _obstacle_mask(grid: Grid, ob: Obstacle, eps: float) -> tuple[tuple[int, int
     if ob.kind == "circle" and ob.center is not None and ob.radius is not None:
         win = _window(grid, ob.bounds(), eps)
         return None if win is None else (win, _circle_mask(grid, win, ob.center, float(ob.radius), eps))
-    win = _window(grid, tuple(ob.geometry.bounds), eps)  # type: ignore[arg-type]
+    win = _window(grid, tuple(ob.geometry.bounds), eps)
     return None if win is None else (win, _geometry_mask(grid, win, ob.geometry, eps))
 
 
@@ -267,7 +268,7 @@ def rasterize_geometry(geometry: BaseGeometry, grid: Grid) -> NDArray[np.bool_]:
     if geometry.is_empty:
         return out
     eps = _tolerance(grid)
-    win = _window(grid, tuple(geometry.bounds), eps)  # type: ignore[arg-type]
+    win = _window(grid, tuple(geometry.bounds), eps)
     if win is not None:
         r0, r1, c0, c1 = win
         out[r0:r1 + 1, c0:c1 + 1] = _geometry_mask(grid, win, geometry, eps)
@@ -327,7 +328,7 @@ def rasterize(
         raise ParameterError(f"bounds must be [xmin, ymin, xmax, ymax], got {shorten(bounds)}") from None
     if len(area) != 4:
         raise ParameterError(f"bounds must be [xmin, ymin, xmax, ymax], got {shorten(bounds)}")
-    grid = Grid.covering(area, res, border=world.border)  # type: ignore[arg-type]
+    grid = Grid.covering(area, res, border=world.border)
     occupied = np.zeros(grid.shape, bool)
     ids = np.zeros(grid.shape, np.int32)
     eps = _tolerance(grid)

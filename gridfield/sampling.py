@@ -113,7 +113,7 @@ def grid_sampler(field: GradientField, *, sampling: str = "bilinear") -> Callabl
     gx, gy = _field_arrays(field)
     occ, x0, y0, res = _grid_args(field.map)
     nearest = sampling == "nearest"
-    kern = _direct(_force_at, gx, gy, occ, x0, y0, res, nearest, x0, y0)
+    kern: Callable[..., tuple[float, float]] = _direct(_force_at, gx, gy, occ, x0, y0, res, nearest, x0, y0)
 
     def force(p: Point) -> tuple[float, float]:
         return kern(gx, gy, occ, x0, y0, res, nearest, p[0], p[1])
@@ -201,7 +201,8 @@ def grid_potential_sampler(field: GradientField, *, sampling: str = "bilinear") 
         return lambda p: fu(p[0], p[1])[0]
     u = np.ascontiguousarray(field.potential, dtype=np.float64)
     occ, x0, y0, res = _grid_args(field.map)
-    kern = _direct(_nearest2 if sampling == "nearest" else _bilinear2, u, u, occ, x0, y0, res, x0, y0)
+    kern: Callable[..., tuple[float, float]] = _direct(_nearest2 if sampling == "nearest" else _bilinear2, u, u, occ,
+                                                      x0, y0, res, x0, y0)
 
     def potential(p: Point) -> float:
         return kern(u, u, occ, x0, y0, res, p[0], p[1])[0]
@@ -242,7 +243,7 @@ def grid_blocked(gridmap: GridMap) -> Callable[[Point, Point], bool]:
                                _segment_blocked)
     occ, x0, y0, res = _grid_args(gridmap)
     wall = gridmap.grid.border == "wall"
-    kern = _direct(_segment_blocked, occ, x0, y0, res, wall, x0, y0, x0, y0)
+    kern: Callable[..., bool] = _direct(_segment_blocked, occ, x0, y0, res, wall, x0, y0, x0, y0)
 
     def blocked(p: Point, q: Point) -> bool:
         return kern(occ, x0, y0, res, wall, p[0], p[1], q[0], q[1])

@@ -29,6 +29,7 @@ _EIGHT = np.ones((3, 3), bool)
 def _label_block(block: NDArray[np.bool_]) -> NDArray[np.int32]:
     from scipy import ndimage
 
+    lab: NDArray[np.integer[Any]]  # scipy's labels (int32 by default)
     lab, _ = ndimage.label(np.asarray(block, dtype=bool), structure=_EIGHT)
     return lab.astype(np.int32, copy=False)
 
@@ -77,8 +78,9 @@ def labels(occupied: Any) -> Any:
            [0, 0, 0, 0]], dtype=int32)
     """
     try:
-        import dask
         import dask.array as da
+        from dask.base import compute
+        from dask.delayed import delayed
     except ImportError:
         raise ParameterError("gridfield.chunked needs Dask: pip install 'gridfield[dask]'") from None
     from scipy.sparse import coo_matrix
@@ -90,8 +92,8 @@ def labels(occupied: Any) -> Any:
     coffs = np.concatenate([[0], np.cumsum(occupied.chunks[1])[:-1]]).astype(int)
     blocks = occupied.to_delayed()
     nbr, nbc = blocks.shape
-    summ = dask.compute(*[dask.delayed(_summary)(blocks[i, j], int(roffs[i]), int(coffs[j]), cols)
-                          for i in range(nbr) for j in range(nbc)])
+    summ = compute(*[delayed(_summary)(blocks[i, j], int(roffs[i]), int(coffs[j]), cols)
+                      for i in range(nbr) for j in range(nbc)])
     counts = np.array([s[0] for s in summ], np.int64).reshape(nbr, nbc)
     offsets = np.concatenate([[0], np.cumsum(counts.ravel())[:-1]]).reshape(nbr, nbc)
     total = int(counts.sum())

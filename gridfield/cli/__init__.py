@@ -43,7 +43,7 @@ class _Parser(argparse.ArgumentParser):
     def _sub_parser(self, ns: argparse.Namespace) -> argparse.ArgumentParser | None:
         for action in self._actions:
             if isinstance(action, argparse._SubParsersAction):
-                return action.choices.get(getattr(ns, "command", None) or "")  # type: ignore[return-value]
+                return action.choices.get(getattr(ns, "command", None) or "")
         return None
 
 

@@ -146,7 +146,8 @@ def write(args: argparse.Namespace, arrays: dict[str, Any], grid: Any, kind: str
 
     write_store(args.out, arrays, grid, kind=kind, attrs=attrs, chunks=args.chunks, resume_key=resume_token(args),
                 scheduler=sched)
-    return math.ceil(grid.rows / args.chunks) * math.ceil(grid.cols / args.chunks)
+    per_array: int = math.ceil(grid.rows / args.chunks) * math.ceil(grid.cols / args.chunks)
+    return per_array
 
 
 def partial_note(args: argparse.Namespace) -> str:

@@ -24,7 +24,7 @@ def _positive(text: str) -> float:
     return v
 
 
-def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "brushfire", help="wavefront distance map: steps, distance, nearest-obstacle labels, GVD",
         description="Compute the brushfire (wavefront) distance map of a map or world: the wavefront number of "

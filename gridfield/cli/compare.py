@@ -33,7 +33,7 @@ DEFAULT_RESOLUTIONS = (0.4, 0.2, 0.1, 0.05)
 GRID_FACTORS = (8, 4, 2, 1)
 
 
-def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
     from ..planners import PLANNERS
 
     grid_planners = [k for k, v in PLANNERS.items() if v[2] == "grid"] + ["visibility"]

@@ -21,7 +21,7 @@ def _number(text: str) -> float:
     return v
 
 
-def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "costmap", help="Nav2 inflated costmap of a map (costmap_2d inflation layer), as a map_server YAML + PGM",
         description="Inflate a map's obstacles into ROS 2 Nav2's costmap costs (254 lethal, 253 within the robot "

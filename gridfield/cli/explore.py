@@ -9,7 +9,7 @@ from typing import Any
 from ._common import add_map_arguments, add_param_arguments, add_robot_arguments, collect_params, load_target
 
 
-def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "explore", help="open the interactive explorer on a map (a window, or a browser with --web)",
         description="Open the interactive explorer (seed 004's workflow): left clicks set the start and then the "
@@ -39,7 +39,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 def _interactive_backend() -> bool:
     import matplotlib
-    from matplotlib.backends import BackendFilter, backend_registry
+    from matplotlib.backends.registry import BackendFilter, backend_registry
 
     backend = matplotlib.get_backend().lower()
     return backend not in backend_registry.list_builtin(BackendFilter.NON_INTERACTIVE) and not backend.startswith(
@@ -144,7 +144,7 @@ _WEB_OTHER = ("ack", "draw", "refresh", "send_image_mode", "supports_binary", "k
               "toolbar_button", "resize", "set_device_pixel_ratio", "set_dpi_ratio")
 
 
-def _number(event: dict, key: str, lo: float, hi: float, default: float | None = None) -> str | None:
+def _number(event: dict[str, Any], key: str, lo: float, hi: float, default: float | None = None) -> str | None:
     """None if ``event[key]`` is a finite number in ``[lo, hi]`` (or absent with a default), else the reason."""
     import math
 

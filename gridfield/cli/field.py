@@ -21,7 +21,7 @@ from ._common import (
 FIELD_PLANNERS = ("potential", "wavefront", "wavefront-octile", "fmm", "harmonic", "navfn", "sphere-nav", "star-nav")
 
 
-def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "field", help="build a potential field (U and its gradient) on a map",
         description="Build the attractive/repulsive (or seed 003 vortex) potential field of a map for a goal; "

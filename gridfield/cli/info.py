@@ -10,7 +10,7 @@ from typing import Any
 from ._common import add_robot_arguments, robot_target
 
 
-def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "info",
         help="describe a map: shape, resolution, origin, border, occupied fraction, obstacle count",

@@ -21,7 +21,7 @@ if TYPE_CHECKING:
     from ..path import Path
 
 
-def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
     from ..planners import PLANNERS
 
     p = sub.add_parser("plan", help="plan a path from start to goal",

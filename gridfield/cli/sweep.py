@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 
-def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
     p = sub.add_parser("sweep", help="run a sweep of planners x maps x start/goal pairs x parameters",
                        description="Run every (map, start/goal pair, planner, parameter combination) of a sweep "
                                    "spec; write one CSV row per run and a summary. Rows already in the output "

@@ -235,7 +235,8 @@ def final_point(path: ArrayLike | Path) -> NDArray[np.float64]:
     """
     if isinstance(path, Path) and path.status == "local_minimum" and "stall_point" in path.extra:
         return np.asarray(path.extra["stall_point"], dtype=float).reshape(2)
-    return _points(path, "path")[-1]
+    last: NDArray[np.float64] = _points(path, "path")[-1]
+    return last
 
 
 def end_error(a: ArrayLike | Path, b: ArrayLike | Path) -> float:

@@ -41,7 +41,8 @@ class _Pixels:
 
     @property
     def has_alpha(self) -> bool:
-        return self.data.shape[2] == 4
+        channels: int = self.data.shape[2]
+        return channels == 4
 
     @property
     def alpha(self) -> NDArray[np.float64] | None:
@@ -51,7 +52,8 @@ class _Pixels:
         """Grey level 0..255: the image itself if grey, else Rec. 601 luma (rounded, as 8-bit converters do)."""
         if self.data.shape[2] == 1:
             return self.data[..., 0]
-        return np.rint(self.data[..., :3] @ np.array([0.299, 0.587, 0.114]))
+        luma: NDArray[np.float64] = np.rint(self.data[..., :3] @ np.array([0.299, 0.587, 0.114]))
+        return luma
 
 
 _WS = b" \t\r\n\v\f"

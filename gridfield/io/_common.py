@@ -53,7 +53,8 @@ def _read_bytes(p: FsPath) -> bytes:
 def _choice(name: str, value: Any, choices: tuple[str, ...]) -> str:
     if value not in choices:
         raise ParameterError(f"{name} must be one of {', '.join(map(repr, choices))}, got {shorten(value)}")
-    return value
+    chosen: str = value  # one of the choices
+    return chosen
 
 
 def _decode_text(p: FsPath, data: bytes, what: str) -> str:

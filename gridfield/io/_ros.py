@@ -117,7 +117,8 @@ def _ros1_values(px: _Pixels, prm: _RosParams) -> NDArray[np.int8]:
     if prm.negate:
         avg = 255.0 - avg
     if prm.mode == "raw":
-        return np.trunc(avg).astype(np.int64).astype(np.uint8).view(np.int8)
+        raw: NDArray[np.int8] = np.trunc(avg).astype(np.int64).astype(np.uint8).view(np.int8)
+        return raw
     occ = (255.0 - avg) / 255.0
     if prm.mode == "trinary":
         middle = np.full(avg.shape, -1, dtype=np.int64)

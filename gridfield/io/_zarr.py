@@ -259,7 +259,8 @@ def _metadata(grid: Grid, kind: str, ch: tuple[int, int], attrs: Mapping[str, An
     if "goal" in extra:
         extra["goal"] = [float(v) for v in extra["goal"]]
     meta.update(extra)
-    return json.loads(json.dumps(meta, default=_json_default))
+    plain: dict[str, Any] = json.loads(json.dumps(meta, default=_json_default))
+    return plain
 
 
 def _json_default(v: Any) -> Any:

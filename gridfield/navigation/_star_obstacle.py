@@ -184,14 +184,16 @@ class StarObstacle:
         [3.0, 1.5]
         """
         if self.kind == "circle":
-            return np.abs(np.hypot(*(q - self.center).T) - self.radius)
+            centre_distance: NDArray[np.float64] = np.hypot(*(q - self.center).T)
+            return np.abs(centre_distance - self.radius)
         assert self.vertices is not None
         a = self.vertices
         e = np.roll(a, -1, axis=0) - a
         rel = q[:, None, :] - a[None, :, :]
         t = np.clip(np.einsum("nkj,kj->nk", rel, e) / np.einsum("kj,kj->k", e, e), 0.0, 1.0)
         diff = rel - t[..., None] * e[None]
-        return np.sqrt(np.min(np.einsum("nkj,nkj->nk", diff, diff), axis=1))
+        nearest_squared: NDArray[np.float64] = np.min(np.einsum("nkj,nkj->nk", diff, diff), axis=1)
+        return np.sqrt(nearest_squared)
 
 
 #: the R-functions' regularization: ``x ^ y = R_0(x, y) (x**2 + y**2) / (x**2 + y**2 + eps**2)`` with

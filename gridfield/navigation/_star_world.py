@@ -88,7 +88,7 @@ class StarWorld:
         """Exact distance from points ``(N, 2)`` to the nearest obstacle boundary or the workspace circle
         (meaningful for free points)."""
         p = np.atleast_2d(np.asarray(q, dtype=float))
-        d = self.workspace_radius - np.hypot(*(p - self.workspace_center).T)
+        d: NDArray[np.float64] = self.workspace_radius - np.hypot(*(p - self.workspace_center).T)
         for ob in self.obstacles:
             d = np.minimum(d, ob.boundary_distance(p))
         return d
@@ -153,7 +153,7 @@ class StarWorld:
     def free(self, q: ArrayLike) -> NDArray[np.bool_]:
         """Whether points ``(N, 2)`` lie strictly inside the workspace disc and outside every obstacle."""
         p = np.atleast_2d(np.asarray(q, dtype=float))
-        ok = np.hypot(*(p - self.workspace_center).T) < self.workspace_radius
+        ok: NDArray[np.bool_] = np.hypot(*(p - self.workspace_center).T) < self.workspace_radius
         for ob in self.obstacles:
             ok &= ob.gauge(p)[0] > 1.0
         return ok
@@ -254,11 +254,14 @@ def star_world(world: Any, goal: ArrayLike, *, workspace_center: ArrayLike | Non
 
 
 def _touch(a: Any, b: Any, shapely: Any) -> bool:
+    touch: bool
     if a.kind == "circle" and b.kind == "circle":
-        return math.dist(a.center, b.center) <= a.radius + b.radius
+        touch = math.dist(a.center, b.center) <= a.radius + b.radius
+        return touch
     if a.kind == "circle" or b.kind == "circle":
         circle, poly = (a, b) if a.kind == "circle" else (b, a)
-        return float(shapely.distance(poly.geometry, shapely.points(circle.center))) <= circle.radius
+        touch = float(shapely.distance(poly.geometry, shapely.points(circle.center))) <= circle.radius
+        return touch
     return bool(shapely.intersects(a.geometry, b.geometry))
 
 

@@ -340,7 +340,7 @@ def _potential_free_cells(field: Any, grid: Grid, levels: int) -> NDArray[np.boo
     u = np.asarray(field.potential, dtype=float)
     if u.shape != grid.shape:
         raise GridfieldError(f"potential has shape {u.shape}, but the grid has shape {grid.shape}")
-    finite = np.isfinite(u)
+    finite: NDArray[np.bool_] = np.isfinite(u)
     if gm is not None:
         finite &= ~gm.occupied
     if not finite.any():
@@ -565,7 +565,7 @@ def plot_star_world(
 
     def surface(pos: int, z: NDArray[np.float64], label: str, panel_title: str, cmap: str) -> Artists:
         ax = fig.add_subplot(2, 2, pos, projection="3d")
-        ax.view_init(elev=38, azim=-62)  # type: ignore[attr-defined]  # a 3-D Axes
+        ax.view_init(elev=38, azim=-62)  # a 3-D Axes
         zz = np.asarray(z, dtype=float)[::stride, ::stride]
         finite = np.isfinite(zz)
         lo = float(zz[finite].min()) if finite.any() else 0.0

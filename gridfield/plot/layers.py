@@ -98,7 +98,8 @@ class Artists:
     @property
     def figure(self) -> Figure:
         """The figure of :attr:`ax`."""
-        return self.ax.figure
+        fig: Figure = self.ax.figure
+        return fig
 
     def __repr__(self) -> str:
         drawn = [name for name in ("image", "contours", "quiver", "surface", "colorbar", "legend")
@@ -479,7 +480,8 @@ def _goal_of(path: Path, target: Any, goal: ArrayLike | None) -> NDArray[np.floa
             path.points[0], w.start):
         return np.asarray(w.goal, dtype=float)
     if path.reached and len(path.points):
-        return path.points[-1].copy()
+        end: NDArray[np.float64] = path.points[-1].copy()
+        return end
     return None
 
 

@@ -176,7 +176,7 @@ def _completed(client: Any, futures: list[Any]) -> Iterator[Any]:
     import time
 
     from distributed import as_completed
-    from distributed.comm import CommClosedError
+    from distributed.comm.core import CommClosedError
 
     ac = as_completed(futures)
     idle_since: float | None = None
@@ -208,7 +208,7 @@ def _cluster_failures() -> tuple[type[BaseException], ...]:
     import concurrent.futures
 
     from distributed.client import ClosedClientError
-    from distributed.comm import CommClosedError
+    from distributed.comm.core import CommClosedError
     from distributed.scheduler import KilledWorker
 
     return (KilledWorker, CommClosedError, ClosedClientError, asyncio.CancelledError,

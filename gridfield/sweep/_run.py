@@ -102,7 +102,7 @@ def _map_cache(run: Run, target: Any = None) -> dict[Any, Any]:
     share a (relative) path but not their content. The cache holds the map, so the identity stays unique.
     """
     key = (run.map, run.resolution, run.robot, None if target is None else id(target))
-    cache = _CACHE.pop(key, None)
+    cache: dict[Any, Any] | None = _CACHE.pop(key, None)
     if cache is None:
         if target is None:
             from ..io import read

@@ -82,6 +82,7 @@ __all__ = [
     "grid_potential_sampler",
     "grid_sampler",
     "plan_potential",
+    "plan_potential_with_field",
     "resolve_follow_params",
     "sample_force",
 ]
@@ -237,11 +238,12 @@ def _same_component(gridmap: GridMap, start: Point, goal: Point, cache: dict[Any
 def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: Mapping[str, Any], *,
                    cache: dict[Any, Any] | None = None) -> Path:
     """The ``potential`` planner: build the field (:func:`gridfield.potential.build_field`), follow it.
+    (:func:`plan_potential_with_field` gives the field too.)
 
     With ``model`` unset it builds :data:`PLANNER_MODEL` (``"nf1"``, a complete model of
     :mod:`gridfield.navfield`: one minimum, the goal); ``model="khatib"`` is the classic field. The
     complete models settle their fronts only up to the start's value (all the follower reads; the
-    field returned with ``return_field=True`` is ``inf`` beyond), their brushfire (and NF2's
+    field :func:`plan_potential_with_field` returns is ``inf`` beyond), their brushfire (and NF2's
     skeleton) is computed once per map in ``cache``, and their paths carry
     ``extra["median_clearance"]``.
 
@@ -284,6 +286,32 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     >>> plan_potential(gm, (2.5, 1.5), (2.5, 8.5), {"model": "khatib", "escape": "navigation"}).status
     'reached'
     """
+    return plan_potential_with_field(gridmap, start, goal, params, cache=cache)[0]
+
+
+def plan_potential_with_field(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: Mapping[str, Any], *,
+                              cache: dict[Any, Any] | None = None) -> tuple[Path, Any]:
+    """:func:`plan_potential` and the field it built and followed (``None`` when the goal was found
+    unreachable before any field was built); :func:`gridfield.planners.plan_with_field` calls it.
+
+    Parameters
+    ----------
+    gridmap, start, goal, params, cache
+        As for :func:`plan_potential`.
+
+    Returns
+    -------
+    path : Path
+    field : Field or None
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid
+    >>> gm = GridMap(Grid((4, 8), 1.0, border="wall"), np.zeros((4, 8), bool))
+    >>> path, field = plan_potential_with_field(gm, (0.5, 0.5), (7.5, 3.5), {})
+    >>> path.status, field.params["model"], field.potential.shape
+    ('reached', 'nf1', (4, 8))
+    """
     params = validate(params)  # a raw mapping from a direct call is checked too
     from .diagnose import diagnose, unreachable_hint
     from .potential import build_field, field_distance_map, resolve_params
@@ -299,7 +327,7 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
         merged = {**resolved, **resolve_follow_params(params, unit=gridmap.grid.resolution)}
         return Path(np.array([s]), "no_path", "potential", params=merged, seconds=0.0,
                     extra={"stop_reason": "unreachable", "hint": unreachable_hint(s, g),
-                           "diagnosis": {"reachable": False}, "build_seconds": time.perf_counter() - t0})
+                           "diagnosis": {"reachable": False}, "build_seconds": time.perf_counter() - t0}), None
     nf = resolved["model"] in ("nf1", "nf2", "nf-blend")
     dmap = None
     if nf:
@@ -311,8 +339,6 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
                 cache[key] = field_distance_map(gridmap, resolved)
             dmap = cache[key]
         field = build_field(gridmap, g, params, dmap=dmap)
-    if cache is not None:  # the latest field, for planners.plan(..., return_field=True)
-        cache["field"] = field
     build = time.perf_counter() - t0
     esc = None if vortex else NavigationEscape(field)
     path = follow(field, s, params=params, navigation=esc)
@@ -334,7 +360,7 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
         extra["median_clearance"] = float(np.median(_distance_at(field, points)[0]))
         if field.map is not gridmap:  # an open border: the field's ring lies outside the grid
             _note_outside(extra, gridmap.grid, points)
-    return replace(path, points=points, status=status, params=merged, extra=extra)
+    return replace(path, points=points, status=status, params=merged, extra=extra), field
 
 
 #: The ``model`` the potential planner builds when none is given: the complete ``nf1``

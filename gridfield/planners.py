@@ -43,6 +43,12 @@ GRID_VARIANTS: dict[str, tuple[str, str]] = {
     "visibility": ("gridfield.anyangle", "plan_anyangle"),
 }
 
+#: Grid planners that build a potential field and can return it with the path (:func:`plan_with_field`):
+#: name -> (module, function), ``fn(gridmap, start, goal, params, cache=...) -> (Path, Field or None)``.
+FIELD_PLANNERS: dict[str, tuple[str, str]] = {
+    "potential": ("gridfield.follow", "plan_potential_with_field"),
+}
+
 #: Every parameter name a planner may read, with its meaning (generated from :data:`gridfield.params.REGISTRY`).
 PARAMETERS: dict[str, str] = {name: spec.meaning for name, spec in REGISTRY.items()}
 
@@ -180,11 +186,7 @@ def plan_with_field(planner: str, target: World | GridMap, start: ArrayLike, goa
     >>> plan_with_field("wavefront", gm, (0.5, 0.5), (3.5, 0.5)).field is None
     True
     """
-    # the potential planner leaves the field it built in the cache under "field" (gridfield.follow.plan_potential)
-    work: dict[Any, Any] = {} if cache is None else cache
-    work.pop("field", None)
-    path = _plan(planner, target, start, goal, params, resolution=resolution, cache=work)
-    return Plan(path, work.pop("field", None))
+    return Plan(*_plan(planner, target, start, goal, params, resolution=resolution, cache=cache, want_field=True))
 
 
 @overload
@@ -273,10 +275,7 @@ def plan(
         warnings.warn("plan(..., return_field=True) is deprecated: use plan_with_field(...), which returns "
                       "Plan(path, field)", DeprecationWarning, stacklevel=2)
         return plan_with_field(planner, target, start, goal, params, resolution=resolution, cache=cache)
-    path = _plan(planner, target, start, goal, params, resolution=resolution, cache=cache)
-    if cache is not None:
-        cache.pop("field", None)  # a kept cache holds per-map work, not the latest field
-    return path
+    return _plan(planner, target, start, goal, params, resolution=resolution, cache=cache)[0]
 
 
 def _plan(
@@ -288,7 +287,10 @@ def _plan(
     *,
     resolution: float | None,
     cache: dict[Any, Any] | None,
-) -> Path:
+    want_field: bool = False,
+) -> tuple[Path, Any]:
+    """The dispatch behind :func:`plan` and :func:`plan_with_field`: the path, and the field the
+    planner followed when ``want_field`` and the planner builds one (:data:`FIELD_PLANNERS`), else None."""
     from .world import World
 
     fn, kind = get_planner(planner)
@@ -320,7 +322,11 @@ def _plan(
         check_grid(gm.grid.shape, f"plan:{planner}", f"plan {planner} on {gm.source or 'the grid map'}")  # bytes
         s, g = gm.check_point("start", start), gm.check_point("goal", goal)
         t0 = time.perf_counter()
-        return _with_endpoints(fn(gm, s, g, merged, cache=cache), s, g, t0)
+        if want_field and planner in FIELD_PLANNERS:
+            module, func = FIELD_PLANNERS[planner]
+            path, field = getattr(importlib.import_module(module), func)(gm, s, g, merged, cache=cache)
+            return _with_endpoints(path, s, g, t0), field
+        return _with_endpoints(fn(gm, s, g, merged, cache=cache), s, g, t0), None
     world = target if isinstance(target, World) else target.world
     if not isinstance(world, World) and planner in GRID_VARIANTS:
         assert isinstance(target, GridMap)  # a World is its own world
@@ -329,7 +335,7 @@ def _plan(
         fn = getattr(importlib.import_module(module), func)
         s, g = target.check_point("start", start), target.check_point("goal", goal)
         t0 = time.perf_counter()
-        return _with_endpoints(fn(target, s, g, merged, cache=cache), s, g, t0)
+        return _with_endpoints(fn(target, s, g, merged, cache=cache), s, g, t0), None
     if not isinstance(world, World):
         # a bitmap / ROS / Moving AI map: its blocked cells as exact polygons (gridfield.gridpoly),
         # built once per map object; "visibility" then runs on the grid itself (gridfield.anyangle)
@@ -340,7 +346,7 @@ def _plan(
     else:
         s, g = world.check_point("start", start), world.check_point("goal", goal)
     t0 = time.perf_counter()
-    return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged, cache=cache), s, g, t0)
+    return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged, cache=cache), s, g, t0), None
 
 
 def _point(name: str, value: Any) -> np.ndarray:

@@ -23,6 +23,7 @@ PNG = b"\x89PNG\r\n\x1a\n"
 def quick_demo(tmp_path_factory):
     out = tmp_path_factory.mktemp("demo")
     lines: list[str] = []
+    plt.close("all")  # figures an earlier test of this worker left open are not the demo's
     t0 = time.perf_counter()
     result = demo(out, quick=True, log=lines.append)
     seconds = time.perf_counter() - t0

@@ -22,7 +22,7 @@ da = pytest.importorskip("dask.array")
 distributed = pytest.importorskip("distributed")
 
 from gridfield.brushfire import brushfire  # noqa: E402
-from gridfield.chunked import connect, distance, field, gvd, labels  # noqa: E402
+from gridfield.chunked import connect, distance, field, gvd, labels, wavefront  # noqa: E402
 from gridfield.errors import ArgumentTypeError, GridfieldError, ParameterError  # noqa: E402
 from gridfield.grid import Grid, GridMap  # noqa: E402
 from gridfield.io import read  # noqa: E402
@@ -194,6 +194,55 @@ def test_cluster_gvd_on_a_real_map(client, shared_maps):
     ref = brushfire(GridMap(Grid(occ.shape, 0.05, border="wall"), occ), metric="euclidean")
     assert np.array_equal(d, ref.distance) and np.array_equal(lab, ref.label) and np.array_equal(g, ref.gvd)
     assert 0 < g.sum() < g.size  # a skeleton, not nothing or everything
+
+
+def test_wavefront_equals_the_in_memory_navigation_function():
+    """Tile-wise Dijkstra with boundary exchange ends at the in-memory wavefront's values, bit for bit:
+    random maps on odd chunks, octile and unit diagonals, goals anywhere (unreachable cells stay inf)."""
+    from gridfield.navigation import wavefront as in_memory
+
+    rng = np.random.default_rng(11)
+    for _ in range(10):
+        shape = tuple(int(v) for v in rng.integers(3, 45, 2))
+        occ = rng.random(shape) < rng.choice([0.0, 0.1, 0.3, 0.45])
+        free = np.argwhere(~occ)
+        if not len(free):
+            continue
+        g = tuple(int(v) for v in free[rng.integers(len(free))])
+        costs = str(rng.choice(["octile", "unit"]))
+        chunks = tuple(int(v) for v in rng.integers(4, 17, 2))
+        with dask.config.set(scheduler="synchronous"):
+            v, rounds = wavefront(da.from_array(occ, chunks=chunks), g, costs=costs)
+            got = v.compute()
+        ref = in_memory(GridMap(Grid(shape, 1.0, border="wall"), occ), (g[1] + 0.5, g[0] + 0.5), costs=costs).value
+        assert np.array_equal(got, ref), (shape, chunks, costs)
+        assert rounds >= 1
+
+
+def test_cluster_wavefront_on_a_maze(client, shared_maps):
+    """A Moving AI maze (a 192-cell corner; its corridors cross the 64-cell chunk seams back and forth) on
+    the cluster."""
+    from gridfield.navigation import wavefront as in_memory
+
+    occ = read(shared_maps / "movingai" / "maze512-32-9" / "maze512-32-9.map").occupied[:192, :192].copy()
+    g = tuple(int(v) for v in np.argwhere(~occ)[len(np.argwhere(~occ)) // 2])
+    v, rounds = wavefront(da.from_array(occ, chunks=64), g)
+    ref = in_memory(GridMap(Grid(occ.shape, 1.0, border="wall"), occ), (g[1] + 0.5, g[0] + 0.5), costs="octile").value
+    assert np.array_equal(v.compute(), ref)
+    assert rounds > 3  # the seams are crossed many times: more rounds than chunks along a side
+
+
+def test_wavefront_bad_input():
+    occ = da.from_array(np.eye(4, dtype=bool), chunks=2)
+    with pytest.raises(ParameterError, match="inside an obstacle"):
+        wavefront(occ, (1, 1))
+    with pytest.raises(ParameterError, match="outside the grid"):
+        wavefront(occ, (9, 0))
+    with pytest.raises(ParameterError, match="costs must be one of"):
+        wavefront(occ, (0, 1), costs="euclid")
+    maze = np.zeros((2, 40), bool)
+    with pytest.raises(GridfieldError, match="did not settle in 2 rounds"):
+        wavefront(da.from_array(maze, chunks=(2, 4)), (0, 0), max_rounds=2)
 
 
 @pytest.mark.slow

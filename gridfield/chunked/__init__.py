@@ -12,6 +12,8 @@ extra): importing this package does not import it.
 - :func:`gvd`: the Euclidean distance, the label of each cell's nearest obstacle and the GVD (two gathers
   along the separable passes, then a one-cell halo).
 - :func:`labels`: the 8-connected obstacle components across chunks, numbered as the in-memory labels.
+- :func:`wavefront`: the grid navigation function (octile or unit), exact, by rounds of tile-wise Dijkstra
+  with boundary exchange until no chunk changes (it computes: each round is persisted and compared).
 - :func:`connect`: a ``distributed.Client``, or one clear error when the scheduler cannot be reached.
 """
 
@@ -22,5 +24,6 @@ from ._distance import BORDERS, METRICS, distance
 from ._field import field
 from ._gvd import gvd
 from ._labels import labels
+from ._wavefront import wavefront
 
-__all__ = ["BORDERS", "METRICS", "connect", "distance", "field", "gvd", "labels"]
+__all__ = ["BORDERS", "METRICS", "connect", "distance", "field", "gvd", "labels", "wavefront"]

@@ -115,3 +115,41 @@ def test_field_to_store_then_plan(tmp_path, capsys):
     got = json.loads(capsys.readouterr().out)
     want = follow(ref, (2.0, 2.0))
     assert got["status"] == want.status and got["iterations"] == want.iterations
+
+
+def test_complete_nf1_field_to_store_then_plan_on_a_real_map(tmp_path, capsys, shared_maps):
+    """``--param model=nf1 --param attraction=octile``: the complete field by the chunked wavefront, equal
+    bit for bit to the in-memory nf1 (octile) field on a Moving AI map, and ``plan`` on the store reaches the
+    goal with the in-memory planner's path, where the chunked classic field's store stalls."""
+    from gridfield.navfield import nav_field
+    from gridfield.planners import plan
+
+    src = shared_maps / "movingai" / "den312d" / "den312d.map"
+    gm = read(src)
+    out = tmp_path / "nf.zarr"
+    assert main(["field", str(src), "--goal", "40.5", "40.5", "--chunks", "32", "--out", str(out),
+                 "--param", "model=nf1", "--param", "attraction=octile"]) == 0, capsys.readouterr().err
+    assert "a complete model" in capsys.readouterr().out
+    lf = read(out)
+    ref = nav_field(gm, (40.5, 40.5), {"model": "nf1", "attraction": "octile"})
+    for got, want in ((lf.potential, ref.potential), (lf.grad_x, ref.grad_x), (lf.grad_y, ref.grad_y)):
+        np.testing.assert_array_equal(np.asarray(got), want)
+    assert main(["plan", str(out), "--start", "10.5", "69.5", "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    mem = plan("potential", gm, (10.5, 69.5), (40.5, 40.5), {"model": "nf1", "attraction": "octile"})
+    assert got["status"] == mem.status == "reached"
+    np.testing.assert_allclose(np.array(got["path"]), mem.points, atol=1e-9)
+    classic = tmp_path / "k.zarr"
+    assert main(["field", str(src), "--goal", "40.5", "40.5", "--chunks", "32", "--out", str(classic)]) == 0
+    capsys.readouterr()
+    main(["plan", str(classic), "--start", "10.5", "69.5", "--json"])
+    assert json.loads(capsys.readouterr().out)["status"] != "reached"  # the classic field's local minimum
+
+
+def test_chunked_nf1_refuses_what_it_does_not_build(tmp_path, capsys):
+    np.save(tmp_path / "m.npy", _occ())
+    for extra, why in ((["--param", "model=nf1"], "with its eikonal attraction"),
+                       (["--param", "model=nf2"], "not model 'nf2'")):
+        code = main(["field", str(tmp_path / "m.npy"), "--resolution", "0.5", "--goal", "28", "20", "--chunks", "16",
+                     "--out", str(tmp_path / "x.zarr"), *extra])
+        assert code == 2 and why in capsys.readouterr().err

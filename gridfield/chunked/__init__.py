@@ -14,6 +14,7 @@ extra): importing this package does not import it.
 - :func:`labels`: the 8-connected obstacle components across chunks, numbered as the in-memory labels.
 - :func:`wavefront`: the grid navigation function (octile or unit), exact, by rounds of tile-wise Dijkstra
   with boundary exchange until no chunk changes (it computes: each round is persisted and compared).
+- :func:`nf1_octile_field`: the complete model nf1 with the octile wavefront as its potential, and its gradient.
 - :func:`connect`: a ``distributed.Client``, or one clear error when the scheduler cannot be reached.
 """
 
@@ -24,6 +25,6 @@ from ._distance import BORDERS, METRICS, distance
 from ._field import field
 from ._gvd import gvd
 from ._labels import labels
-from ._wavefront import wavefront
+from ._wavefront import nf1_octile_field, wavefront
 
-__all__ = ["BORDERS", "METRICS", "connect", "distance", "field", "gvd", "labels", "wavefront"]
+__all__ = ["BORDERS", "METRICS", "connect", "distance", "field", "gvd", "labels", "nf1_octile_field", "wavefront"]

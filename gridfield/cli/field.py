@@ -106,10 +106,12 @@ def _run_chunked(args: argparse.Namespace) -> int:
     params = _world_params(target)
     params.update(collect_params(args))
     if params.get("model") is None:
-        params["model"] = "khatib"  # the chunked field is the classic one (the complete models need the whole map)
-    if params["model"] != "khatib":
-        raise ParameterError(f"the chunked computation builds the classic field (model khatib), not model "
-                             f"{params['model']!r}; the complete models solve over the whole map")
+        params["model"] = "khatib"  # the chunked field is the classic one unless the complete nf1 is asked for
+    octile = params["model"] == "nf1" and params.get("attraction") == "octile"
+    if params["model"] != "khatib" and not octile:
+        raise ParameterError(f"the chunked computation builds the classic field (model khatib) or the complete "
+                             f"nf1 with the octile wavefront (--param model=nf1 --param attraction=octile), not "
+                             f"model {params['model']!r}{' with its eikonal attraction' if params['model'] == 'nf1' else ''}")
     gridmap = target if isinstance(target, LazyGridMap) else as_gridmap(robot_target(args, target, goal=goal),
                                                                           args.resolution)
     grid = gridmap.grid
@@ -119,6 +121,8 @@ def _run_chunked(args: argparse.Namespace) -> int:
     # the chunked field's goal is the centre of the goal's cell (gridfield.chunked.field)
     gxy = tuple(float(v) for v in grid.cell_to_world([cell])[0])
     given = dict(validate(params))
+    if octile:
+        return _run_chunked_nf1(args, gridmap, cell, gxy, given)
     p = resolve_params(given, unit=grid.resolution)
     _chunked.check_halo(args, p["saturate"], grid.resolution)
     _, occ = _chunked.lazy_occupancy(args, gridmap)
@@ -138,6 +142,43 @@ def _run_chunked(args: argparse.Namespace) -> int:
     print(f"field {grid.rows}x{grid.cols} cells of {grid.resolution:g} in {n} chunks of {args.chunks} (khatib, "
           f"{p['repulsion']} repulsion), goal ({gxy[0]:g}, {gxy[1]:g}, the centre of its cell): wrote {args.out} "
           f"({', '.join(arrays)}) in {s:.1f} s")
+    return 0
+
+
+def _run_chunked_nf1(args: argparse.Namespace, gridmap: Any, cell: tuple[int, int], gxy: tuple[float, ...],
+                     given: dict[str, Any]) -> int:
+    """``--out F.zarr`` with ``model: nf1, attraction: octile``: the complete field by the chunked wavefront
+    (gridfield.chunked.nf1_octile_field), bit-identical to the in-memory field; a wall border only."""
+    import contextlib
+
+    from ..errors import ParameterError
+    from ..navfield import NF_PROGRESS_WINDOW
+    from ..params import resolve_field
+    from . import _chunked
+
+    grid = gridmap.grid
+    if grid.border != "wall":
+        raise ParameterError("the chunked nf1 field needs a map whose border is a wall (an open border runs the "
+                             "fronts round the grid through a ring the store would not hold)")
+    p = resolve_field(given, unit=grid.resolution)
+    if "progress_window" not in given:
+        p["progress_window"] = NF_PROGRESS_WINDOW  # as the in-memory complete field (navfield.nav_field)
+    _, occ = _chunked.lazy_occupancy(args, gridmap)
+    with _chunked.scheduler(args) as sched:
+        import dask
+
+        from .. import chunked
+
+        t0 = time.perf_counter()
+        ctx = dask.config.set(scheduler=sched) if isinstance(sched, str) else sched.as_current()
+        with ctx if ctx is not None else contextlib.nullcontext():
+            f, rounds = chunked.nf1_octile_field(occ, cell, resolution=grid.resolution)
+        arrays = {"occupied": occ, "U": f["U"], "dUdx": f["dUdx"], "dUdy": f["dUdy"]}
+        n = _chunked.write(args, arrays, grid, "field", {"goal": gxy, "params": p}, sched)
+    s = time.perf_counter() - t0
+    print(f"field {grid.rows}x{grid.cols} cells of {grid.resolution:g} in {n} chunks of {args.chunks} (nf1, octile "
+          f"wavefront, a complete model: one minimum, the goal; {rounds} rounds), goal ({gxy[0]:g}, {gxy[1]:g}, the "
+          f"centre of its cell): wrote {args.out} ({', '.join(arrays)}) in {s:.1f} s")
     return 0
 
 

@@ -98,7 +98,8 @@ def test_compare_on_a_grid_map_sums_the_exact_planner_and_the_optimum(tmp_path, 
     stages = search_stages("exact-potential", gm) + search_stages("visibility", gm)
     monkeypatch.setenv(limits.SECONDS_ENV_VAR, repr(_between(stages)))
     _no_polygons(monkeypatch)
-    assert main(["compare", _npz(tmp_path, gm), "--start", "0.5", "47.5", "--goal", "47.5", "0.5"]) == 2
+    assert main(["compare", _npz(tmp_path, gm), "--start", "0.5", "47.5", "--goal", "47.5", "0.5",
+                 "--exact-planner", "exact-potential"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "Traceback" not in err
     assert "exact polygons about" in err and "any-angle graph (optimum) about" in err and " in all" in err

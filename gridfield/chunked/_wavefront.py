@@ -198,7 +198,7 @@ def nf1_octile_field(occupied: Any, goal_cell: tuple[int, int], *, resolution: f
     >>> import dask.array as da, numpy as np
     >>> f, _ = nf1_octile_field(da.from_array(np.zeros((3, 4), bool), chunks=2), (0, 0), resolution=0.5)
     >>> f["U"].compute()[2].round(3).tolist(), f["dUdx"].compute()[0].tolist()
-    ([1.0, 1.207, 1.707, 2.207], [0.0, 1.0, 1.0, 1.0])
+    ([1.0, 1.207, 1.414, 1.914], [0.0, 1.0, 1.0, 1.0])
     """
     da = _dask_array()
     from ..errors import check_positive

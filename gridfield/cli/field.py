@@ -164,9 +164,11 @@ def _run_chunked_nf1(args: argparse.Namespace, gridmap: Any, cell: tuple[int, in
     if "progress_window" not in given:
         p["progress_window"] = NF_PROGRESS_WINDOW  # as the in-memory complete field (navfield.nav_field)
     _, occ = _chunked.lazy_occupancy(args, gridmap)
-    with _chunked.scheduler(args) as sched:
+    try:
         import dask
-
+    except ImportError:  # pragma: no cover - the [dask] extra installs it
+        raise ParameterError("--out (the chunked computation) needs dask: pip install 'gridfield[dask]'") from None
+    with _chunked.scheduler(args) as sched:
         from .. import chunked
 
         t0 = time.perf_counter()

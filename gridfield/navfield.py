@@ -87,7 +87,7 @@ from .brushfire import DistanceMap, brushfire
 from .errors import ParameterError
 from .grid import GridMap
 
-__all__ = ["NF_MODELS", "blend_cost", "eikonal", "nav_field", "nf2_cost", "nf_potential", "nf_skeleton", "skeleton",
+__all__ = ["NF_MODELS", "band_cost", "blend_cost", "eikonal", "nav_field", "nf2_cost", "nf_potential", "nf_skeleton", "skeleton",
            "work_maps"]
 
 #: The complete models (values of the ``model`` parameter built here).
@@ -433,6 +433,39 @@ def blend_cost(dmap: DistanceMap, q_star: float, gain: float) -> NDArray[np.floa
     return cost
 
 
+def band_cost(dmap: DistanceMap, band: float, gain: float) -> NDArray[np.float64]:
+    """The slowness of ``nf1``'s clearance band: ``1 + gain * (1 - D / band)**2`` for ``D < band``, 1
+    beyond (``D`` the brushfire distance).
+
+    Parameters
+    ----------
+    dmap : DistanceMap
+        A Euclidean brushfire of the map.
+    band : float
+        ``clearance_band`` (world units, > 0).
+    gain : float
+        ``band_gain`` (>= 0).
+
+    Returns
+    -------
+    ndarray of float64
+        In ``[1, 1 + gain]`` on free cells, ``inf`` on obstacle cells.
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid
+    >>> occ = np.zeros((1, 5), bool); occ[0, 0] = True
+    >>> band_cost(brushfire(GridMap(Grid((1, 5), 1.0), occ)), 3.0, 1.0).round(3).tolist()
+    [[inf, 1.444, 1.111, 1.0, 1.0]]
+    """
+    d = dmap.distance
+    with np.errstate(invalid="ignore"):
+        cost = 1.0 + gain * np.maximum(0.0, 1.0 - d / band) ** 2
+    cost[~np.isfinite(d) & ~dmap.map.occupied] = 1.0  # no obstacle at all
+    cost[dmap.map.occupied] = np.inf
+    return cost
+
+
 def nf_potential(gridmap: GridMap, goals: ArrayLike, params: Mapping[str, Any] | None = None, *,
                  dmap: DistanceMap | None = None,
                  skel: tuple[NDArray[np.bool_], NDArray[np.float64]] | None = None,
@@ -500,6 +533,8 @@ def nf_potential(gridmap: GridMap, goals: ArrayLike, params: Mapping[str, Any] |
             if np.asarray(g, dtype=float).size != 2:
                 raise ParameterError("attraction='octile' (the octile wavefront) takes one goal")
             U = np.ascontiguousarray(wavefront(work, g, costs="octile").value)
+        elif p["clearance_band"] > 0 and p["band_gain"] > 0:
+            U = eikonal(work, g, cost=band_cost(dmap, p["clearance_band"], p["band_gain"]), stop_at=stop_at)
         else:
             U = eikonal(work, g, stop_at=stop_at)
     return U, p, work, dmap

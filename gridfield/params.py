@@ -78,6 +78,7 @@ __all__ = [
 
 #: Cells (of the map's length unit) behind the scaled defaults.
 Q_STAR_CELLS = 4.0
+CLEARANCE_BAND_CELLS = 6.0
 STEP_CELLS = 1.0
 ESCAPE_RADIUS_CELLS = 6.0
 D_STAR_PER_Q_STAR = 2.0
@@ -368,6 +369,12 @@ class NavFunction:
                          choices=("eikonal", "octile"), flag=False)
     clearance_gain: float = _p("navfunction", "number", 1.0, "nf-blend: slowness 1 + clearance_gain*(q_star/D - 1)^2 "
                                "within q_star of an obstacle (0: nf1)", minimum=0.0, flag=False)
+    clearance_band: float | None = _p("navfunction", "number", None, "nf1: width of the band along the obstacles "
+                                      "where its front slows down, slowness 1 + band_gain*(1 - D/clearance_band)^2 "
+                                      "for D < clearance_band (0: none, the plain distance to the goal)",
+                                      minimum=0.0, allow_none=True, scale=f"{CLEARANCE_BAND_CELLS:g} cells", flag=False)
+    band_gain: float = _p("navfunction", "number", 0.5, "nf1: the slowness added at an obstacle by the clearance band "
+                          "(see clearance_band)", minimum=0.0, flag=False)
 
 
 @dataclass(frozen=True)
@@ -832,6 +839,8 @@ def resolve(params: Mapping[str, Any] | None, *, unit: float) -> dict[str, Any]:
         p["step"] = STEP_CELLS * unit
     if p["tolerance"] is None:
         p["tolerance"] = p["step"] if p["step_rule"] == "normalized" else unit
+    if p["clearance_band"] is None:
+        p["clearance_band"] = CLEARANCE_BAND_CELLS * unit
     if p["escape_radius"] is None:
         p["escape_radius"] = ESCAPE_RADIUS_CELLS * unit
     if p["max_iterations"] is None:

@@ -142,6 +142,9 @@ ASTAR_WEIGHT = 0.7
 #: measured on three 512 x 512 Moving AI maps, costs 0.7-7 x the plain-order truncated march
 #: (7 x on maze512-32-9: cascades of small drops).
 ASTAR_REOPEN_CELLS = math.inf
+#: The largest slowness the march takes: its bucket queue has ``~11 * slowness`` buckets (27 MB of
+#: bucket heads at 1e5), and ``nf-blend`` with a huge ``clearance_gain`` (1e15) crashed the process.
+MAX_SLOWNESS = 1e5
 SQRT2 = math.sqrt(2.0)
 
 
@@ -263,6 +266,9 @@ def _march(free: NDArray[np.bool_], cost: NDArray[np.float64],
     r, c, v = (np.ascontiguousarray(a[order]) for a in src)
     cost = np.ascontiguousarray(cost, dtype=np.float64)
     top = float(cost[~np.isnan(cost)].max()) if cost.size else 1.0
+    if top > MAX_SLOWNESS:
+        raise ParameterError(f"the field's slowness reaches {top:.3g}, above the march's limit {MAX_SLOWNESS:g} "
+                             "(nf-blend: lower clearance_gain or q_star)")
     lo = float(cost[~np.isnan(cost)].min()) if cost.size else 1.0
     # the heuristic must not exceed the cheapest travel time per cell (slowness >= lo everywhere)
     hw = ASTAR_WEIGHT * min(lo, 1.0) if sr >= 0 else 0.0
@@ -472,7 +478,7 @@ def band_cost(dmap: DistanceMap, band: float, gain: float) -> NDArray[np.float64
     [[inf, 1.444, 1.111, 1.0, 1.0]]
     """
     d = dmap.distance
-    with np.errstate(invalid="ignore"):
+    with np.errstate(invalid="ignore", over="ignore"):  # a band so thin that D / band overflows: no band
         cost = 1.0 + gain * np.maximum(0.0, 1.0 - d / band) ** 2
     cost[~np.isfinite(d) & ~dmap.map.occupied] = 1.0  # no obstacle at all
     cost[dmap.map.occupied] = np.inf

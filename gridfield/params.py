@@ -378,7 +378,8 @@ class NavFunction:
                                       "to the goal)",
                                       minimum=0.0, allow_none=True, scale=f"{CLEARANCE_BAND_CELLS:g} cells", flag=False)
     band_gain: float = _p("navfunction", "number", 0.5, "nf1: the slowness added at an obstacle by the clearance band "
-                          "(see clearance_band)", minimum=0.0, flag=False)
+                          "(see clearance_band)", minimum=0.0, maximum=1000.0,
+                          flag=False)  # the march's bucket queue grows with the largest slowness
 
 
 @dataclass(frozen=True)

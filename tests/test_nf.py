@@ -23,6 +23,7 @@ from scipy import ndimage
 
 from gridfield.basins import basins
 from gridfield.brushfire import brushfire
+from gridfield.errors import ParameterError
 from gridfield.escapes import navigation_map
 from gridfield.grid import Grid, GridMap
 from gridfield.io import read, read_movingai_map
@@ -30,6 +31,7 @@ from gridfield.navfield import (
     BUCKET_CELLS,
     NF_MODELS,
     _kernels,
+    band_cost,
     eikonal,
     nav_field,
     nf_potential,
@@ -363,3 +365,37 @@ def test_nav_field_refuses_other_models_and_foreign_distance_maps():
     other = brushfire(GridMap(Grid((6, 6), 1.0), np.zeros((6, 6), bool)), metric="euclidean")
     with pytest.raises(ParameterError, match="brushfire"):
         nav_field(gm, (0.5, 0.5), {"model": "nf1"}, dmap=other)
+
+
+# ------------------------------------------------------------------------------------------------
+# nf1's clearance band (issue 25): the default keeps off the walls and runs down the middle
+# ------------------------------------------------------------------------------------------------
+def test_the_default_runs_down_the_middle_of_a_passage_and_through_a_one_cell_door():
+    occ = np.zeros((30, 60), bool)
+    occ[:10, :] = occ[19:, :] = True  # a corridor of rows 10..18 (9 cells: narrower than 2 x 6 cells)
+    occ[10:19, 30] = True
+    occ[14, 30] = False  # a wall across it with a one-cell door in the middle row
+    gm = wall_map(occ)
+    s, g = (2.5, 11.5), (57.5, 17.5)  # near opposite walls
+    plain = plan("potential", gm, s, g, {"clearance_band": 0})
+    p = plan("potential", gm, s, g)
+    assert p.status == "reached" and plain.status == "reached"
+    assert p.params["model"] == "nf1" and "median_clearance" in p.extra
+    ys = p.points[:, 1]
+    xs = p.points[:, 0]
+    mid = (xs > 12) & (xs < 48)  # away from the ends: along the middle row (14.5), within a cell
+    assert np.abs(ys[mid] - 14.5).max() <= 1.0, ys[mid]
+    assert p.extra["median_clearance"] > plain.extra["median_clearance"]
+    assert p.length <= 1.05 * plain.length
+
+
+def test_band_cost_is_bounded_and_a_huge_blend_gain_is_refused_not_a_crash():
+    occ = np.zeros((12, 12), bool)
+    occ[0] = True
+    gm = GridMap(Grid((12, 12), 1.0, border="open"), occ)  # one wall: row 0
+    c = band_cost(brushfire(gm, metric="euclidean"), 6.0, 0.5)
+    assert np.isinf(c[occ]).all() and (c[~occ] >= 1).all() and (c[~occ] <= 1.5).all()
+    assert (c[7:] == 1.0).all() and (c[1] == 1.0 + 0.5 * (5 / 6) ** 2).all()  # beyond the band; one cell off
+    gm = wall_map(occ)
+    with pytest.raises(ParameterError, match="slowness"):
+        plan("potential", gm, (2.5, 5.5), (9.5, 9.5), {"model": "nf-blend", "clearance_gain": 1e15})

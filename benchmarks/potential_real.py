@@ -13,7 +13,8 @@ brushfire is computed once per map; ``--no-cache``: none), once per variant:
 - ``navigation``: ``{"model": "khatib", "escape": "navigation"}``; where the installed gridfield does not know this
   escape (it raises ``ParameterError`` naming the value) the variant is reported as "n/a";
 - ``khatib``: ``{"model": "khatib"}`` (the classic field, the default before the complete models);
-  ``nf1``, ``nf1_octile`` (``attraction: octile``), ``nf2``, ``nf_blend`` (``model: nf-blend``): the
+  ``nf1``, ``nf1_plain`` (``clearance_band: 0``: nf1 without its clearance band, the default
+  before issue 25), ``nf1_octile`` (``attraction: octile``), ``nf2``, ``nf_blend`` (``model: nf-blend``): the
   complete models of :mod:`gridfield.navfield` (reported "n/a" where the installed gridfield does
   not know them).
 
@@ -85,6 +86,7 @@ VARIANTS: dict[str, dict[str, Any]] = {
     # the classic field and the complete models (gridfield.navfield); "defaults" is nf1 since they came
     "khatib": {"model": "khatib"},
     "nf1": {"model": "nf1"},
+    "nf1_plain": {"model": "nf1", "clearance_band": 0},  # nf1 without its clearance band (the default before)
     "nf1_octile": {"model": "nf1", "attraction": "octile"},
     "nf2": {"model": "nf2"},
     "nf_blend": {"model": "nf-blend"},
@@ -571,7 +573,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--per-map", type=int, default=20, help="scenarios (Moving AI) or random pairs (ROS) per map")
     ap.add_argument("--variants", nargs="+", default=list(DEFAULT_VARIANTS), choices=list(VARIANTS),
                     help=f"default: {' '.join(DEFAULT_VARIANTS)} (the variants of issue 12; the models: khatib nf1 "
-                         "nf1_octile nf2 nf_blend)")
+                         "nf1_plain nf1_octile nf2 nf_blend)")
     ap.add_argument("--workers", type=int, default=2, help="worker processes (spawn), one map each at a time")
     ap.add_argument("--limit-maps", type=int, default=None,
                     help="only the N smallest Moving AI and the N smallest ROS maps (quick runs)")

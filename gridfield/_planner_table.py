@@ -56,7 +56,7 @@ _GRID_NAV = ("q_star", "clearance_weight")  # the clearance cost of a grid navig
 PLANNERS: dict[str, Planner] = {
     "potential": Planner("gridfield.follow", "plan_potential", "grid",
                          (*_FIELD, "metric", "gradient", "model", "ka", "kr", "ko", "spacing", "sample_radius",
-                          "attraction", "clearance_gain", *_FOLLOWER, "sampling")),
+                          "attraction", "clearance_gain", "clearance_band", "band_gain", *_FOLLOWER, "sampling")),
     "exact-potential": Planner("gridfield.exact", "plan_exact_potential", "world",
                                (*_FIELD, "model", *_FOLLOWER)),  # model: only 'khatib' (it refuses 'vortex')
     "visibility": Planner("gridfield.visibility", "plan_visibility", "world"),

@@ -19,8 +19,9 @@ folder. The parts:
     seed 002's star-world navigation function (``star-nav``, kappa 3, lambda 1): the obstacle
     functions' humps, the attractive part, the mapped space and the surface with the path;
 ``turtlebot3``, ``arena``
-    a ROS map and a Moving AI map: brushfire, potential, basins and a wavefront path next to
-    the potential path (the default complete field, ``nf1``). On the arena the classic Khatib
+    a ROS map and a Moving AI map: brushfire, potential, basins (of the same field over the whole
+    map) and a wavefront path next to the potential path (the default complete field, ``nf1`` with its
+    clearance band). On the arena the classic Khatib
     field (``model: khatib``) stalls in a local minimum by the goal: ``arena_classic_vs_complete.png``
     shows that run (stall point and hint) next to the complete field's run that reaches, and the
     summary has a row and a note for each.
@@ -345,7 +346,7 @@ def _grid_map_part(run: _Run, part: str, gm: GridMap, start: Sequence[float], go
     pot, field_ = run.plan_with_field(part, part, gm, "potential", start, goal, params,
                                       note="; ".join(x for x in (note, shown) if x))
     plot_potential(field_, axes[0, 1], path=pot, title=f"potential ({shown}): {pot.status}")
-    plot_basins(basins(field_), axes[1, 0], title="basins of attraction")
+    plot_basins(basins(_whole_field(gm, goal, field_)), axes[1, 0], title="basins of attraction")
     paths = [pot]
     if not pot.reached:
         paths.append(run.plan(part, part, gm, "potential", start, goal, {**params, "escape": "navigation"},
@@ -355,6 +356,19 @@ def _grid_map_part(run: _Run, part: str, gm: GridMap, start: Sequence[float], go
     fig.suptitle(title)
     run.save(fig, f"{part}.png")
     return pot, field_
+
+
+def _whole_field(gm: GridMap, goal: Sequence[float], field_: Any) -> Any:
+    """The field whose basins a figure shows: a complete model's planned query settles its fronts only
+    up to the start's value (``inf`` beyond, a rim that basins would count as minima), so the same
+    parameters are built over the whole map (:func:`gridfield.potential.build_field`, the brushfire
+    reused); any other field as it is."""
+    from .navfield import NF_MODELS
+    from .potential import build_field
+
+    if field_.params.get("model") not in NF_MODELS:
+        return field_
+    return build_field(gm, goal, field_.params, dmap=field_.distance)
 
 
 def _part_turtlebot3(run: _Run) -> None:

@@ -17,6 +17,7 @@ Length defaults scale with the map
     - ``q_star`` = 4 cells; ``d_star`` = 2 ``q_star`` (conic attraction beyond it);
     - ``step`` = 1 cell; ``tolerance`` = ``step`` (normalized rule) or 1 cell (scaled rule);
     - ``escape_radius`` = 6 cells;
+    - ``clearance_band`` = 6 cells (nf1's band along the obstacles, where its front is slowed);
     - ``eta`` is balanced: the repulsive force at distance ``q_star / 2`` from an obstacle equals
       the largest attractive force ``zeta * min(d_star, 2 q_star)``, so that near a wall the
       repulsion wins (at one cell from a wall, with the defaults, it is 12 times the attraction).
@@ -78,6 +79,9 @@ __all__ = [
 
 #: Cells (of the map's length unit) behind the scaled defaults.
 Q_STAR_CELLS = 4.0
+#: nf1's clearance band (issue 25): chosen on the shared maps with band_gain 0.5 for paths that keep off
+#: the walls (ROS median minimum clearance 3.6 cells) within the length targets (benchmarks/README.md).
+CLEARANCE_BAND_CELLS = 6.0
 STEP_CELLS = 1.0
 ESCAPE_RADIUS_CELLS = 6.0
 D_STAR_PER_Q_STAR = 2.0
@@ -367,7 +371,15 @@ class NavFunction:
                          "marching, any-angle gradient paths) or 'octile' (the wavefront-octile values)",
                          choices=("eikonal", "octile"), flag=False)
     clearance_gain: float = _p("navfunction", "number", 1.0, "nf-blend: slowness 1 + clearance_gain*(q_star/D - 1)^2 "
-                               "within q_star of an obstacle (0: nf1)", minimum=0.0, flag=False)
+                               "within q_star of an obstacle (0: the plain distance)", minimum=0.0, flag=False)
+    clearance_band: float | None = _p("navfunction", "number", None, "nf1: width of the band along the obstacles "
+                                      "where its front slows down, slowness 1 + band_gain*(1 - D/clearance_band)^2 "
+                                      "for D < clearance_band, with attraction 'eikonal' (0: none, the plain distance "
+                                      "to the goal)",
+                                      minimum=0.0, allow_none=True, scale=f"{CLEARANCE_BAND_CELLS:g} cells", flag=False)
+    band_gain: float = _p("navfunction", "number", 0.5, "nf1: the slowness added at an obstacle by the clearance band "
+                          "(see clearance_band)", minimum=0.0, maximum=1000.0,
+                          flag=False)  # the march's bucket queue grows with the largest slowness
 
 
 @dataclass(frozen=True)
@@ -832,6 +844,8 @@ def resolve(params: Mapping[str, Any] | None, *, unit: float) -> dict[str, Any]:
         p["step"] = STEP_CELLS * unit
     if p["tolerance"] is None:
         p["tolerance"] = p["step"] if p["step_rule"] == "normalized" else unit
+    if p["clearance_band"] is None:
+        p["clearance_band"] = CLEARANCE_BAND_CELLS * unit
     if p["escape_radius"] is None:
         p["escape_radius"] = ESCAPE_RADIUS_CELLS * unit
     if p["max_iterations"] is None:

@@ -23,6 +23,7 @@ from scipy import ndimage
 
 from gridfield.basins import basins
 from gridfield.brushfire import brushfire
+from gridfield.errors import ParameterError
 from gridfield.escapes import navigation_map
 from gridfield.grid import Grid, GridMap
 from gridfield.io import read, read_movingai_map
@@ -30,6 +31,7 @@ from gridfield.navfield import (
     BUCKET_CELLS,
     NF_MODELS,
     _kernels,
+    band_cost,
     eikonal,
     nav_field,
     nf_potential,
@@ -166,7 +168,13 @@ def _one_goal_per_component(gm: GridMap) -> tuple[np.ndarray, np.ndarray, int]:
     return gm.grid.cell_to_world(cells), cells, n
 
 
-def _assert_one_sink_per_component(gm: GridMap, model: str, cache: dict) -> None:
+#: The complete models' parameter sets the basins tests check: each model's defaults (nf1's with its
+#: clearance band, the potential planner's default) and nf1 without the band.
+NF_PARAMS = [{"model": m} for m in NF_MODELS] + [{"model": "nf1", "clearance_band": 0}]
+
+
+def _assert_one_sink_per_component(gm: GridMap, params: dict, cache: dict) -> None:
+    model = params["model"]
     goals, cells, n = _one_goal_per_component(gm)
     dmap = None
     skel = None
@@ -175,11 +183,11 @@ def _assert_one_sink_per_component(gm: GridMap, model: str, cache: dict) -> None
         skel = (sk, cost)
     else:
         dmap = cache.setdefault("d", brushfire(gm, metric="euclidean", compute_labels=False, compute_gvd=False))
-    U, _, work, _ = nf_potential(gm, goals, {"model": model}, dmap=dmap, skel=skel)
+    U, _, work, _ = nf_potential(gm, goals, params, dmap=dmap, skel=skel)
     assert work is gm
-    assert np.isfinite(U[~gm.occupied]).all(), model  # every free cell is reached from its component's goal
+    assert np.isfinite(U[~gm.occupied]).all(), params  # every free cell is reached from its component's goal
     b = basins(SimpleNamespace(map=gm, potential=U, goal=tuple(goals[0])))
-    assert len(b.minima) == n, (model, len(b.minima), n)
+    assert len(b.minima) == n, (params, len(b.minima), n)
     sinks = np.unique(b.sink[~gm.occupied])
     assert np.array_equal(np.sort(sinks), np.sort(np.ravel_multi_index(cells.T, gm.shape)))
 
@@ -194,8 +202,8 @@ def test_one_sink_per_component_on_small_maps(shared_maps):
     for name in ("arena", "mapf_room-64-64-8", "rmtst01", "den312d"):
         gm = read_movingai_map(next((shared_maps / "movingai" / name).glob("*.map")))
         cache: dict = {}
-        for model in NF_MODELS:
-            _assert_one_sink_per_component(gm, model, cache)
+        for params in NF_PARAMS:
+            _assert_one_sink_per_component(gm, params, cache)
 
 
 @pytest.mark.slow
@@ -206,8 +214,8 @@ def test_one_sink_per_component_on_every_moving_ai_and_ros_map(shared_maps):
         gm = read_movingai_map(f) if f.suffix == ".map" else read(f)
         assert gm.grid.border == "wall"
         cache: dict = {}
-        for model in NF_MODELS:
-            _assert_one_sink_per_component(gm, model, cache)
+        for params in NF_PARAMS:
+            _assert_one_sink_per_component(gm, params, cache)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -324,11 +332,15 @@ def test_nf2_keeps_the_bottleneck_clearance_and_blend_keeps_off_walls():
     dist = brushfire(gm, metric="euclidean").distance
     s, g = (5.5, 20.5), (54.5, 20.5)
     need = bottleneck(dist, ~occ, (20, 5), (20, 54))
-    p1 = plan("potential", gm, s, g, {"model": "nf1"})
+    p1 = plan("potential", gm, s, g, {"model": "nf1", "clearance_band": 0})  # plain nf1: the shortest way
     p2 = plan("potential", gm, s, g, {"model": "nf2"})
     pb = plan("potential", gm, s, g, {"model": "nf-blend"})
-    assert {p1.status, p2.status, pb.status} == {"reached"}
+    pd = plan("potential", gm, s, g)  # the default: nf1 with its clearance band (6 cells)
+    assert {p1.status, p2.status, pb.status, pd.status} == {"reached"}
     assert p1.min_clearance <= 1.5  # the shortest way touches the block's corners
+    assert pd.params["model"] == "nf1" and pd.params["clearance_band"] == 6.0
+    # ~3 cells off the corners for ~6 % of length here (a tight turn round a block: the costliest case)
+    assert pd.min_clearance >= 2.0 and pd.length <= 1.08 * p1.length, (pd.min_clearance, pd.length, p1.length)
     assert p2.min_clearance >= need - 1.0, (p2.min_clearance, need)
     assert pb.min_clearance >= 2.0 and pb.min_clearance > p1.min_clearance
     assert p1.length < pb.length < p2.length + 1e-9 or p1.length < pb.length
@@ -353,3 +365,37 @@ def test_nav_field_refuses_other_models_and_foreign_distance_maps():
     other = brushfire(GridMap(Grid((6, 6), 1.0), np.zeros((6, 6), bool)), metric="euclidean")
     with pytest.raises(ParameterError, match="brushfire"):
         nav_field(gm, (0.5, 0.5), {"model": "nf1"}, dmap=other)
+
+
+# ------------------------------------------------------------------------------------------------
+# nf1's clearance band (issue 25): the default keeps off the walls and runs down the middle
+# ------------------------------------------------------------------------------------------------
+def test_the_default_runs_down_the_middle_of_a_passage_and_through_a_one_cell_door():
+    occ = np.zeros((30, 60), bool)
+    occ[:10, :] = occ[19:, :] = True  # a corridor of rows 10..18 (9 cells: narrower than 2 x 6 cells)
+    occ[10:19, 30] = True
+    occ[14, 30] = False  # a wall across it with a one-cell door in the middle row
+    gm = wall_map(occ)
+    s, g = (2.5, 11.5), (57.5, 17.5)  # near opposite walls
+    plain = plan("potential", gm, s, g, {"clearance_band": 0})
+    p = plan("potential", gm, s, g)
+    assert p.status == "reached" and plain.status == "reached"
+    assert p.params["model"] == "nf1" and "median_clearance" in p.extra
+    ys = p.points[:, 1]
+    xs = p.points[:, 0]
+    mid = (xs > 12) & (xs < 48)  # away from the ends: along the middle row (14.5), within a cell
+    assert np.abs(ys[mid] - 14.5).max() <= 1.0, ys[mid]
+    assert p.extra["median_clearance"] > plain.extra["median_clearance"]
+    assert p.length <= 1.05 * plain.length
+
+
+def test_band_cost_is_bounded_and_a_huge_blend_gain_is_refused_not_a_crash():
+    occ = np.zeros((12, 12), bool)
+    occ[0] = True
+    gm = GridMap(Grid((12, 12), 1.0, border="open"), occ)  # one wall: row 0
+    c = band_cost(brushfire(gm, metric="euclidean"), 6.0, 0.5)
+    assert np.isinf(c[occ]).all() and (c[~occ] >= 1).all() and (c[~occ] <= 1.5).all()
+    assert (c[7:] == 1.0).all() and (c[1] == 1.0 + 0.5 * (5 / 6) ** 2).all()  # beyond the band; one cell off
+    gm = wall_map(occ)
+    with pytest.raises(ParameterError, match="slowness"):
+        plan("potential", gm, (2.5, 5.5), (9.5, 9.5), {"model": "nf-blend", "clearance_gain": 1e15})

@@ -17,9 +17,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from gridfield import navfield
+from gridfield.brushfire import brushfire
 from gridfield.grid import Grid, GridMap
 from gridfield.io import read_movingai_map, read_scen
-from gridfield.navfield import ASTAR_WEIGHT, BUCKET_CELLS, STOP_MARGIN_CELLS, _kernels, eikonal, nav_field
+from gridfield.navfield import ASTAR_WEIGHT, BUCKET_CELLS, STOP_MARGIN_CELLS, _kernels, band_cost, eikonal, nav_field
+from gridfield.params import resolve_field
 from gridfield.planners import plan
 
 
@@ -47,8 +49,20 @@ def _sources_mask(gm: GridMap, goal) -> np.ndarray:
     return m
 
 
-def _check_query(gm: GridMap, start, goal, full: np.ndarray) -> None:
-    part = eikonal(gm, goal, stop_at=start)
+#: nf1's parameter sets checked: the default (with its clearance band) and the plain distance.
+NF1_PARAMS = ({}, {"clearance_band": 0})
+
+
+def _cost(gm: GridMap, params: dict) -> np.ndarray | None:
+    """The slowness nav_field marches with for ``params`` (nf1; None: the plain distance); wall-border maps."""
+    p = resolve_field({"model": "nf1", **params}, unit=gm.grid.resolution)
+    if p["clearance_band"] <= 0 or p["band_gain"] <= 0:
+        return None
+    return band_cost(brushfire(gm, metric="euclidean"), p["clearance_band"], p["band_gain"])
+
+
+def _check_query(gm: GridMap, start, goal, full: np.ndarray, params: dict, cost: np.ndarray | None) -> None:
+    part = eikonal(gm, goal, cost=cost, stop_at=start)
     fin = np.isfinite(part)
     # settled cells are reachable ones, and the start is settled
     assert np.isfinite(full[fin]).all()
@@ -58,8 +72,9 @@ def _check_query(gm: GridMap, start, goal, full: np.ndarray) -> None:
     stuck = fin & ~has_lower_neighbour(part, ~gm.occupied) & ~_sources_mask(gm, goal)
     assert not stuck.any(), np.argwhere(stuck)[:5]
     # and the gradient the follower reads is nonzero on each of them
-    f = nav_field(gm, goal, {}, stop_at=start)
+    f = nav_field(gm, goal, params, stop_at=start)
     assert np.array_equal(np.isfinite(f.potential), fin)
+    assert np.array_equal(f.potential[fin], part[fin])
     flat = fin & (f.grad_x == 0) & (f.grad_y == 0) & ~_sources_mask(gm, goal)
     assert not flat.any(), np.argwhere(flat)[:5]
     # never below the full march's value by more than the bucket width (a travel time, never shorter)
@@ -85,10 +100,12 @@ def open_maps(draw):
 @given(case=open_maps())
 def test_truncated_field_has_no_spurious_minimum(case):
     gm, start, goal = case
-    full = eikonal(gm, goal)
-    if not np.isfinite(full[gm.grid.cell_of(*start)]):
-        return
-    _check_query(gm, start, goal, full)
+    for params in NF1_PARAMS:
+        cost = _cost(gm, params)
+        full = eikonal(gm, goal, cost=cost)
+        if not np.isfinite(full[gm.grid.cell_of(*start)]):
+            return
+        _check_query(gm, start, goal, full, params, cost)
 
 
 def test_heuristic_prunes_and_weight_is_causal_for_the_smaller_neighbour():
@@ -138,7 +155,8 @@ def test_planned_queries_stay_on_settled_cells_and_keep_their_length(shared_maps
         assert p.status == "reached"
         f = nav_field(gm, g, {}, stop_at=s)
         u = f.potential
-        _check_query(gm, s, g, eikonal(gm, g))
+        cost = _cost(gm, {})  # the default's clearance band
+        _check_query(gm, s, g, eikonal(gm, g, cost=cost), {}, cost)
         # the follower's path never enters an unsettled cell
         cells = np.array([gm.grid.cell_of(x, y) for x, y in p.points])
         assert np.isfinite(u[cells[:, 0], cells[:, 1]]).all()

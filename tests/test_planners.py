@@ -118,7 +118,7 @@ _OTHER = {
     "kappa": 5.0, "lambda": 3.0, "workspace_center": (4.0, 4.0), "workspace_radius": 9.0,
     "allow_unknown": "false", "goal_tolerance": 0.2, "robot_radius": 0.5, "inflation_radius": 1.5,
     "cost_scaling_factor": 2.0, "lut_precision": 100,
-    "attraction": "octile", "clearance_gain": 3.0,
+    "attraction": "octile", "clearance_gain": 3.0, "clearance_band": 2.0, "band_gain": 2.0,
 }
 
 

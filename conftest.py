@@ -44,3 +44,22 @@ def shared_maps() -> Path:
 def repo_maps() -> Path:
     """The maps bundled with gridfield (maps/ in the repository)."""
     return REPO / "maps"
+
+
+@pytest.fixture(autouse=True)
+def _doctests_compute_in_process(request: pytest.FixtureRequest):
+    """The package's doctests (gridfield.chunked, the stores) compute dask arrays on the synchronous
+    scheduler: a test of a dead cluster elsewhere in the same xdist worker can leave a distributed client
+    registered as the default, and a doctest computing on it would wait for ever."""
+    from _pytest.doctest import DoctestItem
+
+    if not isinstance(request.node, DoctestItem):
+        yield
+        return
+    try:
+        import dask
+    except ImportError:  # the package's doctests that need dask skip without it
+        yield
+        return
+    with dask.config.set(scheduler="synchronous"):
+        yield

@@ -91,7 +91,7 @@ def test_long_distances_cross_many_chunks():
     with dask.config.set(scheduler="synchronous"):
         for metric in ("euclidean", "chessboard", "taxicab"):
             ref = reference(occ, metric, border="open")
-            assert np.array_equal(distance(x, metric=metric, border="open").compute(), ref.distance)
+            assert np.array_equal(distance(x, metric=metric, border="open").compute(scheduler="synchronous"), ref.distance)
         d, nr, nc = dask.compute(*distance(x, border="open", return_nearest=True))
     assert (nr == 290).all() and (nc == 3).all()
     rr, cc = np.indices(occ.shape)

@@ -22,15 +22,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._kernels import kernels
+from ..brushfire import BORDER_LABEL
 from ..errors import ParameterError, check_positive
 from ._distance import BORDERS, _check_choice, _column_pass, _dask_array, _row_pass_nearest, check_occupied
 from ._labels import labels
 
 __all__ = ["gvd"]
-
-#: The label of the wall ring and of "no obstacle" (:data:`gridfield.brushfire.BORDER_LABEL`).
-_BORDER = -1
-
 
 def _gather_columns(vr: NDArray[np.int32], lab: NDArray[np.int32], outside: int) -> NDArray[np.int32]:
     """Whole columns: ``lab[vr[i, c], c]``, ``outside`` where ``vr`` is outside the grid."""
@@ -110,7 +107,7 @@ def gvd(occupied: Any, *, resolution: float = 1.0, border: str = "wall") -> tupl
     vr = strips.map_blocks(_column_pass, wall, dtype=np.int32, meta=np.empty((0, 0), np.int32))
     # beyond the grid: the wall's label; with an open border only a map without obstacles has no nearest
     # obstacle, and its labels are 0 in memory
-    outside = _BORDER if wall else 0
+    outside = BORDER_LABEL if wall else 0
     l1 = da.map_blocks(_gather_columns, vr, lab.rechunk(col_chunks, method="tasks"), outside, dtype=np.int32,
                        meta=np.empty((0, 0), np.int32))
     row_chunks = {0: occupied.chunks[0], 1: -1}

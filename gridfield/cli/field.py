@@ -149,8 +149,6 @@ def _run_chunked_nf1(args: argparse.Namespace, gridmap: Any, cell: tuple[int, in
                      given: dict[str, Any]) -> int:
     """``--out F.zarr`` with ``model: nf1, attraction: octile``: the complete field by the chunked wavefront
     (gridfield.chunked.nf1_octile_field), bit-identical to the in-memory field; a wall border only."""
-    import contextlib
-
     from ..errors import ParameterError
     from ..navfield import NF_PROGRESS_WINDOW
     from ..params import resolve_field
@@ -173,7 +171,7 @@ def _run_chunked_nf1(args: argparse.Namespace, gridmap: Any, cell: tuple[int, in
 
         t0 = time.perf_counter()
         ctx = dask.config.set(scheduler=sched) if isinstance(sched, str) else sched.as_current()
-        with ctx if ctx is not None else contextlib.nullcontext():
+        with ctx:
             f, rounds = chunked.nf1_octile_field(occ, cell, resolution=grid.resolution)
         arrays = {"occupied": occ, "U": f["U"], "dUdx": f["dUdx"], "dUdy": f["dUdy"]}
         n = _chunked.write(args, arrays, grid, "field", {"goal": gxy, "params": p}, sched)

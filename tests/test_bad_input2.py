@@ -578,3 +578,25 @@ def test_dask_cluster_without_workers_ends_the_sweep(tmp_path, monkeypatch):
         with pytest.raises(GridfieldError, match=r"the Dask cluster failed \(TimeoutError: no worker for 2 s "
                                                  r"\(all died, none restarted\)\); the rows written so far are kept"):
             run_sweep(_sweep_runs(), tmp_path / "rows.csv", scheduler=client, progress=False, batch_size=4)
+
+
+
+@pytest.mark.parametrize("how", ["sweep", "connect"])
+def test_an_unreachable_scheduler_leaves_no_default_client(tmp_path, how):
+    """A ``distributed.Client`` that fails to connect makes itself the default all the same (and points dask's
+    scheduler at it): a later ``compute()`` in the same process then waits on the dead address. A fresh run
+    hung so in a doctest. Neither the sweep nor ``chunked.connect`` may leave one behind."""
+    import dask
+    import distributed
+
+    from gridfield.chunked import connect
+    from gridfield.sweep import run_sweep
+
+    with pytest.raises(GridfieldError, match="cannot connect to the Dask scheduler 'nonsense://x'"):
+        if how == "sweep":
+            run_sweep(_sweep_runs(), tmp_path / "rows.csv", scheduler="nonsense://x", progress=False)
+        else:
+            connect("nonsense://x", timeout=1)
+    with pytest.raises(ValueError, match="No clients found"):
+        distributed.default_client()
+    assert dask.config.get("scheduler", None) != "dask.distributed"

@@ -42,8 +42,12 @@ def connect(address: str, *, timeout: float = 10.0) -> Any:
         from distributed import Client
     except ImportError:
         raise GridfieldError("connecting to a Dask scheduler needs Dask: pip install 'gridfield[dask]'") from None
+    # A Client that fails to connect has already made itself the default (and set dask's scheduler to it),
+    # and nothing public undoes that: a later compute() would wait on the dead address. So the address is
+    # probed by a client that is never the default, and only a reachable one gets the default client.
     try:
-        return Client(address, timeout=timeout)
+        Client(address, timeout=timeout, set_as_default=False).close()
     except (OSError, ValueError, TypeError) as e:  # TimeoutError is an OSError
         message = " ".join((str(e) or type(e).__name__).split())[:200]
         raise GridfieldError(f"cannot connect to the Dask scheduler {address!r} within {timeout:g} s: {message}") from None
+    return Client(address, timeout=timeout)

@@ -135,7 +135,7 @@ def _dask_results(batches: Sequence[list[Run]], scheduler: Any) -> Iterator[list
         client = scheduler
     else:
         try:
-            client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+            client = Client(scheduler, timeout=SCHEDULER_TIMEOUT, set_as_default=False)
         except (OSError, ValueError, TypeError) as e:  # TimeoutError is an OSError
             raise GridfieldError(f"cannot connect to the Dask scheduler {shorten(scheduler)}: "
                                  f"{_one_line(str(e) or type(e).__name__, 200)}") from None
@@ -161,13 +161,18 @@ def _dask_results(batches: Sequence[list[Run]], scheduler: Any) -> Iterator[list
                 f"the Dask cluster failed ({type(e).__name__}: {_one_line(str(e) or 'no message', 160)}); the "
                 "rows written so far are kept: run the sweep again to resume") from None
     finally:
-        try:
-            if futures:
+        # Cancel and close apart: when the scheduler is gone, cancelling fails, and a client left open would
+        # stay the process's default Dask client (a later ``compute()`` would wait on the dead scheduler).
+        if futures:
+            try:
                 client.cancel(futures)
-            if client is not scheduler:
+            except _cluster_failures():
+                pass  # the scheduler is gone: nothing left to cancel
+        if client is not scheduler:
+            try:
                 client.close()
-        except _cluster_failures():
-            pass  # the scheduler is gone: nothing left to cancel or close
+            except _cluster_failures():
+                pass
 
 
 def _completed(client: Any, futures: list[Any]) -> Iterator[Any]:
@@ -178,7 +183,7 @@ def _completed(client: Any, futures: list[Any]) -> Iterator[Any]:
     from distributed import as_completed
     from distributed.comm.core import CommClosedError
 
-    ac = as_completed(futures)
+    ac = as_completed(futures, loop=client.loop)  # the client need not be the default one
     idle_since: float | None = None
     checked = time.monotonic()
     while not ac.is_empty():

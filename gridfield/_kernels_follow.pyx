@@ -23,7 +23,9 @@ __all__ = [
     "_force_many",
     "_nearest2",
     "_segment_blocked",
-    "entry_point",
+    "ForceSampler",
+    "SegmentTest",
+    "ValueSampler",
 ]
 
 ctypedef const unsigned char[:, ::1] occ_t
@@ -334,63 +336,78 @@ def _blocked_many(occ_t occ, double x0, double y0, double res, bint wall, const 
 
 
 # ----------------------------------------------------------------------------------------------
-# bound scalar samplers: the arrays' buffers are taken once, each call passes only the point
+# typed scalar samplers: the arrays' buffers are bound once, each call passes only the point(s)
 # ----------------------------------------------------------------------------------------------
-cdef class _BoundSampler:
-    """``kern(*args)`` of a scalar sampler whose arrays were bound at creation (see :func:`entry_point`):
-    the array arguments of each call must be the very objects bound (checked by identity; any other
-    array goes through the plain function)."""
-    cdef object fn
-    cdef object oa, ob, oocc
-    cdef arr_t a, b
-    cdef occ_t occ
-    cdef int kind  # 0 force, 1 bilinear2, 2 nearest2, 3 segment
+cdef class ForceSampler:
+    """``sampler(p) -> (fx, fy)``: the force ``-(grad_x, grad_y)`` at the world point ``p``, sampled in
+    the nearest cell or bilinearly among the free corner cells (:func:`_force_at`'s arithmetic).
 
-    def __init__(self, fn, int kind, a, b, occ):
-        self.fn = fn
-        self.kind = kind
-        self.oocc = occ
-        self.occ = occ
-        if kind != 3:
-            self.oa = a
-            self.ob = b
-            self.a = a
-            self.b = b
-
-    def __call__(self, *args):
-        cdef double fx, fy
-        cdef Py_ssize_t n = len(args)
-        if self.kind == 0:
-            if n == 9 and args[0] is self.oa and args[1] is self.ob and args[2] is self.oocc:
-                _c_force(self.a, self.b, self.occ, args[3], args[4], args[5], args[6], args[7], args[8], &fx, &fy)
-                return fx, fy
-        elif self.kind == 1 or self.kind == 2:
-            if n == 8 and args[0] is self.oa and args[1] is self.ob and args[2] is self.oocc:
-                if self.kind == 1:
-                    _c_bilinear2(self.a, self.b, self.occ, args[3], args[4], args[5], args[6], args[7], &fx, &fy)
-                else:
-                    _c_nearest2(self.a, self.b, self.occ, args[3], args[4], args[5], args[6], args[7], &fx, &fy)
-                return fx, fy
-        elif n == 9 and args[0] is self.oocc:
-            return _c_segment_blocked(self.occ, args[1], args[2], args[3], args[4], args[5], args[6], args[7],
-                                      args[8])
-        return self.fn(*args)
-
-
-def entry_point(dispatcher, *args):
-    """A fast callable for repeated calls of a scalar kernel with the same arrays.
-
-    Calls ``dispatcher(*args)`` once (so that bad arguments fail here), then returns a callable with
-    ``dispatcher``'s signature that takes the arrays' buffers once: later calls with the same array
-    objects pay only for the scalar arguments. Other kernels are returned as they are.
+    The arrays are bound at creation (kept alive by the sampler); a call converts only ``p[0]`` and
+    ``p[1]``.
     """
-    dispatcher(*args)
-    if dispatcher is _force_at:
-        return _BoundSampler(dispatcher, 0, args[0], args[1], args[2])
-    if dispatcher is _bilinear2:
-        return _BoundSampler(dispatcher, 1, args[0], args[1], args[2])
-    if dispatcher is _nearest2:
-        return _BoundSampler(dispatcher, 2, args[0], args[1], args[2])
-    if dispatcher is _segment_blocked:
-        return _BoundSampler(dispatcher, 3, None, None, args[0])
-    return dispatcher
+    cdef arr_t gx, gy
+    cdef occ_t occ
+    cdef double x0, y0, res
+    cdef bint nearest
+
+    def __init__(self, arr_t gx, arr_t gy, occ_t occ, double x0, double y0, double res, bint nearest):
+        if gx.shape[0] != occ.shape[0] or gx.shape[1] != occ.shape[1] or gy.shape[0] != occ.shape[0] \
+                or gy.shape[1] != occ.shape[1]:
+            raise ValueError("the gradient arrays and the occupancy must have one shape")
+        self.gx = gx
+        self.gy = gy
+        self.occ = occ
+        self.x0 = x0
+        self.y0 = y0
+        self.res = res
+        self.nearest = nearest
+
+    def __call__(self, p):
+        cdef double fx, fy
+        _c_force(self.gx, self.gy, self.occ, self.x0, self.y0, self.res, self.nearest, p[0], p[1], &fx, &fy)
+        return fx, fy
+
+
+cdef class ValueSampler:
+    """``sampler(p) -> float``: one array's value at the world point ``p``, in the nearest cell
+    (``nearest``) or bilinearly among the free corner cells (:func:`_nearest2` / :func:`_bilinear2`)."""
+    cdef arr_t a
+    cdef occ_t occ
+    cdef double x0, y0, res
+    cdef bint nearest
+
+    def __init__(self, arr_t a, occ_t occ, double x0, double y0, double res, bint nearest):
+        if a.shape[0] != occ.shape[0] or a.shape[1] != occ.shape[1]:
+            raise ValueError("the array and the occupancy must have one shape")
+        self.a = a
+        self.occ = occ
+        self.x0 = x0
+        self.y0 = y0
+        self.res = res
+        self.nearest = nearest
+
+    def __call__(self, p):
+        cdef double va, vb
+        if self.nearest:
+            _c_nearest2(self.a, self.a, self.occ, self.x0, self.y0, self.res, p[0], p[1], &va, &vb)
+        else:
+            _c_bilinear2(self.a, self.a, self.occ, self.x0, self.y0, self.res, p[0], p[1], &va, &vb)
+        return va
+
+
+cdef class SegmentTest:
+    """``test(p, q) -> bool``: whether the segment ``p -> q`` crosses an occupied cell (or leaves a
+    walled grid), walked exactly (:func:`_segment_blocked`)."""
+    cdef occ_t occ
+    cdef double x0, y0, res
+    cdef bint wall
+
+    def __init__(self, occ_t occ, double x0, double y0, double res, bint wall):
+        self.occ = occ
+        self.x0 = x0
+        self.y0 = y0
+        self.res = res
+        self.wall = wall
+
+    def __call__(self, p, q):
+        return _c_segment_blocked(self.occ, self.x0, self.y0, self.res, self.wall, p[0], p[1], q[0], q[1])

@@ -32,8 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._chunkcache import is_lazy
-from ._kernels_follow import _bilinear2, _cell_values, _force_at, _force_many, _nearest2, _segment_blocked
-from ._kernels_follow import entry_point as _direct
+from ._kernels_follow import ForceSampler, SegmentTest, ValueSampler, _cell_values, _force_many, _segment_blocked
 from ._results import GradientField
 from .errors import ParameterError
 from .grid import Grid, GridMap, _as_points, _as_xy
@@ -113,11 +112,7 @@ def grid_sampler(field: GradientField, *, sampling: str = "bilinear") -> Callabl
     gx, gy = _field_arrays(field)
     occ, x0, y0, res = _grid_args(field.map)
     nearest = sampling == "nearest"
-    kern: Callable[..., tuple[float, float]] = _direct(_force_at, gx, gy, occ, x0, y0, res, nearest, x0, y0)
-
-    def force(p: Point) -> tuple[float, float]:
-        return kern(gx, gy, occ, x0, y0, res, nearest, p[0], p[1])
-
+    force: Callable[[Point], tuple[float, float]] = ForceSampler(gx, gy, occ, x0, y0, res, nearest)
     return force
 
 
@@ -201,12 +196,7 @@ def grid_potential_sampler(field: GradientField, *, sampling: str = "bilinear") 
         return lambda p: fu(p[0], p[1])[0]
     u = np.ascontiguousarray(field.potential, dtype=np.float64)
     occ, x0, y0, res = _grid_args(field.map)
-    kern: Callable[..., tuple[float, float]] = _direct(_nearest2 if sampling == "nearest" else _bilinear2, u, u, occ,
-                                                      x0, y0, res, x0, y0)
-
-    def potential(p: Point) -> float:
-        return kern(u, u, occ, x0, y0, res, p[0], p[1])[0]
-
+    potential: Callable[[Point], float] = ValueSampler(u, occ, x0, y0, res, sampling == "nearest")
     return potential
 
 
@@ -243,11 +233,7 @@ def grid_blocked(gridmap: GridMap) -> Callable[[Point, Point], bool]:
                                _segment_blocked)
     occ, x0, y0, res = _grid_args(gridmap)
     wall = gridmap.grid.border == "wall"
-    kern: Callable[..., bool] = _direct(_segment_blocked, occ, x0, y0, res, wall, x0, y0, x0, y0)
-
-    def blocked(p: Point, q: Point) -> bool:
-        return kern(occ, x0, y0, res, wall, p[0], p[1], q[0], q[1])
-
+    blocked: Callable[[Point, Point], bool] = SegmentTest(occ, x0, y0, res, wall)
     return blocked
 
 

@@ -25,8 +25,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ._coords import as_points, scalar_index
 from .errors import GridfieldError, ParameterError
-from .grid import Grid, GridMap, _as_points, _scalar_index
+from .grid import Grid, GridMap
 
 __all__ = ["DEFAULT_BUDGET", "ChunkCache", "LazyArray", "LazyGridMap", "Raster", "is_lazy", "lazy_grid"]
 
@@ -322,7 +323,7 @@ class LazyGridMap(GridMap):
         free = np.full(len(cells), self.grid.border == "open")
         if inside.any():
             free[inside] = ~self.occupied.take(cells[inside, 0], cells[inside, 1])
-        free &= np.isfinite(_as_points(points)).all(axis=1)
+        free &= np.isfinite(as_points(points)).all(axis=1)
         return free
 
     def to_gridmap(self) -> GridMap:
@@ -423,8 +424,8 @@ def nearest2(a: LazyArray, b: LazyArray, occ: LazyArray, x0: float, y0: float,
     def f(x: float, y: float) -> tuple[float, float]:
         if not (math.isfinite(x) and math.isfinite(y)):
             return 0.0, 0.0
-        i = min(max(_scalar_index(x, x0, res), 0), cols - 1)
-        j = min(max(_scalar_index(y, y0, res), 0), rows - 1)
+        i = min(max(scalar_index(x, x0, res), 0), cols - 1)
+        j = min(max(scalar_index(y, y0, res), 0), rows - 1)
         va, vb, o = rd.at(j, i)
         return (0.0, 0.0) if o else (float(va), float(vb))
 
@@ -446,8 +447,8 @@ def segment_blocked(occ: LazyArray, x0: float, y0: float, res: float, wall: bool
         xa, ya, xb, yb = float(p[0]), float(p[1]), float(q[0]), float(q[1])
         if not (math.isfinite(xa) and math.isfinite(ya) and math.isfinite(xb) and math.isfinite(yb)):
             return bool(kernel(np.zeros((1, 1), np.bool_), x0, y0, res, wall, xa, ya, xb, yb))
-        ia, ib = _scalar_index(xa, x0, res), _scalar_index(xb, x0, res)
-        ja, jb = _scalar_index(ya, y0, res), _scalar_index(yb, y0, res)
+        ia, ib = scalar_index(xa, x0, res), scalar_index(xb, x0, res)
+        ja, jb = scalar_index(ya, y0, res), scalar_index(yb, y0, res)
         c0 = min(max(min(ia, ib) - 1, 0), cols - 1)
         c1 = min(max(max(ia, ib) + 2, c0 + 1), cols)
         r0 = min(max(min(ja, jb) - 1, 0), rows - 1)

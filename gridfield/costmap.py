@@ -216,9 +216,9 @@ class Costmap(GridMap):
                 np.ascontiguousarray(dm.nearest_col, np.int32))
 
     def _query(self, points: ArrayLike) -> tuple[Any, NDArray[np.float64], float, float, float]:
-        from .grid import _as_points
+        from ._coords import as_points
 
-        p = np.ascontiguousarray(_as_points(points, "points"), dtype=np.float64)
+        p = np.ascontiguousarray(as_points(points, "points"), dtype=np.float64)
         x0, y0 = self.grid.origin
         return kernels("navfn"), p, float(x0), float(y0), float(self.grid.resolution)
 

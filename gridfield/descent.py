@@ -103,9 +103,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._coords import as_xy
 from .errors import ParameterError
 from .escapes import cut_loops, navigation_cut, navigation_finish, navigation_moves, potential_increase, random_jump
-from .grid import _as_xy
 from .params import REGISTRY, Escape, Follower, check, group, names, resolve
 from .path import Path
 
@@ -601,8 +601,8 @@ def descend(
     max_iterations, progress_window, confine_window = r.max_iterations, r.progress_window, r.confine_window
     box = r.box
 
-    x, y = _as_xy(start, "start")
-    gx, gy = _as_xy(goal, "goal")
+    x, y = as_xy(start, "start")
+    gx, gy = as_xy(goal, "goal")
     t0 = time.perf_counter()
     xs, ys = [x], [y]
     fns: list[float] = []  # |F| at xs[i], ys[i]

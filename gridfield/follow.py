@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._coords import as_xy
 from ._kernels_follow import _blocked_many, _force_many
 from .basins import Basins, basins, descent_successor
 from .descent import (
@@ -50,7 +51,7 @@ from .descent import (
 )
 from .errors import GridfieldError, ParameterError
 from .escapes import NavigationEscape, navigation_map
-from .grid import Grid, GridMap, _as_xy
+from .grid import Grid, GridMap
 from .params import MAX_ITERATIONS, Escape, Follower, check, group, names, validate
 from .path import Path
 from .sampling import (
@@ -192,7 +193,7 @@ def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = N
     setup = _setup(field, params)
     grid_map: GridMap = field.map
     s = grid_map.check_point("start", start)
-    goal = _as_xy(field.goal, "goal")
+    goal = as_xy(field.goal, "goal")
     p = setup.params
     force = grid_sampler(field, sampling=setup.sampling)
     blocked = grid_blocked(grid_map)
@@ -319,7 +320,7 @@ def plan_potential_with_field(gridmap: GridMap, start: ArrayLike, goal: ArrayLik
     params = dict(params or {})
     if params.get("model") is None:  # the planner's default: a complete model (gridfield.navfield)
         params["model"] = PLANNER_MODEL
-    s, g = _as_xy(start, "start"), _as_xy(goal, "goal")
+    s, g = as_xy(start, "start"), as_xy(goal, "goal")
     t0 = time.perf_counter()
     resolved = resolve_params(params, unit=gridmap.grid.resolution)
     vortex = resolved["model"] == "vortex"
@@ -475,7 +476,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
     p, r = setup.params, setup.rules
     grid_map: GridMap = field.map
     S = _checked_starts(grid_map, starts)
-    goal = _as_xy(field.goal, "goal")
+    goal = as_xy(field.goal, "goal")
     gx, gy = _field_arrays(field)
     occ, x0, y0, res = _grid_args(grid_map)
     nearest = setup.sampling == "nearest"

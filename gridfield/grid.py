@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any, Literal, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._coords import INDEX_LIMIT, as_points, cell_index, scalar_index
 from .errors import ArgumentTypeError, GridfieldError, ParameterError, check_finite, check_positive, shorten
 from .limits import check_cells
 
@@ -40,41 +41,6 @@ BORDERS = ("open", "wall")
 Border = Literal["open", "wall"]
 
 
-def _as_points(points: ArrayLike, name: str = "points") -> NDArray[np.float64]:
-    p = np.asarray(points, dtype=np.float64)
-    if p.ndim == 1 and p.shape[0] == 2:
-        p = p[None, :]
-    if p.ndim != 2 or p.shape[1] != 2:
-        raise ParameterError(f"{name} must have shape (N, 2) or (2,), got shape {np.shape(points)}")
-    return p
-
-
-def _as_xy(point: object, name: str) -> tuple[float, float]:
-    """A point given as an argument (start, goal, ...) as two finite floats ``(x, y)``.
-
-    The one point parser of the public functions: a string, anything but two numbers, NaN or
-    ``inf`` is a :class:`ParameterError` naming the argument.
-
-    Examples
-    --------
-    >>> _as_xy([1, 2.5], "start"), _as_xy(np.array([[3.0, 4.0]]), "goal")
-    ((1.0, 2.5), (3.0, 4.0))
-    >>> _as_xy((1.0, float("nan")), "goal")
-    Traceback (most recent call last):
-    ...
-    gridfield.errors.ParameterError: goal must be two finite numbers (x, y), got (1.0, nan)
-    """
-    try:
-        raw = np.asarray(point)
-        ok = raw.dtype.kind in "iuf" and raw.size == 2
-        a = raw.astype(np.float64, copy=False).reshape(2) if ok else None
-    except (TypeError, ValueError):
-        a = None
-    if a is None or not (math.isfinite(a[0]) and math.isfinite(a[1])):
-        raise ParameterError(f"{name} must be two finite numbers (x, y), got {shorten(point)}")
-    return float(a[0]), float(a[1])
-
-
 def _check_shape(shape: object) -> tuple[int, int]:
     """``shape`` as two positive Python ints, or :class:`ParameterError`."""
     msg = f"grid shape must be two positive integers (rows, cols), got {shorten(shape)}"
@@ -92,32 +58,6 @@ def _check_shape(shape: object) -> tuple[int, int]:
             raise ParameterError(msg)
         out.append(int(d))
     return out[0], out[1]
-
-
-#: World -> cell indices are clipped to +-this before the cast to int, so that points far outside
-#: (say 1e300) stay outside and never overflow or wrap.
-_INDEX_LIMIT = float(2**62)
-
-
-def _cell_index(coord: NDArray[np.float64], origin: float, res: float) -> NDArray[np.float64]:
-    """``floor((coord - origin) / res)``, corrected so that it agrees exactly with the cell
-    boundaries ``origin + i * res`` as computed in floating point (half-open intervals)."""
-    with np.errstate(over="ignore", invalid="ignore"):
-        i = np.floor((coord - origin) / res)
-        i = i + (coord >= origin + (i + 1) * res)
-        i = i - (coord < origin + i * res)
-    return i
-
-
-def _scalar_index(v: float, origin: float, res: float) -> int:
-    """:func:`_cell_index` for one finite Python float (the same boundary rule, the same IEEE double
-    arithmetic), without numpy's per-call overhead: single-point queries are dominated by it."""
-    i = math.floor((v - origin) / res)
-    if v >= origin + (i + 1) * res:
-        i += 1
-    if v < origin + i * res:
-        i -= 1
-    return i
 
 
 def check_resolution(value: object, name: str = "resolution") -> float:
@@ -268,12 +208,12 @@ class Grid:
         one; use the mask. Non-finite points get ``(-1, -1)`` and ``False``. A point exactly on a
         cell boundary ``origin + i * res`` (as computed in floating point) belongs to cell ``i``.
         """
-        p = _as_points(points)
+        p = as_points(points)
         x0, y0 = self.origin
-        col = _cell_index(p[:, 0], x0, self.resolution)
-        row = _cell_index(p[:, 1], y0, self.resolution)
+        col = cell_index(p[:, 0], x0, self.resolution)
+        row = cell_index(p[:, 1], y0, self.resolution)
         finite = np.isfinite(col) & np.isfinite(row)
-        lim = _INDEX_LIMIT
+        lim = INDEX_LIMIT
         col = np.clip(np.where(finite, col, -1), -lim, lim).astype(np.intp)
         row = np.clip(np.where(finite, row, -1), -lim, lim).astype(np.intp)
         inside = finite & (row >= 0) & (row < self.rows) & (col >= 0) & (col < self.cols)
@@ -293,8 +233,8 @@ class Grid:
         x, y = float(x), float(y)
         if not (math.isfinite(x) and math.isfinite(y)):
             return None
-        r = _scalar_index(y, self.origin[1], self.resolution)
-        c = _scalar_index(x, self.origin[0], self.resolution)
+        r = scalar_index(y, self.origin[1], self.resolution)
+        c = scalar_index(x, self.origin[0], self.resolution)
         if 0 <= r < self.shape[0] and 0 <= c < self.shape[1]:
             return r, c
         return None
@@ -404,7 +344,7 @@ class GridMap:
         free = np.full(len(cells), self.grid.border == "open")
         r, c = cells[inside].T
         free[inside] = ~self.occupied[r, c]
-        p = _as_points(points)
+        p = as_points(points)
         free &= np.isfinite(p).all(axis=1)
         return free
 

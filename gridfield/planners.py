@@ -18,10 +18,11 @@ from typing import TYPE_CHECKING, Any, Literal, NamedTuple, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ._coords import as_xy
 from ._planner_table import PLANNERS as _PLANNERS
 from ._planner_table import Planner
 from .errors import ArgumentTypeError, GridfieldError, ParameterError
-from .grid import GridMap, _as_xy
+from .grid import GridMap
 from .params import REGISTRY, validate
 from .path import Path, PathExtra
 
@@ -351,7 +352,7 @@ def _plan(
 
 def _point(name: str, value: Any) -> np.ndarray:
     """A start/goal point as a float array of shape (2,), or a ParameterError saying what was expected."""
-    return np.array(_as_xy(value, name))
+    return np.array(as_xy(value, name))
 
 
 def search_stages(planner: str, gm: GridMap, params: Mapping[str, Any] | None = None

@@ -81,10 +81,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _kernels_potential as _kp  # type: ignore[attr-defined]  # a compiled extension, no stubs
+from ._coords import as_xy
 from ._results import Field
 from .brushfire import DistanceMap, brushfire
 from .errors import ParameterError
-from .grid import Grid, GridMap, _as_xy
+from .grid import Grid, GridMap
 from .io import load_field, save_field  # re-exported: the .npz I/O of fields lives in gridfield.io
 from .limits import check_grid
 from .params import REGISTRY, check
@@ -273,7 +274,7 @@ def attractive(
     >>> U.tolist(), gx.tolist(), gy.tolist()
     ([[0.0, 1.0, 3.0, 5.0]], [[0.0, 2.0, 2.0, 2.0]], [[0.0, 0.0, 0.0, 0.0]])
     """
-    gx0, gy0 = _as_xy(goal, "goal")
+    gx0, gy0 = as_xy(goal, "goal")
     zeta = check("zeta", zeta)
     d_star = check("d_star", d_star)
     return _khatib_arrays(None, None, None, grid, (gx0, gy0), zeta, d_star, "euclidean", 0.0, 1.0, 2.0,

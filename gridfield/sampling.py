@@ -32,10 +32,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._chunkcache import is_lazy
+from ._coords import as_points, as_xy
 from ._kernels_follow import ForceSampler, SegmentTest, ValueSampler, _cell_values, _force_many, _segment_blocked
 from ._results import GradientField
 from .errors import ParameterError
-from .grid import Grid, GridMap, _as_points, _as_xy
+from .grid import Grid, GridMap
 from .params import REGISTRY, Attraction, Model, Vortex, check, known
 
 __all__ = [
@@ -145,7 +146,7 @@ def sample_force(field: GradientField, points: ArrayLike, *, sampling: str = "bi
            [-3., -0.]])
     """
     check("sampling", sampling)
-    pts = _as_points(points)
+    pts = as_points(points)
     if not np.isfinite(pts).all():
         k = int(np.flatnonzero(~np.isfinite(pts).all(axis=1))[0])
         raise ParameterError(f"points must be finite; point {k} is {pts[k].tolist()}")
@@ -260,7 +261,7 @@ def attraction_force(goal: ArrayLike, params: Mapping[str, Any]) -> Callable[[Po
     >>> f((0.5, 0.0)), f((4.0, 0.0))
     ((-1.0, -0.0), (-2.0, -0.0))
     """
-    gx, gy = _as_xy(goal, "goal")
+    gx, gy = as_xy(goal, "goal")
     p = known(params)
     if p.group(Model).model == "vortex":
         ka = float(p.group(Vortex).ka)

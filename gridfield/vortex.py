@@ -25,10 +25,11 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._coords import as_xy
 from ._results import Field, GradientField
 from .brushfire import brushfire
 from .errors import GridfieldError, ParameterError
-from .grid import Grid, GridMap, _as_xy
+from .grid import Grid, GridMap
 from .params import FIELD_GROUPS, Vortex, check, known, names, resolve
 
 __all__ = ["vortex_field", "vortex_lattice"]
@@ -144,7 +145,7 @@ def vortex_field(
     from .world import World
 
     cir = _circles_of(circles)
-    start_xy, goal_xy = _as_xy(start, "start"), _as_xy(goal, "goal")
+    start_xy, goal_xy = as_xy(start, "start"), as_xy(goal, "goal")
     ka, kr, ko = check("ka", ka), check("kr", kr), check("ko", ko)
     if sample_radius is not None:
         sample_radius = check("sample_radius", sample_radius)

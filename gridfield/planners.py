@@ -13,7 +13,7 @@ import dataclasses
 import importlib
 import time
 from collections.abc import Callable, Mapping
-from typing import TYPE_CHECKING, Any, Literal, NamedTuple, overload
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -190,18 +190,6 @@ def plan_with_field(planner: str, target: World | GridMap, start: ArrayLike, goa
     return Plan(*_plan(planner, target, start, goal, params, resolution=resolution, cache=cache, want_field=True))
 
 
-@overload
-def plan(planner: str, target: World | GridMap, start: ArrayLike, goal: ArrayLike,
-         params: Mapping[str, Any] | None = None, *, resolution: float | None = None,
-         cache: dict[Any, Any] | None = None, return_field: Literal[False] = False) -> Path: ...
-
-
-@overload
-def plan(planner: str, target: World | GridMap, start: ArrayLike, goal: ArrayLike,
-         params: Mapping[str, Any] | None = None, *, resolution: float | None = None,
-         cache: dict[Any, Any] | None = None, return_field: Literal[True]) -> tuple[Path, Field | None]: ...
-
-
 def plan(
     planner: str,
     target: World | GridMap,
@@ -211,8 +199,7 @@ def plan(
     *,
     resolution: float | None = None,
     cache: dict[Any, Any] | None = None,
-    return_field: bool = False,
-) -> Path | tuple[Path, Field | None]:
+) -> Path:
     """Plan a path from ``start`` to ``goal`` with the named planner.
 
     A grid planner given a :class:`World` rasterizes it at ``resolution`` (or the world's own);
@@ -237,14 +224,10 @@ def plan(
         Cell size a grid planner rasterizes a world at (default: the world's own).
     cache : dict, optional
         Per-map work kept by the caller across calls on the same ``target``.
-    return_field : bool
-        Deprecated (a ``DeprecationWarning``; removed in the next release): use
-        :func:`plan_with_field`, which returns ``Plan(path, field)``, the same pair.
 
     Returns
     -------
     Path
-        (With the deprecated ``return_field=True``: the :class:`Plan` of :func:`plan_with_field`.)
         The path; ``extra`` records the query's ``start`` and ``goal`` and its ``field_seconds`` /
         ``follow_seconds``.
 
@@ -270,12 +253,6 @@ def plan(
     ...
     gridfield.errors.ParameterError: unknown planner 'nonsense'; expected one of ...
     """
-    if return_field:
-        import warnings
-
-        warnings.warn("plan(..., return_field=True) is deprecated: use plan_with_field(...), which returns "
-                      "Plan(path, field)", DeprecationWarning, stacklevel=2)
-        return plan_with_field(planner, target, start, goal, params, resolution=resolution, cache=cache)
     return _plan(planner, target, start, goal, params, resolution=resolution, cache=cache)[0]
 
 

@@ -257,7 +257,7 @@ def test_cli_explore_needs_an_interactive_backend(capsys):
 
 
 def test_an_update_builds_the_potential_once(monkeypatch):
-    """The background field is the one the planner followed (plan(..., return_field=True))."""
+    """The background field is the one the planner followed (plan_with_field(...))."""
     import gridfield.potential as potential
 
     calls = []

@@ -488,7 +488,6 @@ def test_plan_with_field_is_the_field_followed_and_changes_no_path(seed000):
     cache: dict = {}
     plan_with_field("potential", gm, seed000.start, seed000.goal, cache=cache)
     assert "field" not in cache
-    # the old spelling: the same pair, for one release, with a DeprecationWarning
-    with pytest.deprecated_call(match="plan_with_field"):
-        old_path, old_field = plan("potential", gm, seed000.start, seed000.goal, return_field=True)
-    assert np.array_equal(old_path.points, path.points) and np.array_equal(old_field.potential, field.potential)
+    # plan returns one type: the old return_field=True (deprecated for one release) is gone
+    with pytest.raises(TypeError, match="return_field"):
+        plan("potential", gm, seed000.start, seed000.goal, return_field=True)

@@ -543,7 +543,8 @@ def update_field(field: Any, dmap: DistanceMap | IncrementalBrushfire, window: W
     >>> bool(np.array_equal(f.potential, g.potential) and np.array_equal(f.grad_x, g.grad_x))
     True
     """
-    from .potential import _METRIC_CODE, Field, _integer_power, _saturation
+    from ._potential_args import METRIC_CODE, integer_power, saturation
+    from .potential import Field
 
     if not isinstance(field, Field):
         raise ParameterError(f"update_field needs a Field, got {type(field).__name__}")
@@ -552,7 +553,7 @@ def update_field(field: Any, dmap: DistanceMap | IncrementalBrushfire, window: W
     if not isinstance(dmap, DistanceMap) or dmap.grid.shape != field.grid.shape:
         raise ParameterError("dmap must be the distance map (or IncrementalBrushfire) of the field's grid")
     p = field.params
-    ipow = _integer_power(p["repulsive_power"])
+    ipow = integer_power(p["repulsive_power"])
     if p["model"] != "khatib" or p["repulsion"] != "nearest" or p["gradient"] != "analytic" or not 0 <= ipow <= 4:
         raise ParameterError("update_field updates Khatib fields with repulsion='nearest', gradient='analytic' and "
                              f"an integer repulsive_power 0-4; rebuild this one with build_field (params {p!r})")
@@ -571,13 +572,13 @@ def update_field(field: Any, dmap: DistanceMap | IncrementalBrushfire, window: W
         raise ParameterError(f"window {window!r} does not lie in the grid of shape {(rows, cols)}")
     if dmap.nearest_row is None or dmap.nearest_col is None:
         raise GridfieldError("the distance map has no nearest obstacles (compute_nearest=False)")
-    sat, far = _saturation(dmap, p["saturate"])
+    sat, far = saturation(dmap, p["saturate"])
     g = field.grid
     occ = np.ascontiguousarray(dmap.map.occupied, dtype=bool)
     _kernels().khatib_window(r0, r1, c0, c1, occ, np.ascontiguousarray(dmap.nearest_row, np.int32),
                              np.ascontiguousarray(dmap.nearest_col, np.int32), g.origin[0], g.origin[1],
                              g.resolution, field.goal[0], field.goal[1], p["zeta"], p["d_star"],
-                             p["d_star"] == 0.0, _METRIC_CODE[dmap.metric], p["eta"], p["q_star"], ipow, sat,
+                             p["d_star"] == 0.0, METRIC_CODE[dmap.metric], p["eta"], p["q_star"], ipow, sat,
                              far, field.potential, field.grad_x, field.grad_y)
     return out
 

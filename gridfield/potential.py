@@ -82,6 +82,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _kernels_potential as _kp  # type: ignore[attr-defined]  # a compiled extension, no stubs
 from ._coords import as_xy
+from ._potential_args import METRIC_CODE, integer_power, saturation
 from ._results import Field
 from .brushfire import DistanceMap, brushfire
 from .errors import ParameterError
@@ -111,7 +112,6 @@ __all__ = [
 REPULSIONS: tuple[str, ...] = REGISTRY["repulsion"].choices
 GRADIENTS: tuple[str, ...] = REGISTRY["gradient"].choices
 MODELS: tuple[str, ...] = REGISTRY["model"].choices
-_METRIC_CODE = {"euclidean": 0, "chessboard": 1, "taxicab": 2}
 #: The complete models, built by :func:`gridfield.navfield.nav_field` (kept here so that resolving
 #: parameters does not import it).
 _NF_MODELS = ("nf1", "nf2", "nf-blend")
@@ -209,11 +209,6 @@ def _threads_for(cells: int) -> Iterator[None]:
         _kp.set_num_threads(before)
 
 
-def _integer_power(power: float) -> int:
-    """``power`` as a small non-negative int, or -1 when it is fractional (or huge)."""
-    return int(power) if float(power).is_integer() and 0 <= power <= 64 else -1
-
-
 def _khatib_arrays(
     occ: NDArray[np.bool_] | None, nr: NDArray[Any] | None, nc: NDArray[Any] | None, grid: Grid,
     goal: tuple[float, float], zeta: float, d_star: float,
@@ -232,9 +227,9 @@ def _khatib_arrays(
     occ = np.ascontiguousarray(occ, dtype=bool)
     assert nr is not None and nc is not None
     nr, nc = _int32(nr), _int32(nc)
-    ipow = _integer_power(power)
+    ipow = integer_power(power)
     fused = nearest and 0 <= ipow <= 4
-    code = _METRIC_CODE[metric]
+    code = METRIC_CODE[metric]
     with _threads_for(U.size):
         _kp._khatib_kernel(occ, nr, nc, x0, y0, grid.resolution, goal[0], goal[1], zeta, d_star, d_star == 0.0, code,
                        eta if fused else 0.0, q_star, max(ipow, 0), sat, far, U, GX, GY)
@@ -283,11 +278,6 @@ def attractive(
 
 def _int32(a: NDArray[Any]) -> NDArray[np.int32]:
     return np.ascontiguousarray(a, dtype=np.int32)
-
-
-def _saturation(dmap: DistanceMap, saturate: float | None) -> tuple[float, float]:
-    sat = saturate if saturate is not None else dmap.saturate
-    return (math.inf if sat is None else float(sat)), float(dmap.far)
 
 
 def repulsive(
@@ -348,7 +338,7 @@ def repulsive(
         raise ParameterError(f"gradient='finite_difference' needs power=2 (the gradient of U), got power={power:g}")
     if saturate is not None:
         saturate = check("saturate", saturate)
-    sat, far = _saturation(dmap, saturate)
+    sat, far = saturation(dmap, saturate)
     grid = dmap.grid
     occ = dmap.map.occupied
     U, GX, GY = _khatib_arrays(occ, dmap.nearest_row, dmap.nearest_col, grid, (0.0, 0.0), 0.0, math.inf,
@@ -389,7 +379,7 @@ def _sum_repulsion(dmap: DistanceMap, eta: float, q_star: float, power: float, s
     rows, cols = grid.shape
     res = grid.resolution
     occ = dmap.map.occupied
-    metric = _METRIC_CODE[dmap.metric]
+    metric = METRIC_CODE[dmap.metric]
     # no term beyond the influence distance, nor beyond the saturation radius (unless far is nearer)
     reach = q_star if far < q_star else min(q_star, sat)
     k = rows + cols if not math.isfinite(reach) else math.ceil(reach / res) + 1
@@ -407,7 +397,7 @@ def _sum_repulsion(dmap: DistanceMap, eta: float, q_star: float, power: float, s
             idx = ndimage.distance_transform_cdt(~mine, metric=("chessboard", "taxicab")[metric - 1],
                                                  return_distances=False, return_indices=True)
         _kp._rep_accumulate(np.ascontiguousarray(occ[win]), _int32(idx[0]), _int32(idx[1]), 0, 0, res, metric, eta,
-                        q_star, _integer_power(power), power, sat, far, U[win], GX[win], GY[win])
+                        q_star, integer_power(power), power, sat, far, U[win], GX[win], GY[win])
     if grid.border == "wall":
         _wall_repulsion(grid, occ, metric, k, eta, q_star, power, sat, far, U, GX, GY)
 
@@ -433,7 +423,7 @@ def _wall_repulsion(grid: Grid, occ: NDArray[np.bool_], metric: int, k: int, eta
         nc = np.take_along_axis(cand_c, which, 0)[0]
         win = (slice(r0, r1), slice(c0, c1))
         _kp._rep_accumulate(np.ascontiguousarray(occ[win]), _int32(nr - r0), _int32(nc - c0), 0, 0, grid.resolution,
-                        metric, eta, q_star, _integer_power(power), power, sat, far, U[win], GX[win], GY[win])
+                        metric, eta, q_star, integer_power(power), power, sat, far, U[win], GX[win], GY[win])
 
 
 def finite_difference_gradient(
@@ -600,7 +590,7 @@ def build_field(
             raise ParameterError(f"params ask for metric {p['metric']!r}, but dmap was computed with {dmap.metric!r}")
         p["metric"] = dmap.metric
     grid = gridmap.grid
-    sat, far = _saturation(dmap, p["saturate"])
+    sat, far = saturation(dmap, p["saturate"])
     nearest = p["repulsion"] == "nearest"
     U, GX, GY = _khatib_arrays(gridmap.occupied, dmap.nearest_row, dmap.nearest_col, grid, goal_xy, p["zeta"],
                                p["d_star"], dmap.metric, p["eta"], p["q_star"], p["repulsive_power"], sat, far,

@@ -20,8 +20,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._kernels import kernels
+from .._potential_args import METRIC_CODE, integer_power
 from ..errors import GridfieldError, ParameterError, check_positive, shorten
-from ..potential import _METRIC_CODE, _integer_power, resolve_params
+from ..potential import resolve_params
 from ._distance import _dask_array
 
 __all__ = ["field"]
@@ -39,8 +40,8 @@ def _khatib_block(nr: NDArray[np.int32], nc: NDArray[np.int32], x0: float, y0: f
     occ = ((nr == rr) & (nc == cc)).view(np.uint8)  # an obstacle cell is its own nearest obstacle
     out = np.empty((3, *nr.shape), np.float64)
     kc.khatib_block(occ, nr, nc, int(r0), int(c0), x0, y0, res, goal[0], goal[1], p["zeta"], p["d_star"],
-                    p["d_star"] == 0.0, _METRIC_CODE[p["metric"]], p["eta"], p["q_star"],
-                    _integer_power(p["repulsive_power"]), sat, math.inf, out[0], out[1], out[2])
+                    p["d_star"] == 0.0, METRIC_CODE[p["metric"]], p["eta"], p["q_star"],
+                    integer_power(p["repulsive_power"]), sat, math.inf, out[0], out[1], out[2])
     return out
 
 
@@ -122,13 +123,13 @@ def field(
         raise ParameterError(f"params ask for metric {p['metric']!r}, but the nearest cells were computed with "
                              f"{metric!r}")
     p["metric"] = metric
-    if metric not in _METRIC_CODE:
-        raise ParameterError(f"metric must be one of {tuple(_METRIC_CODE)}, got {shorten(metric)}")
+    if metric not in METRIC_CODE:
+        raise ParameterError(f"metric must be one of {tuple(METRIC_CODE)}, got {shorten(metric)}")
     if p["model"] != "khatib":
         raise ParameterError(f"the chunked field computes model 'khatib' only, got {p['model']!r}")
     if p["repulsion"] != "nearest":
         raise ParameterError(f"the chunked field computes repulsion 'nearest' only, got {p['repulsion']!r}")
-    if not 0 <= _integer_power(p["repulsive_power"]) <= 4:
+    if not 0 <= integer_power(p["repulsive_power"]) <= 4:
         raise ParameterError(f"the chunked field needs an integer repulsive_power 0..4, got {p['repulsive_power']!r}")
     if p["gradient"] != "analytic":
         raise ParameterError(f"the chunked field computes the analytic gradient only, got {p['gradient']!r}")

@@ -76,6 +76,7 @@ __all__ = [
     "attraction_force",
     "basins",
     "descend",
+    "descend_cells",
     "descent_successor",
     "follow",
     "follow_many",
@@ -248,6 +249,10 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     skeleton) is computed once per map in ``cache``, and their paths carry
     ``extra["median_clearance"]``.
 
+    A complete model's field has one minimum, the goal; when the continuous follower still stalls
+    on it (a one-cell door whose steep sides turn its steps), the run is finished by the field's own
+    discrete descent (:func:`descend_cells`) and ``extra["finish"]`` records the stall.
+
     A goal that cannot be reached from the start (no free path joins them) ends as ``no_path`` at
     once, with a hint. A run that does not reach the goal carries ``extra["hint"]`` and
     ``extra["diagnosis"]`` (:func:`gridfield.diagnose.diagnose`).
@@ -349,6 +354,13 @@ def plan_potential_with_field(gridmap: GridMap, start: ArrayLike, goal: ArrayLik
     extra["build_seconds"] = build
     status = path.status
     points = path.points
+    if nf and status != "reached":  # a complete field cannot trap: its own discrete descent finishes
+        finish = descend_cells(field.map, field.potential, points[-1], field.goal)
+        if finish is not None:
+            extra["finish"] = {"stop_reason": extra.get("stop_reason"), "from": [float(v) for v in points[-1]],
+                               "cells": len(finish)}
+            extra["stop_reason"] = "goal"
+            points, status = np.concatenate([points, finish]), "reached"
     if status != "reached" and esc is not None:
         diag = diagnose(path, field, esc, follow=follow)  # follow: the re-runs of a proposed q_star
         if not math.isfinite(esc.value(s)):  # large maps: found unreachable only now
@@ -362,6 +374,71 @@ def plan_potential_with_field(gridmap: GridMap, start: ArrayLike, goal: ArrayLik
         if field.map is not gridmap:  # an open border: the field's ring lies outside the grid
             _note_outside(extra, gridmap.grid, points)
     return replace(path, points=points, status=status, params=merged, extra=extra), field
+
+
+def descend_cells(gridmap: GridMap, potential: NDArray[np.float64], point: ArrayLike,
+                  goal: ArrayLike) -> NDArray[np.float64] | None:
+    """The discrete descent of a complete model's potential from ``point`` to ``goal``: cell centre
+    to cell centre, each time to the lowest of the 8 neighbours that a move may reach (a diagonal
+    only when both side cells are free: no corner cut), ending exactly at ``goal``.
+
+    A complete model's ``U`` is a travel time from the goal: the march gave every settled cell a value
+    strictly above one of its neighbours along such a move, so the descent strictly decreases and
+    ends in the goal's cell. It finishes a follower run that stalled on such a field (a one-cell door
+    whose steep sides turn the continuous steps). ``None`` when ``point`` lies outside the grid, on a
+    cell without a finite value, or a cell without a lower neighbour that is not the goal's.
+
+    Parameters
+    ----------
+    gridmap : GridMap
+        The field's map.
+    potential : ndarray
+        The field's ``U`` (``inf`` on obstacles and unsettled cells).
+    point, goal : (x, y)
+        Where the descent starts; the goal it ends at.
+
+    Returns
+    -------
+    ndarray of shape (k, 2), or None
+        The centres of the cells after ``point``'s own cell, the goal's cell's replaced by ``goal``.
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid
+    >>> U = np.array([[0.0, 1.0, 2.0], [1.0, np.inf, 3.0], [2.0, 3.0, 4.0]])
+    >>> occ = np.isinf(U)
+    >>> descend_cells(GridMap(Grid((3, 3), 1.0), occ), U, (2.5, 2.5), (0.5, 0.5)).tolist()
+    [[1.5, 2.5], [0.5, 2.5], [0.5, 1.5], [0.5, 0.5]]
+    """
+    grid = gridmap.grid
+    occ = np.asarray(gridmap.occupied, dtype=bool)
+    gx, gy = as_xy(goal, "goal")
+    here, target = grid.cell_of(*as_xy(point, "point")), grid.cell_of(gx, gy)
+    if here is None or target is None or not np.isfinite(potential[here]):
+        return None
+    rows, cols = potential.shape
+    out: list[tuple[float, float]] = []
+    r, c = here
+    for _ in range(int(np.isfinite(potential).sum())):  # a strictly decreasing walk visits a cell once
+        if (r, c) == target:  # the goal itself instead of its cell's centre
+            return np.array([*out[:-1], (gx, gy)])
+        best, nxt = potential[r, c], None
+        for dr, dc in _MOVES:
+            rr, cc = r + dr, c + dc
+            if not (0 <= rr < rows and 0 <= cc < cols) or occ[rr, cc]:
+                continue
+            if dr and dc and (occ[r + dr, c] or occ[r, c + dc]):
+                continue
+            if potential[rr, cc] < best:
+                best, nxt = potential[rr, cc], (rr, cc)
+        if nxt is None:
+            return None
+        r, c = nxt
+        out.append((grid.origin[0] + (c + 0.5) * grid.resolution, grid.origin[1] + (r + 0.5) * grid.resolution))
+    return None
+
+
+_MOVES = ((0, 1), (0, -1), (1, 0), (-1, 0), (1, 1), (1, -1), (-1, 1), (-1, -1))
 
 
 #: The ``model`` the potential planner builds when none is given: the complete ``nf1``

@@ -59,6 +59,7 @@ PathExtra = TypedDict(
         "hint": str,  # one line: why the run failed and what to try (gridfield.diagnose)
         "diagnosis": dict[str, Any],  # the diagnosis behind the hint (gridfield.diagnose.diagnose)
         "median_clearance": float,  # median brushfire distance at the path's points (complete models; Path.min_clearance: the smallest)
+        "finish": dict[str, Any],  # complete models: the follower's stall finished by the field's discrete descent (follow.descend_cells): stop_reason, from, cells
         # -- navigation functions (gridfield.navigation) --
         "value": float,  # the navigation function's value at the start cell
         "grid_length": float,  # length of the path through cell centres
@@ -97,9 +98,11 @@ start, goal, field_seconds, follow_seconds
 stop_reason, stall_point, local_minima, oscillation, blocked_at, slid_steps, goal_appended, left_map, \
 outside_fraction, sampling, alpha_xy, escapes_tried, escapes_succeeded, escapes, navigation_segments
     How the follower (:func:`gridfield.follow.follow`, :func:`gridfield.follow.follow_many`) ended.
-build_seconds, hint, diagnosis, median_clearance
+build_seconds, hint, diagnosis, median_clearance, finish
     The potential planners: field build time, the one-line hint and its diagnosis; the median
-    clearance along the path (the complete models of :mod:`gridfield.navfield`).
+    clearance along the path (the complete models of :mod:`gridfield.navfield`); for a complete
+    model whose follower stalled, the stall it finished from by the field's discrete descent
+    (:func:`gridfield.follow.descend_cells`: the follower's ``stop_reason``, the point, the cells).
 value, grid_length, cells, reason, finished_by
     Navigation functions: value at the start, grid length, the descent's cells, why no path, and
     ``"wavefront"`` when the follower stopped on a flat spot short of the goal and the octile

@@ -399,3 +399,61 @@ def test_band_cost_is_bounded_and_a_huge_blend_gain_is_refused_not_a_crash():
     gm = wall_map(occ)
     with pytest.raises(ParameterError, match="slowness"):
         plan("potential", gm, (2.5, 5.5), (9.5, 9.5), {"model": "nf-blend", "clearance_gain": 1e15})
+
+
+# ----------------------------------------------------------------------------------------------
+# a stalled follower on a complete field is finished by the field's discrete descent
+# ----------------------------------------------------------------------------------------------
+def test_nf_blend_stall_at_a_one_cell_door_is_finished_by_the_discrete_descent(shared_maps):
+    """8room_000 scenario 918: nf-blend's steep cost at a one-cell door stalled the follower ("confined",
+    a hint blaming q_star) though the field has one minimum (the benchmark's one miss of 460)."""
+    from test_potential_planner import assert_path_free
+
+    from gridfield.io import read_scen
+
+    d = shared_maps / "movingai" / "8room_000"
+    gm = read_movingai_map(next(d.glob("*.map")))
+    scen = read_scen(next(d.glob("*.scen")), map_height=gm.shape[0])
+    s, g = scen.start_xy[918], scen.goal_xy[918]
+    p = plan("potential", gm, s, g, {"model": "nf-blend"})
+    assert p.status == "reached" and np.allclose(p.points[-1], g) and "hint" not in p.extra
+    fin = p.extra["finish"]
+    assert fin["stop_reason"] == "confined" and fin["cells"] >= 1
+    assert_path_free(gm, p.points)
+    # not longer than the octile optimum by more than the blend's usual clearance detour
+    assert p.length <= 1.5 * plan("wavefront-octile", gm, s, g).length
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.sampled_from(["nf1", "nf2", "nf-blend"]))
+def test_descend_cells_strictly_descends_by_legal_moves_to_the_goal(seed, model):
+    """From every free cell of the goal's component, on fields of random maps: each move is to an
+    8-neighbour (a diagonal only with both side cells free), U strictly falls, the walk ends at the goal;
+    checked against the map directly (not through the field's own code)."""
+    from gridfield.follow import descend_cells
+
+    rng = np.random.default_rng(seed)
+    occ = rng.random((14, 17)) < 0.3
+    free = ~occ
+    lab = ndimage.label(free)[0]
+    cells = np.argwhere(free)
+    if len(cells) < 2:
+        return
+    gcell = tuple(cells[rng.integers(len(cells))])
+    gm = wall_map(occ)
+    goal = (gcell[1] + 0.5, gcell[0] + 0.5)
+    U = nav_field(gm, goal, {"model": model}).potential
+    for r, c in cells[lab[tuple(cells.T)] == lab[gcell]]:
+        way = descend_cells(gm, U, (c + 0.5, r + 0.5), goal)
+        assert way is not None and tuple(way[-1]) == goal
+        if (r, c) == gcell:
+            assert len(way) == 1
+            continue
+        prev, pu = (r, c), U[r, c]
+        for x, y in way:
+            rr, cc = int(y), int(x)
+            dr, dc = rr - prev[0], cc - prev[1]
+            assert max(abs(dr), abs(dc)) == 1 and not occ[rr, cc]
+            assert not (dr and dc and (occ[prev[0] + dr, prev[1]] or occ[prev[0], prev[1] + dc]))
+            assert U[rr, cc] < pu
+            prev, pu = (rr, cc), U[rr, cc]

@@ -36,6 +36,19 @@ def test_hint_box_covers_nothing_of_the_map() -> None:
     assert box.y1 <= labels.y0 + 1  # and below the x label
 
 
+@pytest.mark.parametrize("shape", [(81, 65), (20, 20), (30, 120)])
+def test_hint_box_lies_inside_the_figure(shape) -> None:
+    # den312d (81 x 65) with --param model=khatib: the frame of the box was cut by the figure's lower edge
+    gm = GridMap(Grid(shape, 1.0), np.zeros(shape, bool))
+    p = Path(np.array([[1.5, 1.5], [10.5, 1.2]]), "local_minimum", "potential",
+             extra={"hint": "a three-line hint " * 16, "stall_point": [10.5, 1.2]})
+    art = plot_map(gm, paths=[p])
+    art.figure.canvas.draw()
+    box = art.extra["hint"].get_bbox_patch().get_window_extent()
+    fig = art.figure.bbox
+    assert fig.x0 <= box.x0 and box.x1 <= fig.x1 and fig.y0 <= box.y0 and box.y1 <= fig.y1
+
+
 def test_basin_legend_names_a_displaced_goal_sink_and_small_shares() -> None:
     lab = np.ones((50, 100), int)
     lab[0, 0] = 2  # one cell of 5000: 0.02 %

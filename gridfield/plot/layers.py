@@ -359,6 +359,7 @@ def _draw_paths(ax: Axes, paths: Sequence[Path], art: Artists, *, zorder: float 
                                             xycoords="axes fraction", xytext=(0, -36), textcoords="offset points",
                                             fontsize=7, va="top", ha="left", zorder=zorder + 3, annotation_clip=False,
                                             bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "0.6"})
+            _room_for_the_box(ax)
     if stalls:
         s = np.concatenate(stalls)
         outside = np.zeros(len(s), bool)
@@ -379,6 +380,16 @@ def _draw_paths(ax: Axes, paths: Sequence[Path], art: Artists, *, zorder: float 
                                                       color="white", edgecolor="red", linewidth=1.2,
                                                       zorder=zorder + 2,
                                                       label="stall point outside the map (the follower left it)")
+
+
+def _room_for_the_box(ax: Axes) -> None:
+    """A constrained layout makes room for the hint's text but not for its box's frame, which the
+    figure's lower edge then cut: leave it a margin of 8 points."""
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    engine = ax.figure.get_layout_engine()
+    if isinstance(engine, ConstrainedLayoutEngine) and engine.get()["h_pad"] < 8 / 72:
+        engine.set(h_pad=8 / 72)
 
 
 def _draw_endpoints(ax: Axes, art: Artists, start: NDArray[np.float64] | None, goal: NDArray[np.float64] | None,

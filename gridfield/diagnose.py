@@ -113,8 +113,9 @@ def robot_no_path(path: Path, point: Path, robot: str, start: Any, goal: Any) ->
     else:
         verdict = (f"a free path joins them for a point ({point.planner} on the map without the robot's shape "
                    f"ends {point.status}, not no_path)")
-    hint = (f"the robot ({robot}) closes the passage: the goal ({_fmt(goal[0])}, {_fmt(goal[1])}) cannot be reached "
-            f"by it from the start ({_fmt(start[0])}, {_fmt(start[1])}), but {verdict}")
+    # the end points as the plan line prints them (4 digits: 1.825 stays 1.825)
+    hint = (f"the robot ({robot}) closes the passage: the goal ({goal[0]:.4g}, {goal[1]:.4g}) cannot be reached "
+            f"by it from the start ({start[0]:.4g}, {start[1]:.4g}), but {verdict}")
     diagnosis = {**path.extra.get("diagnosis", {}), "reachable": False, "robot_closes_passage": True,
                  "point_status": point.status}
     return dataclasses.replace(path, extra={**path.extra, "hint": hint, "diagnosis": diagnosis})

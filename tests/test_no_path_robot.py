@@ -76,6 +76,20 @@ def test_cli_no_path_names_the_robot(map_file, radius, start, goal, planner, cap
     assert point["status"] == "reached" and f"length {point['length']:.4g})" in hint
 
 
+@pytest.mark.parametrize(("map_file", "radius", "start", "goal"), CASES[1:], ids=["mdr"])
+def test_cli_no_path_prints_no_clearance(map_file, radius, start, goal, capsys):
+    # no path has no clearance: neither "min clearance nan" nor the start's distance called the path's clearance
+    args = ["plan", str(map_file), "--start", *map(str, start), "--goal", *map(str, goal), "--robot-radius", str(radius)]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "nan" not in out and "clearance of the path" not in out
+    assert f"the goal ({goal[0]:g}, {goal[1]:g})" in out  # the end points as given (1.825, not 1.82)
+    assert main([*args, "--json"]) == 0
+    j = json.loads(capsys.readouterr().out)
+    assert j["status"] == "no_path"
+    assert j["min_clearance"] is None and j["workspace_clearance"] is None and j["robot_clearance"] is None
+
+
 def test_robot_no_path_leaves_other_runs_alone():
     s = np.array([[1.0, 2.0]])
     blocked = Path(s, "no_path", "wavefront", extra={"reason": "the goal is unreachable from the start"})

@@ -36,6 +36,19 @@ def test_hint_box_covers_nothing_of_the_map() -> None:
     assert box.y1 <= labels.y0 + 1  # and below the x label
 
 
+@pytest.mark.parametrize("shape", [(81, 65), (20, 20), (30, 120)])
+def test_hint_box_lies_inside_the_figure(shape) -> None:
+    # den312d (81 x 65) with --param model=khatib: the frame of the box was cut by the figure's lower edge
+    gm = GridMap(Grid(shape, 1.0), np.zeros(shape, bool))
+    p = Path(np.array([[1.5, 1.5], [10.5, 1.2]]), "local_minimum", "potential",
+             extra={"hint": "a three-line hint " * 16, "stall_point": [10.5, 1.2]})
+    art = plot_map(gm, paths=[p])
+    art.figure.canvas.draw()
+    box = art.extra["hint"].get_bbox_patch().get_window_extent()
+    fig = art.figure.bbox
+    assert fig.x0 <= box.x0 and box.x1 <= fig.x1 and fig.y0 <= box.y0 and box.y1 <= fig.y1
+
+
 def test_basin_legend_names_a_displaced_goal_sink_and_small_shares() -> None:
     lab = np.ones((50, 100), int)
     lab[0, 0] = 2  # one cell of 5000: 0.02 %
@@ -108,3 +121,30 @@ def test_field_plot_says_what_the_field_is(tmp_path, monkeypatch) -> None:
     assert main(["field", str(bundled_map("seed000.yaml")), "--goal", "22", "12", "--resolution", "0.5",
                  "--plot", str(tmp_path / "f.png")]) == 0
     assert titles and "seed000.yaml" in titles[0] and "khatib" in titles[0] and "goal (22, 12)" in titles[0]
+
+
+def test_a_robots_plan_figure_says_it_shows_the_configuration_space(tmp_path, monkeypatch) -> None:
+    # plan --robot-radius --plot draws the grown grid (the C-space): its title says so; a no_path's
+    # legend gives no "length 0" (mdr_wrs20-arena with r = 0.2 read as a path of length 0)
+    from gridfield.cli import main
+    from gridfield.plot import results
+
+    arts = []
+    real = results.plot_map
+
+    def spy(*a, **k):
+        arts.append(real(*a, **k))
+        return arts[-1]
+
+    monkeypatch.setattr(results, "plot_map", spy)
+    ros = str(bundled_map("turtlebot3_world/map.yaml"))
+    assert main(["plan", ros, "--start", "-2", "-0.5", "--goal", "1.9", "0.5", "--robot-radius", "0.1",
+                 "--planner", "wavefront", "--plot", str(tmp_path / "r.png")]) == 0
+    assert arts[-1].ax.get_title() == "turtlebot3_world, configuration space of the robot (disc of radius 0.1)"
+    assert main(["plan", ros, "--start", "-2", "-0.5", "--goal", "1.9", "0.5", "--planner", "wavefront",
+                 "--plot", str(tmp_path / "p.png")]) == 0
+    assert arts[-1].ax.get_title() == "turtlebot3_world"
+    gm = GridMap(Grid((10, 10), 1.0), np.zeros((10, 10), bool))
+    art = plot_map(gm, paths=[Path(np.array([[1.5, 1.5]]), "no_path", "wavefront")], goal=(8.5, 8.5))
+    labels = [t.get_text() for t in art.legend.get_texts()]
+    assert labels[0] == "wavefront: no_path (no path joins start and goal)" and not any("length" in t for t in labels)

@@ -118,12 +118,14 @@ def run(args: argparse.Namespace) -> int:
         path = _robot_no_path(args, path, workspace, start, goal, params, resolution)
     if scen is not None:
         path = replace(path, extra={**path.extra, "optimal": optimal})
-    if robot:
+    if robot and path.status != "no_path":
         from ..cspace import robot_clearance, workspace_clearance
         from ._common import _robot_from_args
 
         clearance = workspace_clearance(workspace, path.points)
         body = robot_clearance(workspace, _robot_from_args(args, workspace), path.points)
+    elif robot:  # no path: nothing to measure (the start alone is no path's clearance)
+        clearance, body = float("nan"), None
     if args.json:
         out = path.to_json()
         out["startup_seconds"] = startup
@@ -136,12 +138,14 @@ def run(args: argparse.Namespace) -> int:
     else:
         x, y = path.end
         opt = f" (optimal {path.extra['optimal']:.4g})" if "optimal" in path.extra else ""
+        # no path has no clearance: the line leaves it out rather than print "nan"
+        cl = "" if path.status == "no_path" else f"min clearance {path.min_clearance:.4g}, "
         print(f"{path.planner}: {path.status} after {path.iterations} iterations, length {path.length:.4g}{opt}, "
-              f"end ({x:.4g}, {y:.4g}), min clearance {path.min_clearance:.4g}, {path.seconds * 1e3:.1f} ms "
+              f"end ({x:.4g}, {y:.4g}), {cl}{path.seconds * 1e3:.1f} ms "
               f"(+ {startup * 1e3:.0f} ms start-up)")
         if path.extra.get("hint"):
             print(f"hint: {path.extra['hint']}")
-        if robot:
+        if robot and path.status != "no_path":
             extra = "" if body is None else f", the robot's body {body:.4g}"
             print(f"robot {_robot_text(args, workspace)}: clearance of the path {clearance:.4g}{extra}")
     if args.plot or args.animate:

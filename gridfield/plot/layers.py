@@ -193,15 +193,22 @@ def _title_of(target: Any) -> str:
     'turtlebot3_world'
     >>> _title_of(SimpleNamespace(source="maps/arena/arena.map", meta={"format": "movingai"}))
     'arena.map'
+
+    A grid grown by a robot (``meta["robot"]``, :func:`gridfield.cspace.apply_robot`) shows its
+    configuration space, not the map's own cells, and its title says so:
+
+    >>> _title_of(SimpleNamespace(source="m/map.yaml", meta={"format": "ros", "robot": "disc of radius 0.2"}))
+    'm, configuration space of the robot (disc of radius 0.2)'
     """
     src = getattr(target, "source", "") or getattr(_world_of(target), "source", "") or ""
-    if not src:
-        return ""
     meta = getattr(target, "meta", None) or {}
+    robot = meta.get("robot") if isinstance(meta, Mapping) else None
+    suffix = f"configuration space of the robot ({robot})" if robot else ""
+    if not src:
+        return suffix
     path = FsPath(src)
-    if meta.get("format") == "ros" and path.parent.name:
-        return path.parent.name
-    return path.name
+    name = path.parent.name if meta.get("format") == "ros" and path.parent.name else path.name
+    return f"{name}, {suffix}" if suffix else name
 
 
 def _known_bounds(gm: GridMap, margin: int = 8) -> tuple[float, float, float, float]:
@@ -306,6 +313,8 @@ def _frame(ax: Axes, bounds: tuple[float, float, float, float], points: Sequence
 
 
 def _path_label(path: Path) -> str:
+    if path.status == "no_path":  # no path, no length ("length 0" read as a path of length 0)
+        return f"{path.planner}: no_path (no path joins start and goal)"
     return f"{path.planner}: {path.status}, length {path.length:.3g}"
 
 
@@ -359,6 +368,7 @@ def _draw_paths(ax: Axes, paths: Sequence[Path], art: Artists, *, zorder: float 
                                             xycoords="axes fraction", xytext=(0, -36), textcoords="offset points",
                                             fontsize=7, va="top", ha="left", zorder=zorder + 3, annotation_clip=False,
                                             bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "0.6"})
+            _room_for_the_box(ax)
     if stalls:
         s = np.concatenate(stalls)
         outside = np.zeros(len(s), bool)
@@ -379,6 +389,16 @@ def _draw_paths(ax: Axes, paths: Sequence[Path], art: Artists, *, zorder: float 
                                                       color="white", edgecolor="red", linewidth=1.2,
                                                       zorder=zorder + 2,
                                                       label="stall point outside the map (the follower left it)")
+
+
+def _room_for_the_box(ax: Axes) -> None:
+    """A constrained layout makes room for the hint's text but not for its box's frame, which the
+    figure's lower edge then cut: leave it a margin of 8 points."""
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    engine = ax.figure.get_layout_engine()
+    if isinstance(engine, ConstrainedLayoutEngine) and engine.get()["h_pad"] < 8 / 72:
+        engine.set(h_pad=8 / 72)
 
 
 def _draw_endpoints(ax: Axes, art: Artists, start: NDArray[np.float64] | None, goal: NDArray[np.float64] | None,

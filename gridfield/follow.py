@@ -379,8 +379,9 @@ def plan_potential_with_field(gridmap: GridMap, start: ArrayLike, goal: ArrayLik
 def descend_cells(gridmap: GridMap, potential: NDArray[np.float64], point: ArrayLike,
                   goal: ArrayLike) -> NDArray[np.float64] | None:
     """The discrete descent of a complete model's potential from ``point`` to ``goal``: cell centre
-    to cell centre, each time to the lowest of the 8 neighbours that a move may reach (a diagonal
-    only when both side cells are free: no corner cut), ending exactly at ``goal``.
+    to cell centre along :func:`gridfield.basins.descent_successor` (the lowest of the 8 neighbours
+    that a move may reach, a diagonal only when both side cells are free: the rule ``basins`` checks),
+    ending exactly at ``goal``.
 
     A complete model's ``U`` is a travel time from the goal: the march gave every settled cell a value
     strictly above one of its neighbours along such a move, so the descent strictly decreases and
@@ -404,41 +405,32 @@ def descend_cells(gridmap: GridMap, potential: NDArray[np.float64], point: Array
 
     Examples
     --------
+    Round the obstacle in the middle (no corner cut), along the lower side where ``U`` is lower:
+
     >>> from gridfield.grid import Grid
-    >>> U = np.array([[0.0, 1.0, 2.0], [1.0, np.inf, 3.0], [2.0, 3.0, 4.0]])
+    >>> U = np.array([[0.0, 1.0, 2.0], [1.5, np.inf, 3.0], [2.5, 3.5, 4.0]])
     >>> occ = np.isinf(U)
     >>> descend_cells(GridMap(Grid((3, 3), 1.0), occ), U, (2.5, 2.5), (0.5, 0.5)).tolist()
-    [[1.5, 2.5], [0.5, 2.5], [0.5, 1.5], [0.5, 0.5]]
+    [[2.5, 1.5], [2.5, 0.5], [1.5, 0.5], [0.5, 0.5]]
     """
     grid = gridmap.grid
-    occ = np.asarray(gridmap.occupied, dtype=bool)
     gx, gy = as_xy(goal, "goal")
     here, target = grid.cell_of(*as_xy(point, "point")), grid.cell_of(gx, gy)
     if here is None or target is None or not np.isfinite(potential[here]):
         return None
-    rows, cols = potential.shape
-    out: list[tuple[float, float]] = []
-    r, c = here
-    for _ in range(int(np.isfinite(potential).sum())):  # a strictly decreasing walk visits a cell once
-        if (r, c) == target:  # the goal itself instead of its cell's centre
-            return np.array([*out[:-1], (gx, gy)])
-        best, nxt = potential[r, c], None
-        for dr, dc in _MOVES:
-            rr, cc = r + dr, c + dc
-            if not (0 <= rr < rows and 0 <= cc < cols) or occ[rr, cc]:
-                continue
-            if dr and dc and (occ[r + dr, c] or occ[r, c + dc]):
-                continue
-            if potential[rr, cc] < best:
-                best, nxt = potential[rr, cc], (rr, cc)
-        if nxt is None:
+    cols = grid.cols
+    succ = descent_successor(potential, ~np.asarray(gridmap.occupied, dtype=bool))  # the rule basins checks
+    k, goal_k = here[0] * cols + here[1], target[0] * cols + target[1]
+    chain: list[int] = []
+    while k != goal_k:  # strictly decreasing: each cell at most once
+        nxt = int(succ[k])
+        if nxt == k:
             return None
-        r, c = nxt
-        out.append((grid.origin[0] + (c + 0.5) * grid.resolution, grid.origin[1] + (r + 0.5) * grid.resolution))
-    return None
-
-
-_MOVES = ((0, 1), (0, -1), (1, 0), (-1, 0), (1, 1), (1, -1), (-1, 1), (-1, -1))
+        chain.append(k := nxt)
+    r, c = np.divmod(np.asarray(chain[:-1], dtype=np.intp), cols)
+    centres = np.column_stack([grid.origin[0] + (c + 0.5) * grid.resolution,
+                               grid.origin[1] + (r + 0.5) * grid.resolution])
+    return np.vstack([centres, [[gx, gy]]])  # the goal itself instead of its cell's centre
 
 
 #: The ``model`` the potential planner builds when none is given: the complete ``nf1``

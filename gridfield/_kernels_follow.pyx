@@ -338,7 +338,19 @@ def _blocked_many(occ_t occ, double x0, double y0, double res, bint wall, const 
 # ----------------------------------------------------------------------------------------------
 # typed scalar samplers: the arrays' buffers are bound once, each call passes only the point(s)
 # ----------------------------------------------------------------------------------------------
-cdef class ForceSampler:
+cdef class _OnGrid:
+    """The grid a bound sampler reads: its occupancy (kept alive by the sampler) and its frame."""
+    cdef occ_t occ
+    cdef double x0, y0, res
+
+    def __init__(self, occ_t occ, double x0, double y0, double res):
+        self.occ = occ
+        self.x0 = x0
+        self.y0 = y0
+        self.res = res
+
+
+cdef class ForceSampler(_OnGrid):
     """``sampler(p) -> (fx, fy)``: the force ``-(grad_x, grad_y)`` at the world point ``p``, sampled in
     the nearest cell or bilinearly among the free corner cells (:func:`_force_at`'s arithmetic).
 
@@ -346,20 +358,15 @@ cdef class ForceSampler:
     ``p[1]``.
     """
     cdef arr_t gx, gy
-    cdef occ_t occ
-    cdef double x0, y0, res
     cdef bint nearest
 
     def __init__(self, arr_t gx, arr_t gy, occ_t occ, double x0, double y0, double res, bint nearest):
         if gx.shape[0] != occ.shape[0] or gx.shape[1] != occ.shape[1] or gy.shape[0] != occ.shape[0] \
                 or gy.shape[1] != occ.shape[1]:
             raise ValueError("the gradient arrays and the occupancy must have one shape")
+        _OnGrid.__init__(self, occ, x0, y0, res)
         self.gx = gx
         self.gy = gy
-        self.occ = occ
-        self.x0 = x0
-        self.y0 = y0
-        self.res = res
         self.nearest = nearest
 
     def __call__(self, p):
@@ -368,22 +375,17 @@ cdef class ForceSampler:
         return fx, fy
 
 
-cdef class ValueSampler:
+cdef class ValueSampler(_OnGrid):
     """``sampler(p) -> float``: one array's value at the world point ``p``, in the nearest cell
     (``nearest``) or bilinearly among the free corner cells (:func:`_nearest2` / :func:`_bilinear2`)."""
     cdef arr_t a
-    cdef occ_t occ
-    cdef double x0, y0, res
     cdef bint nearest
 
     def __init__(self, arr_t a, occ_t occ, double x0, double y0, double res, bint nearest):
         if a.shape[0] != occ.shape[0] or a.shape[1] != occ.shape[1]:
             raise ValueError("the array and the occupancy must have one shape")
+        _OnGrid.__init__(self, occ, x0, y0, res)
         self.a = a
-        self.occ = occ
-        self.x0 = x0
-        self.y0 = y0
-        self.res = res
         self.nearest = nearest
 
     def __call__(self, p):
@@ -395,18 +397,13 @@ cdef class ValueSampler:
         return va
 
 
-cdef class SegmentTest:
+cdef class SegmentTest(_OnGrid):
     """``test(p, q) -> bool``: whether the segment ``p -> q`` crosses an occupied cell (or leaves a
     walled grid), walked exactly (:func:`_segment_blocked`)."""
-    cdef occ_t occ
-    cdef double x0, y0, res
     cdef bint wall
 
     def __init__(self, occ_t occ, double x0, double y0, double res, bint wall):
-        self.occ = occ
-        self.x0 = x0
-        self.y0 = y0
-        self.res = res
+        _OnGrid.__init__(self, occ, x0, y0, res)
         self.wall = wall
 
     def __call__(self, p, q):

@@ -370,7 +370,7 @@ def bilinear2(a: LazyArray, b: LazyArray, occ: LazyArray, x0: float, y0: float,
               res: float) -> Callable[[float, float], tuple[float, float]]:
     """``f(x, y) -> (a, b)``: bilinear interpolation among the free corner cells (renormalized), clamped
     to the grid; the nearest free corner when every weighted corner is occupied; else 0. The rule and
-    the arithmetic of the compiled ``_bilinear2``."""
+    the arithmetic of the compiled samplers (``_kernels_follow.ValueSampler``)."""
     _same_chunks(a, b, occ)
     rows, cols = occ.shape
     rd = _Corners(a, b, occ)
@@ -416,7 +416,7 @@ def bilinear2(a: LazyArray, b: LazyArray, occ: LazyArray, x0: float, y0: float,
 def nearest2(a: LazyArray, b: LazyArray, occ: LazyArray, x0: float, y0: float,
              res: float) -> Callable[[float, float], tuple[float, float]]:
     """``f(x, y) -> (a, b)`` at the cell containing the point (clamped); 0 in obstacle cells or for a
-    point that is not finite (the compiled ``_nearest2``)."""
+    point that is not finite (the compiled ``_kernels_follow.ValueSampler``)."""
     _same_chunks(a, b, occ)
     rows, cols = occ.shape
     rd = _Corners(a, b, occ)

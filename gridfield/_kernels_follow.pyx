@@ -14,14 +14,11 @@ clamped or checked before every access, so bounds checks are off.
 from libc.math cimport floor, isfinite, INFINITY
 
 __all__ = [
-    "_bilinear2",
     "_blocked_many",
     "_cell_blocked",
     "_cell_index",
     "_cell_values",
-    "_force_at",
     "_force_many",
-    "_nearest2",
     "_segment_blocked",
     "ForceSampler",
     "SegmentTest",
@@ -41,7 +38,7 @@ cdef inline Py_ssize_t _imax(Py_ssize_t a, Py_ssize_t b) noexcept nogil:
 
 
 cdef inline long long _cidx(double v, double origin, double res) noexcept nogil:
-    # the rule of gridfield.grid._scalar_index (Grid.world_to_cell), in the same IEEE double arithmetic
+    # the rule of gridfield._coords.scalar_index (Grid.world_to_cell), in the same IEEE double arithmetic
     cdef long long i = <long long>floor((v - origin) / res)
     if v >= origin + <double>(i + 1) * res:
         i += 1
@@ -137,30 +134,9 @@ cdef inline void _c_force(arr_t gx, arr_t gy, occ_t occ, double x0, double y0, d
     fy[0] = -vy
 
 
-def _bilinear2(arr_t a, arr_t b, occ_t occ, double x0, double y0, double res, double x, double y):
-    """Bilinear interpolation of two arrays among the free corner cells (renormalized), clamped."""
-    cdef double ra, rb
-    _c_bilinear2(a, b, occ, x0, y0, res, x, y, &ra, &rb)
-    return ra, rb
-
-
-def _nearest2(arr_t a, arr_t b, occ_t occ, double x0, double y0, double res, double x, double y):
-    """Values of two arrays in the cell containing the point (clamped to the grid); 0 on obstacles."""
-    cdef double ra, rb
-    _c_nearest2(a, b, occ, x0, y0, res, x, y, &ra, &rb)
-    return ra, rb
-
-
-def _force_at(arr_t gx, arr_t gy, occ_t occ, double x0, double y0, double res, bint nearest, double x, double y):
-    """``-(grad_x, grad_y)`` sampled at one point (``nearest`` cell, else bilinear)."""
-    cdef double fx, fy
-    _c_force(gx, gy, occ, x0, y0, res, nearest, x, y, &fx, &fy)
-    return fx, fy
-
-
 def _force_many(arr_t gx, arr_t gy, occ_t occ, double x0, double y0, double res, bint nearest,
                 const double[::1] xs, const double[::1] ys, double[::1] fx, double[::1] fy):
-    """:func:`_force_at` at many points, into ``fx``, ``fy``."""
+    """``-(grad_x, grad_y)`` at many points (``nearest`` cell, else bilinear), into ``fx``, ``fy``."""
     cdef Py_ssize_t k
     with nogil:
         for k in range(xs.shape[0]):
@@ -169,7 +145,7 @@ def _force_many(arr_t gx, arr_t gy, occ_t occ, double x0, double y0, double res,
 
 def _cell_index(double v, double origin, double res):
     """World coordinate -> cell index, the rule of :meth:`gridfield.grid.Grid.world_to_cell` (the very
-    rule of :func:`gridfield.grid._scalar_index`, compiled)."""
+    rule of :func:`gridfield._coords.scalar_index`, compiled)."""
     return _cidx(v, origin, res)
 
 
@@ -352,7 +328,7 @@ cdef class _OnGrid:
 
 cdef class ForceSampler(_OnGrid):
     """``sampler(p) -> (fx, fy)``: the force ``-(grad_x, grad_y)`` at the world point ``p``, sampled in
-    the nearest cell or bilinearly among the free corner cells (:func:`_force_at`'s arithmetic).
+    the nearest cell or bilinearly among the free corner cells (:func:`_force_many`'s arithmetic, one point).
 
     The arrays are bound at creation (kept alive by the sampler); a call converts only ``p[0]`` and
     ``p[1]``.
@@ -377,7 +353,7 @@ cdef class ForceSampler(_OnGrid):
 
 cdef class ValueSampler(_OnGrid):
     """``sampler(p) -> float``: one array's value at the world point ``p``, in the nearest cell
-    (``nearest``) or bilinearly among the free corner cells (:func:`_nearest2` / :func:`_bilinear2`)."""
+    (``nearest``) or bilinearly among the free corner cells (the arithmetic of :class:`ForceSampler`)."""
     cdef arr_t a
     cdef bint nearest
 

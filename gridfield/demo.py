@@ -158,9 +158,9 @@ _FIELD_PLANNERS = ("potential", "exact-potential")
 def _stall_note(path: Path) -> str:
     if path.status != "local_minimum":
         return ""
-    from .plot.layers import _stall_points
+    from .plot import stall_points
 
-    s = _stall_points(path)
+    s = stall_points(path)
     note = f"stalls at ({s[-1, 0]:.2f}, {s[-1, 1]:.2f})" if len(s) else ""
     hint = path.extra.get("hint")
     return f"{note}; hint: {hint}" if hint else note
@@ -415,9 +415,9 @@ def _run_words(path: Path) -> str:
     """'classic field (model: khatib): local_minimum at (x, y), length 80' and the like."""
     where = ""
     if path.status == "local_minimum":
-        from .plot.layers import _stall_points
+        from .plot import stall_points
 
-        s = _stall_points(path)
+        s = stall_points(path)
         where = f" at ({s[-1, 0]:.3g}, {s[-1, 1]:.3g})" if len(s) else ""
     return f"{_model_name(path)}: {path.status}{where}, length {path.length:.4g}"
 
@@ -494,8 +494,7 @@ def _part_moving(run: _Run) -> None:
     from .follow import follow
     from .incremental import IncrementalBrushfire, update_field
     from .io import bundled_map, read_world
-    from .plot.animation import _animation_figure, _write_animation
-    from .plot.layers import OCCUPIED_COLOR, _draw_outlines, _potential_scale
+    from .plot import OCCUPIED_COLOR, animation_figure, draw_outlines, potential_scale, write_animation
     from .potential import build_field
     from .rasterize import as_gridmap
 
@@ -568,9 +567,9 @@ def _part_moving(run: _Run) -> None:
     })
 
     # the animation: potential (log colours, fixed range), map, walker, planned path, trail, robot
-    fig, ax = _animation_figure((6.4, 5.2), 60 if run.quick else 72)
+    fig, ax = animation_figure((6.4, 5.2), 60 if run.quick else 72)
     finite0 = np.isfinite(frames[0]["u"])
-    _, lo, hi, _ = _potential_scale(frames[0]["u"], finite0, None, True)
+    _, lo, hi, _ = potential_scale(frames[0]["u"], finite0, None, True)
     umin = float(frames[0]["u"][finite0].min())
 
     def shade(u: np.ndarray) -> np.ma.MaskedArray:
@@ -582,7 +581,7 @@ def _part_moving(run: _Run) -> None:
     ax.imshow(np.ma.masked_array(np.ones(grid.shape), mask=~static.occupied), origin="lower", extent=grid.extent,
               cmap=__import__("matplotlib.colors", fromlist=["ListedColormap"]).ListedColormap([OCCUPIED_COLOR]),
               vmin=0.5, vmax=1.5, interpolation="nearest", zorder=1)
-    _draw_outlines(ax, w)
+    draw_outlines(ax, w)
     walker = Rectangle((wx - side / 2, y_lo - side / 2), side, side, facecolor="magenta", edgecolor="black", zorder=4)
     ax.add_patch(walker)
     # colours that the first frame holds in quantity: the GIF's palette is taken from it
@@ -606,7 +605,7 @@ def _part_moving(run: _Run) -> None:
                        f"(full: {full_ms:.0f} ms)")
 
     gif = run.out / "moving_obstacle.gif"
-    _write_animation(fig, update, len(frames), (image, walker, planned, walked, bot, title), gif, 6)
+    write_animation(fig, update, len(frames), (image, walker, planned, walked, bot, title), gif, 6)
     run.add_file(gif)
 
 

@@ -38,7 +38,7 @@ def test_every_contract_is_kept() -> None:
     # an upward import without a cycle: io reading a field with the algorithm that built it
     ("io/_npz.py", "    from ..potential import build_field  # noqa\n", "layers"),
     # a figure computing its own distance map
-    ("plot/layers.py", "    from ..brushfire import brushfire  # noqa\n", "plotting never computes"),
+    ("plot/_layers.py", "    from ..brushfire import brushfire  # noqa\n", "plotting never computes"),
 ])
 def test_a_broken_contract_fails(tmp_path: Path, module: str, line: str, contract: str) -> None:
     """The check can fail: the same sources with one bad import, function-local, in a copy."""

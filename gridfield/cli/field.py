@@ -274,9 +274,9 @@ def _report(args: argparse.Namespace, field: Any, model: str, ms: float, ms_brus
         from .. import plot as gplot
 
         if args.plot:
-            from ..plot.layers import _title_of
+            from ..plot import title_of
 
-            name = _title_of(field.map) or str(args.map)
+            name = title_of(field.map) or str(args.map)
             title = f"{name}: {getattr(args, 'planner', 'potential')} field ({model}), goal ({gx:g}, {gy:g})"
             _save_figure(gplot.plot_potential(field, ax=None, title="\n".join(textwrap.wrap(title, 70))), args.plot)
             print(f"wrote {args.plot}")

@@ -441,10 +441,10 @@ class Explorer(ExplorerView):
             self.movie_file = FsPath(file)
         self.movie = not self.movie
         if self.movie:
-            from ..plot.animation import _check_animation_file
+            from ..plot import check_animation_file
 
             try:
-                _check_animation_file(self.movie_file.with_suffix(".gif"))
+                check_animation_file(self.movie_file.with_suffix(".gif"))
             except GridfieldError as e:
                 self.movie = False
                 self._set_message(f"movie: {e}")
@@ -466,15 +466,14 @@ class Explorer(ExplorerView):
         return self.show_3d
 
     def _write_movie(self) -> None:
-        from ..plot import save_plan_animation
-        from ..plot.animation import _ffmpeg_missing
+        from ..plot import ffmpeg_missing, save_plan_animation
 
         assert self.path is not None
         target = self._plan_target()
         assert target is not None  # a path was planned on it
         gif = self.movie_file.with_suffix(".gif")
         # an MP4 too where ffmpeg runs: a system one, or imageio-ffmpeg's (the [video] extra)
-        files = [gif] + ([gif.with_suffix(".mp4")] if _ffmpeg_missing() is None else [])
+        files = [gif] + ([gif.with_suffix(".mp4")] if ffmpeg_missing() is None else [])
         written = []
         for f in files:
             save_plan_animation(f, target, self.path, field=self.field, goal=self.goal, robot_shape=self.robot)

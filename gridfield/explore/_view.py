@@ -65,7 +65,7 @@ class ExplorerView(ExplorerModel):
     def _build_map_layer(self) -> None:
         from matplotlib.colors import ListedColormap
 
-        from ..plot.layers import OCCUPIED_COLOR, _frame
+        from ..plot import OCCUPIED_COLOR, frame_axes
 
         ax = self.ax
         xmin, ymin, xmax, ymax = self._bounds()
@@ -98,7 +98,7 @@ class ExplorerView(ExplorerModel):
         self.stall_marker = ax.scatter(none[:, 0], none[:, 1], marker="X", s=90, color="red", edgecolor="white",
                                        zorder=8, label="stall")
         self._redraw_map()
-        _frame(ax, self._bounds())
+        frame_axes(ax, self._bounds())
         self._place_colorbar()
         self.colorbar = self.figure.colorbar(self.field_image, cax=self.cax)
         self.colorbar.set_label("U − min U (log scale)", fontsize=8)
@@ -122,7 +122,7 @@ class ExplorerView(ExplorerModel):
 
     def _redraw_map(self) -> None:
         """Occupancy, C-space, obstacle outlines and the robot, from the current state."""
-        from ..plot.layers import _draw_outlines
+        from ..plot import draw_outlines
 
         if self.gridmap is not None:
             occ = self.gridmap.occupied
@@ -134,7 +134,7 @@ class ExplorerView(ExplorerModel):
             a.remove()
         self.outlines, self.cspace_outlines = [], []
         if self.world is not None:
-            self.outlines = _draw_outlines(self.ax, self.world)
+            self.outlines = draw_outlines(self.ax, self.world)
         elif self.gridmap is not None and self.gridmap.meta.get("drawn"):
             from matplotlib.collections import PatchCollection
             from matplotlib.patches import Polygon as MplPolygon
@@ -181,7 +181,7 @@ class ExplorerView(ExplorerModel):
         """Background and colour bar: the log-scaled :attr:`field` (the potential planner's), else nothing."""
         from matplotlib.colors import LogNorm
 
-        from ..plot.layers import _potential_scale
+        from ..plot import potential_scale
 
         if self.field is None:
             self._hide_field()
@@ -192,7 +192,7 @@ class ExplorerView(ExplorerModel):
         if not finite.any():
             self._hide_field()
             return
-        z, lo, hi, _ = _potential_scale(u, finite, None, True)
+        z, lo, hi, _ = potential_scale(u, finite, None, True)
         self.field_image.set_data(np.ma.masked_array(z, mask=~finite))
         self.field_image.set_extent(fmap.grid.extent)
         self.field_image.set_norm(LogNorm(vmin=lo, vmax=hi))
@@ -222,13 +222,13 @@ class ExplorerView(ExplorerModel):
 
     def _draw_path(self) -> None:
         """The background of the latest plan and its path, with the stall points."""
-        from ..plot.layers import _stall_points
+        from ..plot import stall_points
 
         assert self.path is not None
         self._update_field_image()
         pts = self.path.points
         self.path_line.set_data(pts[:, 0], pts[:, 1])
-        self.stall_marker.set_offsets(_stall_points(self.path))
+        self.stall_marker.set_offsets(stall_points(self.path))
 
     def _draw_no_path(self, text: str) -> None:
         """The background field alone (no path), with ``text`` (why) on the status line."""

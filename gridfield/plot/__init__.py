@@ -6,11 +6,15 @@ its vector outlines; occupancy only when a :class:`~gridfield.grid.GridMap` is g
 only when the caller passes the field it already has (``gridfield.planners.plan_with_field(...)``
 hands back the field a ``potential`` path followed).
 
-The package has three layers: :mod:`gridfield.plot.layers` (occupancy, outlines, paths, endpoints,
-legend, quiver, and the :class:`Artists` record), the figures (one function per figure:
+The package has three layers: the drawing layers (occupancy, outlines, paths, endpoints, legend,
+quiver, the potential's colour scale and the :class:`Artists` record; the private module
+``gridfield.plot._layers``, whose layers that other parts of gridfield draw with are exported here:
+:func:`draw_outlines`, :func:`frame_axes`, :func:`potential_scale`, :func:`stall_points`,
+:func:`title_of`), the figures (one function per figure:
 :mod:`gridfield.plot.figures` for maps and fields, :mod:`gridfield.plot.results` for comparisons,
 convergence and the plan figure written to a file) and :mod:`gridfield.plot.animation` (GIF/MP4
-writers). Every function follows one contract:
+writers, with the pieces the demo's and the explorer's movies share: :func:`animation_figure`,
+:func:`write_animation`, :func:`check_animation_file`, :func:`ffmpeg_missing`). Every function follows one contract:
 
 - matplotlib is imported inside the function (importing :mod:`gridfield.plot` is cheap);
 - ``ax=None`` creates a new figure (constrained layout), otherwise the function draws into ``ax``;
@@ -26,7 +30,23 @@ or as MP4 when ffmpeg is installed.
 
 from __future__ import annotations
 
-from .animation import animate_brushfire, save_plan_animation
+from ._layers import (
+    OCCUPIED_COLOR,
+    Artists,
+    draw_outlines,
+    frame_axes,
+    potential_scale,
+    stall_points,
+    title_of,
+)
+from .animation import (
+    animate_brushfire,
+    animation_figure,
+    check_animation_file,
+    ffmpeg_missing,
+    save_plan_animation,
+    write_animation,
+)
 from .figures import (
     plot_basins,
     plot_brushfire,
@@ -35,12 +55,17 @@ from .figures import (
     plot_star_world,
     plot_surface,
 )
-from .layers import Artists
 from .results import plot_comparison, plot_convergence, save_plan_figure
 
 __all__ = [
+    "OCCUPIED_COLOR",
     "Artists",
     "animate_brushfire",
+    "animation_figure",
+    "check_animation_file",
+    "draw_outlines",
+    "ffmpeg_missing",
+    "frame_axes",
     "plot_basins",
     "plot_brushfire",
     "plot_comparison",
@@ -49,6 +74,10 @@ __all__ = [
     "plot_potential",
     "plot_star_world",
     "plot_surface",
+    "potential_scale",
     "save_plan_animation",
     "save_plan_figure",
+    "stall_points",
+    "title_of",
+    "write_animation",
 ]

@@ -18,29 +18,56 @@ from ..errors import GridfieldError, ParameterError
 from ..grid import GridMap
 from ..path import Path
 from ..world import World
-from .figures import plot_map, plot_potential
-from .layers import (
+from ._layers import (
     ANIMATION_FORMATS,
     Artists,
     PathLike,
     _draw_endpoints,
-    _frame,
     _goal_of,
     _grid_of,
     _point_or_none,
-    _stall_points,
+    frame_axes,
+    stall_points,
 )
+from .figures import plot_map, plot_potential
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["animate_brushfire", "save_plan_animation"]
+__all__ = ["animate_brushfire", "animation_figure", "check_animation_file", "ffmpeg_missing", "save_plan_animation",
+           "write_animation"]
 
 
-def _check_animation_file(file: PathLike) -> FsPath:
-    """Validate an animation file name: ``.gif``, or ``.mp4`` when ffmpeg runs (system, or the ``[video]`` extra)."""
+def check_animation_file(file: PathLike) -> FsPath:
+    """Validate an animation file name: ``.gif``, or ``.mp4`` when ffmpeg runs (system, or the ``[video]`` extra).
 
+    Parameters
+    ----------
+    file : str or os.PathLike
+        The file to write.
+
+    Returns
+    -------
+    pathlib.Path
+        The file, checked: a known suffix, an existing folder, and for MP4 an ffmpeg that runs.
+
+    Raises
+    ------
+    ParameterError
+        An unknown suffix.
+    GridfieldError
+        A missing folder, or MP4 without ffmpeg.
+
+    Examples
+    --------
+    >>> check_animation_file("run.gif").suffix
+    '.gif'
+    >>> check_animation_file("run.avi")
+    Traceback (most recent call last):
+    ...
+    gridfield.errors.ParameterError: run.avi: unknown animation format '.avi'; use .gif (or .mp4: ffmpeg, or the gridfield[video] extra)
+    """
     p = FsPath(file)
     suffix = p.suffix.lower()
     if suffix not in ANIMATION_FORMATS:
@@ -48,15 +75,27 @@ def _check_animation_file(file: PathLike) -> FsPath:
                              "gridfield[video] extra)")
     if p.parent and not p.parent.exists():
         raise GridfieldError(f"{p}: the folder {p.parent} does not exist")
-    if suffix == ".mp4" and (missing := _ffmpeg_missing()) is not None:
+    if suffix == ".mp4" and (missing := ffmpeg_missing()) is not None:
         raise GridfieldError(f"{p}: {missing}")
     return p
 
 
-def _ffmpeg_missing() -> str | None:
+def ffmpeg_missing() -> str | None:
     """None when matplotlib's ffmpeg writer can run: a system ffmpeg, else the binary that
     imageio-ffmpeg ships (the ``[video]`` extra), which is then made matplotlib's
-    ``animation.ffmpeg_path``; otherwise what to install."""
+    ``animation.ffmpeg_path``; otherwise what to install.
+
+    Returns
+    -------
+    str or None
+        None when MP4 can be written, else one sentence saying what is missing and what to install.
+
+    Examples
+    --------
+    >>> msg = ffmpeg_missing()
+    >>> msg is None or "ffmpeg" in msg
+    True
+    """
     import matplotlib
     from matplotlib import animation
 
@@ -75,8 +114,29 @@ def _ffmpeg_missing() -> str | None:
     return None if animation.writers.is_available("ffmpeg") else f"writing MP4: the ffmpeg at {exe} does not run"
 
 
-def _animation_figure(figsize: tuple[float, float], dpi: int) -> tuple[Figure, Axes]:
-    """A figure on its own Agg canvas (no pyplot, no window, whatever the backend)."""
+def animation_figure(figsize: tuple[float, float], dpi: int) -> tuple[Figure, Axes]:
+    """A figure on its own Agg canvas (no pyplot, no window, whatever the backend).
+
+    Parameters
+    ----------
+    figsize : tuple of float
+        Width and height in inches.
+    dpi : int
+        Dots per inch.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+        The figure (constrained layout).
+    ax : matplotlib.axes.Axes
+        Its one axes.
+
+    Examples
+    --------
+    >>> fig, ax = animation_figure((4.0, 3.0), 50)
+    >>> fig.canvas.get_width_height()
+    (200, 150)
+    """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -93,13 +153,43 @@ def _frame_indices(n: int, max_frames: int) -> NDArray[np.intp]:
     return np.unique(np.linspace(0, n - 1, max_frames).round().astype(np.intp))
 
 
-def _write_animation(fig: Figure, update: Callable[[int], None], n_frames: int, animated: Sequence[Any],
+def write_animation(fig: Figure, update: Callable[[int], None], n_frames: int, animated: Sequence[Any],
                      file: FsPath, fps: int) -> None:
     """Render ``n_frames`` frames and write them.
 
     GIF: the static part of the figure is drawn once and each frame redraws only the ``animated``
     artists over it (blitting), then pillow writes the frames with one shared palette. MP4: matplotlib's
     ffmpeg writer (a full redraw per frame).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        A figure on an Agg canvas (:func:`animation_figure`).
+    update : callable
+        ``update(k)`` sets the ``animated`` artists to frame ``k``.
+    n_frames : int
+        How many frames.
+    animated : sequence of matplotlib artists
+        The artists that change between frames.
+    file : pathlib.Path
+        A file checked by :func:`check_animation_file`.
+    fps : int
+        Frames per second (at least 1).
+
+    Returns
+    -------
+    None
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> fig, ax = animation_figure((2.0, 2.0), 40)
+    >>> (dot,) = ax.plot([0.0], [0.0], "o"); _ = ax.set_xlim(-1, 4); _ = ax.set_ylim(-1, 4)
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "dot.gif"
+    >>> write_animation(fig, lambda k: dot.set_data([k], [k]), 4, [dot], out, fps=5)
+    >>> from PIL import Image
+    >>> Image.open(out).n_frames
+    4
     """
     if fps < 1:
         raise ParameterError(f"fps must be at least 1, got {fps}")
@@ -188,11 +278,11 @@ def save_plan_animation(
     ...     out.suffix, out.stat().st_size > 0
     ('.gif', True)
     """
-    p = _check_animation_file(file)
+    p = check_animation_file(file)
     if len(path.points) == 0:
         raise GridfieldError("the path has no points to animate")
     g = _goal_of(path, target, goal)
-    fig, ax = _animation_figure((6.4, 5.0), int(dpi))
+    fig, ax = animation_figure((6.4, 5.0), int(dpi))
     art: Artists
     if field is not None:
         art = plot_potential(field, ax, quiver=True, colorbar=False, title="")
@@ -206,7 +296,7 @@ def save_plan_animation(
     idx = _frame_indices(len(pts), int(max_frames))
     (trail,) = ax.plot([], [], color="tab:red", linewidth=2.0, zorder=7)
     robot = ax.scatter([pts[0, 0]], [pts[0, 1]], s=80, color="tab:red", edgecolor="white", zorder=9)
-    stall = _stall_points(path)
+    stall = stall_points(path)
     stall_marker = ax.scatter(stall[:, 0], stall[:, 1], marker="X", s=110, color="red", edgecolor="white",
                               zorder=10)
     title = ax.set_title(" ")
@@ -231,7 +321,7 @@ def save_plan_animation(
         title.set_text(f"{path.planner}: step {i}/{len(pts) - 1}" + (f" — {path.status}" if last else ""))
         stall_marker.set_visible(last)
 
-    _write_animation(fig, update, len(idx), animated, p, int(fps))
+    write_animation(fig, update, len(idx), animated, p, int(fps))
     return p
 
 
@@ -271,7 +361,7 @@ def animate_brushfire(
     ...     out.suffix
     '.gif'
     """
-    p = _check_animation_file(file)
+    p = check_animation_file(file)
     grid = _grid_of(dmap)
     if dmap.steps is None:
         raise GridfieldError("the distance map has no wavefront steps (computed with compute_steps=False)")
@@ -280,11 +370,11 @@ def animate_brushfire(
     if top <= 0:
         raise GridfieldError("the distance map has no wavefront to animate (no obstacle, or no free cell)")
     waves = np.unique(np.linspace(0, top, min(top + 1, int(max_frames))).round().astype(int))
-    fig, ax = _animation_figure((6.4, 5.0), int(dpi))
+    fig, ax = animation_figure((6.4, 5.0), int(dpi))
     img = ax.imshow(np.ma.masked_array(np.zeros(grid.shape), mask=True), origin="lower", extent=grid.extent,
                     cmap="viridis", vmin=0, vmax=top, interpolation="nearest")
     fig.colorbar(img, ax=ax, shrink=0.85, label="wavefront step")
-    _frame(ax, grid.bounds)
+    frame_axes(ax, grid.bounds)
     title = ax.set_title(" ")
 
     def update(k: int) -> None:
@@ -292,6 +382,6 @@ def animate_brushfire(
         img.set_data(np.ma.masked_array(steps, mask=(steps > w) | (steps < 0)))
         title.set_text(f"brushfire: wave {w}/{top}")
 
-    _write_animation(fig, update, len(waves), (img, title), p, int(fps))
+    write_animation(fig, update, len(waves), (img, title), p, int(fps))
     return p
 

@@ -22,17 +22,15 @@ from ..errors import GridfieldError, ParameterError
 from ..grid import Grid, GridMap
 from ..path import Path
 from ..world import World
-from .layers import (
+from ._layers import (
     GOAL_BASIN_COLOR,
     MINIMUM_COLORS,
     OCCUPIED_COLOR,
     Artists,
     _decimated_quiver,
     _draw_endpoints,
-    _draw_outlines,
     _draw_paths,
     _finite_levels,
-    _frame,
     _grid_of,
     _gridmap_of,
     _known_bounds,
@@ -43,10 +41,12 @@ from .layers import (
     _path_label,
     _point_or_none,
     _points_or_empty,
-    _potential_scale,
     _share,
-    _title_of,
     _world_of,
+    draw_outlines,
+    frame_axes,
+    potential_scale,
+    title_of,
 )
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -135,7 +135,7 @@ def plot_map(
         art.mappable = art.image
         art.obstacles.append(art.image)
     if outlines and world is not None:
-        art.obstacles += _draw_outlines(ax, world)
+        art.obstacles += draw_outlines(ax, world)
     if world is not None:
         start = world.start if start is None else start
         goal = world.goal if goal is None else goal
@@ -145,8 +145,8 @@ def plot_map(
     # a ROS map is mostly unknown space: show its known part (and every path, start and goal)
     bounds = _known_bounds(gm) if gm is not None else map_bounds
     ends = [q for q in (_point_or_none(start, "start"), _point_or_none(goal, "goal")) if q is not None]
-    _frame(ax, bounds, [p.points for p in paths] + ([np.asarray(ends)] if ends else []))
-    ax.set_title(_title_of(target) if title is None else title)
+    frame_axes(ax, bounds, [p.points for p in paths] + ([np.asarray(ends)] if ends else []))
+    ax.set_title(title_of(target) if title is None else title)
     if legend:
         _legend(ax, art)
     return art
@@ -245,8 +245,8 @@ def plot_brushfire(
                                      interpolation="nearest", zorder=3)
     if colorbar:
         art.colorbar = ax.figure.colorbar(art.image, ax=ax, shrink=0.85, label=f"distance ({dmap.metric})")
-    _frame(ax, grid.bounds)
-    ax.set_title(title if title is not None else f"brushfire {_title_of(gm) if gm is not None else ''}".strip())
+    frame_axes(ax, grid.bounds)
+    ax.set_title(title if title is not None else f"brushfire {title_of(gm) if gm is not None else ''}".strip())
     return art
 
 
@@ -311,7 +311,7 @@ def plot_potential(
     """
     grid = _grid_of(field)
     finite = _potential_free_cells(field, grid, levels)
-    z, lo, hi, label = _potential_scale(np.asarray(field.potential, dtype=float), finite, cap, log)
+    z, lo, hi, label = potential_scale(np.asarray(field.potential, dtype=float), finite, cap, log)
     ax = _new_axes(ax)
     art = Artists(ax)
     _draw_potential_shading(ax, art, grid, z, lo, hi, log, levels, cmap)
@@ -327,7 +327,7 @@ def plot_potential(
     shown = [path.points] if path is not None else []
     if stall_points is not None:
         shown.append(_points_or_empty(stall_points, "stall_points"))
-    _frame(ax, grid.bounds, shown)
+    frame_axes(ax, grid.bounds, shown)
     ax.set_title(title if title is not None else "potential")
     if path is not None or "stall" in art.markers:
         _legend(ax, art)
@@ -387,7 +387,7 @@ def _draw_potential_obstacles(ax: Axes, art: Artists, grid: Grid, finite: NDArra
                               vmin=0.5, vmax=1.5, interpolation="nearest", zorder=1)
         art.obstacles.append(art.image)
     if world is not None:
-        art.obstacles += _draw_outlines(ax, world, color="white", zorder=2)
+        art.obstacles += draw_outlines(ax, world, color="white", zorder=2)
 
 
 def _draw_potential_run(ax: Axes, art: Artists, field: Any, grid: Grid, path: Path | None,
@@ -740,7 +740,7 @@ def plot_basins(
     where: dict[str, Any] = ({"loc": "upper center", "bbox_to_anchor": (0.5, -0.1), "ncols": 2}
                              if legend_loc == "below" else {"loc": legend_loc})
     art.legend = ax.legend(handles=handles, fontsize=7.5, framealpha=0.85, **where)
-    _frame(ax, grid.bounds)
+    frame_axes(ax, grid.bounds)
     ax.set_title(title if title is not None else "basins of attraction")
     return art
 

@@ -20,8 +20,8 @@ from ..errors import GridfieldError, ParameterError
 from ..grid import GridMap
 from ..path import Path
 from ..world import World
+from ._layers import Artists, PathLike, _goal_of, _legend, _new_axes
 from .figures import plot_map
-from .layers import Artists, PathLike, _goal_of, _legend, _new_axes
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes

@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 from shapely.geometry import Point, Polygon
 
-from gridfield import star
+from gridfield import navigation as star  # the star-world names (gridfield.star is a deprecated alias)
 from gridfield.planners import plan
 from gridfield.world import world_from_dict
 
@@ -120,7 +120,7 @@ def run_lambda(worlds: int, starts: int, obstacles: tuple[int, ...], seed: int, 
         kappas: Counter[float] = Counter()
         for sw, pts in cases:
             folded += len(star.folds(sw, lam=lam)) > 0
-            kappa, _ = star._choose_kappa(sw, None, lam)
+            kappa, _ = star.choose_kappa(sw, None, lam)
             kappas[kappa] += 1
             step = sw.workspace_radius / 200
             res = star.follow_star_nav(sw, pts, kappa=kappa, lam=lam, step=step, tolerance=step,

@@ -10,7 +10,7 @@ from pathlib import Path
 # Every public module (private ``_kernels_*`` and the ``cli`` package are implementation details).
 MODULES = [
     "io", "world", "grid", "limits", "rasterize", "cspace", "brushfire", "chunked", "incremental", "potential", "navfield",
-    "vortex", "params", "descent", "sampling", "follow", "basins", "escapes", "diagnose", "navigation", "costmap", "navfn", "star",
+    "vortex", "params", "descent", "sampling", "follow", "basins", "escapes", "diagnose", "navigation", "costmap", "navfn",
     "exact", "visibility", "gridpoly", "anyangle", "planners", "path", "compare", "sweep", "plot", "demo", "explore", "errors",
 ]
 

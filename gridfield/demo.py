@@ -316,8 +316,8 @@ def _part_seed003(run: _Run) -> None:
 
 def _part_seed002(run: _Run) -> None:
     from .io import bundled_map, read_world
+    from .navigation import star_figure_data, star_world
     from .plot import plot_star_world
-    from .star import star_figure_data, star_world
 
     w = read_world(bundled_map("star_two.yaml"))
     path = run.plan("seed002", "star_two", w, "star-nav", w.start, w.goal, note="star world, seed 002's kappa, lambda")  # type: ignore[arg-type]

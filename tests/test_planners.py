@@ -160,7 +160,7 @@ def test_a_world_planner_reads_no_parameter_it_does_not_declare(planner):
 def test_star_nav_reads_no_parameter_it_does_not_declare():
     """star-nav (about 1 s a plan): the parameters other planners read, one per concern."""
     from gridfield.io import bundled_map, read_world
-    from gridfield.star import StarNavWarning
+    from gridfield.navigation import StarNavWarning
 
     w = read_world(bundled_map("star_two.yaml"))
     warnings.simplefilter("ignore", StarNavWarning)  # seed 002's kappa 3 leaves a spurious minimum: it warns

@@ -491,3 +491,13 @@ def test_plan_with_field_is_the_field_followed_and_changes_no_path(seed000):
     # plan returns one type: the old return_field=True (deprecated for one release) is gone
     with pytest.raises(TypeError, match="return_field"):
         plan("potential", gm, seed000.start, seed000.goal, return_field=True)
+
+
+def test_plot_layers_is_a_deprecated_alias():
+    import gridfield.plot
+    import gridfield.plot.layers as old
+
+    with pytest.deprecated_call(match="import it from gridfield.plot"):
+        assert old.Artists is gridfield.plot.Artists
+    with pytest.raises(AttributeError):
+        old._legend  # noqa: B018

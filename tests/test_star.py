@@ -16,7 +16,7 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from shapely.geometry import LineString, Point, Polygon
 
-from gridfield import star
+from gridfield import navigation as star  # the star-world names (gridfield.star is a deprecated alias)
 from gridfield.errors import GridfieldError, ParameterError
 from gridfield.io import bundled_map, read_world
 from gridfield.params import REGISTRY
@@ -377,7 +377,7 @@ def test_follower_reaches_the_goal_from_100_random_starts(seed, m) -> None:
     w, shapes, rng = random_star_world(seed, m)
     goal = random_free_points(rng, shapes, 1, 0.5)[0]
     sw = star.star_world(w, goal)
-    kappa, _ = star._choose_kappa(sw, None, 10.0)
+    kappa, _ = star.choose_kappa(sw, None, 10.0)
     starts = random_free_points(rng, shapes, 100, 0.05)
     results = star.follow_star_nav(sw, starts, kappa=kappa, lam=10.0, step=0.05, tolerance=0.05, max_iterations=6000)
     assert [s for _, s, _ in results] == ["reached"] * 100
@@ -405,7 +405,7 @@ def test_spiky_worlds_h_on_the_boundaries_positive_jacobian_and_the_follower_fro
     _, jac, _, free = star.star_to_sphere(sw, q, lam)
     det = jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0]
     assert free.all() and det.min() > 0
-    kappa, _ = star._choose_kappa(sw, None, lam)
+    kappa, _ = star.choose_kappa(sw, None, lam)
     starts = random_free_points(rng, shapes, 100, 0.05)
     results = star.follow_star_nav(sw, starts, kappa=kappa, lam=lam, step=0.05, tolerance=0.05, max_iterations=6000)
     assert [s for _, s, _ in results] == ["reached"] * 100
@@ -540,3 +540,15 @@ def test_plot_star_world_draws_the_four_panels() -> None:
         assert len(arts[3].paths) == 1
     finally:
         plt.close(arts[0].figure)
+
+
+@pytest.mark.parametrize(("name", "new"), [("star_world", "star_world"), ("StarNavWarning", "StarNavWarning"),
+                                           ("KAPPA_LADDER", "KAPPA_LADDER"), ("_choose_kappa", "choose_kappa")])
+def test_gridfield_star_is_a_deprecated_alias_of_navigation(name: str, new: str) -> None:
+    import gridfield.star as old
+
+    with pytest.deprecated_call(match=f"gridfield.navigation.{new}"):
+        value = getattr(old, name)
+    assert value is getattr(star, new)
+    with pytest.raises(AttributeError):
+        old.not_a_star_name  # noqa: B018

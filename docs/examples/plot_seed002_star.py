@@ -10,9 +10,9 @@ star-to-sphere transformation, and the navigation function with the ``star-nav``
 import numpy as np
 
 from gridfield.io import bundled_map, read_world
+from gridfield.navigation import star_figure_data, star_world
 from gridfield.planners import plan
 from gridfield.plot import plot_star_world
-from gridfield.star import star_figure_data, star_world
 
 world = read_world(bundled_map("star_two.yaml"))
 path = plan("star-nav", world, world.start, world.goal)

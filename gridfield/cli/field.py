@@ -202,7 +202,7 @@ def run(args: argparse.Namespace) -> int:
     params.update(collect_params(args))
     gridmap = as_gridmap(robot_target(args, target, goal=goal), args.resolution)
     if args.planner == "star-nav":
-        from ..star import star_nav_field
+        from ..navigation import star_nav_field
 
         gridmap.check_point("goal", goal)
         t0 = time.perf_counter()

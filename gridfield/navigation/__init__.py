@@ -14,15 +14,28 @@ Five constructions, the first four returned as a :class:`NavigationField` (the v
   the field is continued by nested "shells" in log scale (see :func:`harmonic`).
 - :func:`sphere_nav_function` -- the Rimon-Koditschek navigation function of a sphere world (disc
   obstacles inside a disc workspace), with its analytic gradient.
-- star worlds (:mod:`gridfield.star`) -- the same function on a world of star-shaped polygons and
-  discs, through the star-to-sphere transformation :func:`star_to_sphere`: :func:`star_world` (a
-  :class:`StarWorld` of :class:`StarObstacle`), :func:`nav_function`, :func:`spurious_minima`,
-  :func:`follow_star_nav`; :func:`star_nav_field` is its :class:`NavigationField`.
+- star worlds -- the same function on a world of star-shaped polygons and discs, through the
+  star-to-sphere transformation :func:`star_to_sphere`: :func:`star_world` (a :class:`StarWorld` of
+  :class:`StarObstacle`), :func:`nav_function`, :func:`spurious_minima`, :func:`choose_kappa`,
+  :func:`folds`, :func:`follow_star_nav`; :func:`star_nav_field` is its :class:`NavigationField`
+  and :func:`star_figure_data` the arrays of its figures.
 
 The planners ``wavefront``, ``wavefront-octile``, ``fmm``, ``harmonic``, ``sphere-nav`` and ``star-nav``
 of :mod:`gridfield.planners` are :func:`plan_wavefront`, :func:`plan_wavefront_octile`, :func:`plan_fmm`,
 :func:`plan_harmonic`, :func:`plan_sphere_nav` and :func:`plan_star_nav`; :func:`navigation_field` gives
 the field of any of the first five (``gridfield field``; ``star-nav``'s is :func:`star_nav_field`).
+
+Star worlds. A *star world* is a disc workspace holding disjoint obstacles that are each star-shaped about a
+centre ``q_i`` (polygons whose kernel contains ``q_i``, and discs). The star-to-sphere transformation
+``h_lambda`` maps it onto a *sphere world* (model discs ``(p_i, r_i)`` in the same workspace), where
+the sphere-world navigation function ``phi`` of :func:`gridfield.navigation.sphere_nav_function` is
+known; ``phi(h_lambda(q))`` is then a navigation function of the star world (Rimon & Koditschek,
+"Exact robot navigation using artificial potential functions", IEEE Trans. Robotics and Automation
+8(5), 1992; Choset et al., *Principles of Robot Motion*, sec. 4.6; seed 002, third question).
+
+The planner ``star-nav`` (:func:`~gridfield.navigation.plan_star_nav`) follows ``-grad phi(h_lambda(q))``
+like ``sphere-nav``. :func:`~gridfield.navigation.star_nav_field` gives the arrays of
+``gridfield field --planner star-nav`` and the seed's figures (:func:`gridfield.plot.plot_star_world`).
 
 Units: every value array is in world units (lengths, or costs measured as lengths), and every point
 crosses the public boundary as world coordinates ``(x, y)``; arrays are indexed ``[row, col]`` with
@@ -38,8 +51,8 @@ their smooth R-function obstacle functions), ``_star_world`` (the star world, it
 functions and the star-to-sphere transformation, built on ``_sphere``'s terms) and ``_star_nav``
 (``kappa`` and ``lambda`` checks, the follower, the planner, the field and the figure data); this
 ``__init__`` re-exports their public names and holds :func:`navigation_field`, the one function that
-knows every grid-field construction. :mod:`gridfield.star` stays the public module of star worlds
-and re-exports the same names. The submodules are private: import from
+knows every grid-field construction. ``gridfield.star``, which re-exported the star names, is a
+deprecated alias for one release. The submodules are private: import from
 ``gridfield.navigation``. (They carry a leading underscore also because ``wavefront``, ``fmm`` and
 ``harmonic`` are the names of functions of the package, which a submodule of the same name would
 shadow.)
@@ -72,7 +85,19 @@ from ._sphere import KAPPA_LADDER as KAPPA_LADDER
 from ._sphere import _check_sphere_world, _discs_of, _workspace, plan_sphere_nav, sphere_nav_function
 from ._sphere import _rk_phi_grad as _rk_phi_grad
 from ._sphere import _rk_terms as _rk_terms
-from ._star_nav import StarNavWarning, follow_star_nav, plan_star_nav, spurious_minima, star_nav_field
+from ._star_nav import CLEARANCE_STEP as CLEARANCE_STEP
+from ._star_nav import (
+    StarNavWarning,
+    choose_kappa,
+    folds,
+    follow_star_nav,
+    plan_star_nav,
+    spurious_minima,
+    star_figure_data,
+    star_nav_field,
+)
+from ._star_obstacle import R_ALPHA as R_ALPHA
+from ._star_obstacle import R_EPS as R_EPS
 from ._star_obstacle import StarObstacle, find_star_center
 from ._star_world import StarWorld, nav_function, star_betas, star_to_sphere, star_world
 from ._wavefront import clearance_cost, plan_wavefront, plan_wavefront_octile, wavefront
@@ -83,10 +108,12 @@ __all__ = [
     "StarNavWarning",
     "StarObstacle",
     "StarWorld",
+    "choose_kappa",
     "clearance_cost",
     "extract_path",
     "find_star_center",
     "fmm",
+    "folds",
     "follow_star_nav",
     "harmonic",
     "nav_function",
@@ -100,6 +127,7 @@ __all__ = [
     "sphere_nav_function",
     "spurious_minima",
     "star_betas",
+    "star_figure_data",
     "star_nav_field",
     "star_to_sphere",
     "star_world",

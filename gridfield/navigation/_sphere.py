@@ -4,7 +4,7 @@ Unlike the grid constructions, this one is analytic: ``phi`` and its gradient ar
 expressions of the discs, evaluated on a grid only for display (:func:`sphere_nav_function`), and the
 planner ``sphere-nav`` follows the exact gradient in the continuous world (:func:`plan_sphere_nav`).
 ``kappa`` must be large enough for the goal to be the only minimum; without one, the planner climbs
-:data:`KAPPA_LADDER`. The star-world planner (:mod:`gridfield.star`; ``_star_world`` and ``_star_nav``) maps star worlds
+:data:`KAPPA_LADDER`. The star-world planner (``_star_world`` and ``_star_nav``; documented in :mod:`gridfield.navigation`) maps star worlds
 onto these sphere worlds and reuses the terms computed here.
 """
 

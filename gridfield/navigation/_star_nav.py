@@ -113,7 +113,30 @@ def _log_objective(sw: StarWorld, q: NDArray[np.float64], kappa: float, lam: flo
 
 def folds(sw: StarWorld, *, lam: float, n: int = 121) -> NDArray[np.float64]:
     """Free lattice points (``n x n`` over the workspace) where ``det J`` of ``h_lambda`` is ``<= 0``:
-    there ``h_lambda`` is not a diffeomorphism (``lambda`` too small)."""
+    there ``h_lambda`` is not a diffeomorphism (``lambda`` too small).
+
+    Parameters
+    ----------
+    sw : StarWorld
+        The star world (:func:`star_world`).
+    lam : float
+        The transformation's ``lambda``.
+    n : int, optional
+        Lattice points per side of the workspace's bounding square.
+
+    Returns
+    -------
+    ndarray of float, shape (m, 2)
+        The free lattice points where the transformation folds (empty: none found).
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
+    >>> sw = star_world(w, (8, 2))
+    >>> len(folds(sw, lam=10.0, n=41)), len(folds(sw, lam=0.01, n=41)) > 0
+    (0, True)
+    """
     xs, ys, _ = _sample_lattice(sw, int(n))
     x, y = np.meshgrid(xs, ys)
     q = np.column_stack([x.ravel(), y.ravel()])
@@ -122,8 +145,34 @@ def folds(sw: StarWorld, *, lam: float, n: int = 121) -> NDArray[np.float64]:
     return q[free & np.logical_not(det > 0)]
 
 
-def _choose_kappa(sw: StarWorld, kappa: float | None, lam: float) -> tuple[float, list[tuple[float, int]]]:
-    """The kappa to use and the (kappa, spurious minima found) tried; warns when a given kappa is too small."""
+def choose_kappa(sw: StarWorld, kappa: float | None, lam: float) -> tuple[float, list[tuple[float, int]]]:
+    """The kappa to use and the (kappa, spurious minima found) tried; warns when a given kappa is too small.
+
+    Parameters
+    ----------
+    sw : StarWorld
+        The star world.
+    kappa : float or None
+        A given kappa (checked, kept, with a :class:`StarNavWarning` when :func:`spurious_minima` finds
+        minima besides the goal), or None: the first value of :data:`KAPPA_LADDER` without one (its last
+        value when every one has some).
+    lam : float
+        The transformation's ``lambda``.
+
+    Returns
+    -------
+    kappa : float
+        The kappa to use.
+    tried : list of (float, int)
+        Each kappa tried and how many spurious minima it has.
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
+    >>> choose_kappa(star_world(w, (8, 2)), None, 10.0)
+    (3.0, [(3.0, 0)])
+    """
     if kappa is not None:
         found = spurious_minima(sw, kappa=kappa, lam=lam)
         if len(found):
@@ -346,7 +395,7 @@ def plan_star_nav(world: Any, start: NDArray[np.float64], goal: NDArray[np.float
     step, tol, max_it, window = _step_budget(params.group(Follower), r0, "star-nav")
     n_folds = _warn_folds(sw, lam)
     given = kappa is not None
-    kappa, tried = _choose_kappa(sw, kappa, lam)
+    kappa, tried = choose_kappa(sw, kappa, lam)
     followed = []
     while True:
         (pts, status, its), = follow_star_nav(sw, start[None, :], kappa=kappa, lam=lam, step=step, tolerance=tol,
@@ -403,7 +452,7 @@ def star_nav_field(gridmap: Any, goal: ArrayLike, params: Mapping[str, Any] | No
     nav = p.group(Navigation)
     g = np.asarray(goal, dtype=float).reshape(-1)
     sw = star_world(world, g, workspace_center=nav.workspace_center, workspace_radius=nav.workspace_radius)
-    kappa, _ = _choose_kappa(sw, kappa, lam)
+    kappa, _ = choose_kappa(sw, kappa, lam)
     xs, ys = gridmap.grid.cell_centers()
     x, y = np.meshgrid(xs, ys)
     q = np.column_stack([x.ravel(), y.ravel()])
@@ -429,6 +478,34 @@ def star_figure_data(sw: StarWorld, *, kappa: float, lam: float, x: NDArray[np.f
     (``inf`` outside the free space); ``mapped_lines``: polylines of ``lines`` lattice lines of the free
     space mapped by ``h_lambda`` (NaN breaks them where they cross obstacles); ``model_discs``, the
     workspace, the goal, the obstacles' vertices (polygons) or discs.
+
+    Parameters
+    ----------
+    sw : StarWorld
+        The star world.
+    kappa, lam : float
+        The navigation function's ``kappa`` and the transformation's ``lambda``.
+    x, y : ndarray of float
+        The lattice (:func:`numpy.meshgrid` arrays).
+    phi : ndarray of float, optional
+        ``phi(h_lambda)`` on the lattice when the caller has it (else computed).
+    lines : int, optional
+        How many lattice lines of each direction are mapped.
+
+    Returns
+    -------
+    dict
+        The arrays above, with ``kappa``, ``lambda``, ``x``, ``y``, ``centers`` and ``workspace``;
+        :func:`gridfield.plot.plot_star_world` draws it.
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[3, 3], [5, 3], [5, 5], [3, 5]]}]})
+    >>> x, y = np.meshgrid(np.linspace(0, 10, 11), np.linspace(0, 10, 11))
+    >>> d = star_figure_data(star_world(w, (8, 2)), kappa=3, lam=10, x=x, y=y)
+    >>> d["phi"].shape, float(d["humps"].max()), float(d["phi"][2, 8])  # phi is 0 at the goal (8, 2)
+    ((11, 11), 1.0, 0.0)
     """
     q = np.column_stack([x.ravel(), y.ravel()])
     humps = np.zeros(len(q))

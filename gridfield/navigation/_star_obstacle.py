@@ -1,6 +1,6 @@
 """Star-shaped obstacles: the smooth (R-function) obstacle function of a star polygon or a disc.
 
-One obstacle of a star world (:mod:`gridfield.star`; the world, its scaled obstacle functions and the
+One obstacle of a star world (:mod:`gridfield.navigation`; the world, its scaled obstacle functions and the
 star-to-sphere transformation are in ``_star_world``, the planner in ``_star_nav``): the obstacle
 function ``beta_i`` (all of it vectorized over query points ``q``, shape ``(N, 2)``), the exact gauge,
 and the polygon's centre (:func:`find_star_center`):

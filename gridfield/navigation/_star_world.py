@@ -1,6 +1,6 @@
 """Star worlds: the validated world, its scaled obstacle functions and the star-to-sphere transformation.
 
-What a star world is and why ``phi(h_lambda(q))`` navigates it: :mod:`gridfield.star` (Rimon &
+What a star world is and why ``phi(h_lambda(q))`` navigates it: :mod:`gridfield.navigation` (Rimon &
 Koditschek 1992; Choset et al., sec. 4.6; seed 002, third question).
 
 The construction (all of it vectorized over query points ``q``, shape ``(N, 2)``; the obstacle

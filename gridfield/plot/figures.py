@@ -521,7 +521,7 @@ def plot_star_world(
     Parameters
     ----------
     data : mapping
-        What :func:`gridfield.star.star_figure_data` returns (this function draws it, computing nothing).
+        What :func:`gridfield.navigation.star_figure_data` returns (this function draws it, computing nothing).
     fig : Figure, optional
         Drawn into (cleared first); default: a new figure.
     path : Path, optional

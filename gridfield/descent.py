@@ -47,7 +47,7 @@ Stop rules, checked in this order before every step
 Steps never enter an obstacle
     Every move (step, fallback step, escape move, the appended goal) is checked with ``blocked``
     before it is made. When the full step is blocked, the follower tries shorter and turned
-    steps, in the order of ``_SLIDES``: the step direction turned by 0, +-15, ..., +-75 degrees
+    steps, in the order of ``SLIDES``: the step direction turned by 0, +-15, ..., +-75 degrees
     (all within 75 degrees of the force, so each still descends), each at 1, 1/2, 1/4 and 1/8 of
     the step length; it takes the first free one (it slides along the wall), and
     ``extra["slid_steps"]`` counts them. So a normal run ends ``reached``, ``local_minimum`` or
@@ -109,7 +109,7 @@ from .escapes import cut_loops, navigation_cut, navigation_finish, navigation_mo
 from .params import REGISTRY, Escape, Follower, check, group, names, resolve
 from .path import Path
 
-__all__ = ["DESCEND_UNIT", "ESCAPES", "FOLLOWER_GROUPS", "STEP_RULES", "Rules", "descend", "goal_hop", "resolve_rules",
+__all__ = ["DESCEND_UNIT", "ESCAPES", "FOLLOWER_GROUPS", "SLIDES", "STEP_RULES", "Rules", "descend", "goal_hop", "resolve_rules",
            "rules", "without_loops"]
 
 #: The step rules and the escapes (the registry's choices for ``step_rule`` and ``escape``).
@@ -131,7 +131,7 @@ def _gains(alpha: Any) -> tuple[float, float]:
 _SLIDE_ANGLES = (0.0, 15.0, -15.0, 30.0, -30.0, 45.0, -45.0, 60.0, -60.0, 75.0, -75.0)
 _SLIDE_FACTORS = (1.0, 0.5, 0.25, 0.125)
 #: ``(cos, sin, factor)`` of every fallback step (the unturned full step, already blocked, left out).
-_SLIDES: tuple[tuple[float, float, float], ...] = tuple(
+SLIDES: tuple[tuple[float, float, float], ...] = tuple(
     (math.cos(math.radians(a)), math.sin(math.radians(a)), f)
     for a in _SLIDE_ANGLES for f in _SLIDE_FACTORS if (a, f) != (0.0, 1.0)
 )
@@ -270,9 +270,9 @@ class Rules:
 
     @staticmethod
     def slide(x: Any, y: Any, sx: Any, sy: Any, k: int) -> tuple[Any, Any]:
-        """The ``k``-th fallback (of ``len(_SLIDES)``) of the blocked step ``(sx, sy)`` from
-        ``(x, y)``: turned and shortened as :data:`_SLIDES` lists; the first free one is taken."""
-        c, sn, f = _SLIDES[k]
+        """The ``k``-th fallback (of ``len(SLIDES)``) of the blocked step ``(sx, sy)`` from
+        ``(x, y)``: turned and shortened as :data:`SLIDES` lists; the first free one is taken."""
+        c, sn, f = SLIDES[k]
         return x + f * (c * sx - sn * sy), y + f * (sn * sx + c * sy)
 
     # -- where the dithering before a stall began -------------------------------------------------
@@ -427,7 +427,7 @@ def resolve_rules(params: Mapping[str, Any] | None = None, *, unit: float = DESC
 
 def _free_step(x: float, y: float, sx: float, sy: float,
                blocked: Callable[[Point, Point], bool]) -> Point | None:
-    """The first free fallback of the blocked step ``(sx, sy)`` from ``(x, y)`` (see :data:`_SLIDES`).
+    """The first free fallback of the blocked step ``(sx, sy)`` from ``(x, y)`` (see :data:`SLIDES`).
 
     Examples
     --------
@@ -437,7 +437,7 @@ def _free_step(x: float, y: float, sx: float, sy: float,
     >>> _free_step(1.0, 0.0, 1.0, 0.0, wall) is None   # pressed against the wall
     True
     """
-    for k in range(len(_SLIDES)):
+    for k in range(len(SLIDES)):
         q = Rules.slide(x, y, sx, sy, k)
         if not blocked((x, y), q):
             return q

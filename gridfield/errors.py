@@ -18,6 +18,7 @@ __all__ = [
     "MapFormatError",
     "ParameterError",
     "SizeLimitError",
+    "cap_message",
     "check_finite",
     "check_positive",
     "shorten",
@@ -69,7 +70,30 @@ def shorten(value: object, limit: int = VALUE_LIMIT) -> str:
     return text
 
 
-def _cap(message: str, limit: int = MESSAGE_LIMIT) -> str:
+def cap_message(message: str, limit: int = MESSAGE_LIMIT) -> str:
+    """``message`` whole when it has at most ``limit`` characters, else its start and end around a
+    marker that says how many characters were cut (what every gridfield error and the CLI's error
+    line do).
+
+    Parameters
+    ----------
+    message : str
+        The message.
+    limit : int, optional
+        The longest message kept whole (default :data:`MESSAGE_LIMIT`).
+
+    Returns
+    -------
+    str
+        At most about ``limit`` characters.
+
+    Examples
+    --------
+    >>> cap_message("short")
+    'short'
+    >>> cap_message("x" * 300 + "END", limit=100)
+    'xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx ...[243 characters cut]... xxxxxxxxxxxxxxxxxEND'
+    """
     if len(message) <= limit:
         return message
     tail = limit // 5
@@ -91,7 +115,7 @@ class GridfieldError(ValueError):
 
     def __init__(self, *args: object) -> None:
         if len(args) == 1 and isinstance(args[0], str):
-            args = (_cap(args[0]),)
+            args = (cap_message(args[0]),)
         super().__init__(*args)
 
 

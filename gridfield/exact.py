@@ -70,7 +70,7 @@ from .potential import resolve_params
 from .sampling import attraction_force
 from .world import World
 
-__all__ = ["ExactField", "plan_exact_potential"]
+__all__ = ["ExactField", "default_step", "plan_exact_potential"]
 
 #: Above this many non-circle obstacles the force queries an STRtree for those within q_star.
 _TREE_MIN = 8
@@ -101,7 +101,7 @@ class ExactField:
     def __init__(self, world: World, goal: ArrayLike, params: Mapping[str, Any] | None = None) -> None:
         if not isinstance(world, World):
             raise ParameterError(f"the exact planner needs a World, got {type(world).__name__}")
-        p = resolve_params(params, unit=_default_step(world))
+        p = resolve_params(params, unit=default_step(world))
         if p["model"] != "khatib":
             raise ParameterError(f"the exact planner implements model 'khatib' only, got model {p['model']!r}; "
                                  "the vortex model (seed 003) is a grid field: use planner 'potential'")
@@ -271,7 +271,27 @@ def _clearance(world: World, pts: np.ndarray) -> float:
     return best
 
 
-def _default_step(world: World) -> float:
+def default_step(world: World) -> float:
+    """The length unit the exact planner scales its registry defaults by: the world's ``resolution``
+    when it gives one, else a hundredth of the shorter side of its bounds.
+
+    Parameters
+    ----------
+    world : World
+        The vector world.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> default_step(world_from_dict({"bounds": [0, 0, 20, 10], "border": "wall", "obstacles": []}))
+    0.1
+    >>> default_step(world_from_dict({"bounds": [0, 0, 20, 10], "border": "wall", "resolution": 0.25, "obstacles": []}))
+    0.25
+    """
     if world.resolution is not None:
         return float(world.resolution)
     xmin, ymin, xmax, ymax = world.bounds
@@ -326,7 +346,7 @@ def plan_exact_potential(world: World, start: ArrayLike, goal: ArrayLike, params
     t0 = time.perf_counter()
     field = ExactField(world, g, params)
     build = time.perf_counter() - t0
-    fp = resolve_follow_params(params, unit=_default_step(world))
+    fp = resolve_follow_params(params, unit=default_step(world))
     potential: Callable[[tuple[float, float]], float] | None = None
     attraction = None
     if fp["escape"] == "potential_increase":

@@ -36,11 +36,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._coords import as_xy
 from ._kernels_follow import _blocked_many, _force_many
+from ._sampler_args import gradient_arrays, grid_args
 from .basins import Basins, basins, descent_successor
 from .descent import (
-    _SLIDES,
     ESCAPES,
     FOLLOWER_GROUPS,
+    SLIDES,
     STEP_RULES,
     Point,
     Rules,
@@ -56,17 +57,15 @@ from .params import MAX_ITERATIONS, Escape, Follower, check, group, names, valid
 from .path import Path
 from .sampling import (
     SAMPLINGS,
-    _clearance,
-    _distance_at,
-    _field_arrays,
-    _grid_args,
     attraction_force,
+    clearance_at,
+    distance_at,
     grid_blocked,
     grid_potential_sampler,
     grid_sampler,
     sample_force,
 )
-from .vortex import _vortex_follower
+from .vortex import vortex_follower_params
 
 __all__ = [
     "ESCAPES",
@@ -139,7 +138,7 @@ def _setup(field: Any, params: Mapping[str, Any] | None) -> _Setup:
     grid: Grid = field.map.grid
     vortex = merged.get("model") == "vortex"
     if vortex:
-        merged = _vortex_follower(field, merged)
+        merged = vortex_follower_params(field, merged)
     if merged.get("max_iterations") is None:  # enough to cross every free cell once
         merged["max_iterations"] = max(MAX_ITERATIONS, int(np.count_nonzero(~field.map.occupied)))
     p = resolve_follow_params(merged, unit=grid.resolution)
@@ -213,7 +212,7 @@ def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = N
     if setup.vortex:
         alpha = setup.rules.follower.alpha
         extra["alpha_xy"] = list(alpha) if isinstance(alpha, tuple) else None
-    return replace(path, params=p, min_clearance=_clearance(field, path.points), extra=extra)
+    return replace(path, params=p, min_clearance=clearance_at(field, path.points), extra=extra)
 
 
 #: Maps up to this many cells get the reachability check before any work (a labelling of the free
@@ -370,7 +369,7 @@ def plan_potential_with_field(gridmap: GridMap, start: ArrayLike, goal: ArrayLik
         extra["hint"] = diag["hint"]
         extra["diagnosis"] = diag
     if nf and len(points):
-        extra["median_clearance"] = float(np.median(_distance_at(field, points)[0]))
+        extra["median_clearance"] = float(np.median(distance_at(field, points)[0]))
         if field.map is not gridmap:  # an open border: the field's ring lies outside the grid
             _note_outside(extra, gridmap.grid, points)
     return replace(path, points=points, status=status, params=merged, extra=extra), field
@@ -546,8 +545,8 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
     grid_map: GridMap = field.map
     S = _checked_starts(grid_map, starts)
     goal = as_xy(field.goal, "goal")
-    gx, gy = _field_arrays(field)
-    occ, x0, y0, res = _grid_args(grid_map)
+    gx, gy = gradient_arrays(field)
+    occ, x0, y0, res = grid_args(grid_map)
     nearest = setup.sampling == "nearest"
     wall = grid_map.grid.border == "wall"
     cw, max_it = r.confine_window, r.max_iterations
@@ -703,7 +702,7 @@ def _many_paths(field: Any, S: NDArray[np.float64], params: Mapping[str, Any] | 
     lengths = np.array([len(q) for q in pts_list])
     offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
     all_pts = np.concatenate(pts_list)
-    dist, inside = _distance_at(field, all_pts)
+    dist, inside = distance_at(field, all_pts)
     clear = np.minimum.reduceat(dist, offsets)
     n_out = np.add.reduceat((~inside).astype(np.int64), offsets)
     paths: list[Path] = []
@@ -780,13 +779,13 @@ def _stops_before_step(r: Rules, a: _Active, d: NDArray[np.float64], it: int, st
 
 def _slide_many(a: _Active, hit: NDArray[np.bool_], NX: NDArray[np.float64], NY: NDArray[np.float64],
                 slid: NDArray[np.int64], grid: tuple[Any, ...]) -> NDArray[np.bool_]:
-    """The fallback steps of :func:`gridfield.descent.descend` (``_SLIDES``, in order) for the blocked
+    """The fallback steps of :func:`gridfield.descent.descend` (``SLIDES``, in order) for the blocked
     points ``hit``: the first free one replaces ``NX, NY`` (in place, counted in ``slid``); the points
     with none (pinned) are returned."""
     occ, x0, y0, res, wall = grid
     todo = np.flatnonzero(hit)
     SX, SY = NX[todo] - a.X[todo], NY[todo] - a.Y[todo]
-    for s in range(len(_SLIDES)):
+    for s in range(len(SLIDES)):
         CX, CY = Rules.slide(a.X[todo], a.Y[todo], SX, SY, s)
         cb = np.empty(len(todo), np.bool_)
         _blocked_many(occ, x0, y0, res, wall, a.X[todo], a.Y[todo], CX, CY, cb)

@@ -289,7 +289,5 @@ def plan_navfn(target: GridMap, start: NDArray[np.float64], goal: NDArray[np.flo
 def _clearance(cm: Costmap, points: NDArray[np.float64]) -> float:
     """Smallest exact distance of the path's cells to a blocked cell of the costmap (``cost >= 253``)."""
     from .navigation import NavigationField
-    from .navigation._field import _min_clearance
 
-    nav = NavigationField(cm, np.zeros(cm.shape), points[-1], (0, 0), "navfn")
-    return _min_clearance(nav, points)
+    return NavigationField(cm, np.zeros(cm.shape), points[-1], (0, 0), "navfn").min_clearance(points)

@@ -90,7 +90,7 @@ from .grid import Grid, GridMap
 from .io import load_field, save_field  # re-exported: the .npz I/O of fields lives in gridfield.io
 from .limits import check_grid
 from .params import REGISTRY, check
-from .vortex import _build_vortex, vortex_field, vortex_lattice
+from .vortex import vortex_field, vortex_lattice, vortex_model_field
 
 __all__ = [
     "GRADIENTS",
@@ -573,7 +573,7 @@ def build_field(
     given = dict(validate(params))
     p = resolve_params(given, unit=gridmap.grid.resolution)
     if p["model"] == "vortex":
-        return _build_vortex(gridmap, goal, p)
+        return vortex_model_field(gridmap, goal, p)
     if p["model"] in _NF_MODELS:
         from .navfield import nav_field
 

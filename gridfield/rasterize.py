@@ -39,7 +39,7 @@ from .errors import ParameterError, check_positive, shorten
 from .grid import Grid, GridMap
 from .world import Obstacle, World
 
-__all__ = ["as_gridmap", "rasterize", "rasterize_geometry"]
+__all__ = ["as_gridmap", "rasterize", "rasterize_geometry", "rasterize_obstacle"]
 
 #: Relative tolerance (in cells) of the conservative comparisons.
 _REL_TOL = 1e-9
@@ -237,6 +237,35 @@ def _obstacle_mask(grid: Grid, ob: Obstacle, eps: float) -> tuple[tuple[int, int
         return None if win is None else (win, _circle_mask(grid, win, ob.center, float(ob.radius), eps))
     win = _window(grid, tuple(ob.geometry.bounds), eps)
     return None if win is None else (win, _geometry_mask(grid, win, ob.geometry, eps))
+
+
+def rasterize_obstacle(grid: Grid, obstacle: Obstacle) -> tuple[tuple[int, int, int, int], NDArray[np.bool_]] | None:
+    """The cells one obstacle covers, rasterized as :func:`rasterize` does (conservatively, with its
+    tolerance): the window of rows and columns its bounds meet and the mask over that window.
+
+    Parameters
+    ----------
+    grid : Grid
+        The grid.
+    obstacle : Obstacle
+        One obstacle of a world.
+
+    Returns
+    -------
+    ((r0, r1, c0, c1), mask) or None
+        The window's first and last row and column (inclusive) and the bool mask of its cells the
+        obstacle covers; None when the obstacle lies off the grid.
+
+    Examples
+    --------
+    >>> from gridfield.grid import Grid
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 4, 4], "obstacles": [{"polygon": [[1, 1], [2, 1], [2, 2], [1, 2]]}]})
+    >>> win, mask = rasterize_obstacle(Grid((4, 4), 1.0), w.obstacles[0])
+    >>> win, mask.astype(int).tolist()  # the closed square touches the cells around it
+    ((0, 2, 0, 2), [[1, 1, 1], [1, 1, 1], [1, 1, 1]])
+    """
+    return _obstacle_mask(grid, obstacle, _tolerance(grid))
 
 
 def rasterize_geometry(geometry: BaseGeometry, grid: Grid) -> NDArray[np.bool_]:

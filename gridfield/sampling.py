@@ -35,6 +35,7 @@ from ._chunkcache import is_lazy
 from ._coords import as_points, as_xy
 from ._kernels_follow import ForceSampler, SegmentTest, ValueSampler, _cell_values, _force_many, _segment_blocked
 from ._results import GradientField
+from ._sampler_args import gradient_arrays, grid_args
 from .errors import ParameterError
 from .grid import Grid, GridMap
 from .params import REGISTRY, Attraction, Model, Vortex, check, known
@@ -43,6 +44,8 @@ __all__ = [
     "SAMPLINGS",
     "GradientField",
     "attraction_force",
+    "clearance_at",
+    "distance_at",
     "grid_blocked",
     "grid_potential_sampler",
     "grid_sampler",
@@ -52,17 +55,6 @@ __all__ = [
 #: How the gradient arrays are sampled at a point (the registry's choices for ``sampling``).
 SAMPLINGS: tuple[str, ...] = REGISTRY["sampling"].choices
 Point = tuple[float, float]
-
-
-def _grid_args(gridmap: GridMap) -> tuple[NDArray[np.bool_], float, float, float]:
-    g = gridmap.grid
-    occ = np.ascontiguousarray(gridmap.occupied, dtype=np.bool_)
-    return occ, float(g.origin[0]), float(g.origin[1]), float(g.resolution)
-
-
-def _field_arrays(field: GradientField) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    return (np.ascontiguousarray(field.grad_x, dtype=np.float64),
-            np.ascontiguousarray(field.grad_y, dtype=np.float64))
 
 
 def _lazy_force(field: GradientField, sampling: str) -> Callable[[Point], tuple[float, float]]:
@@ -110,8 +102,8 @@ def grid_sampler(field: GradientField, *, sampling: str = "bilinear") -> Callabl
     check("sampling", sampling)
     if is_lazy(field):  # a field read from a Zarr store: sampled through its chunk cache
         return _lazy_force(field, sampling)
-    gx, gy = _field_arrays(field)
-    occ, x0, y0, res = _grid_args(field.map)
+    gx, gy = gradient_arrays(field)
+    occ, x0, y0, res = grid_args(field.map)
     nearest = sampling == "nearest"
     force: Callable[[Point], tuple[float, float]] = ForceSampler(gx, gy, occ, x0, y0, res, nearest)
     return force
@@ -153,8 +145,8 @@ def sample_force(field: GradientField, points: ArrayLike, *, sampling: str = "bi
     if is_lazy(field):
         f = _lazy_force(field, sampling)
         return np.array([f((x, y)) for x, y in pts.tolist()], dtype=np.float64).reshape(-1, 2)
-    gx, gy = _field_arrays(field)
-    occ, x0, y0, res = _grid_args(field.map)
+    gx, gy = gradient_arrays(field)
+    occ, x0, y0, res = grid_args(field.map)
     xs, ys = np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1])
     fx, fy = np.empty(len(pts)), np.empty(len(pts))
     if len(pts):
@@ -196,7 +188,7 @@ def grid_potential_sampler(field: GradientField, *, sampling: str = "bilinear") 
         fu = mk(field.potential, field.potential, field.map.occupied, g.origin[0], g.origin[1], g.resolution)
         return lambda p: fu(p[0], p[1])[0]
     u = np.ascontiguousarray(field.potential, dtype=np.float64)
-    occ, x0, y0, res = _grid_args(field.map)
+    occ, x0, y0, res = grid_args(field.map)
     potential: Callable[[Point], float] = ValueSampler(u, occ, x0, y0, res, sampling == "nearest")
     return potential
 
@@ -232,7 +224,7 @@ def grid_blocked(gridmap: GridMap) -> Callable[[Point, Point], bool]:
         g = gridmap.grid
         return segment_blocked(cast("Any", gridmap.occupied), g.origin[0], g.origin[1], g.resolution, g.border == "wall",
                                _segment_blocked)
-    occ, x0, y0, res = _grid_args(gridmap)
+    occ, x0, y0, res = grid_args(gridmap)
     wall = gridmap.grid.border == "wall"
     blocked: Callable[[Point, Point], bool] = SegmentTest(occ, x0, y0, res, wall)
     return blocked
@@ -289,9 +281,36 @@ def attraction_force(goal: ArrayLike, params: Mapping[str, Any]) -> Callable[[Po
     return attr
 
 
-def _distance_at(field: GradientField, points: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+def distance_at(field: GradientField, points: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Brushfire (Euclidean) distance of the cells containing the points (clamped to the grid), and
-    whether each point lies inside the grid."""
+    whether each point lies inside the grid.
+
+    Parameters
+    ----------
+    field : GradientField
+        A field; its ``distance`` (the brushfire it was built on) is read, else the Euclidean
+        brushfire of its map is computed; a stored (lazy) field reads its stored distances chunk by
+        chunk (NaN where none was stored).
+    points : ndarray of float, shape (n, 2)
+        World coordinates.
+
+    Returns
+    -------
+    distance : ndarray of float, shape (n,)
+        The distance of each point's cell (the nearest cell of the grid for a point outside it).
+    inside : ndarray of bool, shape (n,)
+        Whether each point lies inside the grid.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> from gridfield.grid import Grid, GridMap
+    >>> occ = np.zeros((1, 4), bool); occ[0, 0] = True
+    >>> f = SimpleNamespace(map=GridMap(Grid((1, 4), 1.0), occ), distance=None)
+    >>> d, inside = distance_at(f, np.array([[3.5, 0.5], [9.0, 0.5]]))
+    >>> d.tolist(), inside.tolist()
+    ([3.0, 3.0], [True, False])
+    """
     dmap = getattr(field, "distance", None)
     if is_lazy(field):  # a stored field: its stored distances, read chunk by chunk (NaN when none was stored)
         from ._chunkcache import cell_values
@@ -311,7 +330,29 @@ def _distance_at(field: GradientField, points: NDArray[np.float64]) -> tuple[NDA
     return out, inside
 
 
-def _clearance(field: GradientField, points: NDArray[np.float64]) -> float:
-    """Smallest brushfire distance at the cells of the path's points."""
-    return float(np.min(_distance_at(field, points)[0])) if len(points) else math.nan
+def clearance_at(field: GradientField, points: NDArray[np.float64]) -> float:
+    """Smallest brushfire distance at the cells of the path's points (:func:`distance_at`); NaN for
+    no points.
+
+    Parameters
+    ----------
+    field : GradientField
+        The field the path followed.
+    points : ndarray of float, shape (n, 2)
+        The path's points.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> from gridfield.grid import Grid, GridMap
+    >>> occ = np.zeros((1, 4), bool); occ[0, 0] = True
+    >>> f = SimpleNamespace(map=GridMap(Grid((1, 4), 1.0), occ), distance=None)
+    >>> clearance_at(f, np.array([[1.5, 0.5], [3.5, 0.5]]))
+    1.0
+    """
+    return float(np.min(distance_at(field, points)[0])) if len(points) else math.nan
 

@@ -92,6 +92,7 @@ from .world import Obstacle, World
 __all__ = [
     "PINCH_RULES",
     "VisibilityGraph",
+    "cached_visibility_graph",
     "plan_visibility",
     "visibility_graph",
     "world_from_polygon_environment",
@@ -689,7 +690,29 @@ def _bitangent_edges(graph: VisibilityGraph, nodes: NDArray[np.float64], prev: N
 _CACHE: weakref.WeakKeyDictionary[World, dict[str, VisibilityGraph]] = weakref.WeakKeyDictionary()
 
 
-def _cached_graph(world: World, pinch: str) -> VisibilityGraph:
+def cached_visibility_graph(world: World, pinch: str = "block") -> VisibilityGraph:
+    """The :func:`visibility_graph` of ``world``, built once per world and pinch rule and kept while
+    the world lives (what ``plan("visibility")`` and :func:`gridfield.compare.optimum_solver` share);
+    refused up front (:func:`gridfield.limits.check_seconds`) when its vertex pairs would take too long.
+
+    Parameters
+    ----------
+    world : World
+        The vector world.
+    pinch : {"block", "pass"}, optional
+        See :data:`PINCH_RULES`.
+
+    Returns
+    -------
+    VisibilityGraph
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"polygon": [[4, 4], [6, 4], [6, 6], [4, 6]]}]})
+    >>> cached_visibility_graph(w) is cached_visibility_graph(w, "block")
+    True
+    """
     per_world = _CACHE.setdefault(world, {})
     if pinch not in per_world:
         from .limits import check_seconds
@@ -747,7 +770,7 @@ def plan_visibility(world: World, start: ArrayLike, goal: ArrayLike, params: Map
 
         return plan_anyangle(gm, start, goal, params, cache=cache)
     t0 = time.perf_counter()
-    vg = _cached_graph(world, "block")
+    vg = cached_visibility_graph(world, "block")
     pts, length = vg.shortest_path(start, goal)
     seconds = time.perf_counter() - t0
     extra = {"nodes": vg.n_nodes, "edges": vg.n_edges, "pinch": vg.pinch, "graph_seconds": vg.seconds,

@@ -32,7 +32,7 @@ from .errors import GridfieldError, ParameterError
 from .grid import Grid, GridMap
 from .params import FIELD_GROUPS, Vortex, check, known, names, resolve
 
-__all__ = ["vortex_field", "vortex_lattice"]
+__all__ = ["vortex_field", "vortex_follower_params", "vortex_lattice", "vortex_model_field"]
 
 
 def vortex_lattice(bounds: Sequence[float], spacing: float, *, border: str = "open") -> Grid:
@@ -230,8 +230,41 @@ def _circle_occupancy(grid: Grid, circles: NDArray[np.float64]) -> NDArray[np.bo
     return occ
 
 
-def _build_vortex(gridmap: GridMap, goal: ArrayLike, p: dict[str, Any]) -> Field:
-    """The vortex model's Field for :func:`gridfield.potential.build_field`: the lattice of the map's world."""
+def vortex_model_field(gridmap: GridMap, goal: ArrayLike, p: Mapping[str, Any]) -> Field:
+    """The vortex model's Field for :func:`gridfield.potential.build_field` (``model="vortex"``): the
+    field of :func:`vortex_field` on the lattice of the map's world.
+
+    Parameters
+    ----------
+    gridmap : GridMap
+        A map rasterized from a world of circles with a start point (``gridmap.world``).
+    goal : (x, y)
+        The goal.
+    p : mapping
+        Resolved field parameters (:func:`gridfield.potential.resolve_params`): ``ka``, ``kr``, ``ko``,
+        ``sample_radius`` and ``spacing`` (None: the map's resolution).
+
+    Returns
+    -------
+    Field
+        On the lattice of spacing ``spacing`` over the world's bounds; its ``params`` are ``p`` with the
+        spacing used.
+
+    Raises
+    ------
+    ParameterError
+        A map without a vector world, a world without a start, or obstacles that are not circles.
+
+    Examples
+    --------
+    >>> from gridfield.io import bundled_map, read_world
+    >>> from gridfield.potential import resolve_params
+    >>> from gridfield.rasterize import rasterize
+    >>> w = read_world(bundled_map("seed003_circles.yaml"))
+    >>> f = vortex_model_field(rasterize(w, 0.4), w.goal, resolve_params(w.params, unit=0.4))
+    >>> f.map.shape, f.params["spacing"]
+    ((26, 26), 0.4)
+    """
     from .world import World
 
     world = gridmap.world
@@ -279,13 +312,38 @@ def _vortex_norms(field: GradientField, params: Mapping[str, Any]) -> tuple[floa
     return nx, ny
 
 
-def _vortex_follower(field: GradientField, params: Mapping[str, Any]) -> dict[str, Any]:
-    """The follower parameters of the vortex field's nearest-node follower on a vortex Field.
+def vortex_follower_params(field: GradientField, params: Mapping[str, Any]) -> dict[str, Any]:
+    """The follower parameters of the vortex field's nearest-node follower on a vortex Field
+    (what :func:`gridfield.follow.follow_field` uses for ``model="vortex"``).
 
     The nearest-node follower steps ``x += spacing * (Fx / ||fX||_2, Fy / ||fY||_2)``, where ``||.||_2`` is the
     matrix 2-norm (largest singular value) of each force component's array: the scaled rule with
     one gain per axis, nearest-node sampling, tolerance 0.4 and no jitter rule (given values win,
     except the step rule).
+
+    Parameters
+    ----------
+    field : GradientField
+        A vortex Field (:func:`vortex_model_field`).
+    params : mapping
+        The follower and field parameters given.
+
+    Returns
+    -------
+    dict
+        ``params`` with ``sampling``, ``tolerance``, ``confine_window`` defaulted, ``step_rule="scaled"``
+        and ``alpha`` the per-axis gains ``(spacing / ||fX||_2, spacing / ||fY||_2)``.
+
+    Examples
+    --------
+    >>> from gridfield.io import bundled_map, read_world
+    >>> from gridfield.potential import build_field
+    >>> from gridfield.rasterize import rasterize
+    >>> w = read_world(bundled_map("seed003_circles.yaml"))
+    >>> f = build_field(rasterize(w, 0.4), w.goal, w.params)
+    >>> p = vortex_follower_params(f, w.params)
+    >>> p["step_rule"], p["sampling"], [round(a, 6) for a in p["alpha"]]
+    ('scaled', 'nearest', [0.000293, 0.000131])
     """
     merged = dict(params)
     spacing = known(merged).group(Vortex).spacing

@@ -63,3 +63,35 @@ def test_contract_names_every_module_of_the_package() -> None:
     modules = {p.stem for p in package.glob("*.py") if p.stem != "__init__"}
     modules |= {p.parent.name for p in package.glob("*/__init__.py")}
     assert modules == listed, (sorted(modules - listed), sorted(listed - modules))
+
+
+def _private_imports():
+    import sys
+
+    sys.path.insert(0, str(ROOT / "tools"))
+    try:
+        import private_imports
+    finally:
+        sys.path.pop(0)
+    return private_imports
+
+
+def test_no_private_name_is_imported_from_outside_its_owner() -> None:
+    """Private names and modules stay with their owner (kernels exempt): ``tools/private_imports.py``."""
+    found = _private_imports().violations((ROOT / "gridfield").rglob("*.py"), ROOT)
+    assert found == [], "\n".join(f"{a}: imports {n} from {m}" for a, m, n in found)
+
+
+@pytest.mark.parametrize(("module", "line", "expected"), [
+    ("follow.py", "    from .sampling import _lazy_force  # noqa\n", ("gridfield.follow", "gridfield.sampling", "_lazy_force")),
+    ("navfn.py", "    from .navigation import _field  # noqa\n", ("gridfield.navfn", "gridfield.navigation", "_field")),
+    ("cli/plan.py", "    from ..io._common import check  # noqa\n", ("gridfield.cli.plan", "gridfield.io._common", "(module)")),
+])
+def test_a_private_import_is_reported(tmp_path: Path, module: str, line: str, expected: tuple[str, str, str]) -> None:
+    """The check can fail: one offending function-local import in a copy of the package is found,
+    while the same package uses its own private modules freely (io's readers share io._common)."""
+    shutil.copytree(ROOT / "gridfield", tmp_path / "gridfield", ignore=shutil.ignore_patterns("*.so", "*.c", "__pycache__"))
+    target = tmp_path / "gridfield" / module
+    target.write_text(target.read_text() + "\n\ndef _injected() -> None:\n" + line)
+    found = _private_imports().violations((tmp_path / "gridfield").rglob("*.py"), tmp_path)
+    assert found == [expected]

@@ -26,9 +26,9 @@ class _Parser(argparse.ArgumentParser):
     """argparse, but a usage error is one line on stderr (and exit code 2), like every other error."""
 
     def error(self, message: str) -> NoReturn:
-        from ..errors import _cap
+        from ..errors import cap_message
 
-        message = " ".join(_cap(message).split())  # a huge or multi-line value stays one short line
+        message = " ".join(cap_message(message).split())  # a huge or multi-line value stays one short line
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
     def parse_known_args(self, args: Sequence[str] | None = None,  # type: ignore[override]

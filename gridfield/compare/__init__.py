@@ -42,7 +42,7 @@ factor on grid maps, the exact optimum).
 from __future__ import annotations
 
 from ._batch import batch_compare
-from ._common import _optimum_fn as _optimum_fn  # gridfield.sweep's any-angle optimum column
+from ._common import optimum_solver
 from ._metrics import (
     collides,
     discrete_frechet,
@@ -82,6 +82,7 @@ __all__ = [
     "max_deviation",
     "min_clearance",
     "observed_order",
+    "optimum_solver",
     "resample",
     "status_agreement",
     "study_errors",

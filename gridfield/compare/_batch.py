@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 
 from ..errors import GridfieldError, ParameterError, check_positive
 from ..world import World
-from ._common import _as_world, _grid_factor, _optimum_fn
+from ._common import _as_world, _grid_factor, optimum_solver
 from ._metrics import length_ratio
 
 
@@ -116,7 +116,7 @@ def batch_compare(
         from ..gridpoly import block_downsample
 
         gm = block_downsample(base, _grid_factor(base, h))
-    optimum = _optimum_fn(world)
+    optimum = optimum_solver(world)
 
     rng = np.random.default_rng(seed)
     pairs = _random_pairs(world, gm, int(n_pairs), rng, h, optimum)

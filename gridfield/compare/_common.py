@@ -15,12 +15,35 @@ from ..errors import GridfieldError, ParameterError
 from ..world import World
 
 
-def _optimum_fn(world: Any, *, cache: dict[Any, Any] | None = None
-                ) -> Callable[[NDArray[np.float64], NDArray[np.float64]], float]:
+def optimum_solver(world: Any, *, cache: dict[Any, Any] | None = None
+                   ) -> Callable[[NDArray[np.float64], NDArray[np.float64]], float]:
     """``(start, goal) -> exact optimum length`` (NaN for a bad point) on a World or a GridMap: the
     any-angle graph of the grid for a grid map or a world made from one (gridfield.gridpoly), kept in
     ``cache`` when given (the plan cache: :func:`gridfield.planners.plan` finds the same graph there),
-    else the visibility graph of the world (the one ``plan("visibility")`` uses, cached per world)."""
+    else the visibility graph of the world (the one ``plan("visibility")`` uses, cached per world).
+
+    Parameters
+    ----------
+    world : World or GridMap
+        Where the optimum is sought.
+    cache : dict, optional
+        A plan cache (``gridfield.planners.plan(..., cache=)``) to keep the any-angle graph in.
+
+    Returns
+    -------
+    callable
+        ``solver(start, goal)``: the length of the shortest collision-free path (NaN when a point is
+        blocked or no path exists).
+
+    Examples
+    --------
+    >>> from gridfield.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "border": "wall",
+    ...                      "obstacles": [{"polygon": [[4, 0], [6, 0], [6, 8], [4, 8]]}]})
+    >>> solver = optimum_solver(w)
+    >>> round(solver(np.array([2.0, 2.0]), np.array([8.0, 2.0])), 4)  # over the corners (4, 8), (6, 8): 2 sqrt(40) + 2
+    14.6491
+    """
     from ..grid import GridMap
     from ..gridpoly import source_grid
 
@@ -34,9 +57,9 @@ def _optimum_fn(world: Any, *, cache: dict[Any, Any] | None = None
 
         solver: Any = grid_graph(gm, cache=cache)
     else:
-        from ..visibility import _cached_graph
+        from ..visibility import cached_visibility_graph
 
-        solver = _cached_graph(world, "block")
+        solver = cached_visibility_graph(world, "block")
 
     def optimum(s: NDArray[np.float64], g: NDArray[np.float64]) -> float:
         try:
@@ -48,7 +71,7 @@ def _optimum_fn(world: Any, *, cache: dict[Any, Any] | None = None
 
 
 def _optimum(world: World, start: NDArray[np.float64], goal: NDArray[np.float64]) -> float:
-    return _optimum_fn(world)(start, goal)
+    return optimum_solver(world)(start, goal)
 
 
 def _as_world(target: Any, what: str) -> tuple[World, Any]:

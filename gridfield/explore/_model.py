@@ -356,9 +356,9 @@ class ExplorerModel:
         if isinstance(target, GridMap):
             unit = target.grid.resolution
         elif isinstance(target, World):
-            from ..exact import _default_step
+            from ..exact import default_step
 
-            unit = _default_step(target)
+            unit = default_step(target)
         else:
             unit = 1.0
         return resolve(self.params, unit=unit)
@@ -426,12 +426,12 @@ class ExplorerModel:
         """The workspace map with ``ob``'s cells occupied, rasterized as :func:`gridfield.rasterize.rasterize`
         does (cells already occupied keep their lower id); ``drawn``: the outline to keep in the meta
         of a map without a world."""
-        from ..rasterize import _obstacle_mask, _tolerance
+        from ..rasterize import rasterize_obstacle
 
         gm = self.gridmap
         assert gm is not None
         new = np.zeros(gm.shape, bool)
-        hit = _obstacle_mask(gm.grid, ob, _tolerance(gm.grid))
+        hit = rasterize_obstacle(gm.grid, ob)
         if hit is not None:
             (r0, r1, c0, c1), mask = hit
             sl = (slice(r0, r1 + 1), slice(c0, c1 + 1))
@@ -449,7 +449,7 @@ class ExplorerModel:
     def _unburn_obstacle(self, ob: Obstacle) -> GridMap:
         """The workspace map without ``ob`` (already removed from ``self.world``): its cells are freed,
         or given to the lowest-id remaining obstacle that covers them (only those are rasterized)."""
-        from ..rasterize import _obstacle_mask, _tolerance
+        from ..rasterize import rasterize_obstacle
 
         gm = self.gridmap
         assert gm is not None and gm.obstacle_id is not None and self.world is not None
@@ -458,9 +458,8 @@ class ExplorerModel:
         if mine.any():
             rows, cols = np.nonzero(mine)
             box = (rows.min(), rows.max(), cols.min(), cols.max())
-            eps = _tolerance(gm.grid)
             for other in sorted(self.world.obstacles, key=lambda o: o.id):  # ascending: the lowest id wins
-                hit = _obstacle_mask(gm.grid, other, eps)
+                hit = rasterize_obstacle(gm.grid, other)
                 if hit is None:
                     continue
                 (r0, r1, c0, c1), mask = hit

@@ -146,6 +146,31 @@ class NavigationField:
         return Field(self.map, self.value, self.grad_x, self.grad_y, (float(self.goal[0]), float(self.goal[1])),
                      {"navigation": self.kind, **dict(self.params)})
 
+    def min_clearance(self, points: ArrayLike) -> float:
+        """Smallest Euclidean brushfire distance (cell centre to the nearest obstacle cell centre) over
+        the cells the points lie in (:attr:`Path.min_clearance` of a path on this field).
+
+        Parameters
+        ----------
+        points : array_like, shape (n, 2)
+            World points (those outside the grid are left out; NaN when none is inside).
+
+        Returns
+        -------
+        float
+            In world units; ``inf`` on a map without obstacles.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from gridfield.grid import Grid, GridMap
+        >>> from gridfield.navigation import wavefront
+        >>> nav = wavefront(GridMap(Grid((1, 4), 1.0), np.array([[False, False, True, False]])), (0.5, 0.5))
+        >>> nav.min_clearance([[0.5, 0.5], [1.5, 0.5]])
+        1.0
+        """
+        return _min_clearance(self, np.asarray(points, dtype=float).reshape(-1, 2))
+
     def value_at(self, points: ArrayLike) -> NDArray[np.float64]:
         """Value of the cell containing each world point, shape ``(N,)``; ``inf`` outside the grid.
 

@@ -176,7 +176,7 @@ def _any_angle_optimum(run: Run, target: Any = None) -> float:
     """The exact any-angle optimum of the run's query (NaN when there is none or it cannot be computed).
 
     Solved once per (map, start, goal) and process: the result is kept in the map's plan cache,
-    and so is the graph (:func:`gridfield.compare._optimum_fn` with that cache), which the
+    and so is the graph (:func:`gridfield.compare.optimum_solver` with that cache), which the
     ``visibility`` planner's runs on the map share.
     """
     try:
@@ -185,9 +185,9 @@ def _any_angle_optimum(run: Run, target: Any = None) -> float:
         if key not in cache:
             solver = cache.get("optimal_any_angle_solver")
             if solver is None:
-                from ..compare import _optimum_fn
+                from ..compare import optimum_solver
 
-                solver = cache["optimal_any_angle_solver"] = _optimum_fn(cache["target"], cache=cache)
+                solver = cache["optimal_any_angle_solver"] = optimum_solver(cache["target"], cache=cache)
             cache[key] = solver(np.asarray(run.start, dtype=float), np.asarray(run.goal, dtype=float))
         value = float(cache[key])
     except Exception:  # the column is a reference beside the run: a failure leaves it empty, not the sweep

@@ -10,6 +10,7 @@ re-export them; import them from there. (:class:`gridfield.navigation.Navigation
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -209,6 +210,8 @@ class GradientField(Protocol):
         The potential (or navigation value) and its derivatives along x and y at the cell centres
         (the force is ``-grad``).
     goal : (x, y)
+    params : mapping
+        The parameters the field was built with; the follower's given parameters are laid over them.
 
     Examples
     --------
@@ -243,3 +246,7 @@ class GradientField(Protocol):
     @property
     def goal(self) -> ArrayLike:
         """The goal ``(x, y)``."""
+
+    @property
+    def params(self) -> Mapping[str, Any]:
+        """The parameters the field was built with (the follower starts from them; may be empty)."""

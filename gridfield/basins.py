@@ -21,11 +21,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from ._results import GradientField
 from .grid import Grid
 
 __all__ = ["Basins", "basins", "descent_successor"]
@@ -124,7 +124,7 @@ def descent_successor(potential: NDArray[np.float64], free: NDArray[np.bool_]) -
     return succ.reshape(-1)
 
 
-def basins(field: Any) -> Basins:
+def basins(field: GradientField) -> Basins:
     """Basins of attraction of discrete steepest descent on ``field.potential`` (no loop over cells).
 
     Each free cell moves to its lowest 8-neighbour while that is lower (:func:`descent_successor`);

@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ._results import Field
 from .escapes import NavigationEscape
 
 if TYPE_CHECKING:
@@ -121,7 +122,7 @@ def robot_no_path(path: Path, point: Path, robot: str, start: Any, goal: Any) ->
     return dataclasses.replace(path, extra={**path.extra, "hint": hint, "diagnosis": diagnosis})
 
 
-def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None, *,
+def diagnose(path: Any, field: Field, escape: NavigationEscape | None = None, *,
              follow: Callable[..., Any] | None = None) -> dict[str, Any]:
     """The diagnosis of a potential-field run that did not reach its goal (see the module docstring).
 
@@ -235,7 +236,7 @@ def diagnose(path: Any, field: Any, escape: NavigationEscape | None = None, *,
 Q_STAR_TRIES = (0.9, 0.5)
 
 
-def _try_q_star(path: Any, field: Any, clearance: float, follow: Callable[..., Any]) -> list[list[Any]]:
+def _try_q_star(path: Any, field: Field, clearance: float, follow: Callable[..., Any]) -> list[list[Any]]:
     """Re-run ``path``'s query with each ``q_star`` of :data:`Q_STAR_TRIES` until one reaches.
 
     The field is rebuilt on the same map with the same brushfire (``field.distance``) and the same
@@ -272,7 +273,7 @@ def _try_q_star(path: Any, field: Any, clearance: float, follow: Callable[..., A
     return tried
 
 
-def _narrowest(field: Any, stall: tuple[float, float]) -> tuple[float, list[float]] | None:
+def _narrowest(field: Field, stall: tuple[float, float]) -> tuple[float, list[float]] | None:
     """``(clearance, point)`` of the passage every path from ``stall`` to the goal must squeeze through:
     the bottleneck clearance ``b``, the largest ``t`` such that the free cells with brushfire distance
     ``>= t`` still join the stall's cell to the goal's (4-connected; around an open border the

@@ -60,6 +60,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ._results import GradientField
 from .grid import Grid, GridMap
 
 __all__ = ["NavigationEscape", "cut_loops", "navigation_cut", "navigation_finish", "navigation_map", "navigation_moves",
@@ -487,7 +488,7 @@ class NavigationEscape:
     [1.5, 0.5, -0.5, -0.5, -0.5, 0.5, 1.5, 2.5]
     """
 
-    def __init__(self, field: Any) -> None:
+    def __init__(self, field: GradientField) -> None:
         self.field = field
         self.gridmap: GridMap = field.map
         self.goal = np.asarray(field.goal, dtype=float).reshape(2)

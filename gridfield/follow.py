@@ -36,6 +36,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._coords import as_xy
 from ._kernels_follow import _blocked_many, _force_many
+from ._results import GradientField
 from ._sampler_args import gradient_arrays, grid_args
 from .basins import Basins, basins, descent_successor
 from .descent import (
@@ -131,7 +132,7 @@ class _Setup:
     vortex: bool
 
 
-def _setup(field: Any, params: Mapping[str, Any] | None) -> _Setup:
+def _setup(field: GradientField, params: Mapping[str, Any] | None) -> _Setup:
     """Resolve the follower parameters for a Field (with the nearest-node follower for the vortex model)."""
     merged = dict(field.params or {})
     merged.update(params or {})
@@ -155,7 +156,7 @@ def _note_outside(extra: dict[str, Any], grid: Grid, pts: NDArray[np.float64]) -
         extra["outside_fraction"] = float(outside.mean())
 
 
-def follow(field: Any, start: ArrayLike, *, params: Mapping[str, Any] | None = None,
+def follow(field: GradientField, start: ArrayLike, *, params: Mapping[str, Any] | None = None,
            navigation: Any = None) -> Path:
     """Follow a Field's force from ``start`` to its goal with :func:`descend`.
 
@@ -510,7 +511,7 @@ class _Active:
             setattr(self, name, getattr(self, name)[mask])
 
 
-def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | None = None,
+def follow_many(field: GradientField, starts: ArrayLike, *, params: Mapping[str, Any] | None = None,
                 keep_paths: bool = True) -> list[Path]:
     """Follow a Field from many starts at once (numpy over the points at every step).
 
@@ -647,7 +648,7 @@ def follow_many(field: Any, starts: ArrayLike, *, params: Mapping[str, Any] | No
                        (code, end_it, reason, stall, osc, coll, slid, last), goal, seconds)
 
 
-def _many_paths(field: Any, S: NDArray[np.float64], params: Mapping[str, Any] | None, p: dict[str, Any], r: Rules,
+def _many_paths(field: GradientField, S: NDArray[np.float64], params: Mapping[str, Any] | None, p: dict[str, Any], r: Rules,
                 sampling: str, keep_paths: bool, hist: tuple[list[Any], list[Any], list[Any]], ends: tuple[Any, ...],
                 goal: Point, seconds: float) -> list[Path]:
     """:func:`follow_many`'s Paths from the positions it recorded (``hist``) and how each point stopped

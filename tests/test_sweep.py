@@ -256,13 +256,13 @@ def test_optimal_any_angle_column_is_the_visibility_optimum_on_a_moving_ai_map(t
     assert len(runs) == 8 * 2 * 2 and all(r.any_angle for r in runs)
     builds = _count_graph_builds(monkeypatch)
     solved: list[tuple] = []
-    real_fn = gridfield.compare._optimum_fn
+    real_fn = gridfield.compare.optimum_solver
 
     def counting_fn(world, **kw):
         solve = real_fn(world, **kw)
         return lambda s, g: solved.append((tuple(s), tuple(g))) or solve(s, g)
 
-    monkeypatch.setattr(gridfield.compare, "_optimum_fn", counting_fn)
+    monkeypatch.setattr(gridfield.compare, "optimum_solver", counting_fn)
     rows = run_sweep(runs, output, workers=1, progress=False)
     assert builds == [1]  # shared by both planners, both parameter sets and the column
     assert sorted(solved) == sorted({(r.start, r.goal) for r in runs})  # each query solved once

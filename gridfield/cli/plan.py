@@ -18,6 +18,7 @@ from ._common import (
 )
 
 if TYPE_CHECKING:
+    from .._results import Field
     from ..path import Path
 
 
@@ -183,7 +184,7 @@ def _is_stored_field(target: object) -> bool:
     return isinstance(target, Field) and is_lazy(target)
 
 
-def _follow_stored(args: argparse.Namespace, field: object, params: dict[str, object]) -> int:
+def _follow_stored(args: argparse.Namespace, field: Field, params: dict[str, object]) -> int:
     """``plan F.zarr --start X Y``: the follower on a stored field, reading only the chunks it crosses."""
     from ..errors import ParameterError
     from ..follow import follow
@@ -196,8 +197,8 @@ def _follow_stored(args: argparse.Namespace, field: object, params: dict[str, ob
             raise ParameterError(f"--{opt} does not apply to a field store ({args.map} is read by chunks)")
     if args.start is None:
         raise ParameterError(f"{args.map} names no start; pass --start X Y")
-    gx, gy = field.goal  # type: ignore[attr-defined]
-    grid = field.map.grid  # type: ignore[attr-defined]
+    gx, gy = field.goal
+    grid = field.map.grid
     if args.goal is not None and grid.cell_of(*args.goal) != grid.cell_of(gx, gy):  # the goal's cell, as built
         raise ParameterError(f"{args.map} is the field of the goal ({gx:g}, {gy:g}); --goal "
                              f"{args.goal[0]:g} {args.goal[1]:g} asks for another (build its field first)")

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._results import GradientField
 from ..errors import GridfieldError, ParameterError
 from ..grid import Grid, GridMap
 from ..path import Path
@@ -334,7 +335,7 @@ def plot_potential(
     return art
 
 
-def _potential_free_cells(field: Any, grid: Grid, levels: int) -> NDArray[np.bool_]:
+def _potential_free_cells(field: GradientField, grid: Grid, levels: int) -> NDArray[np.bool_]:
     """plot_potential, phase 1: check the input; the free cells with a finite potential."""
     gm = _gridmap_of(field)
     u = np.asarray(field.potential, dtype=float)
@@ -390,7 +391,7 @@ def _draw_potential_obstacles(ax: Axes, art: Artists, grid: Grid, finite: NDArra
         art.obstacles += draw_outlines(ax, world, color="white", zorder=2)
 
 
-def _draw_potential_run(ax: Axes, art: Artists, field: Any, grid: Grid, path: Path | None,
+def _draw_potential_run(ax: Axes, art: Artists, field: GradientField, grid: Grid, path: Path | None,
                         stall_points: ArrayLike | None) -> None:
     """plot_potential, phase 4: the path (with its stall points), explicit stall points, start and goal."""
     world = _world_of(field)

@@ -183,11 +183,12 @@ def plot_convergence(
         ax.xaxis.set_major_formatter(plain)
         ax.xaxis.set_minor_formatter(NullFormatter())
         ax.yaxis.set_major_formatter(plain)
-        _legend(ax, art)
     else:
         ax.text(0.5, 0.5, "no positive errors to plot", transform=ax.transAxes, ha="center", va="center")
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
+    if art.paths:  # after the axis labels: a legend below the axes goes under them
+        _legend(ax, art)
     ax.grid(True, which="both", alpha=0.3)
     ax.set_title((title if title is not None else "convergence") + (" (one resolution: no slope)" if single else ""))
     return art

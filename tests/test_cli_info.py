@@ -8,13 +8,15 @@ import math
 
 import numpy as np
 import pytest
+import yaml
 from PIL import Image
 from skimage.measure import label
 
 from gridfield.cli import main
 from gridfield.io import bundled_map
 
-KEYS = {"shape", "resolution", "origin", "border", "occupied_fraction", "obstacles", "source", "format"}
+KEYS = {"shape", "resolution", "origin", "border", "occupied_fraction", "obstacles", "source", "format",
+        "occupied_cells", "unknown_cells", "unknown_as"}
 
 
 def run_json(capsys, *argv):
@@ -50,6 +52,61 @@ def test_info_ros_map_json(capsys):
     assert free["occupied_fraction"] == pytest.approx(795 / 384**2)
     assert free["obstacles"] == components(img == 0)
     assert free["border"] == "open"
+
+
+def ros_pixel_classes(yaml_path) -> tuple[int, int, int]:
+    """(occupied, unknown, free) pixel counts of a trinary ROS map, from its image and the YAML's own
+    thresholds (map_server: occupancy p = (255 - v) / 255, or v / 255 with negate; p above occupied_thresh
+    is occupied, below free_thresh free, between unknown). No pixel may sit on a threshold, where the two
+    ROS loaders differ."""
+    doc = yaml.safe_load(yaml_path.read_text())
+    assert doc.get("mode", "trinary") == "trinary"
+    with Image.open(yaml_path.parent / doc["image"]) as im:
+        v = np.asarray(im.convert("L"), dtype=np.float64)
+    p = v / 255.0 if doc.get("negate", 0) else (255.0 - v) / 255.0
+    occ, free = float(doc.get("occupied_thresh", 0.65)), float(doc.get("free_thresh", 0.196))
+    assert not np.any(np.isclose(p, occ, atol=1e-6)) and not np.any(np.isclose(p, free, atol=1e-6))
+    n_occ, n_free = int(np.count_nonzero(p > occ)), int(np.count_nonzero(p < free))
+    return n_occ, p.size - n_occ - n_free, n_free
+
+
+@pytest.mark.parametrize("name", ["turtlebot3_world/map.yaml", "mdr_wrs20-arena/map.yaml",
+                                  "nav2_warehouse/warehouse.yaml"])
+def test_info_says_how_many_cells_are_unknown_and_that_they_count_as_occupied(shared_maps, name, capsys):
+    """ROS maps' grey (205) cells are unknown: info counts them as occupied and says so, in text and JSON."""
+    path = shared_maps / "ros_maps" / name
+    n_occ, n_unknown, n_free = ros_pixel_classes(path)
+    assert n_unknown > 0
+    cells = n_occ + n_unknown + n_free
+    info = run_json(capsys, path)
+    assert info["occupied_cells"] == n_occ + n_unknown
+    assert info["unknown_cells"] == n_unknown and info["unknown_as"] == "occupied"
+    assert info["occupied_fraction"] == pytest.approx((n_occ + n_unknown) / cells)
+    assert main(["info", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert f"occupied cells:    {n_occ + n_unknown} of {cells} (of which unknown {n_unknown}, treated as occupied)\n" in out
+    free = run_json(capsys, path, "--unknown", "free")
+    assert free["occupied_cells"] == n_occ
+    assert free["unknown_cells"] == n_unknown and free["unknown_as"] == "free"
+    assert main(["info", str(path), "--unknown", "free"]) == 0
+    out = capsys.readouterr().out
+    assert f"occupied cells:    {n_occ} of {cells}\n" in out
+    assert f"unknown cells:     {n_unknown}, treated as free (--unknown free)\n" in out
+
+
+def test_info_of_a_map_without_unknown_cells_says_nothing_of_them(shared_maps, capsys):
+    """A Moving AI map has no unknown cells (null in JSON, no mention in text); a ROS map whose pixels are
+    all free or occupied has none either (0, and no mention)."""
+    arena = run_json(capsys, shared_maps / "movingai" / "arena" / "arena.map")
+    assert arena["unknown_cells"] is None and arena["unknown_as"] is None
+    path = shared_maps / "ros_maps" / "nav2_smoothers_world" / "smoothers_world.yaml"
+    n_occ, n_unknown, n_free = ros_pixel_classes(path)
+    assert n_unknown == 0
+    info = run_json(capsys, path)
+    assert info["occupied_cells"] == n_occ and info["unknown_cells"] == 0
+    assert main(["info", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert f"occupied cells:    {n_occ} of {n_occ + n_free}\n" in out and "unknown" not in out
 
 
 def test_info_movingai_json(capsys):

@@ -1,6 +1,6 @@
 """``gridfield compare`` as a newcomer meets it: every row's reason in the table, unusable resolutions
 skipped with a word, ``--scenario F --index N``, numbers (never strings) in ``--json``, and a plot
-only of resolutions that ran."""
+of the resolutions that ran (one is enough)."""
 
 from __future__ import annotations
 
@@ -73,14 +73,52 @@ def test_compare_json_has_no_strings_for_numbers(capsys: pytest.CaptureFixture[s
     assert _strings(doc) == []
 
 
-def test_plot_needs_two_resolutions_that_ran(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:
+ONE_RAN = [ARENA, "--start", "1.5", "37.5", "--goal", "45.5", "3.5", "--planner", "wavefront-octile",
+           "--exact-planner", "visibility"]  # on arena only resolution 1 of 8, 4, 2, 1 has both points free
+
+
+def test_plot_with_one_resolution_that_ran_draws_it(tmp_path, capsys: pytest.CaptureFixture[str],
+                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    """A plot of one resolution is still a plot: exit 0, the table, and the figure of that row's errors
+    (the values drawn are the ones --json reports for the row; no slope line, which needs two)."""
+    from PIL import Image
+
+    import gridfield.plot
+
+    assert main(["compare", *ONE_RAN, "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["rows"]
+    ran = [r for r in rows if r["status"] == "reached"]
+    assert [r["resolution"] for r in rows] == [8, 4, 2, 1] and [r["resolution"] for r in ran] == [1]
+    drawn = []
+    real = gridfield.plot.plot_convergence
+    monkeypatch.setattr(gridfield.plot, "plot_convergence", lambda *a, **k: drawn.append(real(*a, **k)) or drawn[-1])
     f = tmp_path / "c.png"
-    assert main(["compare", ARENA, "--start", "1.5", "37.5", "--goal", "45.5", "3.5", "--planner", "wavefront-octile",
-                 "--exact-planner", "visibility", "--plot", str(f)]) == 2
-    assert "needs two resolutions that ran, 1 did" in capsys.readouterr().err and not f.exists()
+    assert main(["compare", *ONE_RAN, "--plot", str(f)]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == ""
+    out = captured.out.splitlines()
+    assert [line.split()[4] for line in out[2:6]] == ["skipped", "skipped", "skipped", "reached"]  # the table
+    assert out[-1] == f"wrote {f} (one resolution ran: its errors, no order)"
+    with Image.open(f) as im:
+        assert im.format == "PNG" and len(set(np.asarray(im.convert("L")).ravel().tolist())) > 2
+    (art,) = drawn
+    points = {line.get_label(): (list(line.get_xdata()), list(line.get_ydata())) for line in art.paths}
+    row = ran[0]
+    assert points == {"Hausdorff": ([1.0], [row["hausdorff"]]), "Frechet": ([1.0], [row["frechet"]]),
+                      "|length ratio - 1|": ([1.0], [pytest.approx(abs(row["length_ratio"] - 1))])}
+    assert art.extra["reference"] == [] and "one resolution" in art.ax.get_title()
+
+
+def test_plot_when_no_resolution_ran_says_so_in_one_line(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:
+    f = tmp_path / "c.png"
+    assert main(["compare", *ONE_RAN, "--resolutions", "8", "4", "--plot", str(f)]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert [line.split()[4] for line in out[2:4]] == ["skipped", "skipped"]
+    assert out[-1].startswith(f"no plot written to {f}: none of the 2 resolutions ran (see the table)")
+    assert not f.exists()
     assert main(["compare", ARENA, "--start", "10", "10", "--goal", "42", "42", "--planner", "wavefront-octile",
                  "--exact-planner", "visibility", "--plot", str(f)]) == 0
-    assert f.is_file()
+    assert f.is_file() and capsys.readouterr().out.splitlines()[-1] == f"wrote {f}"
 
 
 def test_the_default_exact_planner_is_what_the_grid_planner_converges_to(capsys: pytest.CaptureFixture[str]) -> None:

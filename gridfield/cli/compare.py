@@ -144,7 +144,9 @@ def _print_table(rows: Sequence[Mapping[str, Any]], orders: Mapping[str, float],
     print(f"observed order (error ~ h^p): {shown}")
 
 
-def _plot(file: str, rows: Sequence[Mapping[str, Any]], title: str) -> None:
+def _plot(file: str, rows: Sequence[Mapping[str, Any]], title: str) -> str:
+    """Draw the errors of the resolutions that ran into ``file`` (one resolution is drawn too, without a
+    slope); return the line to print: ``wrote F``, or, when no resolution ran, why nothing was written."""
     import matplotlib.pyplot as plt
 
     from ..compare import study_errors
@@ -155,9 +157,9 @@ def _plot(file: str, rows: Sequence[Mapping[str, Any]], title: str) -> None:
     from ..errors import GridfieldError
 
     ran = [r for r in rows if ":" not in r["status"]]  # skipped and failed resolutions have no errors
-    if len(ran) < 2:
-        raise GridfieldError(f"{file}: the convergence plot needs two resolutions that ran, {len(ran)} did "
-                             "(see the table); give --resolutions at which start and goal are free")
+    if not ran:
+        return (f"no plot written to {file}: none of the {len(rows)} resolutions ran (see the table); give "
+                "--resolutions at which start and goal are free")
     errors = {names[k]: v for k, v in study_errors(ran).items()}
     h = [r["resolution"] for r in ran]
 
@@ -168,6 +170,7 @@ def _plot(file: str, rows: Sequence[Mapping[str, Any]], title: str) -> None:
         raise GridfieldError(f"{file}: cannot write: {e.strerror or e}") from None
     finally:
         plt.close(art.figure)
+    return f"wrote {file}" + (" (one resolution ran: its errors, no order)" if len(ran) == 1 else "")
 
 
 def _print_batch(result: Mapping[str, Any]) -> None:
@@ -239,8 +242,8 @@ def run(args: argparse.Namespace) -> int:
         _print_table(rows, orders, f"{args.map}: {args.planner} (grid) vs {args.exact_planner} (exact), "
                                    f"start ({start[0]:g}, {start[1]:g}) goal ({goal[0]:g}, {goal[1]:g}){opt}")
     if args.plot:
-        _plot(args.plot, rows, f"{args.planner} vs {args.exact_planner}")
-        print(f"wrote {args.plot}", file=sys.stderr if args.json else sys.stdout)
+        print(_plot(args.plot, rows, f"{args.planner} vs {args.exact_planner}"),
+              file=sys.stderr if args.json else sys.stdout)
     return 0
 
 

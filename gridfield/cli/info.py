@@ -1,4 +1,4 @@
-"""``gridfield info``: describe a map or world file (shape, resolution, origin, border, obstacles)."""
+"""``gridfield info``: describe a map or world file (shape, resolution, origin, border, occupied and unknown cells, obstacles)."""
 
 from __future__ import annotations
 
@@ -13,7 +13,8 @@ from ._common import add_robot_arguments, robot_target
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "info",
-        help="describe a map: shape, resolution, origin, border, occupied fraction, obstacle count",
+        help="describe a map: shape, resolution, origin, border, occupied fraction and cells (unknown ones "
+             "named), obstacle count",
         description="Load a map or world file and describe its occupancy grid.",
     )
     p.add_argument("map", metavar="MAP",
@@ -79,6 +80,7 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
         "obstacles": int(obstacles),
         "source": str(args.map),
         "format": fmt,
+        **_cell_counts(gm, args.unknown),
     }
     if target is not workspace:
         from ._common import _robot_from_args
@@ -86,6 +88,22 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
         robot = _robot_from_args(args, workspace)
         info["robot"] = robot.describe() if robot is not None else "point"
     return info, gm
+
+
+def _cell_counts(gm: Any, unknown: str | None) -> dict[str, Any]:
+    """``occupied_cells`` and, for a map with unknown cells (ROS, transparent bitmap pixels, an
+    OccupancyGrid), ``unknown_cells`` (of the map as read, before any robot) and ``unknown_as`` (how they
+    are treated: ``"occupied"``, the readers' default, or ``"free"``); both None for a map without them."""
+    import numpy as np
+
+    cells = int(gm.grid.rows) * int(gm.grid.cols)
+    fraction = gm.meta.get("unknown_fraction")
+    counts: dict[str, Any] = {"occupied_cells": int(np.count_nonzero(gm.occupied)), "unknown_cells": None,
+                              "unknown_as": None}
+    if fraction is not None:  # the readers record the mean of the unknown mask: count / cells, exactly recoverable
+        counts["unknown_cells"] = round(float(fraction) * cells)
+        counts["unknown_as"] = unknown or "occupied"
+    return counts
 
 
 def _describe_world(args: argparse.Namespace, workspace: Any, target: Any) -> tuple[dict[str, Any], Any]:
@@ -112,6 +130,9 @@ def _describe_world(args: argparse.Namespace, workspace: Any, target: Any) -> tu
         "obstacle_kinds": dict(sorted(kinds.items())),
         "start": None if target.start is None else [float(v) for v in target.start],
         "goal": None if target.goal is None else [float(v) for v in target.goal],
+        "occupied_cells": None,  # set below when the world is rasterized
+        "unknown_cells": None,
+        "unknown_as": None,
     }
     if robot is not None or target is not workspace:
         info["robot"] = robot.describe() if robot is not None else "point"
@@ -126,6 +147,7 @@ def _describe_world(args: argparse.Namespace, workspace: Any, target: Any) -> tu
 
     gm = as_gridmap(target, resolution)
     info["occupied_fraction"] = float(gm.occupied_fraction)
+    info.update(_cell_counts(gm, None))
     return info, gm
 
 
@@ -155,6 +177,15 @@ def run(args: argparse.Namespace) -> int:
     print(f"border:            {info['border']}")
     if info["occupied_fraction"] is not None:
         print(f"occupied fraction: {info['occupied_fraction']:.4f}")
+    if info.get("occupied_cells") is not None:
+        rows, cols = info["shape"]
+        unknown, treated = info.get("unknown_cells"), info.get("unknown_as")
+        cells = f"{info['occupied_cells']} of {rows * cols}"
+        if unknown and treated == "occupied":
+            cells += f" (of which unknown {unknown}, treated as occupied)"
+        print(f"occupied cells:    {cells}")
+        if unknown and treated == "free":
+            print(f"unknown cells:     {unknown}, treated as free (--unknown free)")
     print(f"obstacles:         {info['obstacles']} ({what})")
     if world:
         kinds = ", ".join(f"{n} {k}{'s' if n != 1 else ''}" for k, n in info["obstacle_kinds"].items())

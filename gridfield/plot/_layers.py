@@ -494,11 +494,63 @@ def _draw_endpoints(ax: Axes, art: Artists, start: NDArray[np.float64] | None, g
                                          edgecolor="black", zorder=zorder, label="goal")
 
 
-def _legend(ax: Axes, art: Artists, *, loc: str = "best", fontsize: float = 8.0) -> None:
+def _legend(ax: Axes, art: Artists, *, loc: str = "outside", fontsize: float = 8.0) -> None:
+    """The legend of what ``ax`` shows; ``loc="outside"`` (the figures' default) puts it beside the axes,
+    covering neither the map nor a path: below the x axis' labels or right of the axes (top-aligned),
+    whichever leaves the map larger. That needs a layout that makes room for it: the constrained layout
+    of the one-map figures gridfield creates (colour bars aside). In a figure of several panels (where
+    the room taken beside one equal-aspect panel shrinks it below its title) or one laid out otherwise
+    it falls back to matplotlib's ``"best"`` inside the axes (the corner the lines and markers cross
+    least). Any other ``loc`` is matplotlib's."""
     handles, labels = ax.get_legend_handles_labels()
-    if handles:
-        art.legend = ax.legend(handles, labels, loc=loc, fontsize=fontsize,  # type: ignore[call-overload]
-                              framealpha=0.85)
+    if not handles:
+        return
+    from matplotlib.figure import Figure
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    where: dict[str, Any] = {"loc": loc}
+    fig = ax.get_figure()  # a subfigure (not a Figure) gets "best" too
+    if loc == "outside":
+        where = {"loc": "best"}
+        if (isinstance(fig, Figure) and isinstance(fig.get_layout_engine(), ConstrainedLayoutEngine)
+                and [a for a in fig.axes if a.get_label() != "<colorbar>"] == [ax]):
+            hint = art.extra.get("hint")  # a path's hint box below the axes: the legend goes under it
+            where = _outside(ax, fig, labels, fontsize, hint=None if hint is None else hint.get_text())
+    art.legend = ax.legend(handles, labels, fontsize=fontsize, framealpha=0.85, **where)
+
+
+def _outside(ax: Axes, fig: Figure, labels: Sequence[str], fontsize: float, *, hint: str | None = None
+             ) -> dict[str, Any]:
+    """Where :func:`_legend` puts a legend beside ``ax``: below (up to three columns, offset past the x
+    tick labels and axis label, and past the hint box :func:`_draw_paths` puts there) or right (one
+    column, a small gap), the side being chosen on an estimate of the legend's size (points: 0.5 em per
+    character, 2.5 em of handle and padding, 1.4 em per row; text lines 1.3 em) against the figure's:
+    the one that scales the shown area less. With a hint, always below it (a legend beside the axes
+    and a hint box wider than them are not laid out on the first draw)."""
+    import matplotlib as mpl
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.transforms import ScaledTranslation
+
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    dw, dh = max(abs(x1 - x0), 1e-300), max(abs(y1 - y0), 1e-300)
+    fw, fh = (72.0 * v - 60.0 for v in fig.get_size_inches())  # points, less the axes' labels
+    entries = sorted((0.5 * fontsize * len(t) + 2.5 * fontsize for t in labels), reverse=True)
+    ncols = next((c for c in (3, 2) if c <= len(labels) and sum(entries[:c]) <= fw), 1)
+    rows = -(-len(labels) // ncols)
+    size = FontProperties(size=mpl.rcParams["xtick.labelsize"]).get_size_in_points()
+    below = float(mpl.rcParams["xtick.major.size"]) + float(mpl.rcParams["xtick.major.pad"]) + 1.3 * size + 4.0
+    if ax.get_xlabel():
+        below += 1.3 * float(ax.xaxis.label.get_fontsize()) + float(ax.xaxis.labelpad)
+    if hint is not None:  # the box's top is 36 points under the axes; 7-point lines, 0.3 em of padding
+        below = max(below, 36.0 + 1.3 * 7.0 * (hint.count("\n") + 1) + 2 * 2.1 + 6.0)
+    tall = below + 1.4 * fontsize * rows + fontsize
+    if hint is not None or min(fw / dw, (fh - tall) / dh) >= min((fw - entries[0] - 6.0) / dw, fh / dh):
+        shift = ScaledTranslation(0.0, -below / 72.0, fig.dpi_scale_trans)
+        return {"loc": "upper center", "bbox_to_anchor": (0.5, 0.0), "bbox_transform": ax.transAxes + shift,
+                "ncols": ncols, "borderaxespad": 0.0}
+    shift = ScaledTranslation(6.0 / 72.0, 0.0, fig.dpi_scale_trans)
+    return {"loc": "upper left", "bbox_to_anchor": (1.0, 1.0), "bbox_transform": ax.transAxes + shift,
+            "borderaxespad": 0.0}
 
 
 def _finite_levels(lo: float, hi: float, n: int) -> NDArray[np.float64]:

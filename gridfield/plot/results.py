@@ -118,7 +118,8 @@ def plot_convergence(
         Each sequence as long as ``resolutions``. Non-positive or non-finite values are left out
         (they have no logarithm); a column with none left is not drawn.
     slopes : sequence of float
-        Reference lines ``error ∝ h**s`` (dotted), anchored at the first column's coarsest point.
+        Reference lines ``error ∝ h**s`` (dotted), anchored at the first column's coarsest point;
+        with a single resolution there is no slope: its errors are drawn alone, and the axes say so.
 
     Returns
     -------
@@ -162,12 +163,16 @@ def plot_convergence(
         (line,) = ax.plot(h[order][ok], e[order][ok], marker=markers[i % len(markers)], label=name)
         art.paths.append(line)
     art.extra["reference"] = []
+    single = False
     if art.paths:
         x0, y0 = art.paths[0].get_xdata()[-1], art.paths[0].get_ydata()[-1]
         hh = np.array([h.min(), h.max()])
-        for s in slopes:
-            (ref,) = ax.plot(hh, y0 * (hh / x0) ** s, linestyle=":", color="0.4", label=rf"$\propto h^{{{s:g}}}$")
-            art.extra["reference"].append(ref)
+        if hh[0] < hh[1]:
+            for s in slopes:
+                (ref,) = ax.plot(hh, y0 * (hh / x0) ** s, linestyle=":", color="0.4", label=rf"$\propto h^{{{s:g}}}$")
+                art.extra["reference"].append(ref)
+        else:  # one resolution: its errors, but no slope to draw or compare (the title says so)
+            single = True
         from matplotlib.ticker import FuncFormatter, NullFormatter
 
         ax.set_xscale("log")
@@ -178,13 +183,14 @@ def plot_convergence(
         ax.xaxis.set_major_formatter(plain)
         ax.xaxis.set_minor_formatter(NullFormatter())
         ax.yaxis.set_major_formatter(plain)
-        _legend(ax, art)
     else:
         ax.text(0.5, 0.5, "no positive errors to plot", transform=ax.transAxes, ha="center", va="center")
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
+    if art.paths:  # after the axis labels: a legend below the axes goes under them
+        _legend(ax, art)
     ax.grid(True, which="both", alpha=0.3)
-    ax.set_title(title if title is not None else "convergence")
+    ax.set_title((title if title is not None else "convergence") + (" (one resolution: no slope)" if single else ""))
     return art
 
 

@@ -3,13 +3,14 @@
 Exact (no saturation, or the nearest obstacle asked for): the separable transform of
 :func:`gridfield.brushfire.brushfire`, split at its one seam. The column pass needs whole columns, the row
 pass whole rows; each is independent across its lines. So the occupancy is rechunked into strips of whole
-columns (the input's column chunks), the column pass (the compiled ``column_block``) gives every cell the
-global row of its nearest obstacle in its column (``int32``), that array is rechunked into strips of whole
-rows (the input's row chunks), and the row pass (:mod:`gridfield._kernels_chunked`: the same lower
-envelope, cimported) gives the distance and the nearest obstacle. The result is rechunked to the input's
-chunks (a slicing: the row chunks already agree). Memory per task: one strip, ``rows x chunk_cols`` of
-occupancy and ``int32`` for the column pass; ``chunk_rows x cols`` of ``int32`` in and ``float64`` (plus two
-``int32`` with the nearest obstacle) out for the row pass.
+columns, the column pass (the compiled ``column_block``) gives every cell the global row of its nearest
+obstacle in its column (``int32``), that array is rechunked into strips of whole rows, and the row pass
+(:mod:`gridfield._kernels_chunked`: the same lower envelope, cimported) gives the distance and the nearest
+obstacle; the result is rechunked to the input's chunks. Each strip holds about as many cells as the
+input's largest chunk (:func:`strip_chunks`: ``chunk cells / rows`` columns, ``chunk cells / cols`` rows),
+so a task's memory is about one chunk's, whatever the map's size: ``rows x width`` of occupancy and
+``int32`` for the column pass; ``height x cols`` of ``int32`` in and ``float64`` (plus two ``int32`` with
+the nearest obstacle) out for the row pass.
 
 Saturated (``saturate=`` and no nearest obstacle): a cell nearer than the radius has its nearest obstacle
 less than ``h = ceil(saturate / resolution) + 1`` cells away along each axis, and no obstacle inside a
@@ -198,24 +199,44 @@ def distance(
     halo = 0 if sat is None else math.ceil(sat / res) + 1
     if sat is not None and not return_nearest and min(rows, cols) >= halo:  # (else: small, done exactly)
         chunks = tuple(_halo_chunks(cs, halo, sat, res) for cs in occupied.chunks)
-        x = occupied if chunks == occupied.chunks else occupied.rechunk(chunks)
+        x = occupied if chunks == occupied.chunks else occupied.rechunk(chunks, method="tasks")
         ext = da.overlap.overlap(x, depth={0: halo, 1: halo}, boundary={0: wall, 1: wall})
         d = ext.map_blocks(_window_pass, metric, res, sat, far_v, halo, dtype=np.float64, chunks=chunks,
                            meta=np.empty((0, 0), np.float64))
-        return d if chunks == occupied.chunks else d.rechunk(occupied.chunks)
+        return d if chunks == occupied.chunks else d.rechunk(occupied.chunks, method="tasks")
 
-    strips = occupied.rechunk({0: -1, 1: occupied.chunks[1]}, method="tasks")
+    col_chunks, row_chunks = strip_chunks(occupied)
+    strips = occupied.rechunk(col_chunks, method="tasks")
     vr = strips.map_blocks(_column_pass, wall, dtype=np.int32, meta=np.empty((0, 0), np.int32))
-    vr_rows = vr.rechunk({0: occupied.chunks[0], 1: -1}, method="tasks")
+    vr_rows = vr.rechunk(row_chunks, method="tasks")
     if not return_nearest:
         out = vr_rows.map_blocks(_row_pass, metric, rows, wall, res, False, dtype=np.float64,
                                  meta=np.empty((0, 0), np.float64))
-        d = out.rechunk(occupied.chunks)
+        d = out.rechunk(occupied.chunks, method="tasks")
         return d if sat is None else _saturated(d, sat, far_v)
-    dist, nr, nc = (a.rechunk(occupied.chunks) for a in _row_pass_nearest(vr_rows, rows, wall, res))
+    dist, nr, nc = (a.rechunk(occupied.chunks, method="tasks") for a in _row_pass_nearest(vr_rows, rows, wall, res))
     if sat is not None:
         dist = _saturated(dist, sat, far_v)
     return dist, nr, nc
+
+
+def strip_chunks(occupied: da.Array) -> tuple[dict[int, int], dict[int, int]]:
+    """The chunks of the two passes' strips: whole columns for the column pass, whole rows for the row
+    pass, each strip about as many cells as the input's largest chunk (so a task's inputs and outputs
+    are about one chunk's, whatever the map's size), never wider than the input's chunks.
+
+    Examples
+    --------
+    >>> import dask.array as da
+    >>> strip_chunks(da.zeros((8192, 4096), bool, chunks=1024))
+    ({0: -1, 1: 128}, {0: 256, 1: -1})
+    """
+    rows, cols = occupied.shape
+    r_max, c_max = max(occupied.chunks[0], default=1), max(occupied.chunks[1], default=1)
+    cells = r_max * c_max
+    width = min(c_max, max(1, cells // max(rows, 1)))
+    height = min(r_max, max(1, cells // max(cols, 1)))
+    return {0: -1, 1: width}, {0: height, 1: -1}
 
 
 def _row_pass_triple(vr: NDArray[np.int32], row0: int, rows: int, wall: bool,

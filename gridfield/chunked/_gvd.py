@@ -24,7 +24,15 @@ from numpy.typing import NDArray
 from .._kernels import kernels
 from ..brushfire import BORDER_LABEL
 from ..errors import ParameterError, check_positive
-from ._distance import BORDERS, _check_choice, _column_pass, _dask_array, _row_pass_nearest, check_occupied
+from ._distance import (
+    BORDERS,
+    _check_choice,
+    _column_pass,
+    _dask_array,
+    _row_pass_nearest,
+    check_occupied,
+    strip_chunks,
+)
 from ._labels import labels
 
 __all__ = ["gvd"]
@@ -102,7 +110,7 @@ def gvd(occupied: Any, *, resolution: float = 1.0, border: str = "wall") -> tupl
     if rows == 0 or cols == 0:
         raise ParameterError(f"the occupancy is empty (shape {occupied.shape})")
     lab = labels(occupied)
-    col_chunks = {0: -1, 1: occupied.chunks[1]}
+    col_chunks, row_chunks = strip_chunks(occupied)
     strips = occupied.rechunk(col_chunks, method="tasks")
     vr = strips.map_blocks(_column_pass, wall, dtype=np.int32, meta=np.empty((0, 0), np.int32))
     # beyond the grid: the wall's label; with an open border only a map without obstacles has no nearest
@@ -110,12 +118,11 @@ def gvd(occupied: Any, *, resolution: float = 1.0, border: str = "wall") -> tupl
     outside = BORDER_LABEL if wall else 0
     l1 = da.map_blocks(_gather_columns, vr, lab.rechunk(col_chunks, method="tasks"), outside, dtype=np.int32,
                        meta=np.empty((0, 0), np.int32))
-    row_chunks = {0: occupied.chunks[0], 1: -1}
     vr_rows = vr.rechunk(row_chunks, method="tasks")
     dist, _, nc = _row_pass_nearest(vr_rows, rows, wall, res)
     label = da.map_blocks(_gather_rows, nc, l1.rechunk(row_chunks, method="tasks"), outside, dtype=np.int32,
-                          meta=np.empty((0, 0), np.int32)).rechunk(occupied.chunks)
-    dist = dist.rechunk(occupied.chunks)
+                          meta=np.empty((0, 0), np.int32)).rechunk(occupied.chunks, method="tasks")
+    dist = dist.rechunk(occupied.chunks, method="tasks")
     g = da.map_overlap(_gvd_block, label, dist, occupied, depth=1, boundary="none", trim=True, dtype=bool,
                        meta=np.empty((0, 0), bool))
     return dist, label, g

@@ -145,3 +145,28 @@ def test_an_axes_laid_out_otherwise_keeps_the_legend_inside_off_the_path(shared_
                           & (d[:, 1] <= legend.y1))
     finally:
         plt.close(fig)
+
+
+def test_a_legend_under_a_hint_box_makes_the_figure_taller_not_the_title_fall_out():
+    """The demo's stalled seed 000 + segment run: the hint box and, under it, the legend below the map.
+    gridfield's own figure grows by the legend's height, so the title, the map and the colour bar stay
+    inside it (with a fixed height the constrained layout pushed the title out of the top)."""
+    from gridfield.io import bundled_map, read_world
+    from gridfield.planners import plan_with_field
+    from gridfield.rasterize import as_gridmap
+
+    w = read_world(bundled_map("seed000_segment.yaml"))
+    gm = as_gridmap(w, 0.1)
+    path, field = plan_with_field("potential", gm, w.start, w.goal, w.params)
+    assert path.status == "local_minimum" and path.hint
+    art = plot_potential(field, path=path, title="seed 000 + segment")
+    try:
+        assert check_legend_beside_the_map(art, [path.points]) == "below"
+        fig = art.figure
+        renderer = fig.canvas.get_renderer()
+        assert fig.get_size_inches()[1] > 5.6  # taller than the default figure
+        for box in (art.ax.title.get_window_extent(renderer), art.ax.get_tightbbox(renderer),
+                    art.extra["hint"].get_window_extent(renderer)):
+            assert fig.bbox.y0 <= box.y0 and box.y1 <= fig.bbox.y1 + 0.5, (box, fig.bbox)
+    finally:
+        plt.close(art.figure)

@@ -43,6 +43,8 @@ MINIMUM_COLORS = ("#4c78a8", "#f58518", "#e45756", "#b279a2", "#9d755d", "#ff9da
                   "#eeca3b", "#9ecae9", "#ffbf79", "#d6a5c9")
 #: Animation formats and the matplotlib writer each needs.
 ANIMATION_FORMATS = {".gif": "pillow", ".mp4": "ffmpeg"}
+#: The label of the figures gridfield creates itself (``ax=None``).
+OWN_FIGURE = "gridfield"
 
 
 @dataclass
@@ -117,6 +119,7 @@ def _new_axes(ax: Axes | None, *, projection: str | None = None, figsize: tuple[
     import matplotlib.pyplot as plt
 
     fig = plt.figure(figsize=figsize, layout="constrained")
+    fig.set_label(OWN_FIGURE)  # gridfield's own figure: a legend below the map may make it taller
     return fig.add_subplot(projection=projection)
 
 
@@ -516,6 +519,10 @@ def _legend(ax: Axes, art: Artists, *, loc: str = "outside", fontsize: float = 8
                 and [a for a in fig.axes if a.get_label() != "<colorbar>"] == [ax]):
             hint = art.extra.get("hint")  # a path's hint box below the axes: the legend goes under it
             where = _outside(ax, fig, labels, fontsize, hint=None if hint is None else hint.get_text())
+            grow = where.pop("grow", 0.0)
+            if grow and fig.get_label() == OWN_FIGURE:  # room for the legend, so that the map keeps its size
+                w, h = fig.get_size_inches()
+                fig.set_size_inches(w, h + grow / 72.0)
     art.legend = ax.legend(handles, labels, fontsize=fontsize, framealpha=0.85, **where)
 
 
@@ -526,7 +533,9 @@ def _outside(ax: Axes, fig: Figure, labels: Sequence[str], fontsize: float, *, h
     column, a small gap), the side being chosen on an estimate of the legend's size (points: 0.5 em per
     character, 2.5 em of handle and padding, 1.4 em per row; text lines 1.3 em) against the figure's:
     the one that scales the shown area less. With a hint, always below it (a legend beside the axes
-    and a hint box wider than them are not laid out on the first draw)."""
+    and a hint box wider than them are not laid out on the first draw). Below, ``"grow"`` is the height
+    in points the legend adds (a figure gridfield created grows by it: the map keeps its size and the
+    title stays inside)."""
     import matplotlib as mpl
     from matplotlib.font_manager import FontProperties
     from matplotlib.transforms import ScaledTranslation
@@ -547,7 +556,7 @@ def _outside(ax: Axes, fig: Figure, labels: Sequence[str], fontsize: float, *, h
     if hint is not None or min(fw / dw, (fh - tall) / dh) >= min((fw - entries[0] - 6.0) / dw, fh / dh):
         shift = ScaledTranslation(0.0, -below / 72.0, fig.dpi_scale_trans)
         return {"loc": "upper center", "bbox_to_anchor": (0.5, 0.0), "bbox_transform": ax.transAxes + shift,
-                "ncols": ncols, "borderaxespad": 0.0}
+                "ncols": ncols, "borderaxespad": 0.0, "grow": 1.4 * fontsize * rows + 2.0 * fontsize}
     shift = ScaledTranslation(6.0 / 72.0, 0.0, fig.dpi_scale_trans)
     return {"loc": "upper left", "bbox_to_anchor": (1.0, 1.0), "bbox_transform": ax.transAxes + shift,
             "borderaxespad": 0.0}

@@ -104,7 +104,7 @@ class ExactField:
         p = resolve_params(params, unit=default_step(world))
         if p["model"] != "khatib":
             raise ParameterError(f"the exact planner implements model 'khatib' only, got model {p['model']!r}; "
-                                 "the vortex model (seed 003) is a grid field: use planner 'potential'")
+                                 "the vortex model is a grid field: use planner 'potential'")
         self.world = world
         self.params = p
         g = np.asarray(goal, dtype=float).reshape(-1)

@@ -182,7 +182,7 @@ def resolve_params(params: Mapping[str, Any] | None = None, *, unit: float = 1.0
     if p["model"] == "vortex":
         if "gradient" in given and p["gradient"] != "finite_difference":
             raise ParameterError(
-                "the vortex model (seed 003) is defined by finite differences on its lattice; "
+                "the vortex model is defined by finite differences on its lattice; "
                 "use gradient='finite_difference' (or leave gradient unset)"
             )
         p["gradient"] = "finite_difference"

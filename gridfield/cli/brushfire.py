@@ -37,7 +37,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument("--metric", choices=("chessboard", "taxicab", "euclidean"), default=None,
                    help="what the distance measures (default: chessboard for 8-connectivity, taxicab for 4)")
     p.add_argument("--saturate", type=_positive, default=None, metavar="R",
-                   help="saturation radius in world units: distances at or beyond it become infinite (seed 004)")
+                   help="saturation radius in world units: distances at or beyond it become infinite")
     p.add_argument("--npz", metavar="F",
                    help="write occupied, steps, distance, nearest_row, nearest_col, label, gvd "
                         "+ resolution, origin, border to the .npz file F")

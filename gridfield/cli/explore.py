@@ -1,4 +1,4 @@
-"""``gridfield explore``: the interactive explorer (seed 004's workflow) in a window or a browser."""
+"""``gridfield explore``: the interactive explorer (obstacles, robot, configuration space, plan) in a window or a browser."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from ._common import add_map_arguments, add_param_arguments, add_robot_arguments
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "explore", help="open the interactive explorer on a map (a window, or a browser with --web)",
-        description="Open the interactive explorer (seed 004's workflow): left clicks set the start and then the "
+        description="Open the interactive explorer: left clicks set the start and then the "
                     "goal; buttons (and keys) draw obstacles and the robot, compute the configuration space, "
                     "calculate the path, record a movie, show the 3-D potential, undo and clear; sliders set the "
                     "current planner's parameters; radio buttons switch the planner. Needs an interactive "

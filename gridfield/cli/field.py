@@ -24,7 +24,7 @@ FIELD_PLANNERS = ("potential", "wavefront", "wavefront-octile", "fmm", "harmonic
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "field", help="build a potential field (U and its gradient) on a map",
-        description="Build the attractive/repulsive (or seed 003 vortex) potential field of a map for a goal; "
+        description="Build the attractive/repulsive (or vortex) potential field of a map for a goal; "
                     "print a summary and optionally write its arrays (.npz) and figures. Parameters come from "
                     "the world file's 'params', overridden by the options below (others via --param K=V, "
                     "e.g. --param saturate=0.5 or --param model=vortex).")
@@ -36,8 +36,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument("--npz", metavar="F",
                    help="write occupied, distance, label, gvd, potential, grad_x, grad_y + resolution, origin")
     p.add_argument("--plot", metavar="F", help="save the potential (contours and force arrows) as a figure")
-    p.add_argument("--surface", metavar="F", help="save the potential as a 3-D surface figure (star-nav: seed 002's "
-                                                  "four figures: beta humps, attractive part, mapped space, surface)")
+    p.add_argument("--surface", metavar="F", help="save the potential as a 3-D surface figure (star-nav: the "
+                                                  "star world's four figures: beta humps, attractive part, mapped space, surface)")
     p.add_argument("--basins", metavar="F",
                    help="save the basins of attraction of steepest descent (goal basin and local minima)")
     add_robot_arguments(p)
@@ -234,7 +234,7 @@ def run(args: argparse.Namespace) -> int:
     ms = (time.perf_counter() - t0) * 1e3
     p = field.params
     if p["model"] == "vortex":
-        model = "vortex (seed 003)"
+        model = "vortex"
     elif p["model"] == "khatib":
         model = f"khatib, {p['repulsion']} repulsion, p={p['repulsive_power']:g}, {p['gradient']} gradient"
     else:

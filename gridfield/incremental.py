@@ -62,6 +62,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._kernels import kernels
+from ._results import Field
 from .brushfire import BORDER_LABEL, DistanceMap, brushfire
 from .errors import GridfieldError, ParameterError
 from .grid import GridMap
@@ -498,7 +499,7 @@ class IncrementalBrushfire:
         self._labels_dirty = False
 
 
-def update_field(field: Any, dmap: DistanceMap | IncrementalBrushfire, window: Window | None) -> Any:
+def update_field(field: Field, dmap: DistanceMap | IncrementalBrushfire, window: Window | None) -> Field:
     """The potential field ``field`` after a map change, recomputed in ``window`` only.
 
     Parameters
@@ -544,7 +545,6 @@ def update_field(field: Any, dmap: DistanceMap | IncrementalBrushfire, window: W
     True
     """
     from ._potential_args import METRIC_CODE, integer_power, saturation
-    from .potential import Field
 
     if not isinstance(field, Field):
         raise ParameterError(f"update_field needs a Field, got {type(field).__name__}")

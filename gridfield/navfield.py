@@ -263,22 +263,42 @@ def _eikonal(gridmap: GridMap, goal: ArrayLike, cost: NDArray[np.float64] | None
 
 
 class _MarchSetup:
-    """The goal-independent part of a march on one map: the free mask, the slowness (``inf`` made 1),
-    its largest and smallest values and the compiled :class:`~gridfield._kernels_eikonal.Marcher`
-    (its work arrays), which a lock keeps to one march at a time."""
+    """The goal-independent part of a march on one map: the free mask, the largest and smallest
+    slowness and the compiled :class:`~gridfield._kernels_eikonal.Marcher` (its copies of the mask
+    and slowness, its work arrays), which a lock keeps to one march at a time.
 
-    __slots__ = ("cost", "free", "lo", "lock", "marcher", "source", "top")
+    Parameters
+    ----------
+    free : ndarray of bool
+        The mask the front runs on (ringed by ``off`` cells).
+    source : ndarray of float64 or None
+        The slowness of the map inside the ring (``inf`` on obstacles); ``None``: 1 everywhere.
+    off : int
+        The ring's width (0 or 1).
+    """
 
-    def __init__(self, free: NDArray[np.bool_], cost: NDArray[np.float64], source: NDArray[np.float64] | None) -> None:
+    __slots__ = ("free", "lo", "lock", "marcher", "off", "source", "top")
+
+    def __init__(self, free: NDArray[np.bool_], source: NDArray[np.float64] | None, off: int) -> None:
+        self.free, self.source, self.off = free, source, off  # the slowness given, to recognise it
+        cost = self.cost()
         top = float(cost[~np.isnan(cost)].max()) if cost.size else 1.0
         if top > MAX_SLOWNESS:
             raise ParameterError(f"the field's slowness reaches {top:.3g}, above the march's limit {MAX_SLOWNESS:g} "
                                  "(nf-blend: lower clearance_gain or q_star)")
-        self.free, self.cost, self.top = free, cost, top
+        self.top = top
         self.lo = float(cost[~np.isnan(cost)].min()) if cost.size else 1.0
-        self.source = source  # the slowness given (None: 1 everywhere), to recognise it
         self.marcher = _kernels().Marcher(free.view(np.uint8), cost)
         self.lock = threading.Lock()
+
+    def cost(self) -> NDArray[np.float64]:
+        """The slowness the march reads: ``inf`` made 1, ringed by ``off`` cells of 1 (empty: 1 everywhere)."""
+        if self.source is None:
+            return np.empty((0, 0))
+        cst = np.where(np.isfinite(self.source), self.source, 1.0)
+        if self.off:
+            cst = np.pad(cst, self.off, constant_values=1.0)
+        return np.ascontiguousarray(cst, dtype=np.float64)
 
     def run(self, *args: Any, **kwargs: Any) -> tuple[Any, ...]:
         """:meth:`Marcher.run` on this setup's marcher, or on a fresh one while it is busy (threads)."""
@@ -287,13 +307,13 @@ class _MarchSetup:
                 return self.marcher.run(*args, **kwargs)  # type: ignore[no-any-return]
             finally:
                 self.lock.release()
-        return _kernels().Marcher(self.free.view(np.uint8), self.cost).run(*args, **kwargs)  # type: ignore[no-any-return]
+        return _kernels().Marcher(self.free.view(np.uint8), self.cost()).run(*args, **kwargs)  # type: ignore[no-any-return]
 
 
 #: The last reusable march setup (:func:`_march_setup`): the planned queries of one map march on
 #: the same free mask and slowness, so the map-sized copies, allocations and initialisations happen
 #: once per map instead of once per query (about 5 ms on a 512 x 512 map). It holds about 30 bytes
-#: per cell until a setup for another map replaces it.
+#: per cell (the marcher's arrays) until a setup for another map or slowness replaces it.
 _last_setup: _MarchSetup | None = None
 
 
@@ -309,13 +329,7 @@ def _march_setup(free: NDArray[np.bool_], cost: NDArray[np.float64] | None, off:
     if (reusable and last is not None and last.source is cost and last.free.shape == free.shape
             and np.array_equal(last.free, free)):
         return last
-    if cost is None:
-        cst = np.empty((0, 0))
-    else:
-        cst = np.where(np.isfinite(cost), cost, 1.0)
-        if off:
-            cst = np.pad(cst, 1, constant_values=1.0)
-    setup = _MarchSetup(np.ascontiguousarray(free, dtype=bool), np.ascontiguousarray(cst, dtype=np.float64), cost)
+    setup = _MarchSetup(np.ascontiguousarray(free, dtype=bool), cost, off)
     if reusable:
         _last_setup = setup
     return setup
@@ -471,8 +485,7 @@ def _nf2_values(gridmap: GridMap, goals: ArrayLike, dmap: DistanceMap, sk: NDArr
         s = grid.cell_of(*_xy(stop_at))
         if s is not None:
             sr, sc = s[0] + off, s[1] + off
-    u, _ = _march(_MarchSetup(free, np.ascontiguousarray(cost, dtype=np.float64), cost), src, sr, sc,
-                  STOP_MARGIN_CELLS * NF2_OFF_SKELETON_COST)
+    u, _ = _march(_MarchSetup(free, cost, 0), src, sr, sc, STOP_MARGIN_CELLS * NF2_OFF_SKELETON_COST)
     if off:
         u = u[1:-1, 1:-1]
     return np.ascontiguousarray(u * res)

@@ -418,12 +418,15 @@ cdef class Marcher:
 
     def run(self, const int64_t[:] src_r, const int64_t[:] src_c, const double[:] src_v, bint diag,
             int64_t stop_r, int64_t stop_c, double margin, double delta, double max_cost, double hweight=0.0,
-            double reopen=INFINITY, double scale=1.0, bint gradient=False):
+            double reopen=INFINITY, double scale=1.0, bint gradient=False, double[:, ::1] into=None,
+            double[:, ::1] into_gx=None, double[:, ::1] into_gy=None):
         """One march (:func:`march_buckets`'s arguments). Returns ``(T, accepted cells, box)``, ``T``
         multiplied by ``scale``; with ``gradient``, ``(T, accepted cells, box, gx, gy)``: the upwind
         differences of ``T`` (:func:`upwind` with ``diagonal`` and the ``free`` mask, divided by
         ``scale`` when it is not 1), zero off the accepted cells. ``box`` (a tuple) as
-        :func:`march_buckets`'s."""
+        :func:`march_buckets`'s. ``into``, ``into_gx``, ``into_gy`` (C-contiguous, the mask's shape),
+        when given: the arrays ``T``, ``gx``, ``gy`` are written to (wholly) and returned instead of
+        new ones."""
         cdef int64_t rows = self.rows, cols = self.cols, w = self.w
         cdef int64_t i, r, c, v, nb, k, count = 0, live = 0, cur, bk, sp = 0, slot, nt = 0
         cdef bint uniform = self.uniform, ok = True
@@ -456,8 +459,13 @@ cdef class Marcher:
         ocol[:] = [1, -1, 0, 0, 1, -1, 1, -1]
         for k in range(8):
             offs[k] = orow[k] * w + ocol[k]
-        out = np.empty((rows, cols))
-        cdef double[:, ::1] o = out
+        # the output arrays' shapes, before the march changes any state
+        if (into is not None and (into.shape[0] != rows or into.shape[1] != cols)) or \
+                (into_gx is not None and (into_gx.shape[0] != rows or into_gx.shape[1] != cols)) or \
+                (into_gy is not None and (into_gy.shape[0] != rows or into_gy.shape[1] != cols)):
+            raise ValueError("Marcher.run: an output array has another shape than the mask")
+        out = np.empty((rows, cols)) if into is None else into.base
+        cdef double[:, ::1] o = out if into is None else into
         with nogil:
             for k in range(nsrc):  # every source is fixed from the start (at its smallest given value)
                 v = (src_r[k] + 1) * w + src_c[k] + 1
@@ -562,9 +570,19 @@ cdef class Marcher:
                 if st[v] & S_DONE:
                     o[v // w - 1, v % w - 1] = u[v] * scale
         if gradient and ok:
-            gx = np.zeros((rows, cols))
-            gy = np.zeros((rows, cols))
-            _upwind_done(u, st, w, br0, br1, bc0, bc1, scale, gx, gy)
+            if into_gx is None or into_gy is None:
+                gx = np.zeros((rows, cols))
+                gy = np.zeros((rows, cols))
+                _upwind_done(u, st, w, br0, br1, bc0, bc1, scale, gx, gy)
+            else:
+                gx = into_gx.base
+                gy = into_gy.base
+                with nogil:
+                    for r in range(rows):
+                        for c in range(cols):
+                            into_gx[r, c] = 0.0
+                            into_gy[r, c] = 0.0
+                _upwind_done(u, st, w, br0, br1, bc0, bc1, scale, into_gx, into_gy)
         with nogil:
             for i in range(nt):  # back to the clean state for the next march
                 v = touched[i]

@@ -88,6 +88,7 @@ Examples
 from __future__ import annotations
 
 import math
+import sys
 import threading
 import weakref
 from collections.abc import Mapping
@@ -240,10 +241,11 @@ def eikonal(gridmap: GridMap, goal: ArrayLike, *, cost: NDArray[np.float64] | No
 
 
 def _eikonal(gridmap: GridMap, goal: ArrayLike, cost: NDArray[np.float64] | None, stop_at: ArrayLike | None,
-             margin: float, gradient: bool = False
+             margin: float, gradient: bool = False, owner: DistanceMap | None = None
              ) -> tuple[NDArray[np.float64], tuple[NDArray[np.float64], NDArray[np.float64]] | None]:
     """:func:`eikonal`, and with ``gradient`` (and a ``wall`` border) the upwind gradient arrays of
-    its values computed by the march itself (:func:`_march`; ``None`` otherwise)."""
+    its values computed by the march itself (:func:`_march`; ``None`` otherwise). ``owner``: the
+    distance map the march setup is kept with (:func:`_march_setup`)."""
     grid = gridmap.grid
     free, off = _ring(gridmap)
     res = grid.resolution
@@ -253,7 +255,7 @@ def _eikonal(gridmap: GridMap, goal: ArrayLike, cost: NDArray[np.float64] | None
         s = grid.cell_of(*_xy(stop_at))
         if s is not None:
             sr, sc = s[0] + off, s[1] + off
-    setup = _march_setup(free, cost, off)
+    setup = _march_setup(free, cost, off, owner)
     if off:
         t, _ = _march(setup, src, sr, sc, margin)
         t = t[1:-1, 1:-1]
@@ -277,7 +279,7 @@ class _MarchSetup:
         The ring's width (0 or 1).
     """
 
-    __slots__ = ("free", "lo", "lock", "marcher", "off", "source", "top")
+    __slots__ = ("free", "lo", "lock", "marcher", "off", "pool", "source", "top")
 
     def __init__(self, free: NDArray[np.bool_], source: NDArray[np.float64] | None, off: int) -> None:
         self.free, self.source, self.off = free, source, off  # the slowness given, to recognise it
@@ -290,6 +292,7 @@ class _MarchSetup:
         self.lo = float(cost[~np.isnan(cost)].min()) if cost.size else 1.0
         self.marcher = _kernels().Marcher(free.view(np.uint8), cost)
         self.lock = threading.Lock()
+        self.pool: list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]] = []
 
     def cost(self) -> NDArray[np.float64]:
         """The slowness the march reads: ``inf`` made 1, ringed by ``off`` cells of 1 (empty: 1 everywhere)."""
@@ -300,38 +303,86 @@ class _MarchSetup:
             cst = np.pad(cst, self.off, constant_values=1.0)
         return np.ascontiguousarray(cst, dtype=np.float64)
 
-    def run(self, *args: Any, **kwargs: Any) -> tuple[Any, ...]:
-        """:meth:`Marcher.run` on this setup's marcher, or on a fresh one while it is busy (threads)."""
+    def run(self, *args: Any, gradient: bool = False) -> tuple[Any, ...]:
+        """:meth:`Marcher.run` on this setup's marcher, or on a fresh one while it is busy (threads).
+        A gradient march writes into a recycled output triple (:meth:`_outputs`) when one is free."""
         if self.lock.acquire(blocking=False):
             try:
-                return self.marcher.run(*args, **kwargs)  # type: ignore[no-any-return]
+                into = self._outputs() if gradient else (None, None, None)
+                return self.marcher.run(*args, gradient, *into)  # type: ignore[no-any-return]
             finally:
                 self.lock.release()
-        return _kernels().Marcher(self.free.view(np.uint8), self.cost()).run(*args, **kwargs)  # type: ignore[no-any-return]
+        return _kernels().Marcher(self.free.view(np.uint8), self.cost()).run(*args, gradient)  # type: ignore[no-any-return]
+
+    def _outputs(self) -> tuple[NDArray[np.float64], ...] | tuple[None, None, None]:
+        """Arrays for a planned march's ``U``, ``gx``, ``gy`` that nothing but this pool refers to
+        any more (the field of an earlier query that the planner dropped: no array, view or buffer
+        of them is alive), or new ones kept in the pool (at most :data:`OUTPUT_POOL`); ``None``
+        when the interpreter's reference counts cannot tell (not CPython, or free-threaded).
+        Writing into memory already mapped saves the page faults of fresh map-sized arrays
+        (about 1 ms per 2 MB array on the 2-core test machine)."""
+        if not _REFCOUNTS:
+            return None, None, None
+        for trio in self.pool:
+            if _unused(trio):
+                return trio
+        if len(self.pool) >= OUTPUT_POOL:
+            return None, None, None
+        shape = (self.free.shape[0], self.free.shape[1])
+        trio = (np.empty(shape), np.empty(shape), np.empty(shape))
+        self.pool.append(trio)
+        return trio
 
 
-#: The last reusable march setup (:func:`_march_setup`): the planned queries of one map march on
-#: the same free mask and slowness, so the map-sized copies, allocations and initialisations happen
-#: once per map instead of once per query (about 5 ms on a 512 x 512 map). It holds about 30 bytes
-#: per cell (the marcher's arrays) until a setup for another map or slowness replaces it.
-_last_setup: _MarchSetup | None = None
+#: Output triples (``U``, ``gx``, ``gy``) a march setup keeps for recycling (:meth:`_MarchSetup._outputs`).
+OUTPUT_POOL = 2
+#: Whether ``sys.getrefcount`` tells when an array is no longer used (CPython with its GIL).
+_REFCOUNTS = sys.implementation.name == "cpython" and getattr(sys, "_is_gil_enabled", lambda: True)()
 
 
-def _march_setup(free: NDArray[np.bool_], cost: NDArray[np.float64] | None, off: int) -> _MarchSetup:
+def _unused(trio: tuple[NDArray[np.float64], ...]) -> bool:
+    """Whether the arrays of ``trio`` have no reference but the pool's tuple (the counts below are
+    the tuple's, the loop variable's and ``getrefcount``'s argument's): no Field, view or buffer
+    export of them is alive."""
+    return all(sys.getrefcount(a) == 3 for a in trio)
+
+
+#: The last reusable march setup (:func:`_march_setup`) and a weak reference to the distance map it
+#: serves: the planned queries of one map march on the same free mask and slowness, so the
+#: map-sized copies, allocations and initialisations happen once per map instead of once per query
+#: (about 5 ms on a 512 x 512 map). It holds about 30 bytes per cell (the marcher's arrays) and up
+#: to :data:`OUTPUT_POOL` output triples (24 bytes per cell each) until that distance map dies (a
+#: planner's ``cache`` dropped) or a setup for another map or slowness replaces it.
+_last_setup: tuple[Any, _MarchSetup] | None = None
+
+
+def _forget_setup(ref: Any) -> None:
+    """Drop the kept march setup (and the band's slowness) whose map's distance map ``ref`` died."""
+    global _last_setup, _last_band
+    last, band = _last_setup, _last_band
+    if last is not None and last[0] is ref:
+        _last_setup = None
+    if band is not None and band[0] is ref:
+        _last_band = None
+
+
+def _march_setup(free: NDArray[np.bool_], cost: NDArray[np.float64] | None, off: int,
+                 owner: DistanceMap | None = None) -> _MarchSetup:
     """The :class:`_MarchSetup` of the mask ``free`` (ringed by ``off`` cells) and the slowness
-    ``cost`` (of the map inside the ring; ``None``: 1 everywhere). Reused when ``cost`` is ``None``
-    or the clearance band's kept slowness (:func:`_band_cost_of`: read-only, so it cannot change)
-    and the mask is the last one's; built fresh otherwise."""
+    ``cost`` (of the map inside the ring; ``None``: 1 everywhere). With ``owner`` (the distance map
+    of the queries' map, which a planner's ``cache`` keeps), it is kept while ``owner`` lives and
+    reused when ``cost`` is ``None`` or the clearance band's kept slowness (:func:`_band_cost_of`:
+    read-only, so it cannot change) and the mask is the last one's; built fresh otherwise."""
     global _last_setup
     band = _last_band
-    reusable = cost is None or (band is not None and cost is band[3])
+    reusable = owner is not None and (cost is None or (band is not None and cost is band[3]))
     last = _last_setup
-    if (reusable and last is not None and last.source is cost and last.free.shape == free.shape
-            and np.array_equal(last.free, free)):
-        return last
+    if (reusable and last is not None and last[0]() is owner and last[1].source is cost
+            and last[1].free.shape == free.shape and np.array_equal(last[1].free, free)):
+        return last[1]
     setup = _MarchSetup(np.ascontiguousarray(free, dtype=bool), cost, off)
     if reusable:
-        _last_setup = setup
+        _last_setup = (weakref.ref(owner, _forget_setup), setup)
     return setup
 
 
@@ -347,7 +398,7 @@ def _march(setup: _MarchSetup, src: tuple[NDArray[np.int64], NDArray[np.int64], 
     # the heuristic must not exceed the cheapest travel time per cell (slowness >= lo everywhere)
     hw = ASTAR_WEIGHT * min(setup.lo, 1.0) if sr >= 0 else 0.0
     out = setup.run(r, c, v, True, sr, sc, float(margin), BUCKET_CELLS, max(setup.top, 1.0), hw, ASTAR_REOPEN_CELLS,
-                    scale, gradient)
+                    scale, gradient=gradient)
     return out[0], ((out[3], out[4]) if gradient else None)
 
 
@@ -561,7 +612,8 @@ def band_cost(dmap: DistanceMap, band: float, gain: float) -> NDArray[np.float64
 
 #: The last clearance band's slowness and what it was computed from (a weak reference to the distance
 #: map, band, gain), one tuple replaced whole: the queries of one map (a planner's ``cache`` holds its
-#: brushfire) reuse it instead of recomputing a map-sized array per query (~60 ms on a 1.7 M-cell map).
+#: brushfire) reuse it instead of recomputing a map-sized array per query (~60 ms on a 1.7 M-cell map);
+#: dropped when that distance map dies (:func:`_forget_setup`).
 _last_band: tuple[Any, float, float, NDArray[np.float64]] | None = None
 
 
@@ -573,7 +625,7 @@ def _band_cost_of(dmap: DistanceMap, band: float, gain: float) -> NDArray[np.flo
         return last[3]
     cost = band_cost(dmap, band, gain)
     cost.setflags(write=False)
-    _last_band = (weakref.ref(dmap), band, gain, cost)
+    _last_band = (weakref.ref(dmap, _forget_setup), band, gain, cost)
     return cost
 
 
@@ -660,9 +712,9 @@ def _nf_values(gridmap: GridMap, goals: ArrayLike, params: Mapping[str, Any] | N
             U = np.ascontiguousarray(wavefront(work, g, costs="octile").value)
         elif p["clearance_band"] > 0 and p["band_gain"] > 0:
             U, grad = _eikonal(work, g, _band_cost_of(dmap, p["clearance_band"], p["band_gain"]), stop_at,
-                               STOP_MARGIN_CELLS, want)
+                               STOP_MARGIN_CELLS, want, dmap)
         else:
-            U, grad = _eikonal(work, g, None, stop_at, STOP_MARGIN_CELLS, want)
+            U, grad = _eikonal(work, g, None, stop_at, STOP_MARGIN_CELLS, want, dmap)
     return U, p, work, dmap, grad
 
 

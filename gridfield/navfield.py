@@ -70,8 +70,15 @@ plain-order march (:data:`ASTAR_REOPEN_CELLS`): it is off. The whole-map fields 
 
 The gradient arrays are upwind differences (the rule of :func:`gridfield.navigation.upwind_gradient`,
 compiled): along each axis the difference towards the lower neighbour, the direction the front
-came from (computed over the settled cells' bounding box of a planned query; a diagonal's side cells
-need only be free, the march's rule, since a free side cell on the rim may be unsettled).
+came from (for a planned query computed by the march itself over its settled cells, zero elsewhere;
+a diagonal's side cells need only be free, the march's rule, since a free side cell on the rim may be
+unsettled).
+
+The planned queries of one map (a planner's ``cache`` keeps its brushfire) share what does not
+depend on the goal: the compiled march's copies of the free mask and the clearance band's slowness
+and its work arrays (only the cells a march touched are reset after it), and the arrays of an
+earlier query's field that nothing refers to any more are written again instead of new ones
+(:class:`_MarchSetup`); the values are the same bits as a fresh march's.
 
 Examples
 --------

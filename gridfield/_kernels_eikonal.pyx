@@ -300,175 +300,362 @@ def march_buckets(mask_t free, val_t cost, const int64_t[:] src_r, const int64_t
     never), so that the values approach the full march's. ``box``
     (int64, length 4), when given, receives the accepted cells' bounding box ``r0, r1, c0, c1``
     (inclusive; ``r0 > r1`` when none).
+
+    One call of :meth:`Marcher.run` on a fresh :class:`Marcher` (which a caller marching many times
+    on one map keeps instead).
     """
-    cdef int64_t rows = free.shape[0], cols = free.shape[1]
-    cdef int64_t w = cols + 2
-    cdef int64_t n = (rows + 2) * w
-    cdef int64_t i, r, c, v, nb, k, count = 0, live = 0, cur, bk, sp = 0, slot
-    cdef bint uniform = cost.shape[0] == 0, ok = True
-    cdef double f, val, limit = INFINITY, inv = 1.0 / delta
-    cdef int64_t stop_v = (stop_r + 1) * w + stop_c + 1 if stop_r >= 0 else -1
-    cdef int64_t nsrc = src_r.shape[0]
-    cdef bint astar = hweight > 0.0 and stop_r >= 0
-    cdef bint reacc = astar and reopen < INFINITY
-    cdef double hw = hweight if astar else 0.0, key, sr = <double>(stop_r + 1), sc = <double>(stop_c + 1), dr, dc
-    cdef int64_t nbk = <int64_t>((max_cost + hw) * SQRT2 * inv) + 4
-    cdef int64_t br0 = rows, br1 = -1, bc0 = cols, bc1 = -1, vr, vc
-    cdef int64_t offs[8]
-    out = np.empty((rows, cols))
-    cdef double[:, ::1] o = out
-    cdef uint8_t* fr
-    cdef uint8_t* fixed
-    cdef uint8_t* done
-    cdef double* u
-    cdef double* kv
-    cdef double* cst
-    cdef int32_t** data
-    cdef int64_t* size
-    cdef int64_t* cap
-    offs[0] = 1
-    offs[1] = -1
-    offs[2] = w
-    offs[3] = -w
-    offs[4] = w + 1
-    offs[5] = w - 1
-    offs[6] = -w + 1
-    offs[7] = -w - 1
-    with nogil:
-        fr = _pad_mask(free, w)
-        fixed = <uint8_t*>_alloc(n)
-        done = <uint8_t*>_alloc(n)
-        u = <double*>_alloc(n * sizeof(double))
-        kv = <double*>_alloc(n * sizeof(double))
-        cst = <double*>_alloc((0 if uniform else n) * sizeof(double))
-        data = <int32_t**>_alloc(nbk * sizeof(int32_t*))
-        size = <int64_t*>_alloc(nbk * sizeof(int64_t))
-        cap = <int64_t*>_alloc(nbk * sizeof(int64_t))
-        for i in range(nbk):
-            data[i] = NULL
-            size[i] = 0
-            cap[i] = 0
-        for i in range(n):
-            u[i] = INFINITY
-            kv[i] = INFINITY
-            fixed[i] = 0
-            done[i] = 0
-        if not uniform:
-            for r in range(rows):
-                for c in range(cols):
-                    cst[(r + 1) * w + c + 1] = cost[r, c]
-        for k in range(nsrc):  # every source is fixed from the start (at its smallest given value)
-            v = (src_r[k] + 1) * w + src_c[k] + 1
-            if fr[v] and src_v[k] < u[v]:
-                u[v] = src_v[k]
-                fixed[v] = 1
-        cur = <int64_t>(src_v[0] * inv) if nsrc > 0 else 0
-        while ok:
-            # the sources due by this bucket join the queue
-            while sp < nsrc:
-                v = (src_r[sp] + 1) * w + src_c[sp] + 1
-                key = src_v[sp]
-                if astar:
-                    dr = <double>(v // w) - sr
-                    dc = <double>(v % w) - sc
-                    key = key + hw * sqrt(dr * dr + dc * dc)
-                if <int64_t>(key * inv) > cur:
-                    break
-                if fr[v] and not done[v] and src_v[sp] == u[v]:
-                    ok = _bpush(data, size, cap, cur % nbk, <int32_t>v) and ok
-                    live += 1
-                sp += 1
-            if live == 0:
-                if sp >= nsrc:
-                    break
-                v = (src_r[sp] + 1) * w + src_c[sp] + 1
-                key = src_v[sp]
-                if astar:
-                    dr = <double>(v // w) - sr
-                    dc = <double>(v % w) - sc
-                    key = key + hw * sqrt(dr * dr + dc * dc)
-                cur = <int64_t>(key * inv)
-                continue
-            if cur * delta > limit:
-                break
-            slot = cur % nbk
-            i = 0
-            while i < size[slot] and ok:
-                v = data[slot][i]
-                i += 1
-                live -= 1
-                if done[v]:
-                    continue
-                done[v] = 1
-                kv[v] = u[v]
-                count += 1
-                vr = v // w - 1
-                vc = v % w - 1
-                if vr < br0:
-                    br0 = vr
-                if vr > br1:
-                    br1 = vr
-                if vc < bc0:
-                    bc0 = vc
-                if vc > bc1:
-                    bc1 = vc
-                if v == stop_v and u[v] + margin < limit:
-                    limit = u[v] + margin
-                for k in range(8 if diag else 4):
-                    nb = v + offs[k]
-                    if not fr[nb] or fixed[nb] or (done[nb] and not reacc):
-                        continue
-                    f = 1.0 if uniform else cst[nb]
-                    if k < 4:
-                        val = _update4b(kv, fr, nb, w, f)
-                    else:
-                        val = _update8b(kv, fr, nb, w, f)
-                    if done[nb]:
-                        # A* order: a cell accepted before a neighbour its update needed is lowered
-                        # and accepted again (label correcting), so its dependents are redone too
-                        if val >= u[nb] - reopen:
-                            continue
-                        done[nb] = 0
-                    if val < u[nb]:
-                        u[nb] = val
-                        key = val
-                        if astar:
-                            dr = <double>(nb // w) - sr
-                            dc = <double>(nb % w) - sc
-                            key = val + hw * sqrt(dr * dr + dc * dc)
-                        bk = <int64_t>(key * inv)
-                        if bk < cur:
-                            bk = cur
-                        ok = _bpush(data, size, cap, bk % nbk, <int32_t>nb)
-                        live += 1
-            size[slot] = 0
-            cur += 1
-        for r in range(rows):
-            for c in range(cols):
-                v = (r + 1) * w + c + 1
-                o[r, c] = u[v] if done[v] else INFINITY
-        for i in range(nbk):
-            c_free(data[i])
-        c_free(data)
-        c_free(size)
-        c_free(cap)
-        c_free(fr)
-        c_free(fixed)
-        c_free(done)
-        c_free(u)
-        c_free(kv)
-        c_free(cst)
+    m = Marcher(free, cost)
+    out, count, bx = m.run(src_r, src_c, src_v, diag, stop_r, stop_c, margin, delta, max_cost, hweight, reopen)
     if box is not None and box.shape[0] >= 4:
-        box[0] = br0
-        box[1] = br1
-        box[2] = bc0
-        box[3] = bc1
-    if not ok:
-        raise MemoryError("march_buckets: out of memory for the bucket queue")
+        box[0] = bx[0]
+        box[1] = bx[1]
+        box[2] = bx[2]
+        box[3] = bx[3]
     return out, count
 
 
-cdef inline double _update4b(const double* kv, const uint8_t* free_, int64_t v, int64_t w, double f) noexcept nogil:
+# the state bits of a cell of a Marcher: free, a fixed source, accepted
+cdef enum:
+    S_FREE = 1
+    S_FIXED = 2
+    S_DONE = 4
+
+
+cdef class Marcher:
+    """The bucket-queue march of :func:`march_buckets` on one free mask and slowness, kept for many
+    marches (the queries of one map): the padded mask and slowness are copied once, the work arrays
+    and buckets are allocated once and only the cells a march touched are reset after it (no
+    map-sized allocation or initialisation per march). Not for concurrent use (the caller locks).
+
+    ``free``: the free mask (``uint8``); ``cost``: the slowness (as :func:`march_buckets`; empty for 1
+    everywhere). Memory: about 30 bytes per cell.
+    """
+    cdef int64_t rows, cols, w, n, nbk_alloc, ntouched
+    cdef bint uniform
+    cdef uint8_t* st
+    cdef double* cst
+    cdef double* u
+    cdef double* kv
+    cdef int32_t* touched
+    cdef int32_t** data
+    cdef int64_t* size
+    cdef int64_t* cap
+
+    def __cinit__(self, mask_t free, val_t cost):
+        cdef int64_t rows = free.shape[0], cols = free.shape[1], r, c, i, w = cols + 2
+        cdef int64_t n = (rows + 2) * w
+        self.rows = rows
+        self.cols = cols
+        self.w = w
+        self.n = n
+        self.uniform = cost.shape[0] == 0
+        self.nbk_alloc = 0
+        self.ntouched = 0
+        self.data = NULL
+        self.size = NULL
+        self.cap = NULL
+        self.st = <uint8_t*>_alloc(n)
+        self.u = <double*>_alloc(n * sizeof(double))
+        self.kv = <double*>_alloc(n * sizeof(double))
+        self.touched = <int32_t*>_alloc(n * sizeof(int32_t))
+        self.cst = <double*>_alloc((0 if self.uniform else n) * sizeof(double))
+        if self.st == NULL or self.u == NULL or self.kv == NULL or self.touched == NULL or self.cst == NULL:
+            raise MemoryError("Marcher: out of memory")
+        with nogil:
+            for i in range(n):
+                self.st[i] = 0
+                self.u[i] = INFINITY
+                self.kv[i] = INFINITY
+            for r in range(rows):
+                for c in range(cols):
+                    if free[r, c]:
+                        self.st[(r + 1) * w + c + 1] = S_FREE
+            if not self.uniform:
+                for r in range(rows):
+                    for c in range(cols):
+                        self.cst[(r + 1) * w + c + 1] = cost[r, c]
+
+    def __dealloc__(self):
+        cdef int64_t i
+        if self.data != NULL:
+            for i in range(self.nbk_alloc):
+                c_free(self.data[i])
+        c_free(self.data)
+        c_free(self.size)
+        c_free(self.cap)
+        c_free(self.st)
+        c_free(self.u)
+        c_free(self.kv)
+        c_free(self.touched)
+        c_free(self.cst)
+
+    cdef bint _buckets(self, int64_t nbk) noexcept:
+        """At least ``nbk`` empty buckets (grown, never shrunk)."""
+        cdef int64_t i
+        cdef int32_t** d
+        cdef int64_t* s
+        cdef int64_t* cp
+        if nbk <= self.nbk_alloc:
+            return True
+        d = <int32_t**>realloc(self.data, nbk * sizeof(int32_t*))
+        if d == NULL:
+            return False
+        self.data = d
+        s = <int64_t*>realloc(self.size, nbk * sizeof(int64_t))
+        if s == NULL:
+            return False
+        self.size = s
+        cp = <int64_t*>realloc(self.cap, nbk * sizeof(int64_t))
+        if cp == NULL:
+            return False
+        self.cap = cp
+        for i in range(self.nbk_alloc, nbk):
+            self.data[i] = NULL
+            self.size[i] = 0
+            self.cap[i] = 0
+        self.nbk_alloc = nbk
+        return True
+
+    def run(self, const int64_t[:] src_r, const int64_t[:] src_c, const double[:] src_v, bint diag,
+            int64_t stop_r, int64_t stop_c, double margin, double delta, double max_cost, double hweight=0.0,
+            double reopen=INFINITY, double scale=1.0, bint gradient=False, double[:, ::1] into=None,
+            double[:, ::1] into_gx=None, double[:, ::1] into_gy=None):
+        """One march (:func:`march_buckets`'s arguments). Returns ``(T, accepted cells, box)``, ``T``
+        multiplied by ``scale``; with ``gradient``, ``(T, accepted cells, box, gx, gy)``: the upwind
+        differences of ``T`` (:func:`upwind` with ``diagonal`` and the ``free`` mask, divided by
+        ``scale`` when it is not 1), zero off the accepted cells. ``box`` (a tuple) as
+        :func:`march_buckets`'s. ``into``, ``into_gx``, ``into_gy`` (C-contiguous, the mask's shape),
+        when given: the arrays ``T``, ``gx``, ``gy`` are written to (wholly) and returned instead of
+        new ones."""
+        cdef int64_t rows = self.rows, cols = self.cols, w = self.w
+        cdef int64_t i, r, c, v, nb, k, count = 0, live = 0, cur, bk, sp = 0, slot, nt = 0
+        cdef bint uniform = self.uniform, ok = True
+        cdef double f, val, limit = INFINITY, inv = 1.0 / delta
+        cdef int64_t stop_v = (stop_r + 1) * w + stop_c + 1 if stop_r >= 0 else -1
+        cdef int64_t nsrc = src_r.shape[0]
+        cdef bint astar = hweight > 0.0 and stop_r >= 0
+        cdef bint reacc = astar and reopen < INFINITY
+        cdef double hw = hweight if astar else 0.0, key, sr = <double>(stop_r + 1), sc = <double>(stop_c + 1), dr, dc
+        cdef int64_t nbk = <int64_t>((max_cost + hw) * SQRT2 * inv) + 4
+        cdef int64_t br0 = rows, br1 = -1, bc0 = cols, bc1 = -1, vr, vc, nk = 8 if diag else 4
+        cdef uint8_t skip = S_FREE | S_FIXED | (0 if reacc else S_DONE), s
+        cdef int64_t offs[8]
+        cdef int64_t orow[8]
+        cdef int64_t ocol[8]
+        cdef uint8_t* st = self.st
+        cdef double* u = self.u
+        cdef double* kv = self.kv
+        cdef double* cst = self.cst
+        cdef int32_t* touched = self.touched
+        cdef int32_t** data
+        cdef int64_t* size
+        cdef int64_t* cap
+        if not self._buckets(nbk):
+            raise MemoryError("march_buckets: out of memory for the bucket queue")
+        data = self.data
+        size = self.size
+        cap = self.cap
+        orow[:] = [0, 0, 1, -1, 1, 1, -1, -1]
+        ocol[:] = [1, -1, 0, 0, 1, -1, 1, -1]
+        for k in range(8):
+            offs[k] = orow[k] * w + ocol[k]
+        # the output arrays' shapes, before the march changes any state
+        if (into is not None and (into.shape[0] != rows or into.shape[1] != cols)) or \
+                (into_gx is not None and (into_gx.shape[0] != rows or into_gx.shape[1] != cols)) or \
+                (into_gy is not None and (into_gy.shape[0] != rows or into_gy.shape[1] != cols)):
+            raise ValueError("Marcher.run: an output array has another shape than the mask")
+        out = np.empty((rows, cols)) if into is None else into.base
+        cdef double[:, ::1] o = out if into is None else into
+        with nogil:
+            for k in range(nsrc):  # every source is fixed from the start (at its smallest given value)
+                v = (src_r[k] + 1) * w + src_c[k] + 1
+                if (st[v] & S_FREE) and src_v[k] < u[v]:
+                    if u[v] == INFINITY:
+                        touched[nt] = <int32_t>v
+                        nt += 1
+                    u[v] = src_v[k]
+                    st[v] |= S_FIXED
+            cur = <int64_t>(src_v[0] * inv) if nsrc > 0 else 0
+            while ok:
+                # the sources due by this bucket join the queue
+                while sp < nsrc:
+                    v = (src_r[sp] + 1) * w + src_c[sp] + 1
+                    key = src_v[sp]
+                    if astar:
+                        dr = <double>(v // w) - sr
+                        dc = <double>(v % w) - sc
+                        key = key + hw * sqrt(dr * dr + dc * dc)
+                    if <int64_t>(key * inv) > cur:
+                        break
+                    if (st[v] & S_FREE) and not (st[v] & S_DONE) and src_v[sp] == u[v]:
+                        ok = _bpush(data, size, cap, cur % nbk, <int32_t>v) and ok
+                        live += 1
+                    sp += 1
+                if live == 0:
+                    if sp >= nsrc:
+                        break
+                    v = (src_r[sp] + 1) * w + src_c[sp] + 1
+                    key = src_v[sp]
+                    if astar:
+                        dr = <double>(v // w) - sr
+                        dc = <double>(v % w) - sc
+                        key = key + hw * sqrt(dr * dr + dc * dc)
+                    cur = <int64_t>(key * inv)
+                    continue
+                if cur * delta > limit:
+                    break
+                slot = cur % nbk
+                i = 0
+                while i < size[slot] and ok:
+                    v = data[slot][i]
+                    i += 1
+                    live -= 1
+                    if st[v] & S_DONE:
+                        continue
+                    st[v] |= S_DONE
+                    kv[v] = u[v]
+                    count += 1
+                    vr = v // w
+                    vc = v - vr * w
+                    if vr - 1 < br0:
+                        br0 = vr - 1
+                    if vr - 1 > br1:
+                        br1 = vr - 1
+                    if vc - 1 < bc0:
+                        bc0 = vc - 1
+                    if vc - 1 > bc1:
+                        bc1 = vc - 1
+                    if v == stop_v and u[v] + margin < limit:
+                        limit = u[v] + margin
+                    for k in range(nk):
+                        nb = v + offs[k]
+                        s = st[nb]
+                        if (s & skip) != S_FREE:  # not free, fixed, or (without re-acceptance) accepted
+                            continue
+                        f = 1.0 if uniform else cst[nb]
+                        if k < 4:
+                            val = _update4b(kv, nb, w, f)
+                        else:
+                            val = _update8s(kv, st, nb, w, f)
+                        if s & S_DONE:
+                            # A* order: a cell accepted before a neighbour its update needed is lowered
+                            # and accepted again (label correcting), so its dependents are redone too
+                            if val >= u[nb] - reopen:
+                                continue
+                            st[nb] = s & ~S_DONE
+                        if val < u[nb]:
+                            if u[nb] == INFINITY:
+                                touched[nt] = <int32_t>nb
+                                nt += 1
+                            u[nb] = val
+                            key = val
+                            if astar:
+                                dr = <double>(vr + orow[k]) - sr
+                                dc = <double>(vc + ocol[k]) - sc
+                                key = val + hw * sqrt(dr * dr + dc * dc)
+                            bk = <int64_t>(key * inv)
+                            if bk < cur:
+                                bk = cur
+                            ok = _bpush(data, size, cap, bk % nbk, <int32_t>nb)
+                            live += 1
+                size[slot] = 0
+                cur += 1
+            for i in range(nbk):
+                size[i] = 0
+            for r in range(rows):
+                for c in range(cols):
+                    o[r, c] = INFINITY
+            for i in range(nt):
+                v = touched[i]
+                if st[v] & S_DONE:
+                    o[v // w - 1, v % w - 1] = u[v] * scale
+        if gradient and ok:
+            if into_gx is None or into_gy is None:
+                gx = np.zeros((rows, cols))
+                gy = np.zeros((rows, cols))
+                _upwind_done(u, st, w, br0, br1, bc0, bc1, scale, gx, gy)
+            else:
+                gx = into_gx.base
+                gy = into_gy.base
+                with nogil:
+                    for r in range(rows):
+                        for c in range(cols):
+                            into_gx[r, c] = 0.0
+                            into_gy[r, c] = 0.0
+                _upwind_done(u, st, w, br0, br1, bc0, bc1, scale, into_gx, into_gy)
+        with nogil:
+            for i in range(nt):  # back to the clean state for the next march
+                v = touched[i]
+                u[v] = INFINITY
+                kv[v] = INFINITY
+                st[v] &= S_FREE
+        if not ok:
+            raise MemoryError("march_buckets: out of memory for the bucket queue")
+        if gradient:
+            return out, count, (br0, br1, bc0, bc1), gx, gy
+        return out, count, (br0, br1, bc0, bc1)
+
+
+cdef inline double _settled(const double* u, const uint8_t* st, int64_t p) noexcept nogil:
+    """``u[p]`` if the cell is accepted, else inf (what the march's ``T`` holds)."""
+    return u[p] if st[p] & S_DONE else INFINITY
+
+
+cdef void _upwind_done(const double* u, const uint8_t* st, int64_t w, int64_t r0, int64_t r1, int64_t c0, int64_t c1,
+                       double scale, double[:, ::1] ox, double[:, ::1] oy) noexcept:
+    """:func:`upwind` (``diagonal``, the ``free`` mask) of ``T`` (``u * scale`` on the accepted cells) on the padded arrays of a
+    :class:`Marcher` over the accepted cells of rows ``r0..r1``, columns ``c0..c1`` (unpadded), the
+    differences divided by ``scale`` when it is not 1 (the order of operations of scaling ``T``, then
+    differencing, then dividing). The ring of the padding plays the grid's edge (not accepted, not free)."""
+    cdef int64_t r, c, p, dr, dc, bdr, bdc, q
+    cdef double v, a, b, best, x, y, t
+    with nogil:
+        for r in range(r0, r1 + 1):
+            for c in range(c0, c1 + 1):
+                p = (r + 1) * w + c + 1
+                if not (st[p] & S_DONE):
+                    continue
+                v = u[p] * scale
+                x = 0.0
+                y = 0.0
+                a = _settled(u, st, p - 1) * scale
+                b = _settled(u, st, p + 1) * scale
+                if a <= b:
+                    if a < v:
+                        x = v - a
+                elif b < v:
+                    x = b - v
+                a = _settled(u, st, p - w) * scale
+                b = _settled(u, st, p + w) * scale
+                if a <= b:
+                    if a < v:
+                        y = v - a
+                elif b < v:
+                    y = b - v
+                if x == 0.0 and y == 0.0:
+                    best = v
+                    bdr = 0
+                    bdc = 0
+                    for dr in range(-1, 2, 2):
+                        for dc in range(-1, 2, 2):
+                            if not ((st[p + dr * w] & S_FREE) and (st[p + dc] & S_FREE)):
+                                continue
+                            t = _settled(u, st, p + dr * w + dc) * scale
+                            if t < best:
+                                best = t
+                                bdr = dr
+                                bdc = dc
+                    if bdr != 0:
+                        x = -0.5 * (v - best) * bdc
+                        y = -0.5 * (v - best) * bdr
+                if scale != 1.0:
+                    x = x / scale
+                    y = y / scale
+                ox[r, c] = x
+                oy[r, c] = y
+
+
+cdef inline double _update4b(const double* kv, int64_t v, int64_t w, double f) noexcept nogil:
     """:func:`_update4` on the array of accepted values (``inf`` where not accepted)."""
     cdef double a = kv[v - 1], b = kv[v - w], t
     t = kv[v + 1]
@@ -480,10 +667,11 @@ cdef inline double _update4b(const double* kv, const uint8_t* free_, int64_t v, 
     return _solve2(a, b, f)
 
 
-cdef inline double _update8b(const double* kv, const uint8_t* free_, int64_t v, int64_t w, double f) noexcept nogil:
-    """:func:`_update8` on the array of accepted values."""
+cdef inline double _update8s(const double* kv, const uint8_t* st, int64_t v, int64_t w, double f) noexcept nogil:
+    """:func:`_update8`'s rotated stencil on the array of accepted values (``inf`` where not
+    accepted), the free mask read from the state bits of a :class:`Marcher`."""
     cdef double a = INFINITY, b = INFINITY, t
-    cdef bint up = free_[v + w], down = free_[v - w], right = free_[v + 1], left = free_[v - 1]
+    cdef bint up = st[v + w] & S_FREE, down = st[v - w] & S_FREE, right = st[v + 1] & S_FREE, left = st[v - 1] & S_FREE
     if up and right:
         a = kv[v + w + 1]
     if down and left:

@@ -70,8 +70,15 @@ plain-order march (:data:`ASTAR_REOPEN_CELLS`): it is off. The whole-map fields 
 
 The gradient arrays are upwind differences (the rule of :func:`gridfield.navigation.upwind_gradient`,
 compiled): along each axis the difference towards the lower neighbour, the direction the front
-came from (computed over the settled cells' bounding box of a planned query; a diagonal's side cells
-need only be free, the march's rule, since a free side cell on the rim may be unsettled).
+came from (for a planned query computed by the march itself over its settled cells, zero elsewhere;
+a diagonal's side cells need only be free, the march's rule, since a free side cell on the rim may be
+unsettled).
+
+The planned queries of one map (a planner's ``cache`` keeps its brushfire) share what does not
+depend on the goal: the compiled march's copies of the free mask and the clearance band's slowness
+and its work arrays (only the cells a march touched are reset after it), and the arrays of an
+earlier query's field that nothing refers to any more are written again instead of new ones
+(:class:`_MarchSetup`); the values are the same bits as a fresh march's.
 
 Examples
 --------
@@ -88,6 +95,8 @@ Examples
 from __future__ import annotations
 
 import math
+import sys
+import threading
 import weakref
 from collections.abc import Mapping
 from typing import Any
@@ -235,46 +244,169 @@ def eikonal(gridmap: GridMap, goal: ArrayLike, *, cost: NDArray[np.float64] | No
     >>> round(float(t[30, 40 - 1]) / math.hypot(30, 39), 3)
     1.006
     """
+    return _eikonal(gridmap, goal, cost, stop_at, margin)[0]
+
+
+def _eikonal(gridmap: GridMap, goal: ArrayLike, cost: NDArray[np.float64] | None, stop_at: ArrayLike | None,
+             margin: float, gradient: bool = False, owner: DistanceMap | None = None
+             ) -> tuple[NDArray[np.float64], tuple[NDArray[np.float64], NDArray[np.float64]] | None]:
+    """:func:`eikonal`, and with ``gradient`` (and a ``wall`` border) the upwind gradient arrays of
+    its values computed by the march itself (:func:`_march`; ``None`` otherwise). ``owner``: the
+    distance map the march setup is kept with (:func:`_march_setup`)."""
     grid = gridmap.grid
     free, off = _ring(gridmap)
     res = grid.resolution
     src, _ = _sources(gridmap, free, off, goal)
-    if cost is None:
-        cst = np.empty((0, 0))
-    else:
-        cst = np.where(np.isfinite(cost), cost, 1.0)
-        if off:
-            cst = np.pad(cst, 1, constant_values=1.0)
     sr = sc = -1
     if stop_at is not None:
         s = grid.cell_of(*_xy(stop_at))
         if s is not None:
             sr, sc = s[0] + off, s[1] + off
-    t = _march(free, cst, src, sr, sc, margin)
+    setup = _march_setup(free, cost, off, owner)
     if off:
+        t, _ = _march(setup, src, sr, sc, margin)
         t = t[1:-1, 1:-1]
-    t *= res
-    return np.ascontiguousarray(t)
+        t *= res
+        return np.ascontiguousarray(t), None
+    return _march(setup, src, sr, sc, margin, scale=res, gradient=gradient)
 
 
-def _march(free: NDArray[np.bool_], cost: NDArray[np.float64],
-           src: tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]], sr: int, sc: int,
-           margin: float) -> NDArray[np.float64]:
+class _MarchSetup:
+    """The goal-independent part of a march on one map: the free mask, the largest and smallest
+    slowness and the compiled :class:`~gridfield._kernels_eikonal.Marcher` (its copies of the mask
+    and slowness, its work arrays), which a lock keeps to one march at a time.
+
+    Parameters
+    ----------
+    free : ndarray of bool
+        The mask the front runs on (ringed by ``off`` cells).
+    source : ndarray of float64 or None
+        The slowness of the map inside the ring (``inf`` on obstacles); ``None``: 1 everywhere.
+    off : int
+        The ring's width (0 or 1).
+    """
+
+    __slots__ = ("free", "lo", "lock", "marcher", "off", "pool", "source", "top")
+
+    def __init__(self, free: NDArray[np.bool_], source: NDArray[np.float64] | None, off: int) -> None:
+        self.free, self.source, self.off = free, source, off  # the slowness given, to recognise it
+        cost = self.cost()
+        top = float(cost[~np.isnan(cost)].max()) if cost.size else 1.0
+        if top > MAX_SLOWNESS:
+            raise ParameterError(f"the field's slowness reaches {top:.3g}, above the march's limit {MAX_SLOWNESS:g} "
+                                 "(nf-blend: lower clearance_gain or q_star)")
+        self.top = top
+        self.lo = float(cost[~np.isnan(cost)].min()) if cost.size else 1.0
+        self.marcher = _kernels().Marcher(free.view(np.uint8), cost)
+        self.lock = threading.Lock()
+        self.pool: list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]] = []
+
+    def cost(self) -> NDArray[np.float64]:
+        """The slowness the march reads: ``inf`` made 1, ringed by ``off`` cells of 1 (empty: 1 everywhere)."""
+        if self.source is None:
+            return np.empty((0, 0))
+        cst = np.where(np.isfinite(self.source), self.source, 1.0)
+        if self.off:
+            cst = np.pad(cst, self.off, constant_values=1.0)
+        return np.ascontiguousarray(cst, dtype=np.float64)
+
+    def run(self, *args: Any, gradient: bool = False) -> tuple[Any, ...]:
+        """:meth:`Marcher.run` on this setup's marcher, or on a fresh one while it is busy (threads).
+        A gradient march writes into a recycled output triple (:meth:`_outputs`) when one is free."""
+        if self.lock.acquire(blocking=False):
+            try:
+                into = self._outputs() if gradient else (None, None, None)
+                return self.marcher.run(*args, gradient, *into)  # type: ignore[no-any-return]
+            finally:
+                self.lock.release()
+        return _kernels().Marcher(self.free.view(np.uint8), self.cost()).run(*args, gradient)  # type: ignore[no-any-return]
+
+    def _outputs(self) -> tuple[NDArray[np.float64], ...] | tuple[None, None, None]:
+        """Arrays for a planned march's ``U``, ``gx``, ``gy`` that nothing but this pool refers to
+        any more (the field of an earlier query that the planner dropped: no array, view or buffer
+        of them is alive), or new ones kept in the pool (at most :data:`OUTPUT_POOL`); ``None``
+        when the interpreter's reference counts cannot tell (not CPython, or free-threaded).
+        Writing into memory already mapped saves the page faults of fresh map-sized arrays
+        (about 1 ms per 2 MB array on the 2-core test machine)."""
+        if not _REFCOUNTS:
+            return None, None, None
+        for trio in self.pool:
+            if _unused(trio):
+                return trio
+        if len(self.pool) >= OUTPUT_POOL:
+            return None, None, None
+        shape = (self.free.shape[0], self.free.shape[1])
+        trio = (np.empty(shape), np.empty(shape), np.empty(shape))
+        self.pool.append(trio)
+        return trio
+
+
+#: Output triples (``U``, ``gx``, ``gy``) a march setup keeps for recycling (:meth:`_MarchSetup._outputs`).
+OUTPUT_POOL = 2
+#: Whether ``sys.getrefcount`` tells when an array is no longer used (CPython with its GIL).
+_REFCOUNTS = sys.implementation.name == "cpython" and getattr(sys, "_is_gil_enabled", lambda: True)()
+
+
+def _unused(trio: tuple[NDArray[np.float64], ...]) -> bool:
+    """Whether the arrays of ``trio`` have no reference but the pool's tuple (the counts below are
+    the tuple's, the loop variable's and ``getrefcount``'s argument's): no Field, view or buffer
+    export of them is alive."""
+    return all(sys.getrefcount(a) == 3 for a in trio)
+
+
+#: The last reusable march setup (:func:`_march_setup`) and a weak reference to the distance map it
+#: serves: the planned queries of one map march on the same free mask and slowness, so the
+#: map-sized copies, allocations and initialisations happen once per map instead of once per query
+#: (about 5 ms on a 512 x 512 map). It holds about 30 bytes per cell (the marcher's arrays) and up
+#: to :data:`OUTPUT_POOL` output triples (24 bytes per cell each) until that distance map dies (a
+#: planner's ``cache`` dropped) or a setup for another map or slowness replaces it.
+_last_setup: tuple[Any, _MarchSetup] | None = None
+
+
+def _forget_setup(ref: Any) -> None:
+    """Drop the kept march setup (and the band's slowness) whose map's distance map ``ref`` died."""
+    global _last_setup, _last_band
+    last, band = _last_setup, _last_band
+    if last is not None and last[0] is ref:
+        _last_setup = None
+    if band is not None and band[0] is ref:
+        _last_band = None
+
+
+def _march_setup(free: NDArray[np.bool_], cost: NDArray[np.float64] | None, off: int,
+                 owner: DistanceMap | None = None) -> _MarchSetup:
+    """The :class:`_MarchSetup` of the mask ``free`` (ringed by ``off`` cells) and the slowness
+    ``cost`` (of the map inside the ring; ``None``: 1 everywhere). With ``owner`` (the distance map
+    of the queries' map, which a planner's ``cache`` keeps), it is kept while ``owner`` lives and
+    reused when ``cost`` is ``None`` or the clearance band's kept slowness (:func:`_band_cost_of`:
+    read-only, so it cannot change) and the mask is the last one's; built fresh otherwise."""
+    global _last_setup
+    band = _last_band
+    reusable = owner is not None and (cost is None or (band is not None and cost is band[3]))
+    last = _last_setup
+    if (reusable and last is not None and last[0]() is owner and last[1].source is cost
+            and last[1].free.shape == free.shape and np.array_equal(last[1].free, free)):
+        return last[1]
+    setup = _MarchSetup(np.ascontiguousarray(free, dtype=bool), cost, off)
+    if reusable:
+        _last_setup = (weakref.ref(owner, _forget_setup), setup)
+    return setup
+
+
+def _march(setup: _MarchSetup, src: tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]], sr: int,
+           sc: int, margin: float, *, scale: float = 1.0, gradient: bool = False
+           ) -> tuple[NDArray[np.float64], tuple[NDArray[np.float64], NDArray[np.float64]] | None]:
     """The compiled march (bucket queue of width :data:`BUCKET_CELLS`) from the sources, sorted here;
-    with a stop cell, A*-ordered (:data:`ASTAR_WEIGHT`)."""
+    with a stop cell, A*-ordered (:data:`ASTAR_WEIGHT`). Returns the values times ``scale`` and, with
+    ``gradient``, their upwind gradient (:func:`nav_field`'s rule for a planned query, divided by
+    ``scale``), else ``None``."""
     order = np.argsort(src[2], kind="stable")
     r, c, v = (np.ascontiguousarray(a[order]) for a in src)
-    cost = np.ascontiguousarray(cost, dtype=np.float64)
-    top = float(cost[~np.isnan(cost)].max()) if cost.size else 1.0
-    if top > MAX_SLOWNESS:
-        raise ParameterError(f"the field's slowness reaches {top:.3g}, above the march's limit {MAX_SLOWNESS:g} "
-                             "(nf-blend: lower clearance_gain or q_star)")
-    lo = float(cost[~np.isnan(cost)].min()) if cost.size else 1.0
     # the heuristic must not exceed the cheapest travel time per cell (slowness >= lo everywhere)
-    hw = ASTAR_WEIGHT * min(lo, 1.0) if sr >= 0 else 0.0
-    t, _ = _kernels().march_buckets(free.view(np.uint8), cost, r, c, v, True, sr, sc, float(margin), BUCKET_CELLS,
-                                    max(top, 1.0), hw, None, ASTAR_REOPEN_CELLS)
-    return t
+    hw = ASTAR_WEIGHT * min(setup.lo, 1.0) if sr >= 0 else 0.0
+    out = setup.run(r, c, v, True, sr, sc, float(margin), BUCKET_CELLS, max(setup.top, 1.0), hw, ASTAR_REOPEN_CELLS,
+                    scale, gradient=gradient)
+    return out[0], ((out[3], out[4]) if gradient else None)
 
 
 def _xy(p: ArrayLike) -> tuple[float, float]:
@@ -411,7 +543,7 @@ def _nf2_values(gridmap: GridMap, goals: ArrayLike, dmap: DistanceMap, sk: NDArr
         s = grid.cell_of(*_xy(stop_at))
         if s is not None:
             sr, sc = s[0] + off, s[1] + off
-    u = _march(free, cost, src, sr, sc, STOP_MARGIN_CELLS * NF2_OFF_SKELETON_COST)
+    u, _ = _march(_MarchSetup(free, cost, 0), src, sr, sc, STOP_MARGIN_CELLS * NF2_OFF_SKELETON_COST)
     if off:
         u = u[1:-1, 1:-1]
     return np.ascontiguousarray(u * res)
@@ -487,7 +619,8 @@ def band_cost(dmap: DistanceMap, band: float, gain: float) -> NDArray[np.float64
 
 #: The last clearance band's slowness and what it was computed from (a weak reference to the distance
 #: map, band, gain), one tuple replaced whole: the queries of one map (a planner's ``cache`` holds its
-#: brushfire) reuse it instead of recomputing a map-sized array per query (~60 ms on a 1.7 M-cell map).
+#: brushfire) reuse it instead of recomputing a map-sized array per query (~60 ms on a 1.7 M-cell map);
+#: dropped when that distance map dies (:func:`_forget_setup`).
 _last_band: tuple[Any, float, float, NDArray[np.float64]] | None = None
 
 
@@ -499,7 +632,7 @@ def _band_cost_of(dmap: DistanceMap, band: float, gain: float) -> NDArray[np.flo
         return last[3]
     cost = band_cost(dmap, band, gain)
     cost.setflags(write=False)
-    _last_band = (weakref.ref(dmap), band, gain, cost)
+    _last_band = (weakref.ref(dmap, _forget_setup), band, gain, cost)
     return cost
 
 
@@ -539,8 +672,20 @@ def nf_potential(gridmap: GridMap, goals: ArrayLike, params: Mapping[str, Any] |
     >>> U.tolist(), p["model"]
     ([[0.0, 1.0, inf, 1.0, 0.0]], 'nf1')
     """
+    U, p, work, dmap, _ = _nf_values(gridmap, goals, params, dmap, skel, stop_at)
+    return U, p, work, dmap
+
+
+def _nf_values(gridmap: GridMap, goals: ArrayLike, params: Mapping[str, Any] | None, dmap: DistanceMap | None,
+               skel: tuple[NDArray[np.bool_], NDArray[np.float64]] | None, stop_at: ArrayLike | None,
+               gradient: bool = False
+               ) -> tuple[NDArray[np.float64], dict[str, Any], GridMap, DistanceMap,
+                          tuple[NDArray[np.float64], NDArray[np.float64]] | None]:
+    """:func:`nf_potential`, and with ``gradient`` the gradient arrays of a planned query's eikonal
+    march (:func:`_eikonal`) when the march made them (``None`` otherwise: NF2, octile)."""
     from .params import resolve_field
 
+    grad = None
     p = resolve_field({"model": "nf1", **dict(params or {})}, unit=gridmap.grid.resolution)
     model = p["model"]
     if model not in NF_MODELS:
@@ -562,8 +707,10 @@ def nf_potential(gridmap: GridMap, goals: ArrayLike, params: Mapping[str, Any] |
     else:
         if dmap is None:
             dmap = brushfire(around, metric="euclidean", compute_labels=False, compute_gvd=False)
+        want = gradient and stop_at is not None
         if model == "nf-blend":
-            U = eikonal(work, g, cost=blend_cost(dmap, p["q_star"], p["clearance_gain"]), stop_at=stop_at)
+            U, grad = _eikonal(work, g, blend_cost(dmap, p["q_star"], p["clearance_gain"]), stop_at,
+                               STOP_MARGIN_CELLS, want)
         elif p["attraction"] == "octile":
             from .navigation import wavefront
 
@@ -571,10 +718,11 @@ def nf_potential(gridmap: GridMap, goals: ArrayLike, params: Mapping[str, Any] |
                 raise ParameterError("attraction='octile' (the octile wavefront) takes one goal")
             U = np.ascontiguousarray(wavefront(work, g, costs="octile").value)
         elif p["clearance_band"] > 0 and p["band_gain"] > 0:
-            U = eikonal(work, g, cost=_band_cost_of(dmap, p["clearance_band"], p["band_gain"]), stop_at=stop_at)
+            U, grad = _eikonal(work, g, _band_cost_of(dmap, p["clearance_band"], p["band_gain"]), stop_at,
+                               STOP_MARGIN_CELLS, want, dmap)
         else:
-            U = eikonal(work, g, stop_at=stop_at)
-    return U, p, work, dmap
+            U, grad = _eikonal(work, g, None, stop_at, STOP_MARGIN_CELLS, want, dmap)
+    return U, p, work, dmap, grad
 
 
 def nav_field(gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] | None = None, *,
@@ -615,24 +763,27 @@ def nav_field(gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] | Non
     """
     from ._results import Field
 
-    U, p, work, dmap = nf_potential(gridmap, goal, params, dmap=dmap, skel=skel, stop_at=stop_at)
+    U, p, work, dmap, grad = _nf_values(gridmap, goal, params, dmap, skel, stop_at, gradient=True)
     g = gridmap.check_point("goal", goal)
     goal_xy = (float(g[0]), float(g[1]))
     given = dict(params or {})
-    if stop_at is None:
-        gx, gy = _kernels().upwind(U, True)
-    else:  # a truncated march: the gradient over the settled cells' bounding box only (zero beyond)
-        gx, gy = np.zeros(U.shape), np.zeros(U.shape)
-        fin = np.isfinite(U)
-        rows, cols = np.flatnonzero(fin.any(axis=1)), np.flatnonzero(fin.any(axis=0))
-        if rows.size:
-            box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
-            free = np.ascontiguousarray(~np.asarray(work.occupied, dtype=bool)[box]).view(np.uint8)
-            gx[box], gy[box] = _kernels().upwind(np.ascontiguousarray(U[box]), True, free)
     res = gridmap.grid.resolution
-    if res != 1.0:
-        gx /= res
-        gy /= res
+    if grad is not None:  # made by the march over its settled cells (the rule below, divided by res)
+        gx, gy = grad
+    else:
+        if stop_at is None:
+            gx, gy = _kernels().upwind(U, True)
+        else:  # a truncated march: the gradient over the settled cells' bounding box only (zero beyond)
+            gx, gy = np.zeros(U.shape), np.zeros(U.shape)
+            fin = np.isfinite(U)
+            rows, cols = np.flatnonzero(fin.any(axis=1)), np.flatnonzero(fin.any(axis=0))
+            if rows.size:
+                box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+                free = np.ascontiguousarray(~np.asarray(work.occupied, dtype=bool)[box]).view(np.uint8)
+                gx[box], gy[box] = _kernels().upwind(np.ascontiguousarray(U[box]), True, free)
+        if res != 1.0:
+            gx /= res
+            gy /= res
     if "progress_window" not in given:
         p["progress_window"] = NF_PROGRESS_WINDOW
     if p["model"] == "nf-blend" and "sampling" not in given:

@@ -355,12 +355,13 @@ def plan_potential_with_field(gridmap: GridMap, start: ArrayLike, goal: ArrayLik
     status = path.status
     points = path.points
     if nf and status != "reached":  # a complete field cannot trap: its own discrete descent finishes
-        finish = descend_cells(field.map, field.potential, points[-1], field.goal)
-        if finish is not None:
-            extra["finish"] = {"stop_reason": extra.get("stop_reason"), "from": [float(v) for v in points[-1]],
-                               "cells": len(finish)}
+        k = _last_valued(field, points)  # the stall's cell, or the last one the run crossed with a value
+        finish = None if k is None else descend_cells(field.map, field.potential, points[k], field.goal)
+        if finish is not None and k is not None:
+            extra["finish"] = {"stop_reason": extra.get("stop_reason"), "from": [float(v) for v in points[k]],
+                               "cells": len(finish), "dropped": len(points) - 1 - k}
             extra["stop_reason"] = "goal"
-            points, status = np.concatenate([points, finish]), "reached"
+            points, status = np.concatenate([points[: k + 1], finish]), "reached"
     if status != "reached" and esc is not None:
         diag = diagnose(path, field, esc, follow=follow)  # follow: the re-runs of a proposed q_star
         if not math.isfinite(esc.value(s)):  # large maps: found unreachable only now
@@ -374,6 +375,19 @@ def plan_potential_with_field(gridmap: GridMap, start: ArrayLike, goal: ArrayLik
         if field.map is not gridmap:  # an open border: the field's ring lies outside the grid
             _note_outside(extra, gridmap.grid, points)
     return replace(path, points=points, status=status, params=merged, extra=extra), field
+
+
+def _last_valued(field: GradientField, points: NDArray[np.float64]) -> int | None:
+    """Index of the last point whose cell has a finite potential (None: none has). A planned complete
+    field is settled only up to about the start's value (:mod:`gridfield.navfield`); a follower whose
+    interpolated steps drift across a steep slowness step can end in a cell beyond that (``inf``,
+    zero gradient), and the discrete descent then starts from the last point the field values."""
+    cells, inside = field.map.grid.world_to_cell(points)
+    ok = inside.copy()
+    r, c = cells[inside].T
+    ok[inside] = np.isfinite(field.potential[r, c])
+    idx = np.flatnonzero(ok)
+    return int(idx[-1]) if len(idx) else None
 
 
 def descend_cells(gridmap: GridMap, potential: NDArray[np.float64], point: ArrayLike,

@@ -59,7 +59,7 @@ PathExtra = TypedDict(
         "hint": str,  # one line: why the run failed and what to try (gridfield.diagnose)
         "diagnosis": dict[str, Any],  # the diagnosis behind the hint (gridfield.diagnose.diagnose)
         "median_clearance": float,  # median brushfire distance at the path's points (complete models; Path.min_clearance: the smallest)
-        "finish": dict[str, Any],  # complete models: the follower's stall finished by the field's discrete descent (follow.descend_cells): stop_reason, from, cells
+        "finish": dict[str, Any],  # complete models: the follower's stall finished by the field's discrete descent (follow.descend_cells): stop_reason, from, cells, dropped (points after the last one on a valued cell)
         # -- navigation functions (gridfield.navigation) --
         "value": float,  # the navigation function's value at the start cell
         "grid_length": float,  # length of the path through cell centres

@@ -457,3 +457,32 @@ def test_descend_cells_strictly_descends_by_legal_moves_to_the_goal(seed, model)
             assert not (dr and dc and (occ[prev[0] + dr, prev[1]] or occ[prev[0], prev[1] + dc]))
             assert U[rr, cc] < pu
             prev, pu = (rr, cc), U[rr, cc]
+
+
+def test_a_run_that_drifts_past_the_settled_cells_is_finished_from_the_last_valued_point():
+    """Hypothesis's counterexample (nf-blend, open border): the planned march settles cells only up to
+    about U(start); the follower's interpolated steps drifted up into a free cell beyond that (U inf,
+    zero gradient) and stopped there on small_gradient, where the discrete descent has no value to
+    start from. The finish now starts from the last point whose cell has a value."""
+    occ = np.array([[False, False,  True,  True, False, False, False, False, False, False,  True,  True, False, False,  True, False, False,  True, False, False, False,  True],
+    [False, False, False, False,  True, False,  True, False, False, False, False, False, False, False,  True, False, False, False, False,  True, False, False],
+    [False, False, False, False, False, False, False,  True, False, False, False, False, False, False,  True, False, False,  True, False,  True, False,  True],
+    [False, False, False,  True, False, False, False,  True,  True, False, False, False, False, False,  True, False, False, False, False, False, False, False],
+    [ True,  True, False,  True, False,  True, False, False, False, False,  True,  True, False,  True,  True, False, False, False, False, False,  True, False],
+    [False, False, False, False,  True, False, False,  True,  True, False,  True, False, False, False,  True,  True, False, False, False, False, False, False],
+    [False, False, False, False, False, False, False, False,  True,  True, False,  True,  True, False, False, False, False, False, False, False, False, False],
+    [False, False,  True, False,  True, False,  True,  True, False, False,  True,  True,  True, False,  True, False,  True,  True, False,  True,  True,  True],
+    [False,  True, False, False,  True,  True, False,  True, False, False, False,  True, False, False,  True, False, False, False,  True, False, False, False],
+    [False,  True, False, False,  True, False, False, False, False,  True, False, False, False, False, False, False,  True, False,  True, False, False, False],
+    [False, False,  True, False, False, False, False, False, False,  True,  True, False, False, False, False,  True, False, False, False, False, False, False],
+    [False, False,  True,  True, False, False,  True, False, False, False, False, False, False, False, False,  True, False,  True, False, False, False, False],
+    [False,  True, False, False, False, False, False,  True, False, False, False, False, False, False, False, False, False,  True,  True, False, False, False],
+    [False,  True, False, False, False,  True, False, False, False,  True,  True,  True,  True, False,  True,  True, False, False,  True, False, False,  True],
+    [False, False, False, False, False, False, False, False, False,  True,  True, False,  True, False, False, False, False, False, False, False, False,  True],
+    [ True, False, False, False, False,  True, False, False, False, False, False, False, False, False,  True, False, False, False, False,  True,  True,  True]])
+    gm = GridMap(Grid((16, 22), 1.0, border="open"), occ)
+    start, goal = np.array([3.79334028, 14.49175543]), np.array([9.64540457, 1.80895656])
+    p = plan("potential", gm, start, goal, {"model": "nf-blend"})
+    assert p.status == "reached" and np.allclose(p.points[-1], goal)
+    assert p.extra["finish"]["dropped"] >= 1  # the drifted points are not part of the path
+    assert_path_free(gm, p.points)

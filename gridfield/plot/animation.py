@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._results import GradientField
 from ..errors import GridfieldError, ParameterError
 from ..grid import GridMap
 from ..path import Path
@@ -232,7 +233,7 @@ def save_plan_animation(
     target: World | GridMap,
     path: Path,
     *,
-    field: Any = None,
+    field: GradientField | None = None,
     goal: ArrayLike | None = None,
     fps: int = 20,
     max_frames: int = 120,

@@ -255,7 +255,7 @@ def plot_brushfire(
 # potentials
 # ----------------------------------------------------------------------------------------------
 def plot_potential(
-    field: Any,
+    field: GradientField,
     ax: Axes | None = None,
     *,
     cap: float | None = None,
@@ -413,7 +413,7 @@ def _draw_potential_run(ax: Axes, art: Artists, field: GradientField, grid: Grid
 
 
 def plot_surface(
-    field: Any,
+    field: GradientField,
     ax: Axes | None = None,
     *,
     path: Path | None = None,

@@ -265,6 +265,13 @@ def march(mask_t free, val_t cost, const int64_t[:] src_r, const int64_t[:] src_
 # ----------------------------------------------------------------------------------------------
 # fast marching with an untidy bucket queue (Yatziv, Bartesaghi & Sapiro, J. Comput. Phys. 212, 2006)
 # ----------------------------------------------------------------------------------------------
+cdef inline double _astar_key(double val, double r, double c, double sr, double sc, double hw) noexcept nogil:
+    """The A* key of a cell at row ``r``, column ``c`` (padded) with value ``val``: ``val`` plus ``hw`` times
+    its Euclidean distance in cells to the stop cell ``(sr, sc)``."""
+    cdef double dr = r - sr, dc = c - sc
+    return val + hw * sqrt(dr * dr + dc * dc)
+
+
 cdef inline bint _bpush(int32_t** data, int64_t* size, int64_t* cap, int64_t b, int32_t v) noexcept nogil:
     cdef int64_t nc
     cdef int32_t* p
@@ -435,7 +442,7 @@ cdef class Marcher:
         cdef int64_t nsrc = src_r.shape[0]
         cdef bint astar = hweight > 0.0 and stop_r >= 0
         cdef bint reacc = astar and reopen < INFINITY
-        cdef double hw = hweight if astar else 0.0, key, sr = <double>(stop_r + 1), sc = <double>(stop_c + 1), dr, dc
+        cdef double hw = hweight if astar else 0.0, key, sr = <double>(stop_r + 1), sc = <double>(stop_c + 1)
         cdef int64_t nbk = <int64_t>((max_cost + hw) * SQRT2 * inv) + 4
         cdef int64_t br0 = rows, br1 = -1, bc0 = cols, bc1 = -1, vr, vc, nk = 8 if diag else 4
         cdef uint8_t skip = S_FREE | S_FIXED | (0 if reacc else S_DONE), s
@@ -480,11 +487,7 @@ cdef class Marcher:
                 # the sources due by this bucket join the queue
                 while sp < nsrc:
                     v = (src_r[sp] + 1) * w + src_c[sp] + 1
-                    key = src_v[sp]
-                    if astar:
-                        dr = <double>(v // w) - sr
-                        dc = <double>(v % w) - sc
-                        key = key + hw * sqrt(dr * dr + dc * dc)
+                    key = _astar_key(src_v[sp], <double>(v // w), <double>(v % w), sr, sc, hw) if astar else src_v[sp]
                     if <int64_t>(key * inv) > cur:
                         break
                     if (st[v] & S_FREE) and not (st[v] & S_DONE) and src_v[sp] == u[v]:
@@ -495,11 +498,7 @@ cdef class Marcher:
                     if sp >= nsrc:
                         break
                     v = (src_r[sp] + 1) * w + src_c[sp] + 1
-                    key = src_v[sp]
-                    if astar:
-                        dr = <double>(v // w) - sr
-                        dc = <double>(v % w) - sc
-                        key = key + hw * sqrt(dr * dr + dc * dc)
+                    key = _astar_key(src_v[sp], <double>(v // w), <double>(v % w), sr, sc, hw) if astar else src_v[sp]
                     cur = <int64_t>(key * inv)
                     continue
                 if cur * delta > limit:
@@ -548,11 +547,7 @@ cdef class Marcher:
                                 touched[nt] = <int32_t>nb
                                 nt += 1
                             u[nb] = val
-                            key = val
-                            if astar:
-                                dr = <double>(vr + orow[k]) - sr
-                                dc = <double>(vc + ocol[k]) - sc
-                                key = val + hw * sqrt(dr * dr + dc * dc)
+                            key = _astar_key(val, <double>(vr + orow[k]), <double>(vc + ocol[k]), sr, sc, hw) if astar else val
                             bk = <int64_t>(key * inv)
                             if bk < cur:
                                 bk = cur

@@ -441,9 +441,7 @@ def descend_cells(gridmap: GridMap, potential: NDArray[np.float64], point: Array
         if nxt == k:
             return None
         chain.append(k := nxt)
-    r, c = np.divmod(np.asarray(chain[:-1], dtype=np.intp), cols)
-    centres = np.column_stack([grid.origin[0] + (c + 0.5) * grid.resolution,
-                               grid.origin[1] + (r + 0.5) * grid.resolution])
+    centres = grid.cell_to_world(np.column_stack(np.divmod(np.asarray(chain[:-1], dtype=np.intp), cols)))
     return np.vstack([centres, [[gx, gy]]])  # the goal itself instead of its cell's centre
 
 

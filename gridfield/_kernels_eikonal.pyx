@@ -591,6 +591,47 @@ cdef class Marcher:
         return out, count, (br0, br1, bc0, bc1)
 
 
+cdef inline bint _upwind_axes(double v, double xl, double xr, double yd, double yu, double* x,
+                              double* y) noexcept nogil:
+    """The upwind rule of :func:`upwind` at one cell of value ``v`` along the axes: the difference towards
+    the lower of its two neighbours (``xl``/``xr`` left/right, ``yd``/``yu`` below/above; the left/lower
+    one on a tie), 0 where neither is lower. True when neither axis has a lower neighbour (then
+    :func:`_upwind_diag` decides)."""
+    x[0] = 0.0
+    y[0] = 0.0
+    if xl <= xr:
+        if xl < v:
+            x[0] = v - xl
+    elif xr < v:
+        x[0] = xr - v
+    if yd <= yu:
+        if yd < v:
+            y[0] = v - yd
+    elif yu < v:
+        y[0] = yu - v
+    return x[0] == 0.0 and y[0] == 0.0
+
+
+cdef inline void _upwind_diag(double v, double dmm, double dmp, double dpm, double dpp, double* x,
+                              double* y) noexcept nogil:
+    """The upwind rule of :func:`upwind` at a cell with no lower 4-neighbour: the difference towards the
+    lowest diagonal neighbour ``d[dr][dc]`` (``dmm`` = row -1, column -1, ..., the first one on a tie;
+    ``inf`` for one that may not be used), ``-(v - d) (dc, dr) / 2``; nothing when none is lower."""
+    cdef double best = v
+    cdef int64_t bdr = 0, bdc = 0
+    if dmm < best:
+        best, bdr, bdc = dmm, -1, -1
+    if dmp < best:
+        best, bdr, bdc = dmp, -1, 1
+    if dpm < best:
+        best, bdr, bdc = dpm, 1, -1
+    if dpp < best:
+        best, bdr, bdc = dpp, 1, 1
+    if bdr != 0:
+        x[0] = -0.5 * (v - best) * bdc
+        y[0] = -0.5 * (v - best) * bdr
+
+
 cdef inline double _settled(const double* u, const uint8_t* st, int64_t p) noexcept nogil:
     """``u[p]`` if the cell is accepted, else inf (what the march's ``T`` holds)."""
     return u[p] if st[p] & S_DONE else INFINITY
@@ -602,8 +643,10 @@ cdef void _upwind_done(const double* u, const uint8_t* st, int64_t w, int64_t r0
     :class:`Marcher` over the accepted cells of rows ``r0..r1``, columns ``c0..c1`` (unpadded), the
     differences divided by ``scale`` when it is not 1 (the order of operations of scaling ``T``, then
     differencing, then dividing). The ring of the padding plays the grid's edge (not accepted, not free)."""
-    cdef int64_t r, c, p, dr, dc, bdr, bdc, q
-    cdef double v, a, b, best, x, y, t
+    cdef int64_t r, c, p
+    cdef double v, x, y
+    cdef double d[4]
+    cdef int64_t k, dr, dc
     with nogil:
         for r in range(r0, r1 + 1):
             for c in range(c0, c1 + 1):
@@ -611,38 +654,15 @@ cdef void _upwind_done(const double* u, const uint8_t* st, int64_t w, int64_t r0
                 if not (st[p] & S_DONE):
                     continue
                 v = u[p] * scale
-                x = 0.0
-                y = 0.0
-                a = _settled(u, st, p - 1) * scale
-                b = _settled(u, st, p + 1) * scale
-                if a <= b:
-                    if a < v:
-                        x = v - a
-                elif b < v:
-                    x = b - v
-                a = _settled(u, st, p - w) * scale
-                b = _settled(u, st, p + w) * scale
-                if a <= b:
-                    if a < v:
-                        y = v - a
-                elif b < v:
-                    y = b - v
-                if x == 0.0 and y == 0.0:
-                    best = v
-                    bdr = 0
-                    bdc = 0
-                    for dr in range(-1, 2, 2):
+                if _upwind_axes(v, _settled(u, st, p - 1) * scale, _settled(u, st, p + 1) * scale,
+                                _settled(u, st, p - w) * scale, _settled(u, st, p + w) * scale, &x, &y):
+                    k = 0
+                    for dr in range(-1, 2, 2):  # a diagonal whose two side cells are free (the march's rule)
                         for dc in range(-1, 2, 2):
-                            if not ((st[p + dr * w] & S_FREE) and (st[p + dc] & S_FREE)):
-                                continue
-                            t = _settled(u, st, p + dr * w + dc) * scale
-                            if t < best:
-                                best = t
-                                bdr = dr
-                                bdc = dc
-                    if bdr != 0:
-                        x = -0.5 * (v - best) * bdc
-                        y = -0.5 * (v - best) * bdr
+                            d[k] = (_settled(u, st, p + dr * w + dc) * scale
+                                    if (st[p + dr * w] & S_FREE) and (st[p + dc] & S_FREE) else INFINITY)
+                            k += 1
+                    _upwind_diag(v, d[0], d[1], d[2], d[3], &x, &y)
                 if scale != 1.0:
                     x = x / scale
                     y = y / scale
@@ -691,8 +711,10 @@ def upwind(val_t t, bint diagonal=False, mask_t free=None):
     cell whose only lower neighbour is diagonal). ``free`` (the shape of ``t``), when given: the two
     side cells of a diagonal need only be free there (the march's rule), not finite: the rim of a
     truncated march, where a free side cell may not be settled yet."""
-    cdef int64_t rows = t.shape[0], cols = t.shape[1], r, c, dr, dc, bdr, bdc
-    cdef double v, a, b, best
+    cdef int64_t rows = t.shape[0], cols = t.shape[1], r, c, dr, dc, k
+    cdef double v, x, y
+    cdef double d[4]
+    cdef bint usable
     gx = np.zeros((rows, cols))
     gy = np.zeros((rows, cols))
     cdef double[:, ::1] ox = gx
@@ -705,42 +727,24 @@ def upwind(val_t t, bint diagonal=False, mask_t free=None):
                 v = t[r, c]
                 if not (v < INFINITY):
                     continue
-                a = t[r, c - 1] if c > 0 else INFINITY
-                b = t[r, c + 1] if c + 1 < cols else INFINITY
-                if a <= b:
-                    if a < v:
-                        ox[r, c] = v - a
-                elif b < v:
-                    ox[r, c] = b - v
-                a = t[r - 1, c] if r > 0 else INFINITY
-                b = t[r + 1, c] if r + 1 < rows else INFINITY
-                if a <= b:
-                    if a < v:
-                        oy[r, c] = v - a
-                elif b < v:
-                    oy[r, c] = b - v
-                if diagonal and ox[r, c] == 0.0 and oy[r, c] == 0.0:
-                    # no lower 4-neighbour: the lowest diagonal one (both cells beside it finite),
-                    # whose drop (v - d) over the diagonal gives the gradient -(v - d) (dc, dr) / 2
-                    best = v
-                    bdr = 0
-                    bdc = 0
-                    for dr in range(-1, 2, 2):
+                if _upwind_axes(v, t[r, c - 1] if c > 0 else INFINITY, t[r, c + 1] if c + 1 < cols else INFINITY,
+                                t[r - 1, c] if r > 0 else INFINITY, t[r + 1, c] if r + 1 < rows else INFINITY,
+                                &x, &y) and diagonal:
+                    k = 0
+                    for dr in range(-1, 2, 2):  # the diagonals whose two side cells are usable
                         for dc in range(-1, 2, 2):
-                            if r + dr < 0 or r + dr >= rows or c + dc < 0 or c + dc >= cols:
-                                continue
-                            if byfree:
-                                if not (fm[r + dr, c] and fm[r, c + dc]):
-                                    continue
-                            elif not (t[r + dr, c] < INFINITY and t[r, c + dc] < INFINITY):
-                                continue
-                            if t[r + dr, c + dc] < best:
-                                best = t[r + dr, c + dc]
-                                bdr = dr
-                                bdc = dc
-                    if bdr != 0:
-                        ox[r, c] = -0.5 * (v - best) * bdc
-                        oy[r, c] = -0.5 * (v - best) * bdr
+                            d[k] = INFINITY
+                            if 0 <= r + dr < rows and 0 <= c + dc < cols:
+                                if byfree:
+                                    usable = fm[r + dr, c] != 0 and fm[r, c + dc] != 0
+                                else:
+                                    usable = t[r + dr, c] < INFINITY and t[r, c + dc] < INFINITY
+                                if usable:
+                                    d[k] = t[r + dr, c + dc]
+                            k += 1
+                    _upwind_diag(v, d[0], d[1], d[2], d[3], &x, &y)
+                ox[r, c] = x
+                oy[r, c] = y
     return gx, gy
 
 

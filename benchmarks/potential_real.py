@@ -403,6 +403,32 @@ def quality_report(results: list[dict[str, Any]], variants: Sequence[str]) -> li
     return lines
 
 
+def time_report(results: list[dict[str, Any]], variants: Sequence[str]) -> list[str]:
+    """The time target of issue 25 on the 512 x 512 Moving AI maps: per variant, the median over the
+    reachable queries of the plan's time, of ``wavefront-octile``'s on the same query (the API, the
+    map's warm cache, timed just before), and of the per-query ratio (with its 90th percentile)."""
+    maps = [m for m in results if m["kind"] == "movingai" and not m.get("error") and list(m.get("shape") or []) == [512, 512]]
+    names = {m["name"] for m in maps}
+    rows = []
+    for v in variants:
+        runs = [r for m in maps for r in m["runs"] if r["variant"] == v and r["kind"] == "reachable"
+                and r.get("seconds") is not None and r.get("octile_seconds")]
+        if not runs or all(r["status"] == NOT_AVAILABLE for r in runs):
+            continue
+        ms = [1000 * r["seconds"] for r in runs]
+        ref = [1000 * r["octile_seconds"] for r in runs]
+        ratio = [a / b for a, b in zip(ms, ref, strict=True)]
+        med, rmed = float(np.median(ms)), float(np.median(ratio))
+        rows.append([v, str(len(names)), str(len(runs)), f"{med:.1f}", f"{np.median(ref):.1f}", f"{rmed:.2f}",
+                     f"{np.quantile(ratio, 0.9):.2f}", "yes" if med <= 10.0 and rmed <= 3.0 else "no"])
+    if not rows:
+        return []
+    return ["### Time: the 512 x 512 Moving AI maps", "",
+            "Target (issue 25): median <= 10 ms per query and median per-query ratio to `wavefront-octile` <= 3.", "",
+            markdown_table(["variant", "maps", "queries", "ms / query median", "wavefront-octile ms median",
+                            "ratio median (per query)", "ratio p90", "target met"], rows), ""]
+
+
 # ----------------------------------------------------------------------------------------------
 # Tables
 # ----------------------------------------------------------------------------------------------
@@ -636,7 +662,8 @@ def main(argv: list[str] | None = None) -> int:
         "no_path / error.",
         "",
     ]
-    lines = header + (quality_report(results, args.variants) if args.quality else []) + report(results, args.variants)
+    lines = header + ((quality_report(results, args.variants) + time_report(results, args.variants)) if args.quality else [])
+    lines += report(results, args.variants)
     text = "\n".join(lines).rstrip() + "\n"
     print(text, end="")
     if args.out is not None:

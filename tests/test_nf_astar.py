@@ -108,21 +108,25 @@ def test_truncated_field_has_no_spurious_minimum(case):
         _check_query(gm, start, goal, full, params, cost)
 
 
-def test_heuristic_prunes_and_weight_is_causal_for_the_smaller_neighbour():
-    # w <= 1/sqrt 2: the smaller upwind neighbour a of an update has u - a >= spacing / sqrt 2,
-    # and its key differs from the cell's by at most w * spacing, so it is always accepted first
-    assert 0.0 < ASTAR_WEIGHT <= 1.0 / math.sqrt(2.0)
+def test_heuristic_prunes_and_keeps_the_values_along_the_way():
+    # w <= 1: the heuristic w * h never exceeds the travel time to the start (the slowness is at least
+    # the smallest one, which scales h), so the march settles every cell of the way before it stops
+    assert 0.0 < ASTAR_WEIGHT <= 1.0
     gm = GridMap(Grid((200, 200), 1.0, border="wall"), np.zeros((200, 200), bool))
     part = eikonal(gm, (100.5, 20.5), stop_at=(100.5, 180.5))
     full = eikonal(gm, (100.5, 20.5))
-    # on an empty map the values along the straight way are the full march's (the front runs towards
-    # the start there, so no neighbour arrives late); off it they may be higher, never lower
     fin = np.isfinite(part)
-    assert np.abs(part[100:181, 95:106] - full[100:181, 95:106]).max() <= 0.01
+    # on an empty map the values along the straight way are the full march's; beside it a cell may be
+    # accepted before its second upwind neighbour (its key is not above the cell's when w > 1/sqrt 2)
+    # and keep a one-sided value, higher by at most 1 - 1/sqrt 2 of a cell; never lower
+    assert np.abs(part[20:181, 100] - full[20:181, 100]).max() <= 0.01
+    near = (slice(20, 181), slice(98, 103))
+    assert fin[near].all()
+    assert np.abs(part[near] - full[near]).max() <= 1.0 - 1.0 / math.sqrt(2.0) + 0.01
     assert (part[fin] >= full[fin] - 1e-9).all()
     # and far fewer cells are settled than the plain truncation's disc of radius U(start) + margin
     disc = full <= full[180, 100] + STOP_MARGIN_CELLS
-    assert fin.sum() < 0.7 * disc.sum(), (fin.sum(), disc.sum())
+    assert fin.sum() < 0.2 * disc.sum(), (fin.sum(), disc.sum())
 
 
 def test_reopening_gives_the_full_march_values():
@@ -160,9 +164,10 @@ def test_planned_queries_stay_on_settled_cells_and_keep_their_length(shared_maps
         # the follower's path never enters an unsettled cell
         cells = np.array([gm.grid.cell_of(x, y) for x, y in p.points])
         assert np.isfinite(u[cells[:, 0], cells[:, 1]]).all()
-        # the length is the one the whole (plain-order) field gives, within 2 %
+        # the length is the one the whole (plain-order) field gives, within 2 % and half a cell (a
+        # one-sided value beside a few-cell way can turn its first step: 4.48 against 4.24 on 16room)
         with monkeypatch.context() as m:
             m.setattr(navfield, "ASTAR_WEIGHT", 0.0)
             ref = plan("potential", gm, s, g, {}, cache={})
         assert ref.status == "reached"
-        assert abs(p.length - ref.length) <= 0.02 * ref.length, (p.length, ref.length)
+        assert abs(p.length - ref.length) <= 0.02 * ref.length + 0.5, (p.length, ref.length)

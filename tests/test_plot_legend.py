@@ -170,3 +170,23 @@ def test_a_legend_under_a_hint_box_makes_the_figure_taller_not_the_title_fall_ou
             assert fig.bbox.y0 <= box.y0 and box.y1 <= fig.bbox.y1 + 0.5, (box, fig.bbox)
     finally:
         plt.close(art.figure)
+
+
+def test_a_legend_beside_the_map_fits_the_saved_figure(shared_maps):
+    """A long label on a square map (legend right of it) stays inside the figure as saved, after the one
+    layout pass a save makes (it ran past the figure's edge: 'potential: reached, length 36' on 8room_000)."""
+    import io
+
+    d = shared_maps / "movingai" / "8room_000"
+    gm = read_movingai_map(next(d.glob("*.map")))
+    start, goal = (380.5, 325.5), (282.5, 42.5)
+    path = plan("potential", gm, start, goal)
+    assert path.status == "reached"
+    art = plot_map(gm, paths=[path], start=start, goal=goal)
+    try:
+        art.figure.savefig(io.BytesIO(), format="png", dpi=110)
+        legend, fig = art.legend.get_window_extent(), art.figure.bbox
+        assert legend.x0 >= art.ax.get_window_extent().x1  # beside the map, on the right
+        assert fig.x0 <= legend.x0 and legend.x1 <= fig.x1 and fig.y0 <= legend.y0 and legend.y1 <= fig.y1, (legend, fig)
+    finally:
+        plt.close(art.figure)

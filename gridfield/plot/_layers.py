@@ -512,6 +512,7 @@ def _legend(ax: Axes, art: Artists, *, loc: str = "outside", fontsize: float = 8
     from matplotlib.layout_engine import ConstrainedLayoutEngine
 
     where: dict[str, Any] = {"loc": loc}
+    beside = False
     fig = ax.get_figure()  # a subfigure (not a Figure) gets "best" too
     if loc == "outside":
         where = {"loc": "best"}
@@ -519,11 +520,15 @@ def _legend(ax: Axes, art: Artists, *, loc: str = "outside", fontsize: float = 8
                 and [a for a in fig.axes if a.get_label() != "<colorbar>"] == [ax]):
             hint = art.extra.get("hint")  # a path's hint box below the axes: the legend goes under it
             where = _outside(ax, fig, labels, fontsize, hint=None if hint is None else hint.get_text())
-            grow = where.pop("grow", 0.0)
+            grow, beside = where.pop("grow", 0.0), where.pop("beside", False)
             if grow and fig.get_label() == OWN_FIGURE:  # room for the legend, so that the map keeps its size
                 w, h = fig.get_size_inches()
                 fig.set_size_inches(w, h + grow / 72.0)
     art.legend = ax.legend(handles, labels, fontsize=fontsize, framealpha=0.85, **where)
+    if beside and fig.get_label() == OWN_FIGURE:
+        # one layout pass now, with the legend: the constrained layout's single pass at a save leaves
+        # too little room beside the map, and a long label ran past the figure's edge (an 8room_000 path)
+        fig.draw_without_rendering()
 
 
 def _outside(ax: Axes, fig: Figure, labels: Sequence[str], fontsize: float, *, hint: str | None = None
@@ -535,7 +540,7 @@ def _outside(ax: Axes, fig: Figure, labels: Sequence[str], fontsize: float, *, h
     the one that scales the shown area less. With a hint, always below it (a legend beside the axes
     and a hint box wider than them are not laid out on the first draw). Below, ``"grow"`` is the height
     in points the legend adds (a figure gridfield created grows by it: the map keeps its size and the
-    title stays inside)."""
+    title stays inside); right, ``"beside"`` is True (:func:`_legend` then lays the figure out once)."""
     import matplotlib as mpl
     from matplotlib.font_manager import FontProperties
     from matplotlib.transforms import ScaledTranslation
@@ -559,7 +564,7 @@ def _outside(ax: Axes, fig: Figure, labels: Sequence[str], fontsize: float, *, h
                 "ncols": ncols, "borderaxespad": 0.0, "grow": 1.4 * fontsize * rows + 2.0 * fontsize}
     shift = ScaledTranslation(6.0 / 72.0, 0.0, fig.dpi_scale_trans)
     return {"loc": "upper left", "bbox_to_anchor": (1.0, 1.0), "bbox_transform": ax.transAxes + shift,
-            "borderaxespad": 0.0}
+            "borderaxespad": 0.0, "beside": True}
 
 
 def _finite_levels(lo: float, hi: float, n: int) -> NDArray[np.float64]:

@@ -410,6 +410,8 @@ def _check_in_world(target: World, r: Robot, where: str, p: NDArray[np.float64])
     if not dists:
         return
     d, what = min(dists)
+    if d <= 0.0:  # the point itself is not free: no robot size helps
+        raise GridfieldError(f"{where} lies {'on' if what == 'the wall' else 'inside'} {what}")
     if r.radius is not None:
         if d <= r.radius:
             raise GridfieldError(f"{where} is {d:.3g} from {what}, within the robot ({r.describe()}); {_HINT}")
@@ -431,6 +433,8 @@ def _check_in_world(target: World, r: Robot, where: str, p: NDArray[np.float64])
 def _check_on_grid(target: GridMap, r: Robot, where: str, p: NDArray[np.float64],
                    cspace: World | GridMap | None) -> None:
     """:func:`check_robot_point` on a grid's occupied cells (and its grid C-space, when given)."""
+    if not target.is_free(p)[0]:  # the point itself is in an occupied cell: no robot size helps
+        (cspace if isinstance(cspace, GridMap) else target).check_point(where.split(" (")[0], p)
     h = target.grid.resolution
     d = _grid_distance(target, p, r.extent + 2 * h)
     if r.radius is not None:

@@ -378,9 +378,23 @@ def frame_axes(ax: Axes, bounds: tuple[float, float, float, float], points: Sequ
 
 
 def _path_label(path: Path) -> str:
+    """A path's legend entry: planner, status and length (three significant digits, whole units from
+    1000 on, never an exponent: ``length 1188``, not ``1.19e+03``).
+
+    Examples
+    --------
+    >>> from gridfield.path import Path
+    >>> import numpy as np
+    >>> _path_label(Path(np.array([[0.0, 0.0], [1188.3, 0.0]]), "reached", "potential"))
+    'potential: reached, length 1188'
+    >>> _path_label(Path(np.array([[0.0, 0.0], [4.2426, 0.0]]), "reached", "potential"))
+    'potential: reached, length 4.24'
+    """
     if path.status == "no_path":  # no path, no length ("length 0" read as a path of length 0)
         return f"{path.planner}: no_path (no path joins start and goal)"
-    return f"{path.planner}: {path.status}, length {path.length:.3g}"
+    n = float(path.length)
+    return f"{path.planner}: {path.status}, length {n:.0f}" if abs(n) >= 1000 else \
+        f"{path.planner}: {path.status}, length {n:.3g}"
 
 
 def stall_points(path: Path | None) -> NDArray[np.float64]:

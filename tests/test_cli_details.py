@@ -28,6 +28,24 @@ def test_two_misspelt_flags_each_get_theirs(capsys: pytest.CaptureFixture[str]) 
     assert "--metrc: did you mean --metric?" in err and "--conectivity: did you mean --connectivity?" in err
 
 
+@pytest.mark.parametrize(("words", "hint"), [
+    (["--model", "khatib"], "did you mean --param model=khatib?"),
+    (["--clearance-band=0"], "did you mean --param clearance_band=0?"),
+    (["--attraction"], "did you mean --param attraction=VALUE?"),
+])
+def test_a_parameter_given_as_a_flag_is_pointed_to_param(words, hint, capsys: pytest.CaptureFixture[str]) -> None:
+    # a newcomer writes --model khatib (README: "the classic field is one flag away"); it was answered
+    # "did you mean --help?"
+    assert main(["plan", str(bundled_map("seed000.yaml")), *words]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and hint in err, err
+    # and the hint works
+    key, value = hint.split("--param ")[1].rstrip("?").split("=")
+    if value != "VALUE":
+        assert main(["plan", str(bundled_map("seed000.yaml")), "--param", f"{key}={value}", "--json"]) == 0
+        assert json.loads(capsys.readouterr().out)["params"][key] == (float(value) if key == "clearance_band" else value)
+
+
 def test_a_blocked_coarse_cell_is_not_called_an_obstacle(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["plan", str(bundled_map("seed000.yaml")), "--resolution", "5"]) == 2
     err = capsys.readouterr().err

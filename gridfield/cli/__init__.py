@@ -55,20 +55,41 @@ def _unrecognized(extras: Sequence[str], parser: argparse.ArgumentParser) -> str
     >>> p = argparse.ArgumentParser(prog="x"); _ = p.add_argument("--planner")
     >>> _unrecognized(["--planer", "fmm"], p)
     'unrecognized arguments: --planer fmm (did you mean --planner?)'
+
+    A planner parameter without a flag of its own is given with ``--param``:
+
+    >>> _ = p.add_argument("--param")
+    >>> _unrecognized(["--model", "khatib"], p)
+    'unrecognized arguments: --model khatib (did you mean --param model=khatib?)'
     """
     import difflib
 
     options = [o for a in parser._actions for o in a.option_strings if o.startswith("--")]
+    registry = _registry_names() if "--param" in options else ()
     hints = []
-    for word in extras:
+    for i, word in enumerate(extras):
         if word.startswith("--"):
-            close = difflib.get_close_matches(word.split("=", 1)[0], options, n=1, cutoff=0.6)
+            flag = word.split("=", 1)[0]
+            key = flag[2:].replace("-", "_")
+            if key in registry and flag not in options:  # a parameter without a flag of its own: --param
+                value = word.split("=", 1)[1] if "=" in word else (
+                    extras[i + 1] if i + 1 < len(extras) and not extras[i + 1].startswith("--") else "VALUE")
+                hints.append((flag, f"--param {key}={value}"))
+                continue
+            close = difflib.get_close_matches(flag, options, n=1, cutoff=0.6)
             if close:
-                hints.append((word.split("=", 1)[0], close[0]))
+                hints.append((flag, close[0]))
     text = "unrecognized arguments: " + " ".join(extras)
     if len(hints) == 1:
         return text + f" (did you mean {hints[0][1]}?)"
     return text + (" (" + "; ".join(f"{w}: did you mean {c}?" for w, c in hints) + ")" if hints else "")
+
+
+def _registry_names() -> tuple[str, ...]:
+    """Every planner parameter's registry name (``model``, ``clearance_band``, ...)."""
+    from ..params import GROUPS, names
+
+    return names(*GROUPS)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -46,9 +46,10 @@ from shapely.geometry import Polygon
 
 from .errors import ParameterError
 from .grid import Grid, GridMap
+from .limits import check_cells
 from .world import Obstacle, World
 
-__all__ = ["block_downsample", "blocked_runs", "grid_world", "source_grid"]
+__all__ = ["block_downsample", "blocked_runs", "grid_world", "source_grid", "subdivide"]
 
 _WORLDS: weakref.WeakKeyDictionary[GridMap, World] = weakref.WeakKeyDictionary()
 _SOURCES: weakref.WeakKeyDictionary[World, weakref.ref[GridMap]] = weakref.WeakKeyDictionary()
@@ -161,6 +162,47 @@ def source_grid(world: Any) -> GridMap | None:
     except TypeError:  # not weak-referenceable
         return None
     return ref() if ref is not None else None
+
+
+def subdivide(gridmap: GridMap, parts: int) -> GridMap:
+    """Refine a grid by an integer ``parts``: every cell becomes ``parts x parts`` cells of its state.
+
+    The free space is exactly the same (the blocked cells cover the same squares), so a finer grid of a
+    grid map is no approximation of it: :func:`gridfield.compare.convergence_study` refines a grid map
+    this way below its own resolution (and coarsens it with :func:`block_downsample` above it).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+        The map.
+    parts : int
+        Cells per cell along each axis (>= 1; 1 returns ``gridmap`` itself).
+
+    Returns
+    -------
+    GridMap
+        The fine map (resolution ``1/parts`` of the map's, same origin and border).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gridfield.grid import Grid, GridMap
+    >>> occ = np.array([[True, False]])
+    >>> f = subdivide(GridMap(Grid((1, 2), 1.0), occ), 2)
+    >>> f.shape, f.grid.resolution, f.occupied.astype(int).tolist()
+    ((2, 4), 0.5, [[1, 1, 0, 0], [1, 1, 0, 0]])
+    """
+    if isinstance(parts, bool) or not isinstance(parts, int | np.integer) or parts < 1:
+        raise ParameterError(f"subdivision must be a positive integer, got {parts!r}")
+    k = int(parts)
+    if k == 1:
+        return gridmap
+    rows, cols = gridmap.shape
+    check_cells((rows * k, cols * k), f"a x1/{k} grid of {gridmap.source or 'the map'}")
+    occ = np.repeat(np.repeat(np.asarray(gridmap.occupied, dtype=bool), k, axis=0), k, axis=1)
+    grid = Grid((rows * k, cols * k), gridmap.grid.resolution / k, gridmap.grid.origin, gridmap.grid.border)
+    src = f"{gridmap.source} (x1/{k} cells)" if gridmap.source else ""
+    return GridMap(grid, occ, source=src, meta=dict(gridmap.meta))
 
 
 def block_downsample(gridmap: GridMap, factor: int) -> GridMap:

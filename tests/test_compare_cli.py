@@ -19,7 +19,7 @@ SCEN = str(bundled_map("arena/arena.map.scen"))
 
 def test_readmes_old_example_gives_each_rows_reason(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["compare", ARENA, "--start", "1.5", "37.5", "--goal", "45.5", "3.5", "--planner", "wavefront-octile",
-                 "--exact-planner", "visibility"]) == 0
+                 "--exact-planner", "visibility", "--resolutions", "8", "4", "2", "1"]) == 0
     out = capsys.readouterr().out.splitlines()
     rows = [line.split() for line in out[2:6]]
     assert [r[0] for r in rows] == ["8", "4", "2", "1"]
@@ -54,7 +54,8 @@ def test_compare_takes_a_scenario(capsys: pytest.CaptureFixture[str]) -> None:
     assert np.allclose(doc["start"], scen.start_xy[159]) and np.allclose(doc["goal"], scen.goal_xy[159])
     assert doc["optimal"] == pytest.approx(float(scen.optimal[159]))
     # the octile wavefront at the map's own resolution is the scenario's optimum
-    assert doc["rows"][-1]["length"] == pytest.approx(doc["optimal"], abs=0.01)
+    (own,) = [r for r in doc["rows"] if r["resolution"] == 1]
+    assert own["length"] == pytest.approx(doc["optimal"], abs=0.01)
 
 
 def _strings(v: object) -> list[object]:
@@ -74,7 +75,7 @@ def test_compare_json_has_no_strings_for_numbers(capsys: pytest.CaptureFixture[s
 
 
 ONE_RAN = [ARENA, "--start", "1.5", "37.5", "--goal", "45.5", "3.5", "--planner", "wavefront-octile",
-           "--exact-planner", "visibility"]  # on arena only resolution 1 of 8, 4, 2, 1 has both points free
+           "--exact-planner", "visibility", "--resolutions", "8", "4", "2", "1"]  # only 1 has both points free
 
 
 def test_plot_with_one_resolution_that_ran_draws_it(tmp_path, capsys: pytest.CaptureFixture[str],
@@ -136,3 +137,29 @@ def test_the_default_exact_planner_is_what_the_grid_planner_converges_to(capsys:
     assert json.loads(capsys.readouterr().out)["exact_planner"] == "exact-potential"  # the file says khatib
     assert main(["compare", ARENA, "--scenario", SCEN, "--index", "10", "--param", "model=khatib", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["exact_planner"] == "exact-potential"
+
+
+def test_a_grid_maps_default_resolutions_subdivide_so_that_two_run(capsys: pytest.CaptureFixture[str]) -> None:
+    """README's old example on arena ran at one resolution only (the coarse cells block the start), so the
+    study said "needs two resolutions"; the default now also splits the map's cells (x1/2, x1/4), where
+    the points are as free as at the map's own resolution, and the order is estimated."""
+    assert main(["compare", ARENA, "--start", "1.5", "37.5", "--goal", "45.5", "3.5", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert [r["resolution"] for r in doc["rows"]] == [4, 2, 1, 0.5, 0.25]
+    ran = [r for r in doc["rows"] if r["status"] == "reached"]
+    assert [r["resolution"] for r in ran] == [1, 0.5, 0.25]
+    # the finer grids come closer to the any-angle optimum (the exact side)
+    ratios = [r["length_ratio"] for r in ran]
+    assert ratios[0] > ratios[1] > ratios[2] >= 1.0 - 1e-9, ratios
+    assert doc["order"]["hausdorff"] is not None and doc["order"]["hausdorff"] > 0
+
+
+def test_subdivide_keeps_the_free_space() -> None:
+    from gridfield.gridpoly import grid_world, subdivide
+
+    gm = read(ARENA)
+    fine = subdivide(gm, 3)
+    assert fine.grid.resolution == pytest.approx(gm.grid.resolution / 3) and fine.grid.origin == gm.grid.origin
+    assert np.array_equal(fine.occupied, np.kron(gm.occupied.astype(int), np.ones((3, 3), int)).astype(bool))
+    assert grid_world(fine).obstacles and sum(o.geometry.area for o in grid_world(fine).obstacles) == pytest.approx(
+        sum(o.geometry.area for o in grid_world(gm).obstacles))

@@ -176,12 +176,14 @@ def test_cli_plan_and_compare_on_a_moving_ai_map(capsys):
                "--exact-planner", "visibility", "--json"])
     data = json.loads(capsys.readouterr().out)
     assert rc == 0
-    assert [r["resolution"] for r in data["rows"]] == [8.0, 4.0, 2.0, 1.0]
-    last = data["rows"][-1]
+    assert [r["resolution"] for r in data["rows"]] == [4.0, 2.0, 1.0, 0.5, 0.25]
+    (last,) = [r for r in data["rows"] if r["resolution"] == 1.0]
     assert last["status"] == "reached" and last["exact_length"] == pytest.approx(out["length"], abs=1e-9)
     assert last["length_ratio_optimal"] >= 1.0 and not last["collides"]
     rc = main(["compare", arena, "--start", "1.5", "37.5", "--goal", "45.5", "3.5", "--resolutions", "1.5"])
     assert rc == 2 and "multiples of the map's resolution" in capsys.readouterr().err
+    rc = main(["compare", arena, "--start", "1.5", "37.5", "--goal", "45.5", "3.5", "--resolutions", "0.4"])
+    assert rc == 2 and "integer fractions" in capsys.readouterr().err
 
 
 def test_exact_potential_clearance_through_the_tree_equals_the_world_clearance():

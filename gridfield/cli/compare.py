@@ -29,8 +29,13 @@ from ._common import (
 )
 
 DEFAULT_RESOLUTIONS = (0.4, 0.2, 0.1, 0.05)
-#: On a grid map: the map's resolution times these block factors (coarsest first, like the default).
-GRID_FACTORS = (8, 4, 2, 1)
+#: On a grid map: the map's resolution times these factors (coarsest first, like the default): block-
+#: downsampled above 1, subdivided below (the same free space, so a finer grid always runs where the
+#: coarse ones block the start's or goal's cell); the finest only while the grid stays within
+#: :data:`GRID_MAX_CELLS`.
+GRID_FACTORS = (4, 2, 1, 0.5, 0.25)
+#: The most cells a default resolution of a grid map may have (2048 x 2048).
+GRID_MAX_CELLS = 1 << 22
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
@@ -41,7 +46,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p = sub.add_parser("compare", help="compare a grid planner with the exact planner (convergence, batch)",
                        description="Run a grid planner at several resolutions against the exact-geometry "
                                    "planner on a vector world or a grid map (exact polygons of its blocked cells; "
-                                   "the grid at its resolution and block-downsampled x2, x4, x8) and report path length ratios, Hausdorff and "
+                                   "the grid at its resolution, block-downsampled x2, x4 and subdivided x1/2, x1/4) and report path length "
+                                   "ratios, Hausdorff and "
                                    "Frechet distances, stall-point errors and clearances; or, with --batch N, "
                                    "success rates and length ratios over N random start/goal pairs.")
     add_map_arguments(p, name="MAP")
@@ -54,7 +60,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument("--index", type=int, default=None, metavar="N",
                    help="which scenario of --scenario (0 = the first; default 0)")
     p.add_argument("--resolutions", nargs="+", type=float, metavar="R", default=None,
-                   help=f"cell sizes of the convergence study (default: {' '.join(map(str, DEFAULT_RESOLUTIONS))})")
+                   help=f"cell sizes of the convergence study (default: {' '.join(map(str, DEFAULT_RESOLUTIONS))}; on a "
+                        f"grid map its resolution times {', '.join(f'{k:g}' for k in GRID_FACTORS)}: coarser "
+                        "grids block-downsampled, finer ones subdivided)")
     p.add_argument("--planner", default="potential", choices=grid_planners,
                    help="grid planner (default: potential)")
     p.add_argument("--exact-planner", default=None, choices=world_planners,
@@ -224,8 +232,9 @@ def run(args: argparse.Namespace) -> int:
     target = robot_target(args, target, start=start, goal=goal)
     if args.resolutions is not None:
         resolutions = args.resolutions
-    elif grid_res is not None:  # a grid map: its own resolution and block-downsampled copies
-        resolutions = [grid_res * k for k in GRID_FACTORS]
+    elif grid_res is not None:  # a grid map: its own resolution, block-downsampled and subdivided copies
+        cells = target.grid.rows * target.grid.cols
+        resolutions = [grid_res * k for k in GRID_FACTORS if k >= 1 or cells / (k * k) <= GRID_MAX_CELLS]
     else:
         resolutions = list(DEFAULT_RESOLUTIONS)
     if args.exact_planner is None:

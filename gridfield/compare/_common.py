@@ -90,13 +90,18 @@ def _as_world(target: Any, what: str) -> tuple[World, Any]:
 
 
 def _grid_factor(base: Any, h: float) -> int:
-    """The integer block factor of resolution ``h`` on a grid map, or ParameterError."""
+    """The integer block factor of resolution ``h`` on a grid map (``k`` cells per cell; ``-m`` for
+    ``h`` = the map's resolution / ``m``, a subdivision), or ParameterError."""
     res = base.grid.resolution
     k = int(round(h / res))
-    if k < 1 or abs(k * res - h) > 1e-9 * h:
-        raise ParameterError(f"on a grid map the resolutions must be multiples of the map's resolution {res:g} "
-                             f"(coarser grids are block-downsampled), got {h:g}")
-    return k
+    if k >= 1 and abs(k * res - h) <= 1e-9 * h:
+        return k
+    m = int(round(res / h))
+    if m >= 2 and abs(res / m - h) <= 1e-9 * h:
+        return -m
+    raise ParameterError(f"on a grid map the resolutions must be multiples of the map's resolution {res:g} "
+                         f"(coarser grids are block-downsampled) or its integer fractions (finer grids "
+                         f"subdivide its cells), got {h:g}")
 
 
 def _guard_seconds(target: Any, exact_planner: str, params: Any, what: str) -> float:

@@ -95,9 +95,10 @@ def convergence_study(
 
     On a grid map (a :class:`~gridfield.grid.GridMap` without a vector world) the exact planner
     runs on the map's blocked cells as exact polygons (:func:`gridfield.gridpoly.grid_world`) and
-    the grid planner on the map itself at its resolution and on block-downsampled copies
-    (:func:`gridfield.gridpoly.block_downsample`, conservative) at the coarser resolutions, which
-    must be multiples of the map's. A resolution at which the start or goal, free in the world, falls
+    the grid planner on the map itself at its resolution, on block-downsampled copies
+    (:func:`gridfield.gridpoly.block_downsample`, conservative) at coarser resolutions, which
+    must be multiples of the map's, and on subdivided copies (:func:`gridfield.gridpoly.subdivide`,
+    the same free space) at finer ones, which must be the map's divided by an integer. A resolution at which the start or goal, free in the world, falls
     in a blocked (coarse) cell is skipped: its row has status ``"skipped: ..."`` saying which point
     and NaN metrics; any other failure of the grid planner gives status ``"error: ..."``.
 
@@ -158,9 +159,9 @@ def convergence_study(
     def grid_at(i: int) -> Any:
         if base is None:
             return rasterize(world, hs[i])
-        from ..gridpoly import block_downsample
+        from ..gridpoly import block_downsample, subdivide
 
-        return block_downsample(base, factors[i])
+        return block_downsample(base, factors[i]) if factors[i] > 0 else subdivide(base, -factors[i])
 
     if kind_grid == "grid":  # untimed warm-up: first-call costs (imports, caches)
         with contextlib.suppress(GridfieldError):

@@ -539,7 +539,7 @@ def _legend(ax: Axes, art: Artists, *, loc: str = "outside", fontsize: float = 8
                 w, h = fig.get_size_inches()
                 fig.set_size_inches(w, h + grow / 72.0)
     art.legend = ax.legend(handles, labels, fontsize=fontsize, framealpha=0.85, **where)
-    if beside and fig.get_label() == OWN_FIGURE:
+    if beside and isinstance(fig, Figure) and fig.get_label() == OWN_FIGURE:
         # one layout pass now, with the legend: the constrained layout's single pass at a save leaves
         # too little room beside the map, and a long label ran past the figure's edge (an 8room_000 path)
         fig.draw_without_rendering()

@@ -189,7 +189,8 @@ def write_animation(fig: Figure, update: Callable[[int], None], n_frames: int, a
     >>> out = pathlib.Path(tempfile.mkdtemp()) / "dot.gif"
     >>> write_animation(fig, lambda k: dot.set_data([k], [k]), 4, [dot], out, fps=5)
     >>> from PIL import Image
-    >>> Image.open(out).n_frames
+    >>> with Image.open(out) as im:
+    ...     im.n_frames
     4
     """
     if fps < 1:

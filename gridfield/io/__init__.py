@@ -145,6 +145,19 @@ def _check_options(reader: Callable[..., Any], options: Mapping[str, Any], p: Fs
         raise ParameterError(f"{p}: option{'s' if len(bad) > 1 else ''} {', '.join(bad)} {verb} to a {what}; {takes}")
 
 
+def _map_in_folder(folder: FsPath) -> FsPath:
+    """The one map file of ``folder`` (a ``.yaml``/``.yml``, else a ``.map``), as a ROS map ships in its
+    own folder; MapFormatError naming the candidates when there are several or none."""
+    maps = sorted(q for q in folder.iterdir() if q.suffix.lower() in (".yaml", ".yml") and q.is_file())
+    maps = maps or sorted(q for q in folder.iterdir() if q.suffix.lower() == ".map" and q.is_file())
+    if len(maps) == 1:
+        return maps[0]
+    if not maps:
+        raise MapFormatError(f"{folder}: is a directory with no map file (.yaml or .map) in it; give the map file")
+    names = ", ".join(q.name for q in maps[:6]) + (", ..." if len(maps) > 6 else "")
+    raise MapFormatError(f"{folder}: is a directory with {len(maps)} map files ({names}); give one of them")
+
+
 def read(path: PathLike, **options: Any) -> Any:
     """Read any supported map or world file; a world YAML gives a :class:`World`, the rest a :class:`GridMap`
     (a lazy one for the formats read by chunks; a gridfield Zarr store gives what it holds).
@@ -159,7 +172,8 @@ def read(path: PathLike, **options: Any) -> Any:
         ``.yaml``/``.yml`` (a world, a Nav2 costmap (:func:`read_costmap`) when it has a ``costmap:`` key, or a ROS map when it names an ``image`` or has an ``origin`` but no
         ``bounds``), ``.png``/``.pgm``/``.bmp``, ``.map`` (Moving AI), ``.npz`` (gridfield),
         ``.tif``/``.tiff`` (BigTIFF/GeoTIFF), ``.npy`` or a ``.zarr`` directory (a gridfield store or a
-        plain array), the last three read by chunks.
+        plain array), the last three read by chunks; or a folder holding one map file (a ROS map's
+        folder: its ``.yaml``), read as that file.
     **options
         Keyword options of the format's reader (:func:`read_ros_map`, :func:`read_bitmap`,
         :func:`read_movingai_map`; a world file and ``.npz`` take none).
@@ -179,6 +193,8 @@ def read(path: PathLike, **options: Any) -> Any:
             (FsPath(path).suffix.lower() == ".zarr" and not FsPath(path).is_file())
             or (FsPath(path) / "zarr.json").is_file()):
         return read_zarr(path, **options)  # a directory: a Zarr store or array
+    if isinstance(path, str | os.PathLike) and FsPath(path).is_dir():
+        path = _map_in_folder(FsPath(path))  # a ROS map's folder (map.yaml + map.pgm), say
     p = _check_file(path)
     suffix = p.suffix.lower()
     reader: Callable[..., GridMap]

@@ -82,7 +82,8 @@ The planned queries of one map (a planner's ``cache`` keeps its brushfire) share
 depend on the goal: the compiled march's copies of the free mask and the clearance band's slowness
 and its work arrays (only the cells a march touched are reset after it), and the arrays of an
 earlier query's field that nothing refers to any more are written again instead of new ones
-(:class:`_MarchSetup`); the values are the same bits as a fresh march's.
+(:class:`_MarchSetup`; one per slowness, the band's and the plain distance's, up to
+:data:`KEPT_SETUPS` kept); the values are the same bits as a fresh march's.
 
 Examples
 --------
@@ -360,21 +361,24 @@ def _unused(trio: tuple[NDArray[np.float64], ...]) -> bool:
     return all(sys.getrefcount(a) == 3 for a in trio)
 
 
-#: The last reusable march setup (:func:`_march_setup`) and a weak reference to the distance map it
-#: serves: the planned queries of one map march on the same free mask and slowness, so the
-#: map-sized copies, allocations and initialisations happen once per map instead of once per query
-#: (about 5 ms on a 512 x 512 map). It holds about 30 bytes per cell (the marcher's arrays) and up
-#: to :data:`OUTPUT_POOL` output triples (24 bytes per cell each) until that distance map dies (a
-#: planner's ``cache`` dropped) or a setup for another map or slowness replaces it.
-_last_setup: tuple[Any, _MarchSetup] | None = None
+#: The reusable march setups (:func:`_march_setup`) kept, the most recent first, each with a weak
+#: reference to the distance map it serves: the planned queries of one map march on the same free mask
+#: and slowness, so the map-sized copies, allocations and initialisations happen once per map and
+#: slowness instead of once per query (about 5 ms on a 512 x 512 map). Up to :data:`KEPT_SETUPS` are
+#: kept, so that queries alternating between the default's clearance band and the plain distance (a
+#: comparison of models on one map) do not rebuild them in turn. Each holds about 30 bytes per cell (the
+#: marcher's arrays) and up to :data:`OUTPUT_POOL` output triples (24 bytes per cell each) until its
+#: distance map dies (a planner's ``cache`` dropped) or newer setups push it out.
+_setups: list[tuple[Any, _MarchSetup]] = []
+#: How many reusable march setups are kept (:data:`_setups`).
+KEPT_SETUPS = 3
 
 
 def _forget_setup(ref: Any) -> None:
-    """Drop the kept march setup (and the band's slowness) whose map's distance map ``ref`` died."""
-    global _last_setup, _last_band
-    last, band = _last_setup, _last_band
-    if last is not None and last[0] is ref:
-        _last_setup = None
+    """Drop the kept march setups (and the band's slowness) whose map's distance map ``ref`` died."""
+    global _last_band
+    _setups[:] = [e for e in _setups if e[0] is not ref]
+    band = _last_band
     if band is not None and band[0] is ref:
         _last_band = None
 
@@ -385,17 +389,19 @@ def _march_setup(free: NDArray[np.bool_], cost: NDArray[np.float64] | None, off:
     ``cost`` (of the map inside the ring; ``None``: 1 everywhere). With ``owner`` (the distance map
     of the queries' map, which a planner's ``cache`` keeps), it is kept while ``owner`` lives and
     reused when ``cost`` is ``None`` or the clearance band's kept slowness (:func:`_band_cost_of`:
-    read-only, so it cannot change) and the mask is the last one's; built fresh otherwise."""
-    global _last_setup
+    read-only, so it cannot change) and the mask is a kept one's; built fresh otherwise."""
     band = _last_band
     reusable = owner is not None and (cost is None or (band is not None and cost is band[3]))
-    last = _last_setup
-    if (reusable and last is not None and last[0]() is owner and last[1].source is cost
-            and last[1].free.shape == free.shape and np.array_equal(last[1].free, free)):
-        return last[1]
+    if reusable:
+        for i, (ref, kept) in enumerate(_setups):
+            if (ref() is owner and kept.source is cost and kept.free.shape == free.shape
+                    and np.array_equal(kept.free, free)):
+                _setups.insert(0, _setups.pop(i))
+                return kept
     setup = _MarchSetup(np.ascontiguousarray(free, dtype=bool), cost, off)
     if reusable:
-        _last_setup = (weakref.ref(owner, _forget_setup), setup)
+        _setups.insert(0, (weakref.ref(owner, _forget_setup), setup))
+        del _setups[KEPT_SETUPS:]
     return setup
 
 

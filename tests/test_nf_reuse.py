@@ -76,13 +76,13 @@ def test_the_setup_goes_with_the_cache():
     pts = _free_points(gm, 2, 3)
     cache: dict = {}
     plan("potential", gm, pts[0], pts[1], {}, cache=cache)
-    assert navfield._last_setup is not None and navfield._last_band is not None
+    assert navfield._setups and navfield._last_band is not None
     del cache
     gc.collect()
-    assert navfield._last_setup is None and navfield._last_band is None
+    assert not navfield._setups and navfield._last_band is None
     plan("potential", gm, pts[0], pts[1], {})  # no cache: nothing kept after the call
     gc.collect()
-    assert navfield._last_setup is None
+    assert not navfield._setups
 
 
 def test_a_busy_setup_marches_on_a_fresh_marcher():
@@ -90,10 +90,29 @@ def test_a_busy_setup_marches_on_a_fresh_marcher():
     pts = _free_points(gm, 2, 4)
     dmap = brushfire(gm, metric="euclidean", compute_labels=False, compute_gvd=False)
     ref = navfield.nav_field(gm, pts[1], {}, dmap=dmap, stop_at=pts[0])
-    setup = navfield._last_setup[1]
+    setup = navfield._setups[0][1]
     assert setup.lock.acquire(blocking=False)  # as if another thread were marching on it
     try:
         got = navfield.nav_field(gm, pts[1], {}, dmap=dmap, stop_at=pts[0])
     finally:
         setup.lock.release()
     assert got.potential.tobytes() == ref.potential.tobytes() and got.grad_x.tobytes() == ref.grad_x.tobytes()
+
+
+def test_alternating_models_keep_their_setups():
+    """A comparison of models on one map (the default's clearance band, then plain nf1, query after query)
+    marches each on its own kept setup instead of rebuilding one in turn (the benchmark of issue 25 runs
+    its variants so); the values are those of fresh setups."""
+    gm = _world()
+    pts = _free_points(gm, 6, 5)
+    cache: dict = {}
+    seen: dict[str, set[int]] = {"band": set(), "plain": set()}
+    for i in range(0, 6, 2):
+        for name, params in (("band", {}), ("plain", {"clearance_band": 0})):
+            _, f = plan_with_field("potential", gm, pts[i], pts[i + 1], params, cache=cache)
+            seen[name].add(id(navfield._setups[0][1]))
+            fresh = navfield.nav_field(gm, pts[i + 1], params, stop_at=pts[i])  # no owner: a fresh setup
+            assert f.potential.tobytes() == fresh.potential.tobytes()
+            del f
+    assert len(seen["band"]) == 1 and len(seen["plain"]) == 1 and seen["band"] != seen["plain"]
+    assert len(navfield._setups) <= navfield.KEPT_SETUPS

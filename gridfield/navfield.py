@@ -376,11 +376,8 @@ KEPT_SETUPS = 3
 
 def _forget_setup(ref: Any) -> None:
     """Drop the kept march setups (and the band's slowness) whose map's distance map ``ref`` died."""
-    global _last_band
     _setups[:] = [e for e in _setups if e[0] is not ref]
-    band = _last_band
-    if band is not None and band[0] is ref:
-        _last_band = None
+    _bands[:] = [e for e in _bands if e[0] is not ref]
 
 
 def _march_setup(free: NDArray[np.bool_], cost: NDArray[np.float64] | None, off: int,
@@ -390,8 +387,7 @@ def _march_setup(free: NDArray[np.bool_], cost: NDArray[np.float64] | None, off:
     of the queries' map, which a planner's ``cache`` keeps), it is kept while ``owner`` lives and
     reused when ``cost`` is ``None`` or the clearance band's kept slowness (:func:`_band_cost_of`:
     read-only, so it cannot change) and the mask is a kept one's; built fresh otherwise."""
-    band = _last_band
-    reusable = owner is not None and (cost is None or (band is not None and cost is band[3]))
+    reusable = owner is not None and (cost is None or any(cost is b[3] for b in _bands))
     if reusable:
         for i, (ref, kept) in enumerate(_setups):
             if (ref() is owner and kept.source is cost and kept.free.shape == free.shape
@@ -629,22 +625,25 @@ def band_cost(dmap: DistanceMap, band: float, gain: float) -> NDArray[np.float64
     return cost
 
 
-#: The last clearance band's slowness and what it was computed from (a weak reference to the distance
-#: map, band, gain), one tuple replaced whole: the queries of one map (a planner's ``cache`` holds its
-#: brushfire) reuse it instead of recomputing a map-sized array per query (~60 ms on a 1.7 M-cell map);
-#: dropped when that distance map dies (:func:`_forget_setup`).
-_last_band: tuple[Any, float, float, NDArray[np.float64]] | None = None
+#: The last clearance bands' slownesses and what each was computed from (a weak reference to the
+#: distance map, band, gain), the most recent first: the queries of one map (a planner's ``cache`` holds
+#: its brushfire) reuse it instead of recomputing a map-sized array per query (~60 ms on a 1.7 M-cell
+#: map); dropped when that distance map dies (:func:`_forget_setup`).
+_bands: list[tuple[Any, float, float, NDArray[np.float64]]] = []
 
 
 def _band_cost_of(dmap: DistanceMap, band: float, gain: float) -> NDArray[np.float64]:
-    """:func:`band_cost`, reused (read-only) while the same distance map, band and gain come back."""
-    global _last_band
-    last = _last_band
-    if last is not None and last[0]() is dmap and last[1] == band and last[2] == gain:
-        return last[3]
+    """:func:`band_cost`, reused (read-only) while the same distance map, band and gain come back (the
+    last :data:`KEPT_SETUPS` kept, so that a field built on another map between two queries does not
+    push out the slowness the kept march setup of the queries' map was made with)."""
+    for i, (ref, b, g, cost) in enumerate(_bands):
+        if ref() is dmap and b == band and g == gain:
+            _bands.insert(0, _bands.pop(i))
+            return cost
     cost = band_cost(dmap, band, gain)
     cost.setflags(write=False)
-    _last_band = (weakref.ref(dmap, _forget_setup), band, gain, cost)
+    _bands.insert(0, (weakref.ref(dmap, _forget_setup), band, gain, cost))
+    del _bands[KEPT_SETUPS:]
     return cost
 
 

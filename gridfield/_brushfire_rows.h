@@ -129,6 +129,106 @@ GF_BF_FN void gf_edt_distance(const int64_t *restrict val, double res, double *r
     for (int c = 0; c < n; c++) d[c] = sqrt((double)val[c]) * res;
 }
 
+/* Row pass of the Euclidean transform, local window (the common case: obstacles nearby).
+ *
+ * The exact answer of a cell x is the least f_s(x) = (x - s)**2 + g_s**2 over the sites s, ties to the
+ * smallest s (what the lower envelope gives: checked against brute force). Every site farther than
+ * K columns has f >= (K + 1)**2 = T, so if some site within K columns has f < T, the least f over the
+ * 2K + 1 sites of the window is the exact answer, tie included. The window is one branch-free min
+ * over 2K + 1 shifted rows, in int16 (GCC vectorizes it at every ISA level): the key
+ * f * 16 + (d + K) orders by f, then by the site's column (d = s - x in -K..K), and g is clamped to
+ * K + 1 (a clamped site has f >= T: it never decides a cell the window vouches for). Cells whose
+ * window minimum is >= T are exceptions, solved by the caller (exact search or the envelope).
+ *
+ * Padded layout: site s (0 = the column left of the grid, n + 1 = right of it, c + 1 = column c) is
+ * h[s + K - 1], for s in 1 - K .. n + K (n + 2K values); the caller fills the pad. */
+#define GF_EDT_K 4
+#define GF_EDT_W (2 * GF_EDT_K + 1)
+#define GF_EDT_T ((GF_EDT_K + 1) * (GF_EDT_K + 1))
+
+/* rv[c + 1] = v[c] (the row's nearest obstacle rows, kept: v may be overwritten by the outputs),
+ * h[c + K] = 16 * min(|r - v[c]|, K + 1)**2 (blocks of 16 in vector registers: the int32 -> int16
+ * loop stayed scalar). */
+typedef int16_t gf_v16s __attribute__((vector_size(32)));
+typedef int32_t gf_v16i __attribute__((vector_size(64)));
+
+GF_BF_FN void gf_edt_local_gather(const int32_t *restrict v, int32_t r, int32_t *restrict rv, int16_t *restrict h,
+                                  int64_t cols) {
+    const int n = (int)cols;
+    const int nb = n / 16 * 16;
+    int c;
+    __builtin_memcpy(rv + 1, v, (size_t)n * sizeof(int32_t));
+    for (c = 0; c < nb; c += 16) {
+        gf_v16i x, d, e;
+        __builtin_memcpy(&x, v + c, sizeof x);
+        const gf_v16i ge = x <= r;
+        d = (ge & (r - x)) | (~ge & (x - r));
+        const gf_v16i lt = d < GF_EDT_K + 1;
+        e = (lt & d) | (~lt & (GF_EDT_K + 1));
+        const gf_v16s o = __builtin_convertvector(e * e * 16, gf_v16s);
+        __builtin_memcpy(h + c + GF_EDT_K, &o, sizeof o);
+    }
+    for (; c < n; c++) {
+        const int32_t x = v[c];
+        const int32_t d = r >= x ? r - x : x - r;
+        const int32_t e = d < GF_EDT_K + 1 ? d : GF_EDT_K + 1;
+        h[c + GF_EDT_K] = (int16_t)(e * e * 16);
+    }
+}
+
+/* key[c] = min over j in 0..2K of h[c + j] + 16 * (j - K)**2 + j (site c + 1 + j - K). Blocks of 16
+ * cells in vector registers (GCC vector extensions: the plain loop nest stayed scalar). The keys of
+ * different j differ in their low bits, so the minimum is that of the (f, site) pairs. */
+GF_BF_FN void gf_edt_local_keys(const int16_t *restrict h, int16_t *restrict key, int64_t cols) {
+    const int n = (int)cols;
+    const int nb = n / 16 * 16;
+    int c;
+    for (c = 0; c < nb; c += 16) {
+        gf_v16s acc, x;
+        __builtin_memcpy(&acc, h + c, sizeof acc);
+        acc += (int16_t)(GF_EDT_K * GF_EDT_K * 16);
+        for (int j = 1; j < GF_EDT_W; j++) {
+            __builtin_memcpy(&x, h + c + j, sizeof x);
+            x += (int16_t)((j - GF_EDT_K) * (j - GF_EDT_K) * 16 + j);
+            const gf_v16s lt = x < acc;
+            acc = (lt & x) | (~lt & acc);
+        }
+        __builtin_memcpy(key + c, &acc, sizeof acc);
+    }
+    for (; c < n; c++) {
+        int16_t k = INT16_MAX;
+        for (int j = 0; j < GF_EDT_W; j++) {
+            const int16_t cand = (int16_t)(h[c + j] + ((j - GF_EDT_K) * (j - GF_EDT_K) * 16 + j));
+            k = cand < k ? cand : k;
+        }
+        key[c] = k;
+    }
+}
+
+/* From the keys: distance = sqrt(f) * res (as gf_edt_distance), ncol = the winning site's column;
+ * returns the number of exceptions (f >= T; their outputs are to be overwritten). */
+GF_BF_FN int gf_edt_local_out(const int16_t *restrict key, double res, double *restrict d, int32_t *restrict ncol,
+                              int64_t cols) {
+    const int n = (int)cols;
+    int bad = 0;
+    for (int c = 0; c < n; c++) {
+        const int32_t k = key[c];
+        const int32_t f = k >> 4;
+        d[c] = sqrt((double)f) * res;
+        ncol[c] = c + (k & 15) - GF_EDT_K;
+        bad += f >= GF_EDT_T;
+    }
+    return bad;
+}
+
+/* nrow[c] = rv[ncol[c] + 1]: the row of each cell's nearest obstacle (rv as gf_edt_local_gather's,
+ * rv[0] = rv[n + 1] = r for the wall columns). */
+GF_BF_FN void gf_edt_local_rows(const int32_t *restrict rv, const int32_t *restrict ncol, int32_t *restrict nrow,
+                                int64_t cols) {
+    const int n = (int)cols;
+    for (int c = 0; c < n; c++) nrow[c] = rv[ncol[c] + 1];
+}
+
 /* The horizontal scans of the chamfer passes as a prefix (suffix) minimum, which vectorizes:
  *   right: s[c] = min(t[c], s[c - 1] + 1), s[-1] = edge  <=>  s[c] = c + min(edge + 1, min_{j <= c} (t[j] - j))
  *   left:  s[c] = min(t[c], s[c + 1] + 1), s[n] = edge   <=>  s[c] = -c + min(edge + n, min_{j >= c} (t[j] + j))

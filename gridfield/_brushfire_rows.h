@@ -90,10 +90,23 @@ GF_BF_FN void gf_chamfer_bwd_pre(const int32_t *restrict down, int32_t edge_row,
     t[n - 1] = gf_min32(gf_min32(gf_min32(down[n - 2], down[n - 1]), pad) + 1, s[n - 1]);
 }
 
-/* distance = steps * resolution, one row */
-GF_BF_FN void gf_scale_row(const int32_t *restrict s, double res, double *restrict d, int64_t cols) {
+/* distance = steps * resolution, one row; if `next_d` is not NULL, the distance row written next is
+ * prefetched for writing, a line for every line written here (the backward pass writes its rows from
+ * the bottom up, which the hardware prefetcher does not foresee: the stores waited for their lines;
+ * 4096^2 chessboard, steps + distance, 1 thread: 43-45 -> 38-39 ms CPU; prefetching the steps row
+ * read next, or the forward pass's next row for writing, gained nothing). */
+GF_BF_FN void gf_scale_row(const int32_t *restrict s, double res, double *restrict d, int64_t cols,
+                           const double *next_d) {
     const int n = (int)cols;
-    for (int c = 0; c < n; c++) d[c] = (double)s[c] * res;
+    int c = 0;
+    if (next_d != NULL) {
+        for (; c + 16 <= n; c += 16) {
+            __builtin_prefetch(next_d + c, 1, 3);
+            __builtin_prefetch(next_d + c + 8, 1, 3);
+            for (int j = 0; j < 16; j++) d[c + j] = (double)s[c + j] * res;
+        }
+    }
+    for (; c < n; c++) d[c] = (double)s[c] * res;
 }
 
 /* Column pass, downward step: vrow[c] = r on an obstacle, else the row above's value (columns c0:c1). */

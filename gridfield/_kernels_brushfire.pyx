@@ -47,7 +47,7 @@ cdef extern from "_brushfire_rows.h" nogil:
                             int64_t cols, int conn8)
     void gf_chamfer_bwd_pre(const int32_t* down, int32_t edge_row, int32_t pad, const int32_t* s, int32_t* t,
                             int64_t cols, int conn8)
-    void gf_scale_row(const int32_t* s, double res, double* d, int64_t cols)
+    void gf_scale_row(const int32_t* s, double res, double* d, int64_t cols, const double* next_d)
     void gf_scan_right(const int32_t* t, int32_t* s, int64_t cols, int32_t edge)
     void gf_scan_left(const int32_t* t, int32_t* s, int64_t cols, int32_t edge)
     void gf_column_down(const uint8_t* occ, const int32_t* prev, int32_t* vrow, int32_t r, int64_t c0, int64_t c1)
@@ -382,7 +382,7 @@ def chamfer_steps(occ_t occ, bint top, bint bottom, bint side, bint conn8, i32_2
                                conn8)
             gf_scan_left(t, srow, cols, <int32_t>edge)
             if write_distance:
-                gf_scale_row(srow, resolution, &distance[r, 0], cols)
+                gf_scale_row(srow, resolution, &distance[r, 0], cols, NULL if r == 0 else &distance[r - 1, 0])
         free(t)
 
 

@@ -47,7 +47,7 @@ cdef extern from "_brushfire_rows.h" nogil:
                             int64_t cols, int conn8)
     void gf_chamfer_bwd_pre(const int32_t* down, int32_t edge_row, int32_t pad, const int32_t* s, int32_t* t,
                             int64_t cols, int conn8)
-    void gf_scale_row(const int32_t* s, double res, double* d, int64_t cols, const double* next_d)
+    void gf_scale_row(const int32_t* s, double res, double* d, int64_t cols, const double* next_d, int stream)
     void gf_scan_right(const int32_t* t, int32_t* s, int64_t cols, int32_t edge)
     void gf_scan_left(const int32_t* t, int32_t* s, int64_t cols, int32_t edge)
     void gf_column_down(const uint8_t* occ, const int32_t* prev, int32_t* vrow, int32_t r, int64_t c0, int64_t c1)
@@ -353,6 +353,11 @@ cdef inline void _scan_left_idx(const int32_t* t, const int64_t* ti, int32_t* s,
             x += 1
 
 
+#: Grids of at least this many cells write the chamfer distance with non-temporal stores
+#: (gf_scale_row): 32 MiB of float64, beyond what the caches would keep for the caller anyway.
+DEF _STREAM_CELLS = 1 << 22
+
+
 def chamfer_steps(occ_t occ, bint top, bint bottom, bint side, bint conn8, i32_2d steps, f64_2d distance,
                   double resolution, bint write_distance):
     """Chessboard (``conn8``) or taxicab steps; also ``distance = steps * resolution`` if asked.
@@ -367,6 +372,7 @@ def chamfer_steps(occ_t occ, bint top, bint bottom, bint side, bint conn8, i32_2
     cdef int64_t bottom_edge = 0 if bottom else inf
     cdef int64_t edge = 0 if side else inf
     cdef int32_t pad = <int32_t>inf  # the columns beside the row: never win
+    cdef int stream = rows * cols >= _STREAM_CELLS  # distance far larger than the caches: streamed
     cdef int32_t* t
     cdef int32_t* srow
     with nogil:
@@ -382,7 +388,7 @@ def chamfer_steps(occ_t occ, bint top, bint bottom, bint side, bint conn8, i32_2
                                conn8)
             gf_scan_left(t, srow, cols, <int32_t>edge)
             if write_distance:
-                gf_scale_row(srow, resolution, &distance[r, 0], cols, NULL if r == 0 else &distance[r - 1, 0])
+                gf_scale_row(srow, resolution, &distance[r, 0], cols, NULL if r == 0 else &distance[r - 1, 0], stream)
         free(t)
 
 

@@ -14,7 +14,10 @@ Chessboard and taxicab (:func:`chamfer_steps`, :func:`chamfer_nearest`)
 Euclidean (:func:`column_block`, :func:`edt_rows`)
     Separable: for every cell the nearest obstacle row in its column, then per row the lower envelope
     of the parabolas ``(x - i)**2 + g_i**2`` (Meijster, Roerdink & Hesselink 2000), whose winning
-    column gives the exact nearest obstacle cell. Columns, then rows, are independent.
+    column gives the exact nearest obstacle cell. Columns, then rows, are independent. The row pass
+    first takes the least parabola among the 4 columns either side of each cell (a vectorized
+    minimum, ``_brushfire_rows.h``), which is the envelope's answer wherever it is below 25; the
+    other cells get an exact search outwards, and rows with many of them the envelope itself.
 
 Components (:func:`label_strip`, :func:`merge_strips`, :func:`relabel_rows`)
     8-connected, two-pass union-find on horizontal strips, joined across the strip boundaries;

@@ -11,9 +11,11 @@
 #ifndef GRIDFIELD_BRUSHFIRE_ROWS_H
 #define GRIDFIELD_BRUSHFIRE_ROWS_H
 
-#include <emmintrin.h>
 #include <math.h>
 #include <stdint.h>
+#if defined(__SSE2__)
+#include <emmintrin.h> /* gf_scale_row's non-temporal stores (x86-64: always there) */
+#endif
 
 /* GF_NO_CLONES (a -D flag): one baseline copy of each function, to check it against the clones */
 #if defined(GF_NO_CLONES)
@@ -105,6 +107,7 @@ GF_BF_FN void gf_scale_row(const int32_t *restrict s, double res, double *restri
                            const double *next_d, int stream) {
     const int n = (int)cols;
     int c = 0;
+#if defined(__SSE2__)
     if (stream && ((uintptr_t)d & 15) == 0) {
         const __m128d rv = _mm_set1_pd(res);
         for (; c + 4 <= n; c += 4) {
@@ -116,7 +119,11 @@ GF_BF_FN void gf_scale_row(const int32_t *restrict s, double res, double *restri
             _mm_stream_pd(d + c + 2, _mm_mul_pd(hi, rv));
         }
         _mm_sfence();
-    } else if (next_d != NULL) {
+    } else
+#else
+    (void)stream;
+#endif
+    if (next_d != NULL) {
         for (; c + 16 <= n; c += 16) {
             __builtin_prefetch(next_d + c, 1, 3);
             __builtin_prefetch(next_d + c + 8, 1, 3);
@@ -175,6 +182,7 @@ GF_BF_FN void gf_edt_distance(const int64_t *restrict val, double res, double *r
 #define GF_EDT_K 4
 #define GF_EDT_W (2 * GF_EDT_K + 1)
 #define GF_EDT_T ((GF_EDT_K + 1) * (GF_EDT_K + 1))
+_Static_assert(GF_EDT_K >= 1 && GF_EDT_K <= 7, "the keys hold d + K in 4 bits and 16 * f in int16");
 
 /* rv[c + 1] = v[c] (the row's nearest obstacle rows, kept: v may be overwritten by the outputs),
  * h[c + K] = 16 * min(|r - v[c]|, K + 1)**2 (blocks of 16 in vector registers: the int32 -> int16

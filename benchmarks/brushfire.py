@@ -130,13 +130,15 @@ def methods(occ: np.ndarray, *, opencv: Any | None, old: Any | None = None) -> l
         return lambda: brushfire(gm, threads=threads, **kw)
 
     def bf_old(threads: int, **kw: Any) -> Callable[[], Any]:
+        # brushfire() asks gb._kernels() for its module (the cached loader of gridfield._kernels): swap
+        # that function for the call (setting gb._KERNELS, as this did before, no longer reached it)
         def run() -> Any:
-            new = gb._kernels()
-            gb._KERNELS = old
+            loader = gb._kernels
+            gb._kernels = lambda: old
             try:
                 return brushfire(gm, threads=threads, **kw)
             finally:
-                gb._KERNELS = new
+                gb._kernels = loader
         return run
 
     lean = {"compute_nearest": False, "compute_labels": False}

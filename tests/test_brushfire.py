@@ -669,6 +669,9 @@ def test_result_memory_is_reused_and_released():
     k = gb._kernels()
     old = k.pool_limit()
     try:
+        k.pool_limit(0)  # an empty pool to start from: blocks earlier tests of this process left are gone
+        k.pool_limit(old)
+        assert k.pool_bytes() == (0, 0)
         a = k.empty((700, 700), np.float64)  # 3.9 MB: pooled
         ptr = a.__array_interface__["data"][0]
         a[:] = -7.0

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import collections
+import contextlib
 import os
 import shutil
 import sys
@@ -61,6 +62,56 @@ def _start_sampler(dask_worker=None) -> None:  # runs in each worker process
     dask_worker._gf_sampler = state
 
 
+from distributed.diagnostics.plugin import WorkerPlugin  # noqa: E402
+
+
+class TaskMemory(WorkerPlugin):
+    """A worker plugin: each task's peak RSS increment over the RSS when it started (1 thread per worker:
+    one task at a time), sampled every 2 ms while it runs, and the worker's RSS before any task."""
+
+    name = "gf-task-memory"
+
+    def setup(self, worker) -> None:
+        import psutil
+
+        self.proc = psutil.Process()
+        self.base = self.peak = self.idle = self.proc.memory_info().rss
+        self.running = False
+        self.records: list[tuple[str, int]] = []
+        self.stop = False
+        threading.Thread(target=self._loop, daemon=True).start()
+
+    def _loop(self) -> None:
+        while not self.stop:
+            if self.running:
+                self.peak = max(self.peak, self.proc.memory_info().rss)
+            time.sleep(0.002)
+
+    def transition(self, key, start, finish, **kwargs) -> None:
+        if finish == "executing":
+            self.base = self.peak = self.proc.memory_info().rss
+            self.running = True
+        elif start == "executing":
+            self.running = False
+            self.peak = max(self.peak, self.proc.memory_info().rss)
+            name = key[0] if isinstance(key, tuple) else str(key)
+            self.records.append((name, self.peak - self.base))
+
+    def teardown(self, worker) -> None:
+        self.stop = True
+
+
+def _task_memory(dask_worker=None, reset: bool = False):
+    plugin = dask_worker.plugins.get(TaskMemory.name)
+    if plugin is None:
+        return [], -1
+    out = list(plugin.records)
+    if reset:
+        plugin.records.clear()
+        plugin.idle = plugin.proc.memory_info().rss
+    return out, plugin.idle
+
+
 def _read_sampler(dask_worker=None) -> int:
     state = getattr(dask_worker, "_gf_sampler", None)
     return -1 if state is None else int(state["peak"])
@@ -80,24 +131,29 @@ def occupancy(n: int, chunk: int, density: float, seed: int):
     return da.random.default_rng(seed).random((n, n), chunks=chunk) < density
 
 
-def run_chunked(client, n: int, chunk: int, density: float, store: Path, seed: int = 27, compress: bool = False):
+def run_chunked(client, n: int, chunk: int, density: float, store: Path, seed: int = 27, compress: bool = False,
+                passes: str = "store"):
     import dask.array as da
     import zarr
     from distributed import get_task_stream
 
-    from gridfield.chunked import distance
+    from gridfield import chunked
 
     occ = occupancy(n, chunk, density, seed)
-    d, nr, nc = distance(occ, return_nearest=True)
     if store.exists():
         shutil.rmtree(store)
     root = zarr.open_group(str(store), mode="w")
-    targets = [root.create_array(name, shape=(n, n), chunks=(chunk, chunk), dtype=a.dtype,
+    names = ("distance", "nearest_row", "nearest_col")
+    targets = [root.create_array(name, shape=(n, n), chunks=(chunk, chunk), dtype=dtype,
                                   **({} if compress else {"compressors": None}))
-               for name, a in (("distance", d), ("nearest_row", nr), ("nearest_col", nc))]
+               for name, dtype in zip(names, ("float64", "int32", "int32"), strict=True)]
     client.run(_start_sampler)
-    t0 = time.perf_counter()
-    with get_task_stream(client) as ts:
+    client.run(_task_memory, reset=True)
+    scratch = (chunked.scratch_dir(store.with_name(store.name + ".scratch")) if passes == "store"
+               else contextlib.nullcontext(None))
+    t0 = time.perf_counter()  # the graph is built inside: building the store's graph makes its array
+    with scratch as s, get_task_stream(client) as ts:
+        d, nr, nc = chunked.distance(occ, return_nearest=True, **({} if s is None else {"scratch": s}))
         da.store([d, nr, nc], targets, lock=False)
     elapsed = time.perf_counter() - t0
     peaks = client.run(_read_sampler)
@@ -114,6 +170,24 @@ def per_task_costs(stream) -> dict[str, tuple[int, float]]:
     return {k.rsplit("-", 1)[0]: (len(v), float(np.mean(v))) for k, v in out.items()}
 
 
+def _collect(client, task_mem: list, idle: list[int]) -> int:
+    """Append the workers' per-task RSS increments of the last run and their RSS before it; the largest."""
+    got = client.run(_task_memory, reset=True)
+    recs = [r for out, _ in got.values() for r in out]
+    task_mem += recs
+    idle += [b for _, b in got.values()]
+    return max((v for _, v in recs), default=0)
+
+
+def task_increments(records) -> dict[str, int]:
+    """Task prefix -> the largest peak RSS increment of its tasks (the prefixes of :func:`per_task_costs`)."""
+    out: dict[str, int] = {}
+    for name, v in records:
+        k = name.rsplit("-", 1)[0]
+        out[k] = max(out.get(k, 0), v)
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--compare", type=int, nargs="*", default=[], help="sizes to compare with the in-memory kernel")
@@ -124,6 +198,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--density", type=float, default=0.001)
     ap.add_argument("--store", type=Path, default=None, help="Zarr store path (default: a temporary folder)")
     ap.add_argument("--compress", action="store_true", help="zarr's default compressor for the --big runs")
+    ap.add_argument("--passes", choices=("store", "rechunk"), default="store",
+                    help="how the column and row passes meet: a temporary Zarr store next to --store (default), or "
+                         "dask's task rechunk in worker memory (distance() without scratch=)")
     ap.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")
     args = ap.parse_args(argv)
 
@@ -140,15 +217,19 @@ def main(argv: list[str] | None = None) -> int:
     with LocalCluster(n_workers=args.workers, threads_per_worker=1, host="127.0.0.1", dashboard_address=None,
                       memory_limit=args.memory_limit, local_directory=str(tmp)) as cluster, Client(cluster) as client:
         client.run(_warm_up)
-        run_chunked(client, 4 * args.chunk, args.chunk, args.density, store)  # warm-up (untimed)
+        client.register_plugin(TaskMemory())
+        run_chunked(client, 4 * args.chunk, args.chunk, args.density, store, passes=args.passes)  # warm-up (untimed)
+        task_mem: list = []
+        idle: list[int] = []
         for n in args.compare:
             occ_np = occupancy(n, args.chunk, args.density, 27).compute()
             gm = GridMap(Grid((n, n), 1.0, border="wall"), occ_np)
             t0 = time.perf_counter()
             ref = brushfire(gm, metric="euclidean", threads=1, compute_labels=False, compute_steps=False)
             t_mem = time.perf_counter() - t0
-            t_chk, peaks, stream, root = run_chunked(client, n, args.chunk, args.density, store)
+            t_chk, peaks, stream, root = run_chunked(client, n, args.chunk, args.density, store, passes=args.passes)
             streams += stream
+            inc = _collect(client, task_mem, idle)
             equal = (np.array_equal(root["distance"][...], ref.distance)
                      and np.array_equal(root["nearest_row"][...], ref.nearest_row)
                      and np.array_equal(root["nearest_col"][...], ref.nearest_col))
@@ -157,25 +238,34 @@ def main(argv: list[str] | None = None) -> int:
             per_core_chk = n * n / t_chk / args.workers
             rows.append([f"compare {n}", args.chunk, f"{t_mem:.2f}", f"{t_chk:.2f}",
                          f"{per_core_chk / per_core_mem:.2f}", f"{max(peaks.values()) / 2**20:.0f}",
+                         f"{max(idle) / 2**20:.0f}", f"{inc / 2**20:.1f}",
                          f"{args.chunk ** 2 * 16 / 2**20:.0f}", "yes" if equal else "NO"])
             print(rows[-1], flush=True)
         for n in args.big:
             workers_before = set(client.scheduler_info()["workers"])
-            t_chk, peaks, stream, _ = run_chunked(client, n, args.chunk, args.density, store, compress=args.compress)
+            t_chk, peaks, stream, _ = run_chunked(client, n, args.chunk, args.density, store, compress=args.compress,
+                                                  passes=args.passes)
             streams += stream
+            inc = _collect(client, task_mem, idle)
             workers_after = set(client.scheduler_info()["workers"])
             restarted = len(workers_before - workers_after)
             rows.append([f"big {n}", args.chunk, "-", f"{t_chk:.2f}", "-", f"{max(peaks.values()) / 2**20:.0f}",
+                         f"{max(idle) / 2**20:.0f}", f"{inc / 2**20:.1f}",
                          f"{args.chunk ** 2 * 16 / 2**20:.0f}", f"restarted workers: {restarted}"])
             print(rows[-1], flush=True)
         costs = per_task_costs(streams)
     shutil.rmtree(tmp, ignore_errors=True)
     table = markdown_table(["run", "chunk", "in-memory 1 thread s", f"chunked {args.workers}x1 s",
-                            "per-core ratio", "peak worker RSS MiB", "one chunk's outputs MiB", "equal / note"], rows)
+                            "per-core ratio", "peak worker RSS MiB", "worker RSS before MiB",
+                            "max task RSS increment MiB", "one chunk's outputs MiB", "equal / note"], rows)
     head = (f"workers {args.workers} x 1 thread, memory limit {args.memory_limit}, density {args.density}, "
+            f"passes meet by {args.passes}, "
             f"load average before {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}, after "
             f"{' '.join(f'{x:.2f}' for x in os.getloadavg())}")
-    cost_table = markdown_table(["task", "count", "mean s"], [[k, c, f"{m:.4f}"] for k, (c, m) in sorted(costs.items())])
+    mem = task_increments(task_mem)
+    cost_table = markdown_table(["task", "count", "mean s", "max RSS increment MiB"],
+                                [[k, c, f"{m:.4f}", f"{mem.get(k, float('nan')) / 2**20:.1f}"]
+                                 for k, (c, m) in sorted(costs.items())])
     text = f"{head}\n\n{table}\n\nPer task (all runs):\n\n{cost_table}\n"
     print(text)
     if args.out:

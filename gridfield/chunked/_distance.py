@@ -330,8 +330,8 @@ _SCRATCH_PREFIX = "column-pass-"
 def scratch_dir(path: str | os.PathLike[str]) -> Iterator[Path]:
     """A directory for :func:`distance`'s temporary store (``scratch=``), removed on exit, also on error.
 
-    ``path`` is removed first if a run that was killed left it (it holds nothing but temporary stores),
-    then made; compute (or write) the results inside the ``with`` block: the graphs read the store.
+    ``path`` is made; one that a killed run left (holding nothing but temporary stores) is removed first.
+    Compute (or write) the results inside the ``with`` block: the graphs read the store.
 
     Parameters
     ----------
@@ -346,7 +346,7 @@ def scratch_dir(path: str | os.PathLike[str]) -> Iterator[Path]:
     Raises
     ------
     GridfieldError
-        If ``path`` exists and is not a directory.
+        If ``path`` exists and is not a directory, or holds anything but temporary stores.
 
     Examples
     --------
@@ -363,12 +363,30 @@ def scratch_dir(path: str | os.PathLike[str]) -> Iterator[Path]:
     p = Path(path)
     if p.exists() and not p.is_dir():
         raise GridfieldError(f"{p}: exists and is not a directory; the scratch directory must be free")
-    shutil.rmtree(p, ignore_errors=True)
+    if p.exists():
+        foreign = [e.name for e in p.iterdir() if not e.name.startswith(_SCRATCH_PREFIX)]
+        if foreign:
+            raise GridfieldError(f"{p}: exists and holds {shorten(foreign)}, not only temporary stores; "
+                                 "choose another scratch directory")
+        shutil.rmtree(p)
     p.mkdir()
     try:
         yield p
     finally:
+        _remove(p)
+
+
+def _remove(p: Path, wait: float = 10.0) -> None:
+    """Remove ``p``; again while tasks of a failed run, still finishing, add files to it (they never make
+    a directory: once it is gone, it stays gone)."""
+    import time
+
+    deadline = time.monotonic() + wait
+    while True:
         shutil.rmtree(p, ignore_errors=True)
+        if not p.exists() or time.monotonic() > deadline:
+            return
+        time.sleep(0.01)
 
 
 def _scratch_path(scratch: object) -> Path:
@@ -395,19 +413,28 @@ def _strip_width(rows: int, chunk_rows: int, chunk_cols: int) -> int:
     return chunk_cols // -(-chunk_cols // want)
 
 
-def _column_to_store(pieces: list[list[NDArray[np.bool_]]], cuts: list[list[int]], path: str, c0: int,
-                     wall: bool) -> int:
-    """The column pass of one strip of whole columns, written to the temporary store at columns ``c0..``:
-    ``pieces[p]`` is a column of occupancy blocks (top to bottom) of which the strip holds the columns
-    ``cuts[p]``. Idempotent (a recomputed task writes the same bytes; Zarr's local store replaces each
-    chunk file atomically)."""
-    import zarr
+def _strip_file(path: str, m: int) -> str:
+    return os.path.join(path, f"strip-{m}.i32")
 
+
+def _column_to_store(pieces: list[list[NDArray[np.bool_]]], cuts: list[list[int]], path: str, m: int,
+                     wall: bool) -> int:
+    """The column pass of strip ``m`` (whole columns), written to the temporary store as one raw ``int32``
+    file of its rows in order: ``pieces[p]`` is a column of occupancy blocks (top to bottom) of which the
+    strip holds the columns ``cuts[p]``.
+
+    The file appears whole or not at all (written aside, then renamed), so a task recomputed after a lost
+    worker rewrites it safely; nothing here makes a directory, so a task still running after the run
+    failed and the store was removed fails instead of bringing the store back."""
     occ8 = np.concatenate([np.concatenate([b[:, k0:k1] for (k0, k1), b in zip(cuts, row, strict=True)], axis=1)
                            for row in zip(*pieces, strict=True)], axis=0).astype(bool, copy=False)
     vr = _column_pass(occ8, wall)
     del occ8
-    zarr.open_array(path, mode="r+")[:, c0:c0 + vr.shape[1]] = vr
+    final = _strip_file(path, m)
+    aside = f"{final}.{os.getpid()}-{id(vr):x}.tmp"
+    with open(aside, "xb") as f:
+        vr.tofile(f)
+    os.replace(aside, final)
     return int(vr.shape[1])
 
 
@@ -416,23 +443,36 @@ def _barrier(done: list[int], path: str) -> str:
     return path
 
 
-def _edt_block_task(path: str, r0: int, r1: int, c0: int, c1: int, margin: int, rows: int, cols: int,
+def _read_window(path: str, r0: int, r1: int, a: int, b: int, rows: int, cols: int, ws: int) -> NDArray[np.int32]:
+    """Rows ``r0:r1``, columns ``a:b`` of the column pass, from the strips that hold them."""
+    win = np.empty((r1 - r0, b - a), np.int32)
+    for m in range(a // ws, -(-b // ws)):
+        s0, s1 = m * ws, min(cols, (m + 1) * ws)
+        buf = np.empty((r1 - r0, s1 - s0), np.int32)
+        with open(_strip_file(path, m), "rb") as f:
+            f.seek(r0 * (s1 - s0) * 4)
+            if f.readinto(memoryview(buf).cast("B")) != buf.nbytes:
+                raise OSError(f"{_strip_file(path, m)}: shorter than {rows} x {s1 - s0} int32")
+        lo, hi = max(a, s0), min(b, s1)
+        win[:, lo - a:hi - a] = buf[:, lo - s0:hi - s0]
+    return win
+
+
+def _edt_block_task(path: str, r0: int, r1: int, c0: int, c1: int, ws: int, rows: int, cols: int,
                     wall: bool, res: float, nearest: bool) -> tuple[NDArray[np.float64], NDArray[np.int32],
                                                                      NDArray[np.int32]]:
     """One output chunk (rows ``r0:r1``, columns ``c0:c1``) of the row pass, from the column-pass rows of a
-    window ``margin`` columns wider on each side, read from the store (and re-read wider until every row's
-    nearest candidates are inside it: ``_kernels_chunked.edt_block``)."""
-    import zarr
-
+    window one strip wider on each side, read from the store (and re-read wider until every row's nearest
+    candidates are inside it: ``_kernels_chunked.edt_block``)."""
     kc = kernels("chunked")
-    z = zarr.open_array(path, mode="r")
     shape = (r1 - r0, c1 - c0)
     d = np.empty(shape, np.float64)
     nr = np.empty(shape if nearest else (1, 1), np.int32)
     nc = np.empty(shape if nearest else (1, 1), np.int32)
+    margin = ws
     while True:
-        a, b = max(0, c0 - margin), min(cols, c1 + margin)
-        win = np.ascontiguousarray(z[r0:r1, a:b], dtype=np.int32)
+        a, b = max(0, (c0 - margin) // ws * ws), min(cols, -(-(c1 + margin) // ws) * ws)
+        win = _read_window(path, r0, r1, a, b, rows, cols, ws)
         if kc.edt_block(win, a, r0, rows, cols, wall, res, c0, d, nr, nc, nearest):
             return d, nr, nc
         del win
@@ -444,7 +484,6 @@ def _via_store(occupied: Any, scratch: Path, wall: bool, res: float, nearest: bo
     nearest row and column), chunked as ``occupied``."""
     import operator
 
-    import zarr
     from dask.array import Array
     from dask.base import tokenize
     from dask.highlevelgraph import HighLevelGraph
@@ -453,9 +492,8 @@ def _via_store(occupied: Any, scratch: Path, wall: bool, res: float, nearest: bo
     rc, cc = max(occupied.chunks[0]), max(occupied.chunks[1])
     ws = _strip_width(rows, rc, cc)
     token = tokenize(occupied, wall, res, nearest, str(scratch.resolve()), ws)
-    path = str(scratch.resolve() / f"{_SCRATCH_PREFIX}{token}.zarr")
-    zarr.create_array(path, shape=(rows, cols), chunks=(rc, ws), dtype=np.int32, compressors=None,
-                      fill_value=0, overwrite=True)
+    path = str(scratch.resolve() / f"{_SCRATCH_PREFIX}{token}")
+    os.makedirs(path, exist_ok=True)
 
     # strip m is the columns m*ws .. of the store's chunks (no two tasks write one store chunk), sliced out
     # of the occupancy's column chunks it overlaps
@@ -469,7 +507,7 @@ def _via_store(occupied: Any, scratch: Path, wall: bool, res: float, nearest: bo
         js = [j for j in range(len(cbounds) - 1) if cbounds[j] < s1 and cbounds[j + 1] > s0]
         cuts = [[max(s0, cbounds[j]) - cbounds[j], min(s1, cbounds[j + 1]) - cbounds[j]] for j in js]
         layer_c[(cname, m)] = (_column_to_store, [[(occ_w.name, i, j) for i in range(nrow)] for j in js], cuts,
-                               path, s0, wall)
+                               path, m, wall)
     layer_b = {bname: (_barrier, list(layer_c), path)}
     roff = np.concatenate([[0], np.cumsum(occupied.chunks[0])]).tolist()
     coff = np.concatenate([[0], np.cumsum(occupied.chunks[1])]).tolist()

@@ -6,15 +6,22 @@ Runs, each printed as a row of one markdown table (and written to ``--out``):
   ``gridfield.chunked.distance(..., return_nearest=True)`` on a ``distributed.LocalCluster`` of
   ``--workers`` processes of 1 thread, written to an uncompressed Zarr store with ``dask.array.store``
   (the results stream to disk, never to this process). Throughput is cells per second per core; the
-  ratio is chunked-per-core over in-memory-1-thread. The store is read back and compared with
-  ``np.array_equal``.
+  ratio is chunked-per-core over in-memory-1-thread. Beside the wall times, the CPU seconds of the
+  in-memory call and of the workers (psutil, summed over the worker processes), whose ratio depends less
+  on what else runs on the machine. The store is read back and compared with ``np.array_equal``.
 - ``big N``: the chunked computation alone (distance + nearest to Zarr), with a worker memory limit below
   the map's arrays; the table gives the workers' peak RSS (sampled every 20 ms in each worker
   process), the limit, and how many workers were restarted (0 = none exceeded its limit).
 
-The occupancy is generated on the workers chunk by chunk (``dask.array.random``, seeded: the same map
-on every run), density ``--density``. Per-chunk cost: the time per task of each phase is printed
-from the scheduler's task stream (for the extrapolation in benchmarks/README.md, "Chunked").
+The passes meet (``--passes``) through a temporary store next to the output store (``distance(...,
+scratch=)`` inside ``chunked.scratch_dir``: the default) or by dask's task rechunk in worker memory
+(``rechunk``: ``distance()`` without ``scratch``, the code before the store). The occupancy is
+generated on the workers chunk by chunk (``dask.array.random``, seeded: the same map on every run),
+density ``--density``, inside the timed run; ``--input zarr`` writes it to a Zarr store first (untimed)
+and the run reads it from there, as the CLI reads a map from disk. Per-chunk cost: the time per task of
+each phase is printed from the scheduler's task stream (for the extrapolation in benchmarks/README.md,
+"Chunked"), with each task's peak RSS increment over the worker's RSS when it started (a worker plugin
+sampling every 2 ms; 1 thread per worker, so one task at a time), and the table gives the largest.
 
 Usage::
 
@@ -112,6 +119,13 @@ def _task_memory(dask_worker=None, reset: bool = False):
     return out, plugin.idle
 
 
+def _cpu_seconds(dask_worker=None) -> float:
+    import psutil
+
+    t = psutil.Process().cpu_times()
+    return t.user + t.system
+
+
 def _read_sampler(dask_worker=None) -> int:
     state = getattr(dask_worker, "_gf_sampler", None)
     return -1 if state is None else int(state["peak"])
@@ -125,21 +139,27 @@ def _warm_up(dask_worker=None) -> None:
     import gridfield.chunked._distance  # noqa: F401
 
 
-def occupancy(n: int, chunk: int, density: float, seed: int):
+def occupancy(n: int, chunk: int, density: float, seed: int, source: Path | None = None):
+    """The seeded random map, generated lazily, or read from the Zarr array ``source`` (written if missing)."""
     import dask.array as da
 
-    return da.random.default_rng(seed).random((n, n), chunks=chunk) < density
+    occ = da.random.default_rng(seed).random((n, n), chunks=chunk) < density
+    if source is None:
+        return occ
+    if not source.exists():
+        occ.to_zarr(str(source))
+    return da.from_zarr(str(source))
 
 
 def run_chunked(client, n: int, chunk: int, density: float, store: Path, seed: int = 27, compress: bool = False,
-                passes: str = "store"):
+                passes: str = "store", source: Path | None = None):
     import dask.array as da
     import zarr
     from distributed import get_task_stream
 
     from gridfield import chunked
 
-    occ = occupancy(n, chunk, density, seed)
+    occ = occupancy(n, chunk, density, seed, source)
     if store.exists():
         shutil.rmtree(store)
     root = zarr.open_group(str(store), mode="w")
@@ -151,13 +171,15 @@ def run_chunked(client, n: int, chunk: int, density: float, store: Path, seed: i
     client.run(_task_memory, reset=True)
     scratch = (chunked.scratch_dir(store.with_name(store.name + ".scratch")) if passes == "store"
                else contextlib.nullcontext(None))
-    t0 = time.perf_counter()  # the graph is built inside: building the store's graph makes its array
+    cpu0 = sum(client.run(_cpu_seconds).values())
+    t0 = time.perf_counter()  # the graph is built inside: building the store's graph makes its directory
     with scratch as s, get_task_stream(client) as ts:
         d, nr, nc = chunked.distance(occ, return_nearest=True, **({} if s is None else {"scratch": s}))
         da.store([d, nr, nc], targets, lock=False)
     elapsed = time.perf_counter() - t0
+    cpu = sum(client.run(_cpu_seconds).values()) - cpu0
     peaks = client.run(_read_sampler)
-    return elapsed, peaks, ts.data, root
+    return elapsed, peaks, ts.data, root, cpu
 
 
 def per_task_costs(stream) -> dict[str, tuple[int, float]]:
@@ -201,6 +223,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--passes", choices=("store", "rechunk"), default="store",
                     help="how the column and row passes meet: a temporary Zarr store next to --store (default), or "
                          "dask's task rechunk in worker memory (distance() without scratch=)")
+    ap.add_argument("--input", choices=("random", "zarr"), default="random",
+                    help="generate the occupancy inside the timed run (default), or read it from a Zarr store "
+                         "written before (untimed)")
     ap.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")
     args = ap.parse_args(argv)
 
@@ -222,12 +247,14 @@ def main(argv: list[str] | None = None) -> int:
         task_mem: list = []
         idle: list[int] = []
         for n in args.compare:
-            occ_np = occupancy(n, args.chunk, args.density, 27).compute()
+            source = tmp / f"occ{n}.zarr" if args.input == "zarr" else None
+            occ_np = occupancy(n, args.chunk, args.density, 27, source).compute()
             gm = GridMap(Grid((n, n), 1.0, border="wall"), occ_np)
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             ref = brushfire(gm, metric="euclidean", threads=1, compute_labels=False, compute_steps=False)
-            t_mem = time.perf_counter() - t0
-            t_chk, peaks, stream, root = run_chunked(client, n, args.chunk, args.density, store, passes=args.passes)
+            t_mem, cpu_mem = time.perf_counter() - t0, time.process_time() - c0
+            t_chk, peaks, stream, root, cpu = run_chunked(client, n, args.chunk, args.density, store, passes=args.passes,
+                                                          source=source)
             streams += stream
             inc = _collect(client, task_mem, idle)
             equal = (np.array_equal(root["distance"][...], ref.distance)
@@ -237,29 +264,29 @@ def main(argv: list[str] | None = None) -> int:
             per_core_mem = n * n / t_mem
             per_core_chk = n * n / t_chk / args.workers
             rows.append([f"compare {n}", args.chunk, f"{t_mem:.2f}", f"{t_chk:.2f}",
-                         f"{per_core_chk / per_core_mem:.2f}", f"{max(peaks.values()) / 2**20:.0f}",
+                         f"{per_core_chk / per_core_mem:.2f}", f"{cpu_mem:.2f}", f"{cpu:.2f}", f"{cpu_mem / cpu:.2f}", f"{max(peaks.values()) / 2**20:.0f}",
                          f"{max(idle) / 2**20:.0f}", f"{inc / 2**20:.1f}",
                          f"{args.chunk ** 2 * 16 / 2**20:.0f}", "yes" if equal else "NO"])
             print(rows[-1], flush=True)
         for n in args.big:
             workers_before = set(client.scheduler_info()["workers"])
-            t_chk, peaks, stream, _ = run_chunked(client, n, args.chunk, args.density, store, compress=args.compress,
+            t_chk, peaks, stream, _, cpu = run_chunked(client, n, args.chunk, args.density, store, compress=args.compress,
                                                   passes=args.passes)
             streams += stream
             inc = _collect(client, task_mem, idle)
             workers_after = set(client.scheduler_info()["workers"])
             restarted = len(workers_before - workers_after)
-            rows.append([f"big {n}", args.chunk, "-", f"{t_chk:.2f}", "-", f"{max(peaks.values()) / 2**20:.0f}",
+            rows.append([f"big {n}", args.chunk, "-", f"{t_chk:.2f}", "-", "-", f"{cpu:.2f}", "-", f"{max(peaks.values()) / 2**20:.0f}",
                          f"{max(idle) / 2**20:.0f}", f"{inc / 2**20:.1f}",
                          f"{args.chunk ** 2 * 16 / 2**20:.0f}", f"restarted workers: {restarted}"])
             print(rows[-1], flush=True)
         costs = per_task_costs(streams)
     shutil.rmtree(tmp, ignore_errors=True)
     table = markdown_table(["run", "chunk", "in-memory 1 thread s", f"chunked {args.workers}x1 s",
-                            "per-core ratio", "peak worker RSS MiB", "worker RSS before MiB",
+                            "per-core ratio", "in-memory CPU s", "workers' CPU s", "CPU ratio", "peak worker RSS MiB", "worker RSS before MiB",
                             "max task RSS increment MiB", "one chunk's outputs MiB", "equal / note"], rows)
     head = (f"workers {args.workers} x 1 thread, memory limit {args.memory_limit}, density {args.density}, "
-            f"passes meet by {args.passes}, "
+            f"passes meet by {args.passes}, input {args.input}, "
             f"load average before {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}, after "
             f"{' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     mem = task_increments(task_mem)

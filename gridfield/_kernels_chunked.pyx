@@ -140,7 +140,8 @@ def edt_block(const int32_t[:, ::1] vr, int64_t a, int64_t row0, int64_t rows, i
     cdef int64_t nb = vr.shape[0], W = vr.shape[1], w = distance.shape[1], i, r, x, dx, m, f, gu
     cdef int64_t c1 = c0 + w - 1
     cdef int64_t inf = rows + cols + 4  # as edt_rows
-    cdef int64_t lo, hi, q, u, fu, sq, tq, fq, d1, d2, wx, top, lx, y
+    cdef int64_t lo, hi, q, u, fu, sq, tq, fq, d1, d2, wx, top, lx, y, x0, x1
+    cdef int64_t* gb
     cdef const int32_t* v
     cdef double* drow
     cdef int64_t* lo_r
@@ -212,13 +213,27 @@ def edt_block(const int32_t[:, ::1] vr, int64_t a, int64_t row0, int64_t rows, i
             s = <int64_t*>_alloc(lx * sizeof(int64_t))
             t = <int64_t*>_alloc(lx * sizeof(int64_t))
             fs = <int64_t*>_alloc(lx * sizeof(int64_t))
+            gb = <int64_t*>_alloc(lx * sizeof(int64_t))
             for i in range(nb):
                 r = row0 + i
                 v = &vr[i, 0]
                 drow = &distance[i, 0]
+                lo = lo_r[i]
+                hi = hi_r[i]
+                # g of the sites lo..hi (the wall ring's at -1 and cols), one branch-free loop inside
+                x0 = lo if lo >= 0 else 0
+                x1 = hi if hi < cols else cols - 1
+                if lo < 0:
+                    gb[0] = 0 if wall else inf
+                if hi >= cols:
+                    gb[hi - lo] = 0 if wall else inf
+                for x in range(x0, x1 + 1):
+                    y = v[x - a]
+                    d1 = r - y if r >= y else y - r
+                    gb[x - lo] = d1 if d1 < inf else inf
                 q = -1
-                for u in range(lo_r[i], hi_r[i] + 1):
-                    gu = _site_g(v, u, a, r, cols, inf, wall)
+                for u in range(lo, hi + 1):
+                    gu = gb[u - lo]
                     if gu >= inf:
                         continue
                     fu = gu * gu
@@ -264,14 +279,15 @@ def edt_block(const int32_t[:, ::1] vr, int64_t a, int64_t row0, int64_t rows, i
                         d1 = x - sq
                         drow[x - c0] = sqrt(<double>(d1 * d1 + fq)) * resolution
                     if want_nearest:
-                        for x in range(t[q], top + 1):
-                            nearest_row[i, x - c0] = <int32_t>y
-                            nearest_col[i, x - c0] = <int32_t>sq
+                        for x in range(t[q] - c0, top + 1 - c0):
+                            nearest_row[i, x] = <int32_t>y
+                            nearest_col[i, x] = <int32_t>sq
                     top = t[q] - 1
                     q -= 1
             free(s)
             free(t)
             free(fs)
+            free(gb)
         free(lo_r)
         free(hi_r)
     return ok

@@ -11,6 +11,17 @@ Memory per task: one strip (:func:`strip_chunks`), ``rows x chunk_cols`` of occu
 the column pass; ``chunk_rows x cols`` of ``int32`` in and ``float64`` (plus two ``int32`` with the
 nearest obstacle) out for the row pass.
 
+Euclidean through a temporary store (``scratch=``): the column pass runs on strips of whole columns about
+one chunk's cells wide (:func:`_strip_width`, at least 64 columns), each written as one raw ``int32`` file
+(rows in order, written aside and renamed); after all of them (one barrier task), each output chunk is one
+task that reads its rows over its columns plus a margin of one strip on each side and runs
+``_kernels_chunked.edt_block``: per row, the lower envelope over only the columns whose obstacles can be
+nearest (or tie) inside the chunk, which lie within about the distance at the chunk's first and last
+columns; a row that needs more than the window makes the task read a wider one (four times the margin).
+Memory per task: the strip (``rows x width`` of occupancy and ``int32``) for the column pass, the window
+(``chunk_rows x (chunk_cols + 2 x margin)`` of ``int32``) and one chunk's outputs for the row pass; no
+rechunk, and the outputs come out in the input's chunks.
+
 Saturated (``saturate=`` and no nearest obstacle): a cell nearer than the radius has its nearest obstacle
 less than ``h = ceil(saturate / resolution) + 1`` cells away along each axis, and no obstacle inside a
 window is nearer than the true nearest one; so each chunk is computed on itself plus a halo of ``h``
@@ -152,10 +163,10 @@ def distance(
     far : float
         Value of saturated distances (default ``inf``).
     scratch : str or path-like, optional
-        A directory (made if missing) for the temporary Zarr store between the passes of the exact Euclidean
+        A directory (made if missing) for the temporary store between the passes of the exact Euclidean
         path (``metric="euclidean"`` and ``return_nearest`` or no ``saturate``): the column pass writes its
         ``int32`` rows there, and each output chunk is computed by one task that reads the rows it needs back
-        (see the module notes), so no task holds more than about one chunk's outputs and nothing moves
+        (see the module notes), so no task holds much more than one chunk's outputs and nothing moves
         all-to-all between workers. The workers must see the same path (one machine, or a shared file
         system). The store stays until the caller removes it: compute the results inside
         :func:`scratch_dir`, which removes it on exit, also on error. Without it, the passes meet by a
@@ -451,7 +462,7 @@ def _read_window(path: str, r0: int, r1: int, a: int, b: int, rows: int, cols: i
         buf = np.empty((r1 - r0, s1 - s0), np.int32)
         with open(_strip_file(path, m), "rb") as f:
             f.seek(r0 * (s1 - s0) * 4)
-            if f.readinto(memoryview(buf).cast("B")) != buf.nbytes:
+            if f.readinto(buf.data.cast("B")) != buf.nbytes:
                 raise OSError(f"{_strip_file(path, m)}: shorter than {rows} x {s1 - s0} int32")
         lo, hi = max(a, s0), min(b, s1)
         win[:, lo - a:hi - a] = buf[:, lo - s0:hi - s0]

@@ -142,6 +142,8 @@ def edt_block(const int32_t[:, ::1] vr, int64_t a, int64_t row0, int64_t rows, i
     cdef int64_t inf = rows + cols + 4  # as edt_rows
     cdef int64_t lo, hi, q, u, fu, sq, tq, fq, d1, d2, wx, top, lx, y, x0, x1
     cdef int64_t* gb
+    cdef int32_t* nrow = NULL
+    cdef int32_t* ncol = NULL
     cdef const int32_t* v
     cdef double* drow
     cdef int64_t* lo_r
@@ -218,6 +220,9 @@ def edt_block(const int32_t[:, ::1] vr, int64_t a, int64_t row0, int64_t rows, i
                 r = row0 + i
                 v = &vr[i, 0]
                 drow = &distance[i, 0]
+                if want_nearest:
+                    nrow = &nearest_row[i, 0]
+                    ncol = &nearest_col[i, 0]
                 lo = lo_r[i]
                 hi = hi_r[i]
                 # g of the sites lo..hi (the wall ring's at -1 and cols), one branch-free loop inside
@@ -264,8 +269,8 @@ def edt_block(const int32_t[:, ::1] vr, int64_t a, int64_t row0, int64_t rows, i
                     for x in range(w):
                         drow[x] = INFINITY
                         if want_nearest:
-                            nearest_row[i, x] = -1
-                            nearest_col[i, x] = -1
+                            nrow[x] = -1
+                            ncol[x] = -1
                     continue
                 top = c1
                 while q >= 0:
@@ -280,8 +285,8 @@ def edt_block(const int32_t[:, ::1] vr, int64_t a, int64_t row0, int64_t rows, i
                         drow[x - c0] = sqrt(<double>(d1 * d1 + fq)) * resolution
                     if want_nearest:
                         for x in range(t[q] - c0, top + 1 - c0):
-                            nearest_row[i, x] = <int32_t>y
-                            nearest_col[i, x] = <int32_t>sq
+                            nrow[x] = <int32_t>y
+                            ncol[x] = <int32_t>sq
                     top = t[q] - 1
                     q -= 1
             free(s)

@@ -18,7 +18,8 @@ scratch=)`` inside ``chunked.scratch_dir``: the default) or by dask's task rechu
 (``rechunk``: ``distance()`` without ``scratch``, the code before the store). The occupancy is
 generated on the workers chunk by chunk (``dask.array.random``, seeded: the same map on every run),
 density ``--density``, inside the timed run; ``--input zarr`` writes it to a Zarr store first (untimed)
-and the run reads it from there, as the CLI reads a map from disk. Per-chunk cost: the time per task of
+and the run reads it from there, as the CLI reads a map from disk. ``--sink discard`` drops the results
+instead of writing them (the in-memory side writes nothing either). Per-chunk cost: the time per task of
 each phase is printed from the scheduler's task stream (for the extrapolation in benchmarks/README.md,
 "Chunked"), with each task's peak RSS increment over the worker's RSS when it started (a worker plugin
 sampling every 2 ms; 1 thread per worker, so one task at a time), and the table gives the largest.
@@ -139,6 +140,17 @@ def _warm_up(dask_worker=None) -> None:
     import gridfield.chunked._distance  # noqa: F401
 
 
+class Discard:
+    """A ``dask.array.store`` target that drops what it is given (``--sink discard``: the computation
+    without the output store's writes)."""
+
+    def __init__(self, shape, dtype) -> None:
+        self.shape, self.dtype, self.ndim = shape, np.dtype(dtype), len(shape)
+
+    def __setitem__(self, key, value) -> None:
+        pass
+
+
 def occupancy(n: int, chunk: int, density: float, seed: int, source: Path | None = None):
     """The seeded random map, generated lazily, or read from the Zarr array ``source`` (written if missing)."""
     import dask.array as da
@@ -152,7 +164,7 @@ def occupancy(n: int, chunk: int, density: float, seed: int, source: Path | None
 
 
 def run_chunked(client, n: int, chunk: int, density: float, store: Path, seed: int = 27, compress: bool = False,
-                passes: str = "store", source: Path | None = None):
+                passes: str = "store", source: Path | None = None, sink: str = "zarr"):
     import dask.array as da
     import zarr
     from distributed import get_task_stream
@@ -165,7 +177,8 @@ def run_chunked(client, n: int, chunk: int, density: float, store: Path, seed: i
     root = zarr.open_group(str(store), mode="w")
     names = ("distance", "nearest_row", "nearest_col")
     targets = [root.create_array(name, shape=(n, n), chunks=(chunk, chunk), dtype=dtype,
-                                  **({} if compress else {"compressors": None}))
+                                  **({} if compress else {"compressors": None})) if sink == "zarr"
+               else Discard((n, n), dtype)
                for name, dtype in zip(names, ("float64", "int32", "int32"), strict=True)]
     client.run(_start_sampler)
     client.run(_task_memory, reset=True)
@@ -226,6 +239,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--input", choices=("random", "zarr"), default="random",
                     help="generate the occupancy inside the timed run (default), or read it from a Zarr store "
                          "written before (untimed)")
+    ap.add_argument("--sink", choices=("zarr", "discard"), default="zarr",
+                    help="write the results to the Zarr store (default) or drop them (the computation alone; "
+                         "no equality check)")
     ap.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")
     args = ap.parse_args(argv)
 
@@ -254,10 +270,10 @@ def main(argv: list[str] | None = None) -> int:
             ref = brushfire(gm, metric="euclidean", threads=1, compute_labels=False, compute_steps=False)
             t_mem, cpu_mem = time.perf_counter() - t0, time.process_time() - c0
             t_chk, peaks, stream, root, cpu = run_chunked(client, n, args.chunk, args.density, store, passes=args.passes,
-                                                          source=source)
+                                                          source=source, sink=args.sink)
             streams += stream
             inc = _collect(client, task_mem, idle)
-            equal = (np.array_equal(root["distance"][...], ref.distance)
+            equal = args.sink == "zarr" and (np.array_equal(root["distance"][...], ref.distance)
                      and np.array_equal(root["nearest_row"][...], ref.nearest_row)
                      and np.array_equal(root["nearest_col"][...], ref.nearest_col))
             del ref, occ_np, gm
@@ -266,7 +282,8 @@ def main(argv: list[str] | None = None) -> int:
             rows.append([f"compare {n}", args.chunk, f"{t_mem:.2f}", f"{t_chk:.2f}",
                          f"{per_core_chk / per_core_mem:.2f}", f"{cpu_mem:.2f}", f"{cpu:.2f}", f"{cpu_mem / cpu:.2f}", f"{max(peaks.values()) / 2**20:.0f}",
                          f"{max(idle) / 2**20:.0f}", f"{inc / 2**20:.1f}",
-                         f"{args.chunk ** 2 * 16 / 2**20:.0f}", "yes" if equal else "NO"])
+                         f"{args.chunk ** 2 * 16 / 2**20:.0f}",
+                         ("yes" if equal else "NO") if args.sink == "zarr" else "(discarded)"])
             print(rows[-1], flush=True)
         for n in args.big:
             workers_before = set(client.scheduler_info()["workers"])
@@ -286,7 +303,7 @@ def main(argv: list[str] | None = None) -> int:
                             "per-core ratio", "in-memory CPU s", "workers' CPU s", "CPU ratio", "peak worker RSS MiB", "worker RSS before MiB",
                             "max task RSS increment MiB", "one chunk's outputs MiB", "equal / note"], rows)
     head = (f"workers {args.workers} x 1 thread, memory limit {args.memory_limit}, density {args.density}, "
-            f"passes meet by {args.passes}, input {args.input}, "
+            f"passes meet by {args.passes}, input {args.input}, sink {args.sink}, "
             f"load average before {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}, after "
             f"{' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     mem = task_increments(task_mem)

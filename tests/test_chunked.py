@@ -322,6 +322,11 @@ def test_scratch_dir_removes_a_stale_one_and_refuses_a_foreign_one(tmp_path):
     (tmp_path / "file").write_text("")
     with pytest.raises(GridfieldError, match="is not a directory"), scratch_dir(tmp_path / "file"):
         pass
+    with scratch_dir(tmp_path / "early") as s:  # the graph built inside, computed after the block
+        lazy = distance(da.zeros((8, 8), dtype=bool, chunks=4), scratch=s)
+    with pytest.raises(GridfieldError, match="the temporary store between the passes is gone; compute the results "
+                                             r"inside the scratch_dir\(\) block"):
+        lazy.compute(scheduler="synchronous")
     with pytest.raises(ArgumentTypeError, match="scratch must be a directory path, got int"):
         distance(da.zeros((4, 4), dtype=bool, chunks=2), scratch=3)
 

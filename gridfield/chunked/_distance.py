@@ -443,10 +443,23 @@ def _column_to_store(pieces: list[list[NDArray[np.bool_]]], cuts: list[list[int]
     del occ8
     final = _strip_file(path, m)
     aside = f"{final}.{os.getpid()}-{id(vr):x}.tmp"
-    with open(aside, "xb") as f:
-        vr.tofile(f)
-    os.replace(aside, final)
+    try:
+        with open(aside, "xb") as f:
+            vr.tofile(f)
+        os.replace(aside, final)
+    except FileNotFoundError:
+        _gone(path)
+        raise
     return int(vr.shape[1])
+
+
+def _gone(path: str) -> None:
+    """A clear error when the temporary store is no longer there (else the caller re-raises)."""
+    if not os.path.isdir(path):
+        from ..errors import GridfieldError
+
+        raise GridfieldError(f"{path}: the temporary store between the passes is gone; compute the results "
+                             "inside the scratch_dir() block (or keep the scratch directory until they are done)")
 
 
 def _barrier(done: list[int], path: str) -> str:
@@ -460,10 +473,14 @@ def _read_window(path: str, r0: int, r1: int, a: int, b: int, rows: int, cols: i
     for m in range(a // ws, -(-b // ws)):
         s0, s1 = m * ws, min(cols, (m + 1) * ws)
         buf = np.empty((r1 - r0, s1 - s0), np.int32)
-        with open(_strip_file(path, m), "rb") as f:
-            f.seek(r0 * (s1 - s0) * 4)
-            if f.readinto(buf.data.cast("B")) != buf.nbytes:
-                raise OSError(f"{_strip_file(path, m)}: shorter than {rows} x {s1 - s0} int32")
+        try:
+            with open(_strip_file(path, m), "rb") as f:
+                f.seek(r0 * (s1 - s0) * 4)
+                if f.readinto(buf.data.cast("B")) != buf.nbytes:
+                    raise OSError(f"{_strip_file(path, m)}: shorter than {rows} x {s1 - s0} int32")
+        except FileNotFoundError:
+            _gone(path)
+            raise
         lo, hi = max(a, s0), min(b, s1)
         win[:, lo - a:hi - a] = buf[:, lo - s0:hi - s0]
     return win

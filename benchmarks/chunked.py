@@ -22,7 +22,8 @@ and the run reads it from there, as the CLI reads a map from disk. ``--sink disc
 instead of writing them (the in-memory side writes nothing either). Per-chunk cost: the time per task of
 each phase is printed from the scheduler's task stream (for the extrapolation in benchmarks/README.md,
 "Chunked"), with each task's peak RSS increment over the worker's RSS when it started (a worker plugin
-sampling every 2 ms; 1 thread per worker, so one task at a time), and the table gives the largest.
+sampling every 5 ms while a task runs; 1 thread per worker, so one task at a time); the table gives the
+largest.
 
 Usage::
 
@@ -75,33 +76,37 @@ from distributed.diagnostics.plugin import WorkerPlugin  # noqa: E402
 
 class TaskMemory(WorkerPlugin):
     """A worker plugin: each task's peak RSS increment over the RSS when it started (1 thread per worker:
-    one task at a time), sampled every 2 ms while it runs, and the worker's RSS before any task."""
+    one task at a time), sampled every 5 ms while a task runs (the sampler waits while none does: ~1 %
+    of a core), and the worker's RSS before the run."""
 
     name = "gf-task-memory"
 
     def setup(self, worker) -> None:
-        import psutil
-
-        self.proc = psutil.Process()
-        self.base = self.peak = self.idle = self.proc.memory_info().rss
-        self.running = False
+        self.page = os.sysconf("SC_PAGE_SIZE")
+        self.fd = os.open("/proc/self/statm", os.O_RDONLY)
+        self.base = self.peak = self.idle = self._rss()
+        self.running = threading.Event()
         self.records: list[tuple[str, int]] = []
         self.stop = False
         threading.Thread(target=self._loop, daemon=True).start()
 
+    def _rss(self) -> int:
+        return int(os.pread(self.fd, 128, 0).split()[1]) * self.page
+
     def _loop(self) -> None:
         while not self.stop:
-            if self.running:
-                self.peak = max(self.peak, self.proc.memory_info().rss)
-            time.sleep(0.002)
+            self.running.wait(1.0)
+            if self.running.is_set():
+                self.peak = max(self.peak, self._rss())
+                time.sleep(0.005)
 
     def transition(self, key, start, finish, **kwargs) -> None:
         if finish == "executing":
-            self.base = self.peak = self.proc.memory_info().rss
-            self.running = True
+            self.base = self.peak = self._rss()
+            self.running.set()
         elif start == "executing":
-            self.running = False
-            self.peak = max(self.peak, self.proc.memory_info().rss)
+            self.running.clear()
+            self.peak = max(self.peak, self._rss())
             name = key[0] if isinstance(key, tuple) else str(key)
             self.records.append((name, self.peak - self.base))
 
@@ -116,7 +121,7 @@ def _task_memory(dask_worker=None, reset: bool = False):
     out = list(plugin.records)
     if reset:
         plugin.records.clear()
-        plugin.idle = plugin.proc.memory_info().rss
+        plugin.idle = plugin._rss()
     return out, plugin.idle
 
 

@@ -183,9 +183,9 @@ def distance(
     ArgumentTypeError
         If ``occupied`` is not a dask array.
     ParameterError
-        For a ``scratch`` that is not a directory, an unknown metric or border, a non-positive resolution or saturation radius, a non-boolean or
-        non-2-D occupancy, chunks smaller than the saturation halo, ``return_nearest`` with a metric other
-        than Euclidean, or Dask not installed.
+        For a ``scratch`` that is not a directory, an unknown metric or border, a non-positive resolution or
+        saturation radius, a non-boolean or non-2-D occupancy, chunks smaller than the saturation halo,
+        ``return_nearest`` with a metric other than Euclidean, or Dask not installed.
 
     Examples
     --------
@@ -331,9 +331,9 @@ def _saturated(d: Any, sat: float, far: float) -> Any:
 
 
 # ---------------------------------------------------------------------------------------------
-# the exact Euclidean transform through a temporary Zarr store between the passes
+# the exact Euclidean transform through a temporary store between the passes
 # ---------------------------------------------------------------------------------------------
-#: The name of the temporary store's array inside a scratch directory (one per graph: its dask token).
+#: The prefix of the temporary stores' directories inside a scratch directory (one per graph: its dask token).
 _SCRATCH_PREFIX = "column-pass-"
 
 
@@ -413,7 +413,8 @@ def _scratch_path(scratch: object) -> Path:
 def _strip_width(rows: int, chunk_rows: int, chunk_cols: int) -> int:
     """The column pass's strip width: about one chunk's cells of whole columns (so that a task's memory
     does not grow with the map), at least 64 columns (fewer, larger files) unless the chunks are narrower,
-    and the chunk width divided evenly where it can be (strips then lie within one column of chunks).
+    and the chunk width split into near-equal parts (when the split is exact, as for powers of two, no
+    strip straddles two columns of chunks).
 
     Examples
     --------

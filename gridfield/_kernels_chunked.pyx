@@ -97,6 +97,207 @@ def edt_rows_block(const int32_t[:, ::1] vr, int64_t row0, int64_t rows, bint wa
         free(arg)
 
 
+cdef inline int64_t _floordiv_pos(int64_t a, int64_t b) noexcept nogil:
+    # Python's a // b for b > 0 (C division truncates)
+    cdef int64_t q = a // b
+    if (a % b != 0) and (a < 0):
+        q -= 1
+    return q
+
+
+cdef inline int64_t _site_g(const int32_t* v, int64_t x, int64_t a, int64_t r, int64_t cols, int64_t inf,
+                            bint wall) noexcept nogil:
+    """``g`` of the site in global column ``x`` (``-1`` and ``cols``: the wall ring) for row ``r``; ``inf``: none."""
+    cdef int64_t y, d
+    if x < 0 or x >= cols:
+        return 0 if wall else inf
+    y = v[x - a]
+    d = r - y if r >= y else y - r
+    return d if d < inf else inf
+
+
+def edt_block(const int32_t[:, ::1] vr, int64_t a, int64_t row0, int64_t rows, int64_t cols, bint wall,
+              double resolution, int64_t c0, double[:, ::1] distance, int32_t[:, ::1] nearest_row,
+              int32_t[:, ::1] nearest_col, bint want_nearest):
+    """Euclidean row pass of one output block: rows ``row0..`` and columns ``c0 .. c0 + w - 1`` (``w`` =
+    ``distance.shape[1]``) of a grid of ``rows x cols``, from the column pass result ``vr`` of the same rows
+    and the global columns ``a .. a + vr.shape[1] - 1`` (a window around the block's columns).
+
+    Only the sites that can be nearest (or tie) inside the block are needed: left of ``c0``, a site ``u``
+    with ``(c0 - u)**2`` above the least ``(c0 - v)**2 + g_v**2`` over ``v <= c0`` is strictly farther than
+    that ``v`` at every ``x >= c0`` (their difference grows with ``x``); the same on the right of the last
+    column. Each row scans outwards from the block's edges until that bound, then builds the lower envelope
+    (Meijster et al. 2000, the integer arithmetic of ``_kernels_brushfire._edt_1d_sq``) over those sites,
+    evaluated on the block's columns only. The envelope gives at each ``x`` the least ``(value, site)``
+    pair (a site is pushed only where it is strictly nearer), so the result equals that over all sites:
+    the in-memory distance and nearest cell bit for bit.
+
+    Returns
+    -------
+    bool
+        False (nothing written) when some row's bound reaches beyond the window: call again with a wider one.
+    """
+    cdef int64_t nb = vr.shape[0], W = vr.shape[1], w = distance.shape[1], i, r, x, dx, m, f, gu
+    cdef int64_t c1 = c0 + w - 1
+    cdef int64_t inf = rows + cols + 4  # as edt_rows
+    cdef int64_t lo, hi, q, u, fu, sq, tq, fq, d1, d2, wx, top, lx, y, x0, x1
+    cdef int64_t* gb
+    cdef int32_t* nrow = NULL
+    cdef int32_t* ncol = NULL
+    cdef const int32_t* v
+    cdef double* drow
+    cdef int64_t* lo_r
+    cdef int64_t* hi_r
+    cdef int64_t* s
+    cdef int64_t* t
+    cdef int64_t* fs
+    cdef bint ok = True
+    if nb == 0 or w == 0:
+        return True
+    if c0 < a or c1 >= a + W:
+        raise ValueError("the window must hold the block's columns")
+    with nogil:
+        lo_r = <int64_t*>_alloc(nb * sizeof(int64_t))
+        hi_r = <int64_t*>_alloc(nb * sizeof(int64_t))
+        # the bounds of every row first: a window too narrow is found before any work
+        for i in range(nb):
+            r = row0 + i
+            v = &vr[i, 0]
+            m = -1  # no site yet
+            x = c0
+            while True:
+                dx = c0 - x
+                if m >= 0 and dx * dx > m:
+                    lo = x + 1
+                    break
+                if x < a and x >= 0:
+                    ok = False
+                    break
+                gu = _site_g(v, x, a, r, cols, inf, wall)
+                if gu < inf:
+                    f = dx * dx + gu * gu
+                    if m < 0 or f < m:
+                        m = f
+                if x < 0:
+                    lo = -1
+                    break
+                x -= 1
+            if not ok:
+                break
+            m = -1
+            x = c1
+            while True:
+                dx = x - c1
+                if m >= 0 and dx * dx > m:
+                    hi = x - 1
+                    break
+                if x >= a + W and x < cols:
+                    ok = False
+                    break
+                gu = _site_g(v, x, a, r, cols, inf, wall)
+                if gu < inf:
+                    f = dx * dx + gu * gu
+                    if m < 0 or f < m:
+                        m = f
+                if x >= cols:
+                    hi = cols
+                    break
+                x += 1
+            if not ok:
+                break
+            lo_r[i] = lo
+            hi_r[i] = hi
+        if ok:
+            lx = 0
+            for i in range(nb):
+                if hi_r[i] - lo_r[i] + 1 > lx:
+                    lx = hi_r[i] - lo_r[i] + 1
+            s = <int64_t*>_alloc(lx * sizeof(int64_t))
+            t = <int64_t*>_alloc(lx * sizeof(int64_t))
+            fs = <int64_t*>_alloc(lx * sizeof(int64_t))
+            gb = <int64_t*>_alloc(lx * sizeof(int64_t))
+            for i in range(nb):
+                r = row0 + i
+                v = &vr[i, 0]
+                drow = &distance[i, 0]
+                if want_nearest:
+                    nrow = &nearest_row[i, 0]
+                    ncol = &nearest_col[i, 0]
+                lo = lo_r[i]
+                hi = hi_r[i]
+                # g of the sites lo..hi (the wall ring's at -1 and cols), one branch-free loop inside
+                x0 = lo if lo >= 0 else 0
+                x1 = hi if hi < cols else cols - 1
+                if lo < 0:
+                    gb[0] = 0 if wall else inf
+                if hi >= cols:
+                    gb[hi - lo] = 0 if wall else inf
+                for x in range(x0, x1 + 1):
+                    y = v[x - a]
+                    d1 = r - y if r >= y else y - r
+                    gb[x - lo] = d1 if d1 < inf else inf
+                q = -1
+                for u in range(lo, hi + 1):
+                    gu = gb[u - lo]
+                    if gu >= inf:
+                        continue
+                    fu = gu * gu
+                    while q >= 0:
+                        sq = s[q]
+                        tq = t[q]
+                        fq = fs[q]
+                        d1 = tq - sq
+                        d2 = tq - u
+                        if d1 * d1 + fq <= d2 * d2 + fu:
+                            break
+                        q -= 1
+                    if q < 0:
+                        q = 0
+                        s[0] = u
+                        t[0] = c0
+                        fs[0] = fu
+                    else:
+                        sq = s[q]
+                        # first x where u is strictly nearer than s[q]
+                        wx = 1 + _floordiv_pos(u * u - sq * sq + fu - fs[q], 2 * (u - sq))
+                        if wx <= c1:
+                            q += 1
+                            s[q] = u
+                            t[q] = wx
+                            fs[q] = fu
+                if q < 0:
+                    for x in range(w):
+                        drow[x] = INFINITY
+                        if want_nearest:
+                            nrow[x] = -1
+                            ncol[x] = -1
+                    continue
+                top = c1
+                while q >= 0:
+                    sq = s[q]
+                    fq = fs[q]
+                    if sq < 0 or sq >= cols:
+                        y = r
+                    else:
+                        y = v[sq - a]
+                    for x in range(t[q], top + 1):
+                        d1 = x - sq
+                        drow[x - c0] = sqrt(<double>(d1 * d1 + fq)) * resolution
+                    if want_nearest:
+                        for x in range(t[q] - c0, top + 1 - c0):
+                            nrow[x] = <int32_t>y
+                            ncol[x] = <int32_t>sq
+                    top = t[q] - 1
+                    q -= 1
+            free(s)
+            free(t)
+            free(fs)
+            free(gb)
+        free(lo_r)
+        free(hi_r)
+    return ok
+
+
 def l1_rows_block(const int32_t[:, ::1] vr, int64_t row0, int64_t rows, bint wall, double resolution,
                   double[:, ::1] distance):
     """Taxicab row pass: ``d[x] = min_i (g_i + |x - i|)`` by a forward and a backward scan, in cells, then

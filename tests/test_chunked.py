@@ -22,7 +22,7 @@ da = pytest.importorskip("dask.array")
 distributed = pytest.importorskip("distributed")
 
 from gridfield.brushfire import brushfire  # noqa: E402
-from gridfield.chunked import connect, distance, field, gvd, labels, wavefront  # noqa: E402
+from gridfield.chunked import connect, distance, field, gvd, labels, scratch_dir, wavefront  # noqa: E402
 from gridfield.errors import ArgumentTypeError, GridfieldError, ParameterError  # noqa: E402
 from gridfield.grid import Grid, GridMap  # noqa: E402
 from gridfield.io import read  # noqa: E402
@@ -266,6 +266,96 @@ def test_cluster_worker_killed_mid_run(client):
     assert np.array_equal(d, reference(occ).distance)
     client.wait_for_workers(2, timeout=60)
     assert victim not in set(client.scheduler_info()["workers"]) and victim in before
+
+
+# ------------------------------------------------------------------------------------------------
+# the passes through a temporary store (scratch=): equal, and the store gone after the run
+# ------------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("border", ["wall", "open"])
+def test_scratch_store_equals_brushfire_and_is_removed(tmp_path, border):
+    rng = np.random.default_rng(5)
+    where = tmp_path / "out.zarr.scratch"
+    for k, (shape, chunks) in enumerate((((37, 53), (8, 8)), ((15, 34), ((5, 7, 3), (10, 3, 20, 1))),
+                                         ((64, 64), (64, 1)), ((1, 9), (1, 4)))):
+        occ = rng.random(shape) < (0.01, 0.05, 0.002, 0.3)[k]
+        occ[0, 0] = border == "open" or occ[0, 0]  # an open border needs an obstacle for nearest cells
+        ref = reference(occ, border=border, resolution=0.25)
+        x = da.from_array(occ, chunks=chunks)
+        with scratch_dir(where) as s:
+            d, nr, nc = dask.compute(*distance(x, resolution=0.25, border=border, return_nearest=True, scratch=s),
+                                     scheduler="threads")
+            d_only = distance(x, resolution=0.25, border=border, scratch=s).compute(scheduler="synchronous")
+            sat = distance(x, resolution=0.25, border=border, saturate=1.0, return_nearest=True, scratch=s)[0]
+            sat = sat.compute(scheduler="synchronous")
+            assert [p.name.startswith("column-pass-") for p in where.iterdir()] == [True, True]
+        assert not where.exists()
+        assert np.array_equal(d, ref.distance) and np.array_equal(d_only, ref.distance), (k, border)
+        assert np.array_equal(nr, ref.nearest_row) and np.array_equal(nc, ref.nearest_col), (k, border)
+        assert np.array_equal(sat, np.where(ref.distance >= 1.0, np.inf, ref.distance)), (k, border)
+
+
+def test_scratch_store_removed_when_the_run_fails(tmp_path):
+    def boom(block):
+        raise RuntimeError("a failing input chunk")
+
+    occ = da.from_array(np.zeros((32, 32), bool), chunks=8)
+    bad = occ.map_blocks(lambda b, block_info=None: boom(b) if block_info[0]["chunk-location"] == (3, 2) else b,
+                         dtype=bool)
+    where = tmp_path / "s"
+    with pytest.raises(RuntimeError, match="a failing input chunk"), scratch_dir(where) as s:
+        distance(bad, return_nearest=True, scratch=s)[0].compute(scheduler="threads")
+    assert not where.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_scratch_dir_removes_a_stale_one_and_refuses_a_foreign_one(tmp_path):
+    stale = tmp_path / "stale"
+    (stale / "column-pass-0123.zarr").mkdir(parents=True)  # left by a killed run
+    with scratch_dir(stale) as s:
+        assert list(s.iterdir()) == []
+    assert not stale.exists()
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("keep")
+    with pytest.raises(GridfieldError, match=r"holds \['notes.txt'\], not only temporary stores"), scratch_dir(mine):
+        pass
+    assert (mine / "notes.txt").read_text() == "keep"
+    (tmp_path / "file").write_text("")
+    with pytest.raises(GridfieldError, match="is not a directory"), scratch_dir(tmp_path / "file"):
+        pass
+    with scratch_dir(tmp_path / "early") as s:  # the graph built inside, computed after the block
+        lazy = distance(da.zeros((8, 8), dtype=bool, chunks=4), scratch=s)
+    with pytest.raises(GridfieldError, match="the temporary store between the passes is gone; compute the results "
+                                             r"inside the scratch_dir\(\) block"):
+        lazy.compute(scheduler="synchronous")
+    with pytest.raises(ArgumentTypeError, match="scratch must be a directory path, got int"):
+        distance(da.zeros((4, 4), dtype=bool, chunks=2), scratch=3)
+
+
+@pytest.mark.slow
+def test_cluster_scratch_store_worker_killed_mid_run(client, tmp_path):
+    """Through the store on the cluster: equal, a worker killed in the row pass changes nothing (its tasks
+    are recomputed; the column strips rewritten, if at all, atomically), and the store is gone after."""
+    occ = random_map(N, 0.001, 3)
+    ref = reference(occ)
+    where = tmp_path / "scratch"
+    with scratch_dir(where) as s:
+        lazy = distance(da.from_array(occ, chunks=CHUNK), return_nearest=True, scratch=s)
+        futures = client.compute(list(lazy))
+        victim = None
+        deadline = time.monotonic() + 60
+        while victim is None and time.monotonic() < deadline:
+            held = client.has_what()
+            victim = next((w for w, keys in held.items() if any("edt-block" in str(k) for k in keys)), None)
+            if victim is None:
+                time.sleep(0.02)
+        assert victim is not None and not all(f.done() for f in futures), "finished before a worker was killed"
+        with contextlib.suppress(Exception):
+            client.run(os._exit, 1, workers=[victim])
+        d, nr, nc = client.gather(futures)
+    assert not where.exists()
+    assert np.array_equal(d, ref.distance)
+    assert np.array_equal(nr, ref.nearest_row) and np.array_equal(nc, ref.nearest_col)
+    client.wait_for_workers(2, timeout=60)
 
 
 # ------------------------------------------------------------------------------------------------

@@ -73,11 +73,14 @@ def test_brushfire_bigtiff_resumes_after_an_interruption(tmp_path, monkeypatch, 
     assert main(argv) == 130  # interrupted: one line, no store
     assert "interrupted" in capsys.readouterr().err
     assert not (tmp_path / "d.zarr").exists() and (tmp_path / "d.zarr.partial").is_dir()
+    assert not (tmp_path / "d.zarr.scratch").exists()  # the passes' temporary store: gone, also on error
     monkeypatch.setattr(zstore, "_mark_done", real)
     assert main(argv) == 0
     dm = read(tmp_path / "d.zarr")
     np.testing.assert_allclose(np.asarray(dm.distance), _edt(occ), atol=1e-12)
     assert not (tmp_path / "d.zarr.partial").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.zarr", "m.tif"]
+    assert not any("column-pass" in str(p) for p in (tmp_path / "d.zarr").rglob("*"))
 
 
 def test_brushfire_on_a_local_cluster(tmp_path, capsys):

@@ -8,6 +8,8 @@ extra): importing this package does not import it.
 
 - :func:`distance`: the Euclidean, chessboard or taxicab distance with the nearest obstacle (exact for any
   distance: a rechunk between the column and the row pass), or saturated with a halo only.
+- :func:`scratch_dir`: a directory for the temporary store between :func:`distance`'s passes
+  (``scratch=``), removed on exit, also on error.
 - :func:`field`: the classic (khatib) potential and its gradient chunk by chunk, from the nearest cells.
 - :func:`gvd`: the Euclidean distance, the label of each cell's nearest obstacle and the GVD (two gathers
   along the separable passes, then a one-cell halo).
@@ -21,10 +23,10 @@ extra): importing this package does not import it.
 from __future__ import annotations
 
 from ._cluster import connect
-from ._distance import BORDERS, METRICS, distance
+from ._distance import BORDERS, METRICS, distance, scratch_dir
 from ._field import field
 from ._gvd import gvd
 from ._labels import labels
 from ._wavefront import nf1_octile_field, wavefront
 
-__all__ = ["BORDERS", "METRICS", "connect", "distance", "field", "gvd", "labels", "nf1_octile_field", "wavefront"]
+__all__ = ["BORDERS", "METRICS", "connect", "distance", "field", "gvd", "labels", "nf1_octile_field", "scratch_dir", "wavefront"]

@@ -11,6 +11,17 @@ Memory per task: one strip (:func:`strip_chunks`), ``rows x chunk_cols`` of occu
 the column pass; ``chunk_rows x cols`` of ``int32`` in and ``float64`` (plus two ``int32`` with the
 nearest obstacle) out for the row pass.
 
+Euclidean through a temporary store (``scratch=``): the column pass runs on strips of whole columns about
+one chunk's cells wide (:func:`_strip_width`, at least 64 columns), each written as one raw ``int32`` file
+(rows in order, written aside and renamed); after all of them (one barrier task), each output chunk is one
+task that reads its rows over its columns plus a margin of one strip on each side and runs
+``_kernels_chunked.edt_block``: per row, the lower envelope over only the columns whose obstacles can be
+nearest (or tie) inside the chunk, which lie within about the distance at the chunk's first and last
+columns; a row that needs more than the window makes the task read a wider one (four times the margin).
+Memory per task: the strip (``rows x width`` of occupancy and ``int32``) for the column pass, the window
+(``chunk_rows x (chunk_cols + 2 x margin)`` of ``int32``) and one chunk's outputs for the row pass; no
+rechunk, and the outputs come out in the input's chunks.
+
 Saturated (``saturate=`` and no nearest obstacle): a cell nearer than the radius has its nearest obstacle
 less than ``h = ceil(saturate / resolution) + 1`` cells away along each axis, and no obstacle inside a
 window is nearer than the true nearest one; so each chunk is computed on itself plus a halo of ``h``
@@ -20,7 +31,12 @@ cells (the wall border is a halo of obstacles, which adds no nearer cell than th
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
+import shutil
+from collections.abc import Iterator
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
@@ -32,7 +48,7 @@ from ..errors import ArgumentTypeError, ParameterError, check_positive, shorten
 if TYPE_CHECKING:
     import dask.array as da
 
-__all__ = ["BORDERS", "METRICS", "distance"]
+__all__ = ["BORDERS", "METRICS", "distance", "scratch_dir"]
 
 METRICS = ("euclidean", "chessboard", "taxicab")
 BORDERS = ("wall", "open")
@@ -118,6 +134,7 @@ def distance(
     return_nearest: bool = False,
     border: str = "wall",
     far: float = math.inf,
+    scratch: str | os.PathLike[str] | None = None,
 ) -> Any:
     """The brushfire distance (and nearest obstacle) of a chunked occupancy grid, exact for any distance.
 
@@ -145,6 +162,15 @@ def distance(
         What lies outside the grid, as ``Grid.border``.
     far : float
         Value of saturated distances (default ``inf``).
+    scratch : str or path-like, optional
+        A directory (made if missing) for the temporary store between the passes of the exact Euclidean
+        path (``metric="euclidean"`` and ``return_nearest`` or no ``saturate``): the column pass writes its
+        ``int32`` rows there, and each output chunk is computed by one task that reads the rows it needs back
+        (see the module notes), so no task holds much more than one chunk's outputs and nothing moves
+        all-to-all between workers. The workers must see the same path (one machine, or a shared file
+        system). The store stays until the caller removes it: compute the results inside
+        :func:`scratch_dir`, which removes it on exit, also on error. Without it, the passes meet by a
+        task rechunk in worker memory (whole row strips per task). Ignored by the other paths.
 
     Returns
     -------
@@ -157,9 +183,9 @@ def distance(
     ArgumentTypeError
         If ``occupied`` is not a dask array.
     ParameterError
-        For an unknown metric or border, a non-positive resolution or saturation radius, a non-boolean or
-        non-2-D occupancy, chunks smaller than the saturation halo, ``return_nearest`` with a metric other
-        than Euclidean, or Dask not installed.
+        For a ``scratch`` that is not a directory, an unknown metric or border, a non-positive resolution or
+        saturation radius, a non-boolean or non-2-D occupancy, chunks smaller than the saturation halo,
+        ``return_nearest`` with a metric other than Euclidean, or Dask not installed.
 
     Examples
     --------
@@ -203,6 +229,13 @@ def distance(
         d = ext.map_blocks(_window_pass, metric, res, sat, far_v, halo, dtype=np.float64, chunks=chunks,
                            meta=np.empty((0, 0), np.float64))
         return d if chunks == occupied.chunks else d.rechunk(occupied.chunks, method="tasks")
+
+    if scratch is not None and metric == "euclidean":
+        outs = _via_store(occupied, _scratch_path(scratch), wall, res, return_nearest)
+        if not return_nearest:
+            return outs[0] if sat is None else _saturated(outs[0], sat, far_v)
+        dist, nr, nc = outs
+        return (dist if sat is None else _saturated(dist, sat, far_v)), nr, nc
 
     col_chunks, row_chunks = strip_chunks(occupied)
     strips = occupied.rechunk(col_chunks, method="tasks")
@@ -295,3 +328,229 @@ def _saturate_block(d: NDArray[np.float64], sat: float, far: float) -> NDArray[n
 
 def _saturated(d: Any, sat: float, far: float) -> Any:
     return d.map_blocks(_saturate_block, sat, far, dtype=np.float64, meta=np.empty((0, 0), np.float64))
+
+
+# ---------------------------------------------------------------------------------------------
+# the exact Euclidean transform through a temporary store between the passes
+# ---------------------------------------------------------------------------------------------
+#: The prefix of the temporary stores' directories inside a scratch directory (one per graph: its dask token).
+_SCRATCH_PREFIX = "column-pass-"
+
+
+@contextlib.contextmanager
+def scratch_dir(path: str | os.PathLike[str]) -> Iterator[Path]:
+    """A directory for :func:`distance`'s temporary store (``scratch=``), removed on exit, also on error.
+
+    ``path`` is made; one that a killed run left (holding nothing but temporary stores) is removed first.
+    Compute (or write) the results inside the ``with`` block: the graphs read the store.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The directory, e.g. next to the output store (``OUT.zarr.scratch``); its parent must exist.
+
+    Yields
+    ------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    GridfieldError
+        If ``path`` exists and is not a directory, or holds anything but temporary stores.
+
+    Examples
+    --------
+    >>> import dask.array as da, numpy as np, tempfile, os
+    >>> occ = np.zeros((4, 6), bool); occ[1, 1] = True
+    >>> where = os.path.join(tempfile.mkdtemp(), "out.zarr.scratch")
+    >>> with scratch_dir(where) as s:
+    ...     d = distance(da.from_array(occ, chunks=2), border="open", scratch=s).compute()
+    >>> d[1], os.path.exists(where)
+    (array([1., 0., 1., 2., 3., 4.]), False)
+    """
+    from ..errors import GridfieldError
+
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise GridfieldError(f"{p}: exists and is not a directory; the scratch directory must be free")
+    if p.exists():
+        foreign = [e.name for e in p.iterdir() if not e.name.startswith(_SCRATCH_PREFIX)]
+        if foreign:
+            raise GridfieldError(f"{p}: exists and holds {shorten(foreign)}, not only temporary stores; "
+                                 "choose another scratch directory")
+        shutil.rmtree(p)
+    p.mkdir()
+    try:
+        yield p
+    finally:
+        _remove(p)
+
+
+def _remove(p: Path, wait: float = 10.0) -> None:
+    """Remove ``p``; again while tasks of a failed run, still finishing, add files to it (they never make
+    a directory: once it is gone, it stays gone)."""
+    import time
+
+    deadline = time.monotonic() + wait
+    while True:
+        shutil.rmtree(p, ignore_errors=True)
+        if not p.exists() or time.monotonic() > deadline:
+            return
+        time.sleep(0.01)
+
+
+def _scratch_path(scratch: object) -> Path:
+    if not isinstance(scratch, str | os.PathLike):
+        raise ArgumentTypeError(f"scratch must be a directory path, got {type(scratch).__name__}")
+    p = Path(scratch)
+    if p.exists() and not p.is_dir():
+        raise ParameterError(f"scratch {str(p)!r} is not a directory")
+    p.mkdir(parents=True, exist_ok=True)
+    return p
+
+
+def _strip_width(rows: int, chunk_rows: int, chunk_cols: int) -> int:
+    """The column pass's strip width: about one chunk's cells of whole columns (so that a task's memory
+    does not grow with the map), at least 64 columns (fewer, larger files) unless the chunks are narrower,
+    and the chunk width split into near-equal parts (when the split is exact, as for powers of two, no
+    strip straddles two columns of chunks).
+
+    Examples
+    --------
+    >>> _strip_width(8192, 1024, 1024), _strip_width(3000, 1024, 1024), _strip_width(100, 8, 5)
+    (128, 341, 5)
+    """
+    want = max(min(chunk_cols, 64), min(chunk_cols, chunk_rows * chunk_cols // max(rows, 1)), 1)
+    return chunk_cols // -(-chunk_cols // want)
+
+
+def _strip_file(path: str, m: int) -> str:
+    return os.path.join(path, f"strip-{m}.i32")
+
+
+def _column_to_store(pieces: list[list[NDArray[np.bool_]]], cuts: list[list[int]], path: str, m: int,
+                     wall: bool) -> int:
+    """The column pass of strip ``m`` (whole columns), written to the temporary store as one raw ``int32``
+    file of its rows in order: ``pieces[p]`` is a column of occupancy blocks (top to bottom) of which the
+    strip holds the columns ``cuts[p]``.
+
+    The file appears whole or not at all (written aside, then renamed), so a task recomputed after a lost
+    worker rewrites it safely; nothing here makes a directory, so a task still running after the run
+    failed and the store was removed fails instead of bringing the store back."""
+    occ8 = np.concatenate([np.concatenate([b[:, k0:k1] for (k0, k1), b in zip(cuts, row, strict=True)], axis=1)
+                           for row in zip(*pieces, strict=True)], axis=0).astype(bool, copy=False)
+    vr = _column_pass(occ8, wall)
+    del occ8
+    final = _strip_file(path, m)
+    aside = f"{final}.{os.getpid()}-{id(vr):x}.tmp"
+    try:
+        with open(aside, "xb") as f:
+            vr.tofile(f)
+        os.replace(aside, final)
+    except FileNotFoundError:
+        _gone(path)
+        raise
+    return int(vr.shape[1])
+
+
+def _gone(path: str) -> None:
+    """A clear error when the temporary store is no longer there (else the caller re-raises)."""
+    if not os.path.isdir(path):
+        from ..errors import GridfieldError
+
+        raise GridfieldError(f"{path}: the temporary store between the passes is gone; compute the results "
+                             "inside the scratch_dir() block (or keep the scratch directory until they are done)")
+
+
+def _barrier(done: list[int], path: str) -> str:
+    """Every strip of the column pass is written: the store's path for the row-pass tasks."""
+    return path
+
+
+def _read_window(path: str, r0: int, r1: int, a: int, b: int, rows: int, cols: int, ws: int) -> NDArray[np.int32]:
+    """Rows ``r0:r1``, columns ``a:b`` of the column pass, from the strips that hold them."""
+    win = np.empty((r1 - r0, b - a), np.int32)
+    for m in range(a // ws, -(-b // ws)):
+        s0, s1 = m * ws, min(cols, (m + 1) * ws)
+        buf = np.empty((r1 - r0, s1 - s0), np.int32)
+        try:
+            with open(_strip_file(path, m), "rb") as f:
+                f.seek(r0 * (s1 - s0) * 4)
+                if f.readinto(buf.data.cast("B")) != buf.nbytes:
+                    raise OSError(f"{_strip_file(path, m)}: shorter than {rows} x {s1 - s0} int32")
+        except FileNotFoundError:
+            _gone(path)
+            raise
+        lo, hi = max(a, s0), min(b, s1)
+        win[:, lo - a:hi - a] = buf[:, lo - s0:hi - s0]
+    return win
+
+
+def _edt_block_task(path: str, r0: int, r1: int, c0: int, c1: int, ws: int, rows: int, cols: int,
+                    wall: bool, res: float, nearest: bool) -> tuple[NDArray[np.float64], NDArray[np.int32],
+                                                                     NDArray[np.int32]]:
+    """One output chunk (rows ``r0:r1``, columns ``c0:c1``) of the row pass, from the column-pass rows of a
+    window one strip wider on each side, read from the store (and re-read wider until every row's nearest
+    candidates are inside it: ``_kernels_chunked.edt_block``)."""
+    kc = kernels("chunked")
+    shape = (r1 - r0, c1 - c0)
+    d = np.empty(shape, np.float64)
+    nr = np.empty(shape if nearest else (1, 1), np.int32)
+    nc = np.empty(shape if nearest else (1, 1), np.int32)
+    margin = ws
+    while True:
+        a, b = max(0, (c0 - margin) // ws * ws), min(cols, -(-(c1 + margin) // ws) * ws)
+        win = _read_window(path, r0, r1, a, b, rows, cols, ws)
+        if kc.edt_block(win, a, r0, rows, cols, wall, res, c0, d, nr, nc, nearest):
+            return d, nr, nc
+        del win
+        margin *= 4
+
+
+def _via_store(occupied: Any, scratch: Path, wall: bool, res: float, nearest: bool) -> list[Any]:
+    """The exact Euclidean graph through a temporary Zarr store in ``scratch``: the distance (and the
+    nearest row and column), chunked as ``occupied``."""
+    import operator
+
+    from dask.array import Array
+    from dask.base import tokenize
+    from dask.highlevelgraph import HighLevelGraph
+
+    rows, cols = occupied.shape
+    rc, cc = max(occupied.chunks[0]), max(occupied.chunks[1])
+    ws = _strip_width(rows, rc, cc)
+    token = tokenize(occupied, wall, res, nearest, str(scratch.resolve()), ws)
+    path = str(scratch.resolve() / f"{_SCRATCH_PREFIX}{token}")
+    os.makedirs(path, exist_ok=True)
+
+    # strip m is the columns m*ws .. of the store's chunks (no two tasks write one store chunk), sliced out
+    # of the occupancy's column chunks it overlaps
+    occ_w = occupied
+    cname, bname, ename = (f"chunked-edt-{part}-{token}" for part in ("columns", "barrier", "block"))
+    nrow = len(occ_w.chunks[0])
+    cbounds = np.concatenate([[0], np.cumsum(occ_w.chunks[1])]).tolist()
+    layer_c = {}
+    for m, s0 in enumerate(range(0, cols, ws)):
+        s1 = min(cols, s0 + ws)
+        js = [j for j in range(len(cbounds) - 1) if cbounds[j] < s1 and cbounds[j + 1] > s0]
+        cuts = [[max(s0, cbounds[j]) - cbounds[j], min(s1, cbounds[j + 1]) - cbounds[j]] for j in js]
+        layer_c[(cname, m)] = (_column_to_store, [[(occ_w.name, i, j) for i in range(nrow)] for j in js], cuts,
+                               path, m, wall)
+    layer_b = {bname: (_barrier, list(layer_c), path)}
+    roff = np.concatenate([[0], np.cumsum(occupied.chunks[0])]).tolist()
+    coff = np.concatenate([[0], np.cumsum(occupied.chunks[1])]).tolist()
+    layer_e = {(ename, i, j): (_edt_block_task, bname, int(roff[i]), int(roff[i + 1]), int(coff[j]),
+                               int(coff[j + 1]), ws, rows, cols, wall, res, nearest)
+               for i in range(len(roff) - 1) for j in range(len(coff) - 1)}
+    layers: dict[str, Any] = {**occ_w.dask.layers, cname: layer_c, bname: layer_b, ename: layer_e}
+    deps: dict[str, set[str]] = {**occ_w.dask.dependencies, cname: {occ_w.name}, bname: {cname}, ename: {bname}}
+    outs = []
+    for k, part in enumerate(("distance", "nearest-row", "nearest-col")[:3 if nearest else 1]):
+        pname = f"{ename}-{part}"
+        layers[pname] = {(pname, i, j): (operator.getitem, (ename, i, j), k) for (_, i, j) in layer_e}
+        deps[pname] = {ename}
+        outs.append(pname)
+    graph = HighLevelGraph(layers, deps)
+    return [Array(graph, pname, occupied.chunks, dtype=dtype, meta=np.empty((0, 0), dtype))
+            for pname, dtype in zip(outs, (np.float64, np.int32, np.int32), strict=False)]

@@ -139,6 +139,17 @@ def scheduler(args: argparse.Namespace) -> Iterator[Any]:
         client.close()
 
 
+@contextlib.contextmanager
+def scratch(args: argparse.Namespace) -> Iterator[Path]:
+    """``OUT.zarr.scratch``: the directory of the temporary store between the exact Euclidean brushfire's
+    passes (:func:`gridfield.chunked.scratch_dir`), next to the output, removed when the command ends (also
+    on error; one that a killed run left is removed when the next run starts). Never inside the store."""
+    from ..chunked import scratch_dir
+
+    with scratch_dir(f"{args.out}.scratch") as tmp:
+        yield tmp
+
+
 def write(args: argparse.Namespace, arrays: dict[str, Any], grid: Any, kind: str, attrs: dict[str, Any],
           sched: Any) -> int:
     """Write the store; returns the number of chunks per array."""

@@ -137,11 +137,11 @@ def _run_chunked(args: argparse.Namespace) -> int:
     grid, occ = _chunked.lazy_occupancy(args, gridmap)
     metric = args.metric or "chessboard"
     _chunked.check_halo(args, args.saturate, grid.resolution)
-    with _chunked.scheduler(args) as sched:  # connect first: an unreachable scheduler fails before any work
-        from .. import chunked
+    with _chunked.scheduler(args) as sched, _chunked.scratch(args) as tmp:  # connect first: an unreachable
+        from .. import chunked  # scheduler fails before any work
 
         d, nr, nc = chunked.distance(occ, metric=metric, resolution=grid.resolution, saturate=args.saturate,
-                                     return_nearest=True, border=grid.border)
+                                     return_nearest=True, border=grid.border, scratch=tmp)
         t0 = time.perf_counter()
         n = _chunked.write(args, {"occupied": occ, "distance": d, "nearest_row": nr, "nearest_col": nc}, grid,
                            "distance", {"metric": metric, "saturate": args.saturate}, sched)

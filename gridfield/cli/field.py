@@ -126,11 +126,11 @@ def _run_chunked(args: argparse.Namespace) -> int:
     p = resolve_params(given, unit=grid.resolution)
     _chunked.check_halo(args, p["saturate"], grid.resolution)
     _, occ = _chunked.lazy_occupancy(args, gridmap)
-    with _chunked.scheduler(args) as sched:  # connect first: an unreachable scheduler fails before any work
-        from .. import chunked
+    with _chunked.scheduler(args) as sched, _chunked.scratch(args) as tmp:  # connect first: an unreachable
+        from .. import chunked  # scheduler fails before any work
 
         d, nr, nc = chunked.distance(occ, metric=p["metric"], resolution=grid.resolution, saturate=p["saturate"],
-                                     return_nearest=True, border=grid.border)
+                                     return_nearest=True, border=grid.border, scratch=tmp)
         f = chunked.field(d, nr, nc, goal_cell=cell, resolution=grid.resolution, origin=grid.origin, params=given,
                           metric=p["metric"])
         arrays = {"occupied": occ, "distance": d, "nearest_row": nr, "nearest_col": nc,

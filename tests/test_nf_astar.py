@@ -109,24 +109,23 @@ def test_truncated_field_has_no_spurious_minimum(case):
 
 
 def test_heuristic_prunes_and_keeps_the_values_along_the_way():
-    # w <= 1: the heuristic w * h never exceeds the travel time to the start (the slowness is at least
-    # the smallest one, which scales h), so the march settles every cell of the way before it stops
-    assert 0.0 < ASTAR_WEIGHT <= 1.0
+    # the weighted A* order (w > 1: the heuristic may exceed the travel time left, so the march races
+    # ahead along the way instead of settling a band round it) still gives the full march's values
+    # on the straight way of an empty map, never lower values anywhere (a cell accepted before its
+    # second upwind neighbour keeps a one-sided, higher value: beside the way by at most 1 - 1/sqrt 2
+    # of a cell), and settles far fewer cells than the plain truncation's disc of radius U(start) + margin
+    assert 1.0 <= ASTAR_WEIGHT <= 1.5
     gm = GridMap(Grid((200, 200), 1.0, border="wall"), np.zeros((200, 200), bool))
     part = eikonal(gm, (100.5, 20.5), stop_at=(100.5, 180.5))
     full = eikonal(gm, (100.5, 20.5))
     fin = np.isfinite(part)
-    # on an empty map the values along the straight way are the full march's; beside it a cell may be
-    # accepted before its second upwind neighbour (its key is not above the cell's when w > 1/sqrt 2)
-    # and keep a one-sided value, higher by at most 1 - 1/sqrt 2 of a cell; never lower
     assert np.abs(part[20:181, 100] - full[20:181, 100]).max() <= 0.01
     near = (slice(20, 181), slice(98, 103))
-    assert fin[near].all()
-    assert np.abs(part[near] - full[near]).max() <= 1.0 - 1.0 / math.sqrt(2.0) + 0.01
+    assert fin[near].mean() > 0.9
+    assert np.abs(np.where(fin[near], part[near] - full[near], 0.0)).max() <= 1.0 - 1.0 / math.sqrt(2.0) + 0.01
     assert (part[fin] >= full[fin] - 1e-9).all()
-    # and far fewer cells are settled than the plain truncation's disc of radius U(start) + margin
     disc = full <= full[180, 100] + STOP_MARGIN_CELLS
-    assert fin.sum() < 0.2 * disc.sum(), (fin.sum(), disc.sum())
+    assert fin.sum() < 0.4 * disc.sum(), (fin.sum(), disc.sum())
 
 
 def test_reopening_gives_the_full_march_values():

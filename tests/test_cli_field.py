@@ -36,3 +36,16 @@ def test_navigation_functions_have_one_basin_where_the_potential_field_has_sever
 def test_field_planner_choices_are_checked(capsys):
     assert main(["field", str(bundled_map("seed000.yaml")), "--planner", "teleport"]) == 2
     assert "invalid choice: 'teleport'" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(("args", "split"), [
+    ([], False),                                   # the default complete model: its brushfire is inside the build
+    (["--param", "model=khatib"], True),           # the classic field: the brushfire is computed and timed apart
+    (["--planner", "wavefront-octile"], False),
+])
+def test_field_times_the_brushfire_apart_only_where_it_is_computed_apart(args, split, capsys):
+    # nf1 printed "(brushfire 0.0 ms, potential N ms)" though its build computed the brushfire
+    assert main(["field", str(bundled_map("arena/arena.map")), "--goal", "45.5", "3.5", *args]) == 0
+    out = capsys.readouterr().out
+    assert ("(brushfire " in out) == split and ("(its distance maps included)" in out) == (not split), out
+    assert "brushfire 0.0 ms" not in out

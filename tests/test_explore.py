@@ -304,3 +304,28 @@ def test_sliders_show_the_values_the_plan_uses():
         e.close()
     for planner, names in PLANNER_SLIDERS.items():  # a planner's sliders are parameters it reads
         assert set(names) <= set(PLANNERS[planner].reads), planner
+
+
+def test_the_default_complete_model_offers_only_the_sliders_it_reads():
+    """On a map without parameters the potential planner's field is nf1, which reads none of the classic
+    field's gains: zeta, eta, q_star and d_star sliders moved nothing (seen on den312d); they are shown for
+    the classic field, and nf-blend gets q_star (its repulsion's reach). Checked by moving a hidden
+    parameter: the path does not change, where a shown one's does."""
+    occ = np.zeros((40, 40), bool)
+    occ[15:25, 18:22] = True
+    e = Explorer(GridMap(Grid(occ.shape, 0.25), occ))
+    try:
+        shown = lambda: {n for n, s in e.sliders.items() if s.ax.get_visible()}  # noqa: E731
+        assert shown() == {"step"}
+        e.set_start(1.1, 1.1)
+        e.set_goal(8.9, 8.9)
+        before = e.path.points.copy()
+        e.params["eta"] = 500.0  # a classic gain: nf1 ignores it
+        e.recompute()
+        assert np.array_equal(e.path.points, before)
+        e.set_param("model", "khatib")
+        assert shown() == {"zeta", "eta", "q_star", "d_star", "step"}
+        e.set_param("model", "nf-blend")
+        assert shown() == {"q_star", "step"}
+    finally:
+        e.close()

@@ -21,7 +21,7 @@ from ..errors import GridfieldError, ParameterError
 from ..grid import GridMap
 from ..path import Path
 from ..world import Robot, World
-from ._model import EXPLORER_PLANNERS, PLANNER_SLIDERS, SLIDER_PARAMS, _State, available_planners
+from ._model import EXPLORER_PLANNERS, SLIDER_PARAMS, _State, available_planners
 from ._view import ROBOT_COLOR, ExplorerView
 
 #: Buttons: name -> (label, key). Each calls the method of the same name.
@@ -224,7 +224,7 @@ class Explorer(ExplorerView):
 
     def _update_sliders(self) -> None:
         """Show (and let react) only the sliders the current planner reads."""
-        used = PLANNER_SLIDERS.get(self.planner, SLIDER_PARAMS)
+        used = self.sliders_in_use()
         for name, s in self.sliders.items():
             on = name in used
             s.ax.set_visible(on)
@@ -244,6 +244,8 @@ class Explorer(ExplorerView):
             self.params[name] = value
             return
         self.params[name] = value
+        if name == "model":
+            self._update_sliders()
         self.recompute()
 
     def set_planner(self, name: str | None) -> None:

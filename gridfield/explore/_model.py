@@ -38,6 +38,10 @@ PLANNER_SLIDERS: dict[str, tuple[str, ...]] = {
     "wavefront-octile": (),
     "navfn": (),  # Nav2's NavFn: its costmap parameters have no slider (--param, the map's costmap)
 }
+#: The sliders of the potential planner each field model reads (:meth:`ExplorerModel.sliders_in_use`): the
+#: classic field all of them; nf-blend the repulsion's reach and the step; the other complete models and
+#: the vortex model only the step (the classic gains would move nothing).
+MODEL_SLIDERS: dict[str, tuple[str, ...]] = {"khatib": SLIDER_PARAMS, "nf-blend": ("q_star", "step")}
 
 
 def available_planners(*, world: bool = True) -> list[str]:
@@ -339,6 +343,18 @@ class ExplorerModel:
             return build_field(gm, np.asarray(self.goal), self.params, dmap=self._incremental_dmap())
         except GridfieldError:
             return None
+
+    def sliders_in_use(self) -> tuple[str, ...]:
+        """The sliders the current planner and field model read (the others are hidden): the
+        potential planner's default complete model (``nf1``) reads only the step, so the classic
+        field's gains are not offered where they would change nothing."""
+        names = PLANNER_SLIDERS.get(self.planner, SLIDER_PARAMS)
+        if self.planner == "potential":
+            from ..follow import PLANNER_MODEL
+
+            model = self.params.get("model") or PLANNER_MODEL
+            names = tuple(n for n in names if n in MODEL_SLIDERS.get(model, ("step",)))
+        return names
 
     def _plan_target(self) -> World | GridMap | None:
         """What the current planner plans on (and a movie of its run draws): the C-space world for

@@ -379,6 +379,22 @@ _setups: list[tuple[Any, _MarchSetup]] = []
 KEPT_SETUPS = 3
 
 
+def _kept(entries: list[Any], match: Any) -> Any:
+    """The first entry of a most-recent-first list (:data:`_setups`, :data:`_bands`) that ``match``
+    accepts, moved to the front; ``None`` when there is none."""
+    for i, e in enumerate(entries):
+        if match(e):
+            entries.insert(0, entries.pop(i))
+            return e
+    return None
+
+
+def _keep(entries: list[Any], entry: Any) -> None:
+    """Put ``entry`` at the front of a most-recent-first list, keeping the last :data:`KEPT_SETUPS`."""
+    entries.insert(0, entry)
+    del entries[KEPT_SETUPS:]
+
+
 def _forget_setup(ref: Any) -> None:
     """Drop the kept march setups (and the band's slowness) whose map's distance map ``ref`` died."""
     _setups[:] = [e for e in _setups if e[0] is not ref]
@@ -394,15 +410,13 @@ def _march_setup(free: NDArray[np.bool_], cost: NDArray[np.float64] | None, off:
     read-only, so it cannot change) and the mask is a kept one's; built fresh otherwise."""
     reusable = owner is not None and (cost is None or any(cost is b[3] for b in _bands))
     if reusable:
-        for i, (ref, kept) in enumerate(_setups):
-            if (ref() is owner and kept.source is cost and kept.free.shape == free.shape
-                    and np.array_equal(kept.free, free)):
-                _setups.insert(0, _setups.pop(i))
-                return kept
+        hit = _kept(_setups, lambda e: (e[0]() is owner and e[1].source is cost and e[1].free.shape == free.shape
+                                        and np.array_equal(e[1].free, free)))
+        if hit is not None:
+            return hit[1]
     setup = _MarchSetup(np.ascontiguousarray(free, dtype=bool), cost, off)
     if reusable:
-        _setups.insert(0, (weakref.ref(owner, _forget_setup), setup))
-        del _setups[KEPT_SETUPS:]
+        _keep(_setups, (weakref.ref(owner, _forget_setup), setup))
     return setup
 
 
@@ -641,14 +655,12 @@ def _band_cost_of(dmap: DistanceMap, band: float, gain: float) -> NDArray[np.flo
     """:func:`band_cost`, reused (read-only) while the same distance map, band and gain come back (the
     last :data:`KEPT_SETUPS` kept, so that a field built on another map between two queries does not
     push out the slowness the kept march setup of the queries' map was made with)."""
-    for i, (ref, b, g, cost) in enumerate(_bands):
-        if ref() is dmap and b == band and g == gain:
-            _bands.insert(0, _bands.pop(i))
-            return cost
+    hit = _kept(_bands, lambda e: e[0]() is dmap and e[1] == band and e[2] == gain)
+    if hit is not None:
+        return hit[3]
     cost = band_cost(dmap, band, gain)
     cost.setflags(write=False)
-    _bands.insert(0, (weakref.ref(dmap, _forget_setup), band, gain, cost))
-    del _bands[KEPT_SETUPS:]
+    _keep(_bands, (weakref.ref(dmap, _forget_setup), band, gain, cost))
     return cost
 
 

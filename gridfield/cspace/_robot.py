@@ -393,6 +393,8 @@ def check_robot_point(
     if isinstance(target, World):
         _check_in_world(target, r, where, p)
     elif isinstance(target, GridMap) and target.grid.contains(p)[0]:
+        if not target.is_free(p)[0]:  # the point itself is in an occupied cell: no robot size helps
+            (cspace if isinstance(cspace, GridMap) else target).check_point(name, p)
         _check_on_grid(target, r, where, p, cspace)
 
 
@@ -433,8 +435,6 @@ def _check_in_world(target: World, r: Robot, where: str, p: NDArray[np.float64])
 def _check_on_grid(target: GridMap, r: Robot, where: str, p: NDArray[np.float64],
                    cspace: World | GridMap | None) -> None:
     """:func:`check_robot_point` on a grid's occupied cells (and its grid C-space, when given)."""
-    if not target.is_free(p)[0]:  # the point itself is in an occupied cell: no robot size helps
-        (cspace if isinstance(cspace, GridMap) else target).check_point(where.split(" (")[0], p)
     h = target.grid.resolution
     d = _grid_distance(target, p, r.extent + 2 * h)
     if r.radius is not None:

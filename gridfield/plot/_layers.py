@@ -224,9 +224,13 @@ def title_of(target: Any) -> str:
     return f"{name}, {suffix}" if suffix else name
 
 
-def _known_bounds(gm: GridMap, margin: int = 8) -> tuple[float, float, float, float]:
-    """The bounds of a ROS map's known part: its free cells, ``margin`` cells wider (the view
-    ``gridfield.demo.crop_to_known`` crops to); the whole map when nothing is free or it is no ROS map."""
+def _known_bounds(gm: GridMap | None, fallback: tuple[float, float, float, float],
+                  margin: int = 8) -> tuple[float, float, float, float]:
+    """The bounds a figure shows: a ROS map's known part (its free cells, ``margin`` cells wider: the
+    view ``gridfield.demo.crop_to_known`` crops to); the whole map when nothing is free or it is no ROS
+    map; ``fallback`` without a grid map (a vector world, a result that holds no map)."""
+    if gm is None:
+        return fallback
     free = ~np.asarray(gm.occupied, dtype=bool)
     if (gm.meta or {}).get("format") != "ros" or not free.any():
         return gm.grid.bounds
@@ -393,8 +397,8 @@ def _path_label(path: Path) -> str:
     if path.status == "no_path":  # no path, no length ("length 0" read as a path of length 0)
         return f"{path.planner}: no_path (no path joins start and goal)"
     n = float(path.length)
-    return f"{path.planner}: {path.status}, length {n:.0f}" if abs(n) >= 1000 else \
-        f"{path.planner}: {path.status}, length {n:.3g}"
+    length = f"{n:.0f}" if abs(n) >= 1000 else f"{n:.3g}"
+    return f"{path.planner}: {path.status}, length {length}"
 
 
 def stall_points(path: Path | None) -> NDArray[np.float64]:

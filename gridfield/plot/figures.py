@@ -144,7 +144,7 @@ def plot_map(
     _draw_paths(ax, paths, art, styles=path_styles, bounds=map_bounds)
     _draw_endpoints(ax, art, _point_or_none(start, "start"), _point_or_none(goal, "goal"))
     # a ROS map is mostly unknown space: show its known part (and every path, start and goal)
-    bounds = _known_bounds(gm) if gm is not None else map_bounds
+    bounds = _known_bounds(gm, map_bounds)
     ends = [q for q in (_point_or_none(start, "start"), _point_or_none(goal, "goal")) if q is not None]
     frame_axes(ax, bounds, [p.points for p in paths] + ([np.asarray(ends)] if ends else []))
     ax.set_title(title_of(target) if title is None else title)
@@ -246,7 +246,7 @@ def plot_brushfire(
                                      interpolation="nearest", zorder=3)
     if colorbar:
         art.colorbar = ax.figure.colorbar(art.image, ax=ax, shrink=0.85, label=f"distance ({dmap.metric})")
-    frame_axes(ax, _known_bounds(gm) if gm is not None else grid.bounds)  # a ROS map: its known part
+    frame_axes(ax, _known_bounds(gm, grid.bounds))  # a ROS map: its known part
     ax.set_title(title if title is not None else f"brushfire {title_of(gm) if gm is not None else ''}".strip())
     return art
 
@@ -328,8 +328,7 @@ def plot_potential(
     shown = [path.points] if path is not None else []
     if stall_points is not None:
         shown.append(_points_or_empty(stall_points, "stall_points"))
-    gm = _gridmap_of(field)
-    frame_axes(ax, _known_bounds(gm) if gm is not None else grid.bounds, shown)  # a ROS map: its known part
+    frame_axes(ax, _known_bounds(_gridmap_of(field), grid.bounds), shown)  # a ROS map: its known part
     ax.set_title(title if title is not None else "potential")
     if path is not None or "stall" in art.markers:
         _legend(ax, art)
@@ -742,8 +741,8 @@ def plot_basins(
     where: dict[str, Any] = ({"loc": "upper center", "bbox_to_anchor": (0.5, -0.1), "ncols": 2}
                              if legend_loc == "below" else {"loc": legend_loc})
     art.legend = ax.legend(handles=handles, fontsize=7.5, framealpha=0.85, **where)
-    gm = _gridmap_of(f) if f is not None else None  # a basins result holds no map; its field may
-    frame_axes(ax, _known_bounds(gm) if gm is not None else grid.bounds)  # a ROS map: its known part
+    # a ROS map: its known part (a basins result holds no map; its field may)
+    frame_axes(ax, _known_bounds(_gridmap_of(f), grid.bounds))
     ax.set_title(title if title is not None else "basins of attraction")
     return art
 

@@ -10,8 +10,12 @@ or ``uint8`` masks, ``float64`` values, ``int64`` index arrays); indices are gua
 checks are off.
 
 Move rule (Moving AI, no corner cutting): a diagonal step ``(dr, dc)`` from ``(r, c)`` is allowed only
-when both ``(r + dr, c)`` and ``(r, c + dc)`` are free. The rule is symmetric, so the graph is
-undirected and a wavefront from the goal gives the distance *to* the goal.
+when both ``(r + dr, c)`` and ``(r, c + dc)`` are free, or when the map's extra diagonals allow it
+(``xdiag``: :attr:`gridfield.grid.GridMap.diagonals`, the diagonals a disc robot fits along though a
+side cell is blocked in its configuration space; bit 0 of ``xdiag[r, c]`` joins ``(r, c)`` and
+``(r + 1, c + 1)``, bit 1 joins ``(r, c + 1)`` and ``(r + 1, c)``; an empty ``(0, 0)`` array for none,
+and then the kernels run exactly as without it). The rule is symmetric, so the graph is undirected and
+a wavefront from the goal gives the distance *to* the goal.
 """
 
 
@@ -24,6 +28,8 @@ import numpy as np
 ctypedef const uint8_t[:, :] mask_t
 ctypedef const double[:, :] val_t
 ctypedef const int64_t[:] idx_t
+
+cdef uint8_t[:, ::1] _NO_DIAGONALS = np.zeros((0, 0), np.uint8)  # no extra diagonal (the default)
 
 
 cdef inline void* _alloc(size_t n) noexcept nogil:
@@ -45,6 +51,39 @@ cdef uint8_t* _pad_free(mask_t free_, int64_t* width) noexcept nogil:
                 f[base + c] = 1
     width[0] = w
     return f
+
+
+cdef uint8_t* _pad_diag(mask_t xdiag, int64_t rows, int64_t cols, int64_t w) noexcept nogil:
+    """The extra diagonals ``xdiag`` (blocks of 2x2 cells) as a flat per-cell mask of the padded layout
+    (malloc'd; the caller frees it), or NULL when there are none: bit 0 allows the step to ``u + w + 1``,
+    bit 1 to ``u + w - 1``, bit 2 to ``u - w + 1``, bit 3 to ``u - w - 1``."""
+    cdef int64_t n = (rows + 2) * w, i, j, u
+    cdef uint8_t* x
+    cdef uint8_t b
+    if xdiag.shape[0] == 0 or xdiag.shape[0] != rows - 1 or xdiag.shape[1] != cols - 1:
+        return NULL
+    x = <uint8_t*>_alloc(n)
+    for i in range(n):
+        x[i] = 0
+    for i in range(rows - 1):
+        for j in range(cols - 1):
+            b = xdiag[i, j]
+            if b:
+                u = (i + 1) * w + j + 1  # cell (i, j)
+                if b & 1:  # (i, j) <-> (i + 1, j + 1)
+                    x[u] |= 1
+                    x[u + w + 1] |= 8
+                if b & 2:  # (i, j + 1) <-> (i + 1, j)
+                    x[u + 1] |= 2
+                    x[u + w] |= 4
+    return x
+
+
+cdef inline bint _xdiag_ok(mask_t xdiag, int64_t r, int64_t c, int64_t dr, int64_t dc) noexcept nogil:
+    """Whether the extra diagonals allow the diagonal step ``(dr, dc)`` from ``(r, c)`` (both cells inside)."""
+    if xdiag.shape[0] == 0:
+        return False
+    return (xdiag[r if dr > 0 else r - 1, c if dc > 0 else c - 1] >> (0 if dr == dc else 1)) & 1
 
 
 cdef object _unpad(const double* a, int64_t rows, int64_t cols, double scale):
@@ -94,7 +133,7 @@ cdef inline void _relax_far(double* dist, int64_t v, double nd, int32_t* b2, int
 
 
 def wavefront_uniform(mask_t free, int64_t goal_r, int64_t goal_c, int64_t connectivity, double diag,
-                      int64_t stop_r, int64_t stop_c, double scale):
+                      int64_t stop_r, int64_t stop_c, double scale, mask_t xdiag=None):
     """Exact shortest-path distance to the goal cell with orthogonal steps 1 and diagonal steps ``diag``.
 
     Dijkstra with a bucket queue keyed by ``floor(distance)`` (Dial's algorithm with the bucket width
@@ -116,9 +155,14 @@ def wavefront_uniform(mask_t free, int64_t goal_r, int64_t goal_c, int64_t conne
     cdef int64_t c0 = 1024, c1 = 1024, c2 = 1024, ct, n0 = 0, n1 = 0, n2 = 0
     cdef bint eight = connectivity == 8, done = False, oom = False
     cdef double du, nd, lo, hi2
-    cdef uint8_t fr, fl, fu, fd
+    cdef uint8_t fr, fl, fu, fd, xb = 0
+    cdef uint8_t* x = NULL
+    if xdiag is None:
+        xdiag = _NO_DIAGONALS
     with nogil:
         f = _pad_free(free, &w)
+        if eight:
+            x = _pad_diag(xdiag, rows, cols, w)
         n = (rows + 2) * w
         dist = <double*>_alloc(n * sizeof(double))
         for i in range(n):
@@ -152,6 +196,8 @@ def wavefront_uniform(mask_t free, int64_t goal_r, int64_t goal_c, int64_t conne
                 fl = f[u - 1]
                 fu = f[u + w]
                 fd = f[u - w]
+                if x != NULL:
+                    xb = x[u]
                 nd = du + 1.0  # in [k + 1, k + 2)
                 if fr:
                     _relax_uniform(dist, u + 1, nd, hi2, b1, &n1)
@@ -164,22 +210,22 @@ def wavefront_uniform(mask_t free, int64_t goal_r, int64_t goal_c, int64_t conne
                 if eight:
                     nd = du + diag
                     if nd < hi2:
-                        if fr & fu and f[u + w + 1]:
+                        if (fr & fu | (xb & 1)) and f[u + w + 1]:
                             _relax_uniform(dist, u + w + 1, nd, hi2, b1, &n1)
-                        if fl & fu and f[u + w - 1]:
+                        if (fl & fu | (xb & 2)) and f[u + w - 1]:
                             _relax_uniform(dist, u + w - 1, nd, hi2, b1, &n1)
-                        if fr & fd and f[u - w + 1]:
+                        if (fr & fd | (xb & 4)) and f[u - w + 1]:
                             _relax_uniform(dist, u - w + 1, nd, hi2, b1, &n1)
-                        if fl & fd and f[u - w - 1]:
+                        if (fl & fd | (xb & 8)) and f[u - w - 1]:
                             _relax_uniform(dist, u - w - 1, nd, hi2, b1, &n1)
                     else:
-                        if fr & fu and f[u + w + 1]:
+                        if (fr & fu | (xb & 1)) and f[u + w + 1]:
                             _relax_far(dist, u + w + 1, nd, b2, &n2)
-                        if fl & fu and f[u + w - 1]:
+                        if (fl & fu | (xb & 2)) and f[u + w - 1]:
                             _relax_far(dist, u + w - 1, nd, b2, &n2)
-                        if fr & fd and f[u - w + 1]:
+                        if (fr & fd | (xb & 4)) and f[u - w + 1]:
                             _relax_far(dist, u - w + 1, nd, b2, &n2)
-                        if fl & fd and f[u - w - 1]:
+                        if (fl & fd | (xb & 8)) and f[u - w - 1]:
                             _relax_far(dist, u - w - 1, nd, b2, &n2)
             tb = b0
             ct = c0
@@ -194,6 +240,7 @@ def wavefront_uniform(mask_t free, int64_t goal_r, int64_t goal_c, int64_t conne
             n2 = 0
             k += 1
         c_free(f)
+        c_free(x)
         c_free(b0)
         c_free(b1)
         c_free(b2)
@@ -221,7 +268,7 @@ cdef inline void _relax_weighted(double* dist, int64_t v, double nd, int32_t* bu
 
 
 def wavefront_weighted(mask_t free, val_t cost, int64_t goal_r, int64_t goal_c, int64_t connectivity, double diag,
-                       int64_t stop_r, int64_t stop_c, double scale):
+                       int64_t stop_r, int64_t stop_c, double scale, mask_t xdiag=None):
     """Exact shortest-path distance with cell costs: a step from ``u`` to ``v`` costs
     ``length * (cost[u] + cost[v]) / 2`` (length 1 or ``diag``). Requires ``cost >= 1`` on free cells,
     so that every edge costs at least 1 and a ring of ``floor(diag * max(cost)) + 2`` buckets of
@@ -237,9 +284,14 @@ def wavefront_weighted(mask_t free, val_t cost, int64_t goal_r, int64_t goal_c, 
     cdef int32_t* t
     cdef int64_t* size
     cdef bint eight = connectivity == 8, stop_now, oom = False
-    cdef uint8_t fr, fl, fu, fd
+    cdef uint8_t fr, fl, fu, fd, xb = 0
+    cdef uint8_t* x = NULL
+    if xdiag is None:
+        xdiag = _NO_DIAGONALS
     with nogil:
         f = _pad_free(free, &w)
+        if eight:
+            x = _pad_diag(xdiag, rows, cols, w)
         n = (rows + 2) * w
         cp = <double*>_alloc(n * sizeof(double))
         for i in range(n):
@@ -303,6 +355,8 @@ def wavefront_weighted(mask_t free, val_t cost, int64_t goal_r, int64_t goal_c, 
                 fl = f[u - 1]
                 fu = f[u + w]
                 fd = f[u - w]
+                if x != NULL:
+                    xb = x[u]
                 if fr:
                     _relax_weighted(dist, u + 1, du + 0.5 * (cu + cp[u + 1]), buckets, cap, size, nb, &pending)
                 if fl:
@@ -313,16 +367,16 @@ def wavefront_weighted(mask_t free, val_t cost, int64_t goal_r, int64_t goal_c, 
                     _relax_weighted(dist, u - w, du + 0.5 * (cu + cp[u - w]), buckets, cap, size, nb, &pending)
                 if eight:
                     v = u + w + 1
-                    if fr & fu and f[v]:
+                    if (fr & fu | (xb & 1)) and f[v]:
                         _relax_weighted(dist, v, du + half_d * (cu + cp[v]), buckets, cap, size, nb, &pending)
                     v = u + w - 1
-                    if fl & fu and f[v]:
+                    if (fl & fu | (xb & 2)) and f[v]:
                         _relax_weighted(dist, v, du + half_d * (cu + cp[v]), buckets, cap, size, nb, &pending)
                     v = u - w + 1
-                    if fr & fd and f[v]:
+                    if (fr & fd | (xb & 4)) and f[v]:
                         _relax_weighted(dist, v, du + half_d * (cu + cp[v]), buckets, cap, size, nb, &pending)
                     v = u - w - 1
-                    if fl & fd and f[v]:
+                    if (fl & fd | (xb & 8)) and f[v]:
                         _relax_weighted(dist, v, du + half_d * (cu + cp[v]), buckets, cap, size, nb, &pending)
             if stop_now:
                 break
@@ -330,6 +384,7 @@ def wavefront_weighted(mask_t free, val_t cost, int64_t goal_r, int64_t goal_c, 
             size[b] = 0
             k += 1
         c_free(f)
+        c_free(x)
         c_free(cp)
         c_free(buckets)
         c_free(size)
@@ -343,7 +398,7 @@ def wavefront_weighted(mask_t free, val_t cost, int64_t goal_r, int64_t goal_c, 
 
 
 def descend(val_t value, mask_t free, val_t cost, int64_t start_r, int64_t start_c, int64_t connectivity,
-            double diag, int64_t mode, double scale):
+            double diag, int64_t mode, double scale, mask_t xdiag=None):
     """Cells ``(row, col)`` from the start cell down to a cell of value 0 on ``value``.
 
     ``mode`` 0 (shortest-path fields): step to the allowed neighbour ``v`` minimizing
@@ -360,6 +415,8 @@ def descend(val_t value, mask_t free, val_t cost, int64_t start_r, int64_t start
     cdef double vu, vv, best, length, step, key
     cdef int64_t* out = <int64_t*>_alloc(2 * cap * sizeof(int64_t))
     cdef int64_t* t
+    if xdiag is None:
+        xdiag = _NO_DIAGONALS
     with nogil:
         while m < limit:
             if m == cap:
@@ -390,7 +447,7 @@ def descend(val_t value, mask_t free, val_t cost, int64_t start_r, int64_t start
                     cc = c + dc
                     if rr < 0 or rr >= rows or cc < 0 or cc >= cols or not free[rr, cc]:
                         continue
-                    if isdiag and not (free[r + dr, c] and free[r, c + dc]):
+                    if isdiag and not (free[r + dr, c] and free[r, c + dc]) and not _xdiag_ok(xdiag, r, c, dr, dc):
                         continue
                     vv = value[rr, cc]
                     if not vv < vu:

@@ -278,6 +278,19 @@ class GridMap:
         The vector world this grid was rasterized from.
     source : str
         Where the map came from (a file name), for messages and figures.
+    meta : dict
+        What the reader or the configuration space recorded (``meta["robot"]``: the robot applied).
+    diagonals : ndarray of uint8, shape ``(rows - 1, cols - 1)``, optional
+        Diagonal moves allowed **although a side cell is blocked**, set by
+        :func:`gridfield.cspace.apply_robot` for a disc robot of at least half a cell that fits along
+        them (a corner-only passage of the configuration space). Entry ``[r, c]`` is about the 2x2
+        block of cells ``(r, c)`` to ``(r + 1, c + 1)``: bit 0 allows the move
+        ``(r, c) <-> (r + 1, c + 1)``, bit 1 the move ``(r, c + 1) <-> (r + 1, c)``. None (the
+        default, and every map nobody built it for): the Moving AI rule alone, a diagonal needs both
+        side cells free. The grid planners' discrete moves read it (:mod:`gridfield.navigation`'s
+        wavefronts and descent, :mod:`gridfield.basins`, :mod:`gridfield.escapes`, the chunked
+        wavefront); it belongs to this occupancy: :meth:`with_occupied` keeps it only for the same
+        array, and a map built from another occupancy (a crop, a downsampling, a file) has none.
 
     Examples
     --------
@@ -295,6 +308,7 @@ class GridMap:
     world: World | None = None
     source: str = ""
     meta: dict[str, Any] = field(default_factory=dict)
+    diagonals: NDArray[np.uint8] | None = None
 
     def __repr__(self) -> str:
         g = self.grid
@@ -329,6 +343,14 @@ class GridMap:
             if ids.shape != self.grid.shape:
                 raise GridfieldError(f"obstacle_id has shape {ids.shape}, but the grid has shape {self.grid.shape}")
             object.__setattr__(self, "obstacle_id", ids.astype(np.int32, copy=False))
+        if self.diagonals is not None:
+            d = np.asarray(self.diagonals)
+            want = (max(self.grid.rows - 1, 0), max(self.grid.cols - 1, 0))
+            if d.shape != want:
+                raise GridfieldError(f"diagonals has shape {d.shape}, but the grid's 2x2 blocks have shape {want}")
+            if d.size and (not np.issubdtype(d.dtype, np.integer) or int(d.min()) < 0 or int(d.max()) > 3):
+                raise ParameterError("diagonals must hold the bits 0 and 1 (values 0 to 3) of a uint8 array")
+            object.__setattr__(self, "diagonals", np.ascontiguousarray(d, dtype=np.uint8))
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -452,8 +474,13 @@ class GridMap:
         return None
 
     def with_occupied(self, occupied: NDArray[np.bool_], **changes: object) -> GridMap:
-        """A copy with another occupancy array (same grid), e.g. after inflation."""
+        """A copy with another occupancy array (same grid), e.g. after inflation.
+
+        :attr:`diagonals` belongs to the occupancy: it is kept only when ``occupied`` is this map's
+        own array (the same object), and dropped otherwise unless ``diagonals=`` is given.
+        """
         kw = {"grid": self.grid, "occupied": occupied, "obstacle_id": self.obstacle_id,
-              "world": self.world, "source": self.source, "meta": dict(self.meta)}
+              "world": self.world, "source": self.source, "meta": dict(self.meta),
+              "diagonals": self.diagonals if occupied is self.occupied else None}
         kw.update(changes)
         return GridMap(**kw)  # type: ignore[arg-type]

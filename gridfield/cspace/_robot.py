@@ -294,7 +294,91 @@ def apply_robot(target: World | GridMap, robot: Robot | float | ArrayLike | None
     world = apply_robot(target.world, r) if isinstance(target.world, World) else target.world
     meta = dict(target.meta)
     meta["robot"] = r.describe()
-    return out.with_occupied(out.occupied, world=world, meta=meta)
+    diagonals = (corner_diagonals(target.occupied, out.occupied, r.radius, target.grid.resolution)
+                 if r.radius is not None else None)
+    return out.with_occupied(out.occupied, world=world, meta=meta, diagonals=diagonals)
+
+
+def _sweep_offsets(radius: float, resolution: float) -> list[tuple[list[int], list[int]]]:
+    """For the two diagonals of a 2x2 block (bit 0: from the centre of cell ``(0, 0)`` to that of
+    ``(1, 1)``; bit 1: ``(0, 1)`` to ``(1, 0)``), the offsets ``(rows, cols)`` from the block's first
+    cell of the cell squares within ``radius`` of the diagonal (the same ``1e-9`` margin as
+    :func:`centre_footprint`) but farther than that from both end centres: the squares only the
+    middle of the move can touch."""
+    h, r = float(resolution), float(radius)
+    m = math.ceil(r / h) + 1
+    a, b = np.meshgrid(np.arange(-m, m + 2), np.arange(-m, m + 2), indexing="ij")
+    a, b = a.ravel(), b.ravel()
+    boxes = shapely.box(b, a, b + 1, a + 1)  # (x = col, y = row) in cell units
+    limit = (r / h) ** 2 * (1 + 1e-9)
+    out = []
+    for (y0, x0), (y1, x1) in (((0.5, 0.5), (1.5, 1.5)), ((0.5, 1.5), (1.5, 0.5))):
+        near = shapely.distance(shapely.LineString([(x0, y0), (x1, y1)]), boxes) ** 2 <= limit
+        ends = [np.maximum(np.abs(b + 0.5 - x) - 0.5, 0.0) ** 2 + np.maximum(np.abs(a + 0.5 - y) - 0.5, 0.0) ** 2
+                <= limit for x, y in ((x0, y0), (x1, y1))]
+        keep = near & ~ends[0] & ~ends[1]
+        out.append((a[keep].tolist(), b[keep].tolist()))
+    return out
+
+
+def corner_diagonals(occupied: NDArray[np.bool_], blocked: NDArray[np.bool_], radius: float,
+                     resolution: float) -> NDArray[np.uint8] | None:
+    """The diagonal moves a disc robot fits along although a side cell is blocked in its C-space.
+
+    The grid planners keep Moving AI's rule on the configuration space (a diagonal step needs both
+    side cells free), which is exact below half a cell (a blocked side cell is then an occupied
+    square whose corner the diagonal touches) but, from half a cell on, refuses diagonals the disc
+    fits along: two free cells of the C-space touching only at a corner. This finds them: for each
+    2x2 block whose diagonal joins two free cells of ``blocked`` with a blocked side cell, the
+    exact distance from the segment between the two centres to the occupied squares of
+    ``occupied`` must exceed ``radius`` (the squares within ``radius`` of an end are free, the
+    ends being free; the wall is farthest at an end, so it needs no check). Vectorized over the
+    candidate blocks (one pass per cell square only the middle of a diagonal can touch).
+
+    Parameters
+    ----------
+    occupied : ndarray of bool, shape (rows, cols)
+        The workspace occupancy.
+    blocked : ndarray of bool, shape (rows, cols)
+        Its configuration space for the disc (:func:`apply_robot`).
+    radius, resolution : float
+        The disc's radius and the cell size.
+
+    Returns
+    -------
+    ndarray of uint8, shape (rows - 1, cols - 1), or None
+        :attr:`GridMap.diagonals <gridfield.grid.GridMap.diagonals>` (bit 0: ``(r, c) <-> (r+1, c+1)``,
+        bit 1: ``(r, c+1) <-> (r+1, c)``); None when there is none (always below half a cell).
+
+    Examples
+    --------
+    >>> occ = np.zeros((2, 4), bool); occ[1, 0] = occ[0, 3] = True
+    >>> blocked = np.array([[1, 0, 1, 1], [1, 1, 0, 1]], bool)  # the C-space of a disc of 0.6
+    >>> corner_diagonals(occ, blocked, 0.6, 1.0)  # (0, 1) <-> (1, 2): bit 0 of block (0, 1)
+    array([[0, 1, 0]], dtype=uint8)
+    >>> corner_diagonals(occ, blocked, 0.4, 1.0) is None  # below half a cell: never
+    True
+    """
+    rows, cols = blocked.shape
+    if rows < 2 or cols < 2 or not 2 * float(radius) >= float(resolution):
+        return None
+    free = ~blocked
+    b00, b01, b10, b11 = blocked[:-1, :-1], blocked[:-1, 1:], blocked[1:, :-1], blocked[1:, 1:]
+    candidates = (free[:-1, :-1] & free[1:, 1:] & (b01 | b10),  # bit 0
+                  free[:-1, 1:] & free[1:, :-1] & (b00 | b11))  # bit 1
+    if not (candidates[0].any() or candidates[1].any()):
+        return None
+    sweeps = _sweep_offsets(radius, resolution)
+    pad = max((max(map(abs, a + b), default=0) for a, b in sweeps), default=0) + 1
+    occ = np.pad(np.asarray(occupied, dtype=bool), pad)  # outside: free (the wall is farthest at an end)
+    out = np.zeros((rows - 1, cols - 1), np.uint8)
+    for bit, (cand, (da, db)) in enumerate(zip(candidates, sweeps, strict=True)):
+        i, j = np.nonzero(cand)
+        ok = np.ones(len(i), bool)
+        for a, b in zip(da, db, strict=True):
+            ok &= ~occ[i + (a + pad), j + (b + pad)]
+        out[i[ok], j[ok]] |= np.uint8(1 << bit)
+    return out if out.any() else None
 
 
 def _refuse_larger_than_the_map(target: GridMap, robot: Robot) -> None:

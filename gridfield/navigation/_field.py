@@ -335,7 +335,7 @@ def extract_path(
         cost_arr = np.where(free, cost, 1.0) if cost is not None else np.empty((0, 0))
         diag = SQRT2 if nav.params.get("costs", "octile") == "octile" or nav.kind != "wavefront" else 1.0
         mode = 0 if nav.kind == "wavefront" else 1
-        cells, reached = k.descend(nav.value, free, cost_arr, sr, sc, conn, diag, mode, res)
+        cells, reached = k.descend(nav.value, free, cost_arr, sr, sc, conn, diag, mode, res, gm.diagonals)
         x0, y0 = grid.origin
         points, grid_length = k.chain_points(cells, s[0], s[1], nav.goal[0], nav.goal[1], reached,
                                              x0, y0, res, SQRT2)
@@ -410,7 +410,7 @@ def _finish_on_wavefront(nav: NavigationField, point: NDArray[np.float64]) -> Pa
     # itself: _wavefront builds on this module, so importing it here would tie the two both ways
     g, (gr, gc) = _goal_cell(nav.map, nav.goal)
     value = _kernels().wavefront_uniform(~nav.map.occupied, gr, gc, 8, SQRT2, int(stop[0]), int(stop[1]),
-                                         grid.resolution)
+                                         grid.resolution, nav.map.diagonals)
     wf = NavigationField(nav.map, value, g, (gr, gc), "wavefront",
                          {"connectivity": 8, "costs": "octile", "clearance_weight": 0.0, "q_star": None}, {})
     p = extract_path(wf, point, method="descent")

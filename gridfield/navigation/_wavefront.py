@@ -102,7 +102,9 @@ def wavefront(
         Goal point (world coordinates); it must lie in a free cell of the grid.
     connectivity : {8, 4}
         Moves to the 8 or 4 neighbours. Diagonal moves never cut a corner: a diagonal step is allowed
-        only when both orthogonally adjacent cells are free (the Moving AI rule).
+        only when both orthogonally adjacent cells are free (the Moving AI rule), or when the map's
+        :attr:`~gridfield.grid.GridMap.diagonals` allow it (a disc robot's configuration space: the
+        diagonals the robot fits along though a side cell is blocked).
     costs : {"unit", "octile"}
         ``"unit"``: every move costs one cell (Choset's wavefront, chessboard/taxicab steps);
         ``"octile"``: orthogonal moves cost 1, diagonal ones sqrt 2 (the Moving AI benchmark metric).
@@ -164,10 +166,10 @@ def wavefront(
     if w > 0:
         cost = clearance_cost(gridmap, w, q_star)
         dist = k.wavefront_weighted(free, np.where(free, cost, 1.0), gr, gc, conn, diag, sr, sc,
-                                    gridmap.grid.resolution)
+                                    gridmap.grid.resolution, gridmap.diagonals)
         aux["cost"] = cost
     else:
-        dist = k.wavefront_uniform(free, gr, gc, conn, diag, sr, sc, gridmap.grid.resolution)
+        dist = k.wavefront_uniform(free, gr, gc, conn, diag, sr, sc, gridmap.grid.resolution, gridmap.diagonals)
     params = {"connectivity": conn, "costs": costs, "clearance_weight": w, "q_star": q_star}
     return NavigationField(gridmap, dist, g, (gr, gc), "wavefront", params, aux)
 

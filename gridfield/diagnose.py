@@ -39,9 +39,14 @@ from ._results import Field
 from .escapes import NavigationEscape
 
 if TYPE_CHECKING:
+    from .grid import GridMap
     from .path import Path
 
-__all__ = ["diagnose", "robot_no_path", "unreachable_hint"]
+__all__ = ["corner_passage", "diagnose", "robot_no_path", "unreachable_hint"]
+
+#: The planners that take the diagonals a disc robot fits along though a side cell is blocked
+#: (:attr:`gridfield.grid.GridMap.diagonals`): their moves are discrete steps between cell centres.
+CORNER_PLANNERS = ("wavefront", "wavefront-octile")
 
 
 def _fmt(v: float) -> str:
@@ -68,6 +73,97 @@ def unreachable_hint(start: Any, goal: Any) -> str:
     """
     return (f"the goal ({_fmt(goal[0])}, {_fmt(goal[1])}) cannot be reached from the start "
             f"({_fmt(start[0])}, {_fmt(start[1])}): no free path joins them on this map")
+
+
+def corner_passage(gridmap: GridMap, start: Any, goal: Any) -> str | None:
+    """Why a planner that moves continuously cannot join ``start`` and ``goal`` where the grid planners can:
+    only along a diagonal through a corner the robot passes (:attr:`~gridfield.grid.GridMap.diagonals`).
+
+    A disc robot of at least half a cell may fit along the diagonal between two free cells of its
+    configuration space that touch only at a corner (both side cells blocked). The discrete
+    planners (:data:`CORNER_PLANNERS`) step along it; for a planner that moves continuously (a
+    potential-field follower, fast marching, any-angle paths, NavFn, the exact planners on the
+    map's polygons) the C-space there is a single point: the passage has zero width. This returns
+    the hint saying so when the octile wavefront joins the two points with those diagonals and not
+    without them, else None.
+
+    Parameters
+    ----------
+    gridmap : GridMap
+        A configuration space (:func:`gridfield.cspace.apply_robot`).
+    start, goal : (x, y)
+        Free points of it.
+
+    Returns
+    -------
+    str or None
+
+    Examples
+    --------
+    >>> from gridfield.cspace import apply_robot
+    >>> from gridfield.grid import Grid, GridMap
+    >>> occ = np.zeros((2, 4), bool); occ[1, 0] = occ[0, 3] = True
+    >>> print(corner_passage(apply_robot(GridMap(Grid((2, 4), 1.0), occ), 0.6), (1.5, 0.5), (2.5, 1.5)))
+    the robot passes between the start (1.5, 0.5) and the goal (2.5, 1.5) only along the diagonal
+    through the corner (2, 1) of two blocked cells of its configuration space: it fits along it, but
+    such a passage has no width for a planner that moves or spreads its field continuously; wavefront
+    and wavefront-octile take it
+    """
+    if gridmap.diagonals is None:
+        return None
+    from .navigation import extract_path, wavefront
+
+    grid = gridmap.grid
+    cell = grid.cell_of(float(start[0]), float(start[1]))
+    if cell is None:
+        return None
+    nav = wavefront(gridmap, goal, costs="octile", stop_at=start)
+    if not math.isfinite(float(nav.value[cell])):
+        return None
+    plain = wavefront(gridmap.with_occupied(gridmap.occupied, diagonals=None), goal, costs="octile", stop_at=start)
+    if math.isfinite(float(plain.value[cell])):
+        return None
+    cells = np.asarray(extract_path(nav, start, method="descent").extra["cells"])
+    occ = gridmap.occupied
+    corners = []
+    for (r0, c0), (r1, c1) in zip(cells[:-1].tolist(), cells[1:].tolist(), strict=True):
+        if r0 != r1 and c0 != c1 and (occ[r1, c0] or occ[r0, c1]):
+            corners.append((grid.origin[0] + max(c0, c1) * grid.resolution,
+                            grid.origin[1] + max(r0, r1) * grid.resolution))
+    where = ", ".join(f"({x:.4g}, {y:.4g})" for x, y in corners[:3]) + (", ..." if len(corners) > 3 else "")
+    one = len(corners) == 1
+    which = "the diagonal through the corner" if one else "diagonals through the corners"
+    return (f"the robot passes between the start ({_fmt(start[0])}, {_fmt(start[1])}) and the goal "
+            f"({_fmt(goal[0])}, {_fmt(goal[1])}) only along {which} {where} of two blocked cells of its "
+            f"configuration space: it fits along {'it' if one else 'them'}, but such a passage has no width "
+            "for a planner that moves or spreads its field continuously; "
+            f"{' and '.join(CORNER_PLANNERS)} take {'it' if one else 'them'}")
+
+
+def with_corner_passage(path: Path, gridmap: GridMap, start: Any, goal: Any) -> Path:
+    """``path`` with :func:`corner_passage`'s hint when it did not reach and the corner passage is why
+    (``extra["hint"]``, ``extra["diagnosis"]["corner_passage"]``); else ``path`` unchanged.
+
+    Parameters
+    ----------
+    path : Path
+        A run of a planner that is not one of :data:`CORNER_PLANNERS` on ``gridmap``.
+    gridmap : GridMap
+    start, goal : (x, y)
+
+    Returns
+    -------
+    Path
+    """
+    import dataclasses
+
+    if path.status == "reached" or gridmap.diagonals is None or path.planner in CORNER_PLANNERS:
+        return path
+    hint = corner_passage(gridmap, start, goal)
+    if hint is None:
+        return path
+    diagnosis = {**path.extra.get("diagnosis", {}), "reachable": True, "corner_passage": True}
+    return dataclasses.replace(path, extra={**path.extra, "hint": hint, "diagnosis": diagnosis})
 
 
 def robot_no_path(path: Path, point: Path, robot: str, start: Any, goal: Any) -> Path:
@@ -107,8 +203,8 @@ def robot_no_path(path: Path, point: Path, robot: str, start: Any, goal: Any) ->
     """
     import dataclasses
 
-    if path.status != "no_path" or point.status == "no_path":
-        return path
+    if path.status != "no_path" or point.status == "no_path" or path.extra.get("diagnosis", {}).get("corner_passage"):
+        return path  # (a corner passage: the robot does pass, along a diagonal, and the hint says where)
     if point.status == "reached":
         verdict = f"a point reaches it ({point.planner} on the map without the robot's shape, length {point.length:.4g})"
     else:

@@ -303,8 +303,8 @@ def _plan(
         if want_field and planner in FIELD_PLANNERS:
             module, func = FIELD_PLANNERS[planner]
             path, field = getattr(importlib.import_module(module), func)(gm, s, g, merged, cache=cache)
-            return _with_endpoints(path, s, g, t0), field
-        return _with_endpoints(fn(gm, s, g, merged, cache=cache), s, g, t0), None
+            return _corner(_with_endpoints(path, s, g, t0), gm, s, g), field
+        return _corner(_with_endpoints(fn(gm, s, g, merged, cache=cache), s, g, t0), gm, s, g), None
     world = target if isinstance(target, World) else target.world
     if not isinstance(world, World) and planner in GRID_VARIANTS:
         assert isinstance(target, GridMap)  # a World is its own world
@@ -313,7 +313,7 @@ def _plan(
         fn = getattr(importlib.import_module(module), func)
         s, g = target.check_point("start", start), target.check_point("goal", goal)
         t0 = time.perf_counter()
-        return _with_endpoints(fn(target, s, g, merged, cache=cache), s, g, t0), None
+        return _corner(_with_endpoints(fn(target, s, g, merged, cache=cache), s, g, t0), target, s, g), None
     if not isinstance(world, World):
         # a bitmap / ROS / Moving AI map: its blocked cells as exact polygons (gridfield.gridpoly),
         # built once per map object; "visibility" then runs on the grid itself (gridfield.anyangle)
@@ -324,7 +324,19 @@ def _plan(
     else:
         s, g = world.check_point("start", start), world.check_point("goal", goal)
     t0 = time.perf_counter()
-    return _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged, cache=cache), s, g, t0), None
+    path = _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged, cache=cache), s, g, t0)
+    return (_corner(path, target, s, g) if isinstance(target, GridMap) and target.world is None else path), None
+
+
+def _corner(path: Path, gridmap: GridMap, start: Any, goal: Any) -> Path:
+    """A run that did not reach on a disc robot's configuration space whose only way is a diagonal through
+    a corner (:attr:`GridMap.diagonals`, taken only by the grid planners' discrete steps): the hint says so
+    (:func:`gridfield.diagnose.with_corner_passage`)."""
+    if path.status == "reached" or gridmap.diagonals is None:
+        return path
+    from .diagnose import with_corner_passage
+
+    return with_corner_passage(path, gridmap, start, goal)
 
 
 def _point(name: str, value: Any) -> np.ndarray:

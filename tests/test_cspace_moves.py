@@ -125,3 +125,63 @@ def test_a_robot_of_half_a_cell_or_more_takes_a_diagonal_it_fits_along():
     assert np.argwhere(~cspace.occupied).tolist() == [[0, 1], [1, 2]]
     assert clearance(workspace.grid, obstacles(workspace), (0, 1), (1, 2)) == pytest.approx(math.sqrt(0.5))
     assert plan("wavefront-octile", cspace, (1.5, 0.5), (2.5, 1.5)).status == "reached"
+
+
+# Two rooms of a wall-bordered 8x8 map that a disc of radius 0.6 joins only through corners of its
+# configuration space (rows top first, as in the file): it fits along the diagonals, 0.707 from the squares.
+CORNER_MAP = ["........", "........", "........", "........", "@@@.....", ".....@@@", "........", "........"]
+CORNER_START, CORNER_GOAL, CORNER_RADIUS = (2.5, 1.5), (4.5, 5.5), 0.6
+DISCRETE = ("wavefront", "wavefront-octile")
+
+
+def corner_workspace() -> GridMap:
+    occ = np.array([[ch == "@" for ch in row] for row in CORNER_MAP[::-1]])
+    return GridMap(Grid(occ.shape, 1.0, border="wall"), occ)
+
+
+def test_the_corner_passage_map_is_joined_only_through_corners_the_robot_fits_along():
+    workspace = corner_workspace()
+    cspace = apply_robot(workspace, CORNER_RADIUS)
+    plain = cspace.with_occupied(cspace.occupied, diagonals=None)
+    assert cspace.diagonals is not None
+    assert plan("wavefront-octile", plain, CORNER_START, CORNER_GOAL).status == "no_path"  # the Moving AI rule alone
+    path = plan("wavefront-octile", cspace, CORNER_START, CORNER_GOAL)
+    assert path.status == "reached"
+    segments = shapely.linestrings(np.stack([path.points[:-1], path.points[1:]], axis=1))
+    assert float(np.min(shapely.distance(segments, obstacles(workspace)))) > CORNER_RADIUS
+
+
+@pytest.mark.parametrize("planner", ["potential", "exact-potential", "visibility", "wavefront", "wavefront-octile",
+                                     "fmm", "harmonic", "navfn"])
+def test_every_grid_planner_takes_the_corner_diagonal_or_says_why_not(planner):
+    """The discrete planners step along the diagonals; the continuous ones end without reaching and say that the
+    robot passes only along a diagonal through a corner, and which planners take it."""
+    workspace = corner_workspace()
+    cspace = apply_robot(workspace, CORNER_RADIUS)
+    path = plan(planner, cspace, CORNER_START, CORNER_GOAL)
+    if planner in DISCRETE:
+        assert path.status == "reached"
+        assert float(np.min(shapely.distance(shapely.linestrings(np.stack([path.points[:-1], path.points[1:]], axis=1)),
+                                             obstacles(workspace)))) > CORNER_RADIUS
+    else:
+        assert path.status != "reached"
+        assert path.extra["diagnosis"]["corner_passage"] is True
+        assert "only along diagonals through the corners" in path.hint
+        assert "wavefront and wavefront-octile take them" in path.hint
+
+
+@pytest.mark.parametrize("planner", ["wavefront-octile", "fmm", "potential"])
+def test_the_cli_plans_a_disc_robot_through_a_corner_or_says_why_not(tmp_path, capsys, planner):
+    from gridfield.cli import main
+
+    f = tmp_path / "corner.map"
+    f.write_text("type octile\nheight 8\nwidth 8\nmap\n" + "\n".join(CORNER_MAP) + "\n")
+    argv = ["plan", str(f), "--planner", planner, "--robot-radius", str(CORNER_RADIUS),
+            "--start", *map(str, CORNER_START), "--goal", *map(str, CORNER_GOAL)]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    if planner in DISCRETE:
+        assert f"{planner}: reached" in out, out
+    else:
+        assert "reached" not in out.splitlines()[0], out
+        assert "only along diagonals through the corners" in out and "closes the passage" not in out, out

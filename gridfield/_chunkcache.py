@@ -332,7 +332,8 @@ class LazyGridMap(GridMap):
 
         check_cells(self.grid.shape, f"{self.source or 'a map read by chunks'} (read whole into memory; "
                                      "--out F.zarr computes chunk by chunk)")
-        return GridMap(self.grid, np.asarray(self.occupied), source=self.source, meta=dict(self.meta))
+        return GridMap(self.grid, np.asarray(self.occupied), source=self.source, meta=dict(self.meta),
+                       diagonals=self.diagonals)
 
     def with_occupied(self, occupied: Any, **changes: object) -> GridMap:
         return self.to_gridmap().with_occupied(occupied, **changes)

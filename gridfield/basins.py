@@ -1,8 +1,10 @@
 """Basins of attraction of discrete steepest descent on a potential array.
 
 Each free cell moves to its lowest free 8-neighbour while that is lower (a diagonal move only
-when both cells beside it are free: the move passes their common corner); the cell where this
-descent ends is the cell's *sink*. The basin of a sink is every cell that descends to it. The
+when both cells beside it are free: the move passes their common corner; the extra diagonals of a
+disc robot's configuration space, :attr:`gridfield.grid.GridMap.diagonals`, are not taken: the
+basins describe the potential follower, which moves continuously, and for it a passage through a
+corner has no width); the cell where this descent ends is the cell's *sink*. The basin of a sink is every cell that descends to it. The
 goal's basin is label 1, the other sinks (the potential's discrete local minima) follow by
 increasing potential. The navigation escape (:mod:`gridfield.escapes`) and the diagnosis
 (:mod:`gridfield.diagnose`) read these sinks; the ``field`` command and the plots draw them.

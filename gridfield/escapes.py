@@ -10,7 +10,9 @@ The navigation escape
 ---------------------
 ``escape="navigation"`` (:func:`gridfield.follow.follow`): at a local minimum of the potential the
 follower drives down the octile wavefront from the goal (:func:`gridfield.navigation.wavefront`,
-the exact shortest-path cost over 8-connected moves that never cut a corner), cell centre by cell
+the exact shortest-path cost over 8-connected moves that never cut a corner, on the occupancy alone:
+a disc robot's diagonals through a corner, :attr:`gridfield.grid.GridMap.diagonals`, have no width
+for the follower, which the escape hands back to), cell centre by cell
 centre, until it enters a cell whose discrete steepest descent on the potential ends in the goal's
 sink (the goal's basin of :func:`gridfield.basins.basins`: from a cell of another minimum's basin
 the potential would lead the follower straight into that minimum); there the potential descent

@@ -13,7 +13,9 @@ computed once).
     (default): the first-order fast marching solution of ``|grad U| = 1`` on the 4- and the
     diagonal 8-neighbour stencils (:mod:`gridfield._kernels_eikonal`), so that the gradient paths run
     at any angle; ``attraction="octile"``: the octile wavefront of ``wavefront-octile`` (the same
-    values). Latombe's NF1 is the L1 wavefront; the Euclidean version is the one a gradient
+    values, except that a disc robot's diagonals through a corner, :attr:`GridMap.diagonals
+    <gridfield.grid.GridMap.diagonals>`, are not taken: the follower moves continuously, and such a
+    passage has no width for it; the march does not cross one either). Latombe's NF1 is the L1 wavefront; the Euclidean version is the one a gradient
     follower needs (no staircase). With ``attraction="eikonal"`` the front is slowed near
     obstacles by the **clearance band** (the potential planner's default, issue 25): slowness
     ``1 + band_gain * (1 - D / clearance_band)**2`` for ``D < clearance_band`` (``D`` the brushfire
@@ -744,7 +746,10 @@ def _nf_values(gridmap: GridMap, goals: ArrayLike, params: Mapping[str, Any] | N
 
             if np.asarray(g, dtype=float).size != 2:
                 raise ParameterError("attraction='octile' (the octile wavefront) takes one goal")
-            U = np.ascontiguousarray(wavefront(work, g, costs="octile").value)
+            # the Moving AI rule alone: a follower moves continuously, and a diagonal through a corner of a
+            # disc robot's C-space (GridMap.diagonals, a discrete step) has no width for it
+            plain = work if work.diagonals is None else work.with_occupied(work.occupied, diagonals=None)
+            U = np.ascontiguousarray(wavefront(plain, g, costs="octile").value)
         elif p["clearance_band"] > 0 and p["band_gain"] > 0:
             U, grad = _eikonal(work, g, _band_cost_of(dmap, p["clearance_band"], p["band_gain"]), stop_at,
                                STOP_MARGIN_CELLS, want, dmap)

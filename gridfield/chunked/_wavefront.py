@@ -4,7 +4,9 @@ Each round runs, on every chunk with a one-cell halo, Dijkstra's algorithm from 
 extended block that has a finite value (its value the start: the goal's 0, the values the neighbouring
 chunks reached in the halo, and the chunk's own values of the previous round), over the block's free
 cells with the wavefront's moves (4 neighbours at cost 1, the diagonals at ``sqrt(2)`` (octile) or 1
-(unit), no corner cutting). A value only ever falls, and each is the cost of a real path (a sum of
+(unit), no corner cutting, on the occupancy alone: a disc robot's diagonals through a corner,
+:attr:`gridfield.grid.GridMap.diagonals`, are not taken, as the complete field ``nf1`` with
+``attraction: octile`` that it computes does not take them in memory either). A value only ever falls, and each is the cost of a real path (a sum of
 step costs, added in path order as the in-memory Dial queue adds them), so the rounds end, when no
 chunk changes, at the values of :func:`gridfield.navigation.wavefront` on the whole map, bit for bit.
 How many rounds that takes depends on how often the shortest paths cross chunk seams, back and forth in
@@ -100,7 +102,7 @@ def wavefront(occupied: Any, goal_cell: tuple[int, int], *, costs: str = "octile
     value : dask.array.Array
         ``float64`` with ``occupied``'s chunks (persisted): the path cost in cells, ``inf`` on obstacles
         and cells the goal cannot reach; equal to ``gridfield.navigation.wavefront(gridmap, goal,
-        costs=costs).value`` (8-connected).
+        costs=costs).value`` (8-connected) on a map without :attr:`~gridfield.grid.GridMap.diagonals`.
     rounds : int
         How many rounds ran (the last one changed nothing).
 

@@ -219,10 +219,19 @@ def apply_robot(target: World | GridMap, robot: Robot | float | ArrayLike | None
       to the squares; :func:`centre_footprint`), the tightest rule that keeps the planners' moves
       safe: a disc below half a cell blocks nothing new (it behaves like a point), and from half a
       cell on no free cell has an occupied 4-neighbour, so the disc swept along any move between
-      8-neighbouring free centres touches nothing (along a move, the distance to each cell square
-      is smallest at an end, except at the corner a diagonal cuts between two side cells, which are
-      then free). A point between centres (a continuous follower's step) keeps at least
-      ``r - h / sqrt(2)`` of clearance. A polygon: the occupancy dilated by
+      8-neighbouring free centres whose side cells are free touches nothing (along a move, the
+      distance to each cell square is smallest at an end, except at the corner a diagonal cuts
+      between two side cells, which are then free). From half a cell on, a diagonal whose side
+      cell is blocked may still be one the disc fits along (the two free cells touch only at a
+      corner): :func:`corner_diagonals` checks each such diagonal exactly (distance from the segment
+      between the centres to the occupied squares more than ``r``) and the result's
+      :attr:`GridMap.diagonals <gridfield.grid.GridMap.diagonals>` holds those it fits along (None
+      when there is none), so the grid planners' discrete moves (``wavefront``,
+      ``wavefront-octile``) are exactly the moves the disc fits along. Such a passage has no width
+      for a planner that moves or spreads its field continuously (``potential``, ``fmm``,
+      ``harmonic``, ``navfn``, ``visibility``): :func:`gridfield.planners.plan` says so when it is
+      the reason a run does not reach. A point between centres (a continuous follower's step)
+      keeps at least ``r - h / sqrt(2)`` of clearance. A polygon: the occupancy dilated by
       :func:`conservative_footprint` (no configuration at which the robot touches an occupied cell
       stays free; the wall border grows too). A disc as large as the map's diagonal (with an
       obstacle or a wall) is refused at once, and every footprint is sized by the size guard
@@ -307,8 +316,8 @@ def _sweep_offsets(radius: float, resolution: float) -> list[tuple[list[int], li
     middle of the move can touch."""
     h, r = float(resolution), float(radius)
     m = math.ceil(r / h) + 1
-    a, b = np.meshgrid(np.arange(-m, m + 2), np.arange(-m, m + 2), indexing="ij")
-    a, b = a.ravel(), b.ravel()
+    grid_a, grid_b = np.meshgrid(np.arange(-m, m + 2), np.arange(-m, m + 2), indexing="ij")
+    a, b = grid_a.ravel(), grid_b.ravel()
     boxes = shapely.box(b, a, b + 1, a + 1)  # (x = col, y = row) in cell units
     limit = (r / h) ** 2 * (1 + 1e-9)
     out = []

@@ -5,7 +5,8 @@ Five constructions, the first four returned as a :class:`NavigationField` (the v
 - :func:`wavefront` -- the grid navigation function: the exact shortest-path cost to the goal cell
   over 4- or 8-connected moves, with unit costs or octile costs (1 and sqrt 2), optionally raised near
   obstacles (``clearance_weight``). Diagonal moves never cut a corner: a diagonal step is allowed only
-  when both orthogonally adjacent cells are free (the Moving AI rule). Computed by Dijkstra with a
+  when both orthogonally adjacent cells are free (the Moving AI rule), or when the map's
+  :attr:`~gridfield.grid.GridMap.diagonals` allow it (a disc robot's configuration space). Computed by Dijkstra with a
   bucket queue in a compiled kernel; :func:`extract_path` follows it down to the goal.
 - :func:`fmm` -- the Euclidean geodesic distance by fast marching (scikit-fmm, optional extra
   ``gridfield[fmm]``), followed along its interpolated gradient: near-any-angle paths.

@@ -185,3 +185,17 @@ def test_the_cli_plans_a_disc_robot_through_a_corner_or_says_why_not(tmp_path, c
     else:
         assert "reached" not in out.splitlines()[0], out
         assert "only along diagonals through the corners" in out and "closes the passage" not in out, out
+
+
+def test_the_diagonals_belong_to_the_occupancy_they_were_built_for():
+    """A copy with the same occupancy keeps them; a map made from another occupancy (inflated again, cropped,
+    downsampled, subdivided) has none, so no stale diagonal survives a transformation that does not know them."""
+    from gridfield.gridpoly import block_downsample, subdivide
+
+    cspace = apply_robot(corner_workspace(), CORNER_RADIUS)
+    assert cspace.with_occupied(cspace.occupied, source="copy").diagonals is cspace.diagonals
+    assert cspace.with_occupied(cspace.occupied.copy()).diagonals is None
+    assert block_downsample(cspace, 2).diagonals is None
+    assert subdivide(cspace, 2).diagonals is None
+    with pytest.raises(Exception, match="diagonals has shape"):
+        GridMap(cspace.grid, cspace.occupied, diagonals=np.zeros((2, 2), np.uint8))

@@ -288,8 +288,9 @@ class GridMap:
         ``(r, c) <-> (r + 1, c + 1)``, bit 1 the move ``(r, c + 1) <-> (r + 1, c)``. None (the
         default, and every map nobody built it for): the Moving AI rule alone, a diagonal needs both
         side cells free. The grid planners' discrete moves read it (:mod:`gridfield.navigation`'s
-        wavefronts and descent, :mod:`gridfield.basins`, :mod:`gridfield.escapes`, the chunked
-        wavefront); it belongs to this occupancy: :meth:`with_occupied` keeps it only for the same
+        wavefronts and descent: ``wavefront``, ``wavefront-octile``); what serves a continuous
+        mover keeps the Moving AI rule (:mod:`gridfield.basins`, :mod:`gridfield.escapes`, the
+        chunked wavefront, the eikonal march, the followers). It belongs to this occupancy: :meth:`with_occupied` keeps it only for the same
         array, and a map built from another occupancy (a crop, a downsampling, a file) has none.
 
     Examples

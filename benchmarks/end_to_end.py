@@ -1,13 +1,18 @@
 """Benchmark: end-to-end ``plan`` (brushfire, potential, gradients, follower) on large maps in memory.
 
 Run ``python benchmarks/end_to_end.py`` (options: ``--sizes`` (default 1024 4096 8192), ``--repeat``
-(default 3), ``--no-tracemalloc``, ``--json``).
+(default 3), ``--no-tracemalloc``, ``--json``, ``--model khatib|default``).
 
 The map is the same 100 m x 100 m world at every size (resolution ``100 / n``): 40 rectangles and
 discs laid out by a fixed seed (about 11 % occupied), start (5, 5) and goal (95, 95) in its free
 corners. It is built in memory (no file I/O); what is timed is one call of
-``gridfield.planners.plan("potential", gridmap, start, goal, params)``, which computes the Euclidean
-brushfire, the fused attractive + repulsive potential and its gradients, and follows them.
+``gridfield.planners.plan("potential", gridmap, start, goal, params)``. With ``--model khatib`` (the
+default here, and what the end-to-end targets of ``benchmarks/run.py`` were set on) that computes the
+Euclidean brushfire, the fused attractive + repulsive potential and its gradients, and follows them.
+``--model default`` leaves the model to the planner, whose default since issue 25 is the complete
+field ``nf1`` (:mod:`gridfield.navfield`: the brushfire, the clearance band's slowness, a weighted-A*
+fast march from the goal towards the start, its upwind gradient, the follower): a different and
+heavier computation, reported beside the classic one by ``run.py``.
 
 Each size runs in its own fresh Python process, so that numbers do not depend on what ran before:
 
@@ -54,6 +59,9 @@ GOAL = (95.0, 95.0)
 #: Planner parameters: a conic attraction beyond 2 m so that the attraction does not swamp the
 #: repulsion far from the goal; the other potential parameters are gridfield's defaults.
 PARAMS: dict[str, Any] = {"d_star": 2.0, "eta": 1.0, "q_star": 2.0}
+#: The field models ``--model`` takes: ``khatib`` (the classic field, set explicitly: the pipeline the
+#: end-to-end targets were set on) and ``default`` (no ``model``: the planner's default, ``nf1``).
+MODELS = ("khatib", "default")
 DEFAULT_SIZES = (1024, 4096, 8192)
 GiB = 2**30
 
@@ -136,9 +144,11 @@ def synthetic_map(n: int, *, seed: int = 0) -> Any:
     return GridMap(Grid((n, n), WORLD / n), synthetic_occupancy(n, seed=seed), source=f"synthetic {n}x{n}")
 
 
-def plan_params(n: int) -> dict[str, Any]:
-    """``PARAMS`` plus a step budget large enough to cross the map at one cell per step."""
-    return {**PARAMS, "max_iterations": 4 * n}
+def plan_params(n: int, model: str = "khatib") -> dict[str, Any]:
+    """``PARAMS`` plus a step budget large enough to cross the map at one cell per step, and the
+    field ``model`` unless it is ``"default"`` (the planner's own default)."""
+    extra = {} if model == "default" else {"model": model}
+    return {**PARAMS, **extra, "max_iterations": 4 * n}
 
 
 # ----------------------------------------------------------------------------------------------
@@ -176,7 +186,7 @@ def round_robin(candidates: dict[str, Callable[[], Any]], repeat: int) -> dict[s
     return {k: Timing(statistics.median(v), min(v), max(v), len(v)) for k, v in runs.items()}
 
 
-def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
+def measure_size(n: int, repeat: int, *, trace: bool = True, model: str = "khatib") -> dict[str, Any]:
     """Measure one size in the current process (meant to be a fresh one); a JSON-able dict."""
     try:
         import cv2
@@ -187,10 +197,10 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
     from gridfield.potential import field_distance_map
 
     small = synthetic_map(64)
-    plan("potential", small, START, GOAL, plan_params(64))  # compile / load the numba kernels
+    plan("potential", small, START, GOAL, plan_params(64, model))  # load the kernels
     brushfire(small, metric="euclidean")
     gm = synthetic_map(n)
-    params = plan_params(n)
+    params = plan_params(n, model)
     rss_before = _peak_rss_bytes()
 
     # the first plan runs before anything else, so the peak RSS after it is the plan's
@@ -199,6 +209,7 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
     first = time.perf_counter() - t0
     rss_plan = _peak_rss_bytes()
     info = {"status": path.status, "iterations": int(path.iterations), "length": float(path.length),
+            "model": str(path.params.get("model")),
             "follow_s": float(path.seconds), "build_s": float(path.extra.get("build_seconds", float("nan")))}
     del path
 
@@ -246,11 +257,11 @@ def measure_size(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
 # ----------------------------------------------------------------------------------------------
 # Every size, each in a fresh process (the parent)
 # ----------------------------------------------------------------------------------------------
-def run_child(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
+def run_child(n: int, repeat: int, *, trace: bool = True, model: str = "khatib") -> dict[str, Any]:
     """Measure size ``n`` in a fresh interpreter; ``rss_peak`` is its VmHWM in bytes (``ru_maxrss_wait4``,
     the child's rusage from ``os.wait4``, is kept for comparison: it cannot be lower than the parent's
     peak at fork)."""
-    cmd = [sys.executable, os.path.abspath(__file__), "--child", str(n), "--repeat", str(repeat)]
+    cmd = [sys.executable, os.path.abspath(__file__), "--child", str(n), "--repeat", str(repeat), "--model", model]
     if not trace:
         cmd.append("--no-tracemalloc")
     t0 = time.monotonic()
@@ -273,9 +284,10 @@ def run_child(n: int, repeat: int, *, trace: bool = True) -> dict[str, Any]:
     return result
 
 
-def measure(sizes: Sequence[int] = DEFAULT_SIZES, repeat: int = 3, *, trace: bool = True) -> list[dict[str, Any]]:
-    """Measure every size, each in a fresh process."""
-    return [run_child(n, repeat, trace=trace) for n in sizes]
+def measure(sizes: Sequence[int] = DEFAULT_SIZES, repeat: int = 3, *, trace: bool = True,
+            model: str = "khatib") -> list[dict[str, Any]]:
+    """Measure every size, each in a fresh process, with the field ``model`` (:data:`MODELS`)."""
+    return [run_child(n, repeat, trace=trace, model=model) for n in sizes]
 
 
 def _mb(b: float | None) -> str:
@@ -287,12 +299,12 @@ def table(results: Sequence[dict[str, Any]]) -> str:
     lines = [
         "| size | plan ms median (min-max) | n | OpenCV DIST_C ms | plan / DIST_C | brushfire ms (as plan: distance "
         "+ nearest) | brushfire ms (full: + steps, labels, GVD) | build ms (brushfire + potential) | follow ms "
-        "| status, steps |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "| status, steps | model |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in results:
         if "error" in r:
-            lines.append(f"| {r['n']}^2 | failed: {r['error']} | | | | | | | | |")
+            lines.append(f"| {r['n']}^2 | failed: {r['error']} | | | | | | | | | |")
             continue
         p, d = r["plan"], r["dist_c"]
         dc = f"{d['median'] * 1e3:,.1f} | **{p['median'] / d['median']:.2f}**" if d else "not installed | -"
@@ -300,7 +312,7 @@ def table(results: Sequence[dict[str, Any]]) -> str:
             f"| {r['n']}^2 | {p['median'] * 1e3:,.0f} ({p['min'] * 1e3:,.0f}-{p['max'] * 1e3:,.0f}) | {p['n']} "
             f"| {dc} | {r['brushfire']['median'] * 1e3:,.0f} "
             f"| {r['brushfire_full']['median'] * 1e3:,.0f} | {r['build_median_s'] * 1e3:,.0f} "
-            f"| {r['follow_median_s'] * 1e3:,.1f} | {r['status']}, {r['iterations']} |"
+            f"| {r['follow_median_s'] * 1e3:,.1f} | {r['status']}, {r['iterations']} | {r.get('model', '-')} |"
         )
     lines += [
         "",
@@ -324,12 +336,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--repeat", type=int, default=3, help="timed plans per size (median reported)")
     ap.add_argument("--no-tracemalloc", action="store_true", help="skip the traced plan")
     ap.add_argument("--json", action="store_true", help="print the raw results as JSON")
+    ap.add_argument("--model", choices=MODELS, default="khatib",
+                    help="the field: khatib (the classic one, default here) or default (the planner's: nf1)")
     ap.add_argument("--child", type=int, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
-        print(json.dumps(measure_size(args.child, args.repeat, trace=not args.no_tracemalloc)))
+        print(json.dumps(measure_size(args.child, args.repeat, trace=not args.no_tracemalloc, model=args.model)))
         return 0
-    results = measure(args.sizes, args.repeat, trace=not args.no_tracemalloc)
+    results = measure(args.sizes, args.repeat, trace=not args.no_tracemalloc, model=args.model)
     print(json.dumps(results, indent=1) if args.json else table(results))
     return 1 if any("error" in r for r in results) else 0
 

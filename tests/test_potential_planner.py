@@ -389,7 +389,7 @@ def test_plan_text_prints_the_hint(capsys):
     assert main(["plan", str(m / "arena.map"), "--scenario", str(m / "arena.map.scen"), "--index", "159",
                  "--param", "model=khatib"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert lines[0].startswith("potential: local_minimum") and "(optimal 62.15)" in lines[0]
+    assert lines[0].startswith("potential: local_minimum") and "(octile optimum 62.15)" in lines[0]
     assert lines[1].startswith("hint: ") and "--escape navigation" in lines[1]
 
 

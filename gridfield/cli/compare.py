@@ -247,7 +247,7 @@ def run(args: argparse.Namespace) -> int:
                "exact_planner": args.exact_planner, "rows": rows, "order": orders,
                **({"optimal": scen[2]} if scen is not None else {})})
     else:
-        opt = f", scenario optimal {scen[2]:.4g}" if scen is not None else ""
+        opt = f", scenario's octile optimum {scen[2]:.4g}" if scen is not None else ""
         _print_table(rows, orders, f"{args.map}: {args.planner} (grid) vs {args.exact_planner} (exact), "
                                    f"start ({start[0]:g}, {start[1]:g}) goal ({goal[0]:g}, {goal[1]:g}){opt}")
     if args.plot:

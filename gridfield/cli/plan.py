@@ -138,7 +138,7 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write("\n")
     else:
         x, y = path.end
-        opt = f" (optimal {path.extra['optimal']:.4g})" if "optimal" in path.extra else ""
+        opt = f" (octile optimum {path.extra['optimal']:.4g})" if "optimal" in path.extra else ""
         # no path has no clearance: the line leaves it out rather than print "nan"
         cl = "" if path.status == "no_path" else f"min clearance {path.min_clearance:.4g}, "
         print(f"{path.planner}: {path.status} after {path.iterations} iterations, length {path.length:.4g}{opt}, "

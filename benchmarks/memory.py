@@ -33,6 +33,8 @@ JOBS: dict[str, list[str]] = {
     "brushfire": ["brushfire", "{map}"],
     "field": ["field", "{map}", "--goal", "{gx}", "{gy}"],
     "plan:potential": ["plan", "{map}", "--planner", "potential", "--start", "{sx}", "{sy}", "--goal", "{gx}", "{gy}"],
+    "plan:potential:classic": ["plan", "{map}", "--planner", "potential", "--param", "model=khatib", "--start", "{sx}",
+                               "{sy}", "--goal", "{gx}", "{gy}"],
     "plan:wavefront": ["plan", "{map}", "--planner", "wavefront", "--start", "{sx}", "{sy}", "--goal", "{gx}", "{gy}"],
     "plan:wavefront-octile": ["plan", "{map}", "--planner", "wavefront-octile", "--start", "{sx}", "{sy}", "--goal",
                               "{gx}", "{gy}"],

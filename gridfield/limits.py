@@ -110,7 +110,7 @@ BYTES_PER_CELL = 64
 ENV_VAR = "GRIDFIELD_MAX_CELLS"
 
 #: Peak bytes per cell of each job, measured by ``benchmarks/memory.py`` (peak resident memory of
-#: the command at 512^2, 1024^2 and 1448^2 cells, least-squares slope over the cell count), rounded up
+#: the command at 512^2, 1024^2 and 1448^2 cells (plan:potential: 1024^2 and 2048^2, stop 39), least-squares slope over the cell count), rounded up
 #: by about a quarter for what the benchmark map does not exercise. Keys are a command or
 #: ``command:planner``; :func:`job_bytes_per_cell` falls back from ``plan:X`` to ``plan`` and from
 #: an unknown job to :data:`BYTES_PER_CELL`.
@@ -119,13 +119,13 @@ JOB_BYTES_PER_CELL: dict[str, int] = {
     "brushfire": 48,  # measured 35
     "field": 96,  # measured 74 (the potential model; a navigation field uses its planner's figure)
     "plan": 176,  # the largest planner but harmonic: unknown planners on a grid
-    "plan:potential": 176,  # measured 139
+    "plan:potential": 160,  # measured 126 (the classic field with its diagnosis; the default nf1 95)
     "plan:wavefront": 56,  # measured 43
     "plan:wavefront-octile": 24,  # measured 18
     "plan:fmm": 64,  # measured 52
     "plan:harmonic": 400,  # measured 312
     "compare": 192,  # the grid planner at the finest resolution (default potential) and the exact one; measured 154
-    "explore": 176,  # not measured (interactive): the potential planner's figure
+    "explore": 160,  # not measured (interactive): the potential planner's figure
     "sweep": 176,  # not measured: per worker, the spec's largest planner figure once its planners are known
 }
 
@@ -291,7 +291,7 @@ def job_bytes_per_cell(name: str) -> int:
     Examples
     --------
     >>> job_bytes_per_cell("plan:potential"), job_bytes_per_cell("plan:visibility") == job_bytes_per_cell("plan")
-    (176, True)
+    (160, True)
     """
     if name in JOB_BYTES_PER_CELL:
         return JOB_BYTES_PER_CELL[name]
@@ -316,11 +316,11 @@ def job(name: str, *, workers: int = 1) -> Iterator[None]:
     Examples
     --------
     >>> import gridfield.limits as L
-    >>> with job("plan:potential"), L._budget_for_tests(10**6):   # a 1 MB budget: 176 B x 10**4 cells is more
+    >>> with job("plan:potential"), L._budget_for_tests(10**6):   # a 1 MB budget: 160 B x 10**4 cells is more
     ...     check_cells((100, 100), "map.png (image header)")
     Traceback (most recent call last):
     ...
-    gridfield.errors.SizeLimitError: map.png (image header): plan:potential on 100 x 100 = 10000 cells would need about 1.8 MB ...
+    gridfield.errors.SizeLimitError: map.png (image header): plan:potential on 100 x 100 = 10000 cells would need about 1.6 MB ...
     """
     budget = memory_budget()
     _JOB.append((name, job_bytes_per_cell(name), max(1, int(workers)), budget))

@@ -268,7 +268,7 @@ def run_child(n: int, repeat: int, *, trace: bool = True, model: str = "khatib")
     with tempfile.TemporaryFile("w+") as err:
         # the size guard's estimate (gridfield.limits: the CLI's worst case per cell, with a failed run's
         # diagnosis) is not what is measured here: a cell limit of the map's size replaces it, as in memory.py
-        env = {**os.environ, "GRIDFIELD_MAX_CELLS": str(n * n)}
+        env = {**os.environ, "GRIDFIELD_MAX_CELLS": str(max(n * n, 1 << 20))}  # the warm-up map too
         proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=err, text=True, env=env)
         assert proc.stdout is not None
         out = proc.stdout.read()  # until the child closes stdout (it exits)

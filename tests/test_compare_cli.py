@@ -29,7 +29,7 @@ def test_readmes_old_example_gives_each_rows_reason(capsys: pytest.CaptureFixtur
         assert any(line.startswith(f"  resolution {h}: skipped: the start's cell") and "blocked at this resolution"
                    in line for line in out)
     assert "not enough positive errors" not in "\n".join(out)
-    assert out[-1] == "observed order (error ~ h^p): needs two resolutions that ran, 1 did"
+    assert out[-1] == "observed order (error ~ h^p): needs two resolutions that found a path, 1 did"
 
 
 def test_skipped_rows_only_where_a_point_is_blocked() -> None:
@@ -163,3 +163,42 @@ def test_subdivide_keeps_the_free_space() -> None:
     assert np.array_equal(fine.occupied, np.kron(gm.occupied.astype(int), np.ones((3, 3), int)).astype(bool))
     assert grid_world(fine).obstacles and sum(o.geometry.area for o in grid_world(fine).obstacles) == pytest.approx(
         sum(o.geometry.area for o in grid_world(gm).obstacles))
+
+
+def _gap_map(tmp_path) -> str:
+    """A 16 x 16 Moving AI map split by a wall in column 8 with a one-cell gap at row 5 (file rows count
+    from the top): halving the resolution (block_downsample, conservative) closes the gap."""
+    rows = []
+    for r in range(16):
+        rows.append("".join("@" if c == 8 and r != 10 else "." for c in range(16)))
+    f = tmp_path / "gap.map"
+    f.write_text("type octile\nheight 16\nwidth 16\nmap\n" + "\n".join(rows) + "\n")
+    return str(f)
+
+
+def test_a_resolution_that_closes_the_way_is_said_and_left_out_of_the_order(tmp_path, capsys) -> None:
+    """At h = 2 the conservative grid closes the one-cell gap: the row says no_path, its errors are '-' (a
+    start-only path measures no discretization error; before: len/exact 0.0000 and a Hausdorff of the
+    start's distance to the exact path, fitted into the observed order), the reason is under the table."""
+    from gridfield.compare import no_path_at_resolution, study_errors
+
+    f = _gap_map(tmp_path)
+    gm = read(f)
+    rows = convergence_study(gm, (2.5, 8.5), (13.5, 8.5), [2, 1, 0.5], grid_planner="wavefront-octile",
+                             exact_planner="visibility")
+    assert [r["status"] for r in rows] == ["no_path", "reached", "reached"]
+    assert [no_path_at_resolution(r) for r in rows] == [True, False, False]
+    assert np.isnan(rows[0]["length_ratio"])
+    errs = study_errors(rows)
+    assert all(np.isnan(errs[k][0]) for k in errs) and not np.isnan(errs["hausdorff"][1])
+
+    assert main(["compare", f, "--start", "2.5", "8.5", "--goal", "13.5", "8.5", "--planner", "wavefront-octile",
+                 "--exact-planner", "visibility", "--resolutions", "2", "1", "0.5"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    first = out[2].split()
+    assert first[:6] == ["2", "64", first[2], first[3], "no_path", "reached"]
+    assert first[6:11] == ["-"] * 5  # len/exact, len/opt, Hausdorff, Frechet, stall err
+    assert any(line.startswith("  resolution 2: no_path: the grid at this resolution") and "left out of the observed"
+               in line for line in out)
+    assert out[-1].startswith("observed order (error ~ h^p): ")
+    assert "needs two" not in out[-1]

@@ -129,23 +129,31 @@ def _print_table(rows: Sequence[Mapping[str, Any]], orders: Mapping[str, float],
     print(header)
     print(f"{'resolution':>10} {'cells':>9} {'build ms':>9} {'plan ms':>8} {'status':>14} {'exact':>14} "
           f"{'len/exact':>9} {'len/opt':>8} {'Hausdorff':>9} {'Frechet':>8} {'stall err':>9} {'clearance':>9}")
+    from ..compare import no_path_at_resolution
+
     notes = []
     for r in rows:
         status = r["status"]
+        errors = [r["hausdorff"], r["frechet"], r["end_error"]]
         if ":" in status:  # "skipped: why" / "error: why": the word in the table, the reason below it
             word, why = status.split(":", 1)
             notes.append(f"  resolution {r['resolution']:g}: {word}: {why.strip()}")
             status = word
+        elif no_path_at_resolution(r):  # its start-only path measures no discretization error
+            notes.append(f"  resolution {r['resolution']:g}: no_path: the grid at this resolution (conservative: a "
+                         f"cell is blocked if any obstacle touches it) closes the way the exact planner takes; left "
+                         f"out of the observed order")
+            errors = [math.nan] * 3
         print(f"{r['resolution']:>10g} {r['cells']:>9d} {r['build_ms']:>9.1f} {_fmt(r['plan_ms'], '8.1f')} "
               f"{status:>14} {r['exact_status']:>14} {_fmt(r['length_ratio'], '9.4f')} "
-              f"{_fmt(r['length_ratio_optimal'], '8.4f')} {_fmt(r['hausdorff'], '9.4f')} {_fmt(r['frechet'], '8.4f')} "
-              f"{_fmt(r['end_error'], '9.4f')} {_fmt(r['min_clearance'], '9.4f')}"
+              f"{_fmt(r['length_ratio_optimal'], '8.4f')} {_fmt(errors[0], '9.4f')} {_fmt(errors[1], '8.4f')} "
+              f"{_fmt(errors[2], '9.4f')} {_fmt(r['min_clearance'], '9.4f')}"
               + ("  COLLIDES" if r["collides"] else ""))
     for note in notes:
         print(note)
-    ran = [r for r in rows if ":" not in r["status"]]
+    ran = [r for r in rows if ":" not in r["status"] and not no_path_at_resolution(r)]
     if len(ran) < 2:
-        print(f"observed order (error ~ h^p): needs two resolutions that ran, {len(ran)} did")
+        print(f"observed order (error ~ h^p): needs two resolutions that found a path, {len(ran)} did")
         return
     shown = ", ".join(f"{k} {v:.2f}" if not math.isnan(v) else f"{k} - (fewer than two positive errors)"
                       for k, v in orders.items())
@@ -157,14 +165,15 @@ def _plot(file: str, rows: Sequence[Mapping[str, Any]], title: str) -> str:
     slope); return the line to print: ``wrote F``, or, when no resolution ran, why nothing was written."""
     import matplotlib.pyplot as plt
 
-    from ..compare import study_errors
+    from ..compare import no_path_at_resolution, study_errors
     from ..plot import plot_convergence
 
     names = {"hausdorff": "Hausdorff", "frechet": "Frechet", "end_error": "stall/end point",
              "length_error": "|length ratio - 1|"}
     from ..errors import GridfieldError
 
-    ran = [r for r in rows if ":" not in r["status"]]  # skipped and failed resolutions have no errors
+    # skipped and failed resolutions have no errors, nor those whose grid closes the way
+    ran = [r for r in rows if ":" not in r["status"] and not no_path_at_resolution(r)]
     if not ran:
         return (f"no plot written to {file}: none of the {len(rows)} resolutions ran (see the table); give "
                 "--resolutions at which start and goal are free")

@@ -59,7 +59,7 @@ from ._metrics import (
 )
 from ._study import ERROR_COLUMNS as _ERROR_COLUMNS
 from ._study import STUDY_COLUMNS as _STUDY_COLUMNS
-from ._study import convergence_study, study_errors, study_orders
+from ._study import convergence_study, no_path_at_resolution, study_errors, study_orders
 
 # (owned by ``_study``; assigned here to document them on this page)
 #: Keys of every row of :func:`convergence_study`, in table order.
@@ -81,6 +81,7 @@ __all__ = [
     "length_ratio",
     "max_deviation",
     "min_clearance",
+    "no_path_at_resolution",
     "observed_order",
     "optimum_solver",
     "resample",

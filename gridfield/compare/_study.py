@@ -67,7 +67,8 @@ def _compare_row(world: World, grid: Path, exact: Path, optimal: float, resoluti
         "length": grid.length,
         "exact_length": exact.length,
         "optimal_length": optimal,
-        "length_ratio": length_ratio(grid, exact.length),
+        # a run that found no path (its one point, the start) has no length to compare
+        "length_ratio": length_ratio(grid, exact.length) if grid.status != "no_path" else math.nan,
         # a path that did not reach the goal has no meaningful ratio to the optimum
         "length_ratio_optimal": length_ratio(grid, optimal) if grid.reached else math.nan,
         "hausdorff": hausdorff(grid, exact, spacing=spacing),
@@ -199,12 +200,37 @@ def convergence_study(
     return rows
 
 
+def no_path_at_resolution(row: Mapping[str, Any]) -> bool:
+    """Whether a convergence-study row's grid run found no path where the exact planner found one
+    (the grid, conservative at that resolution, closes the way the exact planner takes).
+
+    Parameters
+    ----------
+    row : mapping
+        A row of :func:`convergence_study` (``status`` and ``exact_status``).
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> no_path_at_resolution({"status": "no_path", "exact_status": "reached"})
+    True
+    >>> no_path_at_resolution({"status": "no_path", "exact_status": "no_path"})
+    False
+    """
+    return row.get("status") == "no_path" and row.get("exact_status") not in ("no_path", "", None)
+
+
 def study_errors(rows: Sequence[Mapping[str, Any]]) -> dict[str, list[float]]:
     """The error columns (:data:`ERROR_COLUMNS`) of convergence-study rows.
 
     ``length_error`` is ``|length_ratio - 1|`` (grid length against the exact planner's) where both
     planners reached the goal, NaN elsewhere: a stalled follower's path length depends on when its
-    oscillation was detected, not on the field's accuracy.
+    oscillation was detected, not on the field's accuracy. A row whose grid run found no path where
+    the exact planner found one (:func:`no_path_at_resolution`: the coarse, conservative grid closes
+    the way) has NaN errors: its start-only "path" measures no discretization error.
 
     Parameters
     ----------
@@ -224,10 +250,11 @@ def study_errors(rows: Sequence[Mapping[str, Any]]) -> dict[str, list[float]]:
     {'hausdorff': [0.4], 'frechet': [0.5], 'end_error': [0.1], 'length_error': [nan]}
     """
     both_reached = [r.get("status", "reached") == r.get("exact_status", "reached") == "reached" for r in rows]
+    closed = [no_path_at_resolution(r) for r in rows]
     return {
-        "hausdorff": [float(r["hausdorff"]) for r in rows],
-        "frechet": [float(r["frechet"]) for r in rows],
-        "end_error": [float(r["end_error"]) for r in rows],
+        "hausdorff": [math.nan if c else float(r["hausdorff"]) for r, c in zip(rows, closed, strict=True)],
+        "frechet": [math.nan if c else float(r["frechet"]) for r, c in zip(rows, closed, strict=True)],
+        "end_error": [math.nan if c else float(r["end_error"]) for r, c in zip(rows, closed, strict=True)],
         "length_error": [abs(float(r["length_ratio"]) - 1.0) if ok else math.nan
                          for r, ok in zip(rows, both_reached, strict=True)],
     }

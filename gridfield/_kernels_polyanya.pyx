@@ -1,0 +1,480 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
+"""Compiled Polyanya search behind :mod:`gridfield.anyangle` (``search="polyanya"``; private).
+
+Polyanya (Cui, Harabor & Grastien, "Compromise-free Pathfinding on a Navigation Mesh", IJCAI 2017)
+finds the Euclidean shortest path over a mesh of convex polygons without a visibility graph. Written
+here from the paper's description, in *lattice units* (cell ``(r, c)`` is ``[c, c + 1] x [r, r + 1]``).
+
+The mesh (built by :func:`gridfield.anyangle._navmesh`) is a CSR of polygons: polygon ``p`` owns the
+slots ``pstart[p] .. pstart[p + 1] - 1``, its vertices in counter-clockwise order (collinear ones
+kept: every point where the neighbour across the boundary changes is a vertex); slot ``k`` holds the
+vertex ``(vx[k], vy[k])`` with its lattice index ``vid[k]``, and the edge from it to the next slot's
+vertex, whose neighbour across is ``nb[k]`` (-1: an obstacle or the map's outside) where that edge is
+the neighbour's slot ``nbslot[k]`` (local index). ``turn[vid]`` marks the lattice points a taut path
+may bend at (exactly one of the four cells round them blocked).
+
+A search node is a root (the start or a turning vertex, reached with cost ``g``) and an *interval*
+``[A, B]`` on an edge of the polygon it enters, every point of which the root sees; ``A`` lies on the
+side of the edge's first vertex in that polygon, ``B`` on the side of its second. Expanding it
+projects the interval through the polygon (rays root -> A and root -> B): the edges (or parts of
+them) between the two rays are *observable* successors (same root), those outside the rays on the
+side of an endpoint that is a polygon vertex and a turning point are *non-observable* successors
+(rooted at that endpoint). A root on the interval's line either is one of its endpoints (then the
+root sees the whole polygon) or lies beyond it (then only the nearer endpoint can be turned round).
+``f = g + h`` with ``h`` the exact distance from the root through the interval to the goal (the goal
+mirrored across the interval's line when it lies on the root's side). Root-level pruning: a node is
+dropped when its root vertex was reached with a smaller ``g`` (within ``EPS_G``). The goal's
+polygons end the search: expanding one pushes a final node (root and goal in sight, or turning at an
+interval endpoint), and the first final node popped is the optimum.
+
+Everything runs without the GIL, on C buffers grown by doubling; the per-root best ``g`` lives in
+arrays of the mesh, valid where ``stamp`` equals the query's ``sid`` (no clearing per query; the
+caller serialises queries on one mesh).
+"""
+
+from libc.math cimport INFINITY, sqrt, fabs
+from libc.stdint cimport int32_t, int64_t, uint8_t
+from libc.stdlib cimport free, malloc, realloc
+
+import numpy as np
+
+__all__ = ["polyanya"]
+
+cdef double EPS = 1e-8       # cross products (lattice units squared) treated as zero
+cdef double EPS_G = 1e-9     # root-level pruning: a root's g may exceed its best by this much
+cdef double EPS_LEN2 = 1e-18 # squared interval length below which an interval is dropped
+
+
+cdef struct Node:
+    double rx, ry, ax, ay, bx, by, g
+    int32_t root, poly, edge, parent
+
+
+cdef struct Mesh:
+    const int64_t* pstart
+    const double* vx
+    const double* vy
+    const int32_t* vid
+    const int32_t* nb
+    const int32_t* nbslot
+    const uint8_t* turn
+    double* best
+    int32_t* stamp
+    int32_t sid
+    double tx, ty
+    int32_t gp[4]
+    int ngp
+
+
+cdef struct Search:
+    Node* nodes
+    int64_t n, cap
+    double* hf
+    int64_t* hi
+    int64_t hn, hcap
+    bint oom
+
+
+cdef inline double _cross(double ax, double ay, double bx, double by) noexcept nogil:
+    return ax * by - ay * bx
+
+
+cdef inline double _dist(double ax, double ay, double bx, double by) noexcept nogil:
+    return sqrt((ax - bx) * (ax - bx) + (ay - by) * (ay - by))
+
+
+cdef double _h(double rx, double ry, double ax, double ay, double bx, double by, double tx, double ty) noexcept nogil:
+    """Shortest distance from the root through the interval [A, B] to the goal (a lower bound)."""
+    cdef double dx = bx - ax, dy = by - ay
+    cdef double cr = _cross(dx, dy, rx - ax, ry - ay)
+    cdef double ct = _cross(dx, dy, tx - ax, ty - ay)
+    cdef double l2 = dx * dx + dy * dy, k, oa, ob, da, db
+    if fabs(cr) <= EPS:  # root on the interval's line
+        if (rx == ax and ry == ay) or (rx == bx and ry == by):
+            return _dist(rx, ry, tx, ty)
+        da = _dist(rx, ry, ax, ay)
+        db = _dist(rx, ry, bx, by)
+        if da <= db:
+            return da + _dist(ax, ay, tx, ty)
+        return db + _dist(bx, by, tx, ty)
+    if (cr > 0) == (ct > 0) and fabs(ct) > 0.0:  # the goal on the root's side: mirror it
+        k = 2.0 * ct / l2
+        tx = tx + k * dy
+        ty = ty - k * dx
+    oa = _cross(tx - rx, ty - ry, ax - rx, ay - ry)
+    ob = _cross(tx - rx, ty - ry, bx - rx, by - ry)
+    if (oa <= 0.0 and ob >= 0.0) or (oa >= 0.0 and ob <= 0.0):
+        return _dist(rx, ry, tx, ty)
+    da = _dist(rx, ry, ax, ay) + _dist(ax, ay, tx, ty)
+    db = _dist(rx, ry, bx, by) + _dist(bx, by, tx, ty)
+    return da if da < db else db
+
+
+cdef bint _heap_push(Search* S, double f, int64_t j) noexcept nogil:
+    cdef int64_t i, p
+    cdef double* nf
+    cdef int64_t* ni
+    if S.hn == S.hcap:
+        nf = <double*> realloc(S.hf, 2 * S.hcap * sizeof(double))
+        if nf == NULL:
+            return False
+        S.hf = nf
+        ni = <int64_t*> realloc(S.hi, 2 * S.hcap * sizeof(int64_t))
+        if ni == NULL:
+            return False
+        S.hi = ni
+        S.hcap *= 2
+    i = S.hn
+    S.hn += 1
+    while i > 0:
+        p = (i - 1) >> 1
+        if S.hf[p] <= f:
+            break
+        S.hf[i] = S.hf[p]
+        S.hi[i] = S.hi[p]
+        i = p
+    S.hf[i] = f
+    S.hi[i] = j
+    return True
+
+
+cdef void _heap_pop(Search* S) noexcept nogil:
+    cdef int64_t i = 0, c, n
+    cdef double f
+    cdef int64_t j
+    S.hn -= 1
+    n = S.hn
+    if n == 0:
+        return
+    f = S.hf[n]
+    j = S.hi[n]
+    while True:
+        c = 2 * i + 1
+        if c >= n:
+            break
+        if c + 1 < n and S.hf[c + 1] < S.hf[c]:
+            c += 1
+        if S.hf[c] >= f:
+            break
+        S.hf[i] = S.hf[c]
+        S.hi[i] = S.hi[c]
+        i = c
+    S.hf[i] = f
+    S.hi[i] = j
+
+
+cdef void _push(Search* S, Mesh* M, int32_t parent, double rx, double ry, int32_t root, double g,
+                double ax, double ay, double bx, double by, int32_t poly, int32_t edge) noexcept nogil:
+    """Push a node (``poly < 0``: a final node, the goal in sight of its root); root-level pruning."""
+    cdef Node* nd
+    cdef Node* nn
+    cdef double f
+    if S.oom:
+        return
+    if poly >= 0 and (ax - bx) * (ax - bx) + (ay - by) * (ay - by) < EPS_LEN2:
+        return
+    if root >= 0 and poly >= 0:
+        if M.stamp[root] == M.sid:
+            if g > M.best[root] + EPS_G:
+                return
+            if g < M.best[root]:
+                M.best[root] = g
+        else:
+            M.stamp[root] = M.sid
+            M.best[root] = g
+    if S.n == S.cap:
+        nn = <Node*> realloc(S.nodes, 2 * S.cap * sizeof(Node))
+        if nn == NULL:
+            S.oom = True
+            return
+        S.nodes = nn
+        S.cap *= 2
+    nd = &S.nodes[S.n]
+    nd.rx = rx
+    nd.ry = ry
+    nd.ax = ax
+    nd.ay = ay
+    nd.bx = bx
+    nd.by = by
+    nd.g = g
+    nd.root = root
+    nd.poly = poly
+    nd.edge = edge
+    nd.parent = parent
+    if poly < 0:
+        f = g + _dist(rx, ry, M.tx, M.ty)
+    else:
+        f = g + _h(rx, ry, ax, ay, bx, by, M.tx, M.ty)
+    if not _heap_push(S, f, S.n):
+        S.oom = True
+        return
+    S.n += 1
+
+
+cdef inline void _push_edge(Search* S, Mesh* M, int32_t parent, double rx, double ry, int32_t root, double g,
+                            int64_t base, int64_t n, int64_t slot, double xx, double xy, double yx, double yy) noexcept nogil:
+    """Successor on the polygon's edge ``slot`` (local) from X (its first vertex's side) to Y."""
+    cdef int32_t q = M.nb[base + slot]
+    if q < 0:
+        return
+    # in the neighbour the edge runs the other way: A (its first vertex's side) is Y
+    _push(S, M, parent, rx, ry, root, g, yx, yy, xx, xy, q, M.nbslot[base + slot])
+
+
+cdef inline bint _is_goal_poly(Mesh* M, int32_t p) noexcept nogil:
+    cdef int i
+    for i in range(M.ngp):
+        if M.gp[i] == p:
+            return True
+    return False
+
+
+cdef void _expand(Search* S, Mesh* M, int32_t cur, double* sa, double* sb) noexcept nogil:
+    cdef Node nd = S.nodes[cur]
+    cdef int32_t P = nd.poly, e = nd.edge, root = nd.root, nroot
+    cdef int64_t base = M.pstart[P], n = M.pstart[P + 1] - M.pstart[P], m, s, kA, kB, eA, eB
+    cdef double rx = nd.rx, ry = nd.ry, ax = nd.ax, ay = nd.ay, bx = nd.bx, by = nd.by, g = nd.g
+    cdef double cr, px, py, qx, qy, xbx, xby, xax, xay, t, g2, nx, ny, da, db, sta, stb
+    cdef int64_t s2
+    cdef bint goal = _is_goal_poly(M, P), bvert, avert
+    cdef int64_t sB0 = base + (e + 1) % n   # global slot of V[e + 1] (c_0)
+    cdef int64_t sA0 = base + e             # global slot of V[e] (c_{n-1})
+    cr = _cross(bx - ax, by - ay, rx - ax, ry - ay)
+    if fabs(cr) <= EPS:
+        if (rx == ax and ry == ay) or (rx == bx and ry == by):
+            # the root is an endpoint of the interval, a vertex of this convex polygon: it sees all of it
+            for m in range(n - 1):
+                s = (e + 1 + m) % n
+                px = M.vx[base + s]
+                py = M.vy[base + s]
+                s2 = (s + 1) % n
+                _push_edge(S, M, cur, rx, ry, root, g, base, n, s, px, py, M.vx[base + s2], M.vy[base + s2])
+            if goal:
+                _push(S, M, cur, rx, ry, root, g, 0, 0, 0, 0, -1, -1)
+            return
+        # the root beyond the interval on its line: only its nearer endpoint can be turned round
+        da = _dist(rx, ry, ax, ay)
+        db = _dist(rx, ry, bx, by)
+        if da <= db:
+            nx, ny, s = ax, ay, sA0
+        else:
+            nx, ny, s = bx, by, sB0
+        if nx != M.vx[s] or ny != M.vy[s] or not M.turn[M.vid[s]]:
+            return
+        nroot = M.vid[s]
+        g2 = g + (da if da <= db else db)
+        for m in range(n - 1):
+            s = (e + 1 + m) % n
+            s2 = (s + 1) % n
+            _push_edge(S, M, cur, nx, ny, nroot, g2, base, n, s, M.vx[base + s], M.vy[base + s],
+                       M.vx[base + s2], M.vy[base + s2])
+        if goal:
+            _push(S, M, cur, nx, ny, nroot, g2, 0, 0, 0, 0, -1, -1)
+        return
+    if cr > 0:
+        return  # the root on the polygon's side of the entry edge: cannot happen (defensive)
+    # chain c_m = V[e + 1 + m], m = 0 .. n - 1 (c_{n-1} = V[e]); sb, sa: sides of the rays root -> B, root -> A
+    kB = -1
+    kA = -1
+    for m in range(n):
+        s = base + (e + 1 + m) % n
+        px = M.vx[s] - rx
+        py = M.vy[s] - ry
+        sb[m] = _cross(bx - rx, by - ry, px, py)
+        sa[m] = _cross(ax - rx, ay - ry, px, py)
+        if sb[m] < -EPS:
+            kB = m
+        if kA < 0 and sa[m] > EPS:
+            kA = m
+    # where the ray through B leaves the polygon: on chain edge eB at XB
+    if kB < 0:
+        eB = 0
+        xbx = M.vx[sB0]
+        xby = M.vy[sB0]
+    elif kB >= n - 1:
+        eB = n  # (defensive) nothing observable
+        xbx = xby = 0.0
+    else:
+        eB = kB
+        s = base + (e + 1 + kB + 1) % n
+        if fabs(sb[kB + 1]) <= EPS:
+            xbx = M.vx[s]
+            xby = M.vy[s]
+        else:
+            px = M.vx[base + (e + 1 + kB) % n]
+            py = M.vy[base + (e + 1 + kB) % n]
+            t = sb[kB] / (sb[kB] - sb[kB + 1])
+            xbx = px + (M.vx[s] - px) * t
+            xby = py + (M.vy[s] - py) * t
+    # where the ray through A leaves it: on chain edge eA at XA
+    if kA < 0:
+        eA = n - 2
+        xax = M.vx[sA0]
+        xay = M.vy[sA0]
+    elif kA == 0:
+        eA = -1  # (defensive) nothing observable
+        xax = xay = 0.0
+    else:
+        eA = kA - 1
+        s = base + (e + 1 + kA - 1) % n
+        if fabs(sa[kA - 1]) <= EPS:
+            xax = M.vx[s]
+            xay = M.vy[s]
+        else:
+            px = M.vx[s]
+            py = M.vy[s]
+            qx = M.vx[base + (e + 1 + kA) % n]
+            qy = M.vy[base + (e + 1 + kA) % n]
+            t = sa[kA - 1] / (sa[kA - 1] - sa[kA])
+            xax = px + (qx - px) * t
+            xay = py + (qy - py) * t
+    # observable successors: chain edges eB .. eA, from XB to XA, same root
+    if eB < eA or (eB == eA and eB < n - 1 and
+                   (xax - xbx) * (M.vx[base + (e + 2 + eB) % n] - M.vx[base + (e + 1 + eB) % n])
+                   + (xay - xby) * (M.vy[base + (e + 2 + eB) % n] - M.vy[base + (e + 1 + eB) % n]) > 0):
+        for m in range(eB, eA + 1):
+            s = (e + 1 + m) % n
+            s2 = (s + 1) % n
+            if m == eB:
+                px, py = xbx, xby
+            else:
+                px, py = M.vx[base + s], M.vy[base + s]
+            if m == eA:
+                qx, qy = xax, xay
+            else:
+                qx, qy = M.vx[base + s2], M.vy[base + s2]
+            _push_edge(S, M, cur, rx, ry, root, g, base, n, s, px, py, qx, qy)
+    # non-observable successors round B (= V[e + 1], a turning point): chain edges 0 .. eB, up to XB
+    bvert = bx == M.vx[sB0] and by == M.vy[sB0] and M.turn[M.vid[sB0]] and eB < n
+    if bvert:
+        nroot = M.vid[sB0]
+        g2 = g + _dist(rx, ry, bx, by)
+        for m in range(0, eB + 1):
+            s = (e + 1 + m) % n
+            s2 = (s + 1) % n
+            if m == eB:
+                qx, qy = xbx, xby
+            else:
+                qx, qy = M.vx[base + s2], M.vy[base + s2]
+            _push_edge(S, M, cur, bx, by, nroot, g2, base, n, s, M.vx[base + s], M.vy[base + s], qx, qy)
+    # and round A (= V[e]): chain edges eA .. n - 2, from XA
+    avert = ax == M.vx[sA0] and ay == M.vy[sA0] and M.turn[M.vid[sA0]] and eA >= 0
+    if avert:
+        nroot = M.vid[sA0]
+        g2 = g + _dist(rx, ry, ax, ay)
+        for m in range(eA, n - 1):
+            s = (e + 1 + m) % n
+            s2 = (s + 1) % n
+            if m == eA:
+                px, py = xax, xay
+            else:
+                px, py = M.vx[base + s], M.vy[base + s]
+            _push_edge(S, M, cur, ax, ay, nroot, g2, base, n, s, px, py, M.vx[base + s2], M.vy[base + s2])
+    if goal:
+        stb = _cross(bx - rx, by - ry, M.tx - rx, M.ty - ry)
+        sta = _cross(ax - rx, ay - ry, M.tx - rx, M.ty - ry)
+        if stb >= -EPS and sta <= EPS:
+            _push(S, M, cur, rx, ry, root, g, 0, 0, 0, 0, -1, -1)
+        else:
+            if stb < -EPS and bvert:
+                _push(S, M, cur, bx, by, M.vid[sB0], g + _dist(rx, ry, bx, by), 0, 0, 0, 0, -1, -1)
+            if sta > EPS and avert:
+                _push(S, M, cur, ax, ay, M.vid[sA0], g + _dist(rx, ry, ax, ay), 0, 0, 0, 0, -1, -1)
+
+
+def polyanya(const int64_t[::1] pstart, const double[::1] vx, const double[::1] vy, const int32_t[::1] vid,
+             const int32_t[::1] nb, const int32_t[::1] nbslot, const uint8_t[::1] turn, double[::1] best,
+             int32_t[::1] stamp, int32_t sid, int64_t maxn, double sx, double sy, const int64_t[::1] spolys,
+             double tx, double ty, const int64_t[::1] tpolys):
+    """Polyanya from ``(sx, sy)`` (in the polygons ``spolys``) to ``(tx, ty)`` (in ``tpolys``), lattice units.
+
+    Returns ``(length, xs, ys, expanded, generated)``: the optimum (``inf`` when the goal cannot be
+    reached), the lattice coordinates of the path's turning points (start and goal excluded), the
+    nodes expanded and generated. ``best`` and ``stamp`` (one entry per lattice point) are the
+    caller's workspace; ``sid`` must differ from every value already in ``stamp``.
+    """
+    cdef Mesh M
+    cdef Search S
+    cdef int64_t i, k, base, n, cur, expanded = 0
+    cdef int32_t p
+    cdef double length = INFINITY, px, py, qx, qy, cx, cy, ux, uy
+    cdef double* sa = NULL
+    cdef double* sb = NULL
+    cdef Node* nd
+    cdef bint found = False
+    M.pstart = &pstart[0]
+    M.vx = &vx[0]
+    M.vy = &vy[0]
+    M.vid = &vid[0]
+    M.nb = &nb[0]
+    M.nbslot = &nbslot[0]
+    M.turn = &turn[0]
+    M.best = &best[0]
+    M.stamp = &stamp[0]
+    M.sid = sid
+    M.tx = tx
+    M.ty = ty
+    M.ngp = <int> min(tpolys.shape[0], 4)
+    for i in range(M.ngp):
+        M.gp[i] = <int32_t> tpolys[i]
+    S.cap = 1024
+    S.hcap = 1024
+    S.n = S.hn = 0
+    S.oom = False
+    S.nodes = <Node*> malloc(S.cap * sizeof(Node))
+    S.hf = <double*> malloc(S.hcap * sizeof(double))
+    S.hi = <int64_t*> malloc(S.hcap * sizeof(int64_t))
+    sa = <double*> malloc((maxn + 1) * sizeof(double))
+    sb = <double*> malloc((maxn + 1) * sizeof(double))
+    if S.nodes == NULL or S.hf == NULL or S.hi == NULL or sa == NULL or sb == NULL:
+        free(S.nodes); free(S.hf); free(S.hi); free(sa); free(sb)
+        raise MemoryError("polyanya: out of memory")
+    with nogil:
+        # seeds: every edge of every polygon holding the start, but those the start lies on
+        for i in range(spolys.shape[0]):
+            p = <int32_t> spolys[i]
+            base = pstart[p]
+            n = pstart[p + 1] - base
+            for k in range(n):
+                px = vx[base + k]
+                py = vy[base + k]
+                qx = vx[base + (k + 1) % n]
+                qy = vy[base + (k + 1) % n]
+                if (_cross(qx - px, qy - py, sx - px, sy - py) == 0.0
+                        and (sx - px) * (sx - qx) + (sy - py) * (sy - qy) <= 0.0):
+                    continue
+                _push_edge(&S, &M, -1, sx, sy, -1, 0.0, base, n, k, px, py, qx, qy)
+            if _is_goal_poly(&M, p):
+                _push(&S, &M, -1, sx, sy, -1, 0.0, 0, 0, 0, 0, -1, -1)
+        while S.hn > 0 and not S.oom:
+            cur = S.hi[0]
+            _heap_pop(&S)
+            nd = &S.nodes[cur]
+            if nd.poly < 0:
+                found = True
+                length = nd.g + _dist(nd.rx, nd.ry, tx, ty)
+                break
+            if nd.root >= 0 and nd.g > M.best[nd.root] + EPS_G:
+                continue  # its root was reached more cheaply since
+            expanded += 1
+            _expand(&S, &M, <int32_t> cur, sa, sb)
+    xs = []
+    ys = []
+    try:
+        if S.oom:
+            raise MemoryError("polyanya: out of memory")
+        if found:
+            i = cur
+            last = -1
+            while i >= 0:
+                if S.nodes[i].root >= 0 and S.nodes[i].root != last:
+                    last = S.nodes[i].root
+                    xs.append(S.nodes[i].rx)
+                    ys.append(S.nodes[i].ry)
+                i = S.nodes[i].parent
+            xs.reverse()
+            ys.reverse()
+        generated = S.n
+    finally:
+        free(S.nodes); free(S.hf); free(S.hi); free(sa); free(sb)
+    return length, np.array(xs, dtype=np.float64), np.array(ys, dtype=np.float64), expanded, generated

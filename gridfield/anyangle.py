@@ -75,6 +75,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import threading
 import time
 import weakref
 from collections import OrderedDict
@@ -91,7 +92,7 @@ from .grid import Grid, GridMap
 from .params import validate
 from .path import Path
 
-__all__ = ["AnyAngleGraph", "convex_corners", "grid_graph", "plan_anyangle"]
+__all__ = ["AnyAngleGraph", "NavMesh", "convex_corners", "grid_graph", "navigation_mesh", "plan_anyangle"]
 
 #: Graphs kept by :func:`grid_graph` without an explicit cache (most recently used maps).
 CACHE_SIZE = 4
@@ -140,13 +141,150 @@ def convex_corners(blocked_padded: NDArray[np.uint8]) -> tuple[NDArray[np.float6
     return x.astype(np.float64), y.astype(np.float64), qx, qy
 
 
+@dataclass(frozen=True, eq=False)
+class NavMesh:
+    """The navigation mesh of a grid map's free space (lattice units), for the Polyanya search.
+
+    Build it with :func:`navigation_mesh`. The polygons are rectangles of free cells; polygon ``p``
+    owns the slots ``pstart[p] .. pstart[p + 1] - 1``: its vertices counter-clockwise, collinear ones
+    kept (a vertex wherever the neighbour across the boundary changes), slot ``k`` the vertex
+    ``(vx[k], vy[k])`` (lattice index ``vid[k] = y * (cols + 1) + x``) and the edge to the next slot's
+    vertex, with the polygon ``nb[k]`` across it (-1: a blocked cell or the map's outside) in whose
+    slot list the same edge is ``nbslot[k]``. ``turn`` flags the lattice points where exactly one of
+    the four cells round them is blocked (the outside counts as blocked): the only points a taut path
+    bends at. ``labels`` is the polygon of each cell, padded by a frame of -1 like the blocked array.
+
+    Attributes
+    ----------
+    pstart : ndarray of int64, shape (n_polygons + 1,)
+    vx, vy : ndarray of float64, shape (n_slots,)
+    vid, nb, nbslot : ndarray of int32, shape (n_slots,)
+    turn : ndarray of uint8, shape ((rows + 1) * (cols + 1),)
+    labels : ndarray of int32, shape (rows + 2, cols + 2)
+    max_vertices : int
+        The most vertices of one polygon.
+    """
+
+    pstart: NDArray[np.int64]
+    vx: NDArray[np.float64]
+    vy: NDArray[np.float64]
+    vid: NDArray[np.int32]
+    nb: NDArray[np.int32]
+    nbslot: NDArray[np.int32]
+    turn: NDArray[np.uint8]
+    labels: NDArray[np.int32]
+    max_vertices: int
+
+    @property
+    def n_polygons(self) -> int:
+        return len(self.pstart) - 1
+
+    def polygons_at(self, u: float, v: float) -> NDArray[np.int64]:
+        """The polygons holding the lattice point ``(u, v)`` (those of the free closed cells it lies in)."""
+        cs = (int(u) - 1, int(u)) if u == math.floor(u) else (math.floor(u),)
+        rs = (int(v) - 1, int(v)) if v == math.floor(v) else (math.floor(v),)
+        L = self.labels
+        return np.array(sorted({int(L[r + 1, c + 1]) for r in rs for c in cs if L[r + 1, c + 1] >= 0}), dtype=np.int64)
+
+
+def navigation_mesh(blocked_padded: NDArray[np.uint8]) -> NavMesh:
+    """The navigation mesh of a padded blocked array (:class:`NavMesh`), in numpy without a loop over cells.
+
+    The free cells of each row form maximal runs; runs with the same columns in consecutive rows merge
+    into one rectangle. A lattice point is a vertex of every rectangle round it unless the rectangles
+    (and blocked cells) round it meet along one straight line through it; each rectangle's vertices are
+    sorted round its boundary, and each edge is matched with the same edge, reversed, of the polygon
+    across it. Two cells touching only at a corner share no edge, so no path crosses a pinch point.
+
+    Parameters
+    ----------
+    blocked_padded : ndarray of uint8, shape (rows + 2, cols + 2)
+        The blocked cells with a one-cell frame (paths stay on the map, so :class:`AnyAngleGraph`
+        passes a blocked frame for either border).
+
+    Returns
+    -------
+    NavMesh
+
+    Examples
+    --------
+    >>> B = np.ones((5, 5), np.uint8); B[1:4, 1:4] = 0; B[2, 2] = 1     # a 3 x 3 map, its centre blocked
+    >>> mesh = navigation_mesh(B)
+    >>> mesh.n_polygons, np.diff(mesh.pstart).tolist()         # the left cell, the bottom row, the top row, the right cell
+    (4, [4, 6, 6, 4])
+    >>> mesh.vx[:4].tolist(), mesh.vy[:4].tolist()            # the left cell's corners, counter-clockwise
+    ([0.0, 1.0, 1.0, 0.0], [1.0, 1.0, 2.0, 2.0])
+    >>> mesh.nb[:4].tolist()                                   # across its edges: bottom row, centre, top row, outside
+    [1, -1, 2, -1]
+    """
+    free = blocked_padded[1:-1, 1:-1] == 0
+    rows, cols = free.shape
+    d = np.diff(np.pad(free.astype(np.int8), ((0, 0), (1, 1))), axis=1)
+    r, c0 = np.nonzero(d == 1)
+    c1 = np.nonzero(d == -1)[1]
+    n = len(r)
+    # runs with the same extent in consecutive rows: one rectangle
+    key = c0.astype(np.int64) * (cols + 1) + c1
+    order = np.lexsort((r, key))
+    ks, rs = key[order], r[order]
+    new = np.ones(n, dtype=bool)
+    new[1:] = (ks[1:] != ks[:-1]) | (rs[1:] != rs[:-1] + 1)
+    rid = np.empty(n, dtype=np.int64)
+    rid[order] = np.cumsum(new) - 1
+    first = np.flatnonzero(new)
+    last = np.append(first[1:], n) - 1
+    X0, X1 = c0[order[first]], c1[order[first]]
+    Y0, Y1 = rs[first], rs[last] + 1
+    L = np.full((rows + 2, cols + 2), -1, dtype=np.int32)
+    L[1:-1, 1:-1][free] = np.repeat(rid, c1 - c0)  # free cells in row-major order are the runs in order
+    # vertices: lattice points where the labels round them do not meet along one straight line
+    sw, se, nw, ne = L[:-1, :-1], L[:-1, 1:], L[1:, :-1], L[1:, 1:]
+    py, px = np.nonzero(~((sw == se) & (nw == ne)) & ~((sw == nw) & (se == ne)))
+    labs = np.stack([sw[py, px], se[py, px], nw[py, px], ne[py, px]], axis=1)
+    keep = labs >= 0
+    for j in range(1, 4):  # each polygon once per point
+        keep[:, j] &= (labs[:, j:j + 1] != labs[:, :j]).all(axis=1)
+    pi, q = np.nonzero(keep)
+    lab, x, y = labs[pi, q].astype(np.int64), px[pi].astype(np.int64), py[pi].astype(np.int64)
+    x0, y0, x1, y1 = X0[lab], Y0[lab], X1[lab], Y1[lab]
+    w, h = x1 - x0, y1 - y0
+    # the position along the rectangle's boundary, counter-clockwise from its lower left corner
+    t = np.where((y == y0) & (x < x1), x - x0,
+                 np.where((x == x1) & (y < y1), w + (y - y0),
+                          np.where((y == y1) & (x > x0), w + h + (x1 - x), 2 * w + h + (y1 - y))))
+    order = np.lexsort((t, lab))
+    lab, x, y = lab[order], x[order], y[order]
+    npoly = len(X0)
+    pstart = np.zeros(npoly + 1, dtype=np.int64)
+    np.cumsum(np.bincount(lab, minlength=npoly), out=pstart[1:])
+    nxt = np.arange(1, len(lab) + 1)
+    nxt[pstart[1:] - 1] = pstart[:-1]
+    xn, yn = x[nxt], y[nxt]
+    dx, dy = np.sign(xn - x), np.sign(yn - y)
+    # the cell across each edge, on its right: the midpoint moved by half a cell (doubled: integers)
+    nb = L[(y + yn - dx) // 2 + 1, (x + xn + dy) // 2 + 1]
+    vid = y * (cols + 1) + x
+    nl = (cols + 1) * (rows + 1)
+    key = vid * nl + vid[nxt]
+    so = np.argsort(key)
+    has = nb >= 0
+    glob = so[np.searchsorted(key[so], vid[nxt][has] * nl + vid[has])]  # the same edge, reversed
+    nbslot = np.full(len(lab), -1, dtype=np.int32)
+    nbslot[has] = glob - pstart[nb[has]]
+    Bi = blocked_padded.astype(np.int8)
+    turn = ((Bi[:-1, :-1] + Bi[:-1, 1:] + Bi[1:, :-1] + Bi[1:, 1:]) == 1).astype(np.uint8).ravel()
+    return NavMesh(pstart, x.astype(np.float64), y.astype(np.float64), vid.astype(np.int32), nb.astype(np.int32),
+                   nbslot, turn, L, int(np.diff(pstart).max()) if npoly else 0)
+
+
 #: The default search of :meth:`AnyAngleGraph.shortest_path` (and so of :func:`plan_anyangle`):
-#: ``"lazy"`` (A* over the corners, each corner's visible neighbours found when it is expanded; no
-#: per-map graph) or ``"graph"`` (A* over the taut visibility graph, built on first use and kept).
-#: Both give the same optimum; the figures behind the choice: benchmarks/README.md, "Any-angle
+#: ``"polyanya"`` (Polyanya over the navigation mesh of the free cells, built on first use and kept),
+#: ``"graph"`` (A* over the taut visibility graph, built on first use and kept) or ``"lazy"`` (A* over
+#: the corners, each corner's visible neighbours found when it is expanded; no per-map graph). All
+#: three give the same optimum; the figures behind the choice: benchmarks/README.md, "Any-angle
 #: optimum on grid maps".
-SEARCH = "graph"
-SEARCHES = ("lazy", "graph")
+SEARCH = "polyanya"
+SEARCHES = ("lazy", "graph", "polyanya")
 
 
 @dataclass(frozen=True, eq=False)
@@ -226,6 +364,49 @@ class AnyAngleGraph:
             self._lazy.update(csr=(indptr, indices, weights), seconds=time.perf_counter() - t0)
             self._lazy["edges"] = edges
         return self._lazy
+
+    @property
+    def mesh(self) -> NavMesh:
+        """The navigation mesh of the free cells (built on first access; :attr:`mesh_seconds`)."""
+        mesh: NavMesh = self._mesh()["mesh"]
+        return mesh
+
+    @property
+    def mesh_built(self) -> bool:
+        """Whether the navigation mesh (:attr:`mesh`) has been built."""
+        return "mesh" in self._lazy
+
+    @property
+    def mesh_seconds(self) -> float:
+        """Time the navigation mesh took to build (building it if it was not)."""
+        return float(self._mesh()["mesh_seconds"])
+
+    def _mesh(self) -> dict[str, Any]:
+        if "mesh" not in self._lazy:
+            t0 = time.perf_counter()
+            mesh = navigation_mesh(self._B)
+            n = len(mesh.turn)
+            # the search's best g per root, valid where stamp == the query's number (never cleared)
+            self._lazy.update(mesh_best=np.zeros(n), mesh_stamp=np.zeros(n, dtype=np.int32), mesh_sid=0,
+                              mesh_lock=threading.Lock(), mesh_seconds=time.perf_counter() - t0)
+            self._lazy["mesh"] = mesh
+        return self._lazy
+
+    def _polyanya(self, sx: float, sy: float, gx: float, gy: float) -> tuple[float, NDArray[np.float64], int]:
+        """Polyanya from ``(sx, sy)`` to ``(gx, gy)`` (lattice units): length, turning points ``(k, 2)``
+        (lattice), nodes expanded."""
+        lz = self._mesh()
+        mesh: NavMesh = lz["mesh"]
+        with lz["mesh_lock"]:  # one query at a time uses the mesh's workspace
+            lz["mesh_sid"] += 1
+            if lz["mesh_sid"] >= 2**31 - 1:
+                lz["mesh_stamp"].fill(0)
+                lz["mesh_sid"] = 1
+            length, xs, ys, expanded, _ = kernels("polyanya").polyanya(
+                mesh.pstart, mesh.vx, mesh.vy, mesh.vid, mesh.nb, mesh.nbslot, mesh.turn, lz["mesh_best"],
+                lz["mesh_stamp"], lz["mesh_sid"], mesh.max_vertices, sx, sy, mesh.polygons_at(sx, sy), gx, gy,
+                mesh.polygons_at(gx, gy))
+        return float(length), np.column_stack([xs, ys]), int(expanded)
 
     # -- coordinates --------------------------------------------------------------------
     def _lattice(self, point: ArrayLike, name: str) -> tuple[float, float]:
@@ -322,8 +503,9 @@ class AnyAngleGraph:
         ----------
         start, goal : array_like, shape (2,)
             World points in the free space.
-        search : {"lazy", "graph"}, optional
-            :data:`SEARCH` when not given. Both find the optimum (module docstring, "Queries").
+        search : {"lazy", "graph", "polyanya"}, optional
+            :data:`SEARCH` when not given. All three find the optimum (module docstring, "Queries",
+            "Polyanya").
 
         Returns
         -------
@@ -343,7 +525,7 @@ class AnyAngleGraph:
         >>> occ = np.zeros((5, 5), bool); occ[0:4, 2] = True
         >>> g = grid_graph(GridMap(Grid((5, 5), 1.0, border="wall"), occ))
         >>> [round(g.shortest_path([0.5, 2.5], [4.5, 2.5], search=s)[1], 9) for s in SEARCHES]
-        [5.242640687, 5.242640687]
+        [5.242640687, 5.242640687, 5.242640687]
         """
         pts, length, _ = self._search(start, goal, SEARCH if search is None else search)
         return pts, length
@@ -361,6 +543,11 @@ class AnyAngleGraph:
         g_w = np.array([x0 + gx * h, y0 + gy * h])
         if k.segment_free(self._B, sx, sy, gx, gy):
             return np.array([s_w, g_w]), float(math.hypot(gx - sx, gy - sy) * h), 0
+        if search == "polyanya":
+            length, turns, expanded = self._polyanya(sx, sy, gx, gy)
+            if not math.isfinite(length):
+                return np.empty((0, 2)), math.inf, expanded
+            return np.vstack([s_w, np.array([x0, y0]) + turns * h, g_w]), length * h, expanded
         corners = (self._vx, self._vy, self._qx, self._qy)
         sd = k.visible_from_culled(self._B, self._ext, sx, sy, *corners, *self._blocks)
         gd = k.visible_from_culled(self._B, self._ext, gx, gy, *corners, *self._blocks)
@@ -514,10 +701,11 @@ def plan_anyangle(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: M
     Returns a :class:`~gridfield.path.Path` (``planner="visibility"``) with status ``"reached"``,
     or ``"no_path"`` (one point, the start) when the goal cannot be reached. ``seconds`` is the
     query time (the corners come from :func:`grid_graph`; the search is :data:`SEARCH`); ``extra``
-    holds ``nodes`` (convex corners), ``graph_seconds`` (the per-map part, plus the visibility
-    graph's build when it was built), ``edges`` (only when the visibility graph was built: the
-    ``"graph"`` search) and ``optimal_length``; ``min_clearance`` is the exact distance of the path
-    to the blocked cells (0 where it touches one).
+    holds ``nodes`` (convex corners), ``graph_seconds`` (the per-map part, plus the builds of the
+    navigation mesh and of the visibility graph when they were built), ``polygons`` (only when the
+    mesh was built: the ``"polyanya"`` search), ``edges`` (only when the visibility graph was built:
+    the ``"graph"`` search) and ``optimal_length``; ``min_clearance`` is the exact distance of the
+    path to the blocked cells (0 where it touches one).
 
     Parameters
     ----------
@@ -545,16 +733,22 @@ def plan_anyangle(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: M
     """
     params = validate(params)  # a raw mapping from a direct call is checked too
     graph = grid_graph(gridmap, cache=cache)
+    # the per-map structure of the search before the query (a straight-line answer too), so that
+    # seconds is the query alone
     if SEARCH == "graph":
-        graph._graph()  # before the query, as when the graph was built with the corners (a straight-line answer too)
+        graph._graph()
+    elif SEARCH == "polyanya":
+        graph._mesh()
     t0 = time.perf_counter()
     pts, length, _ = graph._search(start, goal, SEARCH)
     seconds = time.perf_counter() - t0
     extra: dict[str, Any] = {"nodes": graph.n_nodes}
+    if graph.mesh_built:  # the Polyanya search (or a caller) built the mesh: its size
+        extra["polygons"] = graph.mesh.n_polygons
     if graph.graph_built:  # the graph search (or a caller) built the graph: its size and time
         extra["edges"] = graph.n_edges
-    extra.update(graph_seconds=graph.seconds + (graph.graph_seconds if graph.graph_built else 0.0),
-                 optimal_length=length, pinch="block")
+    extra.update(graph_seconds=graph.seconds + (graph.mesh_seconds if graph.mesh_built else 0.0)
+                 + (graph.graph_seconds if graph.graph_built else 0.0), optimal_length=length, pinch="block")
     if not math.isfinite(length):
         s = np.asarray(start, dtype=float).reshape(1, 2)
         return Path(s, "no_path", "visibility", iterations=graph.n_nodes, params=dict(params or {}),

@@ -357,8 +357,8 @@ def test_unknown_search_is_refused():
     from gridfield.errors import ParameterError
 
     g = grid_graph(GridMap(Grid((4, 4), 1.0), np.zeros((4, 4), bool)))
-    with pytest.raises(ParameterError, match="search must be one of 'lazy', 'graph'"):
-        g.shortest_path((0.5, 0.5), (3.5, 3.5), search="polyanya")
+    with pytest.raises(ParameterError, match="search must be one of 'lazy', 'graph', 'polyanya'"):
+        g.shortest_path((0.5, 0.5), (3.5, 3.5), search="visibility")
 
 
 MAPS = ["den312d", "mapf_random-32-32-10", "AR0011SR", "16room_000", "Berlin_0_256", "brc202d"]

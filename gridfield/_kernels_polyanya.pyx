@@ -46,7 +46,7 @@ cdef double EPS_LEN2 = 1e-18 # squared interval length below which an interval i
 
 
 cdef struct Node:
-    double rx, ry, ax, ay, bx, by, g
+    double rx, ry, ax, ay, bx, by, g, f
     int32_t root, poly, edge, parent
 
 
@@ -58,6 +58,7 @@ cdef struct Mesh:
     const int32_t* nb
     const int32_t* nbslot
     const uint8_t* turn
+    const int32_t* degree
     double* best
     int32_t* stamp
     int32_t sid
@@ -73,6 +74,14 @@ cdef struct Search:
     int64_t* hi
     int64_t hn, hcap
     bint oom
+
+
+cdef struct Chain:  # scratch of one expansion: the polygon's vertices from V[e + 1] round to V[e]
+    double* x
+    double* y
+    double* sa
+    double* sb
+    int64_t* slot
 
 
 cdef inline double _cross(double ax, double ay, double bx, double by) noexcept nogil:
@@ -97,7 +106,7 @@ cdef double _h(double rx, double ry, double ax, double ay, double bx, double by,
         if da <= db:
             return da + _dist(ax, ay, tx, ty)
         return db + _dist(bx, by, tx, ty)
-    if (cr > 0) == (ct > 0) and fabs(ct) > 0.0:  # the goal on the root's side: mirror it
+    if (cr > 0) == (ct > 0) and ct != 0.0:  # the goal on the root's side: mirror it
         k = 2.0 * ct / l2
         tx = tx + k * dy
         ty = ty - k * dx
@@ -163,25 +172,37 @@ cdef void _heap_pop(Search* S) noexcept nogil:
     S.hi[i] = j
 
 
+cdef inline bint _is_goal_poly(Mesh* M, int32_t p) noexcept nogil:
+    cdef int i
+    for i in range(M.ngp):
+        if M.gp[i] == p:
+            return True
+    return False
+
+
 cdef void _push(Search* S, Mesh* M, int32_t parent, double rx, double ry, int32_t root, double g,
                 double ax, double ay, double bx, double by, int32_t poly, int32_t edge) noexcept nogil:
-    """Push a node (``poly < 0``: a final node, the goal in sight of its root); root-level pruning."""
+    """Add a node to the pool (``poly < 0``: a final node, the goal in sight of its root), with its f;
+    the caller puts it on the heap. Root-level pruning, and no node into a dead end (a polygon whose
+    one neighbour is the one the node comes from) but the goal's."""
     cdef Node* nd
     cdef Node* nn
-    cdef double f
     if S.oom:
         return
-    if poly >= 0 and (ax - bx) * (ax - bx) + (ay - by) * (ay - by) < EPS_LEN2:
-        return
-    if root >= 0 and poly >= 0:
-        if M.stamp[root] == M.sid:
-            if g > M.best[root] + EPS_G:
-                return
-            if g < M.best[root]:
+    if poly >= 0:
+        if (ax - bx) * (ax - bx) + (ay - by) * (ay - by) < EPS_LEN2:
+            return
+        if M.degree[poly] <= 1 and not _is_goal_poly(M, poly):
+            return
+        if root >= 0:
+            if M.stamp[root] == M.sid:
+                if g > M.best[root] + EPS_G:
+                    return
+                if g < M.best[root]:
+                    M.best[root] = g
+            else:
+                M.stamp[root] = M.sid
                 M.best[root] = g
-        else:
-            M.stamp[root] = M.sid
-            M.best[root] = g
     if S.n == S.cap:
         nn = <Node*> realloc(S.nodes, 2 * S.cap * sizeof(Node))
         if nn == NULL:
@@ -202,53 +223,49 @@ cdef void _push(Search* S, Mesh* M, int32_t parent, double rx, double ry, int32_
     nd.edge = edge
     nd.parent = parent
     if poly < 0:
-        f = g + _dist(rx, ry, M.tx, M.ty)
+        nd.f = g + _dist(rx, ry, M.tx, M.ty)
     else:
-        f = g + _h(rx, ry, ax, ay, bx, by, M.tx, M.ty)
-    if not _heap_push(S, f, S.n):
-        S.oom = True
-        return
+        nd.f = g + _h(rx, ry, ax, ay, bx, by, M.tx, M.ty)
     S.n += 1
 
 
 cdef inline void _push_edge(Search* S, Mesh* M, int32_t parent, double rx, double ry, int32_t root, double g,
-                            int64_t base, int64_t n, int64_t slot, double xx, double xy, double yx, double yy) noexcept nogil:
-    """Successor on the polygon's edge ``slot`` (local) from X (its first vertex's side) to Y."""
-    cdef int32_t q = M.nb[base + slot]
+                            int64_t slot, double xx, double xy, double yx, double yy) noexcept nogil:
+    """Successor across the edge of (global) ``slot`` from X (its first vertex's side) to Y."""
+    cdef int32_t q = M.nb[slot]
     if q < 0:
         return
     # in the neighbour the edge runs the other way: A (its first vertex's side) is Y
-    _push(S, M, parent, rx, ry, root, g, yx, yy, xx, xy, q, M.nbslot[base + slot])
+    _push(S, M, parent, rx, ry, root, g, yx, yy, xx, xy, q, M.nbslot[slot])
 
 
-cdef inline bint _is_goal_poly(Mesh* M, int32_t p) noexcept nogil:
-    cdef int i
-    for i in range(M.ngp):
-        if M.gp[i] == p:
-            return True
-    return False
-
-
-cdef void _expand(Search* S, Mesh* M, int32_t cur, double* sa, double* sb) noexcept nogil:
+cdef void _expand(Search* S, Mesh* M, int32_t cur, Chain* C) noexcept nogil:
     cdef Node nd = S.nodes[cur]
-    cdef int32_t P = nd.poly, e = nd.edge, root = nd.root, nroot
+    cdef int32_t P = nd.poly, root = nd.root, nroot
     cdef int64_t base = M.pstart[P], n = M.pstart[P + 1] - M.pstart[P], m, s, kA, kB, eA, eB
     cdef double rx = nd.rx, ry = nd.ry, ax = nd.ax, ay = nd.ay, bx = nd.bx, by = nd.by, g = nd.g
     cdef double cr, px, py, qx, qy, xbx, xby, xax, xay, t, g2, nx, ny, da, db, sta, stb
-    cdef int64_t s2
+    cdef double* cx = C.x
+    cdef double* cy = C.y
+    cdef double* sa = C.sa
+    cdef double* sb = C.sb
+    cdef int64_t* cs = C.slot
     cdef bint goal = _is_goal_poly(M, P), bvert, avert
-    cdef int64_t sB0 = base + (e + 1) % n   # global slot of V[e + 1] (c_0)
-    cdef int64_t sA0 = base + e             # global slot of V[e] (c_{n-1})
+    # the chain c_0 = V[e + 1], ..., c_{n-1} = V[e]; chain edge m runs from c_m to c_{m+1}
+    s = nd.edge + 1
+    for m in range(n):
+        if s == n:
+            s = 0
+        cs[m] = base + s
+        cx[m] = M.vx[base + s]
+        cy[m] = M.vy[base + s]
+        s += 1
     cr = _cross(bx - ax, by - ay, rx - ax, ry - ay)
     if fabs(cr) <= EPS:
         if (rx == ax and ry == ay) or (rx == bx and ry == by):
             # the root is an endpoint of the interval, a vertex of this convex polygon: it sees all of it
             for m in range(n - 1):
-                s = (e + 1 + m) % n
-                px = M.vx[base + s]
-                py = M.vy[base + s]
-                s2 = (s + 1) % n
-                _push_edge(S, M, cur, rx, ry, root, g, base, n, s, px, py, M.vx[base + s2], M.vy[base + s2])
+                _push_edge(S, M, cur, rx, ry, root, g, cs[m], cx[m], cy[m], cx[m + 1], cy[m + 1])
             if goal:
                 _push(S, M, cur, rx, ry, root, g, 0, 0, 0, 0, -1, -1)
             return
@@ -256,30 +273,26 @@ cdef void _expand(Search* S, Mesh* M, int32_t cur, double* sa, double* sb) noexc
         da = _dist(rx, ry, ax, ay)
         db = _dist(rx, ry, bx, by)
         if da <= db:
-            nx, ny, s = ax, ay, sA0
+            nx, ny, m = ax, ay, n - 1
         else:
-            nx, ny, s = bx, by, sB0
-        if nx != M.vx[s] or ny != M.vy[s] or not M.turn[M.vid[s]]:
+            nx, ny, m = bx, by, 0
+        if nx != cx[m] or ny != cy[m] or not M.turn[M.vid[cs[m]]]:
             return
-        nroot = M.vid[s]
+        nroot = M.vid[cs[m]]
         g2 = g + (da if da <= db else db)
         for m in range(n - 1):
-            s = (e + 1 + m) % n
-            s2 = (s + 1) % n
-            _push_edge(S, M, cur, nx, ny, nroot, g2, base, n, s, M.vx[base + s], M.vy[base + s],
-                       M.vx[base + s2], M.vy[base + s2])
+            _push_edge(S, M, cur, nx, ny, nroot, g2, cs[m], cx[m], cy[m], cx[m + 1], cy[m + 1])
         if goal:
             _push(S, M, cur, nx, ny, nroot, g2, 0, 0, 0, 0, -1, -1)
         return
     if cr > 0:
         return  # the root on the polygon's side of the entry edge: cannot happen (defensive)
-    # chain c_m = V[e + 1 + m], m = 0 .. n - 1 (c_{n-1} = V[e]); sb, sa: sides of the rays root -> B, root -> A
+    # sides of the rays root -> B (sb >= 0: left of it) and root -> A (sa <= 0: right of it)
     kB = -1
     kA = -1
     for m in range(n):
-        s = base + (e + 1 + m) % n
-        px = M.vx[s] - rx
-        py = M.vy[s] - ry
+        px = cx[m] - rx
+        py = cy[m] - ry
         sb[m] = _cross(bx - rx, by - ry, px, py)
         sa[m] = _cross(ax - rx, ay - ry, px, py)
         if sb[m] < -EPS:
@@ -289,87 +302,72 @@ cdef void _expand(Search* S, Mesh* M, int32_t cur, double* sa, double* sb) noexc
     # where the ray through B leaves the polygon: on chain edge eB at XB
     if kB < 0:
         eB = 0
-        xbx = M.vx[sB0]
-        xby = M.vy[sB0]
+        xbx = cx[0]
+        xby = cy[0]
     elif kB >= n - 1:
         eB = n  # (defensive) nothing observable
         xbx = xby = 0.0
     else:
         eB = kB
-        s = base + (e + 1 + kB + 1) % n
         if fabs(sb[kB + 1]) <= EPS:
-            xbx = M.vx[s]
-            xby = M.vy[s]
+            xbx = cx[kB + 1]
+            xby = cy[kB + 1]
         else:
-            px = M.vx[base + (e + 1 + kB) % n]
-            py = M.vy[base + (e + 1 + kB) % n]
             t = sb[kB] / (sb[kB] - sb[kB + 1])
-            xbx = px + (M.vx[s] - px) * t
-            xby = py + (M.vy[s] - py) * t
+            xbx = cx[kB] + (cx[kB + 1] - cx[kB]) * t
+            xby = cy[kB] + (cy[kB + 1] - cy[kB]) * t
     # where the ray through A leaves it: on chain edge eA at XA
     if kA < 0:
         eA = n - 2
-        xax = M.vx[sA0]
-        xay = M.vy[sA0]
+        xax = cx[n - 1]
+        xay = cy[n - 1]
     elif kA == 0:
         eA = -1  # (defensive) nothing observable
         xax = xay = 0.0
     else:
         eA = kA - 1
-        s = base + (e + 1 + kA - 1) % n
         if fabs(sa[kA - 1]) <= EPS:
-            xax = M.vx[s]
-            xay = M.vy[s]
+            xax = cx[kA - 1]
+            xay = cy[kA - 1]
         else:
-            px = M.vx[s]
-            py = M.vy[s]
-            qx = M.vx[base + (e + 1 + kA) % n]
-            qy = M.vy[base + (e + 1 + kA) % n]
             t = sa[kA - 1] / (sa[kA - 1] - sa[kA])
-            xax = px + (qx - px) * t
-            xay = py + (qy - py) * t
+            xax = cx[kA - 1] + (cx[kA] - cx[kA - 1]) * t
+            xay = cy[kA - 1] + (cy[kA] - cy[kA - 1]) * t
     # observable successors: chain edges eB .. eA, from XB to XA, same root
     if eB < eA or (eB == eA and eB < n - 1 and
-                   (xax - xbx) * (M.vx[base + (e + 2 + eB) % n] - M.vx[base + (e + 1 + eB) % n])
-                   + (xay - xby) * (M.vy[base + (e + 2 + eB) % n] - M.vy[base + (e + 1 + eB) % n]) > 0):
+                   (xax - xbx) * (cx[eB + 1] - cx[eB]) + (xay - xby) * (cy[eB + 1] - cy[eB]) > 0):
         for m in range(eB, eA + 1):
-            s = (e + 1 + m) % n
-            s2 = (s + 1) % n
             if m == eB:
                 px, py = xbx, xby
             else:
-                px, py = M.vx[base + s], M.vy[base + s]
+                px, py = cx[m], cy[m]
             if m == eA:
                 qx, qy = xax, xay
             else:
-                qx, qy = M.vx[base + s2], M.vy[base + s2]
-            _push_edge(S, M, cur, rx, ry, root, g, base, n, s, px, py, qx, qy)
-    # non-observable successors round B (= V[e + 1], a turning point): chain edges 0 .. eB, up to XB
-    bvert = bx == M.vx[sB0] and by == M.vy[sB0] and M.turn[M.vid[sB0]] and eB < n
+                qx, qy = cx[m + 1], cy[m + 1]
+            _push_edge(S, M, cur, rx, ry, root, g, cs[m], px, py, qx, qy)
+    # non-observable successors round B (= c_0, a turning point): chain edges 0 .. eB, up to XB
+    bvert = eB < n and bx == cx[0] and by == cy[0] and M.turn[M.vid[cs[0]]]
     if bvert:
-        nroot = M.vid[sB0]
+        nroot = M.vid[cs[0]]
         g2 = g + _dist(rx, ry, bx, by)
         for m in range(0, eB + 1):
-            s = (e + 1 + m) % n
-            s2 = (s + 1) % n
             if m == eB:
                 qx, qy = xbx, xby
             else:
-                qx, qy = M.vx[base + s2], M.vy[base + s2]
-            _push_edge(S, M, cur, bx, by, nroot, g2, base, n, s, M.vx[base + s], M.vy[base + s], qx, qy)
-    # and round A (= V[e]): chain edges eA .. n - 2, from XA
-    avert = ax == M.vx[sA0] and ay == M.vy[sA0] and M.turn[M.vid[sA0]] and eA >= 0
+                qx, qy = cx[m + 1], cy[m + 1]
+            _push_edge(S, M, cur, bx, by, nroot, g2, cs[m], cx[m], cy[m], qx, qy)
+    # and round A (= c_{n-1}): chain edges eA .. n - 2, from XA
+    avert = eA >= 0 and ax == cx[n - 1] and ay == cy[n - 1] and M.turn[M.vid[cs[n - 1]]]
     if avert:
-        nroot = M.vid[sA0]
+        nroot = M.vid[cs[n - 1]]
         g2 = g + _dist(rx, ry, ax, ay)
         for m in range(eA, n - 1):
-            s = (e + 1 + m) % n
-            s2 = (s + 1) % n
             if m == eA:
                 px, py = xax, xay
             else:
-                px, py = M.vx[base + s], M.vy[base + s]
-            _push_edge(S, M, cur, ax, ay, nroot, g2, base, n, s, px, py, M.vx[base + s2], M.vy[base + s2])
+                px, py = cx[m], cy[m]
+            _push_edge(S, M, cur, ax, ay, nroot, g2, cs[m], px, py, cx[m + 1], cy[m + 1])
     if goal:
         stb = _cross(bx - rx, by - ry, M.tx - rx, M.ty - ry)
         sta = _cross(ax - rx, ay - ry, M.tx - rx, M.ty - ry)
@@ -377,17 +375,18 @@ cdef void _expand(Search* S, Mesh* M, int32_t cur, double* sa, double* sb) noexc
             _push(S, M, cur, rx, ry, root, g, 0, 0, 0, 0, -1, -1)
         else:
             if stb < -EPS and bvert:
-                _push(S, M, cur, bx, by, M.vid[sB0], g + _dist(rx, ry, bx, by), 0, 0, 0, 0, -1, -1)
+                _push(S, M, cur, bx, by, M.vid[cs[0]], g + _dist(rx, ry, bx, by), 0, 0, 0, 0, -1, -1)
             if sta > EPS and avert:
-                _push(S, M, cur, ax, ay, M.vid[sA0], g + _dist(rx, ry, ax, ay), 0, 0, 0, 0, -1, -1)
+                _push(S, M, cur, ax, ay, M.vid[cs[n - 1]], g + _dist(rx, ry, ax, ay), 0, 0, 0, 0, -1, -1)
 
 
 def polyanya(const int64_t[::1] pstart, const double[::1] vx, const double[::1] vy, const int32_t[::1] vid,
-             const int32_t[::1] nb, const int32_t[::1] nbslot, const uint8_t[::1] turn, double[::1] best,
-             int32_t[::1] stamp, int32_t sid, int64_t maxn, double sx, double sy, const int64_t[::1] spolys,
-             double tx, double ty, const int64_t[::1] tpolys):
+             const int32_t[::1] nb, const int32_t[::1] nbslot, const uint8_t[::1] turn, const int32_t[::1] degree,
+             double[::1] best, int32_t[::1] stamp, int32_t sid, int64_t maxn, double sx, double sy,
+             const int64_t[::1] spolys, double tx, double ty, const int64_t[::1] tpolys):
     """Polyanya from ``(sx, sy)`` (in the polygons ``spolys``) to ``(tx, ty)`` (in ``tpolys``), lattice units.
 
+    ``degree[p]`` is the number of edges of polygon ``p`` with a polygon across (1: a dead end).
     Returns ``(length, xs, ys, expanded, generated)``: the optimum (``inf`` when the goal cannot be
     reached), the lattice coordinates of the path's turning points (start and goal excluded), the
     nodes expanded and generated. ``best`` and ``stamp`` (one entry per lattice point) are the
@@ -395,11 +394,10 @@ def polyanya(const int64_t[::1] pstart, const double[::1] vx, const double[::1] 
     """
     cdef Mesh M
     cdef Search S
-    cdef int64_t i, k, base, n, cur, expanded = 0
+    cdef Chain C
+    cdef int64_t i, k, base, n, cur, before, expanded = 0
     cdef int32_t p
-    cdef double length = INFINITY, px, py, qx, qy, cx, cy, ux, uy
-    cdef double* sa = NULL
-    cdef double* sb = NULL
+    cdef double length = INFINITY, px, py, qx, qy
     cdef Node* nd
     cdef bint found = False
     M.pstart = &pstart[0]
@@ -409,6 +407,7 @@ def polyanya(const int64_t[::1] pstart, const double[::1] vx, const double[::1] 
     M.nb = &nb[0]
     M.nbslot = &nbslot[0]
     M.turn = &turn[0]
+    M.degree = &degree[0]
     M.best = &best[0]
     M.stamp = &stamp[0]
     M.sid = sid
@@ -424,11 +423,14 @@ def polyanya(const int64_t[::1] pstart, const double[::1] vx, const double[::1] 
     S.nodes = <Node*> malloc(S.cap * sizeof(Node))
     S.hf = <double*> malloc(S.hcap * sizeof(double))
     S.hi = <int64_t*> malloc(S.hcap * sizeof(int64_t))
-    sa = <double*> malloc((maxn + 1) * sizeof(double))
-    sb = <double*> malloc((maxn + 1) * sizeof(double))
-    if S.nodes == NULL or S.hf == NULL or S.hi == NULL or sa == NULL or sb == NULL:
-        free(S.nodes); free(S.hf); free(S.hi); free(sa); free(sb)
+    C.x = <double*> malloc(4 * (maxn + 1) * sizeof(double))
+    C.slot = <int64_t*> malloc((maxn + 1) * sizeof(int64_t))
+    if S.nodes == NULL or S.hf == NULL or S.hi == NULL or C.x == NULL or C.slot == NULL:
+        free(S.nodes); free(S.hf); free(S.hi); free(C.x); free(C.slot)
         raise MemoryError("polyanya: out of memory")
+    C.y = C.x + (maxn + 1)
+    C.sa = C.y + (maxn + 1)
+    C.sb = C.sa + (maxn + 1)
     with nogil:
         # seeds: every edge of every polygon holding the start, but those the start lies on
         for i in range(spolys.shape[0]):
@@ -443,21 +445,35 @@ def polyanya(const int64_t[::1] pstart, const double[::1] vx, const double[::1] 
                 if (_cross(qx - px, qy - py, sx - px, sy - py) == 0.0
                         and (sx - px) * (sx - qx) + (sy - py) * (sy - qy) <= 0.0):
                     continue
-                _push_edge(&S, &M, -1, sx, sy, -1, 0.0, base, n, k, px, py, qx, qy)
+                _push_edge(&S, &M, -1, sx, sy, -1, 0.0, base + k, px, py, qx, qy)
             if _is_goal_poly(&M, p):
                 _push(&S, &M, -1, sx, sy, -1, 0.0, 0, 0, 0, 0, -1, -1)
+        for i in range(S.n):
+            if not _heap_push(&S, S.nodes[i].f, i):
+                S.oom = True
         while S.hn > 0 and not S.oom:
             cur = S.hi[0]
             _heap_pop(&S)
             nd = &S.nodes[cur]
             if nd.poly < 0:
                 found = True
-                length = nd.g + _dist(nd.rx, nd.ry, tx, ty)
+                length = nd.f
                 break
             if nd.root >= 0 and nd.g > M.best[nd.root] + EPS_G:
                 continue  # its root was reached more cheaply since
-            expanded += 1
-            _expand(&S, &M, <int32_t> cur, sa, sb)
+            while True:
+                expanded += 1
+                before = S.n
+                _expand(&S, &M, <int32_t> cur, &C)
+                # intermediate pruning: a lone successor with the same root is expanded at once
+                if (S.n == before + 1 and S.nodes[before].poly >= 0 and S.nodes[before].root == S.nodes[cur].root
+                        and not S.oom):
+                    cur = before
+                    continue
+                for i in range(before, S.n):
+                    if not _heap_push(&S, S.nodes[i].f, i):
+                        S.oom = True
+                break
     xs = []
     ys = []
     try:
@@ -476,5 +492,5 @@ def polyanya(const int64_t[::1] pstart, const double[::1] vx, const double[::1] 
             ys.reverse()
         generated = S.n
     finally:
-        free(S.nodes); free(S.hf); free(S.hi); free(sa); free(sb)
+        free(S.nodes); free(S.hf); free(S.hi); free(C.x); free(C.slot)
     return length, np.array(xs, dtype=np.float64), np.array(ys, dtype=np.float64), expanded, generated

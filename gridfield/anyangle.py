@@ -160,6 +160,9 @@ class NavMesh:
     vx, vy : ndarray of float64, shape (n_slots,)
     vid, nb, nbslot : ndarray of int32, shape (n_slots,)
     turn : ndarray of uint8, shape ((rows + 1) * (cols + 1),)
+    degree : ndarray of int32, shape (n_polygons,)
+        The edges of each polygon with a polygon across (1: a dead end, which no shortest path
+        enters unless the goal is in it).
     labels : ndarray of int32, shape (rows + 2, cols + 2)
     max_vertices : int
         The most vertices of one polygon.
@@ -172,6 +175,7 @@ class NavMesh:
     nb: NDArray[np.int32]
     nbslot: NDArray[np.int32]
     turn: NDArray[np.uint8]
+    degree: NDArray[np.int32]
     labels: NDArray[np.int32]
     max_vertices: int
 
@@ -273,8 +277,9 @@ def navigation_mesh(blocked_padded: NDArray[np.uint8]) -> NavMesh:
     nbslot[has] = glob - pstart[nb[has]]
     Bi = blocked_padded.astype(np.int8)
     turn = ((Bi[:-1, :-1] + Bi[:-1, 1:] + Bi[1:, :-1] + Bi[1:, 1:]) == 1).astype(np.uint8).ravel()
+    degree = np.bincount(lab[has], minlength=npoly).astype(np.int32)
     return NavMesh(pstart, x.astype(np.float64), y.astype(np.float64), vid.astype(np.int32), nb.astype(np.int32),
-                   nbslot, turn, L, int(np.diff(pstart).max()) if npoly else 0)
+                   nbslot, turn, degree, L, int(np.diff(pstart).max()) if npoly else 0)
 
 
 #: The default search of :meth:`AnyAngleGraph.shortest_path` (and so of :func:`plan_anyangle`):
@@ -403,7 +408,7 @@ class AnyAngleGraph:
                 lz["mesh_stamp"].fill(0)
                 lz["mesh_sid"] = 1
             length, xs, ys, expanded, _ = kernels("polyanya").polyanya(
-                mesh.pstart, mesh.vx, mesh.vy, mesh.vid, mesh.nb, mesh.nbslot, mesh.turn, lz["mesh_best"],
+                mesh.pstart, mesh.vx, mesh.vy, mesh.vid, mesh.nb, mesh.nbslot, mesh.turn, mesh.degree, lz["mesh_best"],
                 lz["mesh_stamp"], lz["mesh_sid"], mesh.max_vertices, sx, sy, mesh.polygons_at(sx, sy), gx, gy,
                 mesh.polygons_at(gx, gy))
         return float(length), np.column_stack([xs, ys]), int(expanded)

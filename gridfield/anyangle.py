@@ -236,7 +236,7 @@ def navigation_mesh(blocked_padded: NDArray[np.uint8]) -> NavMesh:
     rid = np.empty(n, dtype=np.int64)
     rid[order] = np.cumsum(new) - 1
     first = np.flatnonzero(new)
-    last = np.append(first[1:], n) - 1
+    last = np.append(first[1:], n)[: len(first)] - 1  # (empty without free cells)
     X0, X1 = c0[order[first]], c1[order[first]]
     Y0, Y1 = rs[first], rs[last] + 1
     L = np.full((rows + 2, cols + 2), -1, dtype=np.int32)

@@ -5,12 +5,12 @@ Polyanya (Cui, Harabor & Grastien, "Compromise-free Pathfinding on a Navigation 
 finds the Euclidean shortest path over a mesh of convex polygons without a visibility graph. Written
 here from the paper's description, in *lattice units* (cell ``(r, c)`` is ``[c, c + 1] x [r, r + 1]``).
 
-The mesh (built by :func:`gridfield.anyangle._navmesh`) is a CSR of polygons: polygon ``p`` owns the
-slots ``pstart[p] .. pstart[p + 1] - 1``, its vertices in counter-clockwise order (collinear ones
-kept: every point where the neighbour across the boundary changes is a vertex); slot ``k`` holds the
-vertex ``(vx[k], vy[k])`` with its lattice index ``vid[k]``, and the edge from it to the next slot's
-vertex, whose neighbour across is ``nb[k]`` (-1: an obstacle or the map's outside) where that edge is
-the neighbour's slot ``nbslot[k]`` (local index). ``turn[vid]`` marks the lattice points a taut path
+The mesh (built by :func:`gridfield.anyangle.navigation_mesh`) is a CSR of polygons: polygon ``p``
+owns the slots ``pstart[p] .. pstart[p + 1] - 1``, its vertices in counter-clockwise order (collinear
+ones kept: every point where the neighbour across the boundary changes is a vertex); slot ``k`` (one
+32-byte record, so that a polygon is one run of memory) holds the vertex ``(x, y)`` with its lattice
+index ``vid``, and the edge from it to the next slot's vertex, whose neighbour across is ``nb`` (-1:
+an obstacle or the map's outside) where that edge is the neighbour's slot ``nbslot`` (local index). ``turn[vid]`` marks the lattice points a taut path
 may bend at (exactly one of the four cells round them blocked).
 
 A search node is a root (the start or a turning vertex, reached with cost ``g``) and an *interval*
@@ -50,13 +50,14 @@ cdef struct Node:
     int32_t root, poly, edge, parent
 
 
+cdef struct Slot:
+    double x, y
+    int32_t vid, nb, nbslot, pad
+
+
 cdef struct Mesh:
     const int64_t* pstart
-    const double* vx
-    const double* vy
-    const int32_t* vid
-    const int32_t* nb
-    const int32_t* nbslot
+    const Slot* sl
     const uint8_t* turn
     const int32_t* degree
     double* best
@@ -232,11 +233,11 @@ cdef void _push(Search* S, Mesh* M, int32_t parent, double rx, double ry, int32_
 cdef inline void _push_edge(Search* S, Mesh* M, int32_t parent, double rx, double ry, int32_t root, double g,
                             int64_t slot, double xx, double xy, double yx, double yy) noexcept nogil:
     """Successor across the edge of (global) ``slot`` from X (its first vertex's side) to Y."""
-    cdef int32_t q = M.nb[slot]
+    cdef int32_t q = M.sl[slot].nb
     if q < 0:
         return
     # in the neighbour the edge runs the other way: A (its first vertex's side) is Y
-    _push(S, M, parent, rx, ry, root, g, yx, yy, xx, xy, q, M.nbslot[slot])
+    _push(S, M, parent, rx, ry, root, g, yx, yy, xx, xy, q, M.sl[slot].nbslot)
 
 
 cdef void _expand(Search* S, Mesh* M, int32_t cur, Chain* C) noexcept nogil:
@@ -257,8 +258,8 @@ cdef void _expand(Search* S, Mesh* M, int32_t cur, Chain* C) noexcept nogil:
         if s == n:
             s = 0
         cs[m] = base + s
-        cx[m] = M.vx[base + s]
-        cy[m] = M.vy[base + s]
+        cx[m] = M.sl[base + s].x
+        cy[m] = M.sl[base + s].y
         s += 1
     cr = _cross(bx - ax, by - ay, rx - ax, ry - ay)
     if fabs(cr) <= EPS:
@@ -276,9 +277,9 @@ cdef void _expand(Search* S, Mesh* M, int32_t cur, Chain* C) noexcept nogil:
             nx, ny, m = ax, ay, n - 1
         else:
             nx, ny, m = bx, by, 0
-        if nx != cx[m] or ny != cy[m] or not M.turn[M.vid[cs[m]]]:
+        if nx != cx[m] or ny != cy[m] or not M.turn[M.sl[cs[m]].vid]:
             return
-        nroot = M.vid[cs[m]]
+        nroot = M.sl[cs[m]].vid
         g2 = g + (da if da <= db else db)
         for m in range(n - 1):
             _push_edge(S, M, cur, nx, ny, nroot, g2, cs[m], cx[m], cy[m], cx[m + 1], cy[m + 1])
@@ -347,9 +348,9 @@ cdef void _expand(Search* S, Mesh* M, int32_t cur, Chain* C) noexcept nogil:
                 qx, qy = cx[m + 1], cy[m + 1]
             _push_edge(S, M, cur, rx, ry, root, g, cs[m], px, py, qx, qy)
     # non-observable successors round B (= c_0, a turning point): chain edges 0 .. eB, up to XB
-    bvert = eB < n and bx == cx[0] and by == cy[0] and M.turn[M.vid[cs[0]]]
+    bvert = eB < n and bx == cx[0] and by == cy[0] and M.turn[M.sl[cs[0]].vid]
     if bvert:
-        nroot = M.vid[cs[0]]
+        nroot = M.sl[cs[0]].vid
         g2 = g + _dist(rx, ry, bx, by)
         for m in range(0, eB + 1):
             if m == eB:
@@ -358,9 +359,9 @@ cdef void _expand(Search* S, Mesh* M, int32_t cur, Chain* C) noexcept nogil:
                 qx, qy = cx[m + 1], cy[m + 1]
             _push_edge(S, M, cur, bx, by, nroot, g2, cs[m], cx[m], cy[m], qx, qy)
     # and round A (= c_{n-1}): chain edges eA .. n - 2, from XA
-    avert = eA >= 0 and ax == cx[n - 1] and ay == cy[n - 1] and M.turn[M.vid[cs[n - 1]]]
+    avert = eA >= 0 and ax == cx[n - 1] and ay == cy[n - 1] and M.turn[M.sl[cs[n - 1]].vid]
     if avert:
-        nroot = M.vid[cs[n - 1]]
+        nroot = M.sl[cs[n - 1]].vid
         g2 = g + _dist(rx, ry, ax, ay)
         for m in range(eA, n - 1):
             if m == eA:
@@ -375,18 +376,18 @@ cdef void _expand(Search* S, Mesh* M, int32_t cur, Chain* C) noexcept nogil:
             _push(S, M, cur, rx, ry, root, g, 0, 0, 0, 0, -1, -1)
         else:
             if stb < -EPS and bvert:
-                _push(S, M, cur, bx, by, M.vid[cs[0]], g + _dist(rx, ry, bx, by), 0, 0, 0, 0, -1, -1)
+                _push(S, M, cur, bx, by, M.sl[cs[0]].vid, g + _dist(rx, ry, bx, by), 0, 0, 0, 0, -1, -1)
             if sta > EPS and avert:
-                _push(S, M, cur, ax, ay, M.vid[cs[n - 1]], g + _dist(rx, ry, ax, ay), 0, 0, 0, 0, -1, -1)
+                _push(S, M, cur, ax, ay, M.sl[cs[n - 1]].vid, g + _dist(rx, ry, ax, ay), 0, 0, 0, 0, -1, -1)
 
 
-def polyanya(const int64_t[::1] pstart, const double[::1] vx, const double[::1] vy, const int32_t[::1] vid,
-             const int32_t[::1] nb, const int32_t[::1] nbslot, const uint8_t[::1] turn, const int32_t[::1] degree,
+def polyanya(const int64_t[::1] pstart, const uint8_t[::1] slots, const uint8_t[::1] turn, const int32_t[::1] degree,
              double[::1] best, int32_t[::1] stamp, int32_t sid, int64_t maxn, double sx, double sy,
              const int64_t[::1] spolys, double tx, double ty, const int64_t[::1] tpolys):
     """Polyanya from ``(sx, sy)`` (in the polygons ``spolys``) to ``(tx, ty)`` (in ``tpolys``), lattice units.
 
-    ``degree[p]`` is the number of edges of polygon ``p`` with a polygon across (1: a dead end).
+    ``slots`` holds the raw bytes of the mesh's slot records (``x, y`` float64, ``vid, nb, nbslot`` and
+    a pad int32: 32 bytes each, :data:`gridfield.anyangle.SLOT_DTYPE`); ``degree[p]`` is the number of edges of polygon ``p`` with a polygon across (1: a dead end).
     Returns ``(length, xs, ys, expanded, generated)``: the optimum (``inf`` when the goal cannot be
     reached), the lattice coordinates of the path's turning points (start and goal excluded), the
     nodes expanded and generated. ``best`` and ``stamp`` (one entry per lattice point) are the
@@ -401,11 +402,9 @@ def polyanya(const int64_t[::1] pstart, const double[::1] vx, const double[::1] 
     cdef Node* nd
     cdef bint found = False
     M.pstart = &pstart[0]
-    M.vx = &vx[0]
-    M.vy = &vy[0]
-    M.vid = &vid[0]
-    M.nb = &nb[0]
-    M.nbslot = &nbslot[0]
+    if slots.shape[0] % sizeof(Slot) != 0 or sizeof(Slot) != 32:
+        raise ValueError(f"polyanya: slots must be whole 32-byte records, got {slots.shape[0]} bytes")
+    M.sl = <const Slot*> &slots[0]
     M.turn = &turn[0]
     M.degree = &degree[0]
     M.best = &best[0]
@@ -438,10 +437,10 @@ def polyanya(const int64_t[::1] pstart, const double[::1] vx, const double[::1] 
             base = pstart[p]
             n = pstart[p + 1] - base
             for k in range(n):
-                px = vx[base + k]
-                py = vy[base + k]
-                qx = vx[base + (k + 1) % n]
-                qy = vy[base + (k + 1) % n]
+                px = M.sl[base + k].x
+                py = M.sl[base + k].y
+                qx = M.sl[base + (k + 1) % n].x
+                qy = M.sl[base + (k + 1) % n].y
                 if (_cross(qx - px, qy - py, sx - px, sy - py) == 0.0
                         and (sx - px) * (sx - qx) + (sy - py) * (sy - qy) <= 0.0):
                     continue

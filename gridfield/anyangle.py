@@ -92,7 +92,7 @@ from .grid import Grid, GridMap
 from .params import validate
 from .path import Path
 
-__all__ = ["AnyAngleGraph", "NavMesh", "convex_corners", "grid_graph", "navigation_mesh", "plan_anyangle"]
+__all__ = ["SLOT_DTYPE", "AnyAngleGraph", "NavMesh", "convex_corners", "grid_graph", "navigation_mesh", "plan_anyangle"]
 
 #: Graphs kept by :func:`grid_graph` without an explicit cache (most recently used maps).
 CACHE_SIZE = 4
@@ -141,6 +141,12 @@ def convex_corners(blocked_padded: NDArray[np.uint8]) -> tuple[NDArray[np.float6
     return x.astype(np.float64), y.astype(np.float64), qx, qy
 
 
+#: One slot of a :class:`NavMesh` (a polygon's vertex and the edge from it; 32 bytes, the record the
+#: compiled search reads, so that a polygon's slots are one run of memory).
+SLOT_DTYPE = np.dtype([("x", np.float64), ("y", np.float64), ("vid", np.int32), ("nb", np.int32),
+                       ("nbslot", np.int32), ("pad", np.int32)])
+
+
 @dataclass(frozen=True, eq=False)
 class NavMesh:
     """The navigation mesh of a grid map's free space (lattice units), for the Polyanya search.
@@ -157,8 +163,9 @@ class NavMesh:
     Attributes
     ----------
     pstart : ndarray of int64, shape (n_polygons + 1,)
-    vx, vy : ndarray of float64, shape (n_slots,)
-    vid, nb, nbslot : ndarray of int32, shape (n_slots,)
+    slots : ndarray of :data:`SLOT_DTYPE`, shape (n_slots,)
+        The fields ``x, y, vid, nb, nbslot`` (also the properties :attr:`vx`, :attr:`vy`,
+        :attr:`vid`, :attr:`nb`, :attr:`nbslot`).
     turn : ndarray of uint8, shape ((rows + 1) * (cols + 1),)
     degree : ndarray of int32, shape (n_polygons,)
         The edges of each polygon with a polygon across (1: a dead end, which no shortest path
@@ -169,11 +176,7 @@ class NavMesh:
     """
 
     pstart: NDArray[np.int64]
-    vx: NDArray[np.float64]
-    vy: NDArray[np.float64]
-    vid: NDArray[np.int32]
-    nb: NDArray[np.int32]
-    nbslot: NDArray[np.int32]
+    slots: NDArray[np.void]
     turn: NDArray[np.uint8]
     degree: NDArray[np.int32]
     labels: NDArray[np.int32]
@@ -182,6 +185,26 @@ class NavMesh:
     @property
     def n_polygons(self) -> int:
         return len(self.pstart) - 1
+
+    @property
+    def vx(self) -> NDArray[np.float64]:
+        return self.slots["x"]
+
+    @property
+    def vy(self) -> NDArray[np.float64]:
+        return self.slots["y"]
+
+    @property
+    def vid(self) -> NDArray[np.int32]:
+        return self.slots["vid"]
+
+    @property
+    def nb(self) -> NDArray[np.int32]:
+        return self.slots["nb"]
+
+    @property
+    def nbslot(self) -> NDArray[np.int32]:
+        return self.slots["nbslot"]
 
     def polygons_at(self, u: float, v: float) -> NDArray[np.int64]:
         """The polygons holding the lattice point ``(u, v)`` (those of the free closed cells it lies in)."""
@@ -278,8 +301,9 @@ def navigation_mesh(blocked_padded: NDArray[np.uint8]) -> NavMesh:
     Bi = blocked_padded.astype(np.int8)
     turn = ((Bi[:-1, :-1] + Bi[:-1, 1:] + Bi[1:, :-1] + Bi[1:, 1:]) == 1).astype(np.uint8).ravel()
     degree = np.bincount(lab[has], minlength=npoly).astype(np.int32)
-    return NavMesh(pstart, x.astype(np.float64), y.astype(np.float64), vid.astype(np.int32), nb.astype(np.int32),
-                   nbslot, turn, degree, L, int(np.diff(pstart).max()) if npoly else 0)
+    slots = np.zeros(len(lab), dtype=SLOT_DTYPE)
+    slots["x"], slots["y"], slots["vid"], slots["nb"], slots["nbslot"] = x, y, vid, nb, nbslot
+    return NavMesh(pstart, slots, turn, degree, L, int(np.diff(pstart).max()) if npoly else 0)
 
 
 #: The default search of :meth:`AnyAngleGraph.shortest_path` (and so of :func:`plan_anyangle`):
@@ -408,7 +432,7 @@ class AnyAngleGraph:
                 lz["mesh_stamp"].fill(0)
                 lz["mesh_sid"] = 1
             length, xs, ys, expanded, _ = kernels("polyanya").polyanya(
-                mesh.pstart, mesh.vx, mesh.vy, mesh.vid, mesh.nb, mesh.nbslot, mesh.turn, mesh.degree, lz["mesh_best"],
+                mesh.pstart, mesh.slots.view(np.uint8), mesh.turn, mesh.degree, lz["mesh_best"],
                 lz["mesh_stamp"], lz["mesh_sid"], mesh.max_vertices, sx, sy, mesh.polygons_at(sx, sy), gx, gy,
                 mesh.polygons_at(gx, gy))
         return float(length), np.column_stack([xs, ys]), int(expanded)

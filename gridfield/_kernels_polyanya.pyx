@@ -8,10 +8,11 @@ here from the paper's description, in *lattice units* (cell ``(r, c)`` is ``[c, 
 The mesh (built by :func:`gridfield.anyangle.navigation_mesh`) is a CSR of polygons: polygon ``p``
 owns the slots ``pstart[p] .. pstart[p + 1] - 1``, its vertices in counter-clockwise order (collinear
 ones kept: every point where the neighbour across the boundary changes is a vertex); slot ``k`` (one
-32-byte record, so that a polygon is one run of memory) holds the vertex ``(x, y)`` with its lattice
-index ``vid``, and the edge from it to the next slot's vertex, whose neighbour across is ``nb`` (-1:
-an obstacle or the map's outside) where that edge is the neighbour's slot ``nbslot`` (local index). ``turn[vid]`` marks the lattice points a taut path
-may bend at (exactly one of the four cells round them blocked).
+32-byte record, so that a polygon is one run of memory) holds the vertex ``(x, y)``, its ``root``
+number (-1 unless it is a *turning point*, a lattice point with exactly one of the four cells round
+it blocked: the only points a taut path bends at), and the edge from it to the next slot's vertex,
+whose neighbour across is ``nb`` (-1: an obstacle or the map's outside) where that edge is the
+neighbour's slot ``nbslot`` (local index).
 
 A search node is a root (the start or a turning vertex, reached with cost ``g``) and an *interval*
 ``[A, B]`` on an edge of the polygon it enters, every point of which the root sees; ``A`` lies on the
@@ -27,9 +28,9 @@ dropped when its root vertex was reached with a smaller ``g`` (within ``EPS_G``)
 polygons end the search: expanding one pushes a final node (root and goal in sight, or turning at an
 interval endpoint), and the first final node popped is the optimum.
 
-Everything runs without the GIL, on C buffers grown by doubling; the per-root best ``g`` lives in
-arrays of the mesh, valid where ``stamp`` equals the query's ``sid`` (no clearing per query; the
-caller serialises queries on one mesh).
+Everything runs without the GIL, on C buffers grown by doubling (nodes, the binary heap of their
+``f``); the best ``g`` per root number lives in the caller's arrays, valid where ``stamp`` equals the
+query's ``sid`` (no clearing per query; the caller serialises queries on one pair of arrays).
 """
 
 from libc.math cimport INFINITY, sqrt, fabs
@@ -52,13 +53,12 @@ cdef struct Node:
 
 cdef struct Slot:
     double x, y
-    int32_t vid, nb, nbslot, pad
+    int32_t root, nb, nbslot, pad
 
 
 cdef struct Mesh:
     const int64_t* pstart
     const Slot* sl
-    const uint8_t* turn
     const int32_t* degree
     double* best
     int32_t* stamp
@@ -277,9 +277,9 @@ cdef void _expand(Search* S, Mesh* M, int32_t cur, Chain* C) noexcept nogil:
             nx, ny, m = ax, ay, n - 1
         else:
             nx, ny, m = bx, by, 0
-        if nx != cx[m] or ny != cy[m] or not M.turn[M.sl[cs[m]].vid]:
+        if nx != cx[m] or ny != cy[m] or not M.sl[cs[m]].root >= 0:
             return
-        nroot = M.sl[cs[m]].vid
+        nroot = M.sl[cs[m]].root
         g2 = g + (da if da <= db else db)
         for m in range(n - 1):
             _push_edge(S, M, cur, nx, ny, nroot, g2, cs[m], cx[m], cy[m], cx[m + 1], cy[m + 1])
@@ -348,9 +348,9 @@ cdef void _expand(Search* S, Mesh* M, int32_t cur, Chain* C) noexcept nogil:
                 qx, qy = cx[m + 1], cy[m + 1]
             _push_edge(S, M, cur, rx, ry, root, g, cs[m], px, py, qx, qy)
     # non-observable successors round B (= c_0, a turning point): chain edges 0 .. eB, up to XB
-    bvert = eB < n and bx == cx[0] and by == cy[0] and M.turn[M.sl[cs[0]].vid]
+    bvert = eB < n and bx == cx[0] and by == cy[0] and M.sl[cs[0]].root >= 0
     if bvert:
-        nroot = M.sl[cs[0]].vid
+        nroot = M.sl[cs[0]].root
         g2 = g + _dist(rx, ry, bx, by)
         for m in range(0, eB + 1):
             if m == eB:
@@ -359,9 +359,9 @@ cdef void _expand(Search* S, Mesh* M, int32_t cur, Chain* C) noexcept nogil:
                 qx, qy = cx[m + 1], cy[m + 1]
             _push_edge(S, M, cur, bx, by, nroot, g2, cs[m], cx[m], cy[m], qx, qy)
     # and round A (= c_{n-1}): chain edges eA .. n - 2, from XA
-    avert = eA >= 0 and ax == cx[n - 1] and ay == cy[n - 1] and M.turn[M.sl[cs[n - 1]].vid]
+    avert = eA >= 0 and ax == cx[n - 1] and ay == cy[n - 1] and M.sl[cs[n - 1]].root >= 0
     if avert:
-        nroot = M.sl[cs[n - 1]].vid
+        nroot = M.sl[cs[n - 1]].root
         g2 = g + _dist(rx, ry, ax, ay)
         for m in range(eA, n - 1):
             if m == eA:
@@ -376,21 +376,22 @@ cdef void _expand(Search* S, Mesh* M, int32_t cur, Chain* C) noexcept nogil:
             _push(S, M, cur, rx, ry, root, g, 0, 0, 0, 0, -1, -1)
         else:
             if stb < -EPS and bvert:
-                _push(S, M, cur, bx, by, M.sl[cs[0]].vid, g + _dist(rx, ry, bx, by), 0, 0, 0, 0, -1, -1)
+                _push(S, M, cur, bx, by, M.sl[cs[0]].root, g + _dist(rx, ry, bx, by), 0, 0, 0, 0, -1, -1)
             if sta > EPS and avert:
-                _push(S, M, cur, ax, ay, M.sl[cs[n - 1]].vid, g + _dist(rx, ry, ax, ay), 0, 0, 0, 0, -1, -1)
+                _push(S, M, cur, ax, ay, M.sl[cs[n - 1]].root, g + _dist(rx, ry, ax, ay), 0, 0, 0, 0, -1, -1)
 
 
-def polyanya(const int64_t[::1] pstart, const uint8_t[::1] slots, const uint8_t[::1] turn, const int32_t[::1] degree,
+def polyanya(const int64_t[::1] pstart, const uint8_t[::1] slots, const int32_t[::1] degree,
              double[::1] best, int32_t[::1] stamp, int32_t sid, int64_t maxn, double sx, double sy,
              const int64_t[::1] spolys, double tx, double ty, const int64_t[::1] tpolys):
     """Polyanya from ``(sx, sy)`` (in the polygons ``spolys``) to ``(tx, ty)`` (in ``tpolys``), lattice units.
 
-    ``slots`` holds the raw bytes of the mesh's slot records (``x, y`` float64, ``vid, nb, nbslot`` and
-    a pad int32: 32 bytes each, :data:`gridfield.anyangle.SLOT_DTYPE`); ``degree[p]`` is the number of edges of polygon ``p`` with a polygon across (1: a dead end).
-    Returns ``(length, xs, ys, expanded, generated)``: the optimum (``inf`` when the goal cannot be
-    reached), the lattice coordinates of the path's turning points (start and goal excluded), the
-    nodes expanded and generated. ``best`` and ``stamp`` (one entry per lattice point) are the
+    ``slots`` holds the raw bytes of the mesh's slot records (``x, y`` float64, ``root, nb, nbslot`` and
+    a pad int32: 32 bytes each, :data:`gridfield.anyangle.SLOT_DTYPE`); ``degree[p]`` is the number of
+    edges of polygon ``p`` with a polygon across (1: a dead end). Returns ``(length, xs, ys,
+    expanded, generated)``: the optimum (``inf`` when the goal cannot be reached), the lattice
+    coordinates of the path's turning points (start and goal excluded), the nodes expanded and
+    generated. ``best`` and ``stamp`` (one entry per root number) are the
     caller's workspace; ``sid`` must differ from every value already in ``stamp``.
     """
     cdef Mesh M
@@ -405,7 +406,6 @@ def polyanya(const int64_t[::1] pstart, const uint8_t[::1] slots, const uint8_t[
     if slots.shape[0] % sizeof(Slot) != 0 or sizeof(Slot) != 32:
         raise ValueError(f"polyanya: slots must be whole 32-byte records, got {slots.shape[0]} bytes")
     M.sl = <const Slot*> &slots[0]
-    M.turn = &turn[0]
     M.degree = &degree[0]
     M.best = &best[0]
     M.stamp = &stamp[0]

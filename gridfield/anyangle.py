@@ -1,10 +1,34 @@
-"""Exact any-angle shortest paths on grid maps: the taut visibility graph of the convex corners.
+"""Exact any-angle shortest paths on grid maps: Polyanya over a navigation mesh, or the taut visibility
+graph of the convex corners.
 
 The free space of a grid map is the union of its free cells (closed squares), with the corner rule
 of :mod:`gridfield.gridpoly`: a path may touch a blocked cell's corner and run along its edges, but
 never enters a blocked cell and never passes through a *pinch point* (a corner whose two diagonally
 opposite cells are blocked). The Euclidean shortest path in it is a polyline whose inner vertices are
-obstacle corners where it wraps round an obstacle (Lozano-Pérez & Wesley 1979), so the graph needs:
+obstacle corners where it wraps round an obstacle (Lozano-Pérez & Wesley 1979). Three exact searches
+find it (``search=``, :data:`SEARCH`); the default needs no graph:
+
+Polyanya
+    ``search="polyanya"`` (the default): Polyanya (Cui, Harabor & Grastien, "Compromise-free
+    Pathfinding on a Navigation Mesh", IJCAI 2017; written here from the paper) over a navigation
+    mesh of the free cells (:func:`navigation_mesh`: the row runs of free cells, runs with the same
+    columns in consecutive rows merged into one rectangle, each rectangle's boundary a convex polygon
+    with a vertex wherever the neighbour across changes; cells touching only at a corner share no
+    edge, so a pinch point is never crossed). A search node is a root (the start or a corner the
+    path turns at) and an interval of a polygon edge the root sees; expanding it projects the
+    interval through the next polygon (observable successors, same root) and turns round an interval
+    end that is a *turning point* (exactly one of the four cells round it blocked: the convex corners
+    below) for the rest (non-observable successors); ``f = g + h`` with ``h`` the exact distance
+    from the root through the interval to the goal (mirrored across the interval's line when on the
+    root's side); a root reached more cheaply before prunes the node; dead-end polygons (one
+    neighbour) are never entered but the goal's, and a lone successor with the same root is expanded
+    without the open list (the paper's intermediate pruning). The start and goal may lie on polygon
+    edges or vertices (the search starts from every polygon holding the start). Its per-map part is
+    the mesh, built in numpy on the first Polyanya search (0.01-0.1 s on 512 x 512 maps) and kept
+    with the corners (:attr:`AnyAngleGraph.mesh`); the search is compiled
+    (:mod:`gridfield._kernels_polyanya`).
+
+The graph search needs:
 
 Vertices
     the *convex corners*: cell corners where exactly one of the four surrounding cells is blocked
@@ -24,7 +48,8 @@ Edges
 Queries
     the start and the goal are joined to the corners they see along taut directions (one compiled
     pass over the corners each), then A* with the straight-line heuristic runs over the graph
-    (``search="graph"``, the default :data:`SEARCH`).
+    (``search="graph"``; the graph is built on its first query and kept: seconds on maps with tens of
+    thousands of corners, 2.9 M edges on random512-10-0).
 Lazy search
     ``search="lazy"`` needs no graph: A* over the same corners, each corner's visible neighbours
     found by the same compiled nearest-first pass when the corner is expanded, restricted to taut
@@ -46,11 +71,12 @@ Border
     alone), a ``wall`` is one. (A vector world with an open border is another matter: there the plane
     outside the bounds is free, :mod:`gridfield.visibility`.)
 
-The corners of a map are found once and cached (per map content; :func:`grid_graph`), and its
-visibility graph is built on the first graph search and kept with them, so many queries on one map
-pay only for the two visibility passes and the search. Build and query times on
-512 x 512 Moving AI maps, beside the octile wavefront on the same queries: ``benchmarks/README.md``,
-"Any-angle optimum on grid maps".
+The corners of a map are found once and cached (per map content; :func:`grid_graph`); its navigation
+mesh and its visibility graph are built on the first search that needs them and kept with them, so
+many queries on one map pay only for the search. Every search first tries the straight segment
+(one exact grid walk). Build and query times of the three searches on 512 x 512 Moving AI maps,
+beside the octile wavefront on the same queries: ``benchmarks/README.md``, "Any-angle optimum on
+grid maps".
 
 Relation to the octile optimum (8-connected, no corner cutting, the length in Moving AI ``.scen``
 files): between cell centres the any-angle optimum is never longer (an octile path is a feasible
@@ -143,7 +169,7 @@ def convex_corners(blocked_padded: NDArray[np.uint8]) -> tuple[NDArray[np.float6
 
 #: One slot of a :class:`NavMesh` (a polygon's vertex and the edge from it; 32 bytes, the record the
 #: compiled search reads, so that a polygon's slots are one run of memory).
-SLOT_DTYPE = np.dtype([("x", np.float64), ("y", np.float64), ("vid", np.int32), ("nb", np.int32),
+SLOT_DTYPE = np.dtype([("x", np.float64), ("y", np.float64), ("root", np.int32), ("nb", np.int32),
                        ("nbslot", np.int32), ("pad", np.int32)])
 
 
@@ -154,19 +180,22 @@ class NavMesh:
     Build it with :func:`navigation_mesh`. The polygons are rectangles of free cells; polygon ``p``
     owns the slots ``pstart[p] .. pstart[p + 1] - 1``: its vertices counter-clockwise, collinear ones
     kept (a vertex wherever the neighbour across the boundary changes), slot ``k`` the vertex
-    ``(vx[k], vy[k])`` (lattice index ``vid[k] = y * (cols + 1) + x``) and the edge to the next slot's
-    vertex, with the polygon ``nb[k]`` across it (-1: a blocked cell or the map's outside) in whose
-    slot list the same edge is ``nbslot[k]``. ``turn`` flags the lattice points where exactly one of
-    the four cells round them is blocked (the outside counts as blocked): the only points a taut path
-    bends at. ``labels`` is the polygon of each cell, padded by a frame of -1 like the blocked array.
+    ``(vx[k], vy[k])`` and the edge to the next slot's vertex, with the polygon ``nb[k]`` across it
+    (-1: a blocked cell or the map's outside) in whose slot list the same edge is ``nbslot[k]``.
+    ``turn`` flags the lattice points (index ``y * (cols + 1) + x``) where exactly one of the four
+    cells round them is blocked (the outside counts as blocked): the only points a taut path bends
+    at; ``root[k]`` numbers the slot's vertex among them (-1: not one), the search's per-root index.
+    ``labels`` is the polygon of each cell, padded by a frame of -1 like the blocked array.
 
     Attributes
     ----------
     pstart : ndarray of int64, shape (n_polygons + 1,)
     slots : ndarray of :data:`SLOT_DTYPE`, shape (n_slots,)
-        The fields ``x, y, vid, nb, nbslot`` (also the properties :attr:`vx`, :attr:`vy`,
-        :attr:`vid`, :attr:`nb`, :attr:`nbslot`).
+        The fields ``x, y, root, nb, nbslot`` (also the properties :attr:`vx`, :attr:`vy`,
+        :attr:`root`, :attr:`nb`, :attr:`nbslot`).
     turn : ndarray of uint8, shape ((rows + 1) * (cols + 1),)
+    n_roots : int
+        The turning points (``turn.sum()``), numbered ``0 .. n_roots - 1`` in lattice order.
     degree : ndarray of int32, shape (n_polygons,)
         The edges of each polygon with a polygon across (1: a dead end, which no shortest path
         enters unless the goal is in it).
@@ -178,6 +207,7 @@ class NavMesh:
     pstart: NDArray[np.int64]
     slots: NDArray[np.void]
     turn: NDArray[np.uint8]
+    n_roots: int
     degree: NDArray[np.int32]
     labels: NDArray[np.int32]
     max_vertices: int
@@ -195,8 +225,8 @@ class NavMesh:
         return self.slots["y"]
 
     @property
-    def vid(self) -> NDArray[np.int32]:
-        return self.slots["vid"]
+    def root(self) -> NDArray[np.int32]:
+        return self.slots["root"]
 
     @property
     def nb(self) -> NDArray[np.int32]:
@@ -301,9 +331,11 @@ def navigation_mesh(blocked_padded: NDArray[np.uint8]) -> NavMesh:
     Bi = blocked_padded.astype(np.int8)
     turn = ((Bi[:-1, :-1] + Bi[:-1, 1:] + Bi[1:, :-1] + Bi[1:, 1:]) == 1).astype(np.uint8).ravel()
     degree = np.bincount(lab[has], minlength=npoly).astype(np.int32)
+    root = np.cumsum(turn, dtype=np.int32) - 1  # the turning points' numbers, in lattice order
     slots = np.zeros(len(lab), dtype=SLOT_DTYPE)
-    slots["x"], slots["y"], slots["vid"], slots["nb"], slots["nbslot"] = x, y, vid, nb, nbslot
-    return NavMesh(pstart, slots, turn, degree, L, int(np.diff(pstart).max()) if npoly else 0)
+    slots["x"], slots["y"], slots["nb"], slots["nbslot"] = x, y, nb, nbslot
+    slots["root"] = np.where(turn[vid] == 1, root[vid], -1)
+    return NavMesh(pstart, slots, turn, int(root[-1]) + 1, degree, L, int(np.diff(pstart).max()) if npoly else 0)
 
 
 #: The default search of :meth:`AnyAngleGraph.shortest_path` (and so of :func:`plan_anyangle`):
@@ -318,11 +350,13 @@ SEARCHES = ("lazy", "graph", "polyanya")
 
 @dataclass(frozen=True, eq=False)
 class AnyAngleGraph:
-    """A grid map's convex corners and the searches over them; build it with :func:`grid_graph`.
+    """A grid map's convex corners, its navigation mesh and the searches over them; build it with
+    :func:`grid_graph`.
 
     The per-map part is the corner list, its 32 x 32 buckets and the blocked runs (milliseconds);
-    the taut visibility graph over the corners (``edges``) is built on first use only (by the
-    ``"graph"`` search or by reading :attr:`edges`) and then kept.
+    the navigation mesh (:attr:`mesh`, by the ``"polyanya"`` search, the default) and the taut
+    visibility graph over the corners (:attr:`edges`, by the ``"graph"`` search) are built on first
+    use only and then kept.
 
     Attributes
     ----------
@@ -333,6 +367,8 @@ class AnyAngleGraph:
         Time of the per-map part (corners, buckets, runs).
     edges : ndarray of int, shape (m, 2)
         Taut visible pairs ``i < j`` (built on first access; :attr:`graph_seconds`).
+    mesh : NavMesh
+        The navigation mesh of the free cells (built on first access; :attr:`mesh_seconds`).
 
     Examples
     --------
@@ -342,6 +378,8 @@ class AnyAngleGraph:
     (4, 4, [[1.0, 1.0], [2.0, 1.0], [1.0, 2.0], [2.0, 2.0]])
     >>> g.shortest_path([0.5, 0.5], [2.5, 2.5])[1] == 2 * (0.5 ** 2 + 1.5 ** 2) ** 0.5
     True
+    >>> g.mesh.n_polygons                                             # rows 0 and 2, the cells left and right of it
+    4
     """
 
     grid: Grid
@@ -414,7 +452,7 @@ class AnyAngleGraph:
         if "mesh" not in self._lazy:
             t0 = time.perf_counter()
             mesh = navigation_mesh(self._B)
-            n = len(mesh.turn)
+            n = max(mesh.n_roots, 1)
             # the search's best g per root, valid where stamp == the query's number (never cleared)
             self._lazy.update(mesh_best=np.zeros(n), mesh_stamp=np.zeros(n, dtype=np.int32), mesh_sid=0,
                               mesh_lock=threading.Lock(), mesh_seconds=time.perf_counter() - t0)
@@ -432,7 +470,7 @@ class AnyAngleGraph:
                 lz["mesh_stamp"].fill(0)
                 lz["mesh_sid"] = 1
             length, xs, ys, expanded, _ = kernels("polyanya").polyanya(
-                mesh.pstart, mesh.slots.view(np.uint8), mesh.turn, mesh.degree, lz["mesh_best"],
+                mesh.pstart, mesh.slots.view(np.uint8), mesh.degree, lz["mesh_best"],
                 lz["mesh_stamp"], lz["mesh_sid"], mesh.max_vertices, sx, sy, mesh.polygons_at(sx, sy), gx, gy,
                 mesh.polygons_at(gx, gy))
         return float(length), np.column_stack([xs, ys]), int(expanded)
@@ -681,7 +719,7 @@ def _buckets(vx: NDArray[np.float64], vy: NDArray[np.float64], shape: tuple[int,
 
 
 def grid_graph(gridmap: GridMap, *, cache: dict[Any, Any] | None = None) -> AnyAngleGraph:
-    """The any-angle visibility graph of a grid map, built once per map content.
+    """The any-angle searches of a grid map (:class:`AnyAngleGraph`), built once per map content.
 
     Parameters
     ----------

@@ -536,6 +536,10 @@ def test_navigation_mesh_is_a_partition_with_matched_edges(case):
     assert (mesh.degree == np.add.reduceat((mesh.nb >= 0).astype(int), mesh.pstart[:-1])).all() or mesh.n_polygons == 0
     cx, cy, _, _ = convex_corners(_padded_blocked(GridMap(g.grid, occ)))
     assert sorted(np.flatnonzero(mesh.turn).tolist()) == sorted((cy * (cols + 1) + cx).astype(int).tolist())
+    lattice = (mesh.vy * (cols + 1) + mesh.vx).astype(int)  # each slot's root number: that of its turning point
+    turning = np.flatnonzero(mesh.turn)
+    assert mesh.n_roots == len(turning)
+    assert np.array_equal(mesh.root, np.where(mesh.turn[lattice] == 1, np.searchsorted(turning, lattice), -1))
 
 
 @settings(max_examples=80, deadline=None)

@@ -244,11 +244,15 @@ class NavMesh:
         return np.array(sorted({int(L[r + 1, c + 1]) for r in rs for c in cs if L[r + 1, c + 1] >= 0}), dtype=np.int64)
 
 
-def navigation_mesh(blocked_padded: NDArray[np.uint8]) -> NavMesh:
+def navigation_mesh(blocked_padded: NDArray[np.uint8], split: bool | None = None) -> NavMesh:
     """The navigation mesh of a padded blocked array (:class:`NavMesh`), in numpy without a loop over cells.
 
     The free cells of each row form maximal runs; runs with the same columns in consecutive rows merge
-    into one rectangle. A lattice point is a vertex of every rectangle round it unless the rectangles
+    into one rectangle. Cutting the runs also at gaps in walls (where both the row above and the row
+    below change between blocked and free) makes each room of a room map one rectangle, but adds
+    rectangles on random obstacles: of the two partitions the one with fewer rectangles is taken
+    (:func:`_rectangles`; fewer polygons, fewer search nodes: 8room_000 14004 -> 10532 polygons,
+    0.77x the query time; random512-10-0 keeps its 23854 strips). A lattice point is a vertex of every rectangle round it unless the rectangles
     (and blocked cells) round it meet along one straight line through it; each rectangle's vertices are
     sorted round its boundary, and each edge is matched with the same edge, reversed, of the polygon
     across it. Two cells touching only at a corner share no edge, so no path crosses a pinch point.
@@ -258,6 +262,8 @@ def navigation_mesh(blocked_padded: NDArray[np.uint8]) -> NavMesh:
     blocked_padded : ndarray of uint8, shape (rows + 2, cols + 2)
         The blocked cells with a one-cell frame (paths stay on the map, so :class:`AnyAngleGraph`
         passes a blocked frame for either border).
+    split : bool, optional
+        Whether runs are cut at gaps in walls; by default the partition with fewer rectangles.
 
     Returns
     -------
@@ -276,22 +282,8 @@ def navigation_mesh(blocked_padded: NDArray[np.uint8]) -> NavMesh:
     """
     free = blocked_padded[1:-1, 1:-1] == 0
     rows, cols = free.shape
-    d = np.diff(np.pad(free.astype(np.int8), ((0, 0), (1, 1))), axis=1)
-    r, c0 = np.nonzero(d == 1)
-    c1 = np.nonzero(d == -1)[1]
-    n = len(r)
-    # runs with the same extent in consecutive rows: one rectangle
-    key = c0.astype(np.int64) * (cols + 1) + c1
-    order = np.lexsort((r, key))
-    ks, rs = key[order], r[order]
-    new = np.ones(n, dtype=bool)
-    new[1:] = (ks[1:] != ks[:-1]) | (rs[1:] != rs[:-1] + 1)
-    rid = np.empty(n, dtype=np.int64)
-    rid[order] = np.cumsum(new) - 1
-    first = np.flatnonzero(new)
-    last = np.append(first[1:], n)[: len(first)] - 1  # (empty without free cells)
-    X0, X1 = c0[order[first]], c1[order[first]]
-    Y0, Y1 = rs[first], rs[last] + 1
+    splits = (False, True) if split is None else (split,)
+    rid, c0, c1, X0, X1, Y0, Y1 = min((_rectangles(blocked_padded, sp) for sp in splits), key=lambda rect: len(rect[3]))
     L = np.full((rows + 2, cols + 2), -1, dtype=np.int32)
     L[1:-1, 1:-1][free] = np.repeat(rid, c1 - c0)  # free cells in row-major order are the runs in order
     # vertices: lattice points where the labels round them do not meet along one straight line
@@ -336,6 +328,45 @@ def navigation_mesh(blocked_padded: NDArray[np.uint8]) -> NavMesh:
     slots["x"], slots["y"], slots["nb"], slots["nbslot"] = x, y, nb, nbslot
     slots["root"] = np.where(turn[vid] == 1, root[vid], -1)
     return NavMesh(pstart, slots, turn, int(root[-1]) + 1, degree, L, int(np.diff(pstart).max()) if npoly else 0)
+
+
+def _rectangles(blocked_padded: NDArray[np.uint8], split: bool) -> tuple[NDArray[np.int64], ...]:
+    """The free cells as rectangles: row runs, runs with the same columns in consecutive rows merged.
+
+    With ``split``, a run is also cut where both the row above and the row below change between
+    blocked and free (a gap in a wall: a room's rows then share its columns, and the room is one
+    rectangle). Returns ``rid, c0, c1`` per run (its rectangle, its columns; row-major order) and
+    ``X0, X1, Y0, Y1`` per rectangle.
+
+    Examples
+    --------
+    >>> B = np.ones((5, 6), np.uint8); B[1:4, 1:5] = 0; B[1, 2] = B[3, 2] = 1   # a gap in a wall, column 1
+    >>> [len(_rectangles(B, split)[3]) for split in (False, True)]   # 5 strips; the two rooms and the gap
+    [5, 3]
+    """
+    free = blocked_padded[1:-1, 1:-1] == 0
+    cols = free.shape[1]
+    fp = np.pad(free, ((0, 0), (1, 1)))
+    left, right = fp[:, :-1], fp[:, 1:]  # the cells left and right of each lattice column x = 0 .. cols
+    start, end = right & ~left, left & ~right
+    if split:
+        Bb = blocked_padded.astype(bool)
+        above, below = Bb[2:], Bb[:-2]  # padded columns: [:, x] is the cell left of lattice x
+        gap = (above[:, :-1] != above[:, 1:]) & (below[:, :-1] != below[:, 1:]) & left & right
+        start, end = start | gap, end | gap
+    r, c0 = np.nonzero(start)
+    c1 = np.nonzero(end)[1]
+    n = len(r)
+    key = c0.astype(np.int64) * (cols + 1) + c1
+    order = np.lexsort((r, key))
+    ks, rs = key[order], r[order]
+    new = np.ones(n, dtype=bool)
+    new[1:] = (ks[1:] != ks[:-1]) | (rs[1:] != rs[:-1] + 1)
+    rid = np.empty(n, dtype=np.int64)
+    rid[order] = np.cumsum(new) - 1
+    first = np.flatnonzero(new)
+    last = np.append(first[1:], n)[: len(first)] - 1  # (empty without free cells)
+    return rid, c0, c1, c0[order[first]], c1[order[first]], rs[first], rs[last] + 1
 
 
 #: The default search of :meth:`AnyAngleGraph.shortest_path` (and so of :func:`plan_anyangle`):

@@ -504,10 +504,14 @@ def test_navigation_mesh_is_a_partition_with_matched_edges(case):
     corners."""
     from gridfield.anyangle import _padded_blocked, convex_corners
 
-    occ, wall, _ = case
+    from gridfield.anyangle import navigation_mesh
+
+    occ, wall, rng = case
     rows, cols = occ.shape
     g = grid_graph(GridMap(Grid(occ.shape, 1.0, border="wall" if wall else "open"), occ), cache={})
-    mesh = g.mesh
+    split = bool(rng.integers(2))  # either partition (by default the one with fewer rectangles)
+    mesh = navigation_mesh(_padded_blocked(GridMap(g.grid, occ)), split=split)
+    assert g.mesh.n_polygons <= mesh.n_polygons
     labels = mesh.labels[1:-1, 1:-1]
     assert np.array_equal(labels >= 0, ~occ) and (mesh.labels[[0, -1]] == -1).all() and (mesh.labels[:, [0, -1]] == -1).all()
     for p in range(mesh.n_polygons):

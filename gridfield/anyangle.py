@@ -202,6 +202,15 @@ class NavMesh:
     labels : ndarray of int32, shape (rows + 2, cols + 2)
     max_vertices : int
         The most vertices of one polygon.
+
+    Examples
+    --------
+    >>> B = np.ones((4, 5), np.uint8); B[1:3, 1:4] = 0; B[1, 2] = 1     # a 3 x 2 map, one blocked cell
+    >>> mesh = navigation_mesh(B)
+    >>> mesh.n_polygons, mesh.polygons_at(1.0, 1.0).tolist()            # (1, 1): the lower left cell, the top row
+    (3, [0, 1])
+    >>> mesh.turn.reshape(3, 4)[1].tolist(), mesh.n_roots               # the blocked cell's two upper corners
+    ([0, 1, 1, 0], 2)
     """
 
     pstart: NDArray[np.int64]

@@ -502,9 +502,7 @@ def test_navigation_mesh_is_a_partition_with_matched_edges(case):
     holds the cell across it, and an edge has none exactly where that cell is blocked or outside
     (so two cells touching at a pinch point are not neighbours); the turning points are the convex
     corners."""
-    from gridfield.anyangle import _padded_blocked, convex_corners
-
-    from gridfield.anyangle import navigation_mesh
+    from gridfield.anyangle import _padded_blocked, convex_corners, navigation_mesh
 
     occ, wall, rng = case
     rows, cols = occ.shape

@@ -115,9 +115,11 @@ cdef double _h(double rx, double ry, double ax, double ay, double bx, double by,
     ob = _cross(tx - rx, ty - ry, bx - rx, by - ry)
     if (oa <= 0.0 and ob >= 0.0) or (oa >= 0.0 and ob <= 0.0):
         return _dist(rx, ry, tx, ty)
-    da = _dist(rx, ry, ax, ay) + _dist(ax, ay, tx, ty)
-    db = _dist(rx, ry, bx, by) + _dist(bx, by, tx, ty)
-    return da if da < db else db
+    # the segment root -> goal crosses the interval's line beyond one end: |r p| + |p t| is convex
+    # along the line, least at the crossing, so over the interval at the end nearer the crossing
+    if fabs(oa) < fabs(ob):
+        return _dist(rx, ry, ax, ay) + _dist(ax, ay, tx, ty)
+    return _dist(rx, ry, bx, by) + _dist(bx, by, tx, ty)
 
 
 cdef bint _heap_push(Search* S, double f, int64_t j) noexcept nogil:

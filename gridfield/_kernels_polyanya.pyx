@@ -42,6 +42,7 @@ import numpy as np
 __all__ = ["polyanya"]
 
 cdef double EPS = 1e-8       # cross products (lattice units squared) treated as zero
+cdef double EPS_D = 2e-8     # a root this close to an interval's line (lattice units) lies on it (>= EPS / 1)
 cdef double EPS_G = 1e-9     # root-level pruning: a root's g may exceed its best by this much
 cdef double EPS_LEN2 = 1e-18 # squared interval length below which an interval is dropped
 
@@ -93,20 +94,34 @@ cdef inline double _dist(double ax, double ay, double bx, double by) noexcept no
     return sqrt((ax - bx) * (ax - bx) + (ay - by) * (ay - by))
 
 
+cdef inline int _on_line(double rx, double ry, double ax, double ay, double bx, double by, double cr) noexcept nogil:
+    """Where a root whose cross product with the interval [A, B] is ``cr`` lies: 2 off the interval's
+    line (farther than ``EPS_D``), 0 on the interval, -1 on the line beyond A, 1 beyond B."""
+    cdef double dx = bx - ax, dy = by - ay, l2 = dx * dx + dy * dy, dot, tol
+    if cr * cr > EPS_D * EPS_D * l2:
+        return 2
+    dot = (rx - ax) * dx + (ry - ay) * dy
+    tol = EPS_D * sqrt(l2)
+    if dot < -tol:
+        return -1
+    if dot > l2 + tol:
+        return 1
+    return 0
+
+
 cdef double _h(double rx, double ry, double ax, double ay, double bx, double by, double tx, double ty) noexcept nogil:
     """Shortest distance from the root through the interval [A, B] to the goal (a lower bound)."""
     cdef double dx = bx - ax, dy = by - ay
     cdef double cr = _cross(dx, dy, rx - ax, ry - ay)
     cdef double ct = _cross(dx, dy, tx - ax, ty - ay)
-    cdef double l2 = dx * dx + dy * dy, k, oa, ob, da, db
-    if fabs(cr) <= EPS:  # root on the interval's line
-        if (rx == ax and ry == ay) or (rx == bx and ry == by):
-            return _dist(rx, ry, tx, ty)
-        da = _dist(rx, ry, ax, ay)
-        db = _dist(rx, ry, bx, by)
-        if da <= db:
-            return da + _dist(ax, ay, tx, ty)
-        return db + _dist(bx, by, tx, ty)
+    cdef double l2 = dx * dx + dy * dy, k, oa, ob
+    cdef int where = _on_line(rx, ry, ax, ay, bx, by, cr)
+    if where == 0:  # the root on the interval
+        return _dist(rx, ry, tx, ty)
+    if where == -1:  # on its line, beyond an end: through that end
+        return _dist(rx, ry, ax, ay) + _dist(ax, ay, tx, ty)
+    if where == 1:
+        return _dist(rx, ry, bx, by) + _dist(bx, by, tx, ty)
     if (cr > 0) == (ct > 0) and ct != 0.0:  # the goal on the root's side: mirror it
         k = 2.0 * ct / l2
         tx = tx + k * dy
@@ -264,25 +279,24 @@ cdef void _expand(Search* S, Mesh* M, int32_t cur, Chain* C) noexcept nogil:
         cy[m] = M.sl[base + s].y
         s += 1
     cr = _cross(bx - ax, by - ay, rx - ax, ry - ay)
-    if fabs(cr) <= EPS:
-        if (rx == ax and ry == ay) or (rx == bx and ry == by):
-            # the root is an endpoint of the interval, a vertex of this convex polygon: it sees all of it
+    where = _on_line(rx, ry, ax, ay, bx, by, cr)
+    if where != 2:
+        if where == 0:
+            # the root on the interval, so on this convex polygon's boundary: it sees all of it
             for m in range(n - 1):
                 _push_edge(S, M, cur, rx, ry, root, g, cs[m], cx[m], cy[m], cx[m + 1], cy[m + 1])
             if goal:
                 _push(S, M, cur, rx, ry, root, g, 0, 0, 0, 0, -1, -1)
             return
         # the root beyond the interval on its line: only its nearer endpoint can be turned round
-        da = _dist(rx, ry, ax, ay)
-        db = _dist(rx, ry, bx, by)
-        if da <= db:
+        if where < 0:
             nx, ny, m = ax, ay, n - 1
         else:
             nx, ny, m = bx, by, 0
         if nx != cx[m] or ny != cy[m] or not M.sl[cs[m]].root >= 0:
             return
         nroot = M.sl[cs[m]].root
-        g2 = g + (da if da <= db else db)
+        g2 = g + _dist(rx, ry, nx, ny)
         for m in range(n - 1):
             _push_edge(S, M, cur, nx, ny, nroot, g2, cs[m], cx[m], cy[m], cx[m + 1], cy[m + 1])
         if goal:

@@ -390,8 +390,8 @@ def _rectangles(blocked_padded: NDArray[np.uint8], split: bool) -> tuple[NDArray
 
 #: A start or goal closer than this (lattice units, cells) to a cell edge is searched by Polyanya from
 #: the edge (the path keeps the given point): its tolerances cannot tell such a point from one on the
-#: edge, and between 1e-9 and 3e-8 off an edge it missed the optimum on random grids; from 1e-7 on,
-#: none of 20000 queries per offset did.
+#: edge, and between 1e-9 and 3e-8 off an edge it missed the optimum on random grids (in 0.15-0.7 % of
+#: the queries); from 1e-7 on, none of 10000-19000 queries per offset did.
 SNAP = 1e-7
 
 

@@ -20,13 +20,16 @@ side of the edge's first vertex in that polygon, ``B`` on the side of its second
 projects the interval through the polygon (rays root -> A and root -> B): the edges (or parts of
 them) between the two rays are *observable* successors (same root), those outside the rays on the
 side of an endpoint that is a polygon vertex and a turning point are *non-observable* successors
-(rooted at that endpoint). A root on the interval's line either is one of its endpoints (then the
-root sees the whole polygon) or lies beyond it (then only the nearer endpoint can be turned round).
-``f = g + h`` with ``h`` the exact distance from the root through the interval to the goal (the goal
-mirrored across the interval's line when it lies on the root's side). Root-level pruning: a node is
-dropped when its root vertex was reached with a smaller ``g`` (within ``EPS_G``). The goal's
-polygons end the search: expanding one pushes a final node (root and goal in sight, or turning at an
-interval endpoint), and the first final node popped is the optimum.
+(rooted at that endpoint). A root on the interval's line (within ``EPS_D``) either lies on the
+interval (then it sees the whole polygon) or beyond it (then only the nearer endpoint can be turned
+round). ``f = g + h`` with ``h`` the exact distance from the root through the interval to the goal
+(the goal mirrored across the interval's line when it lies on the root's side). Root-level pruning: a
+node is dropped when its root vertex was reached with a smaller ``g`` (by more than ``EPS_G``; equal
+``g`` must be kept: the same root reached through two polygons turns into different regions). No node
+enters a dead end (a polygon with one neighbour) unless the goal is in it, and a node whose expansion
+makes a single node with the same root is followed at once, past the heap (the paper's intermediate
+pruning). The goal's polygons end the search: expanding one pushes a final node (root and goal in
+sight, or turning at an interval endpoint), and the first final node popped is the optimum.
 
 Everything runs without the GIL, on C buffers grown by doubling (nodes, the binary heap of their
 ``f``); the best ``g`` per root number lives in the caller's arrays, valid where ``stamp`` equals the
@@ -262,7 +265,7 @@ cdef void _expand(Search* S, Mesh* M, int32_t cur, Chain* C) noexcept nogil:
     cdef int32_t P = nd.poly, root = nd.root, nroot
     cdef int64_t base = M.pstart[P], n = M.pstart[P + 1] - M.pstart[P], m, s, kA, kB, eA, eB
     cdef double rx = nd.rx, ry = nd.ry, ax = nd.ax, ay = nd.ay, bx = nd.bx, by = nd.by, g = nd.g
-    cdef double cr, px, py, qx, qy, xbx, xby, xax, xay, t, g2, nx, ny, da, db, sta, stb
+    cdef double cr, px, py, qx, qy, xbx, xby, xax, xay, t, g2, nx, ny, sta, stb
     cdef double* cx = C.x
     cdef double* cy = C.y
     cdef double* sa = C.sa

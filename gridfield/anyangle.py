@@ -123,6 +123,8 @@ __all__ = ["SLOT_DTYPE", "AnyAngleGraph", "NavMesh", "convex_corners", "grid_gra
 #: Graphs kept by :func:`grid_graph` without an explicit cache (most recently used maps).
 CACHE_SIZE = 4
 _GRAPHS: OrderedDict[tuple[Any, ...], AnyAngleGraph] = OrderedDict()
+# Polyanya queries take turns at the meshes' workspaces (module-wide, so that a graph still pickles)
+_MESH_LOCK = threading.Lock()
 
 
 def _kernels() -> Any:
@@ -512,7 +514,7 @@ class AnyAngleGraph:
             n = max(mesh.n_roots, 1)
             # the search's best g per root, valid where stamp == the query's number (never cleared)
             self._lazy.update(mesh_best=np.zeros(n), mesh_stamp=np.zeros(n, dtype=np.int32), mesh_sid=0,
-                              mesh_lock=threading.Lock(), mesh_seconds=time.perf_counter() - t0)
+                              mesh_seconds=time.perf_counter() - t0)
             self._lazy["mesh"] = mesh
         return self._lazy
 
@@ -531,7 +533,7 @@ class AnyAngleGraph:
         sp, tp = mesh.polygons_at(*s2), mesh.polygons_at(*g2)
         if not np.intersect1d(mesh.component[sp], mesh.component[tp]).size:
             return math.inf, np.empty((0, 2)), 0
-        with lz["mesh_lock"]:  # one query at a time uses the mesh's workspace
+        with _MESH_LOCK:  # one query at a time uses a mesh's workspace
             lz["mesh_sid"] += 1
             if lz["mesh_sid"] >= 2**31 - 1:
                 lz["mesh_stamp"].fill(0)

@@ -661,3 +661,15 @@ def test_polyanya_answers_other_components_without_a_search():
     assert len(set(g.mesh.component.tolist())) == 2
     pts, length, expanded = g._search((0.5, 0.5), (3.5, 5.5), "polyanya")
     assert length == pytest.approx(math.hypot(3, 5)) and expanded == 0  # in sight: no search either
+
+
+def test_a_graph_with_its_mesh_pickles():
+    """The mesh and the search's workspace travel with a pickled graph (no lock inside it)."""
+    import pickle
+
+    occ = np.zeros((5, 5), bool)
+    occ[1:4, 2] = True
+    g = grid_graph(GridMap(Grid((5, 5), 1.0), occ), cache={})
+    want = g.shortest_path((0.5, 2.5), (4.5, 2.5))[1]
+    g2 = pickle.loads(pickle.dumps(g))
+    assert g2.mesh_built and g2.shortest_path((0.5, 2.5), (4.5, 2.5))[1] == want

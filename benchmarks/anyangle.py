@@ -3,8 +3,8 @@
 Run ``python benchmarks/anyangle.py [--root ../shared/maps/movingai] [--maps NAME ...] [--queries 50]
 [--no-lazy] [--compare-numba OLD.py]``.
 For each map: the per-map part (convex corners, their buckets, the blocked runs: all the lazy search
-needs) and then the visibility graph are built once in this process (each timed; kernels warmed up
-on a tiny map first; wall-clock and process CPU seconds, the latter less sensitive to other jobs on
+needs), then the visibility graph, then the navigation mesh of the Polyanya search are built once in
+this process (each timed; kernels warmed up on a tiny map first; wall-clock and process CPU seconds, the latter less sensitive to other jobs on
 a shared machine), then ``--queries`` scenarios spread evenly over the ``.scen`` file are answered,
 each by
 

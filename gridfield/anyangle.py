@@ -266,10 +266,12 @@ def navigation_mesh(blocked_padded: NDArray[np.uint8], split: bool | None = None
     below change between blocked and free) makes each room of a room map one rectangle, but adds
     rectangles on random obstacles: of the two partitions the one with fewer rectangles is taken
     (:func:`_rectangles`; fewer polygons, fewer search nodes: 8room_000 14004 -> 10532 polygons,
-    0.77x the query time; random512-10-0 keeps its 23854 strips). A lattice point is a vertex of every rectangle round it unless the rectangles
-    (and blocked cells) round it meet along one straight line through it; each rectangle's vertices are
-    sorted round its boundary, and each edge is matched with the same edge, reversed, of the polygon
-    across it. Two cells touching only at a corner share no edge, so no path crosses a pinch point.
+    0.77x the query time; random512-10-0 keeps its 23854 strips). A lattice point is a vertex of
+    every rectangle round it unless the rectangles (and blocked cells) round it meet along one
+    straight line through it; each rectangle's vertices are sorted round its boundary, and each edge
+    is matched with the same edge, reversed, of the polygon across it. Two cells touching only at a
+    corner share no edge, so no path crosses a pinch point. The polygons' connected components (scipy)
+    let a search give up at once on a goal in another one.
 
     Parameters
     ----------

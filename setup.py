@@ -12,7 +12,7 @@ from setuptools import Extension, setup
 
 #: The compiled modules, gridfield/<name>.pyx each.
 KERNELS = ["_kernels_anyangle", "_kernels_brushfire", "_kernels_chunked", "_kernels_eikonal", "_kernels_follow", "_kernels_incremental",
-           "_kernels_navfn", "_kernels_navigation", "_kernels_potential"]
+           "_kernels_navfn", "_kernels_navigation", "_kernels_polyanya", "_kernels_potential"]
 #: Those with OpenMP loops (``prange``).
 OPENMP = {"_kernels_potential"}
 

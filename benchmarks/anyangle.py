@@ -3,20 +3,25 @@
 Run ``python benchmarks/anyangle.py [--root ../shared/maps/movingai] [--maps NAME ...] [--queries 50]
 [--no-lazy] [--compare-numba OLD.py]``.
 For each map: the per-map part (convex corners, their buckets, the blocked runs: all the lazy search
-needs) and then the visibility graph are built once in this process (each timed; kernels warmed up
-on a tiny map first; wall-clock and process CPU seconds, the latter less sensitive to other jobs on
+needs), then the visibility graph, then the navigation mesh of the Polyanya search are built once in
+this process (each timed; kernels warmed up on a tiny map first; wall-clock and process CPU seconds, the latter less sensitive to other jobs on
 a shared machine), then ``--queries`` scenarios spread evenly over the ``.scen`` file are answered,
 each by
 
-- ``any-angle query``: :meth:`AnyAngleGraph.shortest_path` with ``search="graph"``, the graph cached
+- ``graph query``: :meth:`AnyAngleGraph.shortest_path` with ``search="graph"``, the graph cached
   (the two visibility passes from start and goal, then A* over the graph);
 - ``lazy query`` (unless ``--no-lazy``): ``search="lazy"``, A* over the corners whose visible
   neighbours are found when a corner is expanded (no graph); checked against the graph search's
   length (1e-9 relative) and for free segments (``lazy failed``);
-- ``plan('visibility')``: the public call on the map with a cache (query + result checks + clearance);
+- ``polyanya query``: ``search="polyanya"`` (the default), Polyanya over the navigation mesh (built
+  once per map beforehand, timed as ``mesh build``; its polygons counted), with the nodes it expanded
+  (median); checked against the graph search's length (1e-9 relative) and for free segments
+  (``polyanya failed``);
+- ``plan('visibility')``: the public call on the map with a cache (query + result checks + clearance;
+  the default search, Polyanya);
 - ``plan('wavefront-octile')``: the octile wavefront from the goal and its descent, the same query.
 
-The three run interleaved query by query, so that load from other jobs on the machine hits them
+They run interleaved query by query, so that load from other jobs on the machine hits them
 alike. Every answer is checked: never longer than the file's octile optimum (within the file's
 printed precision), never shorter than the straight line, every path segment free
 (:meth:`AnyAngleGraph.visible`). Prints one markdown row per map; the numbers of the committed run
@@ -55,7 +60,7 @@ def _warm_up() -> None:
     occ[3:9, 5] = True
     gm = GridMap(Grid((12, 12), 1.0, border="wall"), occ)
     g = grid_graph(gm, cache={})
-    for search in ("graph", "lazy"):
+    for search in ("graph", "lazy", "polyanya"):
         g.shortest_path((0.5, 5.5), (11.5, 5.5), search=search)
     plan("wavefront-octile", gm, (0.5, 5.5), (11.5, 5.5))
 
@@ -74,16 +79,25 @@ def bench_map(folder: Path, n_queries: int, lazy: bool = True) -> dict:
     prep, prep_cpu = time.perf_counter() - t0, time.process_time() - c0
     graph.edges  # noqa: B018  (the visibility graph: built on first use)
     build, build_cpu = time.perf_counter() - t0, time.process_time() - c0
+    t0, c0 = time.perf_counter(), time.process_time()
+    polygons = graph.mesh.n_polygons  # the navigation mesh of the Polyanya search: built on first use
+    mesh, mesh_cpu = time.perf_counter() - t0, time.process_time() - c0
     ok_idx = np.flatnonzero(~scen.no_path & (scen.optimal > 0))
     idx = ok_idx[np.linspace(0, len(ok_idx) - 1, min(n_queries, len(ok_idx))).astype(int)]
     tol = scen.tolerance()
-    t_q, t_plan, t_oct, ratios, t_lazy = [], [], [], [], []
-    bad = bad_lazy = 0
+    t_q, t_plan, t_oct, ratios, t_lazy, t_poly, expanded = [], [], [], [], [], [], []
+    bad = bad_lazy = bad_poly = 0
     for k in idx:
         s, g = scen.start_xy[k], scen.goal_xy[k]
         t0 = time.perf_counter()
         pts, length = graph.shortest_path(s, g, search="graph")
         t_q.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        ppts, plen, pexp = graph._search(s, g, "polyanya")  # shortest_path's body, with the expansions
+        t_poly.append(time.perf_counter() - t0)
+        expanded.append(pexp)
+        if not (abs(plen - length) <= 1e-9 * length and all(graph.visible(a, b) for a, b in itertools.pairwise(ppts))):
+            bad_poly += 1
         if lazy:
             t0 = time.perf_counter()
             lpts, llen = graph.shortest_path(s, g, search="lazy")
@@ -99,7 +113,7 @@ def bench_map(folder: Path, n_queries: int, lazy: bool = True) -> dict:
         opt = float(scen.optimal[k])
         segs_ok = all(graph.visible(a, b) for a, b in itertools.pairwise(pts))
         if not (math.isfinite(length) and length <= opt + tol[k] and length >= math.dist(s, g) - 1e-9
-                and segs_ok and abs(p.length - length) <= 1e-9 and o.status == "reached"):
+                and segs_ok and abs(p.length - length) <= 1e-9 * length and o.status == "reached"):
             bad += 1
         ratios.append(opt / length)
     ms = lambda v: statistics.median(v) * 1e3  # noqa: E731
@@ -108,6 +122,8 @@ def bench_map(folder: Path, n_queries: int, lazy: bool = True) -> dict:
         "build_cpu_s": build_cpu, "prep_s": prep, "prep_cpu_s": prep_cpu,
         "lazy_ms": ms(t_lazy) if t_lazy else math.nan, "lazy_max_ms": max(t_lazy) * 1e3 if t_lazy else math.nan,
         "bad_lazy": bad_lazy,
+        "polygons": polygons, "mesh_s": mesh, "mesh_cpu_s": mesh_cpu, "poly_ms": ms(t_poly),
+        "poly_max_ms": max(t_poly) * 1e3, "poly_expanded": statistics.median(expanded), "bad_poly": bad_poly,
         "queries": len(idx), "query_ms": ms(t_q), "query_max_ms": max(t_q) * 1e3, "plan_ms": ms(t_plan),
         "octile_ms": ms(t_oct), "ratio_median": statistics.median(ratios), "ratio_max": max(ratios), "bad": bad,
     }
@@ -184,20 +200,24 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     _warm_up()
     old = None if args.compare_numba is None else load_numba(args.compare_numba)
-    print("| map | size | convex corners | graph edges | per-map part s (wall / CPU) | graph build s (wall / CPU) | queries "
-          "| any-angle query ms (median / max) | lazy query ms (median / max) "
+    print("| map | size | convex corners | graph edges | per-map part s (wall / CPU) | graph build s (wall / CPU) "
+          "| mesh polygons | mesh build s (wall / CPU) | queries "
+          "| graph query ms (median / max) | polyanya query ms (median / max) | polyanya expanded (median) "
+          "| lazy query ms (median / max) "
           "| plan('visibility') ms | plan('wavefront-octile') ms | octile / any-angle (median / max) | failed checks "
-          "| lazy failed |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "| polyanya failed | lazy failed |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     failed = 0
     for name in args.maps:
         r = bench_map(args.root / name, args.queries, lazy=not args.no_lazy)
-        failed += r["bad"] + r["bad_lazy"]
+        failed += r["bad"] + r["bad_lazy"] + r["bad_poly"]
         print(f"| {r['map']} | {r['shape'][1]} x {r['shape'][0]} | {r['corners']} | {r['edges']} "
               f"| {r['prep_s']:.3f} / {r['prep_cpu_s']:.3f} | {r['build_s']:.2f} / {r['build_cpu_s']:.2f} "
-              f"| {r['queries']} | {r['query_ms']:.2f} / {r['query_max_ms']:.1f} | {r['lazy_ms']:.2f} / {r['lazy_max_ms']:.1f} "
+              f"| {r['polygons']} | {r['mesh_s']:.3f} / {r['mesh_cpu_s']:.3f} "
+              f"| {r['queries']} | {r['query_ms']:.2f} / {r['query_max_ms']:.1f} | {r['poly_ms']:.2f} / {r['poly_max_ms']:.1f} "
+              f"| {r['poly_expanded']:.0f} | {r['lazy_ms']:.2f} / {r['lazy_max_ms']:.1f} "
               f"| {r['plan_ms']:.2f} | {r['octile_ms']:.1f} | {r['ratio_median']:.4f} / {r['ratio_max']:.4f} | {r['bad']} "
-              f"| {r['bad_lazy']} |", flush=True)
+              f"| {r['bad_poly']} | {r['bad_lazy']} |", flush=True)
     if old is not None:
         import gridfield.anyangle as aa
 

@@ -11,7 +11,7 @@ True
 >>> kernels("nothing")
 Traceback (most recent call last):
 ...
-ValueError: no compiled kernel module 'nothing'; the kernels are: anyangle, brushfire, chunked, eikonal, follow, incremental, navfn, navigation, potential
+ValueError: no compiled kernel module 'nothing'; the kernels are: anyangle, brushfire, chunked, eikonal, follow, incremental, navfn, navigation, polyanya, potential
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ __all__ = ["KERNEL_MODULES", "kernels"]
 
 #: The kernel modules, ``gridfield._kernels_<name>``.
 KERNEL_MODULES: tuple[str, ...] = ("anyangle", "brushfire", "chunked", "eikonal", "follow", "incremental", "navfn",
-                                   "navigation", "potential")
+                                   "navigation", "polyanya", "potential")
 
 
 @functools.cache

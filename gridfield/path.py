@@ -79,6 +79,7 @@ PathExtra = TypedDict(
         # -- exact shortest paths (visibility, anyangle) --
         "nodes": int,  # nodes of the visibility graph
         "edges": int,  # its edges
+        "polygons": int,  # polygons of the navigation mesh (anyangle's Polyanya search)
         "pinch": str,  # how corner-touching obstacles are treated
         "graph_seconds": float,  # time building the graph
         "optimal_length": float,  # the shortest path's length
@@ -109,8 +110,9 @@ value, grid_length, cells, reason, finished_by
     wavefront's descent from there finished the path.
 kappa, lambda, tried, kappa_tried, workspace_center, workspace_radius, followed, folds, star_centers
     Sphere and star worlds.
-nodes, edges, pinch, graph_seconds, optimal_length
-    Exact shortest paths (visibility graph, any-angle).
+nodes, edges, polygons, pinch, graph_seconds, optimal_length
+    Exact shortest paths (visibility graph, any-angle; ``polygons``: the navigation mesh of the
+    any-angle Polyanya search).
 optimal
     ``gridfield plan --scenario``: the scenario's published optimal length.
 

@@ -181,12 +181,17 @@ def test_random_grids_match_brute_force_and_octile_bounds(case):
     ref = brute_force(occ, frame, s, t)
     oct_len = octile(occ, wall, a, b)
     lazy_pts, lazy_length = g.shortest_path(s, t, search="lazy")  # the search without a graph
+    others = {name: g.shortest_path(s, t, search=name) for name in ("graph", "polyanya")}
     if math.isinf(ref):
         assert math.isinf(length) and math.isinf(oct_len) and math.isinf(lazy_length) and len(lazy_pts) == 0
+        assert all(math.isinf(v[1]) and len(v[0]) == 0 for v in others.values())
     else:
         assert length == pytest.approx(ref, abs=1e-9)
         assert lazy_length == pytest.approx(ref, abs=1e-9)
         check_path(lazy_pts, occ, frame)
+        for name, (o_pts, o_len) in others.items():
+            assert o_len == pytest.approx(ref, abs=1e-9), name
+            check_path(o_pts, occ, frame)
         assert length <= oct_len + 1e-9  # an octile path is an any-angle path
         assert length >= math.dist(s, t) - 1e-12
         # the bound that holds: the obstacle-free octile *distance* over sqrt(4 - 2 sqrt 2) = 1.08239...
@@ -205,13 +210,17 @@ def test_random_grids_match_brute_force_and_octile_bounds(case):
         return
     pts2, length2 = g.shortest_path(s2, t2)
     lazy2 = g.shortest_path(s2, t2, search="lazy")[1]
+    others2 = [g.shortest_path(s2, t2, search=name) for name in ("graph", "polyanya")]
     ref2 = brute_force(occ, frame, s2, t2)
     if math.isinf(ref2):
-        assert math.isinf(length2) and math.isinf(lazy2)
+        assert math.isinf(length2) and math.isinf(lazy2) and all(math.isinf(v[1]) for v in others2)
     else:
         assert length2 == pytest.approx(ref2, abs=1e-9)
         assert lazy2 == pytest.approx(ref2, abs=1e-9)
         check_path(pts2, occ, frame)
+        for o_pts, o_len in others2:
+            assert o_len == pytest.approx(ref2, abs=1e-9)
+            check_path(o_pts, occ, frame)
 
 
 def test_staircase_breaks_the_octile_metric_bound():
@@ -324,16 +333,18 @@ def test_polyanya_arena_lengths():
     want = np.array([q["expected_length"] for q in cases["queries"]])
     assert len(want) == 160
     np.testing.assert_allclose(got, want, atol=1e-4, rtol=0)
-    lazy = np.array([g.shortest_path((q["start"][0], H - q["start"][1]), (q["goal"][0], H - q["goal"][1]),
-                                     search="lazy")[1] for q in cases["queries"]])
-    np.testing.assert_allclose(lazy, want, atol=1e-4, rtol=0)
+    for search in ("lazy", "graph", "polyanya"):
+        got = np.array([g.shortest_path((q["start"][0], H - q["start"][1]), (q["goal"][0], H - q["goal"][1]),
+                                        search=search)[1] for q in cases["queries"]])
+        np.testing.assert_allclose(got, want, atol=1e-4, rtol=0, err_msg=search)
 
 
 @pytest.mark.parametrize(("name", "n"), [("den312d", 150), ("arena", 100), ("mapf_random-32-32-10", 150)])
-def test_lazy_search_finds_the_graphs_optimum_on_scenarios(name, n):
-    """Scenarios spread over small Moving AI maps (400 in all): the lazy search (no visibility graph)
-    and the graph search give the same length (1e-9 relative) and the lazy path's segments are free;
-    the graph is the reference (itself checked against the brute force and Polyanya's lengths above)."""
+def test_lazy_and_polyanya_find_the_graphs_optimum_on_scenarios(name, n):
+    """Scenarios spread over small Moving AI maps (400 in all): the lazy search (no visibility graph),
+    Polyanya (no visibility graph either) and the graph search give the same length (1e-9 relative)
+    and the paths' segments are free; the graph is the reference (itself checked against the brute
+    force and Polyanya's published lengths above)."""
     import itertools
 
     folder = SHARED_MAPS / "movingai" / name
@@ -342,14 +353,17 @@ def test_lazy_search_finds_the_graphs_optimum_on_scenarios(name, n):
     ok = np.flatnonzero(~scen.no_path)
     idx = ok[np.linspace(0, len(ok) - 1, min(n, len(ok))).astype(int)]
     g = grid_graph(m, cache={})
-    assert not g.graph_built  # the per-map part alone so far
+    assert not g.graph_built and not g.mesh_built  # the per-map part alone so far
+    answers = {int(k): g.shortest_path(scen.start_xy[k], scen.goal_xy[k], search="polyanya") for k in idx}
+    assert g.mesh_built and not g.graph_built  # Polyanya needs no visibility graph
     for k in idx:
         s, t = scen.start_xy[k], scen.goal_xy[k]
-        pts, length = g.shortest_path(s, t, search="lazy")
         want = g.shortest_path(s, t, search="graph")[1]
-        assert length == pytest.approx(want, rel=1e-9, abs=1e-12), (name, int(k))
-        assert all(g.visible(a, b) for a, b in itertools.pairwise(pts))
-        assert float(np.hypot(*np.diff(pts, axis=0).T).sum()) == pytest.approx(length, rel=1e-12)
+        for search in ("lazy", "polyanya"):
+            pts, length = g.shortest_path(s, t, search=search) if search == "lazy" else answers[int(k)]
+            assert length == pytest.approx(want, rel=1e-9, abs=1e-12), (name, int(k), search)
+            assert all(g.visible(a, b) for a, b in itertools.pairwise(pts))
+            assert float(np.hypot(*np.diff(pts, axis=0).T).sum()) == pytest.approx(length, rel=1e-12)
     assert g.graph_built
 
 
@@ -357,8 +371,8 @@ def test_unknown_search_is_refused():
     from gridfield.errors import ParameterError
 
     g = grid_graph(GridMap(Grid((4, 4), 1.0), np.zeros((4, 4), bool)))
-    with pytest.raises(ParameterError, match="search must be one of 'lazy', 'graph'"):
-        g.shortest_path((0.5, 0.5), (3.5, 3.5), search="polyanya")
+    with pytest.raises(ParameterError, match="search must be one of 'lazy', 'graph', 'polyanya'"):
+        g.shortest_path((0.5, 0.5), (3.5, 3.5), search="visibility")
 
 
 MAPS = ["den312d", "mapf_random-32-32-10", "AR0011SR", "16room_000", "Berlin_0_256", "brc202d"]
@@ -461,3 +475,201 @@ def test_the_graph_csr_is_a_stable_sort_of_both_directions(case):
     for v in range(n):
         mine = sorted(zip(idx[ptr[v]:ptr[v + 1]].tolist(), wt[ptr[v]:ptr[v + 1]].tolist(), strict=True))
         assert mine == sorted(zip(cols[rows == v].tolist(), ww[rows == v].tolist(), strict=True))
+
+
+# ----------------------------------------------------------------------------------------
+# Polyanya (search="polyanya") and its navigation mesh
+# ----------------------------------------------------------------------------------------
+@st.composite
+def mesh_grids(draw):
+    """Random grids up to 30 x 30: random cells, sometimes walls with one-cell gaps (rooms, pinches)."""
+    rows = draw(st.integers(1, 30))
+    cols = draw(st.integers(1, 30))
+    p = draw(st.sampled_from([0.0, 0.1, 0.25, 0.4, 0.55]))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    occ = rng.random((rows, cols)) < p
+    if draw(st.booleans()):
+        k = draw(st.integers(2, 6))
+        occ[:, ::k] = rng.random((rows, occ[:, ::k].shape[1])) < 0.85
+    return occ, draw(st.booleans()), rng
+
+
+@settings(max_examples=60, deadline=None)
+@given(mesh_grids())
+def test_navigation_mesh_is_a_partition_with_matched_edges(case):
+    """The mesh's rectangles cover each free cell once and nothing else; their vertices run
+    counter-clockwise; every edge with a neighbour is that neighbour's edge reversed, the neighbour
+    holds the cell across it, and an edge has none exactly where that cell is blocked or outside
+    (so two cells touching at a pinch point are not neighbours); the turning points are the convex
+    corners."""
+    from gridfield.anyangle import _padded_blocked, convex_corners, navigation_mesh
+
+    occ, wall, rng = case
+    rows, cols = occ.shape
+    g = grid_graph(GridMap(Grid(occ.shape, 1.0, border="wall" if wall else "open"), occ), cache={})
+    split = bool(rng.integers(2))  # either partition (by default the one with fewer rectangles)
+    mesh = navigation_mesh(_padded_blocked(GridMap(g.grid, occ)), split=split)
+    assert g.mesh.n_polygons <= mesh.n_polygons
+    labels = mesh.labels[1:-1, 1:-1]
+    assert np.array_equal(labels >= 0, ~occ) and (mesh.labels[[0, -1]] == -1).all() and (mesh.labels[:, [0, -1]] == -1).all()
+    for p in range(mesh.n_polygons):
+        sl = slice(mesh.pstart[p], mesh.pstart[p + 1])
+        x, y = mesh.vx[sl], mesh.vy[sl]
+        x0, x1, y0, y1 = int(x.min()), int(x.max()), int(y.min()), int(y.max())
+        cells = np.argwhere(labels == p)
+        assert len(cells) == (x1 - x0) * (y1 - y0)  # a rectangle of its own cells
+        assert cells[:, 0].min() == y0 and cells[:, 1].min() == x0
+        area = 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+        assert (x1 - x0) * (y1 - y0) == area  # counter-clockwise, no vertex off the boundary
+    n_slots = len(mesh.vx)
+    for k in range(n_slots):
+        p = int(np.searchsorted(mesh.pstart, k, side="right") - 1)
+        k2 = k + 1 if k + 1 < mesh.pstart[p + 1] else mesh.pstart[p]
+        (ax, ay), (bx, by) = (mesh.vx[k], mesh.vy[k]), (mesh.vx[k2], mesh.vy[k2])
+        dx, dy = np.sign(bx - ax), np.sign(by - ay)
+        assert abs(dx) + abs(dy) == 1  # axis-aligned, not degenerate
+        c, r = math.floor((ax + bx + dy) / 2), math.floor((ay + by - dx) / 2)  # the cell on its right
+        across = int(labels[r, c]) if 0 <= r < rows and 0 <= c < cols else -1
+        assert mesh.nb[k] == across
+        if across >= 0:
+            j = mesh.pstart[across] + mesh.nbslot[k]
+            j2 = j + 1 if j + 1 < mesh.pstart[across + 1] else mesh.pstart[across]
+            assert (mesh.vx[j], mesh.vy[j], mesh.vx[j2], mesh.vy[j2]) == (bx, by, ax, ay)
+    assert (mesh.degree == np.add.reduceat((mesh.nb >= 0).astype(int), mesh.pstart[:-1])).all() or mesh.n_polygons == 0
+    cx, cy, _, _ = convex_corners(_padded_blocked(GridMap(g.grid, occ)))
+    assert sorted(np.flatnonzero(mesh.turn).tolist()) == sorted((cy * (cols + 1) + cx).astype(int).tolist())
+    lattice = (mesh.vy * (cols + 1) + mesh.vx).astype(int)  # each slot's root number: that of its turning point
+    turning = np.flatnonzero(mesh.turn)
+    assert mesh.n_roots == len(turning)
+    assert np.array_equal(mesh.root, np.where(mesh.turn[lattice] == 1, np.searchsorted(turning, lattice), -1))
+
+
+@settings(max_examples=80, deadline=None)
+@given(mesh_grids(), st.integers(1, 6))
+def test_polyanya_equals_the_graph_search(case, n_queries):
+    """Polyanya against the graph search on random grids up to 30 x 30, wall and open borders, with
+    walls of one-cell gaps (rooms, pinches): the same length (1e-9 relative), ``inf`` and no points
+    together, free segments; points on a 1/4 lattice (cell centres, edges, corners, the map's border),
+    start == goal too. The kernel is also called directly, without the straight-line shortcut of
+    :meth:`AnyAngleGraph.shortest_path` (seeds from a polygon holding both points)."""
+    import itertools
+
+    occ, wall, rng = case
+    free = np.argwhere(~occ)
+    if len(free) == 0:
+        return
+    g = grid_graph(GridMap(Grid(occ.shape, 1.0, border="wall" if wall else "open"), occ), cache={})
+    for _ in range(n_queries):
+        a, b = free[rng.integers(len(free))], free[rng.integers(len(free))]
+        s = (a[1] + rng.integers(0, 5) / 4, a[0] + rng.integers(0, 5) / 4)
+        t = s if rng.random() < 0.1 else (b[1] + rng.integers(0, 5) / 4, b[0] + rng.integers(0, 5) / 4)
+        try:
+            want = g.shortest_path(s, t, search="graph")[1]
+        except GridfieldError:  # a pinch point
+            continue
+        pts, length = g.shortest_path(s, t, search="polyanya")
+        direct, turns, _ = g._polyanya(s[0], s[1], t[0], t[1])  # the kernel alone
+        if math.isinf(want):
+            assert math.isinf(length) and len(pts) == 0 and math.isinf(direct)
+            continue
+        assert length == pytest.approx(want, rel=1e-9, abs=1e-12)
+        assert direct == pytest.approx(want, rel=1e-9, abs=1e-12)
+        path = np.vstack([s, turns, t])
+        for q in (pts, path):
+            assert all(g.visible(u, v) for u, v in itertools.pairwise(q))
+            assert float(np.hypot(*np.diff(q, axis=0).T).sum()) == pytest.approx(want, rel=1e-9, abs=1e-12)
+
+
+@pytest.mark.parametrize(("name", "n"), [("random512-10-0", 5), ("8room_000", 3)])
+def test_polyanya_on_512_maps_equals_the_lazy_search(name, n):
+    """A few scenarios of two 512 x 512 Moving AI maps (random obstacles: the most polygons; rooms):
+    Polyanya's length equals the lazy search's (1e-9 relative; the lazy search is checked against
+    the graph above, whose build here would take seconds), its segments are free, and it builds no
+    visibility graph."""
+    import itertools
+
+    folder = SHARED_MAPS / "movingai" / name
+    m = read_movingai_map(next(folder.glob("*.map")))
+    scen = read_scen(next(folder.glob("*.scen")))
+    ok = np.flatnonzero(~scen.no_path & (scen.optimal > 0))
+    idx = ok[np.linspace(len(ok) // 3, len(ok) - 1, n).astype(int)]  # the longer queries
+    g = grid_graph(m, cache={})
+    for k in idx:
+        s, t = scen.start_xy[k], scen.goal_xy[k]
+        pts, length = g.shortest_path(s, t, search="polyanya")
+        assert length == pytest.approx(g.shortest_path(s, t, search="lazy")[1], rel=1e-9), (name, int(k))
+        assert length <= scen.optimal[k] + scen.tolerance()[k]
+        assert all(g.visible(a, b) for a, b in itertools.pairwise(pts))
+    assert g.mesh_built and not g.graph_built
+
+
+def test_plan_reports_the_mesh():
+    """plan('visibility') with the default search (Polyanya): the mesh's polygons in ``extra``, its build
+    counted in ``graph_seconds``, no visibility graph built (no ``edges``)."""
+    import gridfield.anyangle as aa
+
+    assert aa.SEARCH == "polyanya"
+    occ = np.zeros((6, 6), bool)
+    occ[1:5, 3] = True
+    gm = GridMap(Grid((6, 6), 1.0, border="wall"), occ)
+    cache: dict = {}
+    p = plan("visibility", gm, (0.5, 2.5), (5.5, 2.5), cache=cache)
+    g = grid_graph(gm, cache=cache)
+    assert p.status == "reached" and p.length == pytest.approx(math.hypot(2.5, 1.5) + 1 + math.hypot(1.5, 1.5))  # under the wall
+    assert p.extra["polygons"] == g.mesh.n_polygons == 4  # below, left and right of the wall, above
+    assert "edges" not in p.extra and not g.graph_built
+    assert p.extra["graph_seconds"] == pytest.approx(g.seconds + g.mesh_seconds)
+
+
+@settings(max_examples=50, deadline=None)
+@given(mesh_grids(), st.sampled_from([1e-12, 1e-9, 1e-8, 2e-8, 5e-8, 1e-7, 2e-7, 1e-6]))
+def test_polyanya_near_cell_edges(case, offset):
+    """Start and goal a hair off cell edges and corners (``offset`` cells): within ``SNAP`` (1e-7)
+    Polyanya searches from the edge, so its length is the graph search's to within twice the offset
+    (the path keeps the given ends); beyond it, to 1e-9 relative. Before the snapping such points
+    (1e-9 to 3e-8 off) missed the optimum by up to 5.7 cells on these grids."""
+    from gridfield.anyangle import SNAP
+
+    occ, wall, rng = case
+    free = np.argwhere(~occ)
+    if len(free) == 0:
+        return
+    g = grid_graph(GridMap(Grid(occ.shape, 1.0, border="wall" if wall else "open"), occ), cache={})
+    for _ in range(30):
+        a, b = free[rng.integers(len(free))], free[rng.integers(len(free))]
+        s = tuple(float(a[1 - i] + rng.choice([offset, 0.5, 1 - offset])) for i in range(2))
+        t = tuple(float(b[1 - i] + rng.choice([offset, 0.5, 1 - offset])) for i in range(2))
+        want = g.shortest_path(s, t, search="graph")[1]
+        pts, length = g.shortest_path(s, t, search="polyanya")
+        if math.isinf(want):
+            assert math.isinf(length)
+            continue
+        tol = 4 * offset if offset <= SNAP else 1e-9 * want
+        assert length == pytest.approx(want, abs=tol + 1e-12)
+        assert pts[0].tolist() == list(s) and pts[-1].tolist() == list(t)
+        assert float(np.hypot(*np.diff(pts, axis=0).T).sum()) == pytest.approx(length, rel=1e-12)
+
+
+def test_polyanya_answers_other_components_without_a_search():
+    """A goal in another connected component of the mesh: ``inf`` at once (no node expanded), where
+    the search would expand the whole component of the start."""
+    occ = np.zeros((6, 9), bool)
+    occ[:, 4] = True  # two halves
+    g = grid_graph(GridMap(Grid(occ.shape, 1.0, border="wall"), occ), cache={})
+    pts, length, expanded = g._search((0.5, 0.5), (8.5, 5.5), "polyanya")
+    assert math.isinf(length) and len(pts) == 0 and expanded == 0
+    assert len(set(g.mesh.component.tolist())) == 2
+    pts, length, expanded = g._search((0.5, 0.5), (3.5, 5.5), "polyanya")
+    assert length == pytest.approx(math.hypot(3, 5)) and expanded == 0  # in sight: no search either
+
+
+def test_a_graph_with_its_mesh_pickles():
+    """The mesh and the search's workspace travel with a pickled graph (no lock inside it)."""
+    import pickle
+
+    occ = np.zeros((5, 5), bool)
+    occ[1:4, 2] = True
+    g = grid_graph(GridMap(Grid((5, 5), 1.0), occ), cache={})
+    want = g.shortest_path((0.5, 2.5), (4.5, 2.5))[1]
+    g2 = pickle.loads(pickle.dumps(g))
+    assert g2.mesh_built and g2.shortest_path((0.5, 2.5), (4.5, 2.5))[1] == want

@@ -20,7 +20,7 @@ REPO = Path(__file__).resolve().parent.parent
 #: Every kernel module of the package, all compiled (a new one is added to setup.py's KERNELS and here).
 KERNELS = {"_kernels_anyangle", "_kernels_brushfire", "_kernels_chunked", "_kernels_eikonal", "_kernels_follow", "_kernels_incremental",
            "_kernels_navfn",
-           "_kernels_navigation", "_kernels_potential"}
+           "_kernels_navigation", "_kernels_polyanya", "_kernels_potential"}
 
 
 def _kernel_sources() -> set[str]:

@@ -454,6 +454,7 @@ class AnyAngleGraph:
     _blocks: tuple[Any, ...] = field(repr=False)
     _ext: tuple[Any, ...] = field(repr=False)
     _lazy: dict[str, Any] = field(default_factory=dict, repr=False)
+    _source: str = field(default="", repr=False)
 
     @property
     def n_nodes(self) -> int:
@@ -481,6 +482,11 @@ class AnyAngleGraph:
 
     def _graph(self) -> dict[str, Any]:
         if "edges" not in self._lazy:
+            from .limits import check_seconds
+
+            # the graph's build grows with the corners (seconds on cluttered maps): refused up front when
+            # over the time limit; the corners, the mesh and the Polyanya search need no such check
+            check_seconds({"convex corner": self.n_nodes}, f"any-angle graph of {self._source or 'the grid map'}")
             k = _kernels()
             t0 = time.perf_counter()
             vx, vy = self._vx, self._vy
@@ -750,7 +756,8 @@ def _build(gm: GridMap) -> AnyAngleGraph:
     (x0, y0), h = gm.grid.origin, gm.grid.resolution
     nodes = np.column_stack([x0 + vx * h, y0 + vy * h])
     ext = k.run_extents(B)
-    return AnyAngleGraph(gm.grid, nodes, time.perf_counter() - t0, B, vx, vy, qx, qy, blocks, ext)
+    return AnyAngleGraph(gm.grid, nodes, time.perf_counter() - t0, B, vx, vy, qx, qy, blocks, ext,
+                         _source=gm.source)
 
 
 def _symmetric_csr(n: int, ei: NDArray[np.integer[Any]], ej: NDArray[np.integer[Any]], w: NDArray[np.float64]
@@ -838,11 +845,7 @@ def grid_graph(gridmap: GridMap, *, cache: dict[Any, Any] | None = None) -> AnyA
     key = _content_key(gridmap)
     store: Any = cache if cache is not None else _GRAPHS
     graph: AnyAngleGraph | None = store.get(key)
-    if graph is None:
-        from .limits import check_seconds
-
-        corners = convex_corners(_padded_blocked(gridmap))[0].size  # the estimate, before the graph
-        check_seconds({"convex corner": corners}, f"any-angle graph of {gridmap.source or 'the grid map'}")
+    if graph is None:  # the corners (linear in the cells); the visibility graph's time is checked when it is built
         graph = _build(gridmap)
         store[key] = graph
     if store is _GRAPHS:

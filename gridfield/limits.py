@@ -30,8 +30,8 @@ Bytes per job
       (:func:`out_of_memory`) naming what was being built.
 
 Time of the searches
-    The searches whose time grows with a map's detail rather than its cells (the any-angle graph
-    of a grid map's corners, the exact polygons of a grid map, the visibility graph of a vector
+    The searches whose time grows with a map's detail rather than its cells (the any-angle
+    visibility graph of a grid map's corners, which only the ``graph`` search builds, the exact polygons of a grid map, the visibility graph of a vector
     world, the exact potential's geometry) estimate their time from that detail before they start
     (:func:`check_seconds`, :data:`SECONDS_PER`) and refuse above ``GRIDFIELD_MAX_SECONDS``
     (default :data:`DEFAULT_MAX_SECONDS`; ``inf`` switches it off). The figures are rough (the

@@ -349,7 +349,8 @@ def search_stages(planner: str, gm: GridMap, params: Mapping[str, Any] | None = 
     """The searches a world planner runs on a grid map, with their units of work (:mod:`gridfield.limits`).
 
     Counted on the blocked cells without building anything (:func:`gridfield.limits.grid_map_work`):
-    the any-angle graph for ``visibility``, the exact polygons and the descent among them for
+    the any-angle graph for ``visibility`` when :data:`gridfield.anyangle.SEARCH` is ``"graph"`` (none
+    for the default Polyanya search, whose navigation mesh is linear in the cells), the exact polygons and the descent among them for
     ``exact-potential`` (at most ``max_iterations`` follower steps), the polygons for the
     navigation functions; none for the grid planners (their cost is their cells: the size guard).
 
@@ -369,8 +370,10 @@ def search_stages(planner: str, gm: GridMap, params: Mapping[str, Any] | None = 
     --------
     >>> from gridfield.grid import Grid
     >>> occ = np.zeros((4, 5), bool); occ[1:3, 1:3] = True
-    >>> search_stages("visibility", GridMap(Grid((4, 5), 1.0), occ))
-    [('any-angle graph', {'convex corner': 4.0})]
+    >>> search_stages("visibility", GridMap(Grid((4, 5), 1.0), occ))  # Polyanya: no per-map graph
+    []
+    >>> [name for name, _ in search_stages("exact-potential", GridMap(Grid((4, 5), 1.0), occ))]
+    ['exact polygons', 'exact potential']
     """
     from .limits import grid_map_work
     from .params import MAX_ITERATIONS
@@ -380,7 +383,11 @@ def search_stages(planner: str, gm: GridMap, params: Mapping[str, Any] | None = 
         return []
     work = grid_map_work(gm.occupied)
     if planner == "visibility":
-        return [("any-angle graph", {"convex corner": work["convex corner"]})]
+        from .anyangle import SEARCH
+
+        # the default search (Polyanya) builds a navigation mesh in milliseconds; only the graph search's
+        # visibility graph grows with the map's detail
+        return [("any-angle graph", {"convex corner": work["convex corner"]})] if SEARCH == "graph" else []
     stages = [("exact polygons", {"blocked run": work["blocked run"]})]
     if planner == "exact-potential":
         steps = (params or {}).get("max_iterations")

@@ -35,15 +35,27 @@ def _refused_fast(call) -> str:
 
 
 def test_the_any_angle_graph_is_refused_by_its_corner_count(monkeypatch) -> None:
+    """The visibility graph (the ``graph`` search) grows with the corners: refused up front under a limit
+    just below its estimate, the graph kernel never run. The default search (Polyanya, a navigation mesh
+    linear in the cells) is not: under the same limit it answers."""
     import gridfield.anyangle as anyangle
 
     gm = _noise(96, 0.3)
     corners = anyangle.convex_corners(anyangle._padded_blocked(gm))[0].size
-    # a limit just under the estimate: refused, naming the corners; nothing built
     monkeypatch.setenv(limits.SECONDS_ENV_VAR, str(0.9 * corners * limits.SECONDS_PER["convex corner"]))
-    monkeypatch.setattr(anyangle, "_build", lambda gm: pytest.fail("the graph was built"))
-    msg = _refused_fast(lambda: anyangle.grid_graph(gm, cache={}))
+    graph = anyangle.grid_graph(gm, cache={})  # the corners only: not refused
+    assert anyangle.SEARCH == "polyanya"
+    p = plan("visibility", gm, (0.5, 0.5), (95.5, 95.5), cache={})
+    assert p.status in ("reached", "no_path") and "edges" not in p.extra
+
+    def no_graph(*a, **k):
+        raise AssertionError("the graph kernel ran before the refusal")
+
+    monkeypatch.setattr(anyangle._kernels(), "visibility_edges_culled", no_graph, raising=False)
+    msg = _refused_fast(lambda: graph.edges)
     assert f"{corners} convex corners" in msg and "any-angle graph of noise 96x96" in msg
+    msg = _refused_fast(lambda: graph.shortest_path((0.5, 0.5), (95.5, 95.5), search="graph"))
+    assert "any-angle graph of noise 96x96" in msg
 
 
 def test_a_grid_maps_exact_polygons_are_refused_by_their_run_count(monkeypatch) -> None:

@@ -345,7 +345,8 @@ def _grid_map_part(run: _Run, part: str, gm: GridMap, start: Sequence[float], go
     shown = "default parameters" if not params else "params " + ", ".join(f"{k}={v}" for k, v in params.items())
     pot, field_ = run.plan_with_field(part, part, gm, "potential", start, goal, params,
                                       note="; ".join(x for x in (note, shown) if x))
-    plot_potential(field_, axes[0, 1], path=pot, title=f"potential ({shown}): {pot.status}")
+    plot_potential(field_, axes[0, 1], path=pot,
+                   title=f"potential, model {field_.params.get('model')} ({shown}): {pot.status}")
     plot_basins(basins(_whole_field(gm, goal, field_)), axes[1, 0], title="basins of attraction")
     paths = [pot]
     if not pot.reached:

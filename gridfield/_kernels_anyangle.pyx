@@ -293,14 +293,9 @@ def visible_from(blk_t B, double px, double py, f64c_1d vx, f64c_1d vy, f64c_1d 
 # ----------------------------------------------------------------------------------------------
 # A* over the corner graph
 # ----------------------------------------------------------------------------------------------
-cdef struct Heap:
-    double* k
-    int64_t* v
-    int64_t size
-    int64_t cap
-
-
+# Heap is declared in _kernels_anyangle.pxd (shared with _kernels_polyanya)
 cdef bint _heap_push(Heap* h, double f, int64_t j) noexcept nogil:
+    """Push ``(f, j)`` on the binary min-heap (grown by doubling); False when out of memory."""
     cdef int64_t k, par, cap
     cdef double* nk
     cdef int64_t* nv

@@ -40,6 +40,8 @@ from libc.math cimport INFINITY, sqrt, fabs
 from libc.stdint cimport int32_t, int64_t, uint8_t
 from libc.stdlib cimport free, malloc, realloc
 
+from gridfield._kernels_anyangle cimport Heap, _heap_pop, _heap_push
+
 import numpy as np
 
 __all__ = ["polyanya"]
@@ -75,9 +77,7 @@ cdef struct Mesh:
 cdef struct Search:
     Node* nodes
     int64_t n, cap
-    double* hf
-    int64_t* hi
-    int64_t hn, hcap
+    Heap heap  # the open list (the binary heap of _kernels_anyangle): f -> node index
     bint oom
 
 
@@ -138,59 +138,6 @@ cdef double _h(double rx, double ry, double ax, double ay, double bx, double by,
     if fabs(oa) < fabs(ob):
         return _dist(rx, ry, ax, ay) + _dist(ax, ay, tx, ty)
     return _dist(rx, ry, bx, by) + _dist(bx, by, tx, ty)
-
-
-cdef bint _heap_push(Search* S, double f, int64_t j) noexcept nogil:
-    cdef int64_t i, p
-    cdef double* nf
-    cdef int64_t* ni
-    if S.hn == S.hcap:
-        nf = <double*> realloc(S.hf, 2 * S.hcap * sizeof(double))
-        if nf == NULL:
-            return False
-        S.hf = nf
-        ni = <int64_t*> realloc(S.hi, 2 * S.hcap * sizeof(int64_t))
-        if ni == NULL:
-            return False
-        S.hi = ni
-        S.hcap *= 2
-    i = S.hn
-    S.hn += 1
-    while i > 0:
-        p = (i - 1) >> 1
-        if S.hf[p] <= f:
-            break
-        S.hf[i] = S.hf[p]
-        S.hi[i] = S.hi[p]
-        i = p
-    S.hf[i] = f
-    S.hi[i] = j
-    return True
-
-
-cdef void _heap_pop(Search* S) noexcept nogil:
-    cdef int64_t i = 0, c, n
-    cdef double f
-    cdef int64_t j
-    S.hn -= 1
-    n = S.hn
-    if n == 0:
-        return
-    f = S.hf[n]
-    j = S.hi[n]
-    while True:
-        c = 2 * i + 1
-        if c >= n:
-            break
-        if c + 1 < n and S.hf[c + 1] < S.hf[c]:
-            c += 1
-        if S.hf[c] >= f:
-            break
-        S.hf[i] = S.hf[c]
-        S.hi[i] = S.hi[c]
-        i = c
-    S.hf[i] = f
-    S.hi[i] = j
 
 
 cdef inline bint _is_goal_poly(Mesh* M, int32_t p) noexcept nogil:
@@ -435,16 +382,17 @@ def polyanya(const int64_t[::1] pstart, const uint8_t[::1] slots, const int32_t[
     for i in range(M.ngp):
         M.gp[i] = <int32_t> tpolys[i]
     S.cap = 1024
-    S.hcap = 1024
-    S.n = S.hn = 0
+    S.heap.cap = 1024
+    S.heap.size = 0
+    S.n = 0
     S.oom = False
     S.nodes = <Node*> malloc(S.cap * sizeof(Node))
-    S.hf = <double*> malloc(S.hcap * sizeof(double))
-    S.hi = <int64_t*> malloc(S.hcap * sizeof(int64_t))
+    S.heap.k = <double*> malloc(S.heap.cap * sizeof(double))
+    S.heap.v = <int64_t*> malloc(S.heap.cap * sizeof(int64_t))
     C.x = <double*> malloc(4 * (maxn + 1) * sizeof(double))
     C.slot = <int64_t*> malloc((maxn + 1) * sizeof(int64_t))
-    if S.nodes == NULL or S.hf == NULL or S.hi == NULL or C.x == NULL or C.slot == NULL:
-        free(S.nodes); free(S.hf); free(S.hi); free(C.x); free(C.slot)
+    if S.nodes == NULL or S.heap.k == NULL or S.heap.v == NULL or C.x == NULL or C.slot == NULL:
+        free(S.nodes); free(S.heap.k); free(S.heap.v); free(C.x); free(C.slot)
         raise MemoryError("polyanya: out of memory")
     C.y = C.x + (maxn + 1)
     C.sa = C.y + (maxn + 1)
@@ -467,11 +415,11 @@ def polyanya(const int64_t[::1] pstart, const uint8_t[::1] slots, const int32_t[
             if _is_goal_poly(&M, p):
                 _push(&S, &M, -1, sx, sy, -1, 0.0, 0, 0, 0, 0, -1, -1)
         for i in range(S.n):
-            if not _heap_push(&S, S.nodes[i].f, i):
+            if not _heap_push(&S.heap, S.nodes[i].f, i):
                 S.oom = True
-        while S.hn > 0 and not S.oom:
-            cur = S.hi[0]
-            _heap_pop(&S)
+        while S.heap.size > 0 and not S.oom:
+            cur = S.heap.v[0]
+            _heap_pop(&S.heap)
             nd = &S.nodes[cur]
             if nd.poly < 0:
                 found = True
@@ -489,7 +437,7 @@ def polyanya(const int64_t[::1] pstart, const uint8_t[::1] slots, const int32_t[
                     cur = before
                     continue
                 for i in range(before, S.n):
-                    if not _heap_push(&S, S.nodes[i].f, i):
+                    if not _heap_push(&S.heap, S.nodes[i].f, i):
                         S.oom = True
                 break
     xs = []
@@ -510,5 +458,5 @@ def polyanya(const int64_t[::1] pstart, const uint8_t[::1] slots, const int32_t[
             ys.reverse()
         generated = S.n
     finally:
-        free(S.nodes); free(S.hf); free(S.hi); free(C.x); free(C.slot)
+        free(S.nodes); free(S.heap.k); free(S.heap.v); free(C.x); free(C.slot)
     return length, np.array(xs, dtype=np.float64), np.array(ys, dtype=np.float64), expanded, generated

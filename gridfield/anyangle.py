@@ -160,13 +160,27 @@ def convex_corners(blocked_padded: NDArray[np.uint8]) -> tuple[NDArray[np.float6
     >>> [a.tolist() for a in convex_corners(B)]
     [[0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0], [1.0, -1.0, 1.0, -1.0], [1.0, 1.0, -1.0, -1.0]]
     """
-    B = blocked_padded.astype(np.int8)
-    sw, se, nw, ne = B[:-1, :-1], B[:-1, 1:], B[1:, :-1], B[1:, 1:]
-    one = (sw + se + nw + ne) == 1
-    y, x = np.nonzero(one)
+    B = blocked_padded.astype(bool)
+    se, nw, ne = B[:-1, 1:], B[1:, :-1], B[1:, 1:]  # the cells round each lattice point but the lower left
+    y, x = np.nonzero(_one_blocked(blocked_padded))
     qx = np.where(se[y, x] | ne[y, x], 1.0, -1.0)
     qy = np.where(nw[y, x] | ne[y, x], 1.0, -1.0)
     return x.astype(np.float64), y.astype(np.float64), qx, qy
+
+
+def _one_blocked(blocked_padded: NDArray[np.uint8]) -> NDArray[np.bool_]:
+    """The lattice points (shape ``(rows + 1, cols + 1)``, ``[y, x]``) with exactly one blocked cell of the
+    four round them: the convex corners, the only points a taut path bends at."""
+    B = blocked_padded.astype(np.int8)
+    return (B[:-1, :-1] + B[:-1, 1:] + B[1:, :-1] + B[1:, 1:]) == 1
+
+
+def _cells_at(u: float, v: float) -> tuple[tuple[int, ...], tuple[int, ...]]:
+    """The rows and columns of the closed cells holding the lattice point ``(u, v)`` (two of each on a
+    cell edge or corner)."""
+    cs = (int(u) - 1, int(u)) if u == math.floor(u) else (math.floor(u),)
+    rs = (int(v) - 1, int(v)) if v == math.floor(v) else (math.floor(v),)
+    return rs, cs
 
 
 #: One slot of a :class:`NavMesh` (a polygon's vertex and the edge from it; 32 bytes, the record the
@@ -252,8 +266,7 @@ class NavMesh:
 
     def polygons_at(self, u: float, v: float) -> NDArray[np.int64]:
         """The polygons holding the lattice point ``(u, v)`` (those of the free closed cells it lies in)."""
-        cs = (int(u) - 1, int(u)) if u == math.floor(u) else (math.floor(u),)
-        rs = (int(v) - 1, int(v)) if v == math.floor(v) else (math.floor(v),)
+        rs, cs = _cells_at(u, v)
         L = self.labels
         return np.array(sorted({int(L[r + 1, c + 1]) for r in rs for c in cs if L[r + 1, c + 1] >= 0}), dtype=np.int64)
 
@@ -336,8 +349,7 @@ def navigation_mesh(blocked_padded: NDArray[np.uint8], split: bool | None = None
     glob = so[np.searchsorted(key[so], vid[nxt][has] * nl + vid[has])]  # the same edge, reversed
     nbslot = np.full(len(lab), -1, dtype=np.int32)
     nbslot[has] = glob - pstart[nb[has]]
-    Bi = blocked_padded.astype(np.int8)
-    turn = ((Bi[:-1, :-1] + Bi[:-1, 1:] + Bi[1:, :-1] + Bi[1:, 1:]) == 1).astype(np.uint8).ravel()
+    turn = _one_blocked(blocked_padded).astype(np.uint8).ravel()
     degree = np.bincount(lab[has], minlength=npoly).astype(np.int32)
     root = np.cumsum(turn, dtype=np.int32) - 1  # the turning points' numbers, in lattice order
     slots = np.zeros(len(lab), dtype=SLOT_DTYPE)
@@ -583,9 +595,7 @@ class AnyAngleGraph:
             xmin, ymin, xmax, ymax = self.grid.bounds
             raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}) lies outside the map "
                                  f"[{xmin:g}, {ymin:g}, {xmax:g}, {ymax:g}]")
-        # the closed cells holding the point: free if one of them is
-        cs = (int(u) - 1, int(u)) if u == math.floor(u) else (math.floor(u),)
-        rs = (int(v) - 1, int(v)) if v == math.floor(v) else (math.floor(v),)
+        rs, cs = _cells_at(u, v)  # the closed cells holding the point: free if one of them is
         if all(self._B[r + 1, c + 1] for r in rs for c in cs):
             raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}) lies inside an obstacle")
         if len(cs) == 2 and len(rs) == 2 and self._pinch(int(u), int(v)):

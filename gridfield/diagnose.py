@@ -123,13 +123,14 @@ def corner_passage(gridmap: GridMap, start: Any, goal: Any) -> str | None:
     plain = wavefront(gridmap.with_occupied(gridmap.occupied, diagonals=None), goal, costs="octile", stop_at=start)
     if math.isfinite(float(plain.value[cell])):
         return None
-    cells = np.asarray(extract_path(nav, start, method="descent").extra["cells"])
+    cells = np.asarray(extract_path(nav, start, method="descent").extra["cells"], dtype=np.int64).reshape(-1, 2)
+    a, b = cells[:-1], cells[1:]
     occ = gridmap.occupied
-    corners = []
-    for (r0, c0), (r1, c1) in zip(cells[:-1].tolist(), cells[1:].tolist(), strict=True):
-        if r0 != r1 and c0 != c1 and (occ[r1, c0] or occ[r0, c1]):
-            corners.append((grid.origin[0] + max(c0, c1) * grid.resolution,
-                            grid.origin[1] + max(r0, r1) * grid.resolution))
+    # the diagonal steps with a blocked side cell: the corner they pass is the larger row and column line
+    through = (a[:, 0] != b[:, 0]) & (a[:, 1] != b[:, 1]) & (occ[b[:, 0], a[:, 1]] | occ[a[:, 0], b[:, 1]])
+    corners = list(zip((grid.origin[0] + np.maximum(a[through, 1], b[through, 1]) * grid.resolution).tolist(),
+                       (grid.origin[1] + np.maximum(a[through, 0], b[through, 0]) * grid.resolution).tolist(),
+                       strict=True))
     where = ", ".join(f"({x:.4g}, {y:.4g})" for x, y in corners[:3]) + (", ..." if len(corners) > 3 else "")
     one = len(corners) == 1
     which = "the diagonal through the corner" if one else "diagonals through the corners"

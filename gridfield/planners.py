@@ -331,8 +331,8 @@ def _plan(
 def _corner(path: Path, gridmap: GridMap, start: Any, goal: Any) -> Path:
     """A run that did not reach on a disc robot's configuration space whose only way is a diagonal through
     a corner (:attr:`GridMap.diagonals`, taken only by the grid planners' discrete steps): the hint says so
-    (:func:`gridfield.diagnose.with_corner_passage`)."""
-    if path.status == "reached" or gridmap.diagonals is None:
+    (:func:`gridfield.diagnose.with_corner_passage`, which decides; imported only for such a map)."""
+    if gridmap.diagonals is None:
         return path
     from .diagnose import with_corner_passage
 

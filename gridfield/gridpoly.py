@@ -192,9 +192,7 @@ def subdivide(gridmap: GridMap, parts: int) -> GridMap:
     >>> f.shape, f.grid.resolution, f.occupied.astype(int).tolist()
     ((2, 4), 0.5, [[1, 1, 0, 0], [1, 1, 0, 0]])
     """
-    if isinstance(parts, bool) or not isinstance(parts, int | np.integer) or parts < 1:
-        raise ParameterError(f"subdivision must be a positive integer, got {parts!r}")
-    k = int(parts)
+    k = _positive_integer(parts, "subdivision")
     if k == 1:
         return gridmap
     rows, cols = gridmap.shape
@@ -203,6 +201,13 @@ def subdivide(gridmap: GridMap, parts: int) -> GridMap:
     grid = Grid((rows * k, cols * k), gridmap.grid.resolution / k, gridmap.grid.origin, gridmap.grid.border)
     src = f"{gridmap.source} (x1/{k} cells)" if gridmap.source else ""
     return GridMap(grid, occ, source=src, meta=dict(gridmap.meta))
+
+
+def _positive_integer(value: Any, what: str) -> int:
+    """``value`` as an int, or a ParameterError naming ``what`` unless it is an integer >= 1 (not a bool)."""
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
+        raise ParameterError(f"{what} must be a positive integer, got {value!r}")
+    return int(value)
 
 
 def block_downsample(gridmap: GridMap, factor: int) -> GridMap:
@@ -234,9 +239,7 @@ def block_downsample(gridmap: GridMap, factor: int) -> GridMap:
     >>> c.shape, c.grid.resolution, c.occupied.astype(int).tolist()
     ((3, 3), 2.0, [[1, 0, 1], [0, 0, 1], [1, 1, 1]])
     """
-    if isinstance(factor, bool) or not isinstance(factor, int | np.integer) or factor < 1:
-        raise ParameterError(f"downsampling factor must be a positive integer, got {factor!r}")
-    k = int(factor)
+    k = _positive_integer(factor, "downsampling factor")
     if k == 1:
         return gridmap
     rows, cols = gridmap.shape

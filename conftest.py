@@ -28,16 +28,15 @@ HYPOTHESIS_PROFILE = os.environ.get("HYPOTHESIS_PROFILE") or ("ci" if os.environ
 settings.load_profile(HYPOTHESIS_PROFILE)
 
 REPO = Path(__file__).resolve().parent
-#: Externally authored maps (Moving AI, ROS, polygon fixtures) beside the repository.
-SHARED_MAPS = REPO.parent / "shared" / "maps"
+#: Externally authored maps (Moving AI, ROS, loader and polygon fixtures) the suite reads, in the repository
+#: (tests/data/maps/MANIFEST.md names each file's source and licence; tests/mapdata.py reads them).
+TEST_MAPS = REPO / "tests" / "data" / "maps"
 
 
 @pytest.fixture(scope="session")
-def shared_maps() -> Path:
-    """Path of ../shared/maps; the suite needs it (CI checks out shared/ beside the repository)."""
-    if not SHARED_MAPS.is_dir():
-        pytest.fail(f"test data folder {SHARED_MAPS} is missing: check out shared/ beside the repository")
-    return SHARED_MAPS
+def test_maps() -> Path:
+    """Path of tests/data/maps, the suite's copy of externally authored maps."""
+    return TEST_MAPS
 
 
 @pytest.fixture(scope="session")

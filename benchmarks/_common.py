@@ -28,6 +28,7 @@ import statistics
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 __all__ = [
@@ -200,3 +201,20 @@ def markdown_table(headers: Sequence[str], rows: Iterable[Sequence[Any]], align:
     lines = ["| " + " | ".join(headers) + " |", "|" + "|".join(rule) + "|"]
     lines += ["| " + " | ".join(r) + " |" for r in rows]
     return "\n".join(lines)
+
+
+#: The external maps (Moving AI, ROS) the benchmarks run on by default: the test suite's copy in the
+#: repository (tests/data/maps; its MANIFEST.md names each file's source and licence). ``--root`` /
+#: ``--maps-root`` take any folder of the same layout, compressed (``.map.gz``) or not.
+TEST_MAPS = Path(__file__).resolve().parents[1] / "tests" / "data" / "maps"
+
+
+def map_and_scen(folder: Any) -> tuple[Any, Any]:
+    """The Moving AI map and scenario file of ``folder`` (``NAME.map`` and its ``.scen``, either
+    gzip-compressed or not)."""
+    d = Path(folder)
+    maps = sorted(d.glob("*.map")) + sorted(d.glob("*.map.gz"))
+    scens = sorted(d.glob("*.scen")) + sorted(d.glob("*.scen.gz"))
+    if not maps or not scens:
+        raise FileNotFoundError(f"{d}: no Moving AI .map and .scen (or .map.gz, .scen.gz) in it")
+    return maps[0], scens[0]

@@ -1,6 +1,6 @@
 """Any-angle optimum on Moving AI maps (``gridfield.anyangle``) beside the octile wavefront.
 
-Run ``python benchmarks/anyangle.py [--root ../shared/maps/movingai] [--maps NAME ...] [--queries 50]
+Run ``python benchmarks/anyangle.py [--root tests/data/maps/movingai] [--maps NAME ...] [--queries 50]
 [--no-lazy] [--compare-numba OLD.py]``.
 For each map: the per-map part (convex corners, their buckets, the blocked runs: all the lazy search
 needs), then the visibility graph, then the navigation mesh of the Polyanya search are built once in
@@ -47,7 +47,10 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-DEFAULT_ROOT = HERE.parent.parent / "shared" / "maps" / "movingai"
+sys.path.insert(0, str(HERE))
+from _common import TEST_MAPS, map_and_scen  # noqa: E402
+
+DEFAULT_ROOT = TEST_MAPS / "movingai"
 DEFAULT_MAPS = ("AR0011SR", "16room_000", "random512-10-0")
 
 
@@ -70,8 +73,8 @@ def bench_map(folder: Path, n_queries: int, lazy: bool = True) -> dict:
     from gridfield.io import read_movingai_map, read_scen
     from gridfield.planners import plan
 
-    map_file = next(folder.glob("*.map"))
-    scen = read_scen(next(folder.glob("*.scen")))
+    map_file, scen_file = map_and_scen(folder)
+    scen = read_scen(scen_file)
     m = read_movingai_map(map_file)
     cache: dict = {}
     t0, c0 = time.perf_counter(), time.process_time()
@@ -152,8 +155,8 @@ def compare_numba(folder: Path, n_queries: int, old, rounds: int) -> dict:
     def use(k) -> None:
         aa._kernels = own if k is None else (lambda: k)
 
-    m = read_movingai_map(next(folder.glob("*.map")))
-    scen = read_scen(next(folder.glob("*.scen")))
+    map_file, scen_file = map_and_scen(folder)
+    m, scen = read_movingai_map(map_file), read_scen(scen_file)
     build: dict = {None: [], "old": []}
     graphs = {}
     try:

@@ -1,6 +1,6 @@
 """Every Moving AI scenario against the octile wavefront (``gridfield.navigation.wavefront``).
 
-Run ``python benchmarks/movingai_all.py [--root ../shared/maps/movingai] [--processes 2] [--maps NAME ...]``.
+Run ``python benchmarks/movingai_all.py [--root tests/data/maps/movingai] [--processes 2] [--maps NAME ...]``.
 For each scenario: one wavefront from the goal (8-connected, octile costs, no corner cutting), its value
 at the start compared with the file's optimal length, and the path extracted from it checked (it
 costs exactly the value, and no step cuts a corner). Prints one markdown row per map:
@@ -27,7 +27,10 @@ from typing import Any
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-DEFAULT_ROOT = HERE.parent.parent / "shared" / "maps" / "movingai"
+sys.path.insert(0, str(HERE))
+from _common import TEST_MAPS, map_and_scen  # noqa: E402
+
+DEFAULT_ROOT = TEST_MAPS / "movingai"
 
 
 def issue_tolerance(precision: str, digits: int, optimal: np.ndarray) -> np.ndarray:
@@ -54,8 +57,9 @@ def run_map(directory: str) -> dict[str, Any]:
     from gridfield.navigation import extract_path, wavefront
 
     d = Path(directory)
-    gm = read_movingai_map(next(d.glob("*.map")))
-    scen = read_scen(next(d.glob("*.scen")), map_height=gm.shape[0])
+    map_file, scen_file = map_and_scen(d)
+    gm = read_movingai_map(map_file)
+    scen = read_scen(scen_file, map_height=gm.shape[0])
     free = ~gm.occupied
     n = len(scen)
     values = np.empty(n)

@@ -1,6 +1,6 @@
 """Nav2 interop: planners on inflated costmaps, NavFn's speed at 4000², costmap point queries.
 
-Run ``python benchmarks/nav2.py [--maps-root ../shared/maps] [--per-map 8] [--big 4000] [--repeat 3]
+Run ``python benchmarks/nav2.py [--maps-root tests/data/maps] [--per-map 8] [--big 4000] [--repeat 3]
 [--points 1000000]``.
 
 1. **Planners on the same costmaps.** For each ROS map (turtlebot3_world, nav2_depot,
@@ -36,6 +36,9 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _common import TEST_MAPS
 
 from gridfield.costmap import Costmap, inflate
 from gridfield.grid import Grid
@@ -169,7 +172,7 @@ def queries_table(root: Path, n: int, repeat: int) -> str:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--maps-root", default=str(Path(__file__).resolve().parents[2] / "shared" / "maps"))
+    ap.add_argument("--maps-root", default=str(TEST_MAPS))
     ap.add_argument("--per-map", type=int, default=8)
     ap.add_argument("--big", type=int, default=4000)
     ap.add_argument("--repeat", type=int, default=3)

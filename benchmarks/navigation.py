@@ -39,9 +39,12 @@ from gridfield.grid import Grid, GridMap
 from gridfield.navigation import extract_path, fmm, harmonic, wavefront
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from _common import TEST_MAPS, map_and_scen  # noqa: E402
+
 #: rounds of four raster sweeps after which the sweeping candidate gives up (mazes need thousands)
 SWEEP_CAP = 100
-MOVINGAI = HERE.parent.parent / "shared" / "maps" / "movingai"
+MOVINGAI = TEST_MAPS / "movingai"
 
 
 # ----------------------------------------------------------------------------------------------
@@ -131,7 +134,7 @@ def movingai_maps(names: list[str] | None) -> list[tuple[str, GridMap]]:
     for d in sorted(p for p in MOVINGAI.iterdir() if p.is_dir()) if MOVINGAI.is_dir() else []:
         if names and d.name not in names:
             continue
-        out.append((d.name, read_movingai_map(next(d.glob("*.map")))))
+        out.append((d.name, read_movingai_map(map_and_scen(d)[0])))
     return out
 
 

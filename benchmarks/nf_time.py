@@ -1,6 +1,6 @@
 """Time per query of the ``potential`` planner's default (nf1) beside ``wavefront-octile`` (issue 25).
 
-Run ``PYTHONPATH=. python benchmarks/nf_time.py [--maps-root ../shared/maps] [--per-map 20]
+Run ``PYTHONPATH=. python benchmarks/nf_time.py [--maps-root tests/data/maps] [--per-map 20]
 [--maps 16room_000,64room_000,...] [--params '{"model": "nf1"}'] [--repeat 3] [--plain]
 [--weight W]``.
 
@@ -32,7 +32,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _common import markdown_table, round_robin
+from _common import TEST_MAPS, map_and_scen, markdown_table, round_robin
 from potential_real import movingai_sample
 
 MAPS = ("16room_000", "64room_000", "8room_000", "AR0011SR", "maze512-32-9", "random512-10-0")
@@ -40,7 +40,7 @@ MAPS = ("16room_000", "64room_000", "8room_000", "AR0011SR", "maze512-32-9", "ra
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--maps-root", default=str(Path(__file__).resolve().parents[1] / ".." / "shared" / "maps"))
+    ap.add_argument("--maps-root", default=str(TEST_MAPS))
     ap.add_argument("--maps", default=",".join(MAPS))
     ap.add_argument("--per-map", type=int, default=20)
     ap.add_argument("--repeat", type=int, default=3)
@@ -72,8 +72,9 @@ def main(argv: list[str] | None = None) -> int:
     all_ms: list[float] = []
     for name in args.maps.split(","):
         d = Path(args.maps_root) / "movingai" / name
-        gm = read_movingai_map(next(d.glob("*.map")))
-        scen = read_scen(next(d.glob("*.scen")), map_height=gm.shape[0])
+        map_file, scen_file = map_and_scen(d)
+        gm = read_movingai_map(map_file)
+        scen = read_scen(scen_file, map_height=gm.shape[0])
         idx = [i for i in movingai_sample(scen.bucket, scen.no_path, args.per_map).tolist() if not scen.no_path[i]]
         cache: dict = {}
         tp, tw, tq, ratios, reached = [], [], [], [], 0

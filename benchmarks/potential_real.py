@@ -1,6 +1,6 @@
 """The ``potential`` planner on real maps: Moving AI scenarios and ROS maps (issue 12).
 
-Run ``python benchmarks/potential_real.py [--maps-root ../shared/maps] [--per-map 20] [--workers 2]
+Run ``python benchmarks/potential_real.py [--maps-root tests/data/maps] [--per-map 20] [--workers 2]
 [--label before|after] [--out FILE.md] [--json FILE.json]``.
 
 Every query goes through the public entry point ``gridfield.planners.plan("potential", gridmap,
@@ -76,7 +76,10 @@ from typing import Any
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-DEFAULT_ROOT = HERE.parent.parent / "shared" / "maps"
+sys.path.insert(0, str(HERE))
+from _common import map_and_scen as _map_and_scen  # noqa: E402
+
+DEFAULT_ROOT = HERE.parent / "tests" / "data" / "maps"
 
 #: variant name -> the params given to plan()
 VARIANTS: dict[str, dict[str, Any]] = {
@@ -254,8 +257,9 @@ def run_map(task: dict[str, Any]) -> dict[str, Any]:
     info: dict[str, Any] = {"name": task["name"], "kind": task["kind"], "family": task["family"]}
     try:
         if task["kind"] == "movingai":
-            gm = read_movingai_map(next(d.glob("*.map")))
-            scen = read_scen(next(d.glob("*.scen")), map_height=gm.shape[0])
+            map_file, scen_file = _map_and_scen(d)
+            gm = read_movingai_map(map_file)
+            scen = read_scen(scen_file, map_height=gm.shape[0])
             for i in movingai_sample(scen.bucket, scen.no_path, task["per_map"]).tolist():
                 queries.append({"query": f"scen {i}", "start": scen.start_xy[i], "goal": scen.goal_xy[i],
                                 "optimal": float("inf") if scen.no_path[i] else float(scen.optimal[i]),
@@ -573,7 +577,7 @@ def find_tasks(root: Path, args: argparse.Namespace) -> list[dict[str, Any]]:
               "any_angle_max_cells": args.any_angle_max_cells}
     mai = root / "movingai"
     if mai.is_dir():
-        for d in sorted(p for p in mai.iterdir() if p.is_dir() and any(p.glob("*.map")) and any(p.glob("*.scen"))):
+        for d in sorted(p for p in mai.iterdir() if p.is_dir() and (any(p.glob("*.map")) or any(p.glob("*.map.gz")))):
             size = sum(f.stat().st_size for f in d.iterdir())
             tasks.append({"name": d.name, "path": str(d), "kind": "movingai", "family": FAMILIES.get(d.name, "movingai"),
                           "size": size, **common})
@@ -595,7 +599,7 @@ def find_tasks(root: Path, args: argparse.Namespace) -> list[dict[str, Any]]:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--maps-root", type=Path, default=DEFAULT_ROOT,
-                    help="folder holding movingai/ and ros_maps/ (default: ../shared/maps beside the repository)")
+                    help="folder holding movingai/ and ros_maps/ (default: tests/data/maps, the test suite's copy)")
     ap.add_argument("--per-map", type=int, default=20, help="scenarios (Moving AI) or random pairs (ROS) per map")
     ap.add_argument("--variants", nargs="+", default=list(DEFAULT_VARIANTS), choices=list(VARIANTS),
                     help=f"default: {' '.join(DEFAULT_VARIANTS)} (the variants of issue 12; the models: khatib nf1 "

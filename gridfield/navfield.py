@@ -22,7 +22,7 @@ computed once).
     distance; :func:`band_cost`; registry defaults 6 cells and 0.5). The slowness is bounded (at
     most ``1 + band_gain``, at a wall), so the path keeps off the walls by up to ``clearance_band``
     where that is cheap, runs along the middle of a passage narrower than ``2 clearance_band``
-    (where the slowness is least), and still passes a one-cell door; on the shared maps it costs
+    (where the slowness is least), and still passes a one-cell door; on the test maps (tests/data/maps) it costs
     about 2 % of length (median, Moving AI) for 3.6-3.8 cells of clearance instead of 1.4 (median, ROS;
     benchmarks/README.md). ``clearance_band=0`` (or ``band_gain=0``) is the plain distance, the
     shortest way, grazing the corners.

@@ -79,7 +79,7 @@ __all__ = [
 
 #: Cells (of the map's length unit) behind the scaled defaults.
 Q_STAR_CELLS = 4.0
-#: nf1's clearance band (issue 25): chosen on the shared maps with band_gain 0.5 for paths that keep off
+#: nf1's clearance band (issue 25): chosen on the test maps (tests/data/maps) with band_gain 0.5 for paths that keep off
 #: the walls (ROS median minimum clearance 3.6-3.8 cells) within the length targets (benchmarks/README.md).
 CLEARANCE_BAND_CELLS = 6.0
 STEP_CELLS = 1.0

@@ -5,7 +5,7 @@
 - an octile (8-connected, no corner cutting) Dijkstra written here: any-angle <= octile (an octile
   path is a feasible any-angle path); the other bound of the issue, any-angle >= octile / 1.0824, is
   false in general (``test_staircase_breaks_the_octile_metric_bound``);
-- Polyanya's published Euclidean lengths of the 160 arena.map queries (shared/maps/polygon);
+- Polyanya's published Euclidean lengths of the 160 arena.map queries (tests/data/maps/polygon);
 - the octile optima printed in Moving AI scenario files, on a sample of scenarios per map.
 """
 
@@ -28,9 +28,8 @@ from gridfield.grid import Grid, GridMap
 from gridfield.io import read_movingai_map, read_scen
 from gridfield.planners import plan
 
-# shared/ beside the repository (a worktree may sit one level deeper: look further up)
-SHARED_MAPS = next((d / "shared" / "maps" for d in Path(__file__).resolve().parents[1:4]
-                    if (d / "shared" / "maps").is_dir()), Path(__file__).resolve().parents[2] / "shared" / "maps")
+from mapdata import TEST_MAPS
+
 SQRT2 = math.sqrt(2.0)
 
 
@@ -324,8 +323,8 @@ def test_polyanya_arena_lengths():
     """All 160 arena.map queries against Polyanya's lengths (corner points, upstream tolerance 1e-4)."""
     import json
 
-    cases = json.loads((SHARED_MAPS / "polygon" / "polyanya_arena" / "arena_cases.json").read_text())
-    m = read_movingai_map(SHARED_MAPS / "movingai" / "arena" / "arena.map")
+    cases = json.loads((TEST_MAPS / "polygon" / "polyanya_arena" / "arena_cases.json").read_text())
+    m = read_movingai_map(TEST_MAPS / "movingai" / "arena" / "arena.map.gz")
     H = m.shape[0]
     g = grid_graph(m)
     got = np.array([g.shortest_path((q["start"][0], H - q["start"][1]), (q["goal"][0], H - q["goal"][1]))[1]
@@ -347,9 +346,9 @@ def test_lazy_and_polyanya_find_the_graphs_optimum_on_scenarios(name, n):
     force and Polyanya's published lengths above)."""
     import itertools
 
-    folder = SHARED_MAPS / "movingai" / name
-    m = read_movingai_map(next(folder.glob("*.map")))
-    scen = read_scen(next(folder.glob("*.scen")))
+    folder = TEST_MAPS / "movingai" / name
+    m = read_movingai_map(next(folder.glob("*.map.gz")))
+    scen = read_scen(next(folder.glob("*.scen.gz")))
     ok = np.flatnonzero(~scen.no_path)
     idx = ok[np.linspace(0, len(ok) - 1, min(n, len(ok))).astype(int)]
     g = grid_graph(m, cache={})
@@ -380,9 +379,9 @@ MAPS = ["den312d", "mapf_random-32-32-10", "AR0011SR", "16room_000", "Berlin_0_2
 
 @pytest.mark.parametrize("name", MAPS)
 def test_movingai_scenarios_within_octile_bounds(name):
-    folder = SHARED_MAPS / "movingai" / name
-    map_file = next(folder.glob("*.map"))
-    scen = read_scen(next(folder.glob("*.scen")))
+    folder = TEST_MAPS / "movingai" / name
+    map_file = next(folder.glob("*.map.gz"))
+    scen = read_scen(next(folder.glob("*.scen.gz")))
     m = read_movingai_map(map_file)
     occ = m.occupied
     rng = np.random.default_rng(16)
@@ -445,7 +444,7 @@ def test_benchmark_script_runs_and_checks(capsys):
         import anyangle as bench_anyangle
     finally:
         sys.path.remove(str(bench))
-    rc = bench_anyangle.main(["--root", str(SHARED_MAPS / "movingai"), "--maps", "den312d", "arena", "--queries", "5"])
+    rc = bench_anyangle.main(["--root", str(TEST_MAPS / "movingai"), "--maps", "den312d", "arena", "--queries", "5"])
     out = capsys.readouterr().out
     assert rc == 0
     assert "| den312d | 65 x 81 |" in out and "| arena |" in out
@@ -588,9 +587,9 @@ def test_polyanya_on_512_maps_equals_the_lazy_search(name, n):
     visibility graph."""
     import itertools
 
-    folder = SHARED_MAPS / "movingai" / name
-    m = read_movingai_map(next(folder.glob("*.map")))
-    scen = read_scen(next(folder.glob("*.scen")))
+    folder = TEST_MAPS / "movingai" / name
+    m = read_movingai_map(next(folder.glob("*.map.gz")))
+    scen = read_scen(next(folder.glob("*.scen.gz")))
     ok = np.flatnonzero(~scen.no_path & (scen.optimal > 0))
     idx = ok[np.linspace(len(ok) // 3, len(ok) - 1, n).astype(int)]  # the longer queries
     g = grid_graph(m, cache={})

@@ -19,6 +19,8 @@ import pytest
 from gridfield.errors import GridfieldError, MapFormatError
 from gridfield.io import bundled_map, read, read_bitmap, read_npz, read_ros_map, read_scen, read_yaml
 
+from mapdata import TEST_MAPS
+
 ROOT = Path(__file__).resolve().parents[1]
 ARENA = bundled_map("arena/arena.map")
 
@@ -295,23 +297,18 @@ def _centre_distance_reference(gm) -> np.ndarray:
     return d[1:-1, 1:-1] if gm.grid.border == "wall" else d
 
 
-SHARED = ROOT.parent / "shared" / "maps"
+def _data(rel: str) -> Path:
+    """A file of the suite's copy of external maps (tests/data/maps)."""
+    return TEST_MAPS / rel
 
 
-def _shared(rel: str) -> Path:
-    p = SHARED / rel
-    if not p.exists():
-        pytest.skip(f"{p} not available")
-    return p
-
-
-@pytest.mark.parametrize("name", ["movingai/den312d/den312d.map", "movingai/lak303d/lak303d.map",
-                                  "movingai/16room_000/16room_000.map", "movingai/AcrosstheCape/AcrosstheCape.map",
+@pytest.mark.parametrize("name", ["movingai/den312d/den312d.map.gz", "movingai/lak303d/lak303d.map.gz",
+                                  "movingai/16room_000/16room_000.map.gz", "movingai/AcrosstheCape/AcrosstheCape.map.gz",
                                   "ros_maps/mdr_wrs20-arena/map.yaml", "arena"])
 def test_disc_cspace_on_real_maps_is_exact_at_cell_centres(name):
     from gridfield.cspace import apply_robot
 
-    gm = read(ARENA if name == "arena" else _shared(name))
+    gm = read(ARENA if name == "arena" else _data(name))
     ref = _centre_distance_reference(gm)
     h = gm.grid.resolution
     for r_cells in (0.01, 0.1, 0.49, 0.5, 0.75, 1.0, 1.3, 2.5):
@@ -327,8 +324,8 @@ def test_disc_cspace_on_real_maps_is_exact_at_cell_centres(name):
 def test_den312d_scenarios_are_free_for_a_tenth_of_a_cell():
     from gridfield.cspace import apply_robot
 
-    m = _shared("movingai/den312d/den312d.map")
-    gm, sc = read(m), read_scen(m.with_name(m.name + ".scen"))
+    m = _data("movingai/den312d/den312d.map.gz")
+    gm, sc = read(m), read_scen(m.with_name("den312d.map.scen.gz"))
     c = apply_robot(gm, 0.1).occupied
     assert not c[tuple(sc.start_cell.T)].any() and not c[tuple(sc.goal_cell.T)].any()  # was 68 % blocked
 
@@ -336,7 +333,7 @@ def test_den312d_scenarios_are_free_for_a_tenth_of_a_cell():
 def test_one_cell_robot_on_the_mdr_map_finds_the_point_path():
     from gridfield.planners import plan
 
-    ros = _shared("ros_maps/mdr_wrs20-arena/map.yaml")
+    ros = _data("ros_maps/mdr_wrs20-arena/map.yaml")
     out = cli("plan", str(ros), "--start", "0.575", "1.125", "--goal", "2.825", "-0.325", "--planner",
               "wavefront-octile", "--robot-radius", "0.05", "--json")
     assert out.returncode == 0, out.stderr

@@ -23,8 +23,9 @@ from gridfield.brushfire import BORDER_LABEL, DistanceMap, brushfire
 from gridfield.errors import GridfieldError, ParameterError
 from gridfield.grid import Grid, GridMap
 
+from mapdata import TEST_MAPS, image, raw
+
 REPO = Path(__file__).resolve().parent.parent
-SHARED_MAPS = Path(__file__).resolve().parents[2] / "shared" / "maps"  # shared/ beside the repository
 EIGHT = [(dr, dc) for dr in (-1, 0, 1) for dc in (-1, 0, 1) if (dr, dc) != (0, 0)]
 FOUR = [(-1, 0), (1, 0), (0, -1), (0, 1)]
 COMBOS = [(8, "chessboard"), (4, "taxicab"), (8, "euclidean"), (4, "euclidean"), (8, "taxicab"), (4, "chessboard")]
@@ -168,7 +169,7 @@ def random_occupancy(seed: int, shape: tuple[int, int], density: float) -> np.nd
 
 def load_movingai(path: Path) -> np.ndarray:
     """Minimal Moving AI .map reader: '.', 'G', 'S' free, anything else blocked; first map row = top."""
-    lines = path.read_text().splitlines()
+    lines = raw(path).decode().splitlines()
     start = next(i for i, line in enumerate(lines) if line.strip() == "map") + 1
     rows = [line.rstrip("\n") for line in lines[start:] if line.strip()]
     chars = np.array([list(r) for r in rows])
@@ -177,9 +178,7 @@ def load_movingai(path: Path) -> np.ndarray:
 
 def load_pgm(path: Path) -> np.ndarray:
     """Minimal ROS map image reader: occupied where the grey level is below 0.35 * 255 (dark)."""
-    from PIL import Image
-
-    with Image.open(path) as im:
+    with image(path) as im:
         grey = np.asarray(im.convert("L"))
     return (grey < 0.35 * 255)[::-1]
 
@@ -249,18 +248,17 @@ def test_random_grids_equal_scipy(seed, rows, cols, transpose, density, border):
 def _real_maps() -> list:
     bundled = [REPO / "maps/arena/arena.map", REPO / "maps/turtlebot3_world/map.pgm",
                REPO / "maps/nav2_depot/depot.pgm"]
-    shared = [SHARED_MAPS / p for p in (
-        "movingai/maze512-32-9/maze512-32-9.map", "movingai/random512-10-0/random512-10-0.map",
-        "movingai/Berlin_0_256/Berlin_0_256.map", "movingai/den312d/den312d.map",
-        "movingai/mapf_maze-32-32-2/maze-32-32-2.map", "ros_maps/nav2_smoothers_world/smoothers_world.pgm",
-        "ros_maps/mdr_wrs20-arena/map.pgm")]
-    return [pytest.param(p, id=p.name) for p in bundled] + [
-        pytest.param(p, id=p.name) for p in shared]  # missing test data fails the test
+    external = [TEST_MAPS / p for p in (
+        "movingai/maze512-32-9/maze512-32-9.map.gz", "movingai/random512-10-0/random512-10-0.map.gz",
+        "movingai/Berlin_0_256/Berlin_0_256.map.gz", "movingai/den312d/den312d.map.gz",
+        "movingai/mapf_maze-32-32-2/maze-32-32-2.map.gz", "ros_maps/nav2_smoothers_world/smoothers_world.pgm.gz",
+        "ros_maps/mdr_wrs20-arena/map.pgm.gz")]
+    return [pytest.param(p, id=p.name) for p in bundled + external]
 
 
 @pytest.mark.parametrize("path", _real_maps())
 def test_real_maps_equal_scipy(path):
-    occ = load_movingai(path) if path.suffix == ".map" else load_pgm(path)
+    occ = load_movingai(path) if path.name.endswith((".map", ".map.gz")) else load_pgm(path)
     for border in ("open", "wall"):
         gm = GridMap(Grid(occ.shape, 0.05, border=border), occ)
         cdt = {m: scipy_reference(occ, border, m) for m in ("chessboard", "taxicab")}

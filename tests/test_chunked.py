@@ -156,10 +156,10 @@ def test_cluster_random_map(client):
 
 
 @pytest.mark.slow
-def test_cluster_maze_and_real_maps(client, shared_maps):
-    movingai = shared_maps / "movingai"
+def test_cluster_maze_and_real_maps(client, test_maps):
+    movingai = test_maps / "movingai"
     for name, metric in (("maze512-32-9", "euclidean"), ("AcrosstheCape", "chessboard")):
-        occ = tiled(movingai / name / f"{name}.map", N)
+        occ = tiled(movingai / name / f"{name}.map.gz", N)
         x = da.from_array(occ, chunks=CHUNK)
         ref = reference(occ, metric, resolution=0.05)
         assert np.array_equal(distance(x, metric=metric, resolution=0.05).compute(), ref.distance), name
@@ -187,9 +187,9 @@ def test_gvd_and_nearest_labels_equal_brushfire_on_small_maps(border):
         assert g.dtype == bool and lab.dtype == np.int32
 
 
-def test_cluster_gvd_on_a_real_map(client, shared_maps):
+def test_cluster_gvd_on_a_real_map(client, test_maps):
     """The GVD of a tiled Moving AI map on the cluster, chunks of 256 cells, equals the in-memory one."""
-    occ = tiled(shared_maps / "movingai" / "den312d" / "den312d.map", 1024)
+    occ = tiled(test_maps / "movingai" / "den312d" / "den312d.map.gz", 1024)
     d, lab, g = dask.compute(*gvd(da.from_array(occ, chunks=CHUNK), resolution=0.05))
     ref = brushfire(GridMap(Grid(occ.shape, 0.05, border="wall"), occ), metric="euclidean")
     assert np.array_equal(d, ref.distance) and np.array_equal(lab, ref.label) and np.array_equal(g, ref.gvd)
@@ -219,12 +219,12 @@ def test_wavefront_equals_the_in_memory_navigation_function():
         assert rounds >= 1
 
 
-def test_cluster_wavefront_on_a_maze(client, shared_maps):
+def test_cluster_wavefront_on_a_maze(client, test_maps):
     """A Moving AI maze (a 192-cell corner; its corridors cross the 64-cell chunk seams back and forth) on
     the cluster."""
     from gridfield.navigation import wavefront as in_memory
 
-    occ = read(shared_maps / "movingai" / "maze512-32-9" / "maze512-32-9.map").occupied[:192, :192].copy()
+    occ = read(test_maps / "movingai" / "maze512-32-9" / "maze512-32-9.map.gz").occupied[:192, :192].copy()
     g = tuple(int(v) for v in np.argwhere(~occ)[len(np.argwhere(~occ)) // 2])
     v, rounds = wavefront(da.from_array(occ, chunks=64), g)
     ref = in_memory(GridMap(Grid(occ.shape, 1.0, border="wall"), occ), (g[1] + 0.5, g[0] + 0.5), costs="octile").value

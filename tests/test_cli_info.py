@@ -15,6 +15,8 @@ from skimage.measure import label
 from gridfield.cli import main
 from gridfield.io import bundled_map
 
+from mapdata import image
+
 KEYS = {"shape", "resolution", "origin", "border", "occupied_fraction", "obstacles", "source", "format",
         "occupied_cells", "unknown_cells", "unknown_as"}
 
@@ -61,7 +63,7 @@ def ros_pixel_classes(yaml_path) -> tuple[int, int, int]:
     ROS loaders differ."""
     doc = yaml.safe_load(yaml_path.read_text())
     assert doc.get("mode", "trinary") == "trinary"
-    with Image.open(yaml_path.parent / doc["image"]) as im:
+    with image(yaml_path.parent / doc["image"]) as im:
         v = np.asarray(im.convert("L"), dtype=np.float64)
     p = v / 255.0 if doc.get("negate", 0) else (255.0 - v) / 255.0
     occ, free = float(doc.get("occupied_thresh", 0.65)), float(doc.get("free_thresh", 0.196))
@@ -72,9 +74,9 @@ def ros_pixel_classes(yaml_path) -> tuple[int, int, int]:
 
 @pytest.mark.parametrize("name", ["turtlebot3_world/map.yaml", "mdr_wrs20-arena/map.yaml",
                                   "nav2_warehouse/warehouse.yaml"])
-def test_info_says_how_many_cells_are_unknown_and_that_they_count_as_occupied(shared_maps, name, capsys):
+def test_info_says_how_many_cells_are_unknown_and_that_they_count_as_occupied(test_maps, name, capsys):
     """ROS maps' grey (205) cells are unknown: info counts them as occupied and says so, in text and JSON."""
-    path = shared_maps / "ros_maps" / name
+    path = test_maps / "ros_maps" / name
     n_occ, n_unknown, n_free = ros_pixel_classes(path)
     assert n_unknown > 0
     cells = n_occ + n_unknown + n_free
@@ -94,12 +96,12 @@ def test_info_says_how_many_cells_are_unknown_and_that_they_count_as_occupied(sh
     assert f"unknown cells:     {n_unknown}, treated as free (--unknown free)\n" in out
 
 
-def test_info_of_a_map_without_unknown_cells_says_nothing_of_them(shared_maps, capsys):
+def test_info_of_a_map_without_unknown_cells_says_nothing_of_them(test_maps, capsys):
     """A Moving AI map has no unknown cells (null in JSON, no mention in text); a ROS map whose pixels are
     all free or occupied has none either (0, and no mention)."""
-    arena = run_json(capsys, shared_maps / "movingai" / "arena" / "arena.map")
+    arena = run_json(capsys, test_maps / "movingai" / "arena" / "arena.map.gz")
     assert arena["unknown_cells"] is None and arena["unknown_as"] is None
-    path = shared_maps / "ros_maps" / "nav2_smoothers_world" / "smoothers_world.yaml"
+    path = test_maps / "ros_maps" / "nav2_smoothers_world" / "smoothers_world.yaml"
     n_occ, n_unknown, n_free = ros_pixel_classes(path)
     assert n_unknown == 0
     info = run_json(capsys, path)

@@ -19,8 +19,10 @@ from gridfield.errors import GridfieldError, MapFormatError, ParameterError
 from gridfield.grid import Grid, GridMap
 from gridfield.io import from_occupancy_grid, read, read_costmap, read_ros_map, to_occupancy_grid, write_costmap
 
+from mapdata import TEST_MAPS
+
 ROOT = Path(__file__).resolve().parents[1]
-MAPS = ROOT.parent / "shared" / "maps"
+MAPS = TEST_MAPS
 ROS_YAMLS = sorted((MAPS / "ros_maps").glob("*/*.yaml")) + sorted((MAPS / "ros_map_fixtures").glob("*/*.yaml"))
 
 
@@ -280,7 +282,7 @@ def test_cli_keep_unknown_and_the_navfn_field(tmp_path):
     assert (cm.cost == 255).mean() > 0.5 and cm.inflation["lut_precision"] == 100
     res = _cli("field", "cm.yaml", "--planner", "navfn", "--goal", "1.5", "0.5", cwd=tmp_path)
     assert res.returncode == 0 and "navfn navigation function" in res.stdout, res.stderr
-    res = _cli("costmap", str(MAPS / "movingai" / "arena" / "arena.map"), "--keep-unknown", cwd=tmp_path)
+    res = _cli("costmap", str(MAPS / "movingai" / "arena" / "arena.map.gz"), "--keep-unknown", cwd=tmp_path)
     assert res.returncode == 2 and "--keep-unknown needs a ROS map YAML" in res.stderr
 
 

@@ -66,8 +66,8 @@ MDR_START, MDR_GOAL = (1.875, 2.525), (-0.575, -0.475)
 
 
 @pytest.fixture(scope="module")
-def mdr(shared_maps):
-    return read(shared_maps / "ros_maps" / "mdr_wrs20-arena" / "map.yaml")
+def mdr(test_maps):
+    return read(test_maps / "ros_maps" / "mdr_wrs20-arena" / "map.yaml")
 
 
 def test_mdr_arena_query_is_close_to_the_octile_optimum(mdr):

@@ -32,14 +32,11 @@ from gridfield.io import (
 )
 from gridfield.world import World
 
-MAPS = Path(__file__).resolve().parents[2] / "shared" / "maps"  # shared/ beside the repository
-FIXTURES = MAPS / "ros_map_fixtures"
+from mapdata import MOVINGAI, ROS_MAPS, TEST_MAPS, image, raw
+
+FIXTURES = TEST_MAPS / "ros_map_fixtures"
 NAV2_TESTMAP = FIXTURES / "nav2_testmap"
 ROS1_TEST = FIXTURES / "ros1_map_server_test"
-ROS_MAPS = MAPS / "ros_maps"
-MOVINGAI = MAPS / "movingai"
-
-needs_shared = pytest.mark.usefixtures("shared_maps")  # fails (not skips) when ../shared/maps is missing
 
 
 def cpp_arrays(path: Path) -> list[np.ndarray]:
@@ -56,7 +53,7 @@ def cpp_arrays(path: Path) -> list[np.ndarray]:
 
 def pil_array(path: Path) -> np.ndarray:
     """Decode an image with Pillow (independently of gridfield's readers), top row first."""
-    with Image.open(path) as im:
+    with image(path) as im:
         return np.asarray(im).copy()
 
 
@@ -176,7 +173,6 @@ def test_bilevel_png(tmp_path):
     assert read_bitmap(tmp_path / "b.png").occupied.tolist() == [[False, False, False], [True, False, False]]
 
 
-@needs_shared
 @pytest.mark.parametrize("name", ["testmap.png", "testmap.pgm", "testmap.bmp"])
 def test_read_bitmap_of_nav2_testmap(name):
     expected = cpp_arrays(NAV2_TESTMAP / "test_constants.cpp")[0]
@@ -187,7 +183,6 @@ def test_read_bitmap_of_nav2_testmap(name):
 # ----------------------------------------------------------------------------------------
 # ROS map_server fixtures
 # ----------------------------------------------------------------------------------------
-@needs_shared
 @pytest.mark.parametrize("semantics", ["nav2", "ros1"])
 @pytest.mark.parametrize("name", ["testmap.png", "testmap.pgm", "testmap.bmp"])
 def test_nav2_testmap_values(tmp_path, name, semantics):
@@ -202,14 +197,12 @@ def test_nav2_testmap_values(tmp_path, name, semantics):
     np.testing.assert_array_equal(values, expected)
 
 
-@needs_shared
 def test_ros1_testmap_with_utest_thresholds(tmp_path):
     expected = cpp_arrays(ROS1_TEST / "test_constants.cpp")[0]
     yml = ros_yaml(tmp_path, ROS1_TEST / "testmap.png", occupied_thresh=0.65, free_thresh=0.1)
     np.testing.assert_array_equal(ros_occupancy_values(yml, semantics="ros1"), expected)
 
 
-@needs_shared
 def test_ros1_testmap2_negate():
     expected = cpp_arrays(ROS1_TEST / "test_constants.cpp")[1]
     assert expected.shape == (12, 12)
@@ -220,7 +213,6 @@ def test_ros1_testmap2_negate():
         np.testing.assert_array_equal(values, 100 - expected)
 
 
-@needs_shared
 def test_rotated_fixture_gives_clear_error():
     from gridfield.errors import MapFormatError
 
@@ -230,7 +222,6 @@ def test_rotated_fixture_gives_clear_error():
         read_ros_map(ROS1_TEST / "testmap2.yaml")
 
 
-@needs_shared
 def test_testmap_with_zero_yaw_reads_as_grid(tmp_path):
     expected = cpp_arrays(NAV2_TESTMAP / "test_constants.cpp")[0]
     m = read_ros_map(ros_yaml(tmp_path, NAV2_TESTMAP / "testmap.png", origin=[2.0, 3.0, 0.0]))
@@ -241,7 +232,6 @@ def test_testmap_with_zero_yaw_reads_as_grid(tmp_path):
     assert m.meta["format"] == "ros" and m.meta["unknown_fraction"] == 0.0
 
 
-@needs_shared
 @pytest.mark.parametrize("semantics", ["ros1", "nav2"])
 def test_spectrum_modes(tmp_path, semantics):
     img = ROS1_TEST / "spectrum.png"
@@ -275,7 +265,6 @@ ROS_TABLE = [
 NAV2_DIFFERS = {"nav2_depot_speed_mask": 127481}
 
 
-@needs_shared
 @pytest.mark.parametrize(("folder", "name", "free", "occ", "unk", "other"), ROS_TABLE, ids=[r[0] for r in ROS_TABLE])
 def test_ros_maps_match_manifest_counts(folder, name, free, occ, unk, other):
     yml = ROS_MAPS / folder / name
@@ -294,17 +283,15 @@ def test_ros_maps_match_manifest_counts(folder, name, free, occ, unk, other):
         assert m.meta["unknown_fraction"] == pytest.approx(unk / v1.size)
 
 
-@needs_shared
 def test_planner_benchmark_negate_map():
     yml = ROS_MAPS / "nav2_planner_benchmark_100by100_10" / "100by100_10.yaml"
     m = read_ros_map(yml)
     assert m.shape == (2000, 2000) and m.grid.resolution == 0.05
     assert int(m.occupied.sum()) == 413060  # white (255) pixels are the obstacles: negate 1
-    raw = pil_array(ROS_MAPS / "nav2_planner_benchmark_100by100_10" / "100by100_10.pgm")
+    raw = pil_array(ROS_MAPS / "nav2_planner_benchmark_100by100_10" / "100by100_10.pgm.gz")
     np.testing.assert_array_equal(m.occupied, (raw == 255)[::-1])
 
 
-@needs_shared
 def test_scale_mode_map_obstacles():
     # speed mask: black pixels (3735) are 100 under nav2 (inclusive threshold 1.0), 99 under ros1
     yml = ROS_MAPS / "nav2_depot_speed_mask" / "depot_speed.yaml"
@@ -313,11 +300,10 @@ def test_scale_mode_map_obstacles():
     assert read_ros_map(yml).meta["mode"] == "scale"
 
 
-@needs_shared
 def test_ros_map_orientation_turtlebot3():
     folder = ROS_MAPS / "turtlebot3_world"
     m = read_ros_map(folder / "map.yaml", unknown="free")
-    img = pil_array(folder / "map.pgm")  # independent decoder, top row first
+    img = pil_array(folder / "map.pgm.gz")  # independent decoder, top row first
     h = img.shape[0]
     flipped = img[::-1]
     # pick pixels whose vertically mirrored pixel has the opposite meaning
@@ -372,7 +358,7 @@ def test_ros_yaml_defaults_and_relative_image(tmp_path):
 # Moving AI
 # ----------------------------------------------------------------------------------------
 def map_text_rows(path: Path) -> list[str]:
-    lines = path.read_text().replace("\r", "").split("\n")
+    lines = raw(path).decode().replace("\r", "").split("\n")
     i = lines.index("map")
     h = int(lines[1].split()[1])
     return lines[i + 1 : i + 1 + h]
@@ -395,21 +381,20 @@ def test_movingai_orientation_arena():
     assert m.grid.border == "wall" and m.grid.origin == (0.0, 0.0) and m.grid.resolution == 1.0
 
 
-MAI_DIRS = sorted(p for p in MOVINGAI.glob("*") if p.is_dir()) if MOVINGAI.is_dir() else []
+MAI_DIRS = sorted(p for p in MOVINGAI.glob("*") if p.is_dir())
 
 
-@needs_shared
 @pytest.mark.parametrize("folder", MAI_DIRS, ids=[p.name for p in MAI_DIRS])
 def test_every_movingai_map_loads(folder):
-    path = next(folder.glob("*.map"))
+    path = next(folder.glob("*.map.gz"))
     rows = map_text_rows(path)
     m = read_movingai_map(path)
     assert m.shape == (len(rows), len(rows[0]))
     blocked = sum(sum(ch in "@OTW" for ch in r) for r in rows)
     assert int(m.occupied.sum()) == blocked
     # every scenario start and goal lies on a passable cell (a flipped map would break this)
-    s = read_scen(next(folder.glob("*.scen")), map_height=m.shape[0])
-    assert s.map_name[0] == path.name
+    s = read_scen(next(folder.glob("*.scen.gz")), map_height=m.shape[0])
+    assert s.map_name[0] == path.name.removesuffix(".gz")
     assert m.is_free(s.start_xy).all() and m.is_free(s.goal_xy).all()
 
 
@@ -427,12 +412,11 @@ def test_movingai_chars_and_crlf(tmp_path):
     np.testing.assert_array_equal(read_movingai_map(tmp_path / "c.map").occupied, expected)
 
 
-@needs_shared
 def test_berlin_crlf_equals_lf(tmp_path):
-    src = MOVINGAI / "Berlin_0_256" / "Berlin_0_256.map"
-    assert b"\r\n" in src.read_bytes()
+    src = MOVINGAI / "Berlin_0_256" / "Berlin_0_256.map.gz"
+    assert b"\r\n" in raw(src)
     lf = tmp_path / "lf.map"
-    lf.write_bytes(src.read_bytes().replace(b"\r\n", b"\n"))
+    lf.write_bytes(raw(src).replace(b"\r\n", b"\n"))
     np.testing.assert_array_equal(read_movingai_map(src).occupied, read_movingai_map(lf).occupied)
 
 
@@ -455,23 +439,22 @@ def test_scen_arena_bundled():
     np.testing.assert_array_equal(g.cell_to_world(s.start_cell), s.start_xy)
 
 
-@needs_shared
 def test_scen_variants():
-    ar = read_scen(MOVINGAI / "AR0011SR" / "AR0011SR.map.scen")
+    ar = read_scen(MOVINGAI / "AR0011SR" / "AR0011SR.map.scen.gz")
     assert (ar.version, ar.precision, ar.digits, len(ar)) == ("1.0", "decimals", 2, 1280)
     # 61 maps/bgmaps/AR0011SR.map 512 512 210 395 87 201 244.95
     assert ar.bucket[0] == 61 and ar.optimal[0] == 244.95 and ar.map_name[0] == "AR0011SR.map"
     np.testing.assert_array_equal(ar.start_cell[0], [512 - 1 - 395, 210])
     assert ar.tolerance()[0] == pytest.approx(0.005 + 244.95e-5)
 
-    mz = read_scen(MOVINGAI / "maze512-32-9" / "maze512-32-9.map.scen")
+    mz = read_scen(MOVINGAI / "maze512-32-9" / "maze512-32-9.map.scen.gz")
     assert (mz.version, mz.precision, mz.digits, len(mz)) == ("1", "decimals", 8, 8010)
     assert mz.optimal[0] == 3.41421356
 
-    be = read_scen(MOVINGAI / "Berlin_0_256" / "Berlin_0_256.map.scen")
+    be = read_scen(MOVINGAI / "Berlin_0_256" / "Berlin_0_256.map.scen.gz")
     assert (be.precision, be.digits, len(be)) == ("decimals", 8, 930)
 
-    rm = read_scen(MOVINGAI / "rmtst01" / "rmtst01.map.scen")
+    rm = read_scen(MOVINGAI / "rmtst01" / "rmtst01.map.scen.gz")
     assert (rm.precision, rm.digits, len(rm)) == ("significant", 6, 470)
     assert np.flatnonzero(rm.no_path).tolist() == [4, 9]  # GPPC "no path" markers (MANIFEST 5.1)
     assert rm.tolerance()[0] == pytest.approx(0.5e-5 + 2.41421e-5)  # 2.41421: 5 decimals printed

@@ -13,8 +13,8 @@ from gridfield.errors import MapFormatError
 from gridfield.io import bundled_map, read
 
 
-def test_a_ros_folder_reads_as_its_yaml(shared_maps):
-    folder = shared_maps / "ros_maps" / "turtlebot3_world"
+def test_a_ros_folder_reads_as_its_yaml(test_maps):
+    folder = test_maps / "ros_maps" / "turtlebot3_world"
     a, b = read(folder), read(folder / "map.yaml")
     assert a.grid == b.grid and np.array_equal(a.occupied, b.occupied)
 

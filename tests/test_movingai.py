@@ -1,4 +1,4 @@
-"""The octile wavefront against the Moving AI benchmark scenarios (../shared/maps/movingai).
+"""The octile wavefront against the Moving AI benchmark scenarios (tests/data/maps/movingai).
 
 For a sample of scenarios on EVERY map, the wavefront from the scenario's goal, read at the start,
 must equal the reference optimal length (8-connected, octile costs, no corner cutting), within the
@@ -11,25 +11,16 @@ The path extracted from the field must cost exactly the field's value and never 
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 from gridfield.io import read_movingai_map, read_scen
 from gridfield.navigation import SQRT2, extract_path, wavefront
 
+from mapdata import movingai_pairs
+
 #: scenarios sampled per map (evenly over the file, so every length bucket is represented)
 SAMPLE = 10
-
-
-def movingai_pairs(root: Path) -> list[tuple[Path, Path]]:
-    pairs = []
-    for d in sorted(p for p in (root / "movingai").iterdir() if p.is_dir()):
-        maps, scens = sorted(d.glob("*.map")), sorted(d.glob("*.scen"))
-        assert len(maps) == 1 and len(scens) == 1, d
-        pairs.append((maps[0], scens[0]))
-    return pairs
 
 
 def tolerance(scen, optimal: np.ndarray) -> np.ndarray:
@@ -63,24 +54,25 @@ MAPS = ["16room_000", "64room_000", "8room_000", "AR0011SR", "AcrosstheCape", "A
         "random512-10-0", "rmtst01"]
 
 
-def test_every_map_is_covered(shared_maps):
-    """The parametrized list below is every map directory, and each .scen holds the MANIFEST §1 count."""
-    pairs = movingai_pairs(shared_maps)
+def test_every_map_is_covered(test_maps):
+    """The parametrized list below is every map directory, and each .scen holds the count of the data's
+    MANIFEST ("Moving AI scenario counts", the number of scenario lines of the file as published)."""
+    pairs = movingai_pairs(test_maps)
     assert sorted(m.parent.name for m, _ in pairs) == sorted(MAPS)
     counts = {}
-    for line in (shared_maps / "MANIFEST.md").read_text().splitlines():
+    for line in (test_maps / "MANIFEST.md").read_text().splitlines():
         cols = [c.strip() for c in line.split("|")]
-        if line.startswith("| `open/movingai/") and cols[1].endswith("/`"):  # §1 rows, not the appendix
-            counts[cols[1].strip("`").split("/")[2]] = int(cols[5])
+        if len(cols) == 4 and cols[2].isdigit():  # | `name` | count |
+            counts[cols[1].strip("`")] = int(cols[2])
     assert counts.keys() == set(MAPS)
     for m, s in pairs:
         assert len(read_scen(s)) == counts[m.parent.name]
 
 
 @pytest.mark.parametrize("name", MAPS)
-def test_octile_wavefront_matches_scenarios(shared_maps, name):
-    (map_path,) = (shared_maps / "movingai" / name).glob("*.map")
-    (scen_path,) = (shared_maps / "movingai" / name).glob("*.scen")
+def test_octile_wavefront_matches_scenarios(test_maps, name):
+    (map_path,) = (test_maps / "movingai" / name).glob("*.map.gz")
+    (scen_path,) = (test_maps / "movingai" / name).glob("*.scen.gz")
     gm = read_movingai_map(map_path)
     scen = read_scen(scen_path, map_height=gm.shape[0])
     free = ~gm.occupied
@@ -112,24 +104,24 @@ def test_octile_wavefront_matches_scenarios(shared_maps, name):
         np.testing.assert_array_equal(path.points[-1], scen.goal_xy[i])
 
 
-def test_rmtst01_no_path_markers(shared_maps):
-    d = shared_maps / "movingai" / "rmtst01"
-    gm = read_movingai_map(d / "rmtst01.map")
-    scen = read_scen(d / "rmtst01.map.scen")
+def test_rmtst01_no_path_markers(test_maps):
+    d = test_maps / "movingai" / "rmtst01"
+    gm = read_movingai_map(d / "rmtst01.map.gz")
+    scen = read_scen(d / "rmtst01.map.scen.gz")
     assert np.flatnonzero(scen.no_path).tolist() == [4, 9]
     for i in (4, 9):
         nav = wavefront(gm, scen.goal_xy[i], costs="octile")
         assert np.isinf(nav.value_at(scen.start_xy[i])[0])
 
 
-def test_full_field_equals_scipy_dijkstra_on_a_benchmark_map(shared_maps):
+def test_full_field_equals_scipy_dijkstra_on_a_benchmark_map(test_maps):
     """The whole field, not just the scenario starts, against an independent Dijkstra (den312d)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import dijkstra
 
-    d = shared_maps / "movingai" / "den312d"
-    gm = read_movingai_map(d / "den312d.map")
-    scen = read_scen(d / "den312d.map.scen")
+    d = test_maps / "movingai" / "den312d"
+    gm = read_movingai_map(d / "den312d.map.gz")
+    scen = read_scen(d / "den312d.map.scen.gz")
     free = ~gm.occupied
     rows, cols = free.shape
     ids = np.arange(rows * cols).reshape(rows, cols)

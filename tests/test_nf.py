@@ -3,7 +3,7 @@
 Oracles: scikit-fmm's fast marching and the exact Euclidean distance (nf1's eikonal values), the
 binary-heap march (the bucket queue's values), the octile wavefront of ``wavefront-octile`` (nf1's
 octile option), :func:`gridfield.basins.basins` (one sink per free component, the goal's, on every
-Moving AI and ROS map of ../shared/maps), scipy's 4-connected labelling (reachability), shapely's
+Moving AI and ROS map of tests/data/maps), scipy's 4-connected labelling (reachability), shapely's
 exact geometry (no segment enters an occupied cell) and a bisection for the bottleneck clearance.
 """
 
@@ -192,26 +192,26 @@ def _assert_one_sink_per_component(gm: GridMap, params: dict, cache: dict) -> No
     assert np.array_equal(np.sort(sinks), np.sort(np.ravel_multi_index(cells.T, gm.shape)))
 
 
-def _shared_maps(root: Path) -> list[Path]:
-    mai = sorted(p for p in (root / "movingai").glob("*/*.map"))
+def _test_map_files(root: Path) -> list[Path]:
+    mai = sorted(p for p in (root / "movingai").glob("*/*.map.gz"))
     ros = sorted((root / "ros_maps").glob("*/*.yaml"))
     return mai + ros
 
 
-def test_one_sink_per_component_on_small_maps(shared_maps):
+def test_one_sink_per_component_on_small_maps(test_maps):
     for name in ("arena", "mapf_room-64-64-8", "rmtst01", "den312d"):
-        gm = read_movingai_map(next((shared_maps / "movingai" / name).glob("*.map")))
+        gm = read_movingai_map(next((test_maps / "movingai" / name).glob("*.map.gz")))
         cache: dict = {}
         for params in NF_PARAMS:
             _assert_one_sink_per_component(gm, params, cache)
 
 
 @pytest.mark.slow
-def test_one_sink_per_component_on_every_moving_ai_and_ros_map(shared_maps):
-    files = _shared_maps(shared_maps)
+def test_one_sink_per_component_on_every_moving_ai_and_ros_map(test_maps):
+    files = _test_map_files(test_maps)
     assert len(files) >= 25
     for f in files:
-        gm = read_movingai_map(f) if f.suffix == ".map" else read(f)
+        gm = read_movingai_map(f) if f.name.endswith(".map.gz") else read(f)
         assert gm.grid.border == "wall"
         cache: dict = {}
         for params in NF_PARAMS:
@@ -404,16 +404,16 @@ def test_band_cost_is_bounded_and_a_huge_blend_gain_is_refused_not_a_crash():
 # ----------------------------------------------------------------------------------------------
 # a stalled follower on a complete field is finished by the field's discrete descent
 # ----------------------------------------------------------------------------------------------
-def test_nf_blend_stall_at_a_one_cell_door_is_finished_by_the_discrete_descent(shared_maps):
+def test_nf_blend_stall_at_a_one_cell_door_is_finished_by_the_discrete_descent(test_maps):
     """8room_000 scenario 918: nf-blend's steep cost at a one-cell door stalled the follower ("confined",
     a hint blaming q_star) though the field has one minimum (the benchmark's one miss of 460)."""
     from test_potential_planner import assert_path_free
 
     from gridfield.io import read_scen
 
-    d = shared_maps / "movingai" / "8room_000"
-    gm = read_movingai_map(next(d.glob("*.map")))
-    scen = read_scen(next(d.glob("*.scen")), map_height=gm.shape[0])
+    d = test_maps / "movingai" / "8room_000"
+    gm = read_movingai_map(next(d.glob("*.map.gz")))
+    scen = read_scen(next(d.glob("*.scen.gz")), map_height=gm.shape[0])
     s, g = scen.start_xy[918], scen.goal_xy[918]
     import gridfield.navfield as navfield
 

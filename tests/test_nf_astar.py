@@ -145,10 +145,10 @@ def test_reopening_gives_the_full_march_values():
 
 
 @pytest.mark.parametrize("name", ["16room_000", "random512-10-0", "maze512-32-9"])
-def test_planned_queries_stay_on_settled_cells_and_keep_their_length(shared_maps, name, monkeypatch):
-    d = shared_maps / "movingai" / name
-    gm = read_movingai_map(next(d.glob("*.map")))
-    scen = read_scen(next(d.glob("*.scen")), map_height=gm.shape[0])
+def test_planned_queries_stay_on_settled_cells_and_keep_their_length(test_maps, name, monkeypatch):
+    d = test_maps / "movingai" / name
+    gm = read_movingai_map(next(d.glob("*.map.gz")))
+    scen = read_scen(next(d.glob("*.scen.gz")), map_height=gm.shape[0])
     idx = np.flatnonzero(~scen.no_path)
     idx = idx[np.linspace(0, len(idx) - 1, 4).round().astype(int)]
     cache: dict = {}

@@ -1,6 +1,6 @@
 """Issue 30: a ``no_path`` that the robot's size causes says so (the robot closes the passage, a point reaches).
 
-Maps: ROS maps of ../shared/maps (the Nav2 smoothers world, the mdr WRS 2020 arena). The premise of each
+Maps: ROS maps of tests/data/maps (the Nav2 smoothers world, the mdr WRS 2020 arena). The premise of each
 case is checked independently of the planners: scipy's connected components join start and goal on the
 map's free cells (a point) and part them on the cells where the disc touches no occupied cell square
 (the robot), computed here from a Euclidean distance transform.
@@ -9,7 +9,6 @@ map's free cells (a point) and part them on the cells where the disc touches no 
 from __future__ import annotations
 
 import json
-from pathlib import Path as FsPath
 
 import numpy as np
 import pytest
@@ -20,9 +19,8 @@ from gridfield.diagnose import robot_no_path
 from gridfield.io import read_ros_map
 from gridfield.path import Path
 
-# shared/ beside the repository (a worktree may sit one level deeper: look further up)
-MAPS = next((d / "shared" / "maps" for d in FsPath(__file__).resolve().parents[1:4] if (d / "shared" / "maps").is_dir()),
-            FsPath(__file__).resolve().parents[2] / "shared" / "maps") / "ros_maps"
+from mapdata import ROS_MAPS as MAPS
+
 SMOOTHERS = MAPS / "nav2_smoothers_world" / "smoothers_world.yaml"
 MDR = MAPS / "mdr_wrs20-arena" / "map.yaml"
 
@@ -31,8 +29,6 @@ CASES = [
     (SMOOTHERS, 0.4, (9.975, 10.975), (1.075, 13.875)),
     (MDR, 0.2, (0.775, 3.625), (0.025, 1.825)),
 ]
-
-pytestmark = pytest.mark.skipif(not SMOOTHERS.is_file() or not MDR.is_file(), reason="../shared/maps is not here")
 
 
 def _components(free: np.ndarray, grid, start, goal) -> tuple[int, int]:

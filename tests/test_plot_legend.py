@@ -13,11 +13,11 @@ from gridfield.planners import plan
 from gridfield.plot import plot_comparison, plot_convergence, plot_map, plot_potential
 from gridfield.potential import build_field
 
-#: (map under shared/maps, start, goal): wide, square and tall maps, ROS (mostly unknown) and Moving AI.
+#: (map under tests/data/maps, start, goal): wide, square and tall maps, ROS (mostly unknown) and Moving AI.
 MAPS = [
     ("ros_maps/nav2_depot/depot.yaml", (3.0, 3.0), (27.0, 12.0)),
     ("ros_maps/turtlebot3_world/map.yaml", (-2.0, -0.5), (1.8, 0.5)),
-    ("movingai/arena/arena.map", (1.5, 37.5), (45.5, 3.5)),
+    ("movingai/arena/arena.map.gz", (1.5, 37.5), (45.5, 3.5)),
     ("ros_maps/nav2_warehouse/warehouse.yaml", (-3.0, -20.0), (5.0, 15.0)),
 ]
 
@@ -53,8 +53,8 @@ def check_legend_beside_the_map(art, paths: list[np.ndarray]) -> str:
 
 
 @pytest.mark.parametrize(("name", "start", "goal"), MAPS, ids=[m[0].split("/")[1] for m in MAPS])
-def test_plan_and_potential_figures_put_the_legend_beside_the_map(shared_maps, name, start, goal):
-    gm = read(shared_maps / name)
+def test_plan_and_potential_figures_put_the_legend_beside_the_map(test_maps, name, start, goal):
+    gm = read(test_maps / name)
     path = plan("wavefront-octile", gm, start, goal)
     assert path.status == "reached"
     sides = []
@@ -68,10 +68,10 @@ def test_plan_and_potential_figures_put_the_legend_beside_the_map(shared_maps, n
     assert set(sides) <= {"below", "right"}
 
 
-def test_wide_maps_get_the_legend_below_and_tall_ones_on_the_right(shared_maps):
+def test_wide_maps_get_the_legend_below_and_tall_ones_on_the_right(test_maps):
     sides = {}
     for name, start, goal in (MAPS[0], MAPS[3]):
-        gm = read(shared_maps / name)
+        gm = read(test_maps / name)
         path = plan("wavefront-octile", gm, start, goal)
         art = plot_map(gm, paths=[path], start=start, goal=goal)
         try:
@@ -81,12 +81,12 @@ def test_wide_maps_get_the_legend_below_and_tall_ones_on_the_right(shared_maps):
     assert sides == {MAPS[0][0]: "below", MAPS[3][0]: "right"}
 
 
-def test_a_stalled_run_gets_the_legend_under_its_hint(shared_maps):
+def test_a_stalled_run_gets_the_legend_under_its_hint(test_maps):
     """The classic field stalls on arena's longest scenario; the hint box is below the axes, so the legend
     (path, stall point, goal) goes under it, overlapping neither the map, nor the hint, nor the path."""
-    arena = shared_maps / "movingai" / "arena"
-    gm = read_movingai_map(arena / "arena.map")
-    scen = read_scen(arena / "arena.map.scen", map_height=gm.shape[0])
+    arena = test_maps / "movingai" / "arena"
+    gm = read_movingai_map(arena / "arena.map.gz")
+    scen = read_scen(arena / "arena.map.scen.gz", map_height=gm.shape[0])
     i = int(np.argmax(scen.optimal))
     path = plan("potential", gm, scen.start_xy[i], scen.goal_xy[i], {"model": "khatib"})
     assert path.status == "local_minimum" and path.extra.get("hint")
@@ -102,8 +102,8 @@ def test_a_stalled_run_gets_the_legend_under_its_hint(shared_maps):
             plt.close(art.figure)
 
 
-def test_comparison_and_convergence_legends_are_beside_their_axes(shared_maps):
-    gm = read(shared_maps / "movingai" / "arena" / "arena.map")
+def test_comparison_and_convergence_legends_are_beside_their_axes(test_maps):
+    gm = read(test_maps / "movingai" / "arena" / "arena.map.gz")
     start, goal = (1.5, 37.5), (45.5, 3.5)
     grid, exact = plan("wavefront-octile", gm, start, goal), plan("visibility", gm, start, goal)
     art = plot_comparison(gm, grid, exact)
@@ -125,10 +125,10 @@ def test_comparison_and_convergence_legends_are_beside_their_axes(shared_maps):
 
 
 @pytest.mark.parametrize("layout", ["none", "two panels"])
-def test_an_axes_laid_out_otherwise_keeps_the_legend_inside_off_the_path(shared_maps, layout):
+def test_an_axes_laid_out_otherwise_keeps_the_legend_inside_off_the_path(test_maps, layout):
     """Without room made beside the axes (a figure without constrained layout, or one of several panels)
     the legend stays inside (matplotlib's "best"), and on this map still off the path."""
-    gm = read(shared_maps / "movingai" / "arena" / "arena.map")
+    gm = read(test_maps / "movingai" / "arena" / "arena.map.gz")
     path = plan("wavefront-octile", gm, (1.5, 37.5), (45.5, 3.5))
     fig, axs = plt.subplots(1, 2) if layout == "two panels" else plt.subplots()
     if layout == "two panels":
@@ -172,13 +172,13 @@ def test_a_legend_under_a_hint_box_makes_the_figure_taller_not_the_title_fall_ou
         plt.close(art.figure)
 
 
-def test_a_legend_beside_the_map_fits_the_saved_figure(shared_maps):
+def test_a_legend_beside_the_map_fits_the_saved_figure(test_maps):
     """A long label on a square map (legend right of it) stays inside the figure as saved, after the one
     layout pass a save makes (it ran past the figure's edge: 'potential: reached, length 36' on 8room_000)."""
     import io
 
-    d = shared_maps / "movingai" / "8room_000"
-    gm = read_movingai_map(next(d.glob("*.map")))
+    d = test_maps / "movingai" / "8room_000"
+    gm = read_movingai_map(next(d.glob("*.map.gz")))
     start, goal = (380.5, 325.5), (282.5, 42.5)
     path = plan("potential", gm, start, goal)
     assert path.status == "reached"

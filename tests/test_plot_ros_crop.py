@@ -14,8 +14,8 @@ from gridfield.plot import plot_brushfire, plot_potential
 from gridfield.potential import build_field
 
 
-def test_brushfire_and_potential_figures_crop_a_ros_map_to_its_known_part(shared_maps):
-    gm = read(shared_maps / "ros_maps" / "turtlebot3_world" / "map.yaml")
+def test_brushfire_and_potential_figures_crop_a_ros_map_to_its_known_part(test_maps):
+    gm = read(test_maps / "ros_maps" / "turtlebot3_world" / "map.yaml")
     free = ~np.asarray(gm.occupied, bool)
     rows, cols = np.nonzero(free.any(axis=1))[0], np.nonzero(free.any(axis=0))[0]
     (x0, y0), h = gm.grid.origin, gm.grid.resolution

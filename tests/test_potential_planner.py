@@ -27,6 +27,8 @@ from gridfield.params import REGISTRY, balanced_eta, parse, resolve, validate
 from gridfield.planners import plan, plan_with_field
 from gridfield.potential import build_field
 
+from mapdata import movingai_pairs
+
 REPO = Path(__file__).resolve().parent.parent
 
 
@@ -161,15 +163,10 @@ def test_navigation_escape_reaches_every_reachable_goal(case):
         assert p.status == "no_path" and "cannot be reached" in p.extra["hint"] and len(p.points) == 1
 
 
-def movingai_pairs(root: Path) -> list[tuple[Path, Path]]:
-    return [(sorted(d.glob("*.map"))[0], sorted(d.glob("*.scen"))[0])
-            for d in sorted(p for p in (root / "movingai").iterdir() if p.is_dir())]
-
-
-def test_navigation_escape_on_every_moving_ai_map(shared_maps):
-    """A sample of scenarios on every Moving AI map in ../shared/maps: defaults never collide or
+def test_navigation_escape_on_every_moving_ai_map(test_maps):
+    """A sample of scenarios on every Moving AI map in tests/data/maps: defaults never collide or
     crash and carry a hint when they fail; with escape navigation every reachable goal is reached."""
-    pairs = movingai_pairs(shared_maps)
+    pairs = movingai_pairs(test_maps)
     assert len(pairs) >= 20
     for map_file, scen_file in pairs:
         gm = read_movingai_map(map_file)

@@ -120,14 +120,14 @@ def test_field_to_store_then_plan(tmp_path, capsys):
     assert got["status"] == want.status and got["iterations"] == want.iterations
 
 
-def test_complete_nf1_field_to_store_then_plan_on_a_real_map(tmp_path, capsys, shared_maps):
+def test_complete_nf1_field_to_store_then_plan_on_a_real_map(tmp_path, capsys, test_maps):
     """``--param model=nf1 --param attraction=octile``: the complete field by the chunked wavefront, equal
     bit for bit to the in-memory nf1 (octile) field on a Moving AI map, and ``plan`` on the store reaches the
     goal with the in-memory planner's path, where the chunked classic field's store stalls."""
     from gridfield.navfield import nav_field
     from gridfield.planners import plan
 
-    src = shared_maps / "movingai" / "den312d" / "den312d.map"
+    src = test_maps / "movingai" / "den312d" / "den312d.map.gz"
     gm = read(src)
     out = tmp_path / "nf.zarr"
     assert main(["field", str(src), "--goal", "40.5", "40.5", "--chunks", "32", "--out", str(out),

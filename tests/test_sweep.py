@@ -16,6 +16,8 @@ from gridfield.io import bundled_map
 from gridfield.planners import plan
 from gridfield.sweep import COLUMNS, load_spec, run_sweep, summarize
 
+from mapdata import MOVINGAI, raw
+
 
 def _spec(tmp_path: Path, body: str) -> Path:
     for name in ("seed000.yaml", "seed000_segment.yaml"):
@@ -205,15 +207,12 @@ def test_bundled_example_sweep_runs_from_the_command_line(tmp_path: Path, capsys
 # ----------------------------------------------------------------------------------------
 # optimal_any_angle: the exact any-angle optimum of every query, beside the scenario's octile one
 # ----------------------------------------------------------------------------------------
-# shared/ beside the repository (a worktree may sit one level deeper: look further up)
-SHARED_MAPS = next((d / "shared" / "maps" for d in Path(__file__).resolve().parents[1:4]
-                    if (d / "shared" / "maps").is_dir()), Path(__file__).resolve().parents[2] / "shared" / "maps")
-DEN312D = SHARED_MAPS / "movingai" / "den312d" / "den312d.map"
+DEN312D = MOVINGAI / "den312d" / "den312d.map.gz"
 
 
 def _den312d_spec(tmp_path: Path, n: int = 8, extra: str = "") -> Path:
-    """A spec on den312d (65 x 81, shared maps) with ``n`` scenarios spread over its whole .scen file."""
-    lines = (DEN312D.parent / "den312d.map.scen").read_text().splitlines()
+    """A spec on den312d (65 x 81, tests/data/maps) with ``n`` scenarios spread over its whole .scen file."""
+    lines = raw(DEN312D.parent / "den312d.map.scen.gz").decode().splitlines()
     body = [ln for ln in lines[1:] if ln.strip()]
     picked = [body[round(k * (len(body) - 1) / (n - 1))] for k in range(n)]
     (tmp_path / "den.scen").write_text("\n".join([lines[0], *picked]) + "\n")

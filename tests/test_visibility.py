@@ -36,8 +36,8 @@ def assert_valid_path(vg, pts, length, start, goal):
 # extremitypathfinder environments (closed free space; pinch points may be passed)
 # ----------------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
-def ept_cases(shared_maps):
-    return json.loads((shared_maps / "polygon" / "extremitypathfinder" / "cases.json").read_text())
+def ept_cases(test_maps):
+    return json.loads((test_maps / "polygon" / "extremitypathfinder" / "cases.json").read_text())
 
 
 def test_extremitypathfinder_all_queries_both_directions(ept_cases):
@@ -88,8 +88,8 @@ def test_extremitypathfinder_pinch_query_needs_the_pass_rule(ept_cases):
 # ----------------------------------------------------------------------------------------
 # Polyanya: arena.map navigation mesh, 160 scenario pairs
 # ----------------------------------------------------------------------------------------
-def test_polyanya_arena_all_160(shared_maps):
-    data = json.loads((shared_maps / "polygon" / "polyanya_arena" / "arena_cases.json").read_text())
+def test_polyanya_arena_all_160(test_maps):
+    data = json.loads((test_maps / "polygon" / "polyanya_arena" / "arena_cases.json").read_text())
     poly = data["polygons_from_mesh"]
     vg = visibility_graph(world_from_polygon_environment(poly["boundary"], poly["holes"]))
     assert len(data["queries"]) == 160
@@ -124,8 +124,8 @@ def read_mesh_free_space(path):
     return shapely.union_all(polygons)
 
 
-def test_polyanya_cpp_tests(shared_maps):
-    base = shared_maps / "polygon" / "polyanya_cpp_tests"
+def test_polyanya_cpp_tests(test_maps):
+    base = test_maps / "polygon" / "polyanya_cpp_tests"
     cases = json.loads((base / "cases.json").read_text())["cases"]
     kinds = {"exact": 0, "approximate": 0, "ambiguous": 0}
     for c in cases:

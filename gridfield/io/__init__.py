@@ -7,6 +7,8 @@ Supported inputs (:func:`read` picks by file name):
   (and :func:`ros_occupancy_values` for the raw OccupancyGrid values)
 - bitmaps PNG, PGM (``P2`` ASCII and ``P5`` binary), BMP: :func:`read_bitmap`
 - Moving AI ``.map``: :func:`read_movingai_map`; scenarios ``.scen``: :func:`read_scen`
+- any of those text and bitmap files gzip-compressed (``arena.map.gz``, ``arena.map.scen.gz``, ``map.pgm.gz``,
+  also as a ROS YAML's ``image``), decompressed within the size guard
 - ``.npz`` arrays written by gridfield: :func:`read_npz`, :func:`read_npz_arrays`
 - maps larger than memory, read by chunks (a :class:`~gridfield._chunkcache.LazyGridMap`): BigTIFF /
   GeoTIFF ``.tif``/``.tiff`` (:func:`read_tiff`), ``.npy`` memory maps (:func:`read_npy`), plain Zarr arrays
@@ -52,7 +54,7 @@ from ..world import world_from_dict
 from ._bitmap import UNKNOWN_CHOICES as UNKNOWN_CHOICES
 from ._bitmap import read_bitmap, write_bitmap
 from ._common import PathLike as PathLike
-from ._common import _check_file
+from ._common import _check_file, inner_suffix, is_gzip
 from ._costmap import from_occupancy_grid, read_costmap, read_occupancy_grid, to_occupancy_grid, write_costmap
 from ._costmap import is_costmap_yaml as _is_costmap_yaml
 from ._costmap import is_occupancy_grid_yaml as _is_occupancy_grid_yaml
@@ -98,6 +100,10 @@ __all__ = [
     "write_ros_map",
     "write_store",
 ]
+
+
+#: The formats also read gzip-compressed (``arena.map.gz``): the text and bitmap ones decoded here.
+GZ_FORMATS = (".map", ".pgm", ".png", ".bmp")
 
 
 def bundled_map(name: str) -> FsPath:
@@ -149,7 +155,7 @@ def _map_in_folder(folder: FsPath) -> FsPath:
     """The one map file of ``folder`` (a ``.yaml``/``.yml``, else a ``.map``), as a ROS map ships in its
     own folder; MapFormatError naming the candidates when there are several or none."""
     maps = sorted(q for q in folder.iterdir() if q.suffix.lower() in (".yaml", ".yml") and q.is_file())
-    maps = maps or sorted(q for q in folder.iterdir() if q.suffix.lower() == ".map" and q.is_file())
+    maps = maps or sorted(q for q in folder.iterdir() if inner_suffix(q) == ".map" and q.is_file())
     if len(maps) == 1:
         return maps[0]
     if not maps:
@@ -173,7 +179,8 @@ def read(path: PathLike, **options: Any) -> Any:
         ``bounds``), ``.png``/``.pgm``/``.bmp``, ``.map`` (Moving AI), ``.npz`` (gridfield),
         ``.tif``/``.tiff`` (BigTIFF/GeoTIFF), ``.npy`` or a ``.zarr`` directory (a gridfield store or a
         plain array), the last three read by chunks; or a folder holding one map file (a ROS map's
-        folder: its ``.yaml``), read as that file.
+        folder: its ``.yaml``), read as that file. A ``.map``, ``.pgm``, ``.png`` or ``.bmp`` file may be
+        gzip-compressed (``arena.map.gz``).
     **options
         Keyword options of the format's reader (:func:`read_ros_map`, :func:`read_bitmap`,
         :func:`read_movingai_map`; a world file and ``.npz`` take none).
@@ -196,7 +203,11 @@ def read(path: PathLike, **options: Any) -> Any:
     if isinstance(path, str | os.PathLike) and FsPath(path).is_dir():
         path = _map_in_folder(FsPath(path))  # a ROS map's folder (map.yaml + map.pgm), say
     p = _check_file(path)
-    suffix = p.suffix.lower()
+    suffix = inner_suffix(p)
+    if is_gzip(p) and suffix not in GZ_FORMATS:
+        raise MapFormatError(
+            f"{p}: gzip-compressed maps are read for {', '.join(f + '.gz' for f in GZ_FORMATS)}; "
+            f"decompress this {shorten(suffix or 'file')} first")
     reader: Callable[..., GridMap]
     if suffix in (".yaml", ".yml"):
         data = read_yaml(p)

@@ -4,12 +4,19 @@ Each reader opens its file through :func:`_check_file` and :func:`_read_bytes`, 
 file, a directory, a FIFO or device (refused before it is opened: reading a FIFO would block) or an
 unreadable file gives the same :class:`~gridfield.errors.MapFormatError`
 whatever the format.
+
+A file whose name ends in ``.gz`` is read through gzip (:func:`_read_bytes`, :func:`_open_binary`): the
+text and bitmap formats (Moving AI ``.map.gz`` and ``.scen.gz``, ``.pgm.gz``, a ROS YAML whose ``image``
+is one) are read compressed. What it decompresses to is bounded (:func:`gz_limit`), so a small file that
+inflates without end is refused, naming its size, before it fills memory.
 """
 
 from __future__ import annotations
 
+import gzip
 import os
 import stat
+import zlib
 from pathlib import Path as FsPath
 from typing import Any
 
@@ -43,11 +50,60 @@ def _check_regular(p: FsPath, what: str = "") -> None:
         raise MapFormatError(f"{what}{p}: is {kind}, expected a regular file")
 
 
+def is_gzip(p: FsPath) -> bool:
+    """Whether ``p`` names a gzip-compressed file (by its ``.gz`` suffix)."""
+    return p.suffix.lower() == ".gz"
+
+
+def inner_suffix(p: FsPath) -> str:
+    """The format suffix of ``p``, lower case: that of the name without ``.gz`` for a compressed file
+    (``"arena.map.gz"`` -> ``".map"``)."""
+    return FsPath(p.stem).suffix.lower() if is_gzip(p) else p.suffix.lower()
+
+
+#: Bytes a compressed cell may take once decompressed (a 16-bit PGM pixel is 2, a map character 1 and its
+#: line end); with a megabyte for headers and comments this bounds every decompression by the size guard.
+GZ_BYTES_PER_CELL = 4
+
+
+def gz_limit() -> int:
+    """Most bytes a ``.gz`` input may decompress to: :data:`GZ_BYTES_PER_CELL` per cell of the size guard
+    (:func:`gridfield.limits.max_cells`) plus 1 MiB."""
+    from ..limits import max_cells
+
+    return GZ_BYTES_PER_CELL * max_cells() + (1 << 20)
+
+
+def _open_binary(p: FsPath) -> Any:
+    """``p`` opened for binary reading, through gzip when its name ends in ``.gz``."""
+    return gzip.open(p, "rb") if is_gzip(p) else open(p, "rb")
+
+
 def _read_bytes(p: FsPath) -> bytes:
+    """The file's bytes (decompressed for a ``.gz`` name, at most :func:`gz_limit` of them)."""
+    if not is_gzip(p):
+        try:
+            return p.read_bytes()
+        except OSError as e:
+            raise MapFormatError(f"{p}: cannot read: {e.strerror or e}") from None
+    from ..errors import SizeLimitError
+
+    limit = gz_limit()
     try:
-        return p.read_bytes()
+        with gzip.open(p, "rb") as f:
+            data = f.read(limit + 1)
+    except gzip.BadGzipFile:
+        raise MapFormatError(f"{p}: not a gzip file (its name ends in .gz)") from None
+    except EOFError:
+        raise MapFormatError(f"{p}: truncated gzip file (it ends before its compressed data does)") from None
     except OSError as e:
         raise MapFormatError(f"{p}: cannot read: {e.strerror or e}") from None
+    except zlib.error as e:
+        raise MapFormatError(f"{p}: corrupt gzip data: {shorten(str(e))}") from None
+    if len(data) > limit:
+        raise SizeLimitError(f"{p}: decompresses to more than {limit} bytes, more than a map within the size "
+                             "guard holds (raise it with --max-cells or GRIDFIELD_MAX_CELLS)")
+    return data
 
 
 def _choice(name: str, value: Any, choices: tuple[str, ...]) -> str:

@@ -1,4 +1,5 @@
-"""Moving AI benchmark files: ``.map`` grids and ``.scen`` scenario lists.
+"""Moving AI benchmark files: ``.map`` grids and ``.scen`` scenario lists (either gzip-compressed too:
+``.map.gz``, ``.scen.gz``).
 
 The scenario reader converts the benchmark's coordinates (y growing downward) to gridfield's world
 points and cells, and keeps how each optimal length was printed, so that a computed length can be
@@ -7,8 +8,10 @@ compared with it to the printed precision (:meth:`Scenarios.tolerance`).
 
 from __future__ import annotations
 
+import gzip
 import itertools
 import os
+import zlib
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path as FsPath
@@ -20,7 +23,7 @@ from numpy.typing import NDArray
 from ..errors import MapFormatError, ParameterError, shorten
 from ..grid import BORDERS, Grid, GridMap
 from ..limits import check_cells
-from ._common import PathLike, _check_file, _choice, _decode_text, _read_bytes
+from ._common import PathLike, _check_file, _choice, _decode_text, _open_binary, _read_bytes
 
 # ----------------------------------------------------------------------------------------
 # Moving AI benchmarks
@@ -49,7 +52,7 @@ def _scen_lines(p: FsPath) -> Iterator[tuple[int, str]]:
     """The file's lines (0-based number, text without the line end), read one at a time: memory stays
     within :data:`SCEN_LINE_MAX` bytes per line whatever the file holds."""
     try:
-        with open(p, "rb") as f:
+        with _open_binary(p) as f:
             for i in itertools.count():
                 data = f.readline(SCEN_LINE_MAX + 1)
                 if not data:
@@ -65,8 +68,14 @@ def _scen_lines(p: FsPath) -> Iterator[tuple[int, str]]:
                     raise MapFormatError(f"{p}: line {i + 1}: not a text Moving AI scenario file (byte "
                                          f"0x{data[e.start]:02x} is not UTF-8)") from None
                 yield i, text[:-1] if text.endswith("\r") else text
+    except EOFError:
+        raise MapFormatError(f"{p}: truncated gzip file (it ends before its compressed data does)") from None
+    except gzip.BadGzipFile:
+        raise MapFormatError(f"{p}: not a gzip file (its name ends in .gz)") from None
     except OSError as e:
         raise MapFormatError(f"{p}: cannot read: {e.strerror or e}") from None
+    except zlib.error as e:
+        raise MapFormatError(f"{p}: corrupt gzip data: {shorten(str(e))}") from None
 
 
 def _map_header(p: Any, lines: list[str]) -> tuple[dict[str, str], int]:

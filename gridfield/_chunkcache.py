@@ -15,6 +15,7 @@ A leaf above ``grid``: it imports only ``errors`` and ``grid`` (and numpy), neve
 
 from __future__ import annotations
 
+import functools
 import math
 import threading
 from collections import OrderedDict
@@ -29,7 +30,8 @@ from ._coords import as_points, scalar_index
 from .errors import GridfieldError, ParameterError
 from .grid import Grid, GridMap
 
-__all__ = ["DEFAULT_BUDGET", "ChunkCache", "LazyArray", "LazyGridMap", "Raster", "is_lazy", "lazy_grid"]
+__all__ = ["DEFAULT_BUDGET", "NONZERO", "ChunkCache", "LazyArray", "LazyGridMap", "OccupancyRule", "Raster", "is_lazy",
+           "lazy_grid"]
 
 #: The default byte budget of a :class:`ChunkCache` (256 MiB of decoded tiles).
 DEFAULT_BUDGET = 256 * 2**20
@@ -478,23 +480,90 @@ def cell_values(a: LazyArray | None, grid: Grid,
 # ---------------------------------------------------------------------------------------------
 # big rasters as occupancy: what the BigTIFF, .npy and Zarr-array readers wrap
 # ---------------------------------------------------------------------------------------------
+@functools.lru_cache(maxsize=16)
+def _grey_cut(white: float, light: bool, threshold: float, levels: int) -> int:
+    """How many of the levels ``0 .. levels - 1`` are occupied under the grey rule (:class:`OccupancyRule`):
+    the darkest ones (``light``: the lightest ones), since the occupancy is monotonic in the level."""
+    v = np.arange(levels, dtype=np.float64)
+    occupancy = v / white if light else (white - v) / white
+    return int(np.count_nonzero(occupancy > threshold))
+
+
+@dataclass(frozen=True)
+class OccupancyRule:
+    """How a raster's values become occupancy (``True`` = obstacle), applied to each slice read.
+
+    With ``white`` None: booleans as they are, numbers non-zero = obstacle (labels, masks). Otherwise the
+    grey rule of the image readers: a value ``v`` in ``0 .. white`` has occupancy ``(white - v) / white``
+    (dark = occupied), or ``v / white`` when ``light`` (``negate``, or a min-is-white image), and is an
+    obstacle when that exceeds ``threshold``. Integers of up to 16 bits are compared with the level
+    where that changes, found once with the same arithmetic (no float copy of the slice). ``text`` says the rule in words (the readers' ``meta``).
+
+    Parameters
+    ----------
+    white : float, optional
+        The white level (255 for 8 bits, 65535 for 16, 1 for a 1-bit image); None: non-zero = obstacle.
+    threshold : float
+        Occupancy above which a value is an obstacle (the grey rule only).
+    light : bool
+        Occupancy ``v / white`` instead of ``(white - v) / white``.
+    text : str
+        The rule in words.
+
+    Examples
+    --------
+    >>> grey = OccupancyRule(255.0, text="dark = occupied")
+    >>> grey(np.array([0, 127, 128, 255], np.uint8)).tolist()
+    [True, True, False, False]
+    >>> OccupancyRule()(np.array([0, 3, -1])).tolist()
+    [False, True, True]
+    """
+
+    white: float | None = None
+    threshold: float = 0.5
+    light: bool = False
+    text: str = "non-zero = obstacle"
+
+    def __call__(self, a: NDArray[Any]) -> NDArray[np.bool_]:
+        if self.white is None:
+            return a if a.dtype == np.bool_ else a != 0
+        if a.dtype == np.bool_ or (a.dtype.kind == "u" and a.dtype.itemsize <= 2):
+            levels = 2 if a.dtype == np.bool_ else 1 << (8 * a.dtype.itemsize)
+            n = _grey_cut(float(self.white), self.light, float(self.threshold), levels)
+            out: NDArray[np.bool_] = a >= levels - n if self.light else a < n  # one comparison, no float copy
+            return out
+        v = a.astype(np.float64)
+        occupancy = v / self.white if self.light else (self.white - v) / self.white
+        occupied: NDArray[np.bool_] = occupancy > self.threshold
+        return occupied
+
+
+#: :class:`Raster`'s rule when none is given: booleans as they are, numbers non-zero = obstacle.
+NONZERO = OccupancyRule()
+
+
 class Raster:
-    """A 2-D array seen as occupancy (``True`` = obstacle: booleans as they are, numbers non-zero),
-    read by slices; with ``flip`` its first row is the top of the map (an image), so gridfield's row
-    ``r`` is the source's row ``rows - 1 - r``.
+    """A 2-D array seen as occupancy (``True`` = obstacle, by ``rule``: default :data:`NONZERO`, booleans
+    as they are and numbers non-zero), read by slices; with ``flip`` its first row is the top of the map
+    (an image), so gridfield's row ``r`` is the source's row ``rows - 1 - r``.
 
     Examples
     --------
     >>> r = Raster(np.array([[0, 7], [0, 0]]), flip=True, chunks=(1, 2))
     >>> r[0:2, 0:2].tolist(), r.chunks
     ([[False, False], [False, True]], (1, 2))
+    >>> img = np.array([[0, 255], [255, 200]], np.uint8)   # an image: black top-left
+    >>> Raster(img, flip=True, rule=OccupancyRule(255.0))[...].tolist()
+    [[False, False], [True, False]]
     """
 
-    def __init__(self, source: Any, *, flip: bool = False, chunks: tuple[int, int] | None = None) -> None:
+    def __init__(self, source: Any, *, flip: bool = False, chunks: tuple[int, int] | None = None,
+                 rule: OccupancyRule = NONZERO) -> None:
         self._source = source
         self.shape = (int(source.shape[0]), int(source.shape[1]))
         self.dtype = np.dtype(np.bool_)
         self.flip = flip
+        self.rule = rule
         ch = chunks if chunks is not None else getattr(source, "chunks", None) or self.shape
         self.chunks = (max(1, min(int(ch[0]), self.shape[0])), max(1, min(int(ch[1]), self.shape[1])))
 
@@ -508,7 +577,7 @@ class Raster:
             a = np.asarray(self._source[n - r1:n - r0, cs])[::-1]
         else:
             a = np.asarray(self._source[r0:r1, cs])
-        return a if a.dtype == np.bool_ else a != 0
+        return self.rule(a)
 
 
 def lazy_grid(shape: tuple[int, int], resolution: float, origin: tuple[float, float] = (0.0, 0.0),

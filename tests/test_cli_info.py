@@ -18,7 +18,7 @@ from gridfield.io import bundled_map
 from mapdata import image
 
 KEYS = {"shape", "resolution", "origin", "border", "occupied_fraction", "obstacles", "source", "format",
-        "occupied_cells", "unknown_cells", "unknown_as"}
+        "occupancy_rule", "occupied_cells", "unknown_cells", "unknown_as"}
 
 
 def run_json(capsys, *argv):
@@ -108,7 +108,9 @@ def test_info_of_a_map_without_unknown_cells_says_nothing_of_them(test_maps, cap
     assert info["occupied_cells"] == n_occ and info["unknown_cells"] == 0
     assert main(["info", str(path)]) == 0
     out = capsys.readouterr().out
-    assert f"occupied cells:    {n_occ} of {n_occ + n_free}\n" in out and "unknown" not in out
+    assert f"occupied cells:    {n_occ} of {n_occ + n_free}\n" in out
+    cells = [line for line in out.splitlines() if not line.startswith("occupancy rule:")]  # the rule names its
+    assert "unknown" not in "\n".join(cells)  # middle band ("between unknown"); no line speaks of unknown cells
 
 
 def test_info_movingai_json(capsys):

@@ -224,15 +224,16 @@ def test_cli_plan_on_a_store(store, field, capsys):
 def test_bigtiff_geotiff_reader(tmp_path):
     import tifffile
 
-    img = (np.random.default_rng(5).random((70, 90)) < 0.2).astype(np.uint8) * 255
+    walls = np.random.default_rng(5).random((70, 90)) < 0.2
+    img = np.where(walls, 0, 255).astype(np.uint8)  # an image: black walls on white
     f = tmp_path / "m.tif"
     tifffile.imwrite(f, img, bigtiff=True, tile=(32, 32),
                      extratags=[(33550, 12, 3, (0.25, 0.25, 0.0)), (33922, 12, 6, (0, 0, 0, 100.0, 50.0, 0))])
     m = read(f)
     assert isinstance(m, LazyGridMap) and m.occupied.chunks == (32, 32)
     assert m.grid.resolution == 0.25 and m.grid.origin == (100.0, 50.0 - 70 * 0.25)
-    np.testing.assert_array_equal(np.asarray(m.occupied), np.flipud(img != 0))
-    assert bool(m.occupied[69, 3]) == bool(img[0, 3])  # the image's top row is the highest y
+    np.testing.assert_array_equal(np.asarray(m.occupied), np.flipud(walls))
+    assert bool(m.occupied[69, 3]) == bool(walls[0, 3])  # the image's top row is the highest y
     m2 = read(f, resolution=1.0, origin=(0, 0))
     assert m2.grid.resolution == 1.0 and m2.grid.origin == (0.0, 0.0)
     del m, m2

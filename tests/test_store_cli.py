@@ -55,7 +55,7 @@ def test_brushfire_bigtiff_resumes_after_an_interruption(tmp_path, monkeypatch, 
     import tifffile
 
     occ = _occ()
-    img = np.flipud(occ).astype(np.uint8) * 255  # an image: the top row first
+    img = np.where(np.flipud(occ), 0, 255).astype(np.uint8)  # an image, the top row first: black = obstacle
     tifffile.imwrite(tmp_path / "m.tif", img, bigtiff=True, tile=(16, 16),
                      extratags=[(33550, 12, 3, (RES, RES, 0.0))])
     argv = ["brushfire", str(tmp_path / "m.tif"), "--metric", "euclidean", "--chunks", "16",

@@ -12,6 +12,7 @@ __all__ = [
     "FIGURE_SUFFIXES",
     "add_map_arguments",
     "add_max_cells_argument",
+    "add_occupancy_arguments",
     "add_param_arguments",
     "add_robot_arguments",
     "check_coarse_cells",
@@ -19,6 +20,7 @@ __all__ = [
     "collect_params",
     "load_gridmap",
     "load_target",
+    "occupancy_options",
     "robot_target",
     "warm_up",
 ]
@@ -37,12 +39,37 @@ def _flags() -> dict[str, str]:
 def add_map_arguments(p: argparse.ArgumentParser, *, name: str = "MAP") -> None:
     """The positional map argument and the options that shape how it becomes a grid."""
     p.add_argument("map", metavar=name,
-                   help="world YAML, ROS map YAML, bitmap (PNG/PGM/BMP), Moving AI .map or gridfield .npz")
+                   help="world YAML, ROS map YAML, bitmap (PNG/PGM/BMP), Moving AI .map, gridfield .npz, "
+                        "TIFF/GeoTIFF, .npy or .zarr")
     p.add_argument("--resolution", type=float, default=None,
                    help="cell size used to rasterize a vector world (default: the world file's 'resolution')")
     p.add_argument("--unknown", choices=("occupied", "free"), default=None,
                    help="how unknown cells of a ROS map are treated (default: occupied)")
+    add_occupancy_arguments(p)
     add_max_cells_argument(p)
+
+
+#: ``--occupancy``'s choices: gridfield.io.OCCUPANCY_RULES, spelt out (building the parsers imports no reader).
+OCCUPANCY_CHOICES = ("dark", "nonzero")
+
+
+def add_occupancy_arguments(p: argparse.ArgumentParser) -> None:
+    """``--occupancy {dark,nonzero}``, ``--threshold T``, ``--negate``: how an image or array's values become
+    obstacles (the readers' ``occupancy``, ``threshold``, ``negate``; see :mod:`gridfield.io`)."""
+    g = p.add_argument_group("occupancy of images and arrays (PNG, PGM, BMP, TIFF, .npy, Zarr arrays)")
+    g.add_argument("--occupancy", choices=OCCUPANCY_CHOICES, default=None,
+                   help="dark: grey levels, dark = occupied (the images' default); nonzero: any non-zero value is "
+                        "an obstacle (label rasters; the default of .npy and Zarr arrays)")
+    g.add_argument("--threshold", type=float, default=None, metavar="T",
+                   help="dark rule: occupancy (white - v) / white above T is an obstacle (default 0.5)")
+    g.add_argument("--negate", action="store_const", const=True, default=None,
+                   help="dark rule: white is occupied, black free")
+
+
+def occupancy_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The occupancy options given on the command line (only those given), for :func:`gridfield.io.read`."""
+    return {key: getattr(args, key) for key in ("occupancy", "threshold", "negate")
+            if getattr(args, key, None) is not None}
 
 
 def _max_cells(text: str) -> int:
@@ -154,7 +181,7 @@ def load_target(args: argparse.Namespace, *, lazy: bool = False) -> Any:
 def _read_target(args: argparse.Namespace) -> Any:
     from ..io import read
 
-    options: dict[str, Any] = {}
+    options: dict[str, Any] = occupancy_options(args)
     if getattr(args, "unknown", None) is not None:
         options["unknown"] = args.unknown
     if getattr(args, "resolution", None) is not None and str(args.map).lower().rstrip("/").endswith(

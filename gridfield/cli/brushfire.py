@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from ._chunked import add_chunk_arguments
-from ._common import add_map_arguments, add_robot_arguments, robot_target
+from ._common import add_map_arguments, add_robot_arguments, occupancy_options, robot_target
 
 _BITMAPS = (".png", ".pgm", ".bmp", ".npy", ".tif", ".tiff")  # rasters: --resolution is their pixel size
 
@@ -62,7 +62,7 @@ def _load(args: argparse.Namespace) -> Any:
     from ..io import read
     from ..rasterize import as_gridmap
 
-    options: dict[str, Any] = {}
+    options: dict[str, Any] = occupancy_options(args)
     if args.unknown is not None:
         options["unknown"] = args.unknown
     bitmap = Path(args.map).suffix.lower() in _BITMAPS

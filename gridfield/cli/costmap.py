@@ -56,7 +56,7 @@ def _load(args: argparse.Namespace) -> Any:
     from ..errors import ParameterError
     from ..io import read, read_yaml, ros_occupancy_values
     from ..rasterize import as_gridmap
-    from ._common import load_target
+    from ._common import load_target, occupancy_options
 
     unknown = None
     gm: Any
@@ -68,7 +68,7 @@ def _load(args: argparse.Namespace) -> Any:
         if args.unknown is not None:
             raise ParameterError("--keep-unknown and --unknown exclude each other (kept unknown cells are neither)")
         unknown = ros_occupancy_values(args.map) == -1
-        gm = read(args.map, unknown="free")
+        gm = read(args.map, unknown="free", **occupancy_options(args))  # a ROS map: --occupancy is refused
     else:
         gm = as_gridmap(load_target(args), args.resolution)
     if unknown is not None and unknown.shape != gm.shape:  # pragma: no cover - same file

@@ -1,4 +1,5 @@
-"""``gridfield info``: describe a map or world file (shape, resolution, origin, border, occupied and unknown cells, obstacles)."""
+"""``gridfield info``: describe a map or world file (shape, resolution, origin, border, occupancy rule, occupied and
+unknown cells, obstacles)."""
 
 from __future__ import annotations
 
@@ -13,12 +14,13 @@ from ._common import add_robot_arguments, robot_target
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "info",
-        help="describe a map: shape, resolution, origin, border, occupied fraction and cells (unknown ones "
-             "named), obstacle count",
+        help="describe a map: shape, resolution, origin, border, occupancy rule, occupied fraction and cells "
+             "(unknown ones named), obstacle count",
         description="Load a map or world file and describe its occupancy grid.",
     )
     p.add_argument("map", metavar="MAP",
-                   help="world YAML, ROS map YAML, bitmap (PNG/PGM/BMP), Moving AI .map or gridfield .npz")
+                   help="world YAML, ROS map YAML, bitmap (PNG/PGM/BMP), Moving AI .map, gridfield .npz, "
+                        "TIFF/GeoTIFF, .npy or .zarr")
     p.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     p.add_argument("--npz", metavar="F", help="also write the occupancy grid to the .npz file F")
     p.add_argument("--resolution", type=float, default=None,
@@ -26,8 +28,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
                         "for a bitmap, the size of one pixel (default 1)")
     p.add_argument("--unknown", choices=("occupied", "free"), default=None,
                    help="how unknown (ROS) or transparent (bitmap) cells are treated (default: occupied)")
-    from ._common import add_max_cells_argument
+    from ._common import add_max_cells_argument, add_occupancy_arguments
 
+    add_occupancy_arguments(p)
     add_max_cells_argument(p)
     add_robot_arguments(p)
     return p
@@ -50,7 +53,9 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
     from ..world import World
 
     suffix = str(args.map).lower().rsplit(".", 1)[-1]
-    options: dict[str, Any] = {"unknown": args.unknown}
+    from ._common import occupancy_options
+
+    options: dict[str, Any] = {"unknown": args.unknown, **occupancy_options(args)}
     if suffix in ("png", "pgm", "bmp"):
         options["resolution"] = args.resolution
     workspace = read(args.map, **options)
@@ -80,6 +85,7 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
         "obstacles": int(obstacles),
         "source": str(args.map),
         "format": fmt,
+        "occupancy_rule": occupancy_rule(gm),
         **_cell_counts(gm, args.unknown),
     }
     if target is not workspace:
@@ -88,6 +94,39 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
         robot = _robot_from_args(args, workspace)
         info["robot"] = robot.describe() if robot is not None else "point"
     return info, gm
+
+
+#: The occupancy rule of formats whose readers record none in ``meta["occupancy_rule"]``, by ``meta["format"]``.
+FORMAT_RULES = {
+    "movingai": "'.', 'G', 'S' free; the rest blocked",
+    "npz": "the file's occupied array (True or 1 = obstacle)",
+}
+#: A vector world's rule (:mod:`gridfield.rasterize`).
+WORLD_RULE = "vector obstacles; rasterized, a cell an obstacle touches (its closed square) is occupied"
+
+
+def occupancy_rule(gm: Any) -> str:
+    """Which values of the map's source are obstacles, in words: what its reader recorded
+    (``meta["occupancy_rule"]``), else the rule of its format (:data:`FORMAT_RULES`).
+
+    Parameters
+    ----------
+    gm : GridMap
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from gridfield.io import bundled_map, read
+    >>> occupancy_rule(read(bundled_map("arena/arena.map")))
+    "'.', 'G', 'S' free; the rest blocked"
+    """
+    rule = gm.meta.get("occupancy_rule")
+    if rule is None:
+        rule = FORMAT_RULES.get(str(gm.meta.get("format")), "the map's occupied array (True = obstacle)")
+    return str(rule)
 
 
 def _cell_counts(gm: Any, unknown: str | None) -> dict[str, Any]:
@@ -126,6 +165,7 @@ def _describe_world(args: argparse.Namespace, workspace: Any, target: Any) -> tu
         "obstacles": len(workspace.obstacles),
         "source": str(args.map),
         "format": "world",
+        "occupancy_rule": WORLD_RULE,
         "bounds": [float(v) for v in target.bounds],
         "obstacle_kinds": dict(sorted(kinds.items())),
         "start": None if target.start is None else [float(v) for v in target.start],
@@ -166,6 +206,7 @@ def run(args: argparse.Namespace) -> int:
     what = "vector obstacles" if world else "8-connected obstacle regions"
     print(f"source:            {info['source']}")
     print(f"format:            {info['format']}")
+    print(f"occupancy rule:    {info['occupancy_rule']}")
     if info["shape"] is None:
         print("shape:             none: the world sets no resolution (pass --resolution R to rasterize it)")
     else:

@@ -5,7 +5,7 @@ Supported inputs (:func:`read` picks by file name):
 - world YAML (``bounds``/``obstacles``): :func:`read_world`
 - ROS map_server YAML (``image``/``resolution``/``origin``): :func:`read_ros_map`
   (and :func:`ros_occupancy_values` for the raw OccupancyGrid values)
-- bitmaps PNG, PGM (``P2`` ASCII and ``P5`` binary), BMP: :func:`read_bitmap`
+- bitmaps PNG, PGM (``P2`` ASCII and ``P5`` binary), BMP: :func:`read_bitmap`; grey levels, dark = occupied
 - Moving AI ``.map``: :func:`read_movingai_map`; scenarios ``.scen``: :func:`read_scen`
 - any of those text and bitmap files gzip-compressed (``arena.map.gz``, ``arena.map.scen.gz``, ``map.pgm.gz``,
   also as a ROS YAML's ``image``), decompressed within the size guard
@@ -14,6 +14,23 @@ Supported inputs (:func:`read` picks by file name):
   GeoTIFF ``.tif``/``.tiff`` (:func:`read_tiff`), ``.npy`` memory maps (:func:`read_npy`), plain Zarr arrays
   (:func:`read_zarr_array`); and gridfield's Zarr stores (``gridfield brushfire/field ... --out F.zarr``,
   :func:`write_store`), read as lazy maps, distance maps or fields (:func:`read_store`)
+
+Occupancy of images and arrays (:data:`OCCUPANCY_RULES`, the ``occupancy`` option of :func:`read_bitmap`,
+:func:`read_tiff`, :func:`read_npy` and :func:`read_zarr_array`; ``--occupancy`` on the command line), one
+rule for every image, never guessed:
+
+- ``"dark"``, the default of the images (PNG, PGM, BMP, TIFF): grey levels, dark = occupied. A value ``v`` of
+  an image whose white is ``W`` (255 for 8 bits, 65535 for 16; 1 for a 1-bit TIFF) has occupancy
+  ``(W - v) / W`` and is an obstacle above ``threshold`` (default 0.5); ``negate`` reads ``v / W`` (white =
+  occupied); a min-is-white TIFF stores 0 as white (so a boolean array written by tifffile reads True =
+  obstacle). Float and signed-integer rasters have no grey convention and are refused (MapFormatError
+  naming the file and the option to give).
+- ``"nonzero"``: any non-zero value is an obstacle (label rasters, masks; booleans True). The default of
+  ``.npy`` and plain Zarr arrays, which are arrays in gridfield's row order, not images (their booleans are
+  True = obstacle under either rule).
+
+Every reader records the rule it applied in words in the map's ``meta["occupancy_rule"]`` (ROS maps their
+thresholds, costmaps and OccupancyGrid messages their values); ``gridfield info`` prints it.
 
 Nav2 costmaps (a raw-mode map YAML with a ``costmap:`` mapping, read as a
 :class:`~gridfield.costmap.Costmap`): :func:`read_costmap`, :func:`write_costmap`; the fields of a
@@ -32,7 +49,8 @@ Every problem with an input file is raised as :class:`~gridfield.errors.MapForma
 naming the file (and the line, key or value at fault); errors of the underlying libraries
 (Pillow, numpy, PyYAML) never escape.
 
-Layout of the package (one format per module): ``_common`` (file checks), ``_yaml`` (YAML and
+Layout of the package (one format per module): ``_common`` (file checks), ``_occupancy`` (the occupancy
+rules of images and arrays: option checks and the rule in words), ``_yaml`` (YAML and
 world files, with the alias-bomb guard), ``_bitmap``, ``_ros``, ``_movingai``, ``_npz`` (also the
 fields' :func:`save_field` / :func:`load_field`), ``_tiff`` (BigTIFF/GeoTIFF and ``.npy`` read by chunks),
 ``_zarr`` (gridfield's Zarr store and plain Zarr arrays); this ``__init__`` re-exports their public names and
@@ -60,6 +78,7 @@ from ._costmap import is_costmap_yaml as _is_costmap_yaml
 from ._costmap import is_occupancy_grid_yaml as _is_occupancy_grid_yaml
 from ._movingai import Scenarios, read_movingai_map, read_scen
 from ._npz import NPZ_ARRAY_NAMES, load_field, read_npz, read_npz_arrays, save_field, write_npz
+from ._occupancy import OCCUPANCY_RULES as OCCUPANCY_RULES
 from ._ros import ROS_MODES as ROS_MODES
 from ._ros import SEMANTICS as SEMANTICS
 from ._ros import read_ros_map, ros_occupancy_values, write_ros_map
@@ -70,6 +89,7 @@ from ._zarr import STORE_ARRAYS, read_store, read_zarr, read_zarr_array, write_s
 
 __all__ = [
     "NPZ_ARRAY_NAMES",
+    "OCCUPANCY_RULES",
     "STORE_ARRAYS",
     "Scenarios",
     "bundled_map",
@@ -169,7 +189,7 @@ def read(path: PathLike, **options: Any) -> Any:
     (a lazy one for the formats read by chunks; a gridfield Zarr store gives what it holds).
 
     ``options`` go to the format's reader (e.g. ``unknown="free"`` for ROS maps, ``resolution``
-    for bitmaps). Options whose value is ``None`` mean "the default" and are dropped; an
+    for bitmaps, ``occupancy="nonzero"`` for a label image or array). Options whose value is ``None`` mean "the default" and are dropped; an
     option the format's reader does not take raises :class:`ParameterError`.
 
     Parameters
@@ -183,7 +203,8 @@ def read(path: PathLike, **options: Any) -> Any:
         gzip-compressed (``arena.map.gz``).
     **options
         Keyword options of the format's reader (:func:`read_ros_map`, :func:`read_bitmap`,
-        :func:`read_movingai_map`; a world file and ``.npz`` take none).
+        :func:`read_movingai_map`, :func:`read_tiff`, :func:`read_npy`, :func:`read_zarr_array`; a world
+        file and ``.npz`` take none).
 
     Returns
     -------

@@ -25,6 +25,7 @@ from ..errors import GridfieldError, MapFormatError, ParameterError, SizeLimitEr
 from ..grid import BORDERS, Grid, GridMap
 from ..limits import check_cells
 from ._common import PathLike, _check_file, _choice, _read_bytes
+from ._occupancy import check_grey_options, grey_text
 
 UNKNOWN_CHOICES = ("occupied", "free")
 
@@ -34,10 +35,12 @@ UNKNOWN_CHOICES = ("occupied", "free")
 # ----------------------------------------------------------------------------------------
 @dataclass(frozen=True, eq=False)
 class _Pixels:
-    """Decoded image: ``data`` has shape (rows, cols, C) with C = 1 (grey), 3 (RGB) or 4 (RGBA)."""
+    """Decoded image: ``data`` has shape (rows, cols, C) with C = 1 (grey), 3 (RGB) or 4 (RGBA); ``index``
+    the colour indices of a palette image (``data`` holds its colours), else None."""
 
     data: NDArray[np.float64]
     format: str  # "PGM", "PNG", "BMP", ...
+    index: NDArray[np.uint8] | None = None
 
     @property
     def has_alpha(self) -> bool:
@@ -161,6 +164,7 @@ def _read_pillow(p: FsPath, data: bytes) -> _Pixels:
                 fmt = im.format or "image"
                 mode = im.mode
                 img: Image.Image = im
+                index = np.asarray(im) if mode == "P" else None
                 if mode == "P":
                     img = img.convert("RGBA" if "transparency" in im.info else "RGB")
                 elif mode == "PA":
@@ -193,7 +197,7 @@ def _read_pillow(p: FsPath, data: bytes) -> _Pixels:
         pixels = pixels[..., None]
     if pixels.ndim != 3 or pixels.shape[2] not in (1, 3, 4) or pixels.shape[0] == 0 or pixels.shape[1] == 0:
         raise MapFormatError(f"{p}: unsupported image layout {arr.shape} (mode {shorten(mode)})")
-    return _Pixels(np.clip(pixels, 0.0, 255.0), fmt)
+    return _Pixels(np.clip(pixels, 0.0, 255.0), fmt, index if index is not None and index.ndim == 2 else None)
 
 
 def _load_pixels(path: PathLike) -> _Pixels:
@@ -206,29 +210,6 @@ def _load_pixels(path: PathLike) -> _Pixels:
     return _read_pillow(p, data)
 
 
-def _check_unit(name: str, value: Any, where: str = "") -> float:
-    """A number in [0, 1] (bools and NaN rejected)."""
-    prefix = f"{where}: " if where else ""
-    try:
-        if isinstance(value, bool):
-            raise TypeError
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{prefix}{name} must be a number in [0, 1], got {shorten(value)}") from None
-    if not 0.0 <= v <= 1.0:
-        raise ParameterError(f"{prefix}{name} must be a number in [0, 1], got {shorten(value)}")
-    return v
-
-
-def _as_bool01(name: str, value: Any, where: str = "") -> bool:
-    if isinstance(value, bool | np.bool_):
-        return bool(value)
-    if isinstance(value, int | np.integer) and value in (0, 1):
-        return bool(value)
-    prefix = f"{where}: " if where else ""
-    raise ParameterError(f"{prefix}{name} must be 0 or 1 (or false/true), got {shorten(value)}")
-
-
 def read_bitmap(
     path: PathLike,
     *,
@@ -238,14 +219,18 @@ def read_bitmap(
     threshold: float = 0.5,
     border: Literal["open", "wall"] = "open",
     unknown: Literal["occupied", "free"] = "occupied",
+    occupancy: Literal["dark", "nonzero"] = "dark",
 ) -> GridMap:
     """Read a PNG, PGM (``P2``/``P5``) or BMP image as an occupancy grid.
 
     Colour pixels become grey by Rec. 601 luma (``0.299 R + 0.587 G + 0.114 B``). A pixel of grey
     level ``v`` has occupancy ``(255 - v) / 255`` (dark = obstacle), or ``v / 255`` with
-    ``negate``; it is occupied when that exceeds ``threshold``. Transparent pixels (alpha < 255)
-    are *unknown*, as in ROS map_server, and are treated per ``unknown``. The image is flipped
-    vertically: its top row becomes the highest y.
+    ``negate``; it is occupied when that exceeds ``threshold`` (16-bit images are scaled to
+    0..255 first). This is the rule of every image reader (:func:`read_tiff` too). With
+    ``occupancy="nonzero"`` (a label image) every pixel whose value is not 0 is an obstacle: its
+    grey level, any colour channel, or a palette image's colour index. Transparent pixels
+    (alpha < 255) are *unknown*, as in ROS map_server, and are treated per ``unknown``. The image is
+    flipped vertically: its top row becomes the highest y.
 
     Parameters
     ----------
@@ -255,18 +240,21 @@ def read_bitmap(
     origin : (float, float)
         World coordinates of the lower-left corner of the lower-left pixel.
     negate : bool
-        If true, white is occupied and black free.
+        If true, white is occupied and black free (the ``"dark"`` rule only).
     threshold : float in [0, 1]
-        Occupancy above which a pixel is an obstacle.
+        Occupancy above which a pixel is an obstacle (the ``"dark"`` rule only).
     border : {"open", "wall"}
         What lies outside the image.
     unknown : {"occupied", "free"}
         How transparent pixels are treated.
+    occupancy : {"dark", "nonzero"}
+        ``"dark"``: grey levels, dark = occupied (default); ``"nonzero"``: non-zero = obstacle.
 
     Returns
     -------
     GridMap
-        ``meta`` holds ``format="bitmap"``, the image format and the fraction of transparent pixels.
+        ``meta`` holds ``format="bitmap"``, the image format, ``occupancy_rule`` (the rule in words)
+        and the fraction of transparent pixels.
 
     Examples
     --------
@@ -281,23 +269,35 @@ def read_bitmap(
            [1, 0, 0]])
     >>> m.is_free([[0.25, 0.75], [0.25, 0.25]]).tolist()
     [False, True]
+    >>> m.meta["occupancy_rule"]
+    'dark = occupied (grey level below 50 % of white)'
     """
     _choice("border", border, BORDERS)
     _choice("unknown", unknown, UNKNOWN_CHOICES)
-    neg = _as_bool01("negate", negate)
-    thr = _check_unit("threshold", threshold)
+    rule, thr, neg = check_grey_options(occupancy, threshold, negate, path)
     px = _load_pixels(path)
     rows, cols = px.data.shape[:2]
     grid = Grid((rows, cols), resolution, origin, border)
-    grey = px.luma()
-    occ = grey / 255.0 if neg else (255.0 - grey) / 255.0
-    occupied = occ > thr
+    colour = px.data.shape[2] > 1
+    if rule == "nonzero":
+        if px.index is not None:
+            occupied, text = px.index != 0, "non-zero = obstacle (palette index)"
+        else:
+            occupied = (px.data[..., :3] != 0).any(axis=2)
+            text = "non-zero = obstacle" + (" (any colour channel)" if colour else "")
+    else:
+        grey = px.luma()
+        occ = grey / 255.0 if neg else (255.0 - grey) / 255.0
+        occupied = occ > thr
+        text = grey_text(thr, neg, "colour by luma" if colour else "")
     meta: dict[str, Any] = {"format": "bitmap", "image_format": px.format}
     alpha = px.alpha
     if alpha is not None:
         transparent = alpha < 255.0
         occupied = np.where(transparent, unknown == "occupied", occupied)
         meta["unknown_fraction"] = float(transparent.mean())
+        text += f"; transparent = unknown ({unknown})"
+    meta["occupancy_rule"] = text
     return GridMap(grid, np.ascontiguousarray(occupied[::-1]), source=str(path), meta=meta)
 
 

@@ -152,7 +152,8 @@ def read_costmap(yaml_path: PathLike) -> Any:
         raise MapFormatError(f"{prm.yaml}: {e}") from None
     inflation = {k: v for k, v in info.items() if k not in ("format", "version")}
     return Costmap.from_costs(grid, cost, inflation, source=str(yaml_path),
-                              meta={"format": "costmap", "mode": "raw"})
+                              meta={"format": "costmap", "mode": "raw",
+                                    "occupancy_rule": "Nav2 costmap: cost 253 (inscribed) and above = obstacle"})
 
 
 # ----------------------------------------------------------------------------------------
@@ -241,7 +242,8 @@ def from_occupancy_grid(data: ArrayLike | Sequence[int], width: int, height: int
     if border not in ("open", "wall"):
         raise ParameterError(f"border must be 'open' or 'wall', got {shorten(border)}")
     grid = Grid((int(height), int(width)), res, (x0, y0), "open" if border == "open" else "wall")
-    meta = {"format": "occupancy_grid", "occupancy": grid_values, "unknown_fraction": float(is_unknown.mean())}
+    meta = {"format": "occupancy_grid", "occupancy": grid_values, "unknown_fraction": float(is_unknown.mean()),
+            "occupancy_rule": "OccupancyGrid values: 100 occupied, -1 unknown, 0..99 free"}
     return GridMap(grid, np.ascontiguousarray(occupied), source="OccupancyGrid", meta=meta)
 
 

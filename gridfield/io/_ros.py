@@ -226,7 +226,8 @@ def read_ros_map(
     Returns
     -------
     GridMap
-        ``meta`` holds ``format="ros"``, ``semantics``, ``mode`` and ``unknown_fraction``.
+        ``meta`` holds ``format="ros"``, ``semantics``, ``mode``, ``unknown_fraction`` and ``occupancy_rule`` (the
+        thresholds in words).
 
     Examples
     --------
@@ -236,6 +237,11 @@ def read_ros_map(
     ((384, 384), 0.05, (-10.0, -10.0), 'wall')
     >>> round(m.meta["unknown_fraction"], 3)
     0.941
+    >>> for part in m.meta["occupancy_rule"].split(", "):
+    ...     print(part)
+    ROS map_server trinary (nav2): occupancy (255 - v) / 255 >= occupied_thresh 0.65 occupied
+    <= free_thresh 0.196 free
+    between unknown
     """
     _choice("unknown", unknown, UNKNOWN_CHOICES)
     _choice("semantics", semantics, SEMANTICS)
@@ -260,8 +266,22 @@ def read_ros_map(
         grid = Grid(values.shape, prm.resolution, (ox, oy), border)
     except ParameterError as e:
         raise MapFormatError(f"{prm.yaml}: {e}") from None
-    meta = {"format": "ros", "semantics": semantics, "mode": prm.mode, "unknown_fraction": float(is_unknown.mean())}
+    meta = {"format": "ros", "semantics": semantics, "mode": prm.mode, "unknown_fraction": float(is_unknown.mean()),
+            "occupancy_rule": _ros_rule(prm, semantics)}
     return GridMap(grid, np.ascontiguousarray(occupied), source=str(yaml_path), meta=meta)
+
+
+def _ros_rule(prm: _RosParams, semantics: str) -> str:
+    """The map's occupancy rule in words (its ``meta["occupancy_rule"]``)."""
+    head = f"ROS map_server {prm.mode} ({semantics})"
+    if prm.mode == "raw":
+        tail = "100 occupied, above 100 unknown" if semantics == "nav2" else "100..254 occupied, 255 unknown"
+        return f"{head}: the grey level is the OccupancyGrid value, {tail}"
+    ge, le = (">=", "<=") if semantics == "nav2" else (">", "<")
+    between = "unknown" if prm.mode == "trinary" else "scaled (read as free)"
+    occupancy = "v / 255 (negate)" if prm.negate else "(255 - v) / 255"
+    return (f"{head}: occupancy {occupancy} {ge} occupied_thresh {prm.occupied_thresh:g} occupied, "
+            f"{le} free_thresh {prm.free_thresh:g} free, between {between}")
 
 
 def write_ros_map(yaml_path: PathLike, gridmap: GridMap, *, image_name: str | None = None) -> FsPath:

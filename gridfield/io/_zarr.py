@@ -24,7 +24,7 @@ import os
 import shutil
 from collections.abc import Callable, Mapping
 from pathlib import Path as FsPath
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -34,6 +34,7 @@ from .._version import __version__
 from ..errors import GridfieldError, MapFormatError, ParameterError, shorten
 from ..grid import Grid
 from ._common import PathLike
+from ._occupancy import check_grey_options, raster_rule
 
 __all__ = ["FORMAT", "STORE_ARRAYS", "chunk_counter", "is_store", "read_store", "read_zarr", "read_zarr_array", "write_store"]
 
@@ -45,6 +46,8 @@ STORE_ARRAYS: dict[str, str] = {
     "U": "float64", "dUdx": "float64", "dUdy": "float64",
 }
 KINDS = ("map", "distance", "field")
+#: The occupancy rule of a store's map (its ``meta["occupancy_rule"]``): the stored booleans.
+STORE_RULE = "the store's occupied array (True = obstacle)"
 _MARK = "gridfield"
 _PROGRESS = ".progress"
 
@@ -329,7 +332,7 @@ def read_store(path: PathLike, *, cache_bytes: int = DEFAULT_BUDGET) -> Any:
         return LazyArray(a, cache=cache, name=name, **kw)
 
     gm = LazyGridMap(grid, lazy("occupied", nonzero=meta.get("occupied_cells")), source=str(p),
-                     meta={"store": dict(meta)})
+                     meta={"store": dict(meta), "format": "store", "occupancy_rule": STORE_RULE})
     if kind == "map":
         return gm
     dmap = None
@@ -394,9 +397,11 @@ def chunk_counter(obj: Any) -> Callable[[], int]:
 
 
 def read_zarr_array(path: PathLike, *, resolution: float = 1.0, origin: Any = (0.0, 0.0),
-                    border: str = "open") -> LazyGridMap:
-    """Read a plain 2-D Zarr array (not a gridfield store) as a lazy occupancy map; non-zero = obstacle,
-    row 0 = lowest y, read by its own chunks.
+                    border: str = "open", occupancy: Literal["dark", "nonzero"] = "nonzero", threshold: float = 0.5,
+                    negate: bool = False) -> LazyGridMap:
+    """Read a plain 2-D Zarr array (not a gridfield store) as a lazy occupancy map; row 0 = lowest y, read
+    by its own chunks. An array, like a ``.npy`` (:func:`read_npy`): non-zero = obstacle by default,
+    ``occupancy="dark"`` for unsigned grey levels (0 = black = obstacle).
 
     Parameters
     ----------
@@ -405,10 +410,17 @@ def read_zarr_array(path: PathLike, *, resolution: float = 1.0, origin: Any = (0
     resolution : float
     origin : (x, y)
     border : {"open", "wall"}
+    occupancy : {"nonzero", "dark"}
+        ``"nonzero"`` (default): booleans as they are, numbers non-zero = obstacle; ``"dark"``: grey levels.
+    threshold : float in [0, 1]
+        Occupancy above which a value is an obstacle (``"dark"`` only).
+    negate : bool
+        White is occupied (``"dark"`` only).
 
     Returns
     -------
     LazyGridMap
+        ``meta`` holds ``format="zarr_array"`` and ``occupancy_rule``.
 
     Examples
     --------
@@ -417,9 +429,10 @@ def read_zarr_array(path: PathLike, *, resolution: float = 1.0, origin: Any = (0
     >>> z = zarr.open_array(d, mode="w", shape=(4, 4), chunks=(2, 2), dtype="uint8")
     >>> z[1, 2] = 1
     >>> m = read_zarr_array(d, resolution=0.5)
-    >>> bool(m.occupied[1, 2]), m.occupied.chunks
-    (True, (2, 2))
+    >>> bool(m.occupied[1, 2]), m.occupied.chunks, m.meta["occupancy_rule"]
+    (True, (2, 2), 'non-zero = obstacle')
     """
+    rule_name, thr, neg = check_grey_options(occupancy, threshold, negate, path)
     zarr = _zarr()
     p = FsPath(path)
     try:
@@ -428,11 +441,13 @@ def read_zarr_array(path: PathLike, *, resolution: float = 1.0, origin: Any = (0
         raise MapFormatError(f"{p}: not a readable Zarr array: {shorten(str(e))}") from None
     if z.ndim != 2 or z.dtype.kind not in "biuf":
         raise MapFormatError(f"{p}: expected a 2-D array of booleans or numbers, got shape {z.shape}, dtype {z.dtype}")
+    rule = raster_rule(p, z.dtype, rule_name, thr, neg, image=False)
     try:
         grid = lazy_grid(tuple(z.shape), resolution, tuple(origin), border)
     except GridfieldError as e:
         raise type(e)(f"{p}: {e}") from None
-    return LazyGridMap(grid, LazyArray(Raster(z), name="occupied"), source=str(p))
+    return LazyGridMap(grid, LazyArray(Raster(z, rule=rule), name="occupied"), source=str(p),
+                       meta={"format": "zarr_array", "occupancy_rule": rule.text})
 
 
 def read_zarr(path: PathLike, **options: Any) -> Any:
@@ -444,7 +459,8 @@ def read_zarr(path: PathLike, **options: Any) -> Any:
     path : str or path-like
         The Zarr directory.
     **options
-        ``cache_bytes`` for a store; ``resolution``, ``origin``, ``border`` for a plain array.
+        ``cache_bytes`` for a store; ``resolution``, ``origin``, ``border``, ``occupancy``, ``threshold``,
+        ``negate`` for a plain array.
 
     Returns
     -------

@@ -98,7 +98,6 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
 
 #: The occupancy rule of formats whose readers record none in ``meta["occupancy_rule"]``, by ``meta["format"]``.
 FORMAT_RULES = {
-    "movingai": "'.', 'G', 'S' free; the rest blocked",
     "npz": "the file's occupied array (True or 1 = obstacle)",
 }
 #: A vector world's rule (:mod:`gridfield.rasterize`).

@@ -28,6 +28,8 @@ from ._common import PathLike, _check_file, _choice, _decode_text, _open_binary,
 # ----------------------------------------------------------------------------------------
 # Moving AI benchmarks
 # ----------------------------------------------------------------------------------------
+#: The occupancy rule of a Moving AI map, in words (``meta["occupancy_rule"]``, said by ``gridfield info``).
+MOVINGAI_RULE = "'.', 'G', 'S' free; the rest blocked"
 _MAI_PASSABLE = b".GS"
 _MAI_BLOCKED = b"@OTW"
 _MAI_LUT = np.full(256, 2, dtype=np.uint8)  # 0 passable, 1 blocked, 2 invalid
@@ -126,7 +128,8 @@ def read_movingai_map(path: PathLike, *, border: Literal["open", "wall"] = "wall
     Returns
     -------
     GridMap
-        Resolution 1, origin (0, 0); ``meta`` holds ``format="movingai"`` and the header's ``type``.
+        Resolution 1, origin (0, 0); ``meta`` holds ``format="movingai"``, the header's ``type`` and the
+        ``occupancy_rule``.
 
     Examples
     --------
@@ -182,7 +185,7 @@ def read_movingai_map(path: PathLike, *, border: Literal["open", "wall"] = "wall
             "expected . G S (passable) or @ O T W (blocked)"
         )
     occupied = np.ascontiguousarray((codes == 1)[::-1])
-    meta = {"format": "movingai", "type": header["type"]}
+    meta = {"format": "movingai", "type": header["type"], "occupancy_rule": MOVINGAI_RULE}
     return GridMap(Grid((h, w), 1.0, (0.0, 0.0), border), occupied, source=str(path), meta=meta)
 
 

@@ -260,7 +260,7 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     streams: list = []
     load = os.getloadavg()
-    with LocalCluster(n_workers=args.workers, threads_per_worker=1, host="127.0.0.1", dashboard_address=None,
+    with LocalCluster(n_workers=args.workers, threads_per_worker=1, host="127.0.0.1", dashboard_address=":0",
                       memory_limit=args.memory_limit, local_directory=str(tmp)) as cluster, Client(cluster) as client:
         client.run(_warm_up)
         client.register_plugin(TaskMemory())

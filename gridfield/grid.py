@@ -291,7 +291,10 @@ class GridMap:
         wavefronts and descent: ``wavefront``, ``wavefront-octile``); what serves a continuous
         mover keeps the Moving AI rule (:mod:`gridfield.basins`, :mod:`gridfield.escapes`, the
         chunked wavefront, the eikonal march, the followers). It belongs to this occupancy: :meth:`with_occupied` keeps it only for the same
-        array, and a map built from another occupancy (a crop, a downsampling, a file) has none.
+        array, and a map built from another occupancy (a crop, a downsampling, a bitmap or ROS file) has none.
+        gridfield's own files keep it beside the occupancy (``diagonals=`` of :func:`~gridfield.io.write_npz`
+        and :func:`~gridfield.io.write_store`, and :func:`~gridfield.io.save_field`; read back by
+        :func:`~gridfield.io.read_npz`, :func:`~gridfield.io.read_store`, :func:`~gridfield.io.load_field`).
 
     Examples
     --------

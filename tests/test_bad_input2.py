@@ -463,7 +463,7 @@ def test_dask_killed_worker_is_one_error_and_the_rows_are_kept(tmp_path, monkeyp
 
     runs = _sweep_runs()
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+                                  dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
         monkeypatch.setattr(backends, "run_batch", dies_on_the_last)
         with pytest.raises(GridfieldError, match=r"the Dask cluster failed \(KilledWorker: .*\); the rows written "
                                                  r"so far are kept: run the sweep again to resume$"):
@@ -484,7 +484,7 @@ def test_dask_scheduler_gone_is_one_error_and_the_rows_are_kept(tmp_path, monkey
     runs = _sweep_runs()
     real_append = sweep_module._Journal.append
     cluster = distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
-                                       dashboard_address=None)
+                                       dashboard_address=":0")
     client = distributed.Client(cluster)
 
     def append_then_stop(self, row):
@@ -569,7 +569,7 @@ def test_dask_cluster_without_workers_ends_the_sweep(tmp_path, monkeypatch):
     from gridfield.sweep import run_sweep
 
     monkeypatch.setattr(backends, "NO_WORKER_TIMEOUT", 2.0)
-    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster, \
+    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=":0") as cluster, \
             distributed.Client(cluster) as client:
         monkeypatch.setattr(client, "scatter", lambda target, **kw: target)  # no worker to scatter to: embed it
         with pytest.raises(GridfieldError, match=r"the Dask cluster failed \(TimeoutError: no worker for 2 s "

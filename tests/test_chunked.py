@@ -37,7 +37,9 @@ MEMORY_LIMIT = "256MiB"
 
 @pytest.fixture(scope="module")
 def client():
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, host="127.0.0.1", dashboard_address=None,
+    # dashboard_address=":0": a free port for the scheduler's HTTP routes (None serves them on 8787, which a
+    # cluster of another xdist worker may hold: a warning and an unclosed socket; tests/test_ci_warnings.py)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, host="127.0.0.1", dashboard_address=":0",
                                   memory_limit=MEMORY_LIMIT) as cluster, distributed.Client(cluster) as c:
         yield c
 

@@ -202,3 +202,29 @@ def test_a_resolution_that_closes_the_way_is_said_and_left_out_of_the_order(tmp_
                in line for line in out)
     assert out[-1].startswith("observed order (error ~ h^p): ")
     assert "needs two" not in out[-1]
+
+
+def test_a_no_path_row_has_no_clearance(tmp_path, capsys) -> None:
+    """A row whose grid planner found no path has no clearance (its one point is the start: before, the column
+    showed the start's clearance): NaN from the API, '-' in the table (as its len/exact), null in --json, while
+    the rows that reached keep theirs."""
+    f = _gap_map(tmp_path)
+    argv = ["compare", f, "--start", "2.5", "8.5", "--goal", "13.5", "8.5", "--planner", "wavefront-octile",
+            "--exact-planner", "visibility", "--resolutions", "2", "1"]
+    rows = convergence_study(read(f), (2.5, 8.5), (13.5, 8.5), [2, 1], grid_planner="wavefront-octile",
+                             exact_planner="visibility")
+    assert [r["status"] for r in rows] == ["no_path", "reached"]
+    assert np.isnan(rows[0]["min_clearance"]) and np.isnan(rows[0]["length_ratio"])
+    assert rows[1]["min_clearance"] > 0
+
+    assert main(argv) == 0
+    table = capsys.readouterr().out.splitlines()[2:4]
+    cells = [line.split() for line in table]
+    assert cells[0][4] == "no_path" and cells[0][6] == "-" and cells[0][11] == "-", table
+    assert len(cells[0]) == len(cells[1]) == 12, table  # the column is there, '-' keeps the table's shape
+    assert float(cells[1][11]) == pytest.approx(rows[1]["min_clearance"], abs=1e-4)
+
+    assert main([*argv, "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["rows"][0]["min_clearance"] is None and doc["rows"][0]["length_ratio"] is None
+    assert doc["rows"][1]["min_clearance"] == pytest.approx(rows[1]["min_clearance"])

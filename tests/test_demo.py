@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import re
 import time
 
 import matplotlib
@@ -108,6 +109,60 @@ def test_demo_summary_files_match_the_rows(quick_demo):
     assert md.startswith("# gridfield demo")
     assert "| part" in md and "![maps](maps.png)" in md
     assert result.skipped == []
+
+
+def _table_cells(line: str) -> list[str]:
+    """The cells of a Markdown table row (split at the pipes that are not escaped)."""
+    return [c.strip() for c in re.split(r"(?<!\\)\|", line)[1:-1]]
+
+
+def _listed(text: str) -> dict[int, str]:
+    """The items of the numbered lists of a Markdown text, by number, their wrapped lines joined."""
+    items = re.findall(r"^(\d+)\. (.*(?:\n {3,}\S.*)*)", text, flags=re.M)
+    return {int(n): " ".join(item.split()) for n, item in items}
+
+
+def test_demo_summary_md_reads_well_in_a_terminal_and_a_renderer(quick_demo):
+    """summary.md's table pads no column to the longest hint (it did: every row was 500 characters wide): the
+    notes are listed under it, numbered, wrapped; the table is one valid GitHub table of the summary's rows."""
+    result, _, _ = quick_demo
+    md = (result.out_dir / "summary.md").read_text(encoding="utf-8")
+    lines = md.splitlines()
+    assert [line for line in lines if len(line) > 120] == []
+    table = [line for line in lines if line.startswith("|")]
+    start = lines.index(table[0])
+    assert lines[start:start + len(table)] == table  # one block
+    assert {len(re.findall(r"(?<!\\)\|", line)) for line in table} == {len(SUMMARY_COLUMNS) + 1}
+    assert _table_cells(table[0]) == list(SUMMARY_COLUMNS)
+    assert re.fullmatch(r"\|(-+\|)+", table[1])
+    rows = [_table_cells(line) for line in table[2:]]
+    assert len(rows) == len(result.rows) and max(len(c) for row in rows for c in row) <= 60
+    listed = _listed(md)
+    note = SUMMARY_COLUMNS.index("note")
+    for cells, r in zip(rows, result.rows, strict=True):
+        assert cells[SUMMARY_COLUMNS.index("planner")] == r["planner"]
+        if r["note"]:
+            n = int(cells[note].removeprefix("see "))
+            assert listed[n] == " ".join(f"{r['map']}, {r['planner']}: {r['note']}".split())
+        else:
+            assert cells[note] == ""
+    assert any(len(r["note"]) > 200 for r in result.rows)  # a hint: what used to pad the column
+
+
+def test_format_table_lists_long_text_under_the_table():
+    from gridfield.demo import wrap_item
+
+    rows = [{"map": "m", "planner": "p", "status": "x" * 70, "note": "a|b " + "word - " * 40},
+            {"map": "n", "planner": "q", "status": "reached", "note": ""}]
+    text = format_table(rows, ("map", "planner", "status", "note"))
+    lines = text.splitlines()
+    assert _table_cells(lines[2]) == ["m", "p", "see 1", "see 2"] and _table_cells(lines[3]) == ["n", "q", "reached", ""]
+    assert _listed(text) == {1: f"m, p: {'x' * 70}", 2: " ".join(f"m, p: a|b {'word - ' * 40}".split())}
+    assert max(map(len, lines)) <= 100
+    # a wrapped line never starts with what would open a Markdown block (a list item)
+    assert not any(line.lstrip().startswith("- ") for line in lines[5:])
+    assert format_table([{"map": "a|b"}], ("map",)).splitlines()[2] == "| a\\|b |"
+    assert wrap_item("x " * 3, "- ", width=4) == "- x\n  x\n  x"
 
 
 def test_demo_logs_each_part_and_the_warm_up(quick_demo):

@@ -107,7 +107,7 @@ def test_local_pool_and_dask_localcluster_give_the_same_rows(tmp_path: Path) -> 
     runs = runs[:8]
     local = run_sweep(runs, tmp_path / "local.csv", workers=2, progress=False)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+                                  dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
         remote = run_sweep(runs, tmp_path / "dask.csv", scheduler=client, progress=False)
 
     def strip(rows):
@@ -298,7 +298,7 @@ def test_optimal_any_angle_graph_is_built_once_across_dask_batches(tmp_path: Pat
     runs, output = load_spec(_den312d_spec(tmp_path, n=4))
     builds = _count_graph_builds(monkeypatch)
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+                                  dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
         rows = run_sweep(runs, output, scheduler=client, progress=False, batch_size=2)
     assert len(rows) == len(runs) == 16
     assert builds == [1]

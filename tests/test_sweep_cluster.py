@@ -54,7 +54,7 @@ def test_a_process_cluster_without_the_map_files_gives_every_row_once_despite_a_
     killed: list[int] = []
     real_append = sweep_module._Journal.append
 
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
                                   preload=[str(preload)], local_directory=str(elsewhere)) as cluster, \
             distributed.Client(cluster) as client:
         assert set(client.run(os.getcwd).values()) == {str(elsewhere)}

@@ -151,12 +151,13 @@ def scratch(args: argparse.Namespace) -> Iterator[Path]:
 
 
 def write(args: argparse.Namespace, arrays: dict[str, Any], grid: Any, kind: str, attrs: dict[str, Any],
-          sched: Any) -> int:
-    """Write the store; returns the number of chunks per array."""
+          sched: Any, diagonals: Any = None) -> int:
+    """Write the store (with the map's ``diagonals``, a disc robot's, when it has them); returns the number of
+    chunks per array."""
     from ..io import write_store
 
     write_store(args.out, arrays, grid, kind=kind, attrs=attrs, chunks=args.chunks, resume_key=resume_token(args),
-                scheduler=sched)
+                scheduler=sched, diagonals=diagonals)
     per_array: int = math.ceil(grid.rows / args.chunks) * math.ceil(grid.cols / args.chunks)
     return per_array
 

@@ -40,7 +40,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
                    help="saturation radius in world units: distances at or beyond it become infinite")
     p.add_argument("--npz", metavar="F",
                    help="write occupied, steps, distance, nearest_row, nearest_col, label, gvd "
-                        "+ resolution, origin, border to the .npz file F")
+                        "+ resolution, origin, border (and a disc robot's diagonals through corners, "
+                        "GridMap.diagonals) to the .npz file F")
     p.add_argument("--plot", metavar="F",
                    help="save the distance heat map with iso-distance contours and the GVD (PNG, PDF, SVG, ...)")
     add_robot_arguments(p)
@@ -144,7 +145,7 @@ def _run_chunked(args: argparse.Namespace) -> int:
                                      return_nearest=True, border=grid.border, scratch=tmp)
         t0 = time.perf_counter()
         n = _chunked.write(args, {"occupied": occ, "distance": d, "nearest_row": nr, "nearest_col": nc}, grid,
-                           "distance", {"metric": metric, "saturate": args.saturate}, sched)
+                           "distance", {"metric": metric, "saturate": args.saturate}, sched, gridmap.diagonals)
     s = time.perf_counter() - t0
     print(f"brushfire {grid.rows}x{grid.cols} cells of {grid.resolution:g} in {n} chunks of {args.chunks} "
           f"({metric} distance, {grid.border} border{'' if args.saturate is None else f', saturated at {args.saturate:g}'}): "
@@ -184,7 +185,7 @@ def run(args: argparse.Namespace) -> int:
         arrays = {"occupied": gridmap.occupied, "steps": dmap.steps, "distance": dmap.distance,
                   "nearest_row": dmap.nearest_row, "nearest_col": dmap.nearest_col, "label": dmap.label,
                   "gvd": dmap.gvd}
-        write_npz(args.npz, arrays, gridmap.grid)
+        write_npz(args.npz, arrays, gridmap.grid, diagonals=gridmap.diagonals)
         print(f"wrote {args.npz}")
     if args.plot:
         _save_plot(dmap, args.plot)

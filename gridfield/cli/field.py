@@ -34,7 +34,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument("--goal", nargs=2, type=float, metavar=("X", "Y"),
                    help="goal point (default: the world file's goal)")
     p.add_argument("--npz", metavar="F",
-                   help="write occupied, distance, label, gvd, potential, grad_x, grad_y + resolution, origin")
+                   help="write occupied, distance, label, gvd, potential, grad_x, grad_y + resolution, origin "
+                        "(and a disc robot's diagonals through corners, GridMap.diagonals)")
     p.add_argument("--plot", metavar="F", help="save the potential (contours and force arrows) as a figure")
     p.add_argument("--surface", metavar="F", help="save the potential as a 3-D surface figure (star-nav: the "
                                                   "star world's four figures: beta humps, attractive part, mapped space, surface)")
@@ -137,7 +138,8 @@ def _run_chunked(args: argparse.Namespace) -> int:
                   "U": f["U"], "dUdx": f["dUdx"], "dUdy": f["dUdy"]}
         t0 = time.perf_counter()
         n = _chunked.write(args, arrays, grid, "field",
-                           {"metric": p["metric"], "saturate": p["saturate"], "goal": gxy, "params": p}, sched)
+                           {"metric": p["metric"], "saturate": p["saturate"], "goal": gxy, "params": p}, sched,
+                           gridmap.diagonals)
     s = time.perf_counter() - t0
     print(f"field {grid.rows}x{grid.cols} cells of {grid.resolution:g} in {n} chunks of {args.chunks} (khatib, "
           f"{p['repulsion']} repulsion), goal ({gxy[0]:g}, {gxy[1]:g}, the centre of its cell): wrote {args.out} "
@@ -174,7 +176,7 @@ def _run_chunked_nf1(args: argparse.Namespace, gridmap: Any, cell: tuple[int, in
         with ctx:
             f, rounds = chunked.nf1_octile_field(occ, cell, resolution=grid.resolution)
         arrays = {"occupied": occ, "U": f["U"], "dUdx": f["dUdx"], "dUdy": f["dUdy"]}
-        n = _chunked.write(args, arrays, grid, "field", {"goal": gxy, "params": p}, sched)
+        n = _chunked.write(args, arrays, grid, "field", {"goal": gxy, "params": p}, sched, gridmap.diagonals)
     s = time.perf_counter() - t0
     print(f"field {grid.rows}x{grid.cols} cells of {grid.resolution:g} in {n} chunks of {args.chunks} (nf1, octile "
           f"wavefront, a complete model: one minimum, the goal; {rounds} rounds), goal ({gxy[0]:g}, {gxy[1]:g}, the "
@@ -269,7 +271,7 @@ def _report(args: argparse.Namespace, field: Any, model: str, ms: float, ms_brus
         if d is not None:
             arrays.update({k: getattr(d, k) for k in ("steps", "distance", "label", "gvd")
                            if getattr(d, k) is not None})
-        write_npz(args.npz, arrays, grid)
+        write_npz(args.npz, arrays, grid, diagonals=field.map.diagonals)
         print(f"wrote {args.npz}")
     if args.plot or args.surface or args.basins:
         from .. import plot as gplot

@@ -96,17 +96,13 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
     return info, gm
 
 
-#: The occupancy rule of formats whose readers record none in ``meta["occupancy_rule"]``, by ``meta["format"]``.
-FORMAT_RULES = {
-    "npz": "the file's occupied array (True or 1 = obstacle)",
-}
 #: A vector world's rule (:mod:`gridfield.rasterize`).
 WORLD_RULE = "vector obstacles; rasterized, a cell an obstacle touches (its closed square) is occupied"
 
 
 def occupancy_rule(gm: Any) -> str:
     """Which values of the map's source are obstacles, in words: what its reader recorded
-    (``meta["occupancy_rule"]``), else the rule of its format (:data:`FORMAT_RULES`).
+    (``meta["occupancy_rule"]``), else that of an occupied array.
 
     Parameters
     ----------
@@ -124,7 +120,7 @@ def occupancy_rule(gm: Any) -> str:
     """
     rule = gm.meta.get("occupancy_rule")
     if rule is None:
-        rule = FORMAT_RULES.get(str(gm.meta.get("format")), "the map's occupied array (True = obstacle)")
+        rule = "the map's occupied array (True = obstacle)"  # a GridMap built in Python
     return str(rule)
 
 
@@ -195,7 +191,7 @@ def run(args: argparse.Namespace) -> int:
     if args.npz:
         from ..io import write_npz
 
-        write_npz(args.npz, {"occupied": gm.occupied}, gm.grid)
+        write_npz(args.npz, {"occupied": gm.occupied}, gm.grid, diagonals=gm.diagonals)
     if args.json:
         json.dump(info, sys.stdout)
         sys.stdout.write("\n")

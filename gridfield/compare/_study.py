@@ -74,7 +74,8 @@ def _compare_row(world: World, grid: Path, exact: Path, optimal: float, resoluti
         "hausdorff": hausdorff(grid, exact, spacing=spacing),
         "frechet": discrete_frechet(grid, exact, spacing=spacing),
         "end_error": end_error(grid, exact),
-        "min_clearance": min_clearance(world, grid),
+        # nor a clearance: its one point is the start, whose clearance says nothing of a path
+        "min_clearance": min_clearance(world, grid) if grid.status != "no_path" else math.nan,
         "collides": collides(world, grid),
     }
 
@@ -125,7 +126,7 @@ def convergence_study(
         reached the goal), ``hausdorff`` and
         ``frechet`` (grid path vs exact path), ``end_error`` (distance between the end points: the
         stall-point error when both stall), ``min_clearance`` (exact clearance of the grid path
-        against the world) and ``collides``.
+        against the world; NaN when the grid planner found no path, as ``length_ratio``) and ``collides``.
 
     Examples
     --------

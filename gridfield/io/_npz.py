@@ -32,19 +32,55 @@ if TYPE_CHECKING:
 #: Array names gridfield gives to the fields an ``.npz`` file may hold (others are allowed too).
 NPZ_ARRAY_NAMES = ("occupied", "steps", "distance", "label", "gvd", "potential", "grad_x", "grad_y")
 _NPZ_RESERVED = ("resolution", "origin", "border")
+#: The entry holding a map's :attr:`GridMap.diagonals <gridfield.grid.GridMap.diagonals>`: one per 2x2 block
+#: of cells, shape ``(rows - 1, cols - 1)``, not the grid's shape (written by ``diagonals=``).
+_DIAGONALS = "diagonals"
+
+
+def _block_shape(grid: Grid) -> tuple[int, int]:
+    """The shape of a grid's 2x2 blocks, that of :attr:`GridMap.diagonals`."""
+    return max(grid.rows - 1, 0), max(grid.cols - 1, 0)
+
+
+def _diagonals_to_write(diagonals: Any, grid: Grid) -> NDArray[np.uint8]:
+    """``diagonals=`` of the writers, checked as :class:`GridMap` checks it, as uint8."""
+    d = np.asarray(diagonals)
+    if d.shape != _block_shape(grid):
+        raise ParameterError(f"diagonals has shape {d.shape}, but the grid's 2x2 blocks have shape "
+                             f"{_block_shape(grid)}")
+    if d.size and (not np.issubdtype(d.dtype, np.integer) or int(d.min()) < 0 or int(d.max()) > 3):
+        raise ParameterError("diagonals must hold the bits 0 and 1 (values 0 to 3) of a uint8 array")
+    return np.ascontiguousarray(d, dtype=np.uint8)
+
+
+def _stored_diagonals(p: PathLike, d: NDArray[Any] | None, grid: Grid) -> NDArray[np.uint8] | None:
+    """A file's ``diagonals`` entry checked against its grid (a :class:`MapFormatError` naming the file)."""
+    if d is None:
+        return None
+    if d.dtype != np.uint8 or d.shape != _block_shape(grid):
+        raise MapFormatError(
+            f"{p}: array 'diagonals' must be a uint8 array of shape {_block_shape(grid)} (one entry per 2x2 block "
+            f"of the grid's {grid.rows}x{grid.cols} cells), got dtype {d.dtype} and shape {d.shape}"
+        )
+    if d.size and int(d.max()) > 3:
+        raise MapFormatError(f"{p}: array 'diagonals' must hold the bits 0 and 1 (values 0 to 3), found the value "
+                             f"{int(d.max())}")
+    return d
 
 
 # ----------------------------------------------------------------------------------------
 # .npz arrays
 # ----------------------------------------------------------------------------------------
-def write_npz(path: PathLike, arrays: Mapping[str, NDArray[Any]], grid: Grid) -> FsPath:
+def write_npz(path: PathLike, arrays: Mapping[str, NDArray[Any]], grid: Grid, *,
+              diagonals: NDArray[np.uint8] | None = None) -> FsPath:
     """Write named arrays and their grid geometry to an ``.npz`` file (compressed).
 
     The file holds each array under its name (gridfield's names: ``occupied``, ``steps``,
     ``distance``, ``label``, ``gvd``, ``potential``, ``grad_x``, ``grad_y``; others are
-    allowed), plus ``resolution`` (scalar), ``origin`` ``[x, y]`` and ``border`` (a string).
-    Every array must have the grid's shape (extra trailing axes are allowed). The file is
-    written to ``path`` exactly (numpy's habit of appending ``.npz`` is not followed).
+    allowed), plus ``resolution`` (scalar), ``origin`` ``[x, y]`` and ``border`` (a string),
+    and ``diagonals`` when given. Every array must have the grid's shape (extra trailing axes
+    are allowed). The file is written to ``path`` exactly (numpy's habit of appending ``.npz``
+    is not followed).
 
     Parameters
     ----------
@@ -55,6 +91,11 @@ def write_npz(path: PathLike, arrays: Mapping[str, NDArray[Any]], grid: Grid) ->
         numeric or boolean, of the grid's shape (trailing axes allowed).
     grid : Grid
         The geometry stored beside the arrays.
+    diagonals : ndarray of uint8, shape ``(rows - 1, cols - 1)``, optional
+        The :attr:`GridMap.diagonals <gridfield.grid.GridMap.diagonals>` of the map whose ``occupied``
+        is written (a disc robot's configuration space: the diagonals it fits along through a corner),
+        stored as the array ``diagonals``; :func:`read_npz` gives the map back with them, so that the
+        grid planners make the same moves on it. None (the default): none stored.
 
     Returns
     -------
@@ -75,6 +116,9 @@ def write_npz(path: PathLike, arrays: Mapping[str, NDArray[Any]], grid: Grid) ->
         raise ParameterError(f"grid must be a gridfield Grid, got {type(grid).__name__}")
     out: dict[str, Any] = {}  # arrays; Any so that **out is not matched against savez's allow_pickle
     for name, value in arrays.items():
+        if name == _DIAGONALS:
+            raise ParameterError("a map's diagonals (one entry per 2x2 block of cells) are written with "
+                                 "write_npz(..., diagonals=gridmap.diagonals), not among the grid-shaped arrays")
         if not isinstance(name, str) or not name.isidentifier() or name in _NPZ_RESERVED:
             raise ParameterError(
                 f"array name {shorten(name)} is not allowed; use an identifier other than {', '.join(_NPZ_RESERVED)}"
@@ -87,6 +131,8 @@ def write_npz(path: PathLike, arrays: Mapping[str, NDArray[Any]], grid: Grid) ->
         out[name] = a
     if not out:
         raise ParameterError("write_npz needs at least one array")
+    if diagonals is not None:
+        out[_DIAGONALS] = _diagonals_to_write(diagonals, grid)
     p = FsPath(path)
     try:
         with open(p, "wb") as f:
@@ -161,7 +207,8 @@ def read_npz_arrays(path: PathLike) -> tuple[dict[str, NDArray[Any]], Grid]:
     Returns
     -------
     arrays : dict of str to ndarray
-        Every entry but the geometry (``resolution``, ``origin``, ``border``), by name.
+        Every entry but the geometry (``resolution``, ``origin``, ``border``), by name; ``diagonals``,
+        when the file holds it, is of the grid's block shape ``(rows - 1, cols - 1)`` (checked).
     grid : Grid
         Of the arrays' common shape (that of ``occupied`` when present), with the stored resolution,
         origin and border (``"open"`` when absent).
@@ -186,8 +233,9 @@ def read_npz_arrays(path: PathLike) -> tuple[dict[str, NDArray[Any]], Grid]:
         border = str(np.asarray(content.pop("border", "open")).reshape(()))
     except (TypeError, ValueError) as e:
         raise MapFormatError(f"{p}: bad resolution, origin or border entry ({e})") from None
-    # Grid-shaped arrays share one shape; 0-d/1-d entries (a goal, parameters as JSON) are metadata.
-    shapes = {k: a.shape[:2] for k, a in content.items() if a.ndim >= 2}
+    # Grid-shaped arrays share one shape; 0-d/1-d entries (a goal, parameters as JSON) are metadata; the
+    # diagonals (one per 2x2 block) are checked against the grid once it is known.
+    shapes = {k: a.shape[:2] for k, a in content.items() if a.ndim >= 2 and k != _DIAGONALS}
     if not shapes:
         raise MapFormatError(f"{p}: holds no arrays besides the grid geometry")
     shape = shapes.get("occupied", next(iter(shapes.values())))
@@ -198,7 +246,12 @@ def read_npz_arrays(path: PathLike) -> tuple[dict[str, NDArray[Any]], Grid]:
         grid = Grid(shape, res, (float(origin[0]), float(origin[1])), border)  # type: ignore[arg-type]
     except ParameterError as e:
         raise MapFormatError(f"{p}: {e}") from None
+    _stored_diagonals(p, content.get(_DIAGONALS), grid)
     return content, grid
+
+
+#: The occupancy rule of a gridfield ``.npz`` map, in words (``meta["occupancy_rule"]``).
+NPZ_RULE = "the file's occupied array (True or 1 = obstacle)"
 
 
 def read_npz(path: PathLike) -> GridMap:
@@ -212,7 +265,8 @@ def read_npz(path: PathLike) -> GridMap:
     Returns
     -------
     GridMap
-        ``meta`` holds ``format="npz"`` and the names of the file's arrays.
+        ``meta`` holds ``format="npz"`` and the names of the file's arrays; :attr:`~GridMap.diagonals`
+        those the file holds (written by ``write_npz(..., diagonals=)``), else None.
 
     Examples
     --------
@@ -234,8 +288,8 @@ def read_npz(path: PathLike) -> GridMap:
         if not (np.issubdtype(occ.dtype, np.number) and np.isin(occ, (0, 1)).all()):
             raise MapFormatError(f"{path}: 'occupied' must hold booleans (or 0/1), got dtype {occ.dtype}")
         occ = occ.astype(bool)
-    meta = {"format": "npz", "arrays": sorted(arrays)}
-    return GridMap(grid, occ, source=str(path), meta=meta)
+    meta = {"format": "npz", "arrays": sorted(arrays), "occupancy_rule": NPZ_RULE}
+    return GridMap(grid, occ, source=str(path), meta=meta, diagonals=arrays.get(_DIAGONALS))
 
 
 # ----------------------------------------------------------------------------------------------
@@ -255,7 +309,8 @@ def save_field(path: PathLike, field: Field) -> None:
     The file holds gridfield's arrays by name (``occupied``, ``potential``, ``grad_x``, ``grad_y``,
     and when the field has a distance map ``steps``, ``distance``, ``label``, ``gvd``,
     ``nearest_row``, ``nearest_col``), plus ``resolution``, ``origin``, ``border``, ``goal`` and
-    ``params`` (a JSON string; ``inf`` is written as ``Infinity``).
+    ``params`` (a JSON string; ``inf`` is written as ``Infinity``), and the map's ``obstacle_id`` and
+    ``diagonals`` when it has them.
 
     Parameters
     ----------
@@ -290,6 +345,8 @@ def save_field(path: PathLike, field: Field) -> None:
         meta = {"connectivity": d.connectivity, "metric": d.metric, "saturate": d.saturate, "far": d.far}
     if field.map.obstacle_id is not None:
         arrays["obstacle_id"] = field.map.obstacle_id
+    if field.map.diagonals is not None:
+        arrays[_DIAGONALS] = _diagonals_to_write(field.map.diagonals, grid)
     try:
         with open(path, "wb") as fh:
             np.savez_compressed(
@@ -314,8 +371,8 @@ def load_field(path: PathLike) -> Field:
     Returns
     -------
     Field
-        With the stored map (occupancy and obstacle ids), arrays, goal and parameters, and its distance
-        map when one was saved.
+        With the stored map (occupancy, obstacle ids and diagonals), arrays, goal and parameters, and its
+        distance map when one was saved.
 
     Examples
     --------
@@ -343,7 +400,8 @@ def load_field(path: PathLike) -> Field:
         params = json.loads(str(content["params"]))
         meta = json.loads(str(content.get("distance_meta", "{}")))
         goal = content["goal"].astype(np.float64).reshape(2)
-        gridmap = GridMap(grid, content["occupied"], content.get("obstacle_id"), source=str(path))
+        gridmap = GridMap(grid, content["occupied"], content.get("obstacle_id"), source=str(path),
+                          diagonals=_stored_diagonals(path, content.get(_DIAGONALS), grid))
         dmap = None
         if meta and "distance" in content:  # steps, labels, GVD, nearest: optional
             dmap = DistanceMap(gridmap, int(meta["connectivity"]), str(meta["metric"]), content.get("steps"),
@@ -352,7 +410,7 @@ def load_field(path: PathLike) -> Field:
                                float(meta.get("far", math.inf)))
         return Field(gridmap, content["potential"], content["grad_x"], content["grad_y"], (goal[0], goal[1]), params,
                      dmap)
-    except SizeLimitError:
+    except (SizeLimitError, MapFormatError):  # the latter names the file and the entry already
         raise
     except (ValueError, TypeError, KeyError, IndexError, AttributeError) as e:  # ParameterError included
         raise MapFormatError(f"{path}: damaged field file ({type(e).__name__}: {e})") from None

@@ -4,7 +4,9 @@ A store is a Zarr (v3) group directory. Its root attribute ``gridfield`` holds t
 (:data:`FORMAT`, ``version``, ``kind`` = ``"map"``, ``"distance"`` or ``"field"``, ``shape``,
 ``resolution``, ``origin``, ``border``, ``chunks``, ``occupied_cells`` and, as the kind has them,
 ``metric``, ``saturate``, ``goal`` and ``params`` (JSON text)); its arrays are among
-:data:`STORE_ARRAYS`, all chunked alike. :func:`read_store` returns the usual result types (a
+:data:`STORE_ARRAYS`, all chunked alike, and, for a disc robot's configuration space, ``diagonals``
+(:attr:`GridMap.diagonals <gridfield.grid.GridMap.diagonals>`, uint8, one per 2x2 block of cells: shape
+``(rows - 1, cols - 1)``, chunked as the others). :func:`read_store` returns the usual result types (a
 :class:`~gridfield._chunkcache.LazyGridMap`, a :class:`~gridfield.brushfire.DistanceMap`, a
 :class:`~gridfield.potential.Field`) whose arrays are :class:`~gridfield._chunkcache.LazyArray` views of
 the Zarr arrays sharing one chunk cache: nothing is read whole.
@@ -45,6 +47,9 @@ STORE_ARRAYS: dict[str, str] = {
     "occupied": "bool", "distance": "float64", "nearest_row": "int32", "nearest_col": "int32",
     "U": "float64", "dUdx": "float64", "dUdy": "float64",
 }
+#: The array of a map's :attr:`GridMap.diagonals <gridfield.grid.GridMap.diagonals>` (``write_store(...,
+#: diagonals=)``): one entry per 2x2 block of cells, of shape ``(rows - 1, cols - 1)``.
+DIAGONALS = "diagonals"
 KINDS = ("map", "distance", "field")
 #: The occupancy rule of a store's map (its ``meta["occupancy_rule"]``): the stored booleans.
 STORE_RULE = "the store's occupied array (True = obstacle)"
@@ -86,7 +91,7 @@ def _mark_done(progress: FsPath, name: str, i: int, j: int) -> None:
 
 def write_store(path: PathLike, arrays: Mapping[str, Any], grid: Grid, *, kind: str,
                 attrs: Mapping[str, Any] | None = None, chunks: int | tuple[int, int] | None = None,
-                resume_key: str = "", scheduler: Any = "threads") -> FsPath:
+                resume_key: str = "", scheduler: Any = "threads", diagonals: Any = None) -> FsPath:
     """Write arrays (dask or numpy) and the grid metadata to a gridfield Zarr store, chunk by chunk.
 
     Parameters
@@ -108,6 +113,10 @@ def write_store(path: PathLike, arrays: Mapping[str, Any], grid: Grid, *, kind: 
         resumed, one with another key is refused.
     scheduler : str or distributed.Client
         How dask computes: ``"threads"``, ``"synchronous"`` or a client.
+    diagonals : array of uint8, shape ``(rows - 1, cols - 1)``, optional
+        The :attr:`GridMap.diagonals <gridfield.grid.GridMap.diagonals>` of the map whose ``occupied`` is
+        written (a disc robot's configuration space), stored as the array ``diagonals``: :func:`read_store`
+        gives the map back with them. Numpy or dask.
 
     Returns
     -------
@@ -140,6 +149,8 @@ def write_store(path: PathLike, arrays: Mapping[str, Any], grid: Grid, *, kind: 
 
     zarr = _zarr()
     out, ch, lazy = _check_write(path, arrays, grid, kind, chunks, da)
+    if diagonals is not None:
+        lazy[DIAGONALS] = _check_diagonals(diagonals, grid, ch, da)
     partial = out.with_name(out.name + ".partial")
     progress = partial / _PROGRESS
     meta = _metadata(grid, kind, ch, attrs)
@@ -164,6 +175,9 @@ def _check_write(path: PathLike, arrays: Mapping[str, Any], grid: Grid, kind: st
     arrays as dask arrays of the store's dtypes and chunks."""
     if kind not in KINDS:
         raise ParameterError(f"kind must be one of {', '.join(map(repr, KINDS))}, got {shorten(kind)}")
+    if DIAGONALS in arrays:
+        raise ParameterError("a map's diagonals (one entry per 2x2 block of cells) are written with "
+                             "write_store(..., diagonals=gridmap.diagonals), not among the grid-shaped arrays")
     bad = sorted(set(arrays) - set(STORE_ARRAYS))
     if bad:
         raise ParameterError(f"a gridfield store holds the arrays {', '.join(STORE_ARRAYS)}; not {', '.join(bad)}")
@@ -191,6 +205,21 @@ def _check_write(path: PathLike, arrays: Mapping[str, Any], grid: Grid, kind: st
     return out, ch, lazy
 
 
+def _check_diagonals(diagonals: Any, grid: Grid, ch: tuple[int, int], da: Any) -> Any:
+    """``diagonals=`` of write_store as a dask array of uint8 in the store's chunks (its shape and, for a numpy
+    array, its values checked as :class:`~gridfield.grid.GridMap` checks them)."""
+    want = (max(grid.rows - 1, 0), max(grid.cols - 1, 0))
+    if tuple(diagonals.shape) != want:
+        raise ParameterError(f"diagonals has shape {tuple(diagonals.shape)}, but the grid's 2x2 blocks have shape "
+                             f"{want}")
+    if not isinstance(diagonals, da.Array):
+        d = np.asarray(diagonals)
+        if d.size and (not np.issubdtype(d.dtype, np.integer) or int(d.min()) < 0 or int(d.max()) > 3):
+            raise ParameterError("diagonals must hold the bits 0 and 1 (values 0 to 3) of a uint8 array")
+        diagonals = da.from_array(d, chunks=ch)
+    return diagonals.astype(np.uint8).rechunk(ch)
+
+
 def _open_partial(zarr: Any, partial: FsPath, progress: FsPath, grid: Grid, ch: tuple[int, int],
                   lazy: Mapping[str, Any], meta: Mapping[str, Any], resume_key: str) -> Any:
     """The ``.partial`` group to write into: a new one, or the one an interrupted run with the same
@@ -206,8 +235,8 @@ def _open_partial(zarr: Any, partial: FsPath, progress: FsPath, grid: Grid, ch: 
         group = zarr.open_group(str(partial), mode="a")
     else:
         group = zarr.open_group(str(partial), mode="w")
-        for name in lazy:
-            group.create_array(name, shape=grid.shape, chunks=ch, dtype=STORE_ARRAYS[name],
+        for name, a in lazy.items():
+            group.create_array(name, shape=tuple(a.shape), chunks=ch, dtype=STORE_ARRAYS.get(name, "uint8"),
                                fill_value=False if name == "occupied" else 0)
         group.attrs["gridfield_partial"] = {"resume_key": resume_key, "meta": dict(meta), "arrays": sorted(lazy)}
         progress.mkdir()
@@ -291,12 +320,14 @@ def read_store(path: PathLike, *, cache_bytes: int = DEFAULT_BUDGET) -> Any:
     -------
     LazyGridMap, DistanceMap or Field
         By the store's ``kind``; every array is a :class:`~gridfield._chunkcache.LazyArray`.
-        A distance map has ``steps``, ``label`` and ``gvd`` None.
+        A distance map has ``steps``, ``label`` and ``gvd`` None. The map's ``diagonals`` are those the
+        store holds (a LazyArray, read whole by ``to_gridmap()``), else None.
 
     Raises
     ------
     MapFormatError
-        Not a Zarr directory, no gridfield metadata, an unknown format version, or missing arrays.
+        Not a Zarr directory, no gridfield metadata, an unknown format version, missing arrays, or a
+        ``diagonals`` array that is not uint8 of the grid's block shape ``(rows - 1, cols - 1)``.
 
     Examples
     --------
@@ -332,7 +363,8 @@ def read_store(path: PathLike, *, cache_bytes: int = DEFAULT_BUDGET) -> Any:
         return LazyArray(a, cache=cache, name=name, **kw)
 
     gm = LazyGridMap(grid, lazy("occupied", nonzero=meta.get("occupied_cells")), source=str(p),
-                     meta={"store": dict(meta), "format": "store", "occupancy_rule": STORE_RULE})
+                     meta={"store": dict(meta), "format": "store", "occupancy_rule": STORE_RULE},
+                     diagonals=_stored_diagonals(p, node, names, grid, cache))
     if kind == "map":
         return gm
     dmap = None
@@ -349,6 +381,19 @@ def read_store(path: PathLike, *, cache_bytes: int = DEFAULT_BUDGET) -> Any:
     if goal is None:
         raise MapFormatError(f"{p}: a field store without a goal")
     return Field(gm, lazy("U"), lazy("dUdx"), lazy("dUdy"), (goal[0], goal[1]), params, dmap)
+
+
+def _stored_diagonals(p: FsPath, node: Any, names: set[str], grid: Any, cache: ChunkCache) -> Any:
+    """The store's ``diagonals`` as a LazyArray (None when it has none), its shape and dtype checked."""
+    if DIAGONALS not in names:
+        return None
+    a = node[DIAGONALS]
+    want = (max(grid.rows - 1, 0), max(grid.cols - 1, 0))
+    if tuple(a.shape) != want or np.dtype(a.dtype) != np.uint8:
+        raise MapFormatError(f"{p}: array 'diagonals' must be a uint8 array of shape {want} (one entry per 2x2 "
+                             f"block of the grid's {grid.rows}x{grid.cols} cells), got dtype {np.dtype(a.dtype)} "
+                             f"and shape {tuple(a.shape)}")
+    return LazyArray(a, cache=cache, name=DIAGONALS)
 
 
 def _open_store(zarr: Any, p: FsPath) -> tuple[Any, dict[str, Any]]:

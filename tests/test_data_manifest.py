@@ -54,6 +54,8 @@ def test_nothing_reads_the_shared_folder_beside_the_repository():
     pattern = re.compile(r"""\.\./shared|["']shared["']\s*/|/\s*["']shared["']|parent\s*/\s*["']shared|shared/maps""")
     offenders = []
     for name in tracked:
+        if name == "tests/test_data_manifest.py":  # this file names the folder to look for it
+            continue
         path = REPO / name
         if path.suffix in {".gz", ".png", ".gif", ".npz", ".pgm", ".bmp", ".mp4", ".jpg"} or not path.is_file():
             continue

@@ -7,11 +7,15 @@ import inspect
 import types
 from pathlib import Path
 
-# Every public module (private ``_kernels_*`` and the ``cli`` package are implementation details).
+# Every public module, by its dotted name under gridfield (the compiled kernels and the ``cli`` package are
+# implementation details; the layer packages' own pages are those of their modules).
 MODULES = [
-    "io", "world", "grid", "limits", "rasterize", "cspace", "brushfire", "chunked", "incremental", "potential", "navfield",
-    "vortex", "params", "descent", "sampling", "follow", "basins", "escapes", "diagnose", "navigation", "costmap", "navfn",
-    "exact", "visibility", "gridpoly", "anyangle", "planners", "path", "compare", "sweep", "plot", "demo", "explore", "errors",
+    "io", "geometry.world", "core.grid", "core.limits", "geometry.rasterize", "geometry.cspace", "distance.brushfire",
+    "chunked", "distance.incremental", "fields.incremental", "fields.potential", "fields.navfield", "fields.vortex",
+    "core.params", "following.descent", "fields.sampling", "following.follower", "following.basins",
+    "following.escapes", "following.diagnose", "fields.navigation", "fields.navtable", "fields.costmap", "fields.navfn",
+    "exact.continuous", "exact.visibility", "geometry.gridpoly", "exact.anyangle", "planners", "core.path",
+    "core.results", "compare", "sweep", "plot", "demo", "explore", "core.errors",
 ]
 
 

@@ -27,7 +27,7 @@ folder. The parts:
     summary has a row and a note for each.
 ``moving``
     seed 000 with an obstacle walking across the robot's way: every frame the obstacle moves, the
-    distance map and the potential are updated where they changed (:mod:`gridfield.incremental`),
+    distance map and the potential are updated where they changed (:mod:`gridfield.distance.incremental`),
     and the robot replans from where it stands (``moving_obstacle.gif``).
 
 Every part runs: a part that fails raises (nothing is silently left out).
@@ -47,9 +47,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import GridfieldError
-from .grid import Grid, GridMap
-from .path import Path
+from .core.errors import GridfieldError
+from .core.grid import Grid, GridMap
+from .core.path import Path
 
 __all__ = ["DEMO_PARTS", "SUMMARY_COLUMNS", "DemoResult", "classic_vs_complete_figure", "demo", "run_demo"]
 
@@ -59,7 +59,7 @@ DEMO_PARTS = ("maps", "seed000", "convergence", "seed003", "seed002", "turtlebot
 SUMMARY_COLUMNS = ("part", "map", "planner", "model", "status", "length", "steps", "ms", "note")
 
 #: The grid maps run with gridfield's defaults, which scale with the map's cell size
-#: (gridfield.params: q_star 4 cells, d_star 2 q_star, balanced eta, step 1 cell).
+#: (gridfield.core.params: q_star 4 cells, d_star 2 q_star, balanced eta, step 1 cell).
 TURTLEBOT3_START, TURTLEBOT3_GOAL = (-2.0, -0.5), (2.0, 0.5)
 
 
@@ -211,9 +211,9 @@ BUNDLED = (
 
 
 def _part_maps(run: _Run) -> None:
+    from .geometry.rasterize import as_gridmap
     from .io import bundled_map, read
     from .plot import plot_map
-    from .rasterize import as_gridmap
 
     fig, axes = _figure(2, 3, (15.0, 9.0))
     for ax, (name, title) in zip(axes.ravel(), BUNDLED, strict=True):
@@ -235,10 +235,10 @@ def _part_maps(run: _Run) -> None:
 
 def _part_seed000(run: _Run) -> None:
     from .compare import max_deviation
-    from .follow import basins
+    from .following.follower import basins
+    from .geometry.rasterize import as_gridmap
     from .io import bundled_map, read_world
     from .plot import plot_basins, plot_comparison, plot_potential, plot_surface, save_plan_animation
-    from .rasterize import as_gridmap
 
     res = 0.1 if run.quick else 0.05
     worlds = {key: read_world(bundled_map(f"{key}.yaml")) for key in ("seed000", "seed000_segment")}
@@ -300,9 +300,9 @@ def _part_convergence(run: _Run) -> None:
 
 
 def _part_seed003(run: _Run) -> None:
+    from .geometry.rasterize import as_gridmap
     from .io import bundled_map, read_world
     from .plot import plot_potential
-    from .rasterize import as_gridmap
 
     w = read_world(bundled_map("seed003_circles.yaml"))
     gm = as_gridmap(w)
@@ -316,8 +316,8 @@ def _part_seed003(run: _Run) -> None:
 
 
 def _part_seed002(run: _Run) -> None:
+    from .fields.navigation import star_figure_data, star_world
     from .io import bundled_map, read_world
-    from .navigation import star_figure_data, star_world
     from .plot import plot_star_world
 
     w = read_world(bundled_map("star_two.yaml"))
@@ -336,8 +336,8 @@ def _part_seed002(run: _Run) -> None:
 def _grid_map_part(run: _Run, part: str, gm: GridMap, start: Sequence[float], goal: Sequence[float],
                    params: Mapping[str, Any], title: str, *, note: str = "") -> tuple[Path, Any]:
     """The 2 x 2 figure of a grid map; returns the potential run and the field it followed."""
-    from .brushfire import brushfire
-    from .follow import basins
+    from .distance.brushfire import brushfire
+    from .following.follower import basins
     from .plot import plot_basins, plot_brushfire, plot_map, plot_potential
 
     fig, axes = _figure(2, 2, (13.0, 11.0))
@@ -363,10 +363,10 @@ def _grid_map_part(run: _Run, part: str, gm: GridMap, start: Sequence[float], go
 def _whole_field(gm: GridMap, goal: Sequence[float], field_: Any) -> Any:
     """The field whose basins a figure shows: a complete model's planned query settles its fronts only
     up to the start's value (``inf`` beyond, a rim that basins would count as minima), so the same
-    parameters are built over the whole map (:func:`gridfield.potential.build_field`, the brushfire
+    parameters are built over the whole map (:func:`gridfield.fields.potential.build_field`, the brushfire
     reused); any other field as it is."""
-    from .navfield import NF_MODELS
-    from .potential import build_field
+    from .fields.navfield import NF_MODELS
+    from .fields.potential import build_field
 
     if field_.params.get("model") not in NF_MODELS:
         return field_
@@ -489,16 +489,17 @@ def _walk(points: NDArray[np.float64], distance: float) -> NDArray[np.float64]:
 
 
 def _part_moving(run: _Run) -> None:
-    from matplotlib.colors import LogNorm
+    from matplotlib.colors import ListedColormap, LogNorm
     from matplotlib.patches import Rectangle
 
-    from .brushfire import brushfire
-    from .follow import follow
-    from .incremental import IncrementalBrushfire, update_field
+    from .distance.brushfire import brushfire
+    from .distance.incremental import IncrementalBrushfire
+    from .fields.incremental import update_field
+    from .fields.potential import build_field
+    from .following.follower import follow
+    from .geometry.rasterize import as_gridmap
     from .io import bundled_map, read_world
     from .plot import OCCUPIED_COLOR, animation_figure, draw_outlines, potential_scale, write_animation
-    from .potential import build_field
-    from .rasterize import as_gridmap
 
     w = read_world(bundled_map("seed000.yaml"))
     res = 0.2 if run.quick else 0.1
@@ -581,7 +582,7 @@ def _part_moving(run: _Run) -> None:
     image = ax.imshow(shade(frames[0]["u"]), origin="lower", extent=grid.extent, cmap="viridis",
                       norm=LogNorm(vmin=lo, vmax=hi), interpolation="nearest", zorder=0)
     ax.imshow(np.ma.masked_array(np.ones(grid.shape), mask=~static.occupied), origin="lower", extent=grid.extent,
-              cmap=__import__("matplotlib.colors", fromlist=["ListedColormap"]).ListedColormap([OCCUPIED_COLOR]),
+              cmap=ListedColormap([OCCUPIED_COLOR]),
               vmin=0.5, vmax=1.5, interpolation="nearest", zorder=1)
     draw_outlines(ax, w)
     walker = Rectangle((wx - side / 2, y_lo - side / 2), side, side, facecolor="magenta", edgecolor="black", zorder=4)
@@ -614,10 +615,10 @@ def _part_moving(run: _Run) -> None:
 def _warm_up(run: _Run) -> None:
     """Load the compiled kernels and warm the caches on a tiny map, so that the timings in the table
     are the planners' and not the first call's."""
-    from .brushfire import brushfire
-    from .follow import basins, plan_potential
+    from .distance.brushfire import brushfire
+    from .fields.potential import build_field
+    from .following.follower import basins, plan_potential
     from .planners import plan
-    from .potential import build_field
 
     t0 = time.perf_counter()
     occ = np.zeros((12, 12), bool)

@@ -218,7 +218,7 @@ robot: {radius: 0.25}
 def test_info_world_without_resolution_is_described_from_its_vectors(capsys, tmp_path, monkeypatch):
     import yaml
 
-    import gridfield.rasterize
+    import gridfield.geometry.rasterize
 
     f = tmp_path / "w.yaml"
     f.write_text(WORLD_NO_RESOLUTION)

@@ -14,7 +14,6 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gridfield.brushfire import brushfire
 from gridfield.cli import main
 from gridfield.compare import (
     STUDY_COLUMNS,
@@ -34,12 +33,13 @@ from gridfield.compare import (
     study_errors,
     study_orders,
 )
-from gridfield.errors import GridfieldError, ParameterError
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.path import Path
+from gridfield.distance.brushfire import brushfire
+from gridfield.geometry.rasterize import rasterize
+from gridfield.geometry.world import world_from_dict
 from gridfield.io import bundled_map, read_world
-from gridfield.path import Path
 from gridfield.planners import PLANNERS, Planner
-from gridfield.rasterize import rasterize
-from gridfield.world import world_from_dict
 
 SQRT2 = math.sqrt(2.0)
 
@@ -359,10 +359,10 @@ def test_batch_compare_does_not_skip_a_broken_gridfield_planner(tmp_path, monkey
     """A gridfield import that fails, or a registry entry naming no function, is a bug: it is raised,
     never reported as a skipped planner."""
     w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"rectangle": [4, 2, 6, 8]}]})
-    _fake_planner_module(tmp_path, monkeypatch, "broken", "from gridfield.path import NoSuchName")
+    _fake_planner_module(tmp_path, monkeypatch, "broken", "from gridfield.core.path import NoSuchName")
     with pytest.raises(ImportError, match="NoSuchName"):
         batch_compare(w, 2, resolution=0.5, planners=("visibility", "broken"), progress=False)
-    monkeypatch.setitem(PLANNERS, "typo", Planner("gridfield.follow", "plan_potentail", "grid"))
+    monkeypatch.setitem(PLANNERS, "typo", Planner("gridfield.following.follower", "plan_potentail", "grid"))
     with pytest.raises(AttributeError, match=r"PLANNERS\['typo'\]"):
         batch_compare(w, 2, resolution=0.5, planners=("visibility", "typo"), progress=False)
 

@@ -52,8 +52,8 @@ def test_kernel_module_is_a_compiled_extension(name):
 
 def test_planning_imports_no_jit_compiler():
     """A potential plan runs without numba or pyximport (a compiler at run time) being imported."""
-    code = ("import sys, numpy as np; from gridfield.grid import Grid, GridMap; "
-            "from gridfield.follow import plan_potential; occ = np.zeros((12, 12), bool); occ[5:7, 5:7] = True; "
+    code = ("import sys, numpy as np; from gridfield.core.grid import Grid, GridMap; "
+            "from gridfield.following.follower import plan_potential; occ = np.zeros((12, 12), bool); occ[5:7, 5:7] = True; "
             "plan_potential(GridMap(Grid((12, 12), 1.0), occ), np.array([1.5, 1.5]), np.array([10.5, 10.5]), "
             "{'q_star': 2.0, 'step': 0.5, 'tolerance': 0.5}); "
             "print(sorted(m for m in ('numba', 'llvmlite', 'pyximport') if m in sys.modules))")
@@ -74,9 +74,9 @@ def test_no_module_of_the_package_imports_numba():
 
 def test_incremental_and_anyangle_import_no_jit_compiler():
     """An incremental update, a potential window update and an any-angle plan run without numba."""
-    code = ("import sys, numpy as np; from gridfield.grid import Grid, GridMap; "
-            "from gridfield.incremental import IncrementalBrushfire, update_field; "
-            "from gridfield.potential import build_field; from gridfield.anyangle import grid_graph; "
+    code = ("import sys, numpy as np; from gridfield.core.grid import Grid, GridMap; "
+            "from gridfield.distance.incremental import IncrementalBrushfire; from gridfield.fields.incremental import update_field; "
+            "from gridfield.fields.potential import build_field; from gridfield.exact.anyangle import grid_graph; "
             "occ = np.zeros((12, 12), bool); occ[5:7, 3:9] = True; gm = GridMap(Grid((12, 12), 1.0), occ); "
             "ib = IncrementalBrushfire(gm); f = build_field(ib.gridmap, (10.5, 10.5), {'q_star': 2.0}, "
             "dmap=ib.distance_map); f = update_field(f, ib, ib.update(occupied=[[2, 2]], freed=[[5, 3]])); "

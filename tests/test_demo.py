@@ -15,8 +15,8 @@ import pytest
 from PIL import Image
 
 from gridfield.cli import main
+from gridfield.core.errors import GridfieldError
 from gridfield.demo import DEMO_PARTS, SUMMARY_COLUMNS, crop_to_known, demo, format_table, run_demo
-from gridfield.errors import GridfieldError
 from gridfield.io import bundled_map, read_ros_map
 
 PNG = b"\x89PNG\r\n\x1a\n"
@@ -209,7 +209,7 @@ def test_format_table_and_crop():
 def test_demo_parts_draw_the_fields_their_plans_built(tmp_path, monkeypatch):
     """seed003 plans twice (Ko 5 and 10) and draws both fields: two builds, not four."""
     import gridfield.demo as demo_module
-    import gridfield.potential as potential
+    import gridfield.fields.potential as potential
 
     calls = []
     real = potential.build_field

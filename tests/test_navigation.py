@@ -15,11 +15,11 @@ from hypothesis import strategies as st
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
-from gridfield import navigation as nv
-from gridfield.errors import GridfieldError, ParameterError
-from gridfield.grid import Grid, GridMap
-from gridfield.navigation import _field, _sphere  # private helpers tested directly
-from gridfield.world import world_from_dict
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.fields import navigation as nv
+from gridfield.fields.navigation import _field, _sphere  # private helpers tested directly
+from gridfield.geometry.world import world_from_dict
 
 SQRT2 = math.sqrt(2.0)
 
@@ -556,7 +556,7 @@ def test_upwind_gradient_points_uphill_and_ignores_obstacles():
 
 @pytest.mark.parametrize("name", ["wavefront", "wavefront-octile", "fmm", "harmonic", "sphere-nav"])
 def test_navigation_field_for_every_planner(name):
-    from gridfield.rasterize import as_gridmap
+    from gridfield.geometry.rasterize import as_gridmap
 
     gm = as_gridmap(circles_world(), 0.25)
     nav = nv.navigation_field(gm, (14.125, 8.125), name, {"kappa": 5, "connectivity": 8, "zeta": 3.0})
@@ -616,7 +616,7 @@ def test_cli_plan_wavefront_octile_json(repo_maps, capsys):
 
 @pytest.mark.parametrize("border", ["open", "wall"])
 def test_min_clearance_equals_brushfire(border):
-    from gridfield.brushfire import brushfire
+    from gridfield.distance.brushfire import brushfire
 
     for seed, p in ((0, 0.3), (1, 0.02), (2, 0.0)):
         rng = np.random.default_rng(seed)

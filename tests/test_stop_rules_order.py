@@ -15,8 +15,9 @@ import ast
 import inspect
 import textwrap
 
-from gridfield import descent, follow
-from gridfield.descent import STOP_RULES
+from gridfield.following import descent
+from gridfield.following import follower as follow
+from gridfield.following.descent import STOP_RULES
 
 
 def _function(module: object, name: str) -> ast.FunctionDef:

@@ -222,6 +222,18 @@ def test_observed_order():
         observed_order([0.1, 0.2], [1.0])
 
 
+def _importing_fakes(monkeypatch, prefix: str) -> None:
+    """Let the planner table load this test's throwaway modules (``prefix...``): gridfield imports its own
+    planner modules by explicit statements only (``planners._module``), so a test module is imported here."""
+    import importlib
+
+    from gridfield import planners
+
+    real = planners._module
+    monkeypatch.setattr(planners, "_module", lambda name: importlib.import_module(name) if name.startswith(prefix)
+                        else real(name))
+
+
 @pytest.fixture
 def fake_grid_planner(monkeypatch):
     """A 'grid planner' whose path bulges h away from the straight line: Hausdorff = h."""
@@ -235,6 +247,7 @@ def fake_grid_planner(monkeypatch):
     module.plan_bulge = plan_bulge
     monkeypatch.setitem(sys.modules, "fake_compare_planners", module)
     monkeypatch.setitem(PLANNERS, "bulge", Planner("fake_compare_planners", "plan_bulge", "grid"))
+    _importing_fakes(monkeypatch, "fake_compare_")
     return "bulge"
 
 
@@ -338,6 +351,7 @@ def _fake_planner_module(tmp_path, monkeypatch, name, first_line):
     monkeypatch.syspath_prepend(str(tmp_path))
     monkeypatch.delitem(sys.modules, module, raising=False)
     monkeypatch.setitem(PLANNERS, name, Planner(module, "plan", "grid"))
+    _importing_fakes(monkeypatch, "fake_compare_")
 
 
 def test_batch_compare_reports_missing_planners_and_bad_input(tmp_path, monkeypatch):

@@ -1,4 +1,4 @@
-"""A new follower parameter is one field in ``gridfield/params.py`` and the code that reads it.
+"""A new follower parameter is one field in ``gridfield/core/params.py`` and the code that reads it.
 
 The follower has no table of its own (``follow.FOLLOW_DEFAULTS`` and ``descent.RULE_PARAMS`` are
 gone): its values come from the registry as the typed groups ``params.Follower`` and
@@ -57,7 +57,7 @@ CHECK = textwrap.dedent('''
 def test_a_new_follower_parameter_is_one_field_in_params(tmp_path: Path) -> None:
     copy = tmp_path / "gridfield"
     shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__", "*.c", "*.pyx"))
-    params = copy / "params.py"
+    params = copy / "core" / "params.py"
     text = params.read_text()
     assert text.count(ANCHOR) == 1 and "turn_limit" not in text
     params.write_text(text.replace(ANCHOR, NEW_FIELD + ANCHOR))

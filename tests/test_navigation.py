@@ -19,6 +19,7 @@ from gridfield.core.errors import GridfieldError, ParameterError
 from gridfield.core.grid import Grid, GridMap
 from gridfield.fields import navigation as nv
 from gridfield.fields.navigation import _field, _sphere  # private helpers tested directly
+from gridfield.fields.navtable import navigation_field
 from gridfield.geometry.world import world_from_dict
 
 SQRT2 = math.sqrt(2.0)
@@ -559,7 +560,7 @@ def test_navigation_field_for_every_planner(name):
     from gridfield.geometry.rasterize import as_gridmap
 
     gm = as_gridmap(circles_world(), 0.25)
-    nav = nv.navigation_field(gm, (14.125, 8.125), name, {"kappa": 5, "connectivity": 8, "zeta": 3.0})
+    nav = navigation_field(gm, (14.125, 8.125), name, {"kappa": 5, "connectivity": 8, "zeta": 3.0})
     assert nav.potential.shape == nav.grad_x.shape == nav.grad_y.shape == gm.shape
     assert np.isfinite(nav.grad_x).all() and np.isfinite(nav.grad_y).all()
     assert nav.value[nav.goal_cell] == nav.value.min()
@@ -570,9 +571,9 @@ def test_navigation_field_for_every_planner(name):
 def test_navigation_field_errors():
     gm = GridMap(Grid((3, 3), 1.0), np.zeros((3, 3), bool))
     with pytest.raises(ParameterError, match="unknown navigation planner"):
-        nv.navigation_field(gm, (0.5, 0.5), "astar", {})
+        navigation_field(gm, (0.5, 0.5), "astar", {})
     with pytest.raises(ParameterError, match="vector world"):
-        nv.navigation_field(gm, (0.5, 0.5), "sphere-nav", {})
+        navigation_field(gm, (0.5, 0.5), "sphere-nav", {})
 
 
 @pytest.mark.parametrize("name", ["wavefront", "wavefront-octile", "fmm", "harmonic"])

@@ -21,16 +21,14 @@ from gridfield.fields.potential import (
     build_field,
     field_distance_map,
     finite_difference_gradient,
-    load_field,
     repulsive,
     resolve_params,
-    save_field,
     vortex_field,
     vortex_lattice,
 )
 from gridfield.geometry.rasterize import rasterize
 from gridfield.geometry.world import world_from_dict
-from gridfield.io import bundled_map, read_world
+from gridfield.io import bundled_map, load_field, read_world, save_field
 
 #: what build_field reads and keeps, in Field.params's order (the old potential.DEFAULTS)
 FIELD_NAMES = ("zeta", "d_star", "eta", "q_star", "repulsive_power", "repulsion", "metric", "gradient", "saturate",

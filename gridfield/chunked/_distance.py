@@ -47,14 +47,14 @@ from ..core.errors import ArgumentTypeError, ParameterError, check_positive, sho
 
 def _kernel_brushfire() -> Any:
     """The compiled kernel module (gridfield/distance/_brushfire.pyx), imported on first use."""
-    from ..distance import _brushfire
+    from ..distance import _brushfire  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _brushfire
 
 
 def _kernel_chunked() -> Any:
     """The compiled kernel module (gridfield/chunked/_chunked.pyx), imported on first use."""
-    from . import _chunked
+    from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _chunked
 

@@ -29,7 +29,7 @@ __all__ = ["field"]
 
 def _kernel_chunked() -> Any:
     """The compiled kernel module (gridfield/chunked/_chunked.pyx), imported on first use."""
-    from . import _chunked
+    from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _chunked
 

@@ -38,7 +38,7 @@ __all__ = ["gvd"]
 
 def _kernel_brushfire() -> Any:
     """The compiled kernel module (gridfield/distance/_brushfire.pyx), imported on first use."""
-    from ..distance import _brushfire
+    from ..distance import _brushfire  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _brushfire
 

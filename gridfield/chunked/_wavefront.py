@@ -35,7 +35,7 @@ COSTS = ("octile", "unit")
 
 def _kernel_eikonal() -> Any:
     """The compiled kernel module (gridfield/fields/_eikonal.pyx), imported on first use."""
-    from ..fields import _eikonal
+    from ..fields import _eikonal  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _eikonal
 

@@ -95,26 +95,42 @@ def _registry_names() -> tuple[str, ...]:
 def _command(name: str) -> ModuleType:
     """The module of one command of :data:`COMMANDS` (one import statement each: tools see every arrow)."""
     if name == "demo":
-        from . import demo as mod
-    elif name == "info":
-        from . import info as mod
-    elif name == "brushfire":
-        from . import brushfire as mod
-    elif name == "costmap":
-        from . import costmap as mod
-    elif name == "field":
-        from . import field as mod
-    elif name == "plan":
-        from . import plan as mod
-    elif name == "compare":
-        from . import compare as mod
-    elif name == "explore":
-        from . import explore as mod
-    elif name == "sweep":
-        from . import sweep as mod
-    else:
-        raise ValueError(f"no command {name!r}")
-    return mod
+        from . import demo
+
+        return demo
+    if name == "info":
+        from . import info
+
+        return info
+    if name == "brushfire":
+        from . import brushfire
+
+        return brushfire
+    if name == "costmap":
+        from . import costmap
+
+        return costmap
+    if name == "field":
+        from . import field
+
+        return field
+    if name == "plan":
+        from . import plan
+
+        return plan
+    if name == "compare":
+        from . import compare
+
+        return compare
+    if name == "explore":
+        from . import explore
+
+        return explore
+    if name == "sweep":
+        from . import sweep
+
+        return sweep
+    raise ValueError(f"no command {name!r}")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -125,7 +125,7 @@ def _run_chunked(args: argparse.Namespace) -> int:
     """``--out F.zarr``: the distance and nearest obstacle chunk by chunk (gridfield.chunked), to a store."""
     from ..core.chunkcache import LazyGridMap
     from ..core.errors import ParameterError
-    from . import _chunked
+    from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
     from ._common import load_target
 
     if args.connectivity != 8:
@@ -158,7 +158,7 @@ def _robot_given(args: argparse.Namespace) -> bool:
 
 
 def run(args: argparse.Namespace) -> int:
-    from . import _chunked
+    from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     if _chunked.chunked(args):
         return _run_chunked(args)

@@ -60,7 +60,7 @@ BORDER_LABEL = -1
 
 def _kernel_brushfire() -> Any:
     """The compiled kernel module (gridfield/distance/_brushfire.pyx), imported on first use."""
-    from . import _brushfire
+    from . import _brushfire  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _brushfire
 

@@ -75,14 +75,14 @@ Window = tuple[int, int, int, int]
 
 def _kernel_brushfire() -> Any:
     """The compiled kernel module (gridfield/distance/_brushfire.pyx), imported on first use."""
-    from . import _brushfire
+    from . import _brushfire  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _brushfire
 
 
 def _kernel_incremental() -> Any:
     """The compiled kernel module (gridfield/distance/_incremental.pyx), imported on first use."""
-    from . import _incremental
+    from . import _incremental  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _incremental
 

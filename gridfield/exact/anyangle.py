@@ -128,14 +128,14 @@ _MESH_LOCK = threading.Lock()
 
 def _kernel_anyangle() -> Any:
     """The compiled kernel module (gridfield/exact/_anyangle.pyx), imported on first use."""
-    from . import _anyangle
+    from . import _anyangle  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _anyangle
 
 
 def _kernel_polyanya() -> Any:
     """The compiled kernel module (gridfield/exact/_polyanya.pyx), imported on first use."""
-    from . import _polyanya
+    from . import _polyanya  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _polyanya
 

@@ -68,7 +68,7 @@ NAV2_LUT_PRECISION = 100
 
 def _kernel_navfn() -> Any:
     """The compiled kernel module (gridfield/fields/_navfn.pyx), imported on first use."""
-    from . import _navfn
+    from . import _navfn  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _navfn
 

@@ -27,7 +27,7 @@ __all__ = ["update_field", "update_navigation"]
 
 def _kernel_incremental() -> Any:
     """The compiled kernel module (gridfield/distance/_incremental.pyx), imported on first use."""
-    from ..distance import _incremental
+    from ..distance import _incremental  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _incremental
 

@@ -172,7 +172,7 @@ SQRT2 = math.sqrt(2.0)
 
 def _kernel_eikonal() -> Any:
     """The compiled kernel module (gridfield/fields/_eikonal.pyx), imported on first use."""
-    from . import _eikonal
+    from . import _eikonal  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _eikonal
 

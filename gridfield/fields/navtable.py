@@ -41,6 +41,7 @@ def navigation_field(gridmap: GridMap, goal: ArrayLike, planner_name: str,
 
     Examples
     --------
+    >>> import numpy as np
     >>> from gridfield.core.grid import Grid, GridMap
     >>> nav = navigation_field(GridMap(Grid((1, 3), 1.0), np.zeros((1, 3), bool)), (0.5, 0.5), "wavefront", {})
     >>> nav.potential, nav.grad_x

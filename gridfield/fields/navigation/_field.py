@@ -35,7 +35,7 @@ SQRT2 = math.sqrt(2.0)
 
 def _kernel_navigation() -> Any:
     """The compiled kernel module (gridfield/fields/_navigation.pyx), imported on first use."""
-    from .. import _navigation
+    from .. import _navigation  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _navigation
 
@@ -449,8 +449,23 @@ def _min_clearance(nav: NavigationField, points: NDArray[np.float64],
 # The planner adapter every grid construction shares
 # ----------------------------------------------------------------------------------------------
 def grid_options(params: Mapping[str, Any]) -> dict[str, Any]:
-    """The keyword options of :func:`wavefront` and :func:`fmm` that a planner's parameters set
-    (``clearance_weight``, ``q_star``)."""
+    """The keyword options of :func:`wavefront` and :func:`fmm` that a planner's parameters set.
+
+    Parameters
+    ----------
+    params : mapping
+        Planner parameters (checked by the registry).
+
+    Returns
+    -------
+    dict
+        ``clearance_weight`` and ``q_star``.
+
+    Examples
+    --------
+    >>> grid_options({"q_star": 2.0})
+    {'clearance_weight': 0.0, 'q_star': 2.0}
+    """
     p = validate(params)
     return {"clearance_weight": p.group(Navigation).clearance_weight, "q_star": p.group(Repulsion).q_star}
 

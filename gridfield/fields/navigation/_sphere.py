@@ -346,6 +346,16 @@ def sphere_nav_field(gridmap: GridMap, goal: ArrayLike, nav: Any) -> NavigationF
     -------
     NavigationField
         Of kind ``"sphere-nav"``, with the analytic gradient.
+
+    Examples
+    --------
+    >>> from gridfield.core.params import Navigation, validate
+    >>> from gridfield.geometry.rasterize import rasterize
+    >>> from gridfield.geometry.world import world_from_dict
+    >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"circle": {"center": [5, 5], "radius": 1}}]})
+    >>> nav = sphere_nav_field(rasterize(w, 0.5), (8.0, 8.0), validate({"kappa": 3}).group(Navigation))
+    >>> nav.kind, nav.potential.shape
+    ('sphere-nav', (20, 20))
     """
     world = gridmap.world
     if world is None:

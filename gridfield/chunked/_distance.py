@@ -15,7 +15,7 @@ Euclidean through a temporary store (``scratch=``): the column pass runs on stri
 one chunk's cells wide (:func:`_strip_width`, at least 64 columns), each written as one raw ``int32`` file
 (rows in order, written aside and renamed); after all of them (one barrier task), each output chunk is one
 task that reads its rows over its columns plus a margin of one strip on each side and runs
-``_kernels_chunked.edt_block``: per row, the lower envelope over only the columns whose obstacles can be
+``chunked._chunked.edt_block``: per row, the lower envelope over only the columns whose obstacles can be
 nearest (or tie) inside the chunk, which lie within about the distance at the chunk's first and last
 columns; a row that needs more than the window makes the task read a wider one (four times the margin).
 Memory per task: the strip (``rows x width`` of occupancy and ``int32``) for the column pass, the window
@@ -506,7 +506,7 @@ def _edt_block_task(path: str, r0: int, r1: int, c0: int, c1: int, ws: int, rows
                                                                      NDArray[np.int32]]:
     """One output chunk (rows ``r0:r1``, columns ``c0:c1``) of the row pass, from the column-pass rows of a
     window one strip wider on each side, read from the store (and re-read wider until every row's nearest
-    candidates are inside it: ``_kernels_chunked.edt_block``)."""
+    candidates are inside it: ``chunked._chunked.edt_block``)."""
     kc = _kernel_chunked()
     shape = (r1 - r0, c1 - c0)
     d = np.empty(shape, np.float64)

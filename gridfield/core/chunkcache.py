@@ -342,7 +342,7 @@ class LazyGridMap(GridMap):
 
 
 # ---------------------------------------------------------------------------------------------
-# scalar samplers: the compiled kernels' arithmetic (gridfield/_kernels_follow.pyx), on tiles
+# scalar samplers: the compiled kernels' arithmetic (gridfield/fields/_samplers.pyx), on tiles
 # ---------------------------------------------------------------------------------------------
 class _Corners:
     """Reads values of up to three lazy arrays at a cell, remembering the last tiles used."""
@@ -373,7 +373,7 @@ def bilinear2(a: LazyArray, b: LazyArray, occ: LazyArray, x0: float, y0: float,
               res: float) -> Callable[[float, float], tuple[float, float]]:
     """``f(x, y) -> (a, b)``: bilinear interpolation among the free corner cells (renormalized), clamped
     to the grid; the nearest free corner when every weighted corner is occupied; else 0. The rule and
-    the arithmetic of the compiled samplers (``_kernels_follow.ValueSampler``)."""
+    the arithmetic of the compiled samplers (``fields._samplers.ValueSampler``)."""
     _same_chunks(a, b, occ)
     rows, cols = occ.shape
     rd = _Corners(a, b, occ)
@@ -419,7 +419,7 @@ def bilinear2(a: LazyArray, b: LazyArray, occ: LazyArray, x0: float, y0: float,
 def nearest2(a: LazyArray, b: LazyArray, occ: LazyArray, x0: float, y0: float,
              res: float) -> Callable[[float, float], tuple[float, float]]:
     """``f(x, y) -> (a, b)`` at the cell containing the point (clamped); 0 in obstacle cells or for a
-    point that is not finite (the compiled ``_kernels_follow.ValueSampler``)."""
+    point that is not finite (the compiled ``fields._samplers.ValueSampler``)."""
     _same_chunks(a, b, occ)
     rows, cols = occ.shape
     rd = _Corners(a, b, occ)

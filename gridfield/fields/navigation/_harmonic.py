@@ -3,7 +3,7 @@
 A discrete harmonic function has no local minimum away from its boundary, which makes it a navigation
 function in exact arithmetic; in floating point it underflows far from the goal, hence the shells of
 :func:`harmonic`. The sparse solves (MIC(0)-preconditioned conjugate gradients) are compiled kernels
-(``_kernels_navigation``); scipy.sparse builds the matrix the residual is checked against.
+(``fields._navigation``); scipy.sparse builds the matrix the residual is checked against.
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ The wavefront is the exact shortest-path cost to the goal cell over 4- or 8-conn
 or octile costs, optionally raised near obstacles by :func:`clearance_cost`. It is the only navigation
 function that is exact on the grid itself (no discretization of a continuous equation), which is why
 the navigation escape, the incremental updates and the Moving AI checks all build on it. The cell loop
-(Dijkstra with a bucket queue) is a compiled kernel (``_kernels_navigation``).
+(Dijkstra with a bucket queue) is a compiled kernel (``fields._navigation``).
 """
 
 from __future__ import annotations

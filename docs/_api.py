@@ -6,6 +6,7 @@ import ast
 import importlib
 import importlib.util
 import inspect
+import sys
 import types
 from pathlib import Path
 
@@ -47,7 +48,7 @@ def _source_module(module: types.ModuleType, name: str) -> types.ModuleType:
         if (isinstance(node, ast.ImportFrom) and node.level
                 and any(a.name == name and a.asname in (None, name) for a in node.names)):
             where = importlib.util.resolve_name("." * node.level + (node.module or ""), package)
-            return _source_module(importlib.import_module(where), name)
+            return _source_module(sys.modules[where], name)  # imported already: module imports it
     return module
 
 

@@ -1,9 +1,10 @@
-"""A new follower parameter is one field in ``gridfield/core/params.py`` and the code that reads it.
+"""A new follower parameter is one field in the registry's tables (``gridfield/core/_param_table.py``)
+and the code that reads it.
 
 The follower has no table of its own (``follow.FOLLOW_DEFAULTS`` and ``descent.RULE_PARAMS`` are
 gone): its values come from the registry as the typed groups ``params.Follower`` and
 ``params.Escape`` (:func:`gridfield.following.descent.rules`). The test below copies the package, adds one
-field to ``Follower`` in the copy's ``params.py`` (no other file is touched), and checks in a
+field to ``Follower`` in the copy's ``core/_param_table.py`` (no other file is touched), and checks in a
 fresh interpreter that the new parameter is validated, resolved, handed to both followers' rules
 and recorded in the path, and that the CLI's ``--param`` parser knows it.
 """
@@ -57,7 +58,7 @@ CHECK = textwrap.dedent('''
 def test_a_new_follower_parameter_is_one_field_in_params(tmp_path: Path) -> None:
     copy = tmp_path / "gridfield"
     shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__", "*.c", "*.pyx"))
-    params = copy / "core" / "params.py"
+    params = copy / "core" / "_param_table.py"
     text = params.read_text()
     assert text.count(ANCHOR) == 1 and "turn_limit" not in text
     params.write_text(text.replace(ANCHOR, NEW_FIELD + ANCHOR))

@@ -1,170 +1,28 @@
-"""The demo behind ``gridfield demo``: every bundled map and world through the whole pipeline.
+"""The demo's parts: one function per part of :data:`gridfield.demo.DEMO_PARTS` (``_PARTS``), each
+planning through the run's bookkeeping and saving its figures, the helpers they share
+(:func:`crop_to_known`, :func:`classic_vs_complete_figure`, the grid-map figure) and the warm-up.
 
-:func:`run_demo` loads the bundled maps and worlds, runs the planners on them and writes the
-figures (PNG), one animation (GIF) and a summary table (``summary.md``, ``summary.csv``) to a
-folder. The parts:
-
-``maps``
-    a picture of each bundled occupancy grid (vector worlds rasterized, outlines drawn);
-``seed000``
-    seed 000's polygon world and its segment variant: the grid follower and the exact planner
-    side by side (the segment variant stalls in the local minimum the seed reports, marked),
-    the potential, its 3-D surface, the basins of attraction and the follower animated;
-``convergence``
-    the grid potential against the exact one on both seed 000 worlds at cell sizes 0.4 to 0.05:
-    path deviation and stall-point error on log-log axes, with the observed orders;
-``seed003``
-    seed 003's two circles with the vortex field, ``Ko = 5`` (reaches) and ``Ko = 10`` (does not);
-``seed002``
-    seed 002's star-world navigation function (``star-nav``, kappa 3, lambda 1): the obstacle
-    functions' humps, the attractive part, the mapped space and the surface with the path;
-``turtlebot3``, ``arena``
-    a ROS map and a Moving AI map: brushfire, potential, basins (of the same field over the whole
-    map) and a wavefront path next to the potential path (the default complete field, ``nf1`` with its
-    clearance band). On the arena the classic Khatib
-    field (``model: khatib``) stalls in a local minimum by the goal: ``arena_classic_vs_complete.png``
-    shows that run (stall point and hint) next to the complete field's run that reaches, and the
-    summary has a row and a note for each.
-``moving``
-    seed 000 with an obstacle walking across the robot's way: every frame the obstacle moves, the
-    distance map and the potential are updated where they changed (:mod:`gridfield.distance.incremental`),
-    and the robot replans from where it stands (``moving_obstacle.gif``).
-
-Every part runs: a part that fails raises (nothing is silently left out).
+Part of :mod:`gridfield.demo` (which re-exports every public name here); private to it.
 """
 
 from __future__ import annotations
 
-import csv
 import math
-import re
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
 from pathlib import Path as FsPath
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
-from .core.errors import GridfieldError
-from .core.grid import Grid, GridMap
-from .core.path import Path
-
-__all__ = ["DEMO_PARTS", "SUMMARY_COLUMNS", "DemoResult", "classic_vs_complete_figure", "demo", "run_demo"]
-
-#: The demo's parts, in the order they run.
-DEMO_PARTS = ("maps", "seed000", "convergence", "seed003", "seed002", "turtlebot3", "arena", "moving")
-#: Columns of ``summary.csv`` (and of the rows :func:`run_demo` returns).
-SUMMARY_COLUMNS = ("part", "map", "planner", "model", "status", "length", "steps", "ms", "note")
+from ..core.grid import Grid, GridMap
+from ..core.path import Path
+from ._run import _Run
 
 #: The grid maps run with gridfield's defaults, which scale with the map's cell size
 #: (gridfield.core.params: q_star 4 cells, d_star 2 q_star, balanced eta, step 1 cell).
 TURTLEBOT3_START, TURTLEBOT3_GOAL = (-2.0, -0.5), (2.0, 0.5)
-
-
-@dataclass
-class DemoResult:
-    """What :func:`demo` did: summary rows, files written, parts or steps skipped, notes (observed
-    convergence orders).
-
-    Attributes
-    ----------
-    out_dir : pathlib.Path
-        The folder written to.
-    rows : list of dict
-        The summary rows (:data:`SUMMARY_COLUMNS`).
-    files : list of pathlib.Path
-        Every file written, in order.
-    skipped : list of str
-        Steps skipped, one line each (none: every part runs or raises).
-    notes : list of str
-        Observations (the convergence orders).
-    seconds : float
-        Wall time of the whole demo.
-
-    Examples
-    --------
-    >>> DemoResult(FsPath("out"), rows=[{"part": "maps"}], seconds=1.5)
-    DemoResult(out_dir='out', rows=1, files=0, skipped=0, seconds=1.5)
-    """
-
-    out_dir: FsPath
-    rows: list[dict[str, Any]] = field(default_factory=list)
-    files: list[FsPath] = field(default_factory=list)
-    skipped: list[str] = field(default_factory=list)
-    notes: list[str] = field(default_factory=list)
-    seconds: float = 0.0
-
-    def __repr__(self) -> str:
-        return (f"DemoResult(out_dir={str(self.out_dir)!r}, rows={len(self.rows)}, files={len(self.files)}, "
-                f"skipped={len(self.skipped)}, seconds={self.seconds:.3g})")
-
-
-class _Run:
-    """Bookkeeping shared by the parts."""
-
-    def __init__(self, out: FsPath, quick: bool, log: Callable[[str], None]) -> None:
-        self.out = out
-        self.quick = quick
-        self.log = log
-        self.result = DemoResult(out)
-
-    # -- results ---------------------------------------------------------------------------
-    def plan(self, part: str, name: str, target: Any, planner: str, start: ArrayLike, goal: ArrayLike,
-             params: Mapping[str, Any] | None = None, *, note: str = "") -> Path:
-        return self.plan_with_field(part, name, target, planner, start, goal, params, note=note)[0]
-
-    def plan_with_field(self, part: str, name: str, target: Any, planner: str, start: ArrayLike, goal: ArrayLike,
-                        params: Mapping[str, Any] | None = None, *, note: str = "") -> tuple[Path, Any]:
-        """Plan, record the row, and return the path with the field it followed (None but for the
-        ``potential`` planner): the part draws that field instead of building it again."""
-        from .planners import plan_with_field
-
-        t0 = time.perf_counter()
-        path, field_ = plan_with_field(planner, target, start, goal, params)
-        ms = (time.perf_counter() - t0) * 1e3
-        self.row(part, name, path, ms, note)
-        return path, field_
-
-    def row(self, part: str, name: str, path: Path, ms: float, note: str = "") -> None:
-        stall = _stall_note(path)
-        # the field's model, for the planners that follow one (star-nav carries the world file's params too)
-        model = path.params.get("model") if path.planner in _FIELD_PLANNERS else None
-        self.result.rows.append({
-            "part": part, "map": name, "planner": path.planner, "model": model or "", "status": path.status,
-            "length": round(path.length, 3), "steps": int(path.iterations), "ms": round(ms, 1),
-            "note": "; ".join(s for s in (note, stall) if s),
-        })
-
-    def save(self, fig: Any, name: str) -> FsPath:
-        import matplotlib.pyplot as plt
-
-        p = self.out / name
-        try:
-            fig.savefig(p, dpi=80 if self.quick else 100)
-        finally:
-            plt.close(fig)
-        self.result.files.append(p)
-        return p
-
-    def add_file(self, p: FsPath) -> None:
-        self.result.files.append(FsPath(p))
-
-
-#: Planners whose ``model`` parameter chooses the field they follow (the summary's ``model`` column).
-_FIELD_PLANNERS = ("potential", "exact-potential")
-
-
-def _stall_note(path: Path) -> str:
-    if path.status != "local_minimum":
-        return ""
-    from .plot import stall_points
-
-    s = stall_points(path)
-    note = f"stalls at ({s[-1, 0]:.2f}, {s[-1, 1]:.2f})" if len(s) else ""
-    hint = path.extra.get("hint")
-    return f"{note}; hint: {hint}" if hint else note
 
 
 def _figure(nrows: int, ncols: int, size: tuple[float, float], **kw: Any) -> tuple[Any, Any]:
@@ -197,9 +55,6 @@ def crop_to_known(gridmap: GridMap, *, margin: int = 8) -> GridMap:
                    {**gridmap.meta, "cropped_from": g.shape})
 
 
-# ----------------------------------------------------------------------------------------------
-# parts
-# ----------------------------------------------------------------------------------------------
 BUNDLED = (
     ("seed000.yaml", "seed 000 world"),
     ("seed000_segment.yaml", "seed 000 + segment"),
@@ -211,9 +66,9 @@ BUNDLED = (
 
 
 def _part_maps(run: _Run) -> None:
-    from .geometry.rasterize import as_gridmap
-    from .io import bundled_map, read
-    from .plot import plot_map
+    from ..geometry.rasterize import as_gridmap
+    from ..io import bundled_map, read
+    from ..plot import plot_map
 
     fig, axes = _figure(2, 3, (15.0, 9.0))
     for ax, (name, title) in zip(axes.ravel(), BUNDLED, strict=True):
@@ -234,11 +89,11 @@ def _part_maps(run: _Run) -> None:
 
 
 def _part_seed000(run: _Run) -> None:
-    from .compare import max_deviation
-    from .following.follower import basins
-    from .geometry.rasterize import as_gridmap
-    from .io import bundled_map, read_world
-    from .plot import plot_basins, plot_comparison, plot_potential, plot_surface, save_plan_animation
+    from ..compare import max_deviation
+    from ..following.follower import basins
+    from ..geometry.rasterize import as_gridmap
+    from ..io import bundled_map, read_world
+    from ..plot import plot_basins, plot_comparison, plot_potential, plot_surface, save_plan_animation
 
     res = 0.1 if run.quick else 0.05
     worlds = {key: read_world(bundled_map(f"{key}.yaml")) for key in ("seed000", "seed000_segment")}
@@ -281,9 +136,9 @@ _ERROR_NAMES = {"hausdorff": "Hausdorff", "frechet": "Fréchet", "end_error": "e
 
 
 def _part_convergence(run: _Run) -> None:
-    from .compare import convergence_study, study_errors, study_orders
-    from .io import bundled_map, read_world
-    from .plot import plot_convergence
+    from ..compare import convergence_study, study_errors, study_orders
+    from ..io import bundled_map, read_world
+    from ..plot import plot_convergence
 
     hs = [0.4, 0.2, 0.1] if run.quick else [0.4, 0.2, 0.1, 0.05]
     fig, axes = _figure(1, 2, (12.0, 4.8))
@@ -300,9 +155,9 @@ def _part_convergence(run: _Run) -> None:
 
 
 def _part_seed003(run: _Run) -> None:
-    from .geometry.rasterize import as_gridmap
-    from .io import bundled_map, read_world
-    from .plot import plot_potential
+    from ..geometry.rasterize import as_gridmap
+    from ..io import bundled_map, read_world
+    from ..plot import plot_potential
 
     w = read_world(bundled_map("seed003_circles.yaml"))
     gm = as_gridmap(w)
@@ -316,9 +171,9 @@ def _part_seed003(run: _Run) -> None:
 
 
 def _part_seed002(run: _Run) -> None:
-    from .fields.navigation import star_figure_data, star_world
-    from .io import bundled_map, read_world
-    from .plot import plot_star_world
+    from ..fields.navigation import star_figure_data, star_world
+    from ..io import bundled_map, read_world
+    from ..plot import plot_star_world
 
     w = read_world(bundled_map("star_two.yaml"))
     path = run.plan("seed002", "star_two", w, "star-nav", w.start, w.goal, note="star world, seed 002's kappa, lambda")  # type: ignore[arg-type]
@@ -336,9 +191,9 @@ def _part_seed002(run: _Run) -> None:
 def _grid_map_part(run: _Run, part: str, gm: GridMap, start: Sequence[float], goal: Sequence[float],
                    params: Mapping[str, Any], title: str, *, note: str = "") -> tuple[Path, Any]:
     """The 2 x 2 figure of a grid map; returns the potential run and the field it followed."""
-    from .distance.brushfire import brushfire
-    from .following.follower import basins
-    from .plot import plot_basins, plot_brushfire, plot_map, plot_potential
+    from ..distance.brushfire import brushfire
+    from ..following.follower import basins
+    from ..plot import plot_basins, plot_brushfire, plot_map, plot_potential
 
     fig, axes = _figure(2, 2, (13.0, 11.0))
     dmap = brushfire(gm, metric="euclidean")
@@ -365,8 +220,8 @@ def _whole_field(gm: GridMap, goal: Sequence[float], field_: Any) -> Any:
     up to the start's value (``inf`` beyond, a rim that basins would count as minima), so the same
     parameters are built over the whole map (:func:`gridfield.fields.potential.build_field`, the brushfire
     reused); any other field as it is."""
-    from .fields.navfield import NF_MODELS
-    from .fields.potential import build_field
+    from ..fields.navfield import NF_MODELS
+    from ..fields.potential import build_field
 
     if field_.params.get("model") not in NF_MODELS:
         return field_
@@ -374,7 +229,7 @@ def _whole_field(gm: GridMap, goal: Sequence[float], field_: Any) -> Any:
 
 
 def _part_turtlebot3(run: _Run) -> None:
-    from .io import bundled_map, read_ros_map
+    from ..io import bundled_map, read_ros_map
 
     gm = crop_to_known(read_ros_map(bundled_map("turtlebot3_world/map.yaml")))
     _grid_map_part(run, "turtlebot3", gm, TURTLEBOT3_START, TURTLEBOT3_GOAL, {},
@@ -382,7 +237,7 @@ def _part_turtlebot3(run: _Run) -> None:
 
 
 def _part_arena(run: _Run) -> None:
-    from .io import bundled_map, read_movingai_map, read_scen
+    from ..io import bundled_map, read_movingai_map, read_scen
 
     gm = read_movingai_map(bundled_map("arena/arena.map"))
     scen = read_scen(bundled_map("arena/arena.map.scen"), map_height=gm.shape[0])
@@ -417,7 +272,7 @@ def _run_words(path: Path) -> str:
     """'classic field (model: khatib): local_minimum at (x, y), length 80' and the like."""
     where = ""
     if path.status == "local_minimum":
-        from .plot import stall_points
+        from ..plot import stall_points
 
         s = stall_points(path)
         where = f" at ({s[-1, 0]:.3g}, {s[-1, 1]:.3g})" if len(s) else ""
@@ -455,7 +310,7 @@ def classic_vs_complete_figure(classic: Path, classic_field: Any, complete: Path
     ['classic field (model: khatib)', 'complete field (model: nf1)']
     >>> plt.close(fig)
     """
-    from .plot import plot_potential
+    from ..plot import plot_potential
 
     fig, axes = _figure(1, 2, (14.0, 7.0))
     fig.get_layout_engine().set(rect=(0.0, 0.08, 1.0, 0.92))  # room below the axes for the hint's box
@@ -492,14 +347,14 @@ def _part_moving(run: _Run) -> None:
     from matplotlib.colors import ListedColormap, LogNorm
     from matplotlib.patches import Rectangle
 
-    from .distance.brushfire import brushfire
-    from .distance.incremental import IncrementalBrushfire
-    from .fields.incremental import update_field
-    from .fields.potential import build_field
-    from .following.follower import follow
-    from .geometry.rasterize import as_gridmap
-    from .io import bundled_map, read_world
-    from .plot import OCCUPIED_COLOR, animation_figure, draw_outlines, potential_scale, write_animation
+    from ..distance.brushfire import brushfire
+    from ..distance.incremental import IncrementalBrushfire
+    from ..fields.incremental import update_field
+    from ..fields.potential import build_field
+    from ..following.follower import follow
+    from ..geometry.rasterize import as_gridmap
+    from ..io import bundled_map, read_world
+    from ..plot import OCCUPIED_COLOR, animation_figure, draw_outlines, potential_scale, write_animation
 
     w = read_world(bundled_map("seed000.yaml"))
     res = 0.2 if run.quick else 0.1
@@ -615,10 +470,10 @@ def _part_moving(run: _Run) -> None:
 def _warm_up(run: _Run) -> None:
     """Load the compiled kernels and warm the caches on a tiny map, so that the timings in the table
     are the planners' and not the first call's."""
-    from .distance.brushfire import brushfire
-    from .fields.potential import build_field
-    from .following.follower import basins, plan_potential
-    from .planners import plan
+    from ..distance.brushfire import brushfire
+    from ..fields.potential import build_field
+    from ..following.follower import basins, plan_potential
+    from ..planners import plan
 
     t0 = time.perf_counter()
     occ = np.zeros((12, 12), bool)
@@ -648,242 +503,3 @@ _PARTS: dict[str, Callable[[_Run], None]] = {
     "arena": _part_arena,
     "moving": _part_moving,
 }
-
-
-# ----------------------------------------------------------------------------------------------
-# summary
-# ----------------------------------------------------------------------------------------------
-def _fmt(v: Any) -> str:
-    if isinstance(v, float):
-        return "" if math.isnan(v) else f"{v:g}"
-    return str(v)
-
-
-#: The summary's columns of free text (the notes and hints): listed under the table, which holds each
-#: item's number in their place.
-LISTED_COLUMNS = ("note",)
-#: The longest cell the summary table holds; longer text is listed under the table too.
-MAX_CELL = 60
-#: The width the list under the table (and the other text of ``summary.md``) is wrapped at.
-TEXT_WIDTH = 100
-
-# A word that would open a Markdown block (a list item, a heading, a quote) at the start of a wrapped line.
-_BLOCK_START = re.compile(r"(?:[-+*]|#{1,6}|\d{1,9}[.)]|>.*)")
-
-
-def wrap_item(text: str, marker: str = "", width: int = TEXT_WIDTH) -> str:
-    """``marker + text`` wrapped at ``width`` characters, the lines after the first indented under the
-    text: a Markdown list item (or paragraph, without a marker) that reads the same in a terminal.
-
-    A word that would open a Markdown block at the start of a line (``-``, ``1.``, ``#``, ``>``) stays at
-    the end of the line before; a word longer than the width (a path) has a line of its own.
-
-    Parameters
-    ----------
-    text : str
-        The text (its runs of white space become single spaces).
-    marker : str
-        What the first line starts with (``"- "``, ``"3. "``); the other lines are indented as wide.
-    width : int
-        The longest line, but for a word that does not fit on a line of its own.
-
-    Returns
-    -------
-    str
-        The lines, joined by newlines.
-
-    Examples
-    --------
-    >>> print(wrap_item("the potential's minimum - here - is off the goal", "1. ", width=24))
-    1. the potential's
-       minimum - here - is
-       off the goal
-    """
-    indent = " " * len(marker)
-    lines = [marker]
-    for word in text.split():
-        line = lines[-1]
-        if len(line) > len(indent) and len(line) + 1 + len(word) > width and not _BLOCK_START.fullmatch(word):
-            lines.append(indent + word)
-        else:
-            lines[-1] = f"{line} {word}" if len(line) > len(indent) else line + word
-    return "\n".join(lines)
-
-
-def format_table(rows: Sequence[Mapping[str, Any]], columns: Sequence[str] = SUMMARY_COLUMNS, *,
-                 listed: Sequence[str] = LISTED_COLUMNS, max_cell: int = MAX_CELL) -> str:
-    """Rows as a Markdown table (also readable as plain text), and the text too long for it in a
-    numbered list below.
-
-    The cells of the ``listed`` columns (the notes and hints) and any cell longer than ``max_cell``
-    characters are listed under the table, each as ``N. map, planner: text`` (wrapped at
-    :data:`TEXT_WIDTH` characters); the table holds ``see N`` in their place, so that no column is
-    padded to the longest hint. ``|`` in a cell is escaped.
-
-    Parameters
-    ----------
-    rows : sequence of mapping
-        The summary rows (missing keys are empty cells).
-    columns : sequence of str
-        The columns, in order.
-    listed : sequence of str
-        Columns whose text always goes to the list.
-    max_cell : int
-        The longest text a cell of the other columns holds.
-
-    Returns
-    -------
-    str
-        The table, then (when there is one) a blank line and the list.
-
-    Examples
-    --------
-    >>> print(format_table([{"planner": "potential", "ms": 1.5}], ("planner", "ms")))
-    | planner   | ms  |
-    |-----------|-----|
-    | potential | 1.5 |
-    >>> print(format_table([{"map": "arena", "planner": "potential", "note": "stalls at (45.69, 3.65)"}],
-    ...                    ("map", "planner", "note")))
-    | map   | planner   | note  |
-    |-------|-----------|-------|
-    | arena | potential | see 1 |
-    <BLANKLINE>
-    1. arena, potential: stalls at (45.69, 3.65)
-    """
-    cells = [[_fmt(r.get(c, "")) for c in columns] for r in rows]
-    items: list[str] = []
-    for r, row in zip(rows, cells, strict=True):
-        for i, c in enumerate(columns):
-            if row[i] and (c in listed or len(row[i]) > max_cell):
-                who = ", ".join(_fmt(r[k]) for k in ("map", "planner") if r.get(k, "") != "")
-                items.append(f"{who}: {row[i]}" if who else row[i])
-                row[i] = f"see {len(items)}"
-            row[i] = row[i].replace("|", "\\|")
-    widths = [max([len(c)] + [len(row[i]) for row in cells]) for i, c in enumerate(columns)]
-    line = "| " + " | ".join(c.ljust(w) for c, w in zip(columns, widths, strict=True)) + " |"
-    rule = "|" + "|".join("-" * (w + 2) for w in widths) + "|"
-    body = ["| " + " | ".join(v.ljust(w) for v, w in zip(row, widths, strict=True)) + " |" for row in cells]
-    listing = [wrap_item(text, f"{n}. ") for n, text in enumerate(items, 1)]
-    return "\n".join([line, rule, *body, *(["", *listing] if listing else [])])
-
-
-def _write_summary(result: DemoResult) -> None:
-    out = result.out_dir
-    csv_path, md_path = out / "summary.csv", out / "summary.md"
-    with csv_path.open("w", newline="", encoding="utf-8") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(SUMMARY_COLUMNS))
-        writer.writeheader()
-        for r in result.rows:
-            writer.writerow({k: _fmt(r.get(k, "")) for k in SUMMARY_COLUMNS})
-    lines = ["# gridfield demo", "", format_table(result.rows), "",
-             wrap_item("`length` in map units, `steps`: follower iterations or expanded path cells, "
-                       "`ms`: wall time of the planner call (rasterization and field building included); "
-                       "`see N`: the row's note, numbered under the table."), ""]
-    if result.notes:
-        lines += ["## Notes", "", *[wrap_item(s, "- ") for s in result.notes], ""]
-    if result.skipped:
-        lines += ["## Skipped", "", *[wrap_item(s, "- ") for s in result.skipped], ""]
-    lines += ["## Files", ""]
-    for f in result.files:
-        lines.append(f"![{f.stem}]({f.name})" if f.suffix in (".png", ".gif") else f"- {f.name}")
-        lines.append("")
-    md_path.write_text("\n".join(lines), encoding="utf-8")
-    result.files += [md_path, csv_path]
-
-
-def demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, parts: Sequence[str] | None = None,
-         log: Callable[[str], None] | None = None) -> DemoResult:
-    """Run the demo and return everything it did (see :func:`run_demo` for the rows only).
-
-    Parameters
-    ----------
-    out_dir : path
-        Created if missing; existing files of the same names are overwritten.
-    quick : bool
-        Coarser grids, fewer animation frames, lower resolution images (for tests).
-    parts : sequence of str, optional
-        A subset of :data:`DEMO_PARTS` (default: all).
-    log : callable, optional
-        Receives one line per step (e.g. ``print``); default: silent.
-
-    Returns
-    -------
-    DemoResult
-        The rows, files, skipped steps and notes.
-
-    Examples
-    --------
-    >>> import tempfile
-    >>> with tempfile.TemporaryDirectory() as d:
-    ...     result = demo(d, quick=True, parts=[])   # the summary alone: no part
-    ...     [f.name for f in result.files], result.rows
-    (['summary.md', 'summary.csv'], [])
-    """
-    import matplotlib
-
-    if parts is None:
-        parts = DEMO_PARTS
-    unknown = [p for p in parts if p not in DEMO_PARTS]
-    if unknown:
-        raise GridfieldError(f"unknown demo part {unknown[0]!r}; expected some of {', '.join(DEMO_PARTS)}")
-    out = FsPath(out_dir)
-    if out.exists() and not out.is_dir():
-        raise GridfieldError(f"{out}: exists and is not a folder")
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise GridfieldError(f"{out}: cannot create the output folder: {e.strerror or e}") from None
-    run = _Run(out, quick, log or (lambda _line: None))
-    t_all = time.perf_counter()
-    _warm_up(run)
-    with matplotlib.rc_context({"figure.max_open_warning": 0}):
-        for name in parts:
-            fn = _PARTS[name]
-            t0 = time.perf_counter()
-            n_files = len(run.result.files)
-            fn(run)
-            written = ", ".join(f.name for f in run.result.files[n_files:])
-            run.log(f"{name}: {time.perf_counter() - t0:.1f} s  {written}")
-    run.result.seconds = time.perf_counter() - t_all
-    _write_summary(run.result)
-    return run.result
-
-
-def run_demo(out_dir: str | FsPath = "gridfield-demo", *, quick: bool = False, parts: Sequence[str] | None = None,
-             log: Callable[[str], None] | None = None) -> list[dict[str, Any]]:
-    """Run every part of the demo, write its files to ``out_dir`` and return the summary rows.
-
-    Each row holds :data:`SUMMARY_COLUMNS`: ``part``, ``map``, ``planner``, ``model`` (the field's
-    ``model`` parameter where the planner has one: ``khatib``, ``vortex``, ``nf1``, ...; else empty), ``status``, ``length``,
-    ``steps`` (iterations), ``ms`` (wall time of the planner call) and a ``note``. The files are the
-    figures (``maps.png``, ``seed000_paths.png``, ``seed000_segment_potential.png``,
-    ``seed000_surface.png``, ``seed000_segment_basins.png``, ``convergence.png``, ``seed003_vortex.png``,
-    ``seed002_star_world.png``,
-    ``turtlebot3.png``, ``arena.png``, ``arena_classic_vs_complete.png``), the animation ``seed000_segment_follower.gif`` and
-    ``summary.md`` / ``summary.csv``. ``parts`` and ``log`` are as in :func:`demo`, which also returns
-    the files written and the steps skipped.
-
-    Parameters
-    ----------
-    out_dir : path
-        Created if missing.
-    quick : bool
-        Coarser grids and fewer frames.
-    parts : sequence of str, optional
-        A subset of :data:`DEMO_PARTS` (default: all).
-    log : callable, optional
-        Receives one line per step.
-
-    Returns
-    -------
-    list of dict
-        The summary rows.
-
-    Examples
-    --------
-    >>> import tempfile
-    >>> with tempfile.TemporaryDirectory() as d:
-    ...     run_demo(d, quick=True, parts=[])
-    []
-    """
-    return demo(out_dir, quick=quick, parts=parts, log=log).rows

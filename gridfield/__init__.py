@@ -15,7 +15,7 @@ mypy and the loader)::
 
 The layers, each a subpackage that imports only those below it (ARCHITECTURE.md; ``lint-imports``)::
 
-    core -> geometry -> io -> distance -> fields -> chunked -> following -> exact
+    core -> geometry -> distance -> fields -> io -> chunked -> following -> exact
          -> planners -> compare -> plot / sweep -> explore / demo -> cli
 
 Heavy modules (matplotlib, scipy.ndimage, the compiled kernels) are imported only when used.

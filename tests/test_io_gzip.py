@@ -49,8 +49,8 @@ def test_plan_runs_on_compressed_scenarios(tmp_path, capsys):
 
 @pytest.mark.parametrize(("data", "message"), [
     (b"type octile\nheight 1\n", "not a gzip file"),
-    (gzip.compress(b"type octile\nheight 2\nwidth 2\nmap\n..\n..\n")[:-12], "truncated gzip file"),
-])
+    (gzip.compress(b"type octile\nheight 2\nwidth 2\nmap\n..\n..\n", mtime=0)[:-12], "truncated gzip file"),
+], ids=["not-gzip", "truncated"])  # fixed ids and time stamp: every xdist worker collects the same tests
 def test_a_broken_gzip_file_is_named_in_one_line(tmp_path, capsys, data, message):
     f = tmp_path / "m.map.gz"
     f.write_bytes(data)

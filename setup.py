@@ -1,8 +1,9 @@
 """Build of gridfield's compiled kernels (Cython, ahead of time); the metadata is in pyproject.toml.
 
-Adding a kernel module is one line: put ``gridfield/_kernels_NAME.pyx`` in the tree and its name in
-``KERNELS`` below (``OPENMP`` too if it uses ``prange``). See "Building the kernels" in
-benchmarks/README.md.
+Each kernel lives beside the module that calls it (``gridfield/distance/_brushfire.pyx`` next to
+``gridfield/distance/brushfire.py``, as scikit-image keeps ``_skeletonize_cy.pyx`` beside its caller).
+Adding one is a line in ``KERNELS`` below (its dotted module name; ``OPENMP`` too if it uses ``prange``).
+See "Building the kernels" in benchmarks/README.md.
 """
 
 from pathlib import Path
@@ -10,11 +11,15 @@ from pathlib import Path
 from Cython.Build import cythonize
 from setuptools import Extension, setup
 
-#: The compiled modules, gridfield/<name>.pyx each.
-KERNELS = ["_kernels_anyangle", "_kernels_brushfire", "_kernels_chunked", "_kernels_eikonal", "_kernels_follow", "_kernels_incremental",
-           "_kernels_navfn", "_kernels_navigation", "_kernels_polyanya", "_kernels_potential"]
+#: The compiled modules, by dotted name: gridfield/<path>.pyx each.
+KERNELS = [
+    "gridfield.distance._brushfire", "gridfield.distance._incremental", "gridfield.chunked._chunked",
+    "gridfield.fields._potential", "gridfield.fields._navfn", "gridfield.fields._navigation",
+    "gridfield.fields._eikonal", "gridfield.fields._samplers", "gridfield.exact._anyangle",
+    "gridfield.exact._polyanya",
+]
 #: Those with OpenMP loops (``prange``).
-OPENMP = {"_kernels_potential"}
+OPENMP = {"gridfield.fields._potential"}
 
 # -O3 vectorizes the branch-free loops; no -ffast-math and no contraction into FMA, so that the
 # results are bit-identical to the reference arithmetic; -fno-math-errno and -fno-trapping-math (no
@@ -28,8 +33,13 @@ _CFLAGS = ["-O3", "-ffp-contract=off", "-fno-math-errno", "-fno-trapping-math"]
 
 def _extension(name: str) -> Extension:
     omp = ["-fopenmp"] if name in OPENMP else []
-    return Extension(f"gridfield.{name}", [f"gridfield/{name}.pyx"], include_dirs=["gridfield"],
-                     depends=[str(h) for h in sorted(Path("gridfield").glob("*.h")) + sorted(Path("gridfield").glob("*.pxd"))],
+    source = Path(*name.split(".")).with_suffix(".pyx")
+    here = source.parent
+    # the C row loops: _brushfire_rows.h (the distance transforms) and _potential_rows.h (the potential's rows,
+    # also run by the incremental and chunked kernels on their windows and blocks)
+    headers = [Path("gridfield/distance"), Path("gridfield/fields")]
+    return Extension(name, [str(source)], include_dirs=[str(here), *map(str, headers)],
+                     depends=[str(h) for d in headers for h in sorted(d.glob("*.h"))] + [str(p) for p in sorted(here.glob("*.pxd"))],
                      extra_compile_args=_CFLAGS + omp,
                      extra_link_args=omp, define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")])
 

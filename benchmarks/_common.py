@@ -180,7 +180,7 @@ def machine_facts() -> str:
     except OSError:
         pass
     parts = [f"{cpu}, {os.cpu_count()} cores", f"Python {platform.python_version()}", f"numpy {np.__version__}"]
-    from gridfield import _kernels_potential
+    from gridfield.fields import _potential as _kernels_potential
 
     parts.append(f"gridfield kernels compiled ahead of time (Cython, OpenMP {_kernels_potential.get_num_threads()} "
                  "threads)")

@@ -1,4 +1,4 @@
-"""Any-angle optimum on Moving AI maps (``gridfield.anyangle``) beside the octile wavefront.
+"""Any-angle optimum on Moving AI maps (``gridfield.exact.anyangle``) beside the octile wavefront.
 
 Run ``python benchmarks/anyangle.py [--root tests/data/maps/movingai] [--maps NAME ...] [--queries 50]
 [--no-lazy] [--compare-numba OLD.py]``.
@@ -55,8 +55,8 @@ DEFAULT_MAPS = ("AR0011SR", "16room_000", "random512-10-0")
 
 
 def _warm_up() -> None:
-    from gridfield.anyangle import grid_graph
-    from gridfield.grid import Grid, GridMap
+    from gridfield.core.grid import Grid, GridMap
+    from gridfield.exact.anyangle import grid_graph
     from gridfield.planners import plan
 
     occ = np.zeros((12, 12), bool)
@@ -69,7 +69,7 @@ def _warm_up() -> None:
 
 
 def bench_map(folder: Path, n_queries: int, lazy: bool = True) -> dict:
-    from gridfield.anyangle import grid_graph
+    from gridfield.exact.anyangle import grid_graph
     from gridfield.io import read_movingai_map, read_scen
     from gridfield.planners import plan
 
@@ -147,7 +147,7 @@ def load_numba(path: Path):
 
 def compare_numba(folder: Path, n_queries: int, old, rounds: int) -> dict:
     """Build and query times with the compiled kernels (``None``) and ``old``, side by side."""
-    import gridfield.anyangle as aa
+    import gridfield.exact.anyangle as aa
     from gridfield.io import read_movingai_map, read_scen
 
     own = aa._kernels
@@ -222,7 +222,7 @@ def main(argv: list[str] | None = None) -> int:
               f"| {r['plan_ms']:.2f} | {r['octile_ms']:.1f} | {r['ratio_median']:.4f} / {r['ratio_max']:.4f} | {r['bad']} "
               f"| {r['bad_poly']} | {r['bad_lazy']} |", flush=True)
     if old is not None:
-        import gridfield.anyangle as aa
+        import gridfield.exact.anyangle as aa
 
         own = aa._kernels
         aa._kernels = lambda: old  # warm-up (numba cache load) of the old kernels

@@ -117,9 +117,9 @@ def load_old_kernels(path: str) -> Any:
 def methods(occ: np.ndarray, *, opencv: Any | None, old: Any | None = None) -> list[Method]:
     from scipy import ndimage
 
-    import gridfield.brushfire as gb
-    from gridfield.brushfire import brushfire
-    from gridfield.grid import Grid, GridMap
+    import gridfield.distance.brushfire as gb
+    from gridfield.core.grid import Grid, GridMap
+    from gridfield.distance.brushfire import brushfire
 
     gm = GridMap(Grid(occ.shape, 1.0), occ)
     free = ~occ
@@ -130,7 +130,7 @@ def methods(occ: np.ndarray, *, opencv: Any | None, old: Any | None = None) -> l
         return lambda: brushfire(gm, threads=threads, **kw)
 
     def bf_old(threads: int, **kw: Any) -> Callable[[], Any]:
-        # brushfire() asks gb._kernels() for its module (the cached loader of gridfield._kernels): swap
+        # brushfire() asks gb._kernels() for its module (which imports the compiled module beside it): swap
         # that function for the call (setting gb._KERNELS, as this did before, no longer reached it)
         def run() -> Any:
             loader = gb._kernels
@@ -345,8 +345,8 @@ _FIRST_CALL = textwrap.dedent("""
     import json, sys, time
     t0 = time.perf_counter()
     import numpy as np
-    from gridfield.brushfire import brushfire
-    from gridfield.grid import Grid, GridMap
+    from gridfield.distance.brushfire import brushfire
+    from gridfield.core.grid import Grid, GridMap
     t1 = time.perf_counter()
     occ = np.zeros((64, 64), bool); occ[10, 10] = occ[40, 50] = True
     gm = GridMap(Grid((64, 64), 1.0, border="wall"), occ)

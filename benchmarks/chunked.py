@@ -140,9 +140,6 @@ def _read_sampler(dask_worker=None) -> int:
 def _warm_up(dask_worker=None) -> None:
     import zarr  # noqa: F401
 
-    import gridfield._kernels_brushfire
-    import gridfield._kernels_chunked
-    import gridfield.chunked._distance  # noqa: F401
 
 
 class Discard:
@@ -252,8 +249,8 @@ def main(argv: list[str] | None = None) -> int:
 
     from distributed import Client, LocalCluster
 
-    from gridfield.brushfire import brushfire
-    from gridfield.grid import Grid, GridMap
+    from gridfield.core.grid import Grid, GridMap
+    from gridfield.distance.brushfire import brushfire
 
     tmp = Path(tempfile.mkdtemp(prefix="gf-chunked-"))
     store = args.store or tmp / "out.zarr"

@@ -10,7 +10,7 @@ corners. It is built in memory (no file I/O); what is timed is one call of
 default here, and what the end-to-end targets of ``benchmarks/run.py`` were set on) that computes the
 Euclidean brushfire, the fused attractive + repulsive potential and its gradients, and follows them.
 ``--model default`` leaves the model to the planner, whose default since issue 25 is the complete
-field ``nf1`` (:mod:`gridfield.navfield`: the brushfire, the clearance band's slowness, a weighted-A*
+field ``nf1`` (:mod:`gridfield.fields.navfield`: the brushfire, the clearance band's slowness, a weighted-A*
 fast march from the goal towards the start, its upwind gradient, the follower): a different and
 heavier computation, reported beside the classic one by ``run.py``.
 
@@ -138,8 +138,8 @@ def synthetic_occupancy(n: int, *, seed: int = 0, obstacles: int = 40) -> np.nda
 
 
 def synthetic_map(n: int, *, seed: int = 0) -> Any:
-    """The benchmark world as a :class:`gridfield.grid.GridMap` with ``n x n`` cells (open border)."""
-    from gridfield.grid import Grid, GridMap
+    """The benchmark world as a :class:`gridfield.core.grid.GridMap` with ``n x n`` cells (open border)."""
+    from gridfield.core.grid import Grid, GridMap
 
     return GridMap(Grid((n, n), WORLD / n), synthetic_occupancy(n, seed=seed), source=f"synthetic {n}x{n}")
 
@@ -192,9 +192,9 @@ def measure_size(n: int, repeat: int, *, trace: bool = True, model: str = "khati
         import cv2
     except ImportError:  # opencv-python-headless is in the [bench] extra only
         cv2 = None
-    from gridfield.brushfire import brushfire
+    from gridfield.distance.brushfire import brushfire
+    from gridfield.fields.potential import field_distance_map
     from gridfield.planners import plan
-    from gridfield.potential import field_distance_map
 
     small = synthetic_map(64)
     plan("potential", small, START, GOAL, plan_params(64, model))  # load the kernels
@@ -266,7 +266,7 @@ def run_child(n: int, repeat: int, *, trace: bool = True, model: str = "khatib")
         cmd.append("--no-tracemalloc")
     t0 = time.monotonic()
     with tempfile.TemporaryFile("w+") as err:
-        # the size guard's estimate (gridfield.limits: the CLI's worst case per cell, with a failed run's
+        # the size guard's estimate (gridfield.core.limits: the CLI's worst case per cell, with a failed run's
         # diagnosis) is not what is measured here: a cell limit of the map's size replaces it, as in memory.py
         env = {**os.environ, "GRIDFIELD_MAX_CELLS": str(max(n * n, 1 << 20))}  # the warm-up map too
         proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=err, text=True, env=env)

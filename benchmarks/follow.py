@@ -5,11 +5,11 @@ Run ``python benchmarks/follow.py`` (options: ``--size``, ``--starts``, ``--repe
 
 Prints, as medians of ``--repeat`` runs:
 
-- the grid follower (:func:`gridfield.follow.follow`, bilinear sampling, cell-walk blocking):
+- the grid follower (:func:`gridfield.following.follower.follow`, bilinear sampling, cell-walk blocking):
   steps per second, over 20 starts;
-- :func:`gridfield.follow.follow_many` on ``--starts`` points at once: point-steps per second;
-- the exact planner (:func:`gridfield.exact.plan_exact_potential`) on seed 000: steps per second;
-- ``--descend-only``: the CPU time per step of :func:`gridfield.descent.descend` alone (its
+- :func:`gridfield.following.follower.follow_many` on ``--starts`` points at once: point-steps per second;
+- the exact planner (:func:`gridfield.exact.continuous.plan_exact_potential`) on seed 000: steps per second;
+- ``--descend-only``: the CPU time per step of :func:`gridfield.following.descent.descend` alone (its
   step and stop rules, on an analytic bowl), best of ``--repeat`` runs;
 - a reference measured in the same process: a bare Python loop making one call per step to a
   no-op function taking a point, i.e. the floor of any Python-driven step loop; the follower's
@@ -24,12 +24,12 @@ import time
 
 import numpy as np
 
-from gridfield.exact import plan_exact_potential
-from gridfield.follow import follow, follow_many, plan_potential
+from gridfield.exact.continuous import plan_exact_potential
+from gridfield.fields.potential import build_field
+from gridfield.following.follower import follow, follow_many, plan_potential
+from gridfield.geometry.rasterize import rasterize
+from gridfield.geometry.world import world_from_dict
 from gridfield.io import bundled_map, read_world
-from gridfield.potential import build_field
-from gridfield.rasterize import rasterize
-from gridfield.world import world_from_dict
 
 
 def circle_world(size: float, n: int, seed: int) -> dict:
@@ -64,11 +64,11 @@ def reference_per_call(n: int = 200_000) -> float:
 
 
 def descend_rules(repeat: int, steps: int = 60_000) -> float:
-    """Seconds of CPU per step of :func:`gridfield.descent.descend` alone: an analytic bowl and a
+    """Seconds of CPU per step of :func:`gridfield.following.descent.descend` alone: an analytic bowl and a
     pure-Python ``blocked`` that never blocks, so what is timed is the step and stop rules. (Takes
     an older gridfield too, whose ``descend`` returned a tuple: ``--descend-only`` runs this
     alone, for side-by-side runs of two checkouts.)"""
-    from gridfield.descent import descend
+    from gridfield.following.descent import descend
 
     def force(p: tuple[float, float]) -> tuple[float, float]:
         return 1000.0 - p[0], 0.3 - p[1]

@@ -1,11 +1,11 @@
-"""Incremental brushfire (:class:`gridfield.incremental.IncrementalBrushfire`) beside a full brushfire.
+"""Incremental brushfire (:class:`gridfield.distance.incremental.IncrementalBrushfire`) beside a full brushfire.
 
 Run ``python benchmarks/incremental.py [--size 4096] [--maps maze random] [--blocks 1 2 5 10 20 40 80]
 [--placements 8] [--repeat 3] [--plot benchmarks/incremental.png] [--compare-numba OLD.py]``.
 
 On each map (``n x n``, wall border) a square block of ``k x k`` cells is made occupied at a random
 place and then freed again, ``placements`` places per block size; every update is timed, and so is
-a full Euclidean :func:`gridfield.brushfire.brushfire` of the same map (distance + nearest obstacle,
+a full Euclidean :func:`gridfield.distance.brushfire.brushfire` of the same map (distance + nearest obstacle,
 no labels: what the incremental updates keep), in the same run, interleaved round by round, so the
 ratios compare like with like. The block's cells that were already occupied are left out.
 Reported: the median (and largest) time per update and the median number of cells whose nearest
@@ -14,8 +14,8 @@ cells it changed as a plot.
 
 Then the costs the distance updates do not cover: the labels and GVD of a map without world ids
 (in place when no component is renumbered, else recomputed over the grid when read, see
-:mod:`gridfield.incremental`), the same with world ids (updated in the window), and the potential field window update (:func:`update_field`) beside a full
-:func:`gridfield.potential.build_field`.
+:mod:`gridfield.distance.incremental`), the same with world ids (updated in the window), and the potential field window update (:func:`update_field`) beside a full
+:func:`gridfield.fields.potential.build_field`.
 
 ``--compare-numba OLD.py``: also time the numba kernels of an older checkout (e.g.
 ``git show 3fd2f69:gridfield/_kernels_incremental.py > /tmp/old.py``; needs numba, in the ``bench``
@@ -46,11 +46,12 @@ sys.path.insert(0, str(HERE.parent))
 from _common import machine_facts, markdown_table  # noqa: E402
 from brushfire import maze_map  # noqa: E402
 
-import gridfield.incremental as incremental  # noqa: E402
-from gridfield.brushfire import brushfire  # noqa: E402
-from gridfield.grid import Grid, GridMap  # noqa: E402
-from gridfield.incremental import IncrementalBrushfire, update_field  # noqa: E402
-from gridfield.potential import build_field  # noqa: E402
+import gridfield.distance.incremental as incremental  # noqa: E402
+from gridfield.core.grid import Grid, GridMap  # noqa: E402
+from gridfield.distance.brushfire import brushfire  # noqa: E402
+from gridfield.distance.incremental import IncrementalBrushfire  # noqa: E402
+from gridfield.fields.incremental import update_field  # noqa: E402
+from gridfield.fields.potential import build_field  # noqa: E402
 
 
 def random_map(n: int, seed: int = 0) -> np.ndarray:
@@ -88,7 +89,7 @@ def load_numba(path: Path) -> Any:
 
 
 def use(kernels: Any) -> None:
-    """Make :mod:`gridfield.incremental` call ``kernels`` (None: its own compiled module)."""
+    """Make :mod:`gridfield.distance.incremental` call ``kernels`` (None: its own compiled module)."""
     incremental._KERNELS = kernels
 
 

@@ -1,4 +1,4 @@
-"""Peak memory per cell of each command and grid planner: the figures behind ``gridfield.limits.JOB_BYTES_PER_CELL``.
+"""Peak memory per cell of each command and grid planner: the figures behind ``gridfield.core.limits.JOB_BYTES_PER_CELL``.
 
 Each (job, size) runs in a fresh Python process (so that one run's freed memory does not hide the
 next one's): the benchmark world of ``end_to_end.synthetic_map`` at ``n x n`` cells is written to an

@@ -1,4 +1,4 @@
-"""Every Moving AI scenario against the octile wavefront (``gridfield.navigation.wavefront``).
+"""Every Moving AI scenario against the octile wavefront (``gridfield.fields.navigation.wavefront``).
 
 Run ``python benchmarks/movingai_all.py [--root tests/data/maps/movingai] [--processes 2] [--maps NAME ...]``.
 For each scenario: one wavefront from the goal (8-connected, octile costs, no corner cutting), its value
@@ -53,8 +53,8 @@ def chain_ok(free: np.ndarray, cells: np.ndarray, value: float) -> bool:
 
 
 def run_map(directory: str) -> dict[str, Any]:
+    from gridfield.fields.navigation import extract_path, wavefront
     from gridfield.io import read_movingai_map, read_scen
-    from gridfield.navigation import extract_path, wavefront
 
     d = Path(directory)
     map_file, scen_file = map_and_scen(d)

@@ -4,7 +4,7 @@ Run ``python benchmarks/nav2.py [--maps-root tests/data/maps] [--per-map 8] [--b
 [--points 1000000]``.
 
 1. **Planners on the same costmaps.** For each ROS map (turtlebot3_world, nav2_depot,
-   nav2_smoothers_world) its Nav2 costmap (:func:`gridfield.costmap.inflate`, Nav2's defaults:
+   nav2_smoothers_world) its Nav2 costmap (:func:`gridfield.fields.costmap.inflate`, Nav2's defaults:
    robot radius 0.1, inflation radius 0.55, cost scaling 10), and ``--per-map`` pairs of free cells
    (cost < 253, in one 4-connected component of them) drawn with ``numpy.random.default_rng(0)``.
    Every planner plans on that :class:`Costmap` through ``gridfield.planners.plan`` (one cache per
@@ -40,8 +40,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from _common import TEST_MAPS
 
-from gridfield.costmap import Costmap, inflate
-from gridfield.grid import Grid
+from gridfield.core.grid import Grid
+from gridfield.fields.costmap import Costmap, inflate
 from gridfield.io import read
 from gridfield.planners import plan
 
@@ -106,7 +106,7 @@ def big_table(root: Path, size: int, repeat: int) -> str:
     occ = base.occupied
     reps = max(1, size // occ.shape[0])
     occ = np.tile(occ, (reps, reps))
-    from gridfield.grid import GridMap
+    from gridfield.core.grid import GridMap
 
     gm = GridMap(Grid(occ.shape, base.grid.resolution, base.grid.origin, "open"), occ)
     t0 = time.perf_counter()

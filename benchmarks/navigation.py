@@ -1,4 +1,4 @@
-"""Benchmark: navigation functions (``gridfield.navigation``).
+"""Benchmark: navigation functions (``gridfield.fields.navigation``).
 
 Run ``python benchmarks/navigation.py`` (options: ``--sizes``, ``--repeat``, ``--maps``, ``--skip``).
 Prints markdown tables; every time is a median over ``--repeat`` rounds in which the candidates run
@@ -35,8 +35,8 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from gridfield.grid import Grid, GridMap
-from gridfield.navigation import extract_path, fmm, harmonic, wavefront
+from gridfield.core.grid import Grid, GridMap
+from gridfield.fields.navigation import extract_path, fmm, harmonic, wavefront
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))

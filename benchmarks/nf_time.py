@@ -13,7 +13,7 @@ cache=cache)`` and ``plan("wavefront-octile", gm, s, g, {}, cache=cache)``, alte
 that load from other jobs hits both alike. Reported per map: the median over the queries of the
 potential planner's time, of the wavefront's, and the median of the per-query ratios; and how many
 potential paths reached. The issue's target: ratio <= 3 and potential <= 10 ms. ``--plain`` adds a
-third candidate to the same rounds: the potential planner with ``gridfield.navfield.ASTAR_WEIGHT``
+third candidate to the same rounds: the potential planner with ``gridfield.fields.navfield.ASTAR_WEIGHT``
 set to 0 (the plain, Dijkstra-ordered truncated march: the behaviour before the A* order).
 
 The machine's load average is printed with the table; compare ratios within one run.
@@ -47,11 +47,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--params", default="{}", help="JSON params of the potential planner (default: {})")
     ap.add_argument("--plain", action="store_true", help="also time the plain-order truncated march (ASTAR_WEIGHT 0)")
     ap.add_argument("--weight", type=float, default=None,
-                    help="run the potential planner with gridfield.navfield.ASTAR_WEIGHT set to this (default: the "
+                    help="run the potential planner with gridfield.fields.navfield.ASTAR_WEIGHT set to this (default: the "
                          "library's, 1.25; it was 0.7, then 1.0, during stop 38)")
     args = ap.parse_args(argv)
 
-    from gridfield import navfield
+    from gridfield.fields import navfield
     from gridfield.io import read_movingai_map, read_scen
     from gridfield.planners import plan
 

@@ -107,7 +107,7 @@ class _Context:
 
 
 def _gridmap(occupied: np.ndarray, resolution: float = 1.0, source: str = "") -> Any:
-    from gridfield.grid import Grid, GridMap
+    from gridfield.core.grid import Grid, GridMap
 
     return GridMap(Grid(occupied.shape, resolution), np.ascontiguousarray(occupied, bool), source=source)
 
@@ -315,8 +315,8 @@ def bench_pmp_apf(ctx: _Context, astar_path: Any) -> None:
             r.status, r.note = "missing", _missing(e)
         ctx.rows += rows
         return
-    from gridfield.follow import follow, grid_sampler, sample_force
-    from gridfield.potential import build_field
+    from gridfield.fields.potential import build_field
+    from gridfield.following.follower import follow, grid_sampler, sample_force
 
     occ = _pmp_occupancy(grid)
     world_path = [grid.map_to_world(p) for p in astar_path]
@@ -466,7 +466,7 @@ def cell_by_cell_potential(width: int, height: int, res: float, goal: tuple[floa
 
 def bench_cell_by_cell(ctx: _Context) -> None:
     """The cell-by-cell Python potential (script style and tight) vs gridfield's build_field on the same grid."""
-    from gridfield.potential import build_field
+    from gridfield.fields.potential import build_field
 
     scale = min(ctx.scale, 1.0)
     width, height = max(8, round(600 * scale)), max(8, round(500 * scale))

@@ -25,11 +25,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from gridfield import _kernels_potential as _kp
-from gridfield._kernels_potential import _khatib_kernel
-from gridfield.brushfire import brushfire
-from gridfield.grid import Grid, GridMap
-from gridfield.potential import _threads_for, build_field
+from gridfield.core.grid import Grid, GridMap
+from gridfield.distance.brushfire import brushfire
+from gridfield.fields import _potential as _kp
+from gridfield.fields._potential import _khatib_kernel
+from gridfield.fields.potential import _threads_for, build_field
 
 
 def blocks(n: int, count: int, seed: int) -> GridMap:

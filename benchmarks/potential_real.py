@@ -15,11 +15,11 @@ brushfire is computed once per map; ``--no-cache``: none), once per variant:
 - ``khatib``: ``{"model": "khatib"}`` (the classic field, the default before the complete models);
   ``nf1``, ``nf1_plain`` (``clearance_band: 0``: nf1 without its clearance band, the default
   before issue 25), ``nf1_octile`` (``attraction: octile``), ``nf2``, ``nf_blend`` (``model: nf-blend``): the
-  complete models of :mod:`gridfield.navfield` (reported "n/a" where the installed gridfield does
+  complete models of :mod:`gridfield.fields.navfield` (reported "n/a" where the installed gridfield does
   not know them).
 
 The quality table (``--quality``, default on) adds per variant and map kind: reached / reachable,
-the length ratio to the **any-angle optimum** (``gridfield.anyangle.plan_anyangle``, the
+the length ratio to the **any-angle optimum** (``gridfield.exact.anyangle.plan_anyangle``, the
 ``visibility`` planner on the same grid map; median, p95; computed on maps of at most
 ``--any-angle-max-cells`` cells, its graph being costly on the largest) and to the octile optimum
 (median, p95), the path's minimum clearance in cells (median; ``Path.min_clearance``), its margin
@@ -86,7 +86,7 @@ VARIANTS: dict[str, dict[str, Any]] = {
     "defaults": {},
     "random_walk": {"model": "khatib", "escape": "random_walk"},
     "navigation": {"model": "khatib", "escape": "navigation"},
-    # the classic field and the complete models (gridfield.navfield); "defaults" is nf1 since they came
+    # the classic field and the complete models (gridfield.fields.navfield); "defaults" is nf1 since they came
     "khatib": {"model": "khatib"},
     "nf1": {"model": "nf1"},
     "nf1_plain": {"model": "nf1", "clearance_band": 0},  # nf1 without its clearance band (the default before)
@@ -204,7 +204,7 @@ def _plain(v: Any) -> Any:
 
 def run_query(gm: Any, start: np.ndarray, goal: np.ndarray, variant: str, params: dict[str, Any],
               optimal: float, cache: dict[Any, Any] | None) -> dict[str, Any]:
-    from gridfield.errors import ParameterError
+    from gridfield.core.errors import ParameterError
     from gridfield.planners import plan
 
     rec: dict[str, Any] = {"variant": variant, "status": None, "length": None, "ratio": None, "hint": None,
@@ -320,7 +320,7 @@ def bottleneck_clearance(dist: np.ndarray, free: np.ndarray, s: tuple[int, int],
 def _quality_refs(gm: Any, queries: list[dict[str, Any]], cache: dict[Any, Any] | None, task: dict[str, Any]) -> None:
     """Per query: the any-angle optimum, the bottleneck clearance (cells) and the time of
     ``wavefront-octile`` (the API, this map's cache), in place."""
-    from gridfield.brushfire import brushfire
+    from gridfield.distance.brushfire import brushfire
     from gridfield.planners import plan
 
     free = ~np.asarray(gm.occupied, dtype=bool)
@@ -337,7 +337,7 @@ def _quality_refs(gm: Any, queries: list[dict[str, Any]], cache: dict[Any, Any] 
             plan("wavefront-octile", gm, q["start"], q["goal"], {}, cache=cache)
             q["octile_seconds"] = time.perf_counter() - t0
             if any_angle:
-                from gridfield.anyangle import plan_anyangle
+                from gridfield.exact.anyangle import plan_anyangle
 
                 p = plan_anyangle(gm, q["start"], q["goal"], cache=aa_cache)
                 q["any_angle"] = float(p.length) if p.status == "reached" else None

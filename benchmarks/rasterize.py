@@ -2,7 +2,7 @@
 
 Run ``python benchmarks/rasterize.py`` (options: ``--size``, ``--obstacles``, ``--repeat``,
 ``--seed``). Prints the median wall time of ``--repeat`` runs (default 5) of
-:func:`gridfield.rasterize.rasterize`, the time of one full-grid reference operation measured in
+:func:`gridfield.geometry.rasterize.rasterize`, the time of one full-grid reference operation measured in
 the same process (``np.zeros`` + one boolean OR over the grid), and their ratio.
 """
 
@@ -14,8 +14,8 @@ import time
 
 import numpy as np
 
-from gridfield.rasterize import rasterize
-from gridfield.world import world_from_dict
+from gridfield.geometry.rasterize import rasterize
+from gridfield.geometry.world import world_from_dict
 
 
 def random_world(size: float, n: int, seed: int) -> dict:

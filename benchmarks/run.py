@@ -119,7 +119,7 @@ def _git(*args: str) -> str:
 
 def machine_facts() -> list[str]:
     """Bullet lines describing the machine and the software measured."""
-    from gridfield import _kernels_potential
+    from gridfield.fields import _potential as _kernels_potential
 
     threads = _kernels_potential.get_num_threads()
     load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
@@ -360,9 +360,9 @@ def components_for_size(n: int, repeat: int) -> list[Line]:
     """Every side-by-side measurement on the synthetic n x n map."""
     from scipy import ndimage
 
-    from gridfield.brushfire import brushfire
-    from gridfield.follow import follow
-    from gridfield.potential import build_field
+    from gridfield.distance.brushfire import brushfire
+    from gridfield.fields.potential import build_field
+    from gridfield.following.follower import follow
 
     gm = end_to_end.synthetic_map(n)
     occ = gm.occupied

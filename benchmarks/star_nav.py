@@ -29,9 +29,9 @@ from typing import Any
 import numpy as np
 from shapely.geometry import Point, Polygon
 
-from gridfield import navigation as star  # the star-world names (gridfield.star is a deprecated alias)
+from gridfield.fields import navigation as star  # the star-world names (gridfield.star is a deprecated alias)
+from gridfield.geometry.world import world_from_dict
 from gridfield.planners import plan
-from gridfield.world import world_from_dict
 
 C0, R0 = np.array([10.0, 10.0]), 10.0
 

@@ -25,10 +25,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--starts", type=int, default=4)
     args = ap.parse_args(argv)
 
-    from gridfield.follow import follow
-    from gridfield.grid import Grid, GridMap
+    from gridfield.core.grid import Grid, GridMap
+    from gridfield.fields.potential import build_field
+    from gridfield.following.follower import follow
     from gridfield.io import read, write_store
-    from gridfield.potential import build_field
 
     n, c = args.size, args.chunks
     occ = np.zeros((n, n), bool)

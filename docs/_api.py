@@ -2,16 +2,23 @@
 
 from __future__ import annotations
 
+import ast
 import importlib
+import importlib.util
 import inspect
+import sys
 import types
 from pathlib import Path
 
-# Every public module (private ``_kernels_*`` and the ``cli`` package are implementation details).
+# Every public module, by its dotted name under gridfield (the compiled kernels and the ``cli`` package are
+# implementation details; the layer packages' own pages are those of their modules).
 MODULES = [
-    "io", "world", "grid", "limits", "rasterize", "cspace", "brushfire", "chunked", "incremental", "potential", "navfield",
-    "vortex", "params", "descent", "sampling", "follow", "basins", "escapes", "diagnose", "navigation", "costmap", "navfn",
-    "exact", "visibility", "gridpoly", "anyangle", "planners", "path", "compare", "sweep", "plot", "demo", "explore", "errors",
+    "io", "geometry.world", "core.grid", "core.limits", "geometry.rasterize", "geometry.cspace", "distance.brushfire",
+    "chunked", "distance.incremental", "fields.incremental", "fields.potential", "fields.navfield", "fields.vortex",
+    "core.params", "following.descent", "fields.sampling", "following.follower", "following.basins",
+    "following.escapes", "following.diagnose", "fields.navigation", "fields.navtable", "fields.costmap", "fields.navfn",
+    "exact.continuous", "exact.visibility", "geometry.gridpoly", "exact.anyangle", "planners", "core.path",
+    "core.results", "compare", "sweep", "plot", "demo", "explore", "core.errors",
 ]
 
 
@@ -31,6 +38,18 @@ def _comment_of(module: types.ModuleType, name: str) -> str:
                 notes.insert(0, src[i][2:].strip())
             return " ".join(notes)
     return ""
+
+
+def _source_module(module: types.ModuleType, name: str) -> types.ModuleType:
+    """The module whose source assigns ``name``: ``module``, or the one it imports ``name`` from by a
+    relative import, followed (a public module re-exporting a constant of a private one beside it)."""
+    package = module.__name__ if hasattr(module, "__path__") else module.__name__.rpartition(".")[0]
+    for node in ast.parse(inspect.getsource(module)).body:
+        if (isinstance(node, ast.ImportFrom) and node.level
+                and any(a.name == name and a.asname in (None, name) for a in node.names)):
+            where = importlib.util.resolve_name("." * node.level + (node.module or ""), package)
+            return _source_module(sys.modules[where], name)  # imported already: module imports it
+    return module
 
 
 def _home(obj: object) -> str | None:
@@ -91,8 +110,8 @@ def _page(name: str) -> str:
         elif isinstance(obj, types.GenericAlias):
             lines += [f".. py:data:: {n}", "", f"   {_comment_of(module, n)}", "", f"   Type alias: ``{obj}``.", ""]
         else:  # a constant: its ``#:`` comment and its value (never the docstring of its type)
-            note = _comment_of(module, n) or _comment_of(importlib.import_module(getattr(obj, "__module__", "")
-                                                                               or module.__name__), n)
+            note = _comment_of(_source_module(module, n), n) or _comment_of(
+                importlib.import_module(getattr(obj, "__module__", "") or module.__name__), n)
             value = _value(obj).replace("`", "'")
             lines += [f".. py:data:: {n}", f"   :value: {value}", "", f"   {note}" if note else "", ""]
     return "\n".join(lines)

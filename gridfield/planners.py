@@ -1,7 +1,7 @@
 """One entry point for every planner: :func:`plan`, and the registry :data:`PLANNERS`.
 
 A planner is a function ``fn(target, start, goal, params) -> Path`` where ``target`` is a
-:class:`~gridfield.grid.GridMap` for grid planners and a :class:`~gridfield.world.World` for
+:class:`~gridfield.core.grid.GridMap` for grid planners and a :class:`~gridfield.geometry.world.World` for
 exact-geometry planners, ``start``/``goal`` are world points ``(2,)`` already checked to be free,
 and ``params`` a plain mapping of the parameter names in :data:`PARAMETERS` (a planner uses the
 names it knows and ignores the others). Planners are imported only when used.
@@ -10,52 +10,84 @@ names it knows and ignores the others). Planners are imported only when used.
 from __future__ import annotations
 
 import dataclasses
-import importlib
 import time
 from collections.abc import Callable, Mapping
+from types import ModuleType
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._coords import as_xy
-from ._planner_table import PLANNERS as _PLANNERS
-from ._planner_table import Planner
-from .errors import ArgumentTypeError, GridfieldError, ParameterError
-from .grid import GridMap
-from .params import REGISTRY, validate
-from .path import Path, PathExtra
+from .core.coords import as_xy
+from .core.errors import ArgumentTypeError, GridfieldError, ParameterError
+from .core.grid import GridMap
+from .core.params import REGISTRY, validate
+from .core.path import Path, PathExtra
+from .core.planner_table import PLANNERS as _PLANNERS
+from .core.planner_table import Planner
 
 if TYPE_CHECKING:  # shapely (via world) is imported only when a plan is made: `gridfield --help` stays light
-    from .potential import Field
-    from .world import World
+    from .fields.potential import Field
+    from .geometry.world import World
 
 __all__ = ["PARAMETERS", "PLANNERS", "Plan", "Planner", "check_params", "get_planner", "plan", "plan_with_field"]
 
 #: name -> :class:`Planner` ``(module, function, kind, reads)``: kind "grid"
 #: needs a GridMap, "world" a World; ``reads``, the parameters it reads. (The table is the leaf module
-#: ``gridfield._planner_table``, which :mod:`gridfield.params` reads too; adding a planner is one
+#: ``gridfield.core.planner_table``, which :mod:`gridfield.core.params` reads too; adding a planner is one
 #: entry there and its module.)
 PLANNERS = _PLANNERS
 
 #: World planners with their own implementation on grid maps (used when a grid map has no vector
 #: world): name -> (module, function), called like a grid planner.
 GRID_VARIANTS: dict[str, tuple[str, str]] = {
-    "visibility": ("gridfield.anyangle", "plan_anyangle"),
+    "visibility": ("gridfield.exact.anyangle", "plan_anyangle"),
 }
 
 #: Grid planners that build a potential field and can return it with the path (:func:`plan_with_field`):
 #: name -> (module, function), ``fn(gridmap, start, goal, params, cache=...) -> (Path, Field or None)``.
 FIELD_PLANNERS: dict[str, tuple[str, str]] = {
-    "potential": ("gridfield.follow", "plan_potential_with_field"),
+    "potential": ("gridfield.following.follower", "plan_potential_with_field"),
 }
 
-#: Every parameter name a planner may read, with its meaning (generated from :data:`gridfield.params.REGISTRY`).
+#: Every parameter name a planner may read, with its meaning (generated from :data:`gridfield.core.params.REGISTRY`).
 PARAMETERS: dict[str, str] = {name: spec.meaning for name, spec in REGISTRY.items()}
 
 
+def _module(name: str) -> ModuleType:
+    """The module implementing a planner of the tables above, imported on first use: one import statement
+    per implementing module, so that tools (grimp, import-linter) see every arrow."""
+    if name == "gridfield.following.follower":
+        from .following import follower
+
+        return follower
+    if name == "gridfield.exact.continuous":
+        from .exact import continuous
+
+        return continuous
+    if name == "gridfield.exact.visibility":
+        from .exact import visibility
+
+        return visibility
+    if name == "gridfield.exact.anyangle":
+        from .exact import anyangle
+
+        return anyangle
+    if name == "gridfield.fields.navigation":
+        from .fields import navigation
+
+        return navigation
+    if name == "gridfield.fields.navfn":
+        from .fields import navfn
+
+        return navfn
+    # a table entry naming a module this function does not import: the table's bug
+    raise ModuleNotFoundError(f"PLANNERS names the module {name}, which gridfield.planners._module does not "
+                                  "import: add its import line there", name=name)
+
+
 def check_params(params: Mapping[str, Any] | None) -> dict[str, Any]:
-    """Check names and values against the registry (:func:`gridfield.params.validate`); return a plain dict.
+    """Check names and values against the registry (:func:`gridfield.core.params.validate`); return a plain dict.
 
     Parameters
     ----------
@@ -79,7 +111,7 @@ def check_params(params: Mapping[str, Any] | None) -> dict[str, Any]:
     >>> check_params({"zetta": 1.0})
     Traceback (most recent call last):
     ...
-    gridfield.errors.ParameterError: unknown parameter 'zetta'; did you mean 'zeta'? ...
+    gridfield.core.errors.ParameterError: unknown parameter 'zetta'; did you mean 'zeta'? ...
     """
     return dict(validate(params))
 
@@ -124,7 +156,7 @@ def get_planner(name: str) -> tuple[Callable[..., Path], str]:
         raise ParameterError(f"unknown planner {name!r}; expected one of {', '.join(PLANNERS)}")
     module, func, kind, _ = PLANNERS[name]
     try:
-        mod = importlib.import_module(module)
+        mod = _module(module)
     except ImportError as e:
         missing = e.name or ""
         if not missing or missing == "gridfield" or missing.startswith("gridfield."):
@@ -147,7 +179,7 @@ class Plan(NamedTuple):
     path : Path
         As :func:`plan` returns it.
     field : Field or None
-        The :class:`~gridfield.potential.Field` the ``potential`` planner built and followed (its ``map``
+        The :class:`~gridfield.fields.potential.Field` the ``potential`` planner built and followed (its ``map``
         is the grid planned on); ``None`` for the other planners and when no field was built (a goal
         found unreachable at once).
 
@@ -182,7 +214,7 @@ def plan_with_field(planner: str, target: World | GridMap, start: ArrayLike, goa
 
     Examples
     --------
-    >>> from gridfield.grid import Grid, GridMap
+    >>> from gridfield.core.grid import Grid, GridMap
     >>> gm = GridMap(Grid((1, 4), 1.0), np.zeros((1, 4), bool))
     >>> plan_with_field("wavefront", gm, (0.5, 0.5), (3.5, 0.5)).field is None
     True
@@ -204,8 +236,8 @@ def plan(
 
     A grid planner given a :class:`World` rasterizes it at ``resolution`` (or the world's own);
     an exact planner given a :class:`GridMap` uses the world it was rasterized from, if any, else
-    the map's blocked cells as exact polygons (:func:`gridfield.gridpoly.grid_world`; on those,
-    ``visibility`` is the any-angle optimum of :mod:`gridfield.anyangle`, its graph cached per map).
+    the map's blocked cells as exact polygons (:func:`gridfield.geometry.gridpoly.grid_world`; on those,
+    ``visibility`` is the any-angle optimum of :mod:`gridfield.exact.anyangle`, its graph cached per map).
     With a ``cache`` dict (kept by the caller across calls on the same ``target`` object), the
     rasterized grid and the planner's own per-map work (the brushfire of ``potential``, the graph of
     ``visibility``; every planner function takes ``cache=None``) are computed once and reused.
@@ -251,7 +283,7 @@ def plan(
     >>> plan("nonsense", w, w.start, w.goal)
     Traceback (most recent call last):
     ...
-    gridfield.errors.ParameterError: unknown planner 'nonsense'; expected one of ...
+    gridfield.core.errors.ParameterError: unknown planner 'nonsense'; expected one of ...
     """
     return _plan(planner, target, start, goal, params, resolution=resolution, cache=cache)[0]
 
@@ -269,7 +301,7 @@ def _plan(
 ) -> tuple[Path, Any]:
     """The dispatch behind :func:`plan` and :func:`plan_with_field`: the path, and the field the
     planner followed when ``want_field`` and the planner builds one (:data:`FIELD_PLANNERS`), else None."""
-    from .world import World
+    from .geometry.world import World
 
     fn, kind = get_planner(planner)
     if not isinstance(target, World | GridMap):
@@ -286,7 +318,7 @@ def _plan(
     merged = dict(validate(base))
     merged.update(given)
     if kind == "grid":
-        from .rasterize import as_gridmap
+        from .geometry.rasterize import as_gridmap
 
         if cache is None:
             gm = as_gridmap(target, resolution)
@@ -295,14 +327,14 @@ def _plan(
             if key not in cache:
                 cache[key] = as_gridmap(target, resolution)
             gm = cache[key]
-        from .limits import check_grid
+        from .core.limits import check_grid
 
         check_grid(gm.grid.shape, f"plan:{planner}", f"plan {planner} on {gm.source or 'the grid map'}")  # bytes
         s, g = gm.check_point("start", start), gm.check_point("goal", goal)
         t0 = time.perf_counter()
         if want_field and planner in FIELD_PLANNERS:
             module, func = FIELD_PLANNERS[planner]
-            path, field = getattr(importlib.import_module(module), func)(gm, s, g, merged, cache=cache)
+            path, field = getattr(_module(module), func)(gm, s, g, merged, cache=cache)
             return _corner(_with_endpoints(path, s, g, t0), gm, s, g), field
         return _corner(_with_endpoints(fn(gm, s, g, merged, cache=cache), s, g, t0), gm, s, g), None
     world = target if isinstance(target, World) else target.world
@@ -310,13 +342,13 @@ def _plan(
         assert isinstance(target, GridMap)  # a World is its own world
         _guard_seconds(planner, target, merged, cache)
         module, func = GRID_VARIANTS[planner]
-        fn = getattr(importlib.import_module(module), func)
+        fn = getattr(_module(module), func)
         s, g = target.check_point("start", start), target.check_point("goal", goal)
         t0 = time.perf_counter()
         return _corner(_with_endpoints(fn(target, s, g, merged, cache=cache), s, g, t0), target, s, g), None
     if not isinstance(world, World):
-        # a bitmap / ROS / Moving AI map: its blocked cells as exact polygons (gridfield.gridpoly),
-        # built once per map object; "visibility" then runs on the grid itself (gridfield.anyangle)
+        # a bitmap / ROS / Moving AI map: its blocked cells as exact polygons (gridfield.geometry.gridpoly),
+        # built once per map object; "visibility" then runs on the grid itself (gridfield.exact.anyangle)
         assert isinstance(target, GridMap)  # a World is its own world
         _guard_seconds(planner, target, merged, cache)  # the stages' summed estimate, before the polygons
         world = _grid_world(target, cache)
@@ -331,10 +363,10 @@ def _plan(
 def _corner(path: Path, gridmap: GridMap, start: Any, goal: Any) -> Path:
     """A run that did not reach on a disc robot's configuration space whose only way is a diagonal through
     a corner (:attr:`GridMap.diagonals`, taken only by the grid planners' discrete steps): the hint says so
-    (:func:`gridfield.diagnose.with_corner_passage`, which decides; imported only for such a map)."""
+    (:func:`gridfield.following.diagnose.with_corner_passage`, which decides; imported only for such a map)."""
     if gridmap.diagonals is None:
         return path
-    from .diagnose import with_corner_passage
+    from .following.diagnose import with_corner_passage
 
     return with_corner_passage(path, gridmap, start, goal)
 
@@ -346,10 +378,10 @@ def _point(name: str, value: Any) -> np.ndarray:
 
 def search_stages(planner: str, gm: GridMap, params: Mapping[str, Any] | None = None
                   ) -> list[tuple[str, dict[str, float]]]:
-    """The searches a world planner runs on a grid map, with their units of work (:mod:`gridfield.limits`).
+    """The searches a world planner runs on a grid map, with their units of work (:mod:`gridfield.core.limits`).
 
-    Counted on the blocked cells without building anything (:func:`gridfield.limits.grid_map_work`):
-    the any-angle graph for ``visibility`` when :data:`gridfield.anyangle.SEARCH` is ``"graph"`` (none
+    Counted on the blocked cells without building anything (:func:`gridfield.core.limits.grid_map_work`):
+    the any-angle graph for ``visibility`` when :data:`gridfield.exact.anyangle.SEARCH` is ``"graph"`` (none
     for the default Polyanya search, whose navigation mesh is linear in the cells), the exact polygons and the descent among them for
     ``exact-potential`` (at most ``max_iterations`` follower steps), the polygons for the
     navigation functions; none for the grid planners (their cost is their cells: the size guard).
@@ -364,26 +396,26 @@ def search_stages(planner: str, gm: GridMap, params: Mapping[str, Any] | None = 
     Returns
     -------
     list of (str, dict)
-        Stage names and work, for :func:`gridfield.limits.check_stages`.
+        Stage names and work, for :func:`gridfield.core.limits.check_stages`.
 
     Examples
     --------
-    >>> from gridfield.grid import Grid
+    >>> from gridfield.core.grid import Grid
     >>> occ = np.zeros((4, 5), bool); occ[1:3, 1:3] = True
     >>> search_stages("visibility", GridMap(Grid((4, 5), 1.0), occ))  # Polyanya: no per-map graph
     []
     >>> [name for name, _ in search_stages("exact-potential", GridMap(Grid((4, 5), 1.0), occ))]
     ['exact polygons', 'exact potential']
     """
-    from .limits import grid_map_work
-    from .params import MAX_ITERATIONS
+    from .core.limits import grid_map_work
+    from .core.params import MAX_ITERATIONS
 
     kind = get_planner(planner)[1]
     if kind == "grid":
         return []
     work = grid_map_work(gm.occupied)
     if planner == "visibility":
-        from .anyangle import SEARCH
+        from .exact.anyangle import SEARCH
 
         # the default search (Polyanya) builds a navigation mesh in milliseconds; only the graph search's
         # visibility graph grows with the map's detail
@@ -399,7 +431,7 @@ def search_stages(planner: str, gm: GridMap, params: Mapping[str, Any] | None = 
 
 def _guard_seconds(planner: str, gm: GridMap, params: Mapping[str, Any], cache: dict[Any, Any] | None) -> None:
     """Refuse up front a world planner on a grid map whose searches together would take too long."""
-    from .limits import check_stages
+    from .core.limits import check_stages
 
     key = ("search_stages", planner, gm, params.get("max_iterations"))
     if cache is not None and key in cache:  # already checked (a batch of pairs on one map)
@@ -410,7 +442,7 @@ def _guard_seconds(planner: str, gm: GridMap, params: Mapping[str, Any], cache: 
 
 
 def _grid_world(gm: GridMap, cache: dict[Any, Any] | None) -> World:
-    from .gridpoly import grid_world
+    from .geometry.gridpoly import grid_world
 
     if cache is None:
         return grid_world(gm)

@@ -1,4 +1,4 @@
-"""Any-angle optimum on grid maps (gridfield.anyangle) against independent references.
+"""Any-angle optimum on grid maps (gridfield.exact.anyangle) against independent references.
 
 - a brute force written here: every cell corner (but pinch points) as a vertex, every pair tested
   with shapely's exact predicates against the union of the blocked squares, Dijkstra in plain Python;
@@ -22,9 +22,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from shapely.geometry import box
 
-from gridfield.anyangle import grid_graph, plan_anyangle
-from gridfield.errors import GridfieldError
-from gridfield.grid import Grid, GridMap
+from gridfield.core.errors import GridfieldError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.exact.anyangle import grid_graph, plan_anyangle
 from gridfield.io import read_movingai_map, read_scen
 from gridfield.planners import plan
 
@@ -367,7 +367,7 @@ def test_lazy_and_polyanya_find_the_graphs_optimum_on_scenarios(name, n):
 
 
 def test_unknown_search_is_refused():
-    from gridfield.errors import ParameterError
+    from gridfield.core.errors import ParameterError
 
     g = grid_graph(GridMap(Grid((4, 4), 1.0), np.zeros((4, 4), bool)))
     with pytest.raises(ParameterError, match="search must be one of 'lazy', 'graph', 'polyanya'"):
@@ -410,8 +410,8 @@ def test_movingai_scenarios_within_octile_bounds(name):
 def test_occlusion_culling_changes_nothing(rows, cols, p, seed, wall, block):
     """The nearest-first search with occlusion culling finds exactly the pairs and the distances of
     walking every taut pair (small blocks on these grids, so that its early stop happens)."""
-    from gridfield import _kernels_anyangle as k
-    from gridfield.anyangle import _buckets, _padded_blocked, convex_corners
+    from gridfield.exact import _anyangle as k
+    from gridfield.exact.anyangle import _buckets, _padded_blocked, convex_corners
 
     rng = np.random.default_rng(seed)
     occ = rng.random((rows, cols)) < p
@@ -457,7 +457,7 @@ def test_benchmark_script_runs_and_checks(capsys):
 def test_the_graph_csr_is_a_stable_sort_of_both_directions(case):
     """The linear-time CSR of the graph equals the stable argsort of (ei, ej) + (ej, ei) by first node,
     for edges grouped by ei (as the kernel emits them), and holds the same neighbours otherwise."""
-    from gridfield.anyangle import _symmetric_csr
+    from gridfield.exact.anyangle import _symmetric_csr
 
     n, edges, grouped = case
     if grouped:
@@ -501,7 +501,7 @@ def test_navigation_mesh_is_a_partition_with_matched_edges(case):
     holds the cell across it, and an edge has none exactly where that cell is blocked or outside
     (so two cells touching at a pinch point are not neighbours); the turning points are the convex
     corners."""
-    from gridfield.anyangle import _padded_blocked, convex_corners, navigation_mesh
+    from gridfield.exact.anyangle import _padded_blocked, convex_corners, navigation_mesh
 
     occ, wall, rng = case
     rows, cols = occ.shape
@@ -605,7 +605,7 @@ def test_polyanya_on_512_maps_equals_the_lazy_search(name, n):
 def test_plan_reports_the_mesh():
     """plan('visibility') with the default search (Polyanya): the mesh's polygons in ``extra``, its build
     counted in ``graph_seconds``, no visibility graph built (no ``edges``)."""
-    import gridfield.anyangle as aa
+    import gridfield.exact.anyangle as aa
 
     assert aa.SEARCH == "polyanya"
     occ = np.zeros((6, 6), bool)
@@ -627,7 +627,7 @@ def test_polyanya_near_cell_edges(case, offset):
     Polyanya searches from the edge, so its length is the graph search's to within twice the offset
     (the path keeps the given ends); beyond it, to 1e-9 relative. Before the snapping such points
     (1e-9 to 3e-8 off) missed the optimum by up to 5.7 cells on these grids."""
-    from gridfield.anyangle import SNAP
+    from gridfield.exact.anyangle import SNAP
 
     occ, wall, rng = case
     free = np.argwhere(~occ)

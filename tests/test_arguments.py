@@ -1,7 +1,7 @@
 """One argument checker and one point parser (issue 18).
 
 The functions that take planner parameters as arguments (descend, the potential arrays, the vortex
-model, the samplers) must judge a value exactly as the registry does (gridfield.params.validate,
+model, the samplers) must judge a value exactly as the registry does (gridfield.core.params.validate,
 the check behind plan()): the same values refused, with the registry's message naming the
 argument. Points given to plan(), descend, the potentials and the attraction are parsed by one
 helper: strings, wrong shapes, NaN and inf are a ParameterError naming the argument.
@@ -16,14 +16,14 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from gridfield.descent import descend
-from gridfield.errors import GridfieldError, ParameterError
-from gridfield.grid import Grid, GridMap
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.core.params import validate
+from gridfield.fields.potential import attractive, build_field, repulsive, vortex_field, vortex_lattice
+from gridfield.fields.sampling import attraction_force, grid_potential_sampler, grid_sampler, sample_force
+from gridfield.following.descent import descend
 from gridfield.io import bundled_map, read_world
-from gridfield.params import validate
 from gridfield.planners import plan
-from gridfield.potential import attractive, build_field, repulsive, vortex_field, vortex_lattice
-from gridfield.sampling import attraction_force, grid_potential_sampler, grid_sampler, sample_force
 
 GRID = Grid((3, 4), 1.0)
 OCC = np.zeros((3, 4), bool)
@@ -41,7 +41,7 @@ def _descend(**kw):
 
 
 def _repulsive(**kw):
-    from gridfield.brushfire import brushfire
+    from gridfield.distance.brushfire import brushfire
 
     return repulsive(brushfire(GM, metric="euclidean", compute_labels=True), **kw)
 

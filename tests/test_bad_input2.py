@@ -16,7 +16,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from gridfield.errors import GridfieldError, MapFormatError
+from gridfield.core.errors import GridfieldError, MapFormatError
 from gridfield.io import bundled_map, read, read_bitmap, read_npz, read_ros_map, read_scen, read_yaml
 
 from mapdata import TEST_MAPS
@@ -179,8 +179,8 @@ def test_bad_resolution_ros_npz_bitmap(tmp_path, res):
 
 
 def test_resolution_rule_bounds():
-    from gridfield.errors import ParameterError
-    from gridfield.grid import RESOLUTION_RANGE, Grid
+    from gridfield.core.errors import ParameterError
+    from gridfield.core.grid import RESOLUTION_RANGE, Grid
 
     lo, hi = RESOLUTION_RANGE
     assert Grid((2, 2), lo).resolution == lo and Grid((2, 2), hi).resolution == hi
@@ -195,8 +195,8 @@ def test_resolution_rule_bounds():
 # 5. IncrementalBrushfire obstacle ids: 1..2**31-1, never wrapped
 # ----------------------------------------------------------------------------------------
 def _ids_map(max_id: int = 3):
-    from gridfield.grid import Grid, GridMap
-    from gridfield.incremental import IncrementalBrushfire
+    from gridfield.core.grid import Grid, GridMap
+    from gridfield.distance.incremental import IncrementalBrushfire
 
     occ = np.zeros((4, 9), bool)
     occ[:, 0] = True
@@ -206,7 +206,7 @@ def _ids_map(max_id: int = 3):
 @pytest.mark.parametrize("ids", [2**32 + 7, 2**40, 2**31, 0, -1, [5, 2**32], np.array([3, 0], np.int64),
                                  np.uint64(2**63)])
 def test_incremental_ids_out_of_range(ids):
-    from gridfield.errors import ParameterError
+    from gridfield.core.errors import ParameterError
 
     ib = _ids_map()
     before = ib.gridmap.obstacle_id.copy()
@@ -216,8 +216,8 @@ def test_incremental_ids_out_of_range(ids):
 
 
 def test_incremental_default_id_after_the_largest():
-    from gridfield.brushfire import brushfire
-    from gridfield.errors import ParameterError
+    from gridfield.core.errors import ParameterError
+    from gridfield.distance.brushfire import brushfire
 
     ib = _ids_map(2**31 - 2)
     ib.update(occupied=[[1, 8]])  # the last default id
@@ -242,11 +242,11 @@ def test_huge_disc_on_a_grid_map_is_refused_at_once(radius):
 
 
 def test_huge_robots_on_grids_through_the_api():
-    from gridfield.cspace import apply_robot, centre_footprint, conservative_footprint
-    from gridfield.errors import SizeLimitError
-    from gridfield.grid import Grid, GridMap
-    from gridfield.limits import override
-    from gridfield.world import Robot
+    from gridfield.core.errors import SizeLimitError
+    from gridfield.core.grid import Grid, GridMap
+    from gridfield.core.limits import override
+    from gridfield.geometry.cspace import apply_robot, centre_footprint, conservative_footprint
+    from gridfield.geometry.world import Robot
 
     arena = read(ARENA)
     with pytest.raises(GridfieldError, match="larger than the map's diagonal"):
@@ -306,7 +306,7 @@ def _data(rel: str) -> Path:
                                   "movingai/16room_000/16room_000.map.gz", "movingai/AcrosstheCape/AcrosstheCape.map.gz",
                                   "ros_maps/mdr_wrs20-arena/map.yaml", "arena"])
 def test_disc_cspace_on_real_maps_is_exact_at_cell_centres(name):
-    from gridfield.cspace import apply_robot
+    from gridfield.geometry.cspace import apply_robot
 
     gm = read(ARENA if name == "arena" else _data(name))
     ref = _centre_distance_reference(gm)
@@ -322,7 +322,7 @@ def test_disc_cspace_on_real_maps_is_exact_at_cell_centres(name):
 
 
 def test_den312d_scenarios_are_free_for_a_tenth_of_a_cell():
-    from gridfield.cspace import apply_robot
+    from gridfield.geometry.cspace import apply_robot
 
     m = _data("movingai/den312d/den312d.map.gz")
     gm, sc = read(m), read_scen(m.with_name("den312d.map.scen.gz"))
@@ -353,8 +353,8 @@ def test_property_every_allowed_move_keeps_the_disc_clear(seed):
     centres is safe."""
     import shapely
 
-    from gridfield.cspace import apply_robot
-    from gridfield.grid import Grid, GridMap
+    from gridfield.core.grid import Grid, GridMap
+    from gridfield.geometry.cspace import apply_robot
 
     rng = np.random.default_rng(seed)
     h = float(rng.choice([0.25, 1.0]))
@@ -431,7 +431,7 @@ def test_sweep_huge_parameter_product_refused_before_validating(tmp_path, monkey
 
 
 def test_sweep_run_count_follows_the_memory_limit(tmp_path):
-    from gridfield.limits import override
+    from gridfield.core.limits import override
     from gridfield.sweep import load_spec
 
     f = _spec(tmp_path, f"planners: [wavefront-octile]\nmaps:\n  - path: {ARENA}\n    random_pairs: {{n: 100}}\n")
@@ -512,9 +512,9 @@ def test_dask_scheduler_gone_is_one_error_and_the_rows_are_kept(tmp_path, monkey
 def test_polygon_robot_on_star_two_leaves_no_sliver_hole(robot):
     import shapely
 
-    from gridfield.cspace import cspace_world
+    from gridfield.fields.navigation import star_world
+    from gridfield.geometry.cspace import cspace_world
     from gridfield.io import read_world
-    from gridfield.navigation import star_world
 
     w = read_world(bundled_map("star_two.yaml"))
     c = cspace_world(w, robot)
@@ -533,7 +533,7 @@ def test_polygon_robot_on_star_two_leaves_no_sliver_hole(robot):
 def test_real_holes_are_kept():
     import shapely
 
-    from gridfield.cspace._vector import _drop_slivers
+    from gridfield.geometry.cspace._vector import _drop_slivers
 
     outer = [(0, 0), (10, 0), (10, 10), (0, 10)]
     real, sliver = [(2, 2), (4, 2), (4, 4), (2, 4)], [(6, 6), (7, 6), (6.5, 6 + 1e-15)]
@@ -542,8 +542,8 @@ def test_real_holes_are_kept():
 
 
 def test_point_clear_but_its_cell_centre_blocked_is_named():
-    from gridfield.cspace import apply_robot, check_robot_point
-    from gridfield.grid import Grid, GridMap
+    from gridfield.core.grid import Grid, GridMap
+    from gridfield.geometry.cspace import apply_robot, check_robot_point
 
     occ = np.zeros((5, 5), bool)
     occ[2, 2] = True

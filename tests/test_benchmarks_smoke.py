@@ -64,8 +64,8 @@ def test_cell_by_cell_reference_matches_gridfield(bench_modules):
     _, _, peers = bench_modules
     import numpy as np
 
-    from gridfield.grid import Grid, GridMap
-    from gridfield.potential import build_field
+    from gridfield.core.grid import Grid, GridMap
+    from gridfield.fields.potential import build_field
 
     res, obstacles, goal = 1.0, [(2.5, 3.5)], (8.5, 6.5)
     ref = np.asarray(peers.cell_by_cell_potential(10, 8, res, goal, obstacles, 1.0, 2.0, 3.0)).T
@@ -104,11 +104,11 @@ def test_importtime_parsing(bench_modules):
         "import time: self [us] | cumulative | imported package",
         "import time:       10 |         10 |     shapely.lib",
         "import time:       20 |         30 |   shapely",
-        "import time:        5 |         35 | gridfield.world",
+        "import time:        5 |         35 | gridfield.geometry.world",
     ])
     records = run.parse_importtime(text)
     assert [r.depth for r in records] == [2, 1, 0]
-    assert run.import_chain(records, 0) == ["gridfield.world", "shapely", "shapely.lib"]
+    assert run.import_chain(records, 0) == ["gridfield.geometry.world", "shapely", "shapely.lib"]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -131,7 +131,7 @@ def _two_room_ros_root(tmp_path: Path) -> Path:
 
     import numpy as np
 
-    from gridfield.grid import Grid, GridMap
+    from gridfield.core.grid import Grid, GridMap
     from gridfield.io import write_ros_map
 
     root = tmp_path / "maps"
@@ -177,7 +177,7 @@ def test_movingai_sample_spreads_over_buckets(potential_real):
 def test_potential_real_main_tiny(potential_real, tmp_path, capsys):
     import json
 
-    from gridfield.path import STATUSES
+    from gridfield.core.path import STATUSES
 
     root = _two_room_ros_root(tmp_path)
     out, js = tmp_path / "r.md", tmp_path / "r.json"

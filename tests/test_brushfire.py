@@ -19,9 +19,9 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 from scipy import ndimage
 
-from gridfield.brushfire import BORDER_LABEL, DistanceMap, brushfire
-from gridfield.errors import GridfieldError, ParameterError
-from gridfield.grid import Grid, GridMap
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.distance.brushfire import BORDER_LABEL, DistanceMap, brushfire
 
 from mapdata import TEST_MAPS, image, raw
 
@@ -284,7 +284,7 @@ def test_labels_number_components_like_scipy():
        density=st.sampled_from([0.1, 0.3, 0.5, 0.7]), strips=st.integers(1, 60))
 def test_components_labelled_in_strips_equal_scipy(seed, rows, cols, density, strips):
     """The threads label horizontal strips, joined afterwards: same numbering as scipy.ndimage.label."""
-    from gridfield import _kernels_brushfire as k
+    from gridfield.distance import _brushfire as k
 
     occ = random_occupancy(seed, (rows, cols), density)
     comp = np.empty(occ.shape, np.int32)
@@ -534,7 +534,7 @@ def test_threads_above_the_maximum_are_clipped_and_large_grids_use_them():
 
 def test_packed_nearest_index_in_int64_as_for_huge_grids():
     """Grids of 2**31 padded cells or more carry the nearest cell in int64: same kernel, other dtype."""
-    from gridfield import _kernels_brushfire as k
+    from gridfield.distance import _brushfire as k
 
     occ = random_occupancy(4, (25, 90), 0.05)
     o8 = occ.view(np.uint8)
@@ -558,7 +558,7 @@ def test_chamfer_in_strips_is_exact_and_thread_independent(seed, rows, cols, den
     """Large grids run the chamfer passes in strips on windows with margins (here made tiny so that
     small grids use them, and sparse ones fall back to one pass): same values as scipy, exact nearest
     obstacles, and the same arrays with 1 or 2 threads."""
-    import gridfield.brushfire as bf
+    import gridfield.distance.brushfire as bf
 
     occ = random_occupancy(seed, (rows, cols), density)
     if not occ.any() and border == "open":
@@ -580,8 +580,8 @@ def test_import_gridfield_does_not_load_numba_kernels():
     import subprocess
     import sys
 
-    code = "import sys, gridfield, gridfield.brushfire; print('numba' in sys.modules, " \
-           "'gridfield._kernels_brushfire' in sys.modules)"
+    code = "import sys, gridfield, gridfield.distance.brushfire; print('numba' in sys.modules, " \
+           "'gridfield.distance._brushfire' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=REPO)
     assert out.stdout.split() == ["False", "False"]
 
@@ -662,7 +662,7 @@ def test_cli_rejects_a_bad_saturation_radius(capsys):
 def test_result_memory_is_reused_and_released():
     """The grid-sized arrays reuse a freed result's block; what the block held does not leak into the
     next result (checked against scipy); pool_limit(0) unmaps every kept block."""
-    import gridfield.brushfire as gb
+    import gridfield.distance.brushfire as gb
 
     k = gb._kernels()
     old = k.pool_limit()

@@ -1,6 +1,6 @@
 """gridfield.chunked on a real Dask cluster: bit-identical to the in-memory brushfire.
 
-The reference is :func:`gridfield.brushfire.brushfire` on the whole array (its own tests check it against
+The reference is :func:`gridfield.distance.brushfire.brushfire` on the whole array (its own tests check it against
 scipy and brute force); here every chunked result is compared with it by ``np.array_equal``. A
 ``distributed.LocalCluster`` of 2 worker processes (1 thread each) on 127.0.0.1 runs the graphs, with a
 memory limit below what the whole map's arrays plus a worker's own footprint need (the workers spill and
@@ -21,12 +21,12 @@ dask = pytest.importorskip("dask")
 da = pytest.importorskip("dask.array")
 distributed = pytest.importorskip("distributed")
 
-from gridfield.brushfire import brushfire  # noqa: E402
 from gridfield.chunked import connect, distance, field, gvd, labels, scratch_dir, wavefront  # noqa: E402
-from gridfield.errors import ArgumentTypeError, GridfieldError, ParameterError  # noqa: E402
-from gridfield.grid import Grid, GridMap  # noqa: E402
+from gridfield.core.errors import ArgumentTypeError, GridfieldError, ParameterError  # noqa: E402
+from gridfield.core.grid import Grid, GridMap  # noqa: E402
+from gridfield.distance.brushfire import brushfire  # noqa: E402
+from gridfield.fields.potential import build_field  # noqa: E402
 from gridfield.io import read  # noqa: E402
-from gridfield.potential import build_field  # noqa: E402
 
 N = 2048  # map side on the cluster
 CHUNK = 256
@@ -201,7 +201,7 @@ def test_cluster_gvd_on_a_real_map(client, test_maps):
 def test_wavefront_equals_the_in_memory_navigation_function():
     """Tile-wise Dijkstra with boundary exchange ends at the in-memory wavefront's values, bit for bit:
     random maps on odd chunks, octile and unit diagonals, goals anywhere (unreachable cells stay inf)."""
-    from gridfield.navigation import wavefront as in_memory
+    from gridfield.fields.navigation import wavefront as in_memory
 
     rng = np.random.default_rng(11)
     for _ in range(10):
@@ -224,7 +224,7 @@ def test_wavefront_equals_the_in_memory_navigation_function():
 def test_cluster_wavefront_on_a_maze(client, test_maps):
     """A Moving AI maze (a 192-cell corner; its corridors cross the 64-cell chunk seams back and forth) on
     the cluster."""
-    from gridfield.navigation import wavefront as in_memory
+    from gridfield.fields.navigation import wavefront as in_memory
 
     occ = read(test_maps / "movingai" / "maze512-32-9" / "maze512-32-9.map.gz").occupied[:192, :192].copy()
     g = tuple(int(v) for v in np.argwhere(~occ)[len(np.argwhere(~occ)) // 2])

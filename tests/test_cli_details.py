@@ -95,8 +95,8 @@ def test_mp4_with_the_video_extra(tmp_path, monkeypatch) -> None:
     import matplotlib
     import numpy as np
 
-    from gridfield.grid import Grid, GridMap
-    from gridfield.path import Path
+    from gridfield.core.grid import Grid, GridMap
+    from gridfield.core.path import Path
     from gridfield.plot import save_plan_animation
 
     monkeypatch.setitem(matplotlib.rcParams, "animation.ffmpeg_path", str(tmp_path / "no-ffmpeg"))  # no system one

@@ -6,13 +6,13 @@ import numpy as np
 import pytest
 
 from gridfield.cli import main
-from gridfield.follow import basins
+from gridfield.fields.potential import Field
+from gridfield.following.follower import basins
 from gridfield.io import bundled_map, read_npz_arrays
-from gridfield.potential import Field
 
 
 def _field_from_npz(path) -> Field:
-    from gridfield.grid import GridMap
+    from gridfield.core.grid import GridMap
 
     arrays, grid = read_npz_arrays(path)
     return Field(GridMap(grid, arrays["occupied"]), arrays["potential"], arrays["grad_x"], arrays["grad_y"],

@@ -218,7 +218,7 @@ robot: {radius: 0.25}
 def test_info_world_without_resolution_is_described_from_its_vectors(capsys, tmp_path, monkeypatch):
     import yaml
 
-    import gridfield.rasterize
+    import gridfield.geometry.rasterize
 
     f = tmp_path / "w.yaml"
     f.write_text(WORLD_NO_RESOLUTION)
@@ -231,7 +231,8 @@ def test_info_world_without_resolution_is_described_from_its_vectors(capsys, tmp
     def no_raster(*a, **k):
         raise AssertionError("info rasterized a world that sets no resolution")
 
-    monkeypatch.setattr(gridfield.rasterize, "as_gridmap", no_raster)
+
+    monkeypatch.setattr(gridfield.geometry.rasterize, "as_gridmap", no_raster)
     info = run_json(capsys, f)
     assert info["format"] == "world" and info["shape"] is None and info["resolution"] is None
     assert info["occupied_fraction"] is None

@@ -33,7 +33,7 @@ def test_readmes_old_example_gives_each_rows_reason(capsys: pytest.CaptureFixtur
 
 
 def test_skipped_rows_only_where_a_point_is_blocked() -> None:
-    from gridfield.gridpoly import block_downsample
+    from gridfield.geometry.gridpoly import block_downsample
 
     gm = read(ARENA)
     rows = convergence_study(gm, (10, 10), (42, 42), [8, 4, 2, 1], grid_planner="wavefront-octile",
@@ -155,7 +155,7 @@ def test_a_grid_maps_default_resolutions_subdivide_so_that_two_run(capsys: pytes
 
 
 def test_subdivide_keeps_the_free_space() -> None:
-    from gridfield.gridpoly import grid_world, subdivide
+    from gridfield.geometry.gridpoly import grid_world, subdivide
 
     gm = read(ARENA)
     fine = subdivide(gm, 3)

@@ -17,14 +17,14 @@ import gridfield
 PACKAGE = Path(gridfield.__file__).parent
 REPO = Path(__file__).resolve().parent.parent
 
-#: Every kernel module of the package, all compiled (a new one is added to setup.py's KERNELS and here).
-KERNELS = {"_kernels_anyangle", "_kernels_brushfire", "_kernels_chunked", "_kernels_eikonal", "_kernels_follow", "_kernels_incremental",
-           "_kernels_navfn",
-           "_kernels_navigation", "_kernels_polyanya", "_kernels_potential"}
-
-
 def _kernel_sources() -> set[str]:
-    return {p.stem for p in (REPO / "gridfield").glob("_kernels_*.pyx")}
+    """The dotted names of the kernel sources: every ``.pyx`` of the tree, beside the module that calls it."""
+    return {"gridfield." + ".".join(p.relative_to(REPO / "gridfield").with_suffix("").parts)
+            for p in (REPO / "gridfield").rglob("*.pyx")}
+
+
+#: Every kernel module of the package, all compiled (a new one is its .pyx and a line in setup.py's KERNELS).
+KERNELS = _kernel_sources()
 
 
 def test_every_kernel_source_is_built_by_setup_py():
@@ -32,19 +32,24 @@ def test_every_kernel_source_is_built_by_setup_py():
     tree = ast.parse((REPO / "setup.py").read_text())
     listed = next(ast.literal_eval(node.value) for node in ast.walk(tree)
                   if isinstance(node, ast.Assign) and any(getattr(t, "id", None) == "KERNELS" for t in node.targets))
-    assert set(listed) == _kernel_sources() == KERNELS
+    assert set(listed) == KERNELS
+    assert len(KERNELS) >= 10
 
 
 def test_no_kernel_is_plain_python():
-    """No ``_kernels_*.py`` beside the compiled modules (it would shadow or replace them)."""
-    found = {m.name for m in pkgutil.iter_modules([str(PACKAGE)]) if m.name.startswith("_kernels_")}
-    assert found == KERNELS
-    assert not list(PACKAGE.glob("_kernels_*.py"))
+    """No ``.py`` module of a kernel's name beside its source (it would shadow or replace the extension), and
+    each kernel is found by the import system as an extension module."""
+    for name in KERNELS:
+        *parent, leaf = name.split(".")
+        folder = REPO.joinpath(*parent)
+        assert not (folder / f"{leaf}.py").exists(), name
+        found = {m.name for m in pkgutil.iter_modules([str(PACKAGE.joinpath(*parent[1:]))])}
+        assert leaf in found, name
 
 
 @pytest.mark.parametrize("name", sorted(KERNELS))
 def test_kernel_module_is_a_compiled_extension(name):
-    mod = importlib.import_module(f"gridfield.{name}")
+    mod = importlib.import_module(name)
     assert mod.__file__ is not None
     assert mod.__file__.endswith(tuple(importlib.machinery.EXTENSION_SUFFIXES)), mod.__file__
     assert isinstance(mod.__loader__, importlib.machinery.ExtensionFileLoader)
@@ -52,8 +57,8 @@ def test_kernel_module_is_a_compiled_extension(name):
 
 def test_planning_imports_no_jit_compiler():
     """A potential plan runs without numba or pyximport (a compiler at run time) being imported."""
-    code = ("import sys, numpy as np; from gridfield.grid import Grid, GridMap; "
-            "from gridfield.follow import plan_potential; occ = np.zeros((12, 12), bool); occ[5:7, 5:7] = True; "
+    code = ("import sys, numpy as np; from gridfield.core.grid import Grid, GridMap; "
+            "from gridfield.following.follower import plan_potential; occ = np.zeros((12, 12), bool); occ[5:7, 5:7] = True; "
             "plan_potential(GridMap(Grid((12, 12), 1.0), occ), np.array([1.5, 1.5]), np.array([10.5, 10.5]), "
             "{'q_star': 2.0, 'step': 0.5, 'tolerance': 0.5}); "
             "print(sorted(m for m in ('numba', 'llvmlite', 'pyximport') if m in sys.modules))")
@@ -74,9 +79,9 @@ def test_no_module_of_the_package_imports_numba():
 
 def test_incremental_and_anyangle_import_no_jit_compiler():
     """An incremental update, a potential window update and an any-angle plan run without numba."""
-    code = ("import sys, numpy as np; from gridfield.grid import Grid, GridMap; "
-            "from gridfield.incremental import IncrementalBrushfire, update_field; "
-            "from gridfield.potential import build_field; from gridfield.anyangle import grid_graph; "
+    code = ("import sys, numpy as np; from gridfield.core.grid import Grid, GridMap; "
+            "from gridfield.distance.incremental import IncrementalBrushfire; from gridfield.fields.incremental import update_field; "
+            "from gridfield.fields.potential import build_field; from gridfield.exact.anyangle import grid_graph; "
             "occ = np.zeros((12, 12), bool); occ[5:7, 3:9] = True; gm = GridMap(Grid((12, 12), 1.0), occ); "
             "ib = IncrementalBrushfire(gm); f = build_field(ib.gridmap, (10.5, 10.5), {'q_star': 2.0}, "
             "dmap=ib.distance_map); f = update_field(f, ib, ib.update(occupied=[[2, 2]], freed=[[5, 3]])); "

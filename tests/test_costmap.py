@@ -14,9 +14,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.ndimage import distance_transform_edt
 
-from gridfield.costmap import Costmap, inflate
-from gridfield.errors import GridfieldError, MapFormatError, ParameterError
-from gridfield.grid import Grid, GridMap
+from gridfield.core.errors import GridfieldError, MapFormatError, ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.fields.costmap import Costmap, inflate
 from gridfield.io import from_occupancy_grid, read, read_costmap, read_ros_map, to_occupancy_grid, write_costmap
 
 from mapdata import TEST_MAPS

@@ -13,7 +13,9 @@ from hypothesis import strategies as st
 from scipy import ndimage
 from shapely.geometry import Point, Polygon
 
-from gridfield.cspace import (
+from gridfield.core.errors import ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.geometry.cspace import (
     cspace_grid,
     cspace_world,
     inflate_grid,
@@ -21,11 +23,9 @@ from gridfield.cspace import (
     minkowski_obstacle,
     star_algorithm,
 )
-from gridfield.errors import ParameterError
-from gridfield.grid import Grid, GridMap
+from gridfield.geometry.rasterize import rasterize, rasterize_geometry
+from gridfield.geometry.world import CIRCLE_SEGMENTS, world_from_dict
 from gridfield.io import bundled_map, read_world
-from gridfield.rasterize import rasterize, rasterize_geometry
-from gridfield.world import CIRCLE_SEGMENTS, world_from_dict
 
 BLOCK = np.ones((3, 3), bool)
 coord = st.floats(-4, 4, allow_nan=False, allow_infinity=False, allow_subnormal=False)

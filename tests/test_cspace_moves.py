@@ -1,5 +1,5 @@
 """The move rule of a disc robot on a grid map (issue 30): a move between neighbouring cells that the grid
-planners make on the configuration space of :func:`gridfield.cspace.apply_robot` is one the robot fits
+planners make on the configuration space of :func:`gridfield.geometry.cspace.apply_robot` is one the robot fits
 along, checked against exact geometry (shapely: the distance from the segment between the two cell
 centres to the union of the occupied cell squares, and the wall, is more than the radius).
 
@@ -18,9 +18,9 @@ import shapely
 from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
-from gridfield.cspace import apply_robot
-from gridfield.grid import Grid, GridMap
-from gridfield.navigation import wavefront
+from gridfield.core.grid import Grid, GridMap
+from gridfield.fields.navigation import wavefront
+from gridfield.geometry.cspace import apply_robot
 from gridfield.planners import plan
 
 STEPS = [(dr, dc) for dr in (-1, 0, 1) for dc in (-1, 0, 1) if (dr, dc) != (0, 0)]
@@ -190,7 +190,7 @@ def test_the_cli_plans_a_disc_robot_through_a_corner_or_says_why_not(tmp_path, c
 def test_the_diagonals_belong_to_the_occupancy_they_were_built_for():
     """A copy with the same occupancy keeps them; a map made from another occupancy (inflated again, cropped,
     downsampled, subdivided) has none, so no stale diagonal survives a transformation that does not know them."""
-    from gridfield.gridpoly import block_downsample, subdivide
+    from gridfield.geometry.gridpoly import block_downsample, subdivide
 
     cspace = apply_robot(corner_workspace(), CORNER_RADIUS)
     assert cspace.with_occupied(cspace.occupied, source="copy").diagonals is cspace.diagonals

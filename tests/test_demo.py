@@ -15,8 +15,8 @@ import pytest
 from PIL import Image
 
 from gridfield.cli import main
+from gridfield.core.errors import GridfieldError
 from gridfield.demo import DEMO_PARTS, SUMMARY_COLUMNS, crop_to_known, demo, format_table, run_demo
-from gridfield.errors import GridfieldError
 from gridfield.io import bundled_map, read_ros_map
 
 PNG = b"\x89PNG\r\n\x1a\n"
@@ -208,8 +208,8 @@ def test_format_table_and_crop():
 
 def test_demo_parts_draw_the_fields_their_plans_built(tmp_path, monkeypatch):
     """seed003 plans twice (Ko 5 and 10) and draws both fields: two builds, not four."""
-    import gridfield.demo as demo_module
-    import gridfield.potential as potential
+    import gridfield.demo._parts as demo_parts
+    import gridfield.fields.potential as potential
 
     calls = []
     real = potential.build_field
@@ -219,8 +219,8 @@ def test_demo_parts_draw_the_fields_their_plans_built(tmp_path, monkeypatch):
         return real(*a, **k)
 
     monkeypatch.setattr(potential, "build_field", counting)
-    run = demo_module._Run(tmp_path, True, lambda _line: None)
-    demo_module._part_seed003(run)
+    run = demo_parts._Run(tmp_path, True, lambda _line: None)
+    demo_parts._part_seed003(run)
     plt.close("all")
     assert len(calls) == 2 and len(run.result.rows) == 2
     assert (tmp_path / "seed003_vortex.png").read_bytes()[:8] == PNG
@@ -231,13 +231,13 @@ def test_arena_shows_the_classic_stall_next_to_the_complete_field(tmp_path, monk
     reaches; one figure, two panels, checked on its artists against the scenario file's goal."""
     import numpy as np
 
-    import gridfield.demo as demo_module
+    import gridfield.demo._parts as demo_parts
     from gridfield.io import read_movingai_map, read_scen
 
     figures = {}
-    run = demo_module._Run(tmp_path, True, lambda _line: None)
+    run = demo_parts._Run(tmp_path, True, lambda _line: None)
     monkeypatch.setattr(run, "save", lambda fig, name: figures.setdefault(name, fig))
-    demo_module._part_arena(run)
+    demo_parts._part_arena(run)
     gm = read_movingai_map(bundled_map("arena/arena.map"))
     scen = read_scen(bundled_map("arena/arena.map.scen"), map_height=gm.shape[0])
     i = int(np.argmax(scen.optimal))

@@ -31,4 +31,4 @@ def test_docs_build_without_warnings(tmp_path: Path) -> None:
         assert (html / "auto_examples" / f"{name}.html").is_file(), name
         assert list((html / "_images").glob(f"sphx_glr_{name}_*.png")), name
     # one API page per public module
-    assert (html / "api" / "follow.html").is_file()
+    assert (html / "api" / "following.follower.html").is_file()

@@ -1,4 +1,4 @@
-"""The navigation escape's cut and hand-back (gridfield.escapes, gridfield.descent.descend).
+"""The navigation escape's cut and hand-back (gridfield.following.escapes, gridfield.following.descent.descend).
 
 - before an escape the follower's jitter is cut from the path (``navigation_cut`` over
   ``Rules.dither_starts``), and every navigation run has its loops cut (``cut_loops``);
@@ -18,14 +18,14 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from scipy import ndimage
 
-import gridfield.descent as descent
-from gridfield.descent import resolve_rules
-from gridfield.escapes import NavigationEscape, cut_loops, navigation_cut
-from gridfield.grid import Grid, GridMap
+import gridfield.following.descent as descent
+from gridfield.core.grid import Grid, GridMap
+from gridfield.fields.potential import build_field
+from gridfield.fields.sampling import grid_blocked
+from gridfield.following.descent import resolve_rules
+from gridfield.following.escapes import NavigationEscape, cut_loops, navigation_cut
 from gridfield.io import read
 from gridfield.planners import plan
-from gridfield.potential import build_field
-from gridfield.sampling import grid_blocked
 
 
 def assert_free(gm: GridMap, points: np.ndarray) -> None:

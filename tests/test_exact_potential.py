@@ -11,12 +11,12 @@ import shapely
 from shapely.geometry import Point
 from shapely.ops import nearest_points
 
-import gridfield.exact as exact_mod
-from gridfield.errors import GridfieldError, ParameterError
-from gridfield.exact import ExactField, plan_exact_potential
+import gridfield.exact.continuous as exact_mod
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.exact.continuous import ExactField, plan_exact_potential
+from gridfield.geometry.world import world_from_dict
 from gridfield.io import bundled_map, read_world
 from gridfield.planners import plan
-from gridfield.world import world_from_dict
 
 
 @pytest.fixture(scope="module")

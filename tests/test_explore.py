@@ -16,9 +16,9 @@ import pytest
 from matplotlib.backend_bases import KeyEvent, MouseEvent
 
 from gridfield.cli import main
-from gridfield.errors import GridfieldError, ParameterError
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.grid import Grid, GridMap
 from gridfield.explore import Explorer, available_planners
-from gridfield.grid import Grid, GridMap
 from gridfield.io import bundled_map, read_world
 
 
@@ -258,7 +258,7 @@ def test_cli_explore_needs_an_interactive_backend(capsys):
 
 def test_an_update_builds_the_potential_once(monkeypatch):
     """The background field is the one the planner followed (plan_with_field(...))."""
-    import gridfield.potential as potential
+    import gridfield.fields.potential as potential
 
     calls = []
     real = potential.build_field
@@ -283,8 +283,8 @@ def test_an_update_builds_the_potential_once(monkeypatch):
 def test_sliders_show_the_values_the_plan_uses():
     """On a map without parameters every slider starts at the value the planner then uses: the
     registry's defaults scaled to the map (q_star 4 cells, d_star 2 q_star, balanced eta, step 1 cell)."""
+    from gridfield.core.params import resolve
     from gridfield.explore import PLANNER_SLIDERS
-    from gridfield.params import resolve
     from gridfield.planners import PLANNERS
 
     occ = np.zeros((40, 40), bool)

@@ -1,5 +1,5 @@
 """The explorer's incremental hook: a drawn obstacle is rasterized alone and the brushfire is an
-:class:`gridfield.incremental.IncrementalBrushfire` updated where the map changed (draw, remove,
+:class:`gridfield.distance.incremental.IncrementalBrushfire` updated where the map changed (draw, remove,
 undo, clear); checked against an independent re-rasterization (``as_gridmap``) and a full
 ``brushfire`` of the resulting map, with the full brushfire patched to count its calls."""
 
@@ -19,15 +19,15 @@ import pytest
 from matplotlib.backend_bases import KeyEvent, MouseEvent
 from shapely.geometry import Point, Polygon, box
 
-import gridfield.incremental as incremental
-import gridfield.potential as potential
-from gridfield.brushfire import brushfire
-from gridfield.errors import ParameterError
+import gridfield.distance.incremental as incremental
+import gridfield.fields.potential as potential
+from gridfield.core.errors import ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.distance.brushfire import brushfire
 from gridfield.explore import Explorer
-from gridfield.grid import Grid, GridMap
+from gridfield.fields.potential import build_field
+from gridfield.geometry.rasterize import as_gridmap
 from gridfield.io import bundled_map, read_world
-from gridfield.potential import build_field
-from gridfield.rasterize import as_gridmap
 
 RES = 0.25
 
@@ -178,7 +178,7 @@ def test_a_grid_map_without_a_world_is_burnt_and_undone_incrementally(calls):
         calls.clear()
         ex.add_polygon([(15, 5), (18, 5), (18, 9), (15, 9)])
         assert not calls
-        from gridfield.rasterize import rasterize_geometry
+        from gridfield.geometry.rasterize import rasterize_geometry
 
         truth = GridMap(gm.grid, occ | rasterize_geometry(box(15, 5, 18, 9), gm.grid))
         _same_as_full(ex, truth)
@@ -196,7 +196,7 @@ def test_cspace_rasterizes_in_full_but_keeps_the_brushfire_incremental(ex, calls
     calls.clear()
     ex.add_polygon([(14, 2), (17, 2), (17, 5), (14, 5)])
     assert not calls  # the C-space is re-rasterized, its brushfire updated where it changed
-    from gridfield.cspace import apply_robot
+    from gridfield.geometry.cspace import apply_robot
 
     truth = as_gridmap(apply_robot(ex.world, ex.robot), RES)
     np.testing.assert_array_equal(ex.cgridmap.occupied, truth.occupied)
@@ -210,7 +210,7 @@ def test_saturated_or_other_metrics_fall_back_to_the_full_brushfire(ex, calls):
     ex.set_param("saturate", 1.0)
     calls.clear()
     ex.add_polygon([(14, 2), (17, 2), (17, 5), (14, 5)])
-    assert "gridfield.potential" in calls  # no incremental saturated map: the full one
+    assert "gridfield.fields.potential" in calls  # no incremental saturated map: the full one
     full = potential.field_distance_map(ex.gridmap, ex.params)
     np.testing.assert_array_equal(ex.field.distance.distance, full.distance)
     ex.set_param("saturate", None)

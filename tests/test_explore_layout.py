@@ -15,8 +15,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
+from gridfield.core.grid import Grid, GridMap
 from gridfield.explore import Explorer
-from gridfield.grid import Grid, GridMap
 
 
 @pytest.fixture(autouse=True)

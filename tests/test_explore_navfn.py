@@ -10,10 +10,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from gridfield.costmap import inflate
+from gridfield.core.grid import Grid, GridMap
 from gridfield.explore import PLANNER_SLIDERS, Explorer, available_planners
-from gridfield.grid import Grid, GridMap
-from gridfield.navfn import navfn
+from gridfield.fields.costmap import inflate
+from gridfield.fields.navfn import navfn
 from gridfield.planners import plan
 
 

@@ -20,11 +20,11 @@ from matplotlib.backend_bases import KeyEvent, MouseEvent
 from PIL import Image
 
 from gridfield.cli import main
+from gridfield.core.grid import Grid, GridMap
 from gridfield.explore import BUTTONS, PLANNER_SLIDERS, Explorer
-from gridfield.grid import Grid, GridMap
+from gridfield.fields.potential import build_field
+from gridfield.geometry.rasterize import as_gridmap
 from gridfield.io import bundled_map, read_world
-from gridfield.potential import build_field
-from gridfield.rasterize import as_gridmap
 
 
 @pytest.fixture

@@ -87,7 +87,7 @@ def _optional_imports(path: Path) -> list[tuple[str, str | None]]:
 
 #: Optional imports that only refine a result and have a fallback in the code (no extra needed):
 #: module -> (file, what happens without it). Each is checked to sit in a try with a fallback branch.
-SOFT = {"psutil": ("gridfield/limits.py", "the available memory is read from /proc/meminfo")}
+SOFT = {"psutil": ("gridfield/core/limits.py", "the available memory is read from /proc/meminfo")}
 
 
 def test_every_optional_import_names_an_extra_that_lists_it() -> None:
@@ -111,7 +111,7 @@ def test_every_optional_import_names_an_extra_that_lists_it() -> None:
 
 def _planner_files() -> dict[str, Path]:
     """Planner name -> the file that defines its function (PLANNERS read from the table's source)."""
-    table = ast.parse((ROOT / "gridfield" / "_planner_table.py").read_text())
+    table = ast.parse((ROOT / "gridfield" / "core" / "planner_table.py").read_text())
     planners: dict[str, str] = {}
     for node in ast.walk(table):
         if isinstance(node, ast.Dict):

@@ -10,8 +10,11 @@ import shapely
 from hypothesis import given
 from hypothesis import strategies as st
 
-from gridfield.errors import GridfieldError, ParameterError
-from gridfield.follow import (
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.core.path import Path
+from gridfield.fields.potential import Field, build_field
+from gridfield.following.follower import (
     attraction_force,
     basins,
     descend,
@@ -25,12 +28,9 @@ from gridfield.follow import (
     resolve_follow_params,
     sample_force,
 )
-from gridfield.grid import Grid, GridMap
+from gridfield.geometry.rasterize import rasterize
 from gridfield.io import bundled_map, read_world
-from gridfield.path import Path
 from gridfield.planners import plan
-from gridfield.potential import Field, build_field
-from gridfield.rasterize import rasterize
 
 
 # ----------------------------------------------------------------------------------------------
@@ -250,7 +250,7 @@ def test_parameter_errors(kw, match):
 
 
 def test_resolve_follow_params_defaults():
-    from gridfield.params import Escape, Follower, names
+    from gridfield.core.params import Escape, Follower, names
 
     p = resolve_follow_params({}, unit=0.05)
     assert list(p) == list(names(Follower, Escape))
@@ -552,8 +552,8 @@ def test_failed_jumps_are_counted_and_do_not_move():
 def test_descend_takes_the_follower_groups_names():
     """descend's keywords are the registry names of Follower and Escape: another name is refused,
     and the rules made from them carry the typed groups."""
-    from gridfield.descent import resolve_rules
-    from gridfield.params import Escape, Follower
+    from gridfield.core.params import Escape, Follower
+    from gridfield.following.descent import resolve_rules
 
     with pytest.raises(ParameterError, match="q_star is no follower parameter"):
         descend(bowl(0, 0), (1.0, 1.0), (0.0, 0.0), q_star=1.0)

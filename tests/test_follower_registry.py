@@ -1,9 +1,10 @@
-"""A new follower parameter is one field in ``gridfield/params.py`` and the code that reads it.
+"""A new follower parameter is one field in the registry's tables (``gridfield/core/_param_table.py``)
+and the code that reads it.
 
 The follower has no table of its own (``follow.FOLLOW_DEFAULTS`` and ``descent.RULE_PARAMS`` are
 gone): its values come from the registry as the typed groups ``params.Follower`` and
-``params.Escape`` (:func:`gridfield.descent.rules`). The test below copies the package, adds one
-field to ``Follower`` in the copy's ``params.py`` (no other file is touched), and checks in a
+``params.Escape`` (:func:`gridfield.following.descent.rules`). The test below copies the package, adds one
+field to ``Follower`` in the copy's ``core/_param_table.py`` (no other file is touched), and checks in a
 fresh interpreter that the new parameter is validated, resolved, handed to both followers' rules
 and recorded in the path, and that the CLI's ``--param`` parser knows it.
 """
@@ -24,11 +25,11 @@ NEW_FIELD = ('    turn_limit: float = _p("follower", "number", 90.0, "test only:
 
 CHECK = textwrap.dedent('''
     import numpy as np
-    from gridfield.descent import descend, resolve_rules
-    from gridfield.errors import ParameterError
-    from gridfield.follow import _setup, follow, follow_many, resolve_follow_params
-    from gridfield.grid import Grid, GridMap
-    from gridfield.params import REGISTRY, Follower, parse
+    from gridfield.following.descent import descend, resolve_rules
+    from gridfield.core.errors import ParameterError
+    from gridfield.following.follower import _setup, follow, follow_many, resolve_follow_params
+    from gridfield.core.grid import Grid, GridMap
+    from gridfield.core.params import REGISTRY, Follower, parse
     from types import SimpleNamespace
 
     assert REGISTRY["turn_limit"].default == 90.0 and Follower().turn_limit == 90.0
@@ -57,7 +58,7 @@ CHECK = textwrap.dedent('''
 def test_a_new_follower_parameter_is_one_field_in_params(tmp_path: Path) -> None:
     copy = tmp_path / "gridfield"
     shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__", "*.c", "*.pyx"))
-    params = copy / "params.py"
+    params = copy / "core" / "_param_table.py"
     text = params.read_text()
     assert text.count(ANCHOR) == 1 and "turn_limit" not in text
     params.write_text(text.replace(ANCHOR, NEW_FIELD + ANCHOR))
@@ -65,7 +66,7 @@ def test_a_new_follower_parameter_is_one_field_in_params(tmp_path: Path) -> None
                          env={"PYTHONPATH": str(tmp_path), "PATH": "/usr/bin:/bin"}, timeout=300)
     assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr[-3000:]
     # the original package does not know the name (the test changed only the copy)
-    unpatched = subprocess.run([sys.executable, "-c", "from gridfield.params import REGISTRY; "
+    unpatched = subprocess.run([sys.executable, "-c", "from gridfield.core.params import REGISTRY; "
                                 "print('turn_limit' in REGISTRY)"], cwd=PACKAGE.parent, capture_output=True,
                                text=True, env={"PYTHONPATH": str(PACKAGE.parent), "PATH": "/usr/bin:/bin"},
                                timeout=300)

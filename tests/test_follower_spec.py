@@ -14,9 +14,9 @@ import itertools
 import numpy as np
 import pytest
 
-from gridfield.follow import follow, follow_many
-from gridfield.grid import Grid, GridMap
-from gridfield.potential import build_field
+from gridfield.core.grid import Grid, GridMap
+from gridfield.fields.potential import build_field
+from gridfield.following.follower import follow, follow_many
 
 RULES = [
     {"step_rule": "normalized"},

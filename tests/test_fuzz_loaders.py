@@ -16,10 +16,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from gridfield.errors import MESSAGE_LIMIT, GridfieldError
-from gridfield.grid import Grid, GridMap
+from gridfield.core.errors import MESSAGE_LIMIT, GridfieldError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.core.limits import override
 from gridfield.io import bundled_map, read, read_scen, write_bitmap, write_npz, write_ros_map
-from gridfield.limits import override
 
 HANG_SECONDS = 20  # far above any loader's time on these tiny files; only a hang reaches it
 
@@ -37,7 +37,8 @@ def _seeds(folder: Path) -> dict[str, tuple[str, bytes, Callable[[Path], Any]]]:
         write_bitmap(folder / f"seed{suffix}", gm)
     write_ros_map(folder / "ros.yaml", gm, image_name="ros_image.pgm")
     write_npz(folder / "seed.npz", {"occupied": gm.occupied}, gm.grid)
-    from gridfield.potential import build_field, save_field
+    from gridfield.fields.potential import build_field
+    from gridfield.io import save_field
 
     save_field(folder / "field.npz", build_field(gm, (2.0, 4.5)))
     shutil.copy(bundled_map("seed000.yaml"), folder / "seed000.yaml")
@@ -46,7 +47,7 @@ def _seeds(folder: Path) -> dict[str, tuple[str, bytes, Callable[[Path], Any]]]:
            b"planners: [wavefront]\nparams: {q_star: [1.0, 2.0]}\n"
 
     def load_field(p: Path) -> Any:
-        from gridfield.potential import load_field
+        from gridfield.io import load_field
 
         return load_field(p)
 

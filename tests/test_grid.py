@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gridfield.errors import GridfieldError, ParameterError
-from gridfield.grid import Grid, GridMap
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.grid import Grid, GridMap
 
 finite = st.floats(min_value=-1e3, max_value=1e3, allow_nan=False, allow_infinity=False)
 resolutions = st.floats(min_value=1e-3, max_value=10.0, allow_nan=False, allow_infinity=False)

@@ -1,4 +1,4 @@
-"""Grid maps as exact polygons (gridfield.gridpoly) and the exact planners / compare on grid maps."""
+"""Grid maps as exact polygons (gridfield.geometry.gridpoly) and the exact planners / compare on grid maps."""
 
 from __future__ import annotations
 
@@ -12,9 +12,9 @@ from hypothesis import strategies as st
 from scipy import ndimage
 
 from gridfield.compare import batch_compare, collides, convergence_study
-from gridfield.errors import GridfieldError, ParameterError
-from gridfield.grid import Grid, GridMap
-from gridfield.gridpoly import block_downsample, grid_world, source_grid
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.geometry.gridpoly import block_downsample, grid_world, source_grid
 from gridfield.planners import plan
 
 
@@ -88,8 +88,8 @@ def test_exact_planners_run_on_grid_maps():
     assert source_grid(world) is gm
     # the same optimum through the polygon world (plan_visibility hands it to the grid graph) ...
     assert plan("visibility", world, s, g).length == pytest.approx(vis.length, abs=1e-12)
-    # ... and through the general polygon visibility graph of gridfield.visibility
-    from gridfield.visibility import visibility_graph
+    # ... and through the general polygon visibility graph of gridfield.exact.visibility
+    from gridfield.exact.visibility import visibility_graph
 
     assert visibility_graph(world).shortest_path(s, g)[1] == pytest.approx(vis.length, abs=1e-9)
     assert not collides(world, vis.points)
@@ -133,7 +133,7 @@ def test_batch_compare_on_a_grid_map():
 def test_exact_potential_distance_is_the_distance_to_the_blocked_squares(gm, seed):
     """The exact field's nearest-obstacle distance on a grid world equals a brute force over every
     blocked square (and the border wall): the distance to a union of squares is the smallest one."""
-    from gridfield.exact import ExactField
+    from gridfield.exact.continuous import ExactField
 
     if not gm.occupied.any():
         return
@@ -197,7 +197,7 @@ def test_exact_potential_clearance_through_the_tree_equals_the_world_clearance()
     assert len(world.obstacles) > 8
     p = plan("exact-potential", gm, (2.5, 2.5), (27.5, 27.5), {"step": 0.2, "q_star": 1.5, "max_iterations": 3000})
     assert p.min_clearance == pytest.approx(world.clearance(p.points), abs=1e-12)
-    from gridfield.exact import _clearance
+    from gridfield.exact.continuous import _clearance
 
     free_line = np.array([[2.5, 2.5], [2.6, 2.6]])
     assert _clearance(world, free_line) == pytest.approx(world.clearance(free_line), abs=1e-12)

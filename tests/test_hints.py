@@ -8,7 +8,7 @@ import re
 import numpy as np
 import pytest
 
-from gridfield.grid import Grid, GridMap
+from gridfield.core.grid import Grid, GridMap
 from gridfield.io import bundled_map, read
 from gridfield.planners import plan
 
@@ -48,7 +48,7 @@ def _suggested(hint: str) -> float | None:
 def test_a_suggested_q_star_was_tried_and_reaches() -> None:
     """seed000_segment: today's hint proposed --q-star 1.35, which stalls again (and proposes 1.02, ...)."""
     world = read(bundled_map("seed000_segment.yaml"))
-    from gridfield.rasterize import as_gridmap
+    from gridfield.geometry.rasterize import as_gridmap
 
     gm = as_gridmap(world)
     params = dict(world.params)

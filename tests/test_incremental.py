@@ -1,6 +1,6 @@
-"""Tests of gridfield.incremental: the distance map and the potential field updated where the map changed.
+"""Tests of gridfield.distance.incremental: the distance map and the potential field updated where the map changed.
 
-The reference is a full :func:`gridfield.brushfire.brushfire` (and :func:`build_field`) of the new
+The reference is a full :func:`gridfield.distance.brushfire.brushfire` (and :func:`build_field`) of the new
 occupancy after every update, plus a brute-force nearest obstacle written here (the tie rule the
 window updates rely on). Random sequences of insertions and removals (hypothesis) on random maps with
 both borders, with and without world obstacle ids.
@@ -13,11 +13,12 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from gridfield.brushfire import brushfire
-from gridfield.errors import GridfieldError, ParameterError
-from gridfield.grid import Grid, GridMap
-from gridfield.incremental import IncrementalBrushfire, update_field, update_navigation
-from gridfield.potential import build_field
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.distance.brushfire import brushfire
+from gridfield.distance.incremental import IncrementalBrushfire
+from gridfield.fields.incremental import update_field, update_navigation
+from gridfield.fields.potential import build_field
 
 
 def brute_nearest(occ: np.ndarray, border: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -243,12 +244,14 @@ def test_world_ids_of_new_cells():
     assert_equal_full(ib)
 
 
-def test_reexported_from_brushfire_and_errors():
-    import gridfield.brushfire as bf
+def test_importable_from_its_layer_and_the_top_and_errors():
+    import gridfield
+    import gridfield.distance
+    import gridfield.distance.brushfire as bf
 
-    # a deprecated alias (brushfire never imports incremental, which builds on it: tests/test_layers.py)
-    with pytest.deprecated_call(match="gridfield.incremental"):
-        assert bf.IncrementalBrushfire is IncrementalBrushfire
+    # the deprecated alias bf.IncrementalBrushfire is gone (CHANGELOG): brushfire never reaches incremental
+    assert not hasattr(bf, "IncrementalBrushfire")
+    assert gridfield.IncrementalBrushfire is gridfield.distance.IncrementalBrushfire is IncrementalBrushfire
     gm = GridMap(Grid((3, 3), 1.0), np.zeros((3, 3), bool))
     with pytest.raises(ParameterError, match="euclidean"):
         IncrementalBrushfire(gm, metric="chessboard")
@@ -331,7 +334,7 @@ def test_demo_moving_obstacle_replans_to_the_goal(tmp_path):
 @given(st.integers(3, 24), st.integers(3, 24), st.integers(0, 2**31), st.sampled_from([0.0, 1.5]),
        st.sampled_from(["unit", "octile"]), st.sampled_from([4, 8]))
 def test_update_navigation_equals_a_new_wavefront(rows, cols, seed, weight, costs, conn):
-    from gridfield.navigation import wavefront
+    from gridfield.fields.navigation import wavefront
 
     rng = np.random.default_rng(seed)
     occ = rng.random((rows, cols)) < 0.25
@@ -352,7 +355,7 @@ def test_update_navigation_equals_a_new_wavefront(rows, cols, seed, weight, cost
 
 
 def test_update_navigation_refuses_other_kinds():
-    from gridfield.navigation import harmonic
+    from gridfield.fields.navigation import harmonic
 
     gm = GridMap(Grid((6, 6), 1.0), np.zeros((6, 6), bool))
     with pytest.raises(ParameterError, match="wavefront"):

@@ -14,7 +14,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from PIL import Image
 
-from gridfield.grid import Grid, GridMap
+from gridfield.core.grid import Grid, GridMap
+from gridfield.geometry.world import World
 from gridfield.io import (
     Scenarios,
     bundled_map,
@@ -30,7 +31,6 @@ from gridfield.io import (
     write_npz,
     write_ros_map,
 )
-from gridfield.world import World
 
 from mapdata import MOVINGAI, ROS_MAPS, TEST_MAPS, image, raw
 
@@ -214,7 +214,7 @@ def test_ros1_testmap2_negate():
 
 
 def test_rotated_fixture_gives_clear_error():
-    from gridfield.errors import MapFormatError
+    from gridfield.core.errors import MapFormatError
 
     with pytest.raises(MapFormatError, match=r"testmap\.yaml: origin yaw 1 rad is not supported"):
         read_ros_map(NAV2_TESTMAP / "testmap.yaml")

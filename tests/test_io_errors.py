@@ -12,8 +12,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from PIL import Image
 
-from gridfield.errors import GridfieldError, MapFormatError, ParameterError
-from gridfield.grid import Grid, GridMap
+from gridfield.core.errors import GridfieldError, MapFormatError, ParameterError
+from gridfield.core.grid import Grid, GridMap
 from gridfield.io import (
     bundled_map,
     read,

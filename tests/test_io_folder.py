@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from gridfield.cli import main
-from gridfield.errors import MapFormatError
+from gridfield.core.errors import MapFormatError
 from gridfield.io import bundled_map, read
 
 

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 from gridfield.cli import main
-from gridfield.errors import MapFormatError, SizeLimitError
+from gridfield.core.errors import MapFormatError, SizeLimitError
+from gridfield.core.limits import override
 from gridfield.io import bundled_map, read, read_ros_map, read_scen
-from gridfield.limits import override
 
 
 def _gz(src: Path, dst: Path) -> Path:

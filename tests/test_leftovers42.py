@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from gridfield.cli import main
-from gridfield.cspace import apply_robot
-from gridfield.errors import MapFormatError, ParameterError
-from gridfield.grid import Grid, GridMap
+from gridfield.core.errors import MapFormatError, ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.geometry.cspace import apply_robot
 from gridfield.io import load_field, read, read_npz, save_field, write_npz
 from gridfield.planners import plan
 
@@ -93,7 +93,7 @@ def test_the_cli_npz_of_a_disc_robot_keeps_the_diagonals(tmp_path, capsys):
 
 
 def test_save_field_and_load_field_keep_the_map_diagonals(tmp_path):
-    from gridfield.navigation import navigation_field
+    from gridfield.fields.navtable import navigation_field
 
     cspace = corner_cspace()
     field = navigation_field(cspace, CORNER_GOAL, "wavefront-octile").to_field()

@@ -15,9 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gridfield.brushfire import brushfire
 from gridfield.cli import main
-from gridfield.errors import (
+from gridfield.core.errors import (
     MESSAGE_LIMIT,
     ArgumentTypeError,
     GridfieldError,
@@ -25,9 +24,10 @@ from gridfield.errors import (
     ParameterError,
     SizeLimitError,
 )
-from gridfield.grid import Grid, GridMap
+from gridfield.core.grid import Grid, GridMap
+from gridfield.core.limits import check_cells, default_max_cells, max_cells, override
+from gridfield.distance.brushfire import brushfire
 from gridfield.io import bundled_map, read, read_world
-from gridfield.limits import check_cells, default_max_cells, max_cells, override
 from gridfield.planners import plan
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -111,7 +111,7 @@ def test_movingai_header_and_worlds_are_sized_before_allocating(tmp_path: Path, 
     _refused(lambda: read(m), 10**10)
     # a world at a fine resolution: (25 / 3e-5) x (20 / 3e-5) cells, counted from bounds and resolution
     w = read_world(SEED)
-    from gridfield.rasterize import as_gridmap
+    from gridfield.geometry.rasterize import as_gridmap
 
     expected = int(np.ceil(20 / 3e-5)) * int(np.ceil(25 / 3e-5))
     msg = _refused(lambda: as_gridmap(w, 3e-5), expected // 10**6)  # the count printed in full

@@ -11,10 +11,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import gridfield.limits as limits
+import gridfield.core.limits as limits
 from gridfield.cli import main
-from gridfield.errors import ParameterError, SizeLimitError
-from gridfield.grid import Grid
+from gridfield.core.errors import ParameterError, SizeLimitError
+from gridfield.core.grid import Grid
 from gridfield.io import bundled_map, write_npz
 
 N = 200  # a 200 x 200 free map: 40000 cells

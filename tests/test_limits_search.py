@@ -9,13 +9,13 @@ import time
 import numpy as np
 import pytest
 
-import gridfield.limits as limits
+import gridfield.core.limits as limits
 from gridfield.cli import main
-from gridfield.errors import ParameterError, SizeLimitError
-from gridfield.grid import Grid, GridMap
+from gridfield.core.errors import ParameterError, SizeLimitError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.geometry.world import world_from_dict
 from gridfield.io import bundled_map, read_world, write_npz
 from gridfield.planners import plan
-from gridfield.world import world_from_dict
 
 
 def _noise(n: int, p: float, seed: int = 0) -> GridMap:
@@ -38,7 +38,7 @@ def test_the_any_angle_graph_is_refused_by_its_corner_count(monkeypatch) -> None
     """The visibility graph (the ``graph`` search) grows with the corners: refused up front under a limit
     just below its estimate, the graph kernel never run. The default search (Polyanya, a navigation mesh
     linear in the cells) is not: under the same limit it answers."""
-    import gridfield.anyangle as anyangle
+    import gridfield.exact.anyangle as anyangle
 
     gm = _noise(96, 0.3)
     corners = anyangle.convex_corners(anyangle._padded_blocked(gm))[0].size
@@ -59,7 +59,7 @@ def test_the_any_angle_graph_is_refused_by_its_corner_count(monkeypatch) -> None
 
 
 def test_a_grid_maps_exact_polygons_are_refused_by_their_run_count(monkeypatch) -> None:
-    from gridfield.gridpoly import blocked_runs, grid_world
+    from gridfield.geometry.gridpoly import blocked_runs, grid_world
 
     gm = _noise(64, 0.3, seed=1)
     runs = blocked_runs(gm.occupied)[0].size
@@ -97,7 +97,7 @@ def test_where_they_run_the_results_are_unchanged(monkeypatch) -> None:
             ("exact-potential", w, w.start, w.goal)]
     default = [plan(p, t, s, g).points for p, t, s, g in runs]
     monkeypatch.setenv(limits.SECONDS_ENV_VAR, "inf")
-    from gridfield import anyangle, visibility
+    from gridfield.exact import anyangle, visibility
 
     anyangle._GRAPHS.clear()
     visibility._CACHE.clear()

@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from gridfield.fields.navigation import SQRT2, extract_path, wavefront
 from gridfield.io import read_movingai_map, read_scen
-from gridfield.navigation import SQRT2, extract_path, wavefront
 
 from mapdata import movingai_pairs
 

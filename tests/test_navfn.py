@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gridfield.costmap import Costmap, inflate
-from gridfield.grid import Grid, GridMap
-from gridfield.navfn import POT_HIGH, _cycles, _kernels, navfn, navfn_costs, plan_navfn
+from gridfield.core.grid import Grid, GridMap
+from gridfield.fields.costmap import Costmap, inflate
+from gridfield.fields.navfn import POT_HIGH, _cycles, _kernels, navfn, navfn_costs, plan_navfn
 
 from mapdata import TEST_MAPS
 

@@ -15,11 +15,12 @@ from hypothesis import strategies as st
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
-from gridfield import navigation as nv
-from gridfield.errors import GridfieldError, ParameterError
-from gridfield.grid import Grid, GridMap
-from gridfield.navigation import _field, _sphere  # private helpers tested directly
-from gridfield.world import world_from_dict
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.fields import navigation as nv
+from gridfield.fields.navigation import _field, _sphere  # private helpers tested directly
+from gridfield.fields.navtable import navigation_field
+from gridfield.geometry.world import world_from_dict
 
 SQRT2 = math.sqrt(2.0)
 
@@ -556,10 +557,10 @@ def test_upwind_gradient_points_uphill_and_ignores_obstacles():
 
 @pytest.mark.parametrize("name", ["wavefront", "wavefront-octile", "fmm", "harmonic", "sphere-nav"])
 def test_navigation_field_for_every_planner(name):
-    from gridfield.rasterize import as_gridmap
+    from gridfield.geometry.rasterize import as_gridmap
 
     gm = as_gridmap(circles_world(), 0.25)
-    nav = nv.navigation_field(gm, (14.125, 8.125), name, {"kappa": 5, "connectivity": 8, "zeta": 3.0})
+    nav = navigation_field(gm, (14.125, 8.125), name, {"kappa": 5, "connectivity": 8, "zeta": 3.0})
     assert nav.potential.shape == nav.grad_x.shape == nav.grad_y.shape == gm.shape
     assert np.isfinite(nav.grad_x).all() and np.isfinite(nav.grad_y).all()
     assert nav.value[nav.goal_cell] == nav.value.min()
@@ -570,9 +571,9 @@ def test_navigation_field_for_every_planner(name):
 def test_navigation_field_errors():
     gm = GridMap(Grid((3, 3), 1.0), np.zeros((3, 3), bool))
     with pytest.raises(ParameterError, match="unknown navigation planner"):
-        nv.navigation_field(gm, (0.5, 0.5), "astar", {})
+        navigation_field(gm, (0.5, 0.5), "astar", {})
     with pytest.raises(ParameterError, match="vector world"):
-        nv.navigation_field(gm, (0.5, 0.5), "sphere-nav", {})
+        navigation_field(gm, (0.5, 0.5), "sphere-nav", {})
 
 
 @pytest.mark.parametrize("name", ["wavefront", "wavefront-octile", "fmm", "harmonic"])
@@ -616,7 +617,7 @@ def test_cli_plan_wavefront_octile_json(repo_maps, capsys):
 
 @pytest.mark.parametrize("border", ["open", "wall"])
 def test_min_clearance_equals_brushfire(border):
-    from gridfield.brushfire import brushfire
+    from gridfield.distance.brushfire import brushfire
 
     for seed, p in ((0, 0.3), (1, 0.02), (2, 0.0)):
         rng = np.random.default_rng(seed)

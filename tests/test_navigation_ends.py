@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gridfield.grid import Grid, GridMap
-from gridfield.navigation import NavigationField, extract_path
+from gridfield.core.grid import Grid, GridMap
+from gridfield.fields.navigation import NavigationField, extract_path
 from gridfield.planners import plan
 
 

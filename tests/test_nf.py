@@ -1,8 +1,8 @@
-"""The complete potential models (gridfield.navfield: nf1, nf2, nf-blend) and the planner's default.
+"""The complete potential models (gridfield.fields.navfield: nf1, nf2, nf-blend) and the planner's default.
 
 Oracles: scikit-fmm's fast marching and the exact Euclidean distance (nf1's eikonal values), the
 binary-heap march (the bucket queue's values), the octile wavefront of ``wavefront-octile`` (nf1's
-octile option), :func:`gridfield.basins.basins` (one sink per free component, the goal's, on every
+octile option), :func:`gridfield.following.basins.basins` (one sink per free component, the goal's, on every
 Moving AI and ROS map of tests/data/maps), scipy's 4-connected labelling (reachability), shapely's
 exact geometry (no segment enters an occupied cell) and a bisection for the bottleneck clearance.
 """
@@ -21,13 +21,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import ndimage
 
-from gridfield.basins import basins
-from gridfield.brushfire import brushfire
-from gridfield.errors import ParameterError
-from gridfield.escapes import navigation_map
-from gridfield.grid import Grid, GridMap
-from gridfield.io import read, read_movingai_map
-from gridfield.navfield import (
+from gridfield.core.errors import ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.core.params import REGISTRY
+from gridfield.distance.brushfire import brushfire
+from gridfield.fields.navfield import (
     BUCKET_CELLS,
     NF_MODELS,
     _kernels,
@@ -39,10 +37,12 @@ from gridfield.navfield import (
     skeleton,
     work_maps,
 )
-from gridfield.navigation import wavefront
-from gridfield.params import REGISTRY
+from gridfield.fields.navigation import wavefront
+from gridfield.fields.potential import build_field
+from gridfield.following.basins import basins
+from gridfield.following.escapes import navigation_map
+from gridfield.io import read, read_movingai_map
 from gridfield.planners import PLANNERS, plan
-from gridfield.potential import build_field
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -120,7 +120,7 @@ def test_bucket_queue_agrees_with_the_binary_heap_march():
 
 def test_stop_at_settles_the_cells_up_to_the_start(monkeypatch):
     # the plain (Dijkstra-ordered) truncation; the A*-ordered one is tests/test_nf_astar.py's
-    monkeypatch.setattr("gridfield.navfield.ASTAR_WEIGHT", 0.0)
+    monkeypatch.setattr("gridfield.fields.navfield.ASTAR_WEIGHT", 0.0)
     gm = wall_map(rooms())
     full = eikonal(gm, (5.5, 5.5))
     part = eikonal(gm, (5.5, 5.5), stop_at=(30.5, 30.5), margin=4.0)
@@ -357,7 +357,7 @@ def test_skeleton_finds_the_middle_of_a_room_of_one_obstacle():
 
 
 def test_nav_field_refuses_other_models_and_foreign_distance_maps():
-    from gridfield.errors import ParameterError
+    from gridfield.core.errors import ParameterError
 
     gm = wall_map(np.zeros((5, 5), bool))
     with pytest.raises(ParameterError, match="models"):
@@ -415,7 +415,7 @@ def test_nf_blend_stall_at_a_one_cell_door_is_finished_by_the_discrete_descent(t
     gm = read_movingai_map(next(d.glob("*.map.gz")))
     scen = read_scen(next(d.glob("*.scen.gz")), map_height=gm.shape[0])
     s, g = scen.start_xy[918], scen.goal_xy[918]
-    import gridfield.navfield as navfield
+    import gridfield.fields.navfield as navfield
 
     # the stall happens with the planned march's A* weight at 1 or below (0.7 when it was found); the
     # default's 1.25 settles other cells there and reaches without it, so the case pins the weight
@@ -436,7 +436,7 @@ def test_descend_cells_strictly_descends_by_legal_moves_to_the_goal(seed, model)
     """From every free cell of the goal's component, on fields of random maps: each move is to an
     8-neighbour (a diagonal only with both side cells free), U strictly falls, the walk ends at the goal;
     checked against the map directly (not through the field's own code)."""
-    from gridfield.follow import descend_cells
+    from gridfield.following.follower import descend_cells
 
     rng = np.random.default_rng(seed)
     occ = rng.random((14, 17)) < 0.3

@@ -1,4 +1,4 @@
-"""The A*-ordered truncated march of a planned nf1 query (gridfield.navfield.ASTAR_WEIGHT, issue 25).
+"""The A*-ordered truncated march of a planned nf1 query (gridfield.fields.navfield.ASTAR_WEIGHT, issue 25).
 
 The truncated field's values are not the full march's (a cell may be accepted before a neighbour its
 2-neighbour update needed), so these tests check what the follower relies on instead, against
@@ -16,12 +16,20 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gridfield import navfield
-from gridfield.brushfire import brushfire
-from gridfield.grid import Grid, GridMap
+from gridfield.core.grid import Grid, GridMap
+from gridfield.core.params import resolve_field
+from gridfield.distance.brushfire import brushfire
+from gridfield.fields import navfield
+from gridfield.fields.navfield import (
+    ASTAR_WEIGHT,
+    BUCKET_CELLS,
+    STOP_MARGIN_CELLS,
+    _kernels,
+    band_cost,
+    eikonal,
+    nav_field,
+)
 from gridfield.io import read_movingai_map, read_scen
-from gridfield.navfield import ASTAR_WEIGHT, BUCKET_CELLS, STOP_MARGIN_CELLS, _kernels, band_cost, eikonal, nav_field
-from gridfield.params import resolve_field
 from gridfield.planners import plan
 
 

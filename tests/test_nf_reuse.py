@@ -1,5 +1,5 @@
 """What a planned nf1 query keeps between the queries of one map (issue 25): the march setup
-(``gridfield.navfield._MarchSetup``: the compiled Marcher's arrays) and recycled output arrays.
+(``gridfield.fields.navfield._MarchSetup``: the compiled Marcher's arrays) and recycled output arrays.
 
 The fields of the queries must not change when later queries run while anything still refers to
 them (a Field, a view, a buffer), the results must equal a fresh march's, and nothing is kept once
@@ -13,9 +13,9 @@ import gc
 import numpy as np
 import pytest
 
-from gridfield import navfield
-from gridfield.brushfire import brushfire
-from gridfield.grid import Grid, GridMap
+from gridfield.core.grid import Grid, GridMap
+from gridfield.distance.brushfire import brushfire
+from gridfield.fields import navfield
 from gridfield.planners import plan, plan_with_field
 
 

@@ -15,9 +15,9 @@ import pytest
 from scipy import ndimage
 
 from gridfield.cli import main
-from gridfield.diagnose import robot_no_path
+from gridfield.core.path import Path
+from gridfield.following.diagnose import robot_no_path
 from gridfield.io import read_ros_map
-from gridfield.path import Path
 
 from mapdata import ROS_MAPS as MAPS
 

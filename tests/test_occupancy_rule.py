@@ -16,7 +16,7 @@ import pytest
 from PIL import Image
 
 from gridfield.cli import main
-from gridfield.errors import MapFormatError, ParameterError
+from gridfield.core.errors import MapFormatError, ParameterError
 from gridfield.io import bundled_map, read, read_bitmap, read_npy, read_tiff
 
 tifffile = pytest.importorskip("tifffile")

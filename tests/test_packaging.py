@@ -23,7 +23,7 @@ def test_io_imports_no_later_stage() -> None:
     """Data flows io -> ... -> potential: importing gridfield.io loads neither potential nor brushfire
     (``io.load_field`` imports them when it is called)."""
     code = ("import sys, gridfield.io; "
-            "print(','.join(m for m in ('gridfield.potential', 'gridfield.brushfire', 'gridfield.navigation') "
+            "print(','.join(m for m in ('gridfield.fields.potential', 'gridfield.brushfire', 'gridfield.fields.navigation') "
             "if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT).stdout
     assert out.strip() == ""

@@ -14,11 +14,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gridfield.errors import ParameterError
-from gridfield.navigation import StarNavWarning, navigation_field
+from gridfield.core.errors import ParameterError
+from gridfield.fields.navigation import StarNavWarning
+from gridfield.fields.navtable import navigation_field
+from gridfield.geometry.rasterize import rasterize
+from gridfield.geometry.world import world_from_dict
 from gridfield.planners import plan
-from gridfield.rasterize import rasterize
-from gridfield.world import world_from_dict
 
 PACKAGE = Path(__file__).resolve().parents[1] / "gridfield"
 
@@ -108,7 +109,7 @@ def star_two():
 
 def test_star_nav_tiny_step_is_refused_up_front(star_two) -> None:
     """step=1e-9 made the default step budget ~1e12 (killed after 300 s); now a ParameterError naming the bound."""
-    from gridfield.navigation._sphere import MAX_DEFAULT_ITERATIONS
+    from gridfield.fields.navigation._sphere import MAX_DEFAULT_ITERATIONS
 
     with pytest.raises(ParameterError, match=rf"star-nav: step=1e-09 is too small .* more than {MAX_DEFAULT_ITERATIONS}"):
         plan("star-nav", star_two, star_two.start, star_two.goal, {**star_two.params, "step": 1e-9})

@@ -17,11 +17,11 @@ from matplotlib.collections import LineCollection, PatchCollection
 from PIL import Image
 
 from gridfield import plot
-from gridfield.brushfire import brushfire
-from gridfield.errors import GridfieldError, ParameterError
-from gridfield.grid import Grid, GridMap
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.core.path import Path
+from gridfield.distance.brushfire import brushfire
 from gridfield.io import bundled_map, read_world
-from gridfield.path import Path
 
 PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -84,7 +84,7 @@ def test_plot_map_grid_image_in_world_coordinates(corridor):
 
 
 def test_plot_map_world_outlines_and_rasterized_image(seed000):
-    from gridfield.rasterize import as_gridmap
+    from gridfield.geometry.rasterize import as_gridmap
 
     art = plot.plot_map(as_gridmap(seed000, 0.25))
     assert tuple(art.image.get_extent()) == (0.0, 25.0, 0.0, 20.0)
@@ -98,7 +98,7 @@ def test_plot_map_world_outlines_and_rasterized_image(seed000):
 
 
 def test_plot_map_draws_a_world_as_outlines_and_rasterizes_nothing(seed000, monkeypatch):
-    import gridfield.rasterize as rasterize
+    import gridfield.geometry.rasterize as rasterize
 
     def no(*_a, **_k):
         raise AssertionError("plot_map rasterized the world")
@@ -217,8 +217,8 @@ def test_plot_potential_linear_scale_and_path(corridor):
 
 
 def test_plot_potential_of_a_real_field(seed000):
-    import gridfield.potential as potential
-    from gridfield.rasterize import as_gridmap
+    import gridfield.fields.potential as potential
+    from gridfield.geometry.rasterize import as_gridmap
 
     gm = as_gridmap(seed000, 0.25)
     f = potential.build_field(gm, seed000.goal, dict(seed000.params))
@@ -285,9 +285,9 @@ def test_plot_basins_colours_and_legend():
 
 
 def test_plot_basins_of_a_real_field(seed000):
-    import gridfield.follow as follow
-    import gridfield.potential as potential
-    from gridfield.rasterize import as_gridmap
+    import gridfield.fields.potential as potential
+    import gridfield.following.follower as follow
+    from gridfield.geometry.rasterize import as_gridmap
 
     w = read_world(bundled_map("seed000_segment.yaml"))
     gm = as_gridmap(w, 0.25)
@@ -373,7 +373,7 @@ def test_save_plan_animation_gif_over_the_map(tmp_path, corridor):
 
 
 def test_save_plan_animation_over_the_field_the_caller_has(tmp_path, seed000, monkeypatch):
-    import gridfield.potential as potential
+    import gridfield.fields.potential as potential
     from gridfield.planners import plan_with_field
 
     path, field = plan_with_field("potential", seed000, seed000.start, seed000.goal, resolution=0.25)
@@ -439,8 +439,8 @@ def test_cli_plan_plot_and_animate(tmp_path, capsys):
 
 
 def _count_build_field(monkeypatch):
-    """Count the calls of gridfield.potential.build_field (looked up at call time by its users)."""
-    import gridfield.potential as potential
+    """Count the calls of gridfield.fields.potential.build_field (looked up at call time by its users)."""
+    import gridfield.fields.potential as potential
 
     calls = []
     real = potential.build_field
@@ -468,9 +468,9 @@ def test_cli_plan_plot_and_animate_build_the_field_once(tmp_path, capsys, monkey
 
 
 def test_plan_with_field_is_the_field_followed_and_changes_no_path(seed000):
-    import gridfield.potential as potential
+    import gridfield.fields.potential as potential
+    from gridfield.geometry.rasterize import as_gridmap
     from gridfield.planners import Plan, plan, plan_with_field
-    from gridfield.rasterize import as_gridmap
 
     gm = as_gridmap(seed000, 0.5)
     alone = plan("potential", gm, seed000.start, seed000.goal)
@@ -493,11 +493,13 @@ def test_plan_with_field_is_the_field_followed_and_changes_no_path(seed000):
         plan("potential", gm, seed000.start, seed000.goal, return_field=True)
 
 
-def test_plot_layers_is_a_deprecated_alias():
+def test_the_deprecated_plot_aliases_are_gone():
+    """gridfield.plot.layers and the figures module's aliases of the results figures were removed (CHANGELOG):
+    import them from gridfield.plot."""
     import gridfield.plot
-    import gridfield.plot.layers as old
+    import gridfield.plot.figures as figures
 
-    with pytest.deprecated_call(match="import it from gridfield.plot"):
-        assert old.Artists is gridfield.plot.Artists
-    with pytest.raises(AttributeError):
-        old._legend  # noqa: B018
+    with pytest.raises(ModuleNotFoundError):
+        import gridfield.plot.layers
+    assert not hasattr(figures, "plot_comparison")
+    assert gridfield.plot.Artists.__module__ == "gridfield.plot._layers"

@@ -8,10 +8,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
+from gridfield.fields.potential import build_field
 from gridfield.io import read, read_movingai_map, read_scen
 from gridfield.planners import plan
 from gridfield.plot import plot_comparison, plot_convergence, plot_map, plot_potential
-from gridfield.potential import build_field
 
 #: (map under tests/data/maps, start, goal): wide, square and tall maps, ROS (mostly unknown) and Moving AI.
 MAPS = [
@@ -151,9 +151,9 @@ def test_a_legend_under_a_hint_box_makes_the_figure_taller_not_the_title_fall_ou
     """The demo's stalled seed 000 + segment run: the hint box and, under it, the legend below the map.
     gridfield's own figure grows by the legend's height, so the title, the map and the colour bar stay
     inside it (with a fixed height the constrained layout pushed the title out of the top)."""
+    from gridfield.geometry.rasterize import as_gridmap
     from gridfield.io import bundled_map, read_world
     from gridfield.planners import plan_with_field
-    from gridfield.rasterize import as_gridmap
 
     w = read_world(bundled_map("seed000_segment.yaml"))
     gm = as_gridmap(w, 0.1)

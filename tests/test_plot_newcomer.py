@@ -11,9 +11,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from gridfield.grid import Grid, GridMap
+from gridfield.core.grid import Grid, GridMap
+from gridfield.core.path import Path
 from gridfield.io import bundled_map, read
-from gridfield.path import Path
 from gridfield.plot import plot_basins, plot_map
 
 

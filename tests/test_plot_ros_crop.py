@@ -8,10 +8,10 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from gridfield.brushfire import brushfire
+from gridfield.distance.brushfire import brushfire
+from gridfield.fields.potential import build_field
 from gridfield.io import read
 from gridfield.plot import plot_brushfire, plot_potential
-from gridfield.potential import build_field
 
 
 def test_brushfire_and_potential_figures_crop_a_ros_map_to_its_known_part(test_maps):

@@ -1,4 +1,4 @@
-"""Potentials and gradient arrays (gridfield.potential) against closed forms and brute force."""
+"""Potentials and gradient arrays (gridfield.fields.potential) against closed forms and brute force."""
 
 from __future__ import annotations
 
@@ -11,26 +11,24 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy import ndimage
 
-from gridfield.brushfire import brushfire
-from gridfield.errors import GridfieldError, ParameterError
-from gridfield.grid import Grid, GridMap
-from gridfield.io import bundled_map, read_world
-from gridfield.params import FIELD_GROUPS, names
-from gridfield.potential import (
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.core.params import FIELD_GROUPS, names
+from gridfield.distance.brushfire import brushfire
+from gridfield.fields.potential import (
     Field,
     attractive,
     build_field,
     field_distance_map,
     finite_difference_gradient,
-    load_field,
     repulsive,
     resolve_params,
-    save_field,
     vortex_field,
     vortex_lattice,
 )
-from gridfield.rasterize import rasterize
-from gridfield.world import world_from_dict
+from gridfield.geometry.rasterize import rasterize
+from gridfield.geometry.world import world_from_dict
+from gridfield.io import bundled_map, load_field, read_world, save_field
 
 #: what build_field reads and keeps, in Field.params's order (the old potential.DEFAULTS)
 FIELD_NAMES = ("zeta", "d_star", "eta", "q_star", "repulsive_power", "repulsion", "metric", "gradient", "saturate",
@@ -643,7 +641,7 @@ def test_field_npz_round_trip(tmp_path):
 
 
 def test_load_field_rejects_other_files(tmp_path):
-    from gridfield.errors import MapFormatError
+    from gridfield.core.errors import MapFormatError
 
     np.savez(tmp_path / "x.npz", occupied=np.zeros((2, 2), bool))
     with pytest.raises(MapFormatError, match="save_field"):

@@ -20,12 +20,12 @@ from hypothesis import strategies as st
 from scipy import ndimage
 
 from gridfield.cli import main
-from gridfield.errors import ParameterError
-from gridfield.grid import Grid, GridMap
+from gridfield.core.errors import ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.core.params import REGISTRY, balanced_eta, parse, resolve, validate
+from gridfield.fields.potential import build_field
 from gridfield.io import read_movingai_map, read_scen
-from gridfield.params import REGISTRY, balanced_eta, parse, resolve, validate
 from gridfield.planners import plan, plan_with_field
-from gridfield.potential import build_field
 
 from mapdata import movingai_pairs
 
@@ -108,7 +108,7 @@ def test_no_step_of_any_rule_or_escape_enters_an_obstacle(case):
 @settings(max_examples=30)
 @given(case=random_maps())
 def test_follow_many_and_basins_never_enter_an_obstacle(case):
-    from gridfield.follow import basins, follow_many
+    from gridfield.following.follower import basins, follow_many
 
     gm, _start, goal = case
     if not gm.is_free(goal)[0]:
@@ -122,7 +122,7 @@ def test_follow_many_and_basins_never_enter_an_obstacle(case):
     # every descent move of the basins joins two cells with a free straight segment
     b = basins(f)
     succ = b.sink  # sinks; check the one-step successors instead
-    from gridfield.follow import descent_successor
+    from gridfield.following.follower import descent_successor
 
     nxt = descent_successor(f.potential, ~gm.occupied)
     flat = np.flatnonzero(~gm.occupied.reshape(-1))
@@ -399,8 +399,8 @@ def test_scenario_errors(capsys):
 
 
 def test_sum_repulsion_without_labels_is_a_clear_error():
-    from gridfield.brushfire import brushfire
-    from gridfield.potential import repulsive
+    from gridfield.distance.brushfire import brushfire
+    from gridfield.fields.potential import repulsive
 
     occ = np.zeros((8, 8), bool)
     occ[3:5, 3:5] = True
@@ -420,7 +420,7 @@ def test_a_reached_run_ends_at_the_goal_even_when_the_last_hop_is_blocked():
     straight line on any arena scenario."""
     from shapely.geometry import LineString, box
 
-    from gridfield.follow import follow_many
+    from gridfield.following.follower import follow_many
     from gridfield.io import bundled_map
 
     gm = read_movingai_map(bundled_map("arena/arena.map"))

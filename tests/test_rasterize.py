@@ -12,11 +12,11 @@ from hypothesis import strategies as st
 from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.base import BaseGeometry
 
-from gridfield.errors import ParameterError
-from gridfield.grid import Grid, GridMap
+from gridfield.core.errors import ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.geometry.rasterize import as_gridmap, rasterize, rasterize_geometry
+from gridfield.geometry.world import World, world_from_dict
 from gridfield.io import bundled_map, read_world
-from gridfield.rasterize import as_gridmap, rasterize, rasterize_geometry
-from gridfield.world import World, world_from_dict
 
 #: extra cells may be marked only this close to the obstacle (the documented tolerance)
 TOL = 1e-8

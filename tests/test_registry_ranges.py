@@ -1,5 +1,5 @@
 """Every numeric parameter of the registry, at the extremes of its range, through every planner that
-reads it: a result or a clear ``gridfield.errors`` error, never a warning, never another exception.
+reads it: a result or a clear ``gridfield.core.errors`` error, never a warning, never another exception.
 
 The probes are the range's own bounds (``minimum`` when allowed, ``least``, ``maximum``, ``inf`` where
 allowed) and the values a range "> 0" or ">= 0" lets through: the smallest subnormal (5e-324), the
@@ -17,12 +17,12 @@ from typing import Any
 import numpy as np
 import pytest
 
-from gridfield.errors import GridfieldError, ParameterError
-from gridfield.grid import Grid, GridMap
-from gridfield.navigation import StarNavWarning
-from gridfield.params import REGISTRY, Spec
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.core.params import REGISTRY, Spec
+from gridfield.fields.navigation import StarNavWarning
+from gridfield.geometry.world import world_from_dict
 from gridfield.planners import PLANNERS, plan
-from gridfield.world import world_from_dict
 
 _occ = np.zeros((16, 16), bool)
 _occ[6:10, 7:9] = True
@@ -134,7 +134,7 @@ def test_a_balanced_eta_that_leaves_the_floats_is_a_clear_error() -> None:
 
 def test_the_weighted_wavefront_refuses_a_weight_beyond_the_range_when_called_directly() -> None:
     """Its bucket queue grows with the weight: at 1e15 the kernel crashed the process (a segfault)."""
-    from gridfield.navigation import wavefront
+    from gridfield.fields.navigation import wavefront
 
     with pytest.raises(ParameterError, match="clearance_weight must be at most 1000"):
         wavefront(GRID, GRID_ENDS[1], clearance_weight=1e15)

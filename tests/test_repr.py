@@ -8,15 +8,15 @@ matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt
 
-from gridfield.brushfire import brushfire
+from gridfield.core.params import validate
 from gridfield.demo import DemoResult
-from gridfield.follow import basins
+from gridfield.distance.brushfire import brushfire
+from gridfield.fields.navigation import wavefront
+from gridfield.fields.potential import build_field
+from gridfield.following.follower import basins
 from gridfield.io import bundled_map, read, read_scen, read_world
-from gridfield.navigation import wavefront
-from gridfield.params import validate
 from gridfield.planners import plan
 from gridfield.plot import plot_map
-from gridfield.potential import build_field
 
 
 def test_reprs_are_short_and_hold_no_arrays():
@@ -27,9 +27,9 @@ def test_reprs_are_short_and_hold_no_arrays():
     path = plan("potential", m, start, goal)
     art = plot_map(m, paths=[path])
     demo = DemoResult(bundled_map("seed000.yaml").parent, rows=[{"part": "x"}] * 500, files=[], seconds=1.0)
-    from gridfield.exact import ExactField
+    from gridfield.distance.incremental import IncrementalBrushfire
+    from gridfield.exact.continuous import ExactField
     from gridfield.explore import Explorer
-    from gridfield.incremental import IncrementalBrushfire
 
     explorer = Explorer(w, resolution=1.0)
     objects = [m, brushfire(m), f, basins(f), wavefront(m, goal), path, ExactField(w, w.goal),

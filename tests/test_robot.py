@@ -15,13 +15,13 @@ from hypothesis import strategies as st
 from shapely.geometry import Point
 
 from gridfield.cli import main
-from gridfield.cspace import apply_robot, check_robot_point, conservative_footprint, workspace_clearance
-from gridfield.errors import GridfieldError, MapFormatError
-from gridfield.grid import Grid, GridMap
+from gridfield.core.errors import GridfieldError, MapFormatError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.geometry.cspace import apply_robot, check_robot_point, conservative_footprint, workspace_clearance
+from gridfield.geometry.rasterize import as_gridmap
+from gridfield.geometry.world import Robot, world_from_dict
 from gridfield.io import bundled_map, read, read_world
-from gridfield.rasterize import as_gridmap
 from gridfield.sweep import load_spec, run_sweep
-from gridfield.world import Robot, world_from_dict
 
 H = 0.5  # cell size of the random grids (exact in binary)
 
@@ -351,7 +351,7 @@ def test_a_polygon_robot_on_the_exact_shortest_path_touches_but_never_overlaps(c
 
 
 def test_robot_clearance_of_a_disc_on_a_grid_is_the_path_clearance_less_the_radius():
-    from gridfield.cspace import robot_clearance
+    from gridfield.geometry.cspace import robot_clearance
 
     rng = np.random.default_rng(3)
     gm = GridMap(Grid((20, 25), 0.3), rng.random((20, 25)) < 0.05)

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 from gridfield.cli import main
-from gridfield.cspace import check_robot_point
-from gridfield.errors import GridfieldError
-from gridfield.grid import Grid, GridMap
+from gridfield.core.errors import GridfieldError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.geometry.cspace import check_robot_point
 from gridfield.io import bundled_map, read_world
 
 

@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 from scipy.optimize import root
 
-from gridfield.exact import ExactField, plan_exact_potential
-from gridfield.follow import plan_potential
+from gridfield.exact.continuous import ExactField, plan_exact_potential
+from gridfield.following.follower import plan_potential
+from gridfield.geometry.rasterize import rasterize
 from gridfield.io import bundled_map, read_world
-from gridfield.rasterize import rasterize
 
 #: The equilibrium of the continuous field near the segment (F = 0), see test_equilibrium.
 EQUILIBRIUM = (16.95116793, 9.05178306)
@@ -121,8 +121,8 @@ def test_grid_segment_world_stall_converges_to_the_equilibrium(segment):
 def test_grid_stall_is_caught_by_the_progress_window_too(segment):
     """On the grid the follower settles into its 2-cycle only slowly; a short no-progress window
     stops it earlier, at the same stall point."""
-    from gridfield.follow import descend, grid_blocked, grid_sampler
-    from gridfield.potential import build_field
+    from gridfield.fields.potential import build_field
+    from gridfield.following.follower import descend, grid_blocked, grid_sampler
 
     gm = rasterize(segment, 0.05)
     f = build_field(gm, segment.goal, segment.params)

@@ -16,12 +16,12 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from shapely.geometry import LineString, Point, Polygon
 
-from gridfield import navigation as star  # the star-world names (gridfield.star is a deprecated alias)
-from gridfield.errors import GridfieldError, ParameterError
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.params import REGISTRY
+from gridfield.fields import navigation as star  # the star-world names
+from gridfield.geometry.world import world_from_dict
 from gridfield.io import bundled_map, read_world
-from gridfield.params import REGISTRY
 from gridfield.planners import PARAMETERS, PLANNERS, plan
-from gridfield.world import world_from_dict
 
 C0, R0 = np.array([10.0, 10.0]), 10.0
 
@@ -414,7 +414,7 @@ def test_spiky_worlds_h_on_the_boundaries_positive_jacobian_and_the_follower_fro
 
 
 def test_planner_through_the_registry_with_a_disc_and_a_polygon() -> None:
-    assert PLANNERS["star-nav"][0] == "gridfield.navigation" and "lambda" in PARAMETERS and "kappa" in PARAMETERS
+    assert PLANNERS["star-nav"][0] == "gridfield.fields.navigation" and "lambda" in PARAMETERS and "kappa" in PARAMETERS
     w = world_from_dict({"bounds": [0, 0, 20, 20], "obstacles": [
         {"circle": {"center": [7, 10], "radius": 2}},
         {"polygon": [[12, 6], [15, 8], [14, 13], [12.5, 10]]}]})
@@ -542,13 +542,8 @@ def test_plot_star_world_draws_the_four_panels() -> None:
         plt.close(arts[0].figure)
 
 
-@pytest.mark.parametrize(("name", "new"), [("star_world", "star_world"), ("StarNavWarning", "StarNavWarning"),
-                                           ("KAPPA_LADDER", "KAPPA_LADDER"), ("_choose_kappa", "choose_kappa")])
-def test_gridfield_star_is_a_deprecated_alias_of_navigation(name: str, new: str) -> None:
-    import gridfield.star as old
-
-    with pytest.deprecated_call(match=f"gridfield.navigation.{new}"):
-        value = getattr(old, name)
-    assert value is getattr(star, new)
-    with pytest.raises(AttributeError):
-        old.not_a_star_name  # noqa: B018
+def test_the_deprecated_star_module_is_gone() -> None:
+    """gridfield.star (a deprecated alias of the navigation package's star-world names) was removed (CHANGELOG)."""
+    with pytest.raises(ModuleNotFoundError):
+        import gridfield.star  # noqa: F401
+    assert star.choose_kappa is not None

@@ -17,15 +17,15 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gridfield._chunkcache import ChunkCache, LazyArray, LazyGridMap
 from gridfield.cli import main
-from gridfield.errors import GridfieldError, MapFormatError, SizeLimitError
-from gridfield.follow import follow
-from gridfield.grid import Grid, GridMap
+from gridfield.core.chunkcache import ChunkCache, LazyArray, LazyGridMap
+from gridfield.core.errors import GridfieldError, MapFormatError, SizeLimitError
+from gridfield.core.grid import Grid, GridMap
+from gridfield.core.limits import override
+from gridfield.fields.potential import build_field
+from gridfield.following.follower import follow
 from gridfield.io import _zarr as zstore
 from gridfield.io import read, read_bitmap, write_bitmap, write_store
-from gridfield.limits import override
-from gridfield.potential import build_field
 
 RES = 0.5
 
@@ -306,7 +306,7 @@ def test_cli_unreachable_scheduler(tmp_path, capsys, monkeypatch):
 def test_lazy_samplers_equal_the_compiled_ones(seed, sampling, chunk):
     from types import SimpleNamespace
 
-    from gridfield.sampling import grid_blocked, grid_potential_sampler, grid_sampler, sample_force
+    from gridfield.fields.sampling import grid_blocked, grid_potential_sampler, grid_sampler, sample_force
 
     rng = np.random.default_rng(seed)
     occ = rng.random((9, 11)) < 0.3

@@ -12,11 +12,11 @@ import pytest
 from scipy.ndimage import distance_transform_edt
 
 from gridfield.cli import main
-from gridfield.follow import follow
-from gridfield.grid import Grid, GridMap
+from gridfield.core.grid import Grid, GridMap
+from gridfield.fields.potential import build_field
+from gridfield.following.follower import follow
 from gridfield.io import _zarr as zstore
 from gridfield.io import read
-from gridfield.potential import build_field
 
 RES = 0.5
 
@@ -124,7 +124,7 @@ def test_complete_nf1_field_to_store_then_plan_on_a_real_map(tmp_path, capsys, t
     """``--param model=nf1 --param attraction=octile``: the complete field by the chunked wavefront, equal
     bit for bit to the in-memory nf1 (octile) field on a Moving AI map, and ``plan`` on the store reaches the
     goal with the in-memory planner's path, where the chunked classic field's store stalls."""
-    from gridfield.navfield import nav_field
+    from gridfield.fields.navfield import nav_field
     from gridfield.planners import plan
 
     src = test_maps / "movingai" / "den312d" / "den312d.map.gz"

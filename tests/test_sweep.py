@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from gridfield.cli import main
-from gridfield.errors import MapFormatError
+from gridfield.core.errors import MapFormatError
 from gridfield.io import bundled_map
 from gridfield.planners import plan
 from gridfield.sweep import COLUMNS, load_spec, run_sweep, summarize
@@ -162,15 +162,15 @@ def test_bad_specs_name_the_problem(tmp_path: Path, body: str, message: str) -> 
 
 
 def test_maps_are_loaded_and_brushfires_computed_once_per_map(tmp_path: Path, monkeypatch) -> None:
+    import gridfield.fields.potential
     import gridfield.io
-    import gridfield.potential
     import gridfield.sweep._run as sweep_run  # where run_batch looks up run_one and the map cache
 
     spec = _spec(tmp_path, SPEC.replace("[potential, wavefront-octile]", "[potential]"))
     runs, output = load_spec(spec)
     monkeypatch.setattr(sweep_run, "_CACHE", {})
     calls = {"read": 0, "brushfire": 0}
-    real_read, real_dmap = gridfield.io.read, gridfield.potential.field_distance_map
+    real_read, real_dmap = gridfield.io.read, gridfield.fields.potential.field_distance_map
 
     def counting_read(*a, **k):
         calls["read"] += 1
@@ -181,7 +181,7 @@ def test_maps_are_loaded_and_brushfires_computed_once_per_map(tmp_path: Path, mo
         return real_dmap(*a, **k)
 
     monkeypatch.setattr(gridfield.io, "read", counting_read)
-    monkeypatch.setattr(gridfield.potential, "field_distance_map", counting_dmap)
+    monkeypatch.setattr(gridfield.fields.potential, "field_distance_map", counting_dmap)
     rows = run_sweep(runs, output, workers=1, progress=False)
     assert len(rows) == len(runs) == 10
     assert calls == {"read": 2, "brushfire": 2}  # two maps; one metric
@@ -234,7 +234,7 @@ def _count_graph_builds(monkeypatch) -> list[int]:
     """Count the any-angle graph builds from now on (the module and sweep caches emptied)."""
     from collections import OrderedDict
 
-    import gridfield.anyangle as anyangle
+    import gridfield.exact.anyangle as anyangle
     import gridfield.sweep._run as sweep_run  # where run_batch looks up run_one and the map cache
 
     monkeypatch.setattr(sweep_run, "_CACHE", {})

@@ -16,7 +16,7 @@ import pytest
 import gridfield.sweep as sweep_module
 import gridfield.sweep._run as sweep_run  # where run_batch looks up run_one
 from gridfield.cli import main
-from gridfield.errors import GridfieldError, MapFormatError
+from gridfield.core.errors import GridfieldError, MapFormatError
 from gridfield.io import bundled_map
 from gridfield.sweep import COLUMNS, Run, load_spec, run_sweep
 

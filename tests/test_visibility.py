@@ -12,16 +12,16 @@ import shapely
 from scipy.sparse.csgraph import dijkstra
 from shapely.geometry import LineString, Polygon
 
-from gridfield.errors import GridfieldError, ParameterError
-from gridfield.path import path_length
-from gridfield.planners import plan
-from gridfield.visibility import (
+from gridfield.core.errors import GridfieldError, ParameterError
+from gridfield.core.path import path_length
+from gridfield.exact.visibility import (
     CIRCLE_OUTLINE_EXCESS,
     plan_visibility,
     visibility_graph,
     world_from_polygon_environment,
 )
-from gridfield.world import world_from_dict
+from gridfield.geometry.world import world_from_dict
+from gridfield.planners import plan
 
 
 def assert_valid_path(vg, pts, length, start, goal):

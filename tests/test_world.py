@@ -12,9 +12,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 from shapely.geometry import LineString, Point, Polygon
 
-from gridfield.errors import GridfieldError, MapFormatError
+from gridfield.core.errors import GridfieldError, MapFormatError
+from gridfield.geometry.world import CIRCLE_SEGMENTS, World, world_from_dict
 from gridfield.io import bundled_map, read_world
-from gridfield.world import CIRCLE_SEGMENTS, World, world_from_dict
 
 SEED000_B = [
     [4, 10, 12, 6, 9, 12, 6, 11, 13, 17, 19, 15],

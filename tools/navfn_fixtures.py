@@ -34,7 +34,7 @@ POT_HIGH = np.float32(1.0e10)
 
 
 def costmap_of(path: Path, options: dict | None):
-    from gridfield.costmap import inflate
+    from gridfield.fields.costmap import inflate
     from gridfield.io import read
 
     return inflate(read(path), **(options or {}))

@@ -2,8 +2,9 @@
 
 The rule (ARCHITECTURE.md, "Namespace"): a name with a leading underscore belongs to the module
 that defines it; a private module (``_name.py`` or ``_name/``) belongs to its package, whose
-modules may use it and its underscore names; nothing else imports them. The compiled kernels
-(``gridfield._kernels*``) are exempt: they are the private layer every stage calls.
+modules may use it and its underscore names; nothing else imports them. The compiled kernels (the
+``_name.pyx`` modules beside their callers, e.g. ``gridfield.distance._brushfire``) are exempt: a layer
+above may call the kernels of one below (the chunked brushfire runs the distance layer's rows).
 Function-local imports count like module-level ones.
 
 Run ``python tools/private_imports.py`` (exit status 1 when any is found); the test suite runs it
@@ -18,6 +19,11 @@ from collections.abc import Iterable
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+
+
+def _kernels(root: Path) -> set[str]:
+    """The dotted names of the compiled kernel modules (the ``.pyx`` sources under ``root``)."""
+    return {".".join(p.relative_to(root).with_suffix("").parts) for p in root.rglob("*.pyx")}
 
 
 def _private(part: str) -> bool:
@@ -38,13 +44,15 @@ def _resolve(current: str, is_pkg: bool, node: ast.ImportFrom) -> str:
     return ".".join(base + ([node.module] if node.module else []))
 
 
-def _owner_of_module(module: str) -> str | None:
+def _owner_of_module(module: str, kernels: set[str]) -> str | None:
     """The package owning the first private part of ``module``; None when nothing in it is private
     (or it is a kernel)."""
+    if module in kernels:
+        return None
     parts = module.split(".")
     for i, part in enumerate(parts):
         if _private(part):
-            return None if part.startswith("_kernels") else ".".join(parts[:i])
+            return ".".join(parts[:i])
     return None
 
 
@@ -56,6 +64,7 @@ def violations(files: Iterable[Path], root: Path) -> list[tuple[str, str, str]]:
     """``(importer, module, name)`` of every import that breaks the rule (``name`` is ``(module)``
     for a private module imported from outside its package)."""
     package_dir = root
+    kernels = _kernels(root)
     out = []
     for f in sorted(files):
         current, is_pkg = _module_name(f, root)
@@ -68,11 +77,11 @@ def violations(files: Iterable[Path], root: Path) -> list[tuple[str, str, str]]:
             else:
                 continue
             for mod, name in mods:
-                owner = _owner_of_module(mod)
+                owner = _owner_of_module(mod, kernels)
                 if owner is not None and not _inside(current, owner):
                     out.append((current, mod, "(module)"))
                     continue
-                if name is None or not _private(name) or name.startswith("_kernels"):
+                if name is None or not _private(name) or f"{mod}.{name}" in kernels or mod in kernels:
                     continue
                 sub = package_dir / Path(*f"{mod}.{name}".split("."))
                 if sub.with_suffix(".py").exists() or sub.is_dir():  # a private submodule of mod

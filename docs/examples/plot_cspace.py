@@ -3,17 +3,17 @@ Seed 004: the configuration space of a robot
 ============================================
 
 A triangular robot translating among seed 000's polygons: its C-obstacles are the Minkowski sums
-of the obstacles with the reflected robot (:func:`gridfield.cspace.apply_robot`), and the planners
+of the obstacles with the reflected robot (:func:`gridfield.geometry.cspace.apply_robot`), and the planners
 move its reference point through the free part of that space.
 """
 
 import matplotlib.pyplot as plt
 
-from gridfield.cspace import apply_robot
+from gridfield.geometry.cspace import apply_robot
+from gridfield.geometry.rasterize import as_gridmap
 from gridfield.io import bundled_map, read_world
 from gridfield.planners import plan
 from gridfield.plot import plot_map
-from gridfield.rasterize import as_gridmap
 
 world = read_world(bundled_map("seed000.yaml"))
 robot = [(0.0, 0.0), (0.8, 0.0), (0.0, 0.6)]

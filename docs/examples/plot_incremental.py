@@ -2,7 +2,7 @@
 Incremental brushfire: a map that changes
 =========================================
 
-An obstacle appears on seed 000's grid: :class:`gridfield.incremental.IncrementalBrushfire` repairs
+An obstacle appears on seed 000's grid: :class:`gridfield.distance.incremental.IncrementalBrushfire` repairs
 the distance map only in the window the change reaches, and the result equals a full brushfire of
 the new map.
 """
@@ -10,11 +10,11 @@ the new map.
 import matplotlib.pyplot as plt
 import numpy as np
 
-from gridfield.brushfire import brushfire
-from gridfield.incremental import IncrementalBrushfire
+from gridfield.distance.brushfire import brushfire
+from gridfield.distance.incremental import IncrementalBrushfire
+from gridfield.geometry.rasterize import as_gridmap
 from gridfield.io import bundled_map, read_world
 from gridfield.plot import plot_brushfire
-from gridfield.rasterize import as_gridmap
 
 grid = as_gridmap(read_world(bundled_map("seed000.yaml")), 0.1)
 ib = IncrementalBrushfire(grid)

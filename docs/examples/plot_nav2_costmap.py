@@ -14,10 +14,10 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 
-from gridfield.costmap import inflate
 from gridfield.demo import crop_to_known
+from gridfield.fields.costmap import inflate
+from gridfield.fields.navfn import navfn
 from gridfield.io import bundled_map, read, read_ros_map, write_costmap
-from gridfield.navfn import navfn
 from gridfield.planners import plan
 from gridfield.plot import plot_map
 

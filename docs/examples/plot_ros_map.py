@@ -9,8 +9,8 @@ to the octile wavefront path.
 
 import matplotlib.pyplot as plt
 
-from gridfield.brushfire import brushfire
 from gridfield.demo import crop_to_known
+from gridfield.distance.brushfire import brushfire
 from gridfield.io import bundled_map, read_ros_map
 from gridfield.planners import plan
 from gridfield.plot import plot_brushfire, plot_map

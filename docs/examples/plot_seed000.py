@@ -9,11 +9,11 @@ the octile wavefront from the goal and reaches the goal.
 
 import matplotlib.pyplot as plt
 
+from gridfield.fields.potential import build_field
+from gridfield.geometry.rasterize import as_gridmap
 from gridfield.io import bundled_map, read_world
 from gridfield.planners import plan
 from gridfield.plot import plot_map, plot_potential
-from gridfield.potential import build_field
-from gridfield.rasterize import as_gridmap
 
 world = read_world(bundled_map("seed000_segment.yaml"))
 grid = as_gridmap(world, 0.1)

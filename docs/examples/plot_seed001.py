@@ -4,7 +4,7 @@ Seed 001: vertices in any order and the quadratic/conic potential
 
 Seed 001 reads its obstacles' vertices from a text file in any order and puts them in cyclic order
 by their angle around the centroid (its VerticesSorter). ``maps/seed001.yaml`` does the same with
-``vertex_order: sort`` (:func:`gridfield.world.sort_vertices`). The potential planner then runs with
+``vertex_order: sort`` (:func:`gridfield.geometry.world.sort_vertices`). The potential planner then runs with
 the seed's parameters: chi = 0.8 (gridfield's ``zeta``), d* = 2, eta = 0.8 and Q* = 2, with the
 gradient step x += alpha * v.
 """
@@ -19,12 +19,12 @@ gradient step x += alpha * v.
 import matplotlib.pyplot as plt
 import numpy as np
 
+from gridfield.fields.potential import build_field
+from gridfield.geometry.rasterize import as_gridmap
+from gridfield.geometry.world import sort_vertices
 from gridfield.io import bundled_map, read_world, read_yaml
 from gridfield.planners import plan
 from gridfield.plot import plot_map, plot_potential
-from gridfield.potential import build_field
-from gridfield.rasterize import as_gridmap
-from gridfield.world import sort_vertices
 
 listed = np.array(read_yaml(bundled_map("seed001.yaml"))["obstacles"][0]["polygon"], dtype=float)
 ordered = sort_vertices(listed)

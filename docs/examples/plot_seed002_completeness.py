@@ -23,12 +23,12 @@ the repulsion has no separate parameter here: ``eta`` carries it.
 
 import matplotlib.pyplot as plt
 
-from gridfield.brushfire import brushfire
+from gridfield.distance.brushfire import brushfire
+from gridfield.fields.potential import build_field
+from gridfield.geometry.rasterize import as_gridmap
+from gridfield.geometry.world import world_from_dict
 from gridfield.planners import plan
 from gridfield.plot import plot_brushfire, plot_map, plot_potential, plot_surface
-from gridfield.potential import build_field
-from gridfield.rasterize import as_gridmap
-from gridfield.world import world_from_dict
 
 world = world_from_dict({
     "bounds": [0, 0, 100, 100], "border": "wall", "resolution": 1.0,

@@ -9,8 +9,8 @@ star-to-sphere transformation, and the navigation function with the ``star-nav``
 
 import numpy as np
 
+from gridfield.fields.navigation import star_figure_data, star_world
 from gridfield.io import bundled_map, read_world
-from gridfield.navigation import star_figure_data, star_world
 from gridfield.planners import plan
 from gridfield.plot import plot_star_world
 

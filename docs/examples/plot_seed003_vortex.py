@@ -8,11 +8,11 @@ Kr = 30 the follower reaches the goal for Ko = 5 but not for Ko = 10, as the see
 
 import matplotlib.pyplot as plt
 
+from gridfield.fields.potential import build_field
+from gridfield.geometry.rasterize import as_gridmap
 from gridfield.io import bundled_map, read_world
 from gridfield.planners import plan
 from gridfield.plot import plot_potential
-from gridfield.potential import build_field
-from gridfield.rasterize import as_gridmap
 
 world = read_world(bundled_map("seed003_circles.yaml"))
 grid = as_gridmap(world)

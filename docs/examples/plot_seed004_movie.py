@@ -26,13 +26,13 @@ import numpy as np
 from matplotlib.animation import FuncAnimation
 from matplotlib.patches import Polygon as PolygonPatch
 
-from gridfield.brushfire import brushfire
-from gridfield.cspace import apply_robot, as_robot
+from gridfield.distance.brushfire import brushfire
+from gridfield.fields.potential import build_field
+from gridfield.geometry.cspace import apply_robot, as_robot
+from gridfield.geometry.rasterize import as_gridmap
 from gridfield.io import bundled_map, read_world
 from gridfield.planners import plan
 from gridfield.plot import plot_brushfire, plot_map, plot_potential
-from gridfield.potential import build_field
-from gridfield.rasterize import as_gridmap
 
 world = read_world(bundled_map("seed000.yaml"))
 robot = as_robot([(0.0, 0.0), (0.8, 0.0), (0.0, 0.6)])
@@ -56,7 +56,7 @@ plot_potential(build_field(grid, world.goal, {**params, "eta": 1.0}), axes[2], p
 # %%
 # The movie
 # ---------
-# Left, the workspace: the robot's body placed at each step (:meth:`gridfield.world.Robot.outline`)
+# Left, the workspace: the robot's body placed at each step (:meth:`gridfield.geometry.world.Robot.outline`)
 # never touches an obstacle. Right, the configuration space: its reference point moves over the
 # brushfire of the C-obstacles. Far from the goal it moves at the conic part's constant speed; within
 # d* = 3 of the goal it slows down, until the minimum speed takes over.

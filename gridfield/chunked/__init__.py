@@ -18,15 +18,11 @@ extra): importing this package does not import it.
   with boundary exchange until no chunk changes (it computes: each round is persisted and compared).
 - :func:`nf1_octile_field`: the complete model nf1 with the octile wavefront as its potential, and its gradient.
 - :func:`connect`: a ``distributed.Client``, or one clear error when the scheduler cannot be reached.
+
+Its names load on first use (``lazy_loader``; ``__init__.pyi`` lists them), so that the compiled kernel
+beside the modules (``_chunked.pyx``) and the modules themselves import nothing of this ``__init__``.
 """
 
-from __future__ import annotations
+import lazy_loader as _lazy
 
-from ._cluster import connect
-from ._distance import BORDERS, METRICS, distance, scratch_dir
-from ._field import field
-from ._gvd import gvd
-from ._labels import labels
-from ._wavefront import nf1_octile_field, wavefront
-
-__all__ = ["BORDERS", "METRICS", "connect", "distance", "field", "gvd", "labels", "nf1_octile_field", "scratch_dir", "wavefront"]
+__getattr__, __dir__, __all__ = _lazy.attach_stub(__name__, __file__)

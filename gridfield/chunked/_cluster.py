@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..errors import GridfieldError, ParameterError, shorten
+from ..core.errors import GridfieldError, ParameterError, shorten
 
 __all__ = ["connect"]
 
@@ -34,7 +34,7 @@ def connect(address: str, *, timeout: float = 10.0) -> Any:
     >>> connect("tcp://127.0.0.1:1", timeout=0.5)
     Traceback (most recent call last):
     ...
-    gridfield.errors.GridfieldError: cannot connect to the Dask scheduler 'tcp://127.0.0.1:1' within 0.5 s: ...
+    gridfield.core.errors.GridfieldError: cannot connect to the Dask scheduler 'tcp://127.0.0.1:1' within 0.5 s: ...
     """
     if not isinstance(address, str) or not address:
         raise ParameterError(f"address must be a scheduler address such as 'tcp://host:8786', got {shorten(address)}")

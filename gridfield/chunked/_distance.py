@@ -1,11 +1,11 @@
 """Chunked brushfire distances on a ``dask.array`` of occupancy (exact, bit-identical to the in-memory one).
 
 Exact (no saturation, or the nearest obstacle asked for): the separable transform of
-:func:`gridfield.brushfire.brushfire`, split at its one seam. The column pass needs whole columns, the row
+:func:`gridfield.distance.brushfire.brushfire`, split at its one seam. The column pass needs whole columns, the row
 pass whole rows; each is independent across its lines. So the occupancy is rechunked into strips of whole
 columns, the column pass (the compiled ``column_block``) gives every cell the global row of its nearest
 obstacle in its column (``int32``), that array is rechunked into strips of whole rows, and the row pass
-(:mod:`gridfield._kernels_chunked`: the same lower envelope, cimported) gives the distance and the nearest
+(:mod:`gridfield.chunked._chunked`: the same lower envelope, cimported) gives the distance and the nearest
 obstacle; the result is rechunked to the input's chunks (a slicing: the row chunks already agree).
 Memory per task: one strip (:func:`strip_chunks`), ``rows x chunk_cols`` of occupancy and ``int32`` for
 the column pass; ``chunk_rows x cols`` of ``int32`` in and ``float64`` (plus two ``int32`` with the
@@ -15,7 +15,7 @@ Euclidean through a temporary store (``scratch=``): the column pass runs on stri
 one chunk's cells wide (:func:`_strip_width`, at least 64 columns), each written as one raw ``int32`` file
 (rows in order, written aside and renamed); after all of them (one barrier task), each output chunk is one
 task that reads its rows over its columns plus a margin of one strip on each side and runs
-``_kernels_chunked.edt_block``: per row, the lower envelope over only the columns whose obstacles can be
+``chunked._chunked.edt_block``: per row, the lower envelope over only the columns whose obstacles can be
 nearest (or tie) inside the chunk, which lie within about the distance at the chunk's first and last
 columns; a row that needs more than the window makes the task read a wider one (four times the margin).
 Memory per task: the strip (``rows x width`` of occupancy and ``int32``) for the column pass, the window
@@ -42,8 +42,22 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from .._kernels import kernels
-from ..errors import ArgumentTypeError, ParameterError, check_positive, shorten
+from ..core.errors import ArgumentTypeError, ParameterError, check_positive, shorten
+
+
+def _kernel_brushfire() -> Any:
+    """The compiled kernel module (gridfield/distance/_brushfire.pyx), imported on first use."""
+    from ..distance import _brushfire  # type: ignore[attr-defined]  # a compiled extension, no stubs
+
+    return _brushfire
+
+
+def _kernel_chunked() -> Any:
+    """The compiled kernel module (gridfield/chunked/_chunked.pyx), imported on first use."""
+    from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
+
+    return _chunked
+
 
 if TYPE_CHECKING:
     import dask.array as da
@@ -89,7 +103,7 @@ def _check_choice(name: str, value: object, choices: tuple[str, ...]) -> str:
 
 def _column_pass(block: NDArray[np.bool_], wall: bool) -> NDArray[np.int32]:
     """Whole columns: the global row of the nearest obstacle in each cell's column."""
-    kb = kernels("brushfire")
+    kb = _kernel_brushfire()
 
     occ8 = np.ascontiguousarray(block, dtype=bool).view(np.uint8)
     vr = np.empty(block.shape, np.int32)
@@ -100,7 +114,7 @@ def _column_pass(block: NDArray[np.bool_], wall: bool) -> NDArray[np.int32]:
 def _row_pass(vr: NDArray[np.int32], metric: str, rows: int, wall: bool, resolution: float, nearest: bool,
               block_info: dict[Any, Any] | None = None) -> NDArray[np.float64]:
     """Whole rows (``vr`` of rows ``row0..``): the distance."""
-    kc = kernels("chunked")
+    kc = _kernel_chunked()
 
     row0 = int(block_info[0]["array-location"][0][0]) if block_info else 0
     vr = np.ascontiguousarray(vr, dtype=np.int32)
@@ -116,8 +130,8 @@ def _row_pass(vr: NDArray[np.int32], metric: str, rows: int, wall: bool, resolut
 def _window_pass(window: NDArray[np.bool_], metric: str, resolution: float, saturate: float, far: float,
                  halo: int) -> NDArray[np.float64]:
     """A chunk with its halo: the saturated distance by the in-memory brushfire, cropped to the chunk."""
-    from ..brushfire import brushfire
-    from ..grid import Grid, GridMap
+    from ..core.grid import Grid, GridMap
+    from ..distance.brushfire import brushfire
 
     gm = GridMap(Grid(window.shape, resolution, border="open"), np.ascontiguousarray(window, dtype=bool))
     dm = brushfire(gm, metric=metric, saturate=saturate, far=far, compute_steps=False, compute_nearest=False,
@@ -138,7 +152,7 @@ def distance(
 ) -> Any:
     """The brushfire distance (and nearest obstacle) of a chunked occupancy grid, exact for any distance.
 
-    Equal bit for bit to :func:`gridfield.brushfire.brushfire` on the whole array (``DistanceMap.distance``,
+    Equal bit for bit to :func:`gridfield.distance.brushfire.brushfire` on the whole array (``DistanceMap.distance``,
     ``nearest_row``, ``nearest_col``), computed lazily with bounded memory per task (see the module notes).
 
     Parameters
@@ -156,7 +170,7 @@ def distance(
     return_nearest : bool
         Also return the nearest obstacle cell (row, column; the wall ring is rows/columns ``-1`` and
         ``rows``/``cols``; ``-1`` when there is no obstacle at all). Euclidean only: the chessboard and
-        taxicab nearest cells of :func:`~gridfield.brushfire.brushfire` follow its raster passes' order
+        taxicab nearest cells of :func:`~gridfield.distance.brushfire.brushfire` follow its raster passes' order
         among equally near obstacles, which a chunked computation does not reproduce.
     border : {"wall", "open"}
         What lies outside the grid, as ``Grid.border``.
@@ -273,7 +287,7 @@ def strip_chunks(occupied: da.Array) -> tuple[dict[int, int], dict[int, int]]:
 
 def _row_pass_triple(vr: NDArray[np.int32], row0: int, rows: int, wall: bool,
                      resolution: float) -> tuple[NDArray[np.float64], NDArray[np.int32], NDArray[np.int32]]:
-    kc = kernels("chunked")
+    kc = _kernel_chunked()
 
     vr = np.ascontiguousarray(vr, dtype=np.int32)
     d = np.empty(vr.shape, np.float64)
@@ -369,7 +383,7 @@ def scratch_dir(path: str | os.PathLike[str]) -> Iterator[Path]:
     >>> d[1], os.path.exists(where)
     (array([1., 0., 1., 2., 3., 4.]), False)
     """
-    from ..errors import GridfieldError
+    from ..core.errors import GridfieldError
 
     p = Path(path)
     if p.exists() and not p.is_dir():
@@ -457,7 +471,7 @@ def _column_to_store(pieces: list[list[NDArray[np.bool_]]], cuts: list[list[int]
 def _gone(path: str) -> None:
     """A clear error when the temporary store is no longer there (else the caller re-raises)."""
     if not os.path.isdir(path):
-        from ..errors import GridfieldError
+        from ..core.errors import GridfieldError
 
         raise GridfieldError(f"{path}: the temporary store between the passes is gone; compute the results "
                              "inside the scratch_dir() block (or keep the scratch directory until they are done)")
@@ -492,8 +506,8 @@ def _edt_block_task(path: str, r0: int, r1: int, c0: int, c1: int, ws: int, rows
                                                                      NDArray[np.int32]]:
     """One output chunk (rows ``r0:r1``, columns ``c0:c1``) of the row pass, from the column-pass rows of a
     window one strip wider on each side, read from the store (and re-read wider until every row's nearest
-    candidates are inside it: ``_kernels_chunked.edt_block``)."""
-    kc = kernels("chunked")
+    candidates are inside it: ``chunked._chunked.edt_block``)."""
+    kc = _kernel_chunked()
     shape = (r1 - r0, c1 - c0)
     d = np.empty(shape, np.float64)
     nr = np.empty(shape if nearest else (1, 1), np.int32)

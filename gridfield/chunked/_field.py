@@ -4,8 +4,8 @@ With the nearest-obstacle repulsion (``repulsion: nearest``, the default) and an
 0..4 (default 2), every cell's potential and analytic gradient depend on that cell alone: its world
 position, the goal and its nearest obstacle cell (an obstacle cell is its own nearest). So each chunk is
 one ``map_blocks`` task over the nearest-cell arrays of :func:`gridfield.chunked.distance`, running the
-very row loop of :func:`gridfield.potential.build_field` (``_potential_rows.h``, through
-:func:`gridfield._kernels_chunked.khatib_block`) with the global row and column indices: the values are
+very row loop of :func:`gridfield.fields.potential.build_field` (``_potential_rows.h``, through
+:func:`gridfield.chunked._chunked.khatib_block`) with the global row and column indices: the values are
 bit-identical to the in-memory field, with no halo. The per-obstacle sum (``repulsion: sum``), other
 powers and ``gradient: finite_difference`` are not chunked (one clear error).
 """
@@ -19,18 +19,24 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .._kernels import kernels
-from .._potential_args import METRIC_CODE, integer_power
-from ..errors import GridfieldError, ParameterError, check_positive, shorten
-from ..potential import resolve_params
+from ..core.errors import GridfieldError, ParameterError, check_positive, shorten
+from ..fields.potential import resolve_params
+from ..fields.potential_args import METRIC_CODE, integer_power
 from ._distance import _dask_array
 
 __all__ = ["field"]
 
 
+def _kernel_chunked() -> Any:
+    """The compiled kernel module (gridfield/chunked/_chunked.pyx), imported on first use."""
+    from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
+
+    return _chunked
+
+
 def _khatib_block(nr: NDArray[np.int32], nc: NDArray[np.int32], x0: float, y0: float, res: float, goal: tuple[float, float],
                   p: dict[str, Any], sat: float, block_info: dict[Any, Any] | None = None) -> NDArray[np.float64]:
-    kc = kernels("chunked")
+    kc = _kernel_chunked()
 
     (r0, _), (c0, _) = block_info[0]["array-location"] if block_info else ((0, 0), (0, 0))
     nr = np.ascontiguousarray(nr, dtype=np.int32)
@@ -69,7 +75,7 @@ def field(
     origin : (x, y)
         World position of the grid's lower-left corner (``Grid.origin``).
     params : mapping, optional
-        Potential parameters as for :func:`gridfield.potential.build_field` (lengths in world units,
+        Potential parameters as for :func:`gridfield.fields.potential.build_field` (lengths in world units,
         resolved with the resolution as the unit); ``model`` must be ``"khatib"`` (the default here),
         ``repulsion`` ``"nearest"``, ``repulsive_power`` an integer 0..4, ``gradient`` ``"analytic"``.
     metric : str
@@ -115,7 +121,7 @@ def field(
     if not (math.isfinite(x0) and math.isfinite(y0)):
         raise ParameterError(f"origin must be finite, got {shorten(origin)}")
     given = {"model": "khatib", **dict(params or {})}
-    from ..params import validate
+    from ..core.params import validate
 
     given = dict(validate(given))
     p = resolve_params(given, unit=res)

@@ -6,10 +6,10 @@ each cell ``(i, c)`` the row ``vr[i, c]`` of the nearest obstacle in its column,
 the column ``nc[i, j]`` whose column-nearest obstacle is nearest, so that the nearest obstacle of
 ``(i, j)`` is ``(vr[i, nc], nc)``. Its label is therefore two gathers, each inside the blocks the passes
 already use: ``L1[i, c] = label[vr[i, c], c]`` on whole columns, then ``L[i, j] = L1[i, nc[i, j]]`` on
-whole rows. A nearest cell outside the grid (the wall ring) gives :data:`gridfield.brushfire.BORDER_LABEL`,
+whole rows. A nearest cell outside the grid (the wall ring) gives :data:`gridfield.distance.brushfire.BORDER_LABEL`,
 and an open map without obstacles labels 0, as in memory.
 
-The GVD looks at each cell's 8 neighbours (:func:`gridfield.brushfire.brushfire`'s rule: of two
+The GVD looks at each cell's 8 neighbours (:func:`gridfield.distance.brushfire.brushfire`'s rule: of two
 neighbouring free cells with different nearest labels, the one farther from its obstacle; on a tie, the
 smaller label), so it is one ``map_overlap`` with a one-cell halo and no padding at the map's edge.
 """
@@ -21,9 +21,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .._kernels import kernels
-from ..brushfire import BORDER_LABEL
-from ..errors import ParameterError, check_positive
+from ..core.errors import ParameterError, check_positive
+from ..distance.brushfire import BORDER_LABEL
 from ._distance import (
     BORDERS,
     _check_choice,
@@ -36,6 +35,13 @@ from ._distance import (
 from ._labels import labels
 
 __all__ = ["gvd"]
+
+def _kernel_brushfire() -> Any:
+    """The compiled kernel module (gridfield/distance/_brushfire.pyx), imported on first use."""
+    from ..distance import _brushfire  # type: ignore[attr-defined]  # a compiled extension, no stubs
+
+    return _brushfire
+
 
 def _gather_columns(vr: NDArray[np.int32], lab: NDArray[np.int32], outside: int) -> NDArray[np.int32]:
     """Whole columns: ``lab[vr[i, c], c]``, ``outside`` where ``vr`` is outside the grid."""
@@ -58,7 +64,7 @@ def _gather_rows(nc: NDArray[np.int32], l1: NDArray[np.int32], outside: int) -> 
 
 
 def _gvd_block(label: NDArray[np.int32], dist: NDArray[np.float64], occ: NDArray[np.bool_]) -> NDArray[np.bool_]:
-    kb = kernels("brushfire")
+    kb = _kernel_brushfire()
     label = np.ascontiguousarray(label, dtype=np.int32)
     dist = np.ascontiguousarray(dist, dtype=np.float64)
     occ8 = np.ascontiguousarray(occ, dtype=bool).view(np.uint8)

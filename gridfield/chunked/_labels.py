@@ -6,7 +6,7 @@ of a block row against the first row of the next, shifted by -1, 0, +1 columns; 
 which covers the corners) are joined by ``scipy.sparse.csgraph.connected_components`` on the client,
 over the seams only. Each component is then numbered by the raster position of its first cell (the
 smallest first cell of its pieces: inside a chunk, local raster order is global raster order), as
-``scipy.ndimage.label`` and :func:`gridfield.brushfire.brushfire` number them, and one ``map_blocks``
+``scipy.ndimage.label`` and :func:`gridfield.distance.brushfire.brushfire` number them, and one ``map_blocks``
 relabels the chunks through the lookup table. The per-chunk labelling runs twice (once for the seams and
 first cells, which are small and gathered, once for the result); nothing of a chunk's size is gathered.
 """
@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from ._distance import check_occupied
 
 __all__ = ["labels"]
@@ -65,7 +65,7 @@ def labels(occupied: Any) -> Any:
     dask.array.Array
         ``int32`` with ``occupied``'s chunks: 0 on free cells, components numbered 1.. in raster order of
         their first cell, equal to ``scipy.ndimage.label(occ, structure=np.ones((3, 3)))`` and to
-        :func:`gridfield.brushfire.brushfire`'s ``label`` on the obstacle cells.
+        :func:`gridfield.distance.brushfire.brushfire`'s ``label`` on the obstacle cells.
 
     Examples
     --------

@@ -5,10 +5,10 @@ extended block that has a finite value (its value the start: the goal's 0, the v
 chunks reached in the halo, and the chunk's own values of the previous round), over the block's free
 cells with the wavefront's moves (4 neighbours at cost 1, the diagonals at ``sqrt(2)`` (octile) or 1
 (unit), no corner cutting, on the occupancy alone: a disc robot's diagonals through a corner,
-:attr:`gridfield.grid.GridMap.diagonals`, are not taken, as the complete field ``nf1`` with
+:attr:`gridfield.core.grid.GridMap.diagonals`, are not taken, as the complete field ``nf1`` with
 ``attraction: octile`` that it computes does not take them in memory either). A value only ever falls, and each is the cost of a real path (a sum of
 step costs, added in path order as the in-memory Dial queue adds them), so the rounds end, when no
-chunk changes, at the values of :func:`gridfield.navigation.wavefront` on the whole map, bit for bit.
+chunk changes, at the values of :func:`gridfield.fields.navigation.wavefront` on the whole map, bit for bit.
 How many rounds that takes depends on how often the shortest paths cross chunk seams, back and forth in
 a maze; a straight corridor across ``k`` chunks needs about ``k + 1``.
 
@@ -25,12 +25,19 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import GridfieldError, ParameterError, shorten
+from ..core.errors import GridfieldError, ParameterError, shorten
 from ._distance import _dask_array, check_occupied
 
 __all__ = ["nf1_octile_field", "wavefront"]
 
 COSTS = ("octile", "unit")
+
+
+def _kernel_eikonal() -> Any:
+    """The compiled kernel module (gridfield/fields/_eikonal.pyx), imported on first use."""
+    from ..fields import _eikonal  # type: ignore[attr-defined]  # a compiled extension, no stubs
+
+    return _eikonal
 
 
 def _tile(u: NDArray[np.float64], occ: NDArray[np.bool_], diag: float) -> NDArray[np.float64]:
@@ -101,8 +108,8 @@ def wavefront(occupied: Any, goal_cell: tuple[int, int], *, costs: str = "octile
     -------
     value : dask.array.Array
         ``float64`` with ``occupied``'s chunks (persisted): the path cost in cells, ``inf`` on obstacles
-        and cells the goal cannot reach; equal to ``gridfield.navigation.wavefront(gridmap, goal,
-        costs=costs).value`` (8-connected) on a map without :attr:`~gridfield.grid.GridMap.diagonals`.
+        and cells the goal cannot reach; equal to ``gridfield.fields.navigation.wavefront(gridmap, goal,
+        costs=costs).value`` (8-connected) on a map without :attr:`~gridfield.core.grid.GridMap.diagonals`.
     rounds : int
         How many rounds ran (the last one changed nothing).
 
@@ -161,9 +168,8 @@ def wavefront(occupied: Any, goal_cell: tuple[int, int], *, costs: str = "octile
 
 def _upwind_block(u: NDArray[np.float64], res: float, axis: int) -> NDArray[np.float64]:
     """One component of the upwind gradient (the in-memory field's rule) of an extended block."""
-    from .._kernels import kernels
 
-    g: NDArray[np.float64] = kernels("eikonal").upwind(np.ascontiguousarray(u, dtype=np.float64), True)[axis]
+    g: NDArray[np.float64] = _kernel_eikonal().upwind(np.ascontiguousarray(u, dtype=np.float64), True)[axis]
     if res != 1.0:
         g /= res
     return g
@@ -173,7 +179,7 @@ def nf1_octile_field(occupied: Any, goal_cell: tuple[int, int], *, resolution: f
                      max_rounds: int | None = None) -> tuple[dict[str, Any], int]:
     """The complete model ``nf1`` with ``attraction: octile`` (the octile wavefront as the potential: one
     minimum, the goal) and its gradient, chunk by chunk: equal bit for bit to
-    ``gridfield.navfield.nav_field(gridmap, goal, {"model": "nf1", "attraction": "octile"})``'s
+    ``gridfield.fields.navfield.nav_field(gridmap, goal, {"model": "nf1", "attraction": "octile"})``'s
     ``potential``, ``grad_x`` and ``grad_y`` on a wall-bordered map, the goal at the centre of ``goal_cell``.
 
     Parameters
@@ -203,7 +209,7 @@ def nf1_octile_field(occupied: Any, goal_cell: tuple[int, int], *, resolution: f
     ([1.0, 1.207, 1.414, 1.914], [0.0, 1.0, 1.0, 1.0])
     """
     da = _dask_array()
-    from ..errors import check_positive
+    from ..core.errors import check_positive
 
     res = check_positive("resolution", resolution)
     v, rounds = wavefront(occupied, goal_cell, costs="octile", max_rounds=max_rounds)

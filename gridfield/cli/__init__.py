@@ -2,16 +2,16 @@
 
 Each sub-command lives in its own module ``gridfield/cli/<name>.py`` exposing
 ``add_parser(subparsers)`` and ``run(args) -> int``; heavy imports happen inside ``run`` so
-that ``gridfield --help`` stays fast. Bad input (any :class:`~gridfield.errors.GridfieldError`,
+that ``gridfield --help`` stays fast. Bad input (any :class:`~gridfield.core.errors.GridfieldError`,
 a missing file) becomes one line on stderr and exit code 2; a warning is one line on stderr.
 """
 
 from __future__ import annotations
 
 import argparse
-import importlib
 import sys
 from collections.abc import Sequence
+from types import ModuleType
 from typing import NoReturn
 
 from .._version import __version__
@@ -26,7 +26,7 @@ class _Parser(argparse.ArgumentParser):
     """argparse, but a usage error is one line on stderr (and exit code 2), like every other error."""
 
     def error(self, message: str) -> NoReturn:
-        from ..errors import cap_message
+        from ..core.errors import cap_message
 
         message = " ".join(cap_message(message).split())  # a huge or multi-line value stays one short line
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
@@ -87,9 +87,50 @@ def _unrecognized(extras: Sequence[str], parser: argparse.ArgumentParser) -> str
 
 def _registry_names() -> tuple[str, ...]:
     """Every planner parameter's registry name (``model``, ``clearance_band``, ...)."""
-    from ..params import GROUPS, names
+    from ..core.params import GROUPS, names
 
     return names(*GROUPS)
+
+
+def _command(name: str) -> ModuleType:
+    """The module of one command of :data:`COMMANDS` (one import statement each: tools see every arrow)."""
+    if name == "demo":
+        from . import demo
+
+        return demo
+    if name == "info":
+        from . import info
+
+        return info
+    if name == "brushfire":
+        from . import brushfire
+
+        return brushfire
+    if name == "costmap":
+        from . import costmap
+
+        return costmap
+    if name == "field":
+        from . import field
+
+        return field
+    if name == "plan":
+        from . import plan
+
+        return plan
+    if name == "compare":
+        from . import compare
+
+        return compare
+    if name == "explore":
+        from . import explore
+
+        return explore
+    if name == "sweep":
+        from . import sweep
+
+        return sweep
+    raise ValueError(f"no command {name!r}")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -100,14 +141,14 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"gridfield {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in COMMANDS:
-        module = importlib.import_module(f"{__name__}.{name}")
+        module = _command(name)
         p = module.add_parser(sub)
         p.set_defaults(_run=module.run)
     return parser
 
 
 def _job(args: argparse.Namespace) -> tuple[str, int]:
-    """The size guard's job for this command (see :func:`gridfield.limits.job`): its name and workers."""
+    """The size guard's job for this command (see :func:`gridfield.core.limits.job`): its name and workers."""
     import os
 
     name = str(args.command)
@@ -121,7 +162,7 @@ def _job(args: argparse.Namespace) -> tuple[str, int]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    from ..errors import GridfieldError
+    from ..core.errors import GridfieldError
 
     parser = build_parser()
     try:
@@ -133,7 +174,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     import warnings
 
-    from ..limits import job, out_of_memory, override, progress, user_limit
+    from ..core.limits import job, out_of_memory, override, progress, user_limit
 
     def one_line_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
                          file: object = None, line: str | None = None) -> None:

@@ -43,7 +43,7 @@ def add_chunk_arguments(p: argparse.ArgumentParser) -> None:
 
 def chunked(args: argparse.Namespace) -> bool:
     """Whether the command runs on its chunked path; refuses the options that only apply to one path."""
-    from ..errors import ParameterError
+    from ..core.errors import ParameterError
 
     if args.out is None:
         for opt in ("chunks", "scheduler"):
@@ -55,7 +55,7 @@ def chunked(args: argparse.Namespace) -> bool:
     for opt in ("npz", "plot", "surface", "basins"):
         if getattr(args, opt, None) is not None:
             raise ParameterError(f"--{opt} holds the whole map in memory; it does not combine with --out")
-    from ..errors import GridfieldError
+    from ..core.errors import GridfieldError
 
     if Path(args.out).exists():
         raise GridfieldError(f"{args.out}: already exists; remove it or choose another --out")
@@ -68,7 +68,7 @@ def chunked(args: argparse.Namespace) -> bool:
 
 def check_halo(args: argparse.Namespace, saturate: float | None, resolution: float) -> None:
     """Chunks smaller than the saturation halo (``ceil(saturate / resolution) + 1`` cells) are refused."""
-    from ..errors import ParameterError
+    from ..core.errors import ParameterError
 
     if saturate is None or not math.isfinite(saturate):
         return
@@ -83,9 +83,9 @@ def lazy_occupancy(args: argparse.Namespace, target: Any) -> tuple[Any, Any]:
     BigTIFF/GeoTIFF, ``.npy`` and Zarr inputs; an in-memory map otherwise)."""
     import numpy as np
 
-    from .._chunkcache import LazyGridMap
-    from ..errors import ParameterError
-    from ..grid import GridMap
+    from ..core.chunkcache import LazyGridMap
+    from ..core.errors import ParameterError
+    from ..core.grid import GridMap
 
     try:
         import dask.array as da
@@ -118,7 +118,7 @@ def resume_token(args: argparse.Namespace, **extra: Any) -> str:
 def scheduler(args: argparse.Namespace) -> Iterator[Any]:
     """The dask scheduler: ``"threads"``, or a client of ``--scheduler ADDRESS`` (one clear error when it
     cannot be reached within :data:`CONNECT_TIMEOUT` seconds)."""
-    from ..errors import GridfieldError
+    from ..core.errors import GridfieldError
 
     if args.scheduler is None:
         yield "threads"

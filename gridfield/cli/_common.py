@@ -6,7 +6,7 @@ import argparse
 import math
 from typing import Any
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 
 __all__ = [
     "FIGURE_SUFFIXES",
@@ -31,7 +31,7 @@ FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".svgz", ".jpg", ".jpeg", ".tif", ".t
 
 def _flags() -> dict[str, str]:
     """Parameter name -> help line, for the parameters that get their own flag (``--d-star``)."""
-    from ..params import REGISTRY, help_text
+    from ..core.params import REGISTRY, help_text
 
     return {name: help_text(name) for name, spec in REGISTRY.items() if spec.flag}
 
@@ -73,7 +73,7 @@ def occupancy_options(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _max_cells(text: str) -> int:
-    from ..limits import parse_max_cells
+    from ..core.limits import parse_max_cells
 
     try:
         return parse_max_cells(text, "--max-cells")
@@ -82,7 +82,7 @@ def _max_cells(text: str) -> int:
 
 
 def add_max_cells_argument(p: argparse.ArgumentParser) -> None:
-    """``--max-cells N``: the size guard's limit (see :mod:`gridfield.limits`); the CLI applies it."""
+    """``--max-cells N``: the size guard's limit (see :mod:`gridfield.core.limits`); the CLI applies it."""
     p.add_argument("--max-cells", type=_max_cells, default=None, metavar="N",
                    help="refuse grids of more than N cells (default: what a quarter of this machine's memory "
                         "holds; also GRIDFIELD_MAX_CELLS)")
@@ -97,7 +97,7 @@ def check_figure_file(file: str | None, option: str = "--plot") -> None:
     >>> check_figure_file("out")
     Traceback (most recent call last):
     ...
-    gridfield.errors.ParameterError: --plot out: the file name needs a figure suffix: .png, .pdf, ...
+    gridfield.core.errors.ParameterError: --plot out: the file name needs a figure suffix: .png, .pdf, ...
     """
     if file is None:
         return
@@ -115,14 +115,14 @@ def check_coarse_cells(world: Any, gridmap: Any, **points: Any) -> None:
 
     Examples
     --------
-    >>> from gridfield.world import world_from_dict
-    >>> from gridfield.rasterize import as_gridmap
+    >>> from gridfield.geometry.world import world_from_dict
+    >>> from gridfield.geometry.rasterize import as_gridmap
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"rectangle": [4, 4, 6, 6]}]})
     >>> check_coarse_cells(w, as_gridmap(w, 1.0), start=(2.5, 2.5))
     >>> check_coarse_cells(w, as_gridmap(w, 5.0), start=(2.5, 2.5))
     Traceback (most recent call last):
     ...
-    gridfield.errors.ParameterError: start (2.5, 2.5) is free, but its cell of the 5 grid is blocked ...
+    gridfield.core.errors.ParameterError: start (2.5, 2.5) is free, but its cell of the 5 grid is blocked ...
     """
     for name, point in points.items():
         if point is None or not world.contains_free(point) or bool(gridmap.is_free([point])[0]):
@@ -142,10 +142,10 @@ def warm_up(planner: str) -> float:
 
     import numpy as np
 
-    from ..errors import GridfieldError
-    from ..grid import Grid, GridMap
+    from ..core.errors import GridfieldError
+    from ..core.grid import Grid, GridMap
+    from ..geometry.world import world_from_dict
     from ..planners import PLANNERS, plan
-    from ..world import world_from_dict
 
     t0 = time.perf_counter()
     if PLANNERS[planner][2] == "grid":
@@ -166,8 +166,8 @@ def load_target(args: argparse.Namespace, *, lazy: bool = False) -> Any:
     """Read the map named on the command line: a World or a GridMap. A map read by chunks (BigTIFF,
     ``.npy``, Zarr) is read whole (within the size guard) unless ``lazy`` (the chunked paths, ``--out``);
     a stored distance map or field stays lazy."""
-    from .._chunkcache import LazyGridMap
-    from .._results import DistanceMap, Field
+    from ..core.chunkcache import LazyGridMap
+    from ..core.results import DistanceMap, Field
 
     target = _read_target(args)
     if isinstance(target, DistanceMap | Field) and not (isinstance(target, Field) and args.command == "plan"):
@@ -195,15 +195,15 @@ def _read_target(args: argparse.Namespace) -> Any:
 
 def load_gridmap(args: argparse.Namespace) -> Any:
     """Read the map and rasterize it if it is a vector world."""
-    from ..rasterize import as_gridmap
+    from ..geometry.rasterize import as_gridmap
 
     return as_gridmap(load_target(args), getattr(args, "resolution", None))
 
 
 def add_param_arguments(p: argparse.ArgumentParser) -> None:
     """One flag per common planner parameter, plus ``--param KEY=VALUE`` for the rest; every help line
-    (meaning, default or scaling rule, allowed values, planners) comes from :mod:`gridfield.params`."""
-    from ..params import REGISTRY, help_text
+    (meaning, default or scaling rule, allowed values, planners) comes from :mod:`gridfield.core.params`."""
+    from ..core.params import REGISTRY, help_text
 
     g = p.add_argument_group(
         "planner parameters (override the world file's 'params'; lengths in world units; defaults given "
@@ -228,7 +228,7 @@ def _finite_or_inf(text: str) -> float:
 
 def collect_params(args: argparse.Namespace) -> dict[str, Any]:
     """The parameters given on the command line (only those given), parsed and checked by the registry."""
-    from ..params import parse
+    from ..core.params import parse
 
     out: dict[str, Any] = {}
     for key in _flags():
@@ -257,14 +257,14 @@ def add_robot_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def _robot_from_args(args: argparse.Namespace, target: Any) -> Any:
-    from ..world import Robot
+    from ..geometry.world import Robot
 
     radius = getattr(args, "robot_radius", None)
     words = getattr(args, "robot", None)
     if radius is not None:
         return Robot(radius=radius)
     if words:
-        from ..cspace import check_robot_polygon
+        from ..geometry.cspace import check_robot_polygon
 
         vertices = []
         for word in " ".join(words).replace(";", " ").split():
@@ -289,7 +289,7 @@ def robot_target(args: argparse.Namespace, target: Any, **points: Any) -> Any:
     robot = _robot_from_args(args, target)
     if robot is None:
         return target
-    from ..cspace import apply_robot, check_robot_point
+    from ..geometry.cspace import apply_robot, check_robot_point
 
     cspace = apply_robot(target, robot)
     for name, point in points.items():

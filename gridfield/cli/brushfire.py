@@ -50,7 +50,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 
 
 def _check_output(file: str | None) -> None:
-    from ..errors import GridfieldError
+    from ..core.errors import GridfieldError
 
     if file is not None and not Path(file).resolve().parent.is_dir():
         raise GridfieldError(f"{file}: the folder {Path(file).parent} does not exist")
@@ -58,10 +58,10 @@ def _check_output(file: str | None) -> None:
 
 def _load(args: argparse.Namespace) -> Any:
     """The map as a GridMap: bitmaps take --resolution as their pixel size, worlds are rasterized."""
-    from .._chunkcache import LazyGridMap
-    from ..errors import ParameterError
+    from ..core.chunkcache import LazyGridMap
+    from ..core.errors import ParameterError
+    from ..geometry.rasterize import as_gridmap
     from ..io import read
-    from ..rasterize import as_gridmap
 
     options: dict[str, Any] = occupancy_options(args)
     if args.unknown is not None:
@@ -81,7 +81,7 @@ def _load(args: argparse.Namespace) -> Any:
 def _save_plot(dmap: Any, file: str) -> None:
     from matplotlib.figure import Figure
 
-    from ..errors import GridfieldError
+    from ..core.errors import GridfieldError
     from ..plot import plot_brushfire
 
     grid = dmap.grid
@@ -102,7 +102,7 @@ def summary(dmap: Any, ms: float) -> str:
     """One line: shape, metric, largest distance, GVD cells, labels, time."""
     import numpy as np
 
-    from ..brushfire import BORDER_LABEL
+    from ..distance.brushfire import BORDER_LABEL
 
     grid = dmap.grid
     occ = dmap.map.occupied
@@ -123,9 +123,9 @@ def summary(dmap: Any, ms: float) -> str:
 
 def _run_chunked(args: argparse.Namespace) -> int:
     """``--out F.zarr``: the distance and nearest obstacle chunk by chunk (gridfield.chunked), to a store."""
-    from .._chunkcache import LazyGridMap
-    from ..errors import ParameterError
-    from . import _chunked
+    from ..core.chunkcache import LazyGridMap
+    from ..core.errors import ParameterError
+    from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
     from ._common import load_target
 
     if args.connectivity != 8:
@@ -158,14 +158,14 @@ def _robot_given(args: argparse.Namespace) -> bool:
 
 
 def run(args: argparse.Namespace) -> int:
-    from . import _chunked
+    from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     if _chunked.chunked(args):
         return _run_chunked(args)
     import numpy as np
 
-    from ..brushfire import brushfire
-    from ..grid import Grid, GridMap
+    from ..core.grid import Grid, GridMap
+    from ..distance.brushfire import brushfire
     from ..io import write_npz
     from ._common import check_figure_file
 

@@ -170,7 +170,7 @@ def _plot(file: str, rows: Sequence[Mapping[str, Any]], title: str) -> str:
 
     names = {"hausdorff": "Hausdorff", "frechet": "Frechet", "end_error": "stall/end point",
              "length_error": "|length ratio - 1|"}
-    from ..errors import GridfieldError
+    from ..core.errors import GridfieldError
 
     # skipped and failed resolutions have no errors, nor those whose grid closes the way
     ran = [r for r in rows if ":" not in r["status"] and not no_path_at_resolution(r)]
@@ -205,8 +205,8 @@ def _print_batch(result: Mapping[str, Any]) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..compare import batch_compare, convergence_study, study_orders
-    from ..errors import ParameterError
-    from ..world import World
+    from ..core.errors import ParameterError
+    from ..geometry.world import World
     from ._common import check_figure_file
     from .plan import endpoints
 
@@ -276,7 +276,7 @@ def exact_counterpart(planner: str, target: Any, params: dict[str, Any]) -> str:
     >>> exact_counterpart("potential", None, {"model": "khatib"}), exact_counterpart("potential", None, {})
     ('exact-potential', 'visibility')
     """
-    from ..world import World
+    from ..geometry.world import World
 
     if planner != "potential":
         return "visibility"

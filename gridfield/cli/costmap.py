@@ -52,10 +52,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 def _load(args: argparse.Namespace) -> Any:
     import numpy as np
 
-    from ..costmap import inflate
-    from ..errors import ParameterError
+    from ..core.errors import ParameterError
+    from ..fields.costmap import inflate
+    from ..geometry.rasterize import as_gridmap
     from ..io import read, read_yaml, ros_occupancy_values
-    from ..rasterize import as_gridmap
     from ._common import load_target, occupancy_options
 
     unknown = None
@@ -82,7 +82,7 @@ def _save_plot(cm: Any, file: str) -> None:
     import numpy as np
     from matplotlib.figure import Figure
 
-    from ..errors import GridfieldError
+    from ..core.errors import GridfieldError
 
     g = cm.grid
     fig = Figure(figsize=(7.5, max(2.5, min(12.0, 6.5 * g.rows / g.cols + 1.0))), layout="constrained")
@@ -121,7 +121,7 @@ def summary(cm: Any, ms: float) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..errors import GridfieldError
+    from ..core.errors import GridfieldError
 
     check_figure_file(args.plot)
     if args.out is not None:

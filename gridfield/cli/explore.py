@@ -48,7 +48,7 @@ def _interactive_backend() -> bool:
 
 def _use_webagg(port: int) -> None:
     """Switch matplotlib to WebAgg, serving on 127.0.0.1 only, without opening a browser."""
-    from ..errors import GridfieldError, ParameterError
+    from ..core.errors import GridfieldError, ParameterError
 
     if not 0 < port < 65536:
         raise ParameterError(f"--port must be a port number 1..65535, got {port}")
@@ -74,7 +74,7 @@ def _clean_disconnect() -> None:
     Incoming messages are not touched."""
     from matplotlib.backends.backend_webagg import WebAggApplication
 
-    from ..errors import GridfieldError
+    from ..core.errors import GridfieldError
 
     try:
         from tornado.iostream import StreamClosedError
@@ -223,7 +223,7 @@ def _guard_web_canvas(canvas: object, log: object) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..errors import GridfieldError, ParameterError
+    from ..core.errors import GridfieldError, ParameterError
     from ..explore import EXPLORER_PLANNERS, Explorer
     from ._common import _robot_from_args
 

@@ -50,7 +50,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 
 
 def _goal(args: argparse.Namespace, target: Any) -> list[float]:
-    from ..errors import ParameterError
+    from ..core.errors import ParameterError
 
     if args.goal is not None:
         return list(args.goal)
@@ -62,7 +62,7 @@ def _goal(args: argparse.Namespace, target: Any) -> list[float]:
 
 
 def _world_params(target: Any) -> dict[str, Any]:
-    from ..world import World
+    from ..geometry.world import World
 
     world = target if isinstance(target, World) else getattr(target, "world", None)
     return dict(world.params) if isinstance(world, World) else {}
@@ -71,7 +71,7 @@ def _world_params(target: Any) -> dict[str, Any]:
 def _save_figure(art: Any, file: str) -> None:
     import matplotlib.pyplot as plt
 
-    from ..errors import GridfieldError
+    from ..core.errors import GridfieldError
 
     fig = art.figure
     try:
@@ -85,7 +85,7 @@ def _save_figure(art: Any, file: str) -> None:
 
 
 def _check_output(file: str | None) -> None:
-    from ..errors import GridfieldError
+    from ..core.errors import GridfieldError
 
     if file is not None and not Path(file).resolve().parent.is_dir():
         raise GridfieldError(f"{file}: the folder {Path(file).parent} does not exist")
@@ -93,12 +93,12 @@ def _check_output(file: str | None) -> None:
 
 def _run_chunked(args: argparse.Namespace) -> int:
     """``--out F.zarr``: the classic (khatib) field chunk by chunk (gridfield.chunked), to a store."""
-    from .._chunkcache import LazyGridMap
-    from ..errors import ParameterError
-    from ..params import validate
-    from ..potential import resolve_params
-    from ..rasterize import as_gridmap
-    from . import _chunked
+    from ..core.chunkcache import LazyGridMap
+    from ..core.errors import ParameterError
+    from ..core.params import validate
+    from ..fields.potential import resolve_params
+    from ..geometry.rasterize import as_gridmap
+    from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     if args.planner != "potential":
         raise ParameterError(f"the chunked computation builds the potential field; not --planner {args.planner}")
@@ -151,10 +151,10 @@ def _run_chunked_nf1(args: argparse.Namespace, gridmap: Any, cell: tuple[int, in
                      given: dict[str, Any]) -> int:
     """``--out F.zarr`` with ``model: nf1, attraction: octile``: the complete field by the chunked wavefront
     (gridfield.chunked.nf1_octile_field), bit-identical to the in-memory field; a wall border only."""
-    from ..errors import ParameterError
-    from ..navfield import NF_PROGRESS_WINDOW
-    from ..params import resolve_field
-    from . import _chunked
+    from ..core.errors import ParameterError
+    from ..core.params import resolve_field
+    from ..fields.navfield import NF_PROGRESS_WINDOW
+    from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     grid = gridmap.grid
     if grid.border != "wall":
@@ -189,9 +189,9 @@ def run(args: argparse.Namespace) -> int:
 
     if chunked(args):
         return _run_chunked(args)
+    from ..fields.potential import build_field, field_distance_map, resolve_params
+    from ..geometry.rasterize import as_gridmap
     from ..planners import check_params
-    from ..potential import build_field, field_distance_map, resolve_params
-    from ..rasterize import as_gridmap
     from ._common import check_figure_file
 
     for option in ("plot", "surface", "basins"):
@@ -204,7 +204,7 @@ def run(args: argparse.Namespace) -> int:
     params.update(collect_params(args))
     gridmap = as_gridmap(robot_target(args, target, goal=goal), args.resolution)
     if args.planner == "star-nav":
-        from ..navigation import star_nav_field
+        from ..fields.navigation import star_nav_field
 
         gridmap.check_point("goal", goal)
         t0 = time.perf_counter()
@@ -213,7 +213,7 @@ def run(args: argparse.Namespace) -> int:
         model = f"star-nav navigation function, kappa={nav.params['kappa']:g}, lambda={nav.params['lambda']:g}"
         return _report(args, nav.to_field(), model, ms, None, star_figure=nav.aux["figure"])
     if args.planner != "potential":
-        from ..navigation import navigation_field
+        from ..fields.navtable import navigation_field
 
         gridmap.check_point("goal", goal)
         t0 = time.perf_counter()
@@ -221,7 +221,7 @@ def run(args: argparse.Namespace) -> int:
         ms = (time.perf_counter() - t0) * 1e3
         return _report(args, field, f"{args.planner} navigation function", ms, None)
     if params.get("model") is None:  # what `plan` follows on this map: the potential planner's default model
-        from ..follow import PLANNER_MODEL
+        from ..following.follower import PLANNER_MODEL
 
         params = {**params, "model": PLANNER_MODEL}
     resolved = resolve_params(params)
@@ -290,7 +290,7 @@ def _report(args: argparse.Namespace, field: Any, model: str, ms: float, ms_brus
             _save_figure(gplot.plot_surface(field, ax=None), args.surface)
             print(f"wrote {args.surface}")
         if args.basins:
-            from ..follow import basins
+            from ..following.follower import basins
 
             _save_figure(gplot.plot_basins(basins(field), ax=None), args.basins)
             print(f"wrote {args.basins}")

@@ -48,9 +48,9 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
     import numpy as np
     from scipy import ndimage
 
-    from ..errors import ParameterError
+    from ..core.errors import ParameterError
+    from ..geometry.world import World
     from ..io import read
-    from ..world import World
 
     suffix = str(args.map).lower().rsplit(".", 1)[-1]
     from ._common import occupancy_options
@@ -59,7 +59,7 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
     if suffix in ("png", "pgm", "bmp"):
         options["resolution"] = args.resolution
     workspace = read(args.map, **options)
-    from .._chunkcache import LazyGridMap
+    from ..core.chunkcache import LazyGridMap
 
     workspace = getattr(workspace, "map", workspace) if str(args.map).rstrip("/").endswith(".zarr") else workspace
     if isinstance(workspace, LazyGridMap):  # a map read by chunks (or a store's map): read whole, size-guarded
@@ -142,8 +142,8 @@ def _cell_counts(gm: Any, unknown: str | None) -> dict[str, Any]:
 
 def _describe_world(args: argparse.Namespace, workspace: Any, target: Any) -> tuple[dict[str, Any], Any]:
     """A vector world's description (see :func:`describe`); the raster only when a resolution is set."""
-    from ..errors import ParameterError
-    from ..grid import Grid
+    from ..core.errors import ParameterError
+    from ..core.grid import Grid
     from ._common import _robot_from_args
 
     resolution = args.resolution if args.resolution is not None else target.resolution
@@ -178,7 +178,7 @@ def _describe_world(args: argparse.Namespace, workspace: Any, target: Any) -> tu
         return info, None
     grid = Grid.covering(target.bounds, resolution, border=target.border)  # sized by the guard, nothing allocated
     info["shape"], info["resolution"] = [int(grid.rows), int(grid.cols)], float(grid.resolution)
-    from ..rasterize import as_gridmap
+    from ..geometry.rasterize import as_gridmap
 
     gm = as_gridmap(target, resolution)
     info["occupied_fraction"] = float(gm.occupied_fraction)

@@ -18,8 +18,8 @@ from ._common import (
 )
 
 if TYPE_CHECKING:
-    from .._results import Field
-    from ..path import Path
+    from ..core.path import Path
+    from ..core.results import Field
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argparse.ArgumentParser:
@@ -48,7 +48,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 
 def scenario(args: argparse.Namespace, target: object) -> tuple[list[float], list[float], float] | None:
     """Start, goal and optimal length of ``--scenario FILE --index N``, checked against the map's size."""
-    from ..errors import ParameterError
+    from ..core.errors import ParameterError
 
     if args.scenario is None:
         if args.index is not None:
@@ -73,7 +73,7 @@ def scenario(args: argparse.Namespace, target: object) -> tuple[list[float], lis
 
 def endpoints(args: argparse.Namespace, target: object) -> tuple[list[float], list[float]]:
     """Start and goal from the command line, else from the world file."""
-    from ..errors import ParameterError
+    from ..core.errors import ParameterError
 
     world = getattr(target, "world", None) or target
     start = args.start if args.start is not None else getattr(world, "start", None)
@@ -85,8 +85,8 @@ def endpoints(args: argparse.Namespace, target: object) -> tuple[list[float], li
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..geometry.world import World
     from ..planners import PLANNERS, plan_with_field
-    from ..world import World
     from ._common import check_figure_file
 
     check_figure_file(args.plot)
@@ -103,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
     robot = target is not workspace
     resolution = args.resolution
     if PLANNERS[args.planner][2] == "grid" and isinstance(target, World):
-        from ..rasterize import as_gridmap
+        from ..geometry.rasterize import as_gridmap
 
         # rasterized once, here: the grid planner plans on it and --plot/--animate draw it
         world, target, resolution = target, as_gridmap(target, resolution), None
@@ -120,7 +120,7 @@ def run(args: argparse.Namespace) -> int:
     if scen is not None:
         path = replace(path, extra={**path.extra, "optimal": optimal})
     if robot and path.status != "no_path":
-        from ..cspace import robot_clearance, workspace_clearance
+        from ..geometry.cspace import robot_clearance, workspace_clearance
         from ._common import _robot_from_args
 
         clearance = workspace_clearance(workspace, path.points)
@@ -164,13 +164,13 @@ def run(args: argparse.Namespace) -> int:
 def _robot_no_path(args: argparse.Namespace, path: Path, workspace: Any, start: list[float], goal: list[float],
                    params: dict[str, Any], resolution: float | None) -> Path:
     """A robot's ``no_path``: the same search for a point on the workspace says whether the robot closes the passage."""
-    from ..diagnose import robot_no_path
+    from ..following.diagnose import robot_no_path
+    from ..geometry.world import World
     from ..planners import PLANNERS, plan_with_field
-    from ..world import World
 
     point_target = workspace
     if PLANNERS[args.planner][2] == "grid" and isinstance(workspace, World):
-        from ..rasterize import as_gridmap
+        from ..geometry.rasterize import as_gridmap
 
         point_target, resolution = as_gridmap(workspace, args.resolution), None
     point, _ = plan_with_field(args.planner, point_target, start, goal, params, resolution=resolution)
@@ -178,16 +178,16 @@ def _robot_no_path(args: argparse.Namespace, path: Path, workspace: Any, start: 
 
 
 def _is_stored_field(target: object) -> bool:
-    from .._chunkcache import is_lazy
-    from .._results import Field
+    from ..core.chunkcache import is_lazy
+    from ..core.results import Field
 
     return isinstance(target, Field) and is_lazy(target)
 
 
 def _follow_stored(args: argparse.Namespace, field: Field, params: dict[str, object]) -> int:
     """``plan F.zarr --start X Y``: the follower on a stored field, reading only the chunks it crosses."""
-    from ..errors import ParameterError
-    from ..follow import follow
+    from ..core.errors import ParameterError
+    from ..following.follower import follow
 
     if args.planner != "potential":
         raise ParameterError(f"{args.map} holds a potential field: it is followed by the potential planner, "

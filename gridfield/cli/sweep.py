@@ -29,7 +29,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..errors import ParameterError
+    from ..core.errors import ParameterError
     from ..sweep import SweepInterrupted, load_spec, run_sweep, summarize
 
     if args.workers is not None and args.workers < 1:

@@ -1,6 +1,6 @@
 """Grid planners against exact-geometry planners: metrics, convergence study, batch comparison.
 
-Metrics (pure functions on point arrays ``(N, 2)``; a :class:`~gridfield.path.Path` works too):
+Metrics (pure functions on point arrays ``(N, 2)``; a :class:`~gridfield.core.path.Path` works too):
 
 - :func:`length_ratio` — path length over a reference (the exact planner's, the visibility optimum);
 - :func:`hausdorff` — symmetric Hausdorff distance (:func:`scipy.spatial.distance.directed_hausdorff`);

@@ -11,8 +11,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import GridfieldError, ParameterError, check_positive
-from ..world import World
+from ..core.errors import GridfieldError, ParameterError, check_positive
+from ..geometry.world import World
 from ._common import _as_world, _grid_factor, optimum_solver
 from ._metrics import length_ratio
 
@@ -62,8 +62,8 @@ def batch_compare(
 
     Pairs are drawn uniformly in the bounds, both points at least one cell from every obstacle
     (and free on the grid), connected in the world; the visibility graph gives the optimum. On a
-    grid map the exact planners use its exact polygons (:func:`gridfield.gridpoly.grid_world`), the
-    optimum is the any-angle one (:mod:`gridfield.anyangle`) and the grid planners run on the map
+    grid map the exact planners use its exact polygons (:func:`gridfield.geometry.gridpoly.grid_world`), the
+    optimum is the any-angle one (:mod:`gridfield.exact.anyangle`) and the grid planners run on the map
     downsampled to ``resolution`` (a multiple of the map's).
 
     Parameters
@@ -90,14 +90,14 @@ def batch_compare(
 
     Examples
     --------
-    >>> from gridfield.world import world_from_dict
+    >>> from gridfield.geometry.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"rectangle": [4, 2, 6, 8]}]})
     >>> r = batch_compare(w, 3, resolution=0.5, planners=("visibility",), progress=False)
     >>> r["planners"]["visibility"]["success_rate"], r["planners"]["visibility"]["length_ratio"]["max"]
     (1.0, 1.0)
     """
+    from ..geometry.rasterize import rasterize
     from ..planners import get_planner, plan
-    from ..rasterize import rasterize
 
     world, base = _as_world(world, "batch_compare")
     if isinstance(n_pairs, bool) or not isinstance(n_pairs, int | np.integer) or n_pairs < 1:
@@ -113,7 +113,7 @@ def batch_compare(
     if base is None:
         gm = rasterize(world, h)
     else:
-        from ..gridpoly import block_downsample
+        from ..geometry.gridpoly import block_downsample
 
         gm = block_downsample(base, _grid_factor(base, h))
     optimum = optimum_solver(world)

@@ -11,14 +11,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import GridfieldError, ParameterError
-from ..world import World
+from ..core.errors import GridfieldError, ParameterError
+from ..geometry.world import World
 
 
 def optimum_solver(world: Any, *, cache: dict[Any, Any] | None = None
                    ) -> Callable[[NDArray[np.float64], NDArray[np.float64]], float]:
     """``(start, goal) -> exact optimum length`` (NaN for a bad point) on a World or a GridMap: the
-    any-angle graph of the grid for a grid map or a world made from one (gridfield.gridpoly), kept in
+    any-angle graph of the grid for a grid map or a world made from one (gridfield.geometry.gridpoly), kept in
     ``cache`` when given (the plan cache: :func:`gridfield.planners.plan` finds the same graph there),
     else the visibility graph of the world (the one ``plan("visibility")`` uses, cached per world).
 
@@ -37,15 +37,15 @@ def optimum_solver(world: Any, *, cache: dict[Any, Any] | None = None
 
     Examples
     --------
-    >>> from gridfield.world import world_from_dict
+    >>> from gridfield.geometry.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "border": "wall",
     ...                      "obstacles": [{"polygon": [[4, 0], [6, 0], [6, 8], [4, 8]]}]})
     >>> solver = optimum_solver(w)
     >>> round(solver(np.array([2.0, 2.0]), np.array([8.0, 2.0])), 4)  # over the corners (4, 8), (6, 8): 2 sqrt(40) + 2
     14.6491
     """
-    from ..grid import GridMap
-    from ..gridpoly import source_grid
+    from ..core.grid import GridMap
+    from ..geometry.gridpoly import source_grid
 
     if isinstance(world, GridMap):
         gm = world if not isinstance(world.world, World) else None
@@ -53,11 +53,11 @@ def optimum_solver(world: Any, *, cache: dict[Any, Any] | None = None
     else:
         gm = source_grid(world)
     if gm is not None:
-        from ..anyangle import grid_graph
+        from ..exact.anyangle import grid_graph
 
         solver: Any = grid_graph(gm, cache=cache)
     else:
-        from ..visibility import cached_visibility_graph
+        from ..exact.visibility import cached_visibility_graph
 
         solver = cached_visibility_graph(world, "block")
 
@@ -75,15 +75,15 @@ def _optimum(world: World, start: NDArray[np.float64], goal: NDArray[np.float64]
 
 
 def _as_world(target: Any, what: str) -> tuple[World, Any]:
-    """A vector world as is, or a grid map's exact polygons (gridfield.gridpoly) and the map."""
-    from ..grid import GridMap
+    """A vector world as is, or a grid map's exact polygons (gridfield.geometry.gridpoly) and the map."""
+    from ..core.grid import GridMap
 
     if isinstance(target, World):
         return target, None
     if isinstance(target, GridMap):
         if isinstance(target.world, World):
             return target.world, None
-        from ..gridpoly import grid_world
+        from ..geometry.gridpoly import grid_world
 
         return grid_world(target), target
     raise ParameterError(f"{what} needs a vector World or a GridMap, got {type(target).__name__}")
@@ -106,12 +106,12 @@ def _grid_factor(base: Any, h: float) -> int:
 
 def _guard_seconds(target: Any, exact_planner: str, params: Any, what: str) -> float:
     """Refuse a comparison up front when the summed estimates of its searches exceed the time limit
-    (:func:`gridfield.limits.check_stages`): on a grid map the exact planner's stages on its polygons
+    (:func:`gridfield.core.limits.check_stages`): on a grid map the exact planner's stages on its polygons
     and the any-angle optimum; on a vector world the exact potential's descent and the visibility
     graph of the optimum. The grid planners' cost is their cells (the size guard) and is not summed."""
-    from ..grid import GridMap
-    from ..limits import check_stages
-    from ..params import MAX_ITERATIONS
+    from ..core.grid import GridMap
+    from ..core.limits import check_stages
+    from ..core.params import MAX_ITERATIONS
     from ..planners import search_stages
 
     steps = (params or {}).get("max_iterations")
@@ -125,7 +125,7 @@ def _guard_seconds(target: Any, exact_planner: str, params: Any, what: str) -> f
     world = target.world if isinstance(target, GridMap) else target
     if not isinstance(world, World):
         return 0.0
-    from ..gridpoly import source_grid
+    from ..geometry.gridpoly import source_grid
 
     vertices = float(sum(len(ob.vertices) for ob in world.obstacles))
     stages = []

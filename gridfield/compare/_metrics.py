@@ -1,5 +1,5 @@
 """Metrics between paths and against the world: pure functions on point arrays ``(N, 2)`` (a
-:class:`~gridfield.path.Path` works too), the brushfire distance maps' errors against the exact
+:class:`~gridfield.core.path.Path` works too), the brushfire distance maps' errors against the exact
 obstacle distance, and the observed order of convergence of an error. Part of :mod:`gridfield.compare`
 (import the names from there)."""
 
@@ -15,9 +15,9 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.distance import directed_hausdorff
 
-from ..errors import ParameterError, check_positive
-from ..path import Path, path_length
-from ..world import World
+from ..core.errors import ParameterError, check_positive
+from ..core.path import Path, path_length
+from ..geometry.world import World
 
 
 # ----------------------------------------------------------------------------------------
@@ -306,7 +306,7 @@ def min_clearance(world: World, points: ArrayLike | Path) -> float:
 
     Examples
     --------
-    >>> from gridfield.world import world_from_dict
+    >>> from gridfield.geometry.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"rectangle": [4, 4, 6, 6]}]})
     >>> min_clearance(w, [[0, 3], [10, 3]]), min_clearance(w, [[0, 4], [10, 4]])
     (1.0, 0.0)
@@ -358,7 +358,7 @@ def collides(world: World, points: ArrayLike | Path) -> bool:
 
     Examples
     --------
-    >>> from gridfield.world import world_from_dict
+    >>> from gridfield.geometry.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"rectangle": [4, 4, 6, 6]},
     ...                                                             {"segment": [[8, 0], [8, 2]]}]})
     >>> collides(w, [[0, 4], [10, 4]]), collides(w, [[0, 5], [10, 5]]), collides(w, [[7, 1], [9, 1]])
@@ -419,14 +419,14 @@ def distance_map_errors(
 
     Examples
     --------
-    >>> from gridfield.world import world_from_dict
+    >>> from gridfield.geometry.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"circle": {"center": [5, 5], "radius": 2}}]})
     >>> e = distance_map_errors(w, 0.5, metrics=["euclidean"])
     >>> e["euclidean"]["max"] <= 0.5 / 2 ** 0.5
     True
     """
-    from ..brushfire import METRICS, brushfire
-    from ..rasterize import rasterize
+    from ..distance.brushfire import METRICS, brushfire
+    from ..geometry.rasterize import rasterize
 
     h = check_positive("resolution", resolution)
     metrics = list(METRICS if metrics is None else metrics)

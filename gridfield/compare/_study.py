@@ -13,9 +13,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import GridfieldError, ParameterError, check_positive
-from ..path import Path
-from ..world import World
+from ..core.errors import GridfieldError, ParameterError, check_positive
+from ..core.path import Path
+from ..geometry.world import World
 from ._common import _as_world, _grid_factor, _guard_seconds, _optimum
 from ._metrics import (
     collides,
@@ -95,11 +95,11 @@ def convergence_study(
     The exact planner runs once; the grid planner once per resolution on the conservative
     rasterization of ``world``. Both get the world's ``params`` updated by ``params``.
 
-    On a grid map (a :class:`~gridfield.grid.GridMap` without a vector world) the exact planner
-    runs on the map's blocked cells as exact polygons (:func:`gridfield.gridpoly.grid_world`) and
+    On a grid map (a :class:`~gridfield.core.grid.GridMap` without a vector world) the exact planner
+    runs on the map's blocked cells as exact polygons (:func:`gridfield.geometry.gridpoly.grid_world`) and
     the grid planner on the map itself at its resolution, on block-downsampled copies
-    (:func:`gridfield.gridpoly.block_downsample`, conservative) at coarser resolutions, which
-    must be multiples of the map's, and on subdivided copies (:func:`gridfield.gridpoly.subdivide`,
+    (:func:`gridfield.geometry.gridpoly.block_downsample`, conservative) at coarser resolutions, which
+    must be multiples of the map's, and on subdivided copies (:func:`gridfield.geometry.gridpoly.subdivide`,
     the same free space) at finer ones, which must be the map's divided by an integer. A resolution at which the start or goal, free in the world, falls
     in a blocked (coarse) cell is skipped: its row has status ``"skipped: ..."`` saying which point
     and NaN metrics; any other failure of the grid planner gives status ``"error: ..."``.
@@ -130,22 +130,22 @@ def convergence_study(
 
     Examples
     --------
-    >>> from gridfield.world import world_from_dict
+    >>> from gridfield.geometry.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [{"rectangle": [4, 2, 6, 8]}]})
     >>> rows = convergence_study(w, [1, 5], [9, 5], [1.0, 0.5], grid_planner="visibility",
     ...                          exact_planner="visibility")
     >>> [(r["resolution"], r["status"], r["hausdorff"]) for r in rows]
     [(1.0, 'reached', 0.0), (0.5, 'reached', 0.0)]
     """
+    from ..geometry.rasterize import rasterize
     from ..planners import get_planner, plan
-    from ..rasterize import rasterize
 
     _guard_seconds(world, exact_planner, params, f"compare {exact_planner} on {getattr(world, 'source', None) or 'the map'}")
     world, base = _as_world(world, "convergence_study")
     hs = [check_positive("resolution", r) for r in resolutions]
     if not hs:
         raise ParameterError("give at least one resolution")
-    from ..grid import Grid
+    from ..core.grid import Grid
 
     for h in hs:  # every resolution's grid sized against the memory limit before any planner runs
         Grid.covering(world.bounds, h, border=world.border)
@@ -161,7 +161,7 @@ def convergence_study(
     def grid_at(i: int) -> Any:
         if base is None:
             return rasterize(world, hs[i])
-        from ..gridpoly import block_downsample, subdivide
+        from ..geometry.gridpoly import block_downsample, subdivide
 
         return block_downsample(base, factors[i]) if factors[i] > 0 else subdivide(base, -factors[i])
 

@@ -2,7 +2,7 @@
 
 :class:`Explorer` is a thin matplotlib layer over the library: every update calls
 :func:`gridfield.planners.plan` on the map, or on its configuration space
-(:func:`gridfield.cspace.apply_robot`) once a robot is drawn and the C-space computed, so what the
+(:func:`gridfield.geometry.cspace.apply_robot`) once a robot is drawn and the C-space computed, so what the
 explorer shows is exactly what ``gridfield plan`` computes. The potential planner's background is
 the field that plan followed (``plan_with_field(...)``): one build per update.
 
@@ -31,7 +31,7 @@ Mouse, buttons and keys
 Maps that change
 ----------------
 The brushfire the potential planner and its background use is an
-:class:`gridfield.incremental.IncrementalBrushfire` of the planning map, updated by the cells that
+:class:`gridfield.distance.incremental.IncrementalBrushfire` of the planning map, updated by the cells that
 changed since its last use (a drawn or removed obstacle, undo, clear), so drawing an obstacle
 runs no full brushfire; cells another obstacle also covers stay occupied with that obstacle's id.
 In C-space mode the configuration space is still rebuilt in full (Minkowski sum and

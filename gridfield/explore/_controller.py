@@ -17,10 +17,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import GridfieldError, ParameterError
-from ..grid import GridMap
-from ..path import Path
-from ..world import Robot, World
+from ..core.errors import GridfieldError, ParameterError
+from ..core.grid import GridMap
+from ..core.path import Path
+from ..geometry.world import Robot, World
 from ._model import EXPLORER_PLANNERS, SLIDER_PARAMS, _State, available_planners
 from ._view import ROBOT_COLOR, ExplorerView
 
@@ -413,7 +413,7 @@ class Explorer(ExplorerView):
 
     def remove_obstacle(self, obstacle_id: int) -> None:
         """Remove the world obstacle ``obstacle_id`` (undoable): its cells are freed, the brushfire is
-        updated where they were (:mod:`gridfield.incremental`), the C-space rebuilt if on, and the
+        updated where they were (:mod:`gridfield.distance.incremental`), the C-space rebuilt if on, and the
         path recomputed.
 
         Raises :class:`ParameterError` when there is no world or no such obstacle.

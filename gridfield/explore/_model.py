@@ -8,7 +8,7 @@ parameters and the planner, the latest path and potential, and the undo stack. I
 rasterized obstacle, the C-space); ``_plan`` re-plans. They neither draw nor plan on their own:
 :class:`gridfield.explore.Explorer` calls one, then redraws the figure and re-plans.
 
-The brushfire the potential planner uses is an :class:`gridfield.incremental.IncrementalBrushfire`
+The brushfire the potential planner uses is an :class:`gridfield.distance.incremental.IncrementalBrushfire`
 of the planning map kept here, updated by the cells that changed since its last use (see the
 package's docstring, "Maps that change").
 """
@@ -22,10 +22,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import GridfieldError, ParameterError
-from ..grid import GridMap
-from ..path import Path
-from ..world import Obstacle, Robot, World
+from ..core.errors import GridfieldError, ParameterError
+from ..core.grid import GridMap
+from ..core.path import Path
+from ..geometry.world import Obstacle, Robot, World
 
 #: Planners the explorer offers, in order, when their module is installed.
 EXPLORER_PLANNERS = ("potential", "exact-potential", "wavefront-octile", "navfn")
@@ -154,7 +154,7 @@ class ExplorerModel:
             self.world = dataclasses.replace(self.world, start=self.start, goal=self.goal)
             if self.gridmap is not None and isinstance(self.gridmap.world, World):
                 self.gridmap = self.gridmap.with_occupied(self.gridmap.occupied, world=self.world)
-        from ..cspace import as_robot
+        from ..geometry.cspace import as_robot
 
         self.robot: Robot | None = as_robot(robot) if robot is not None else (w.robot if w is not None else None)
         self.cspace_on = self.robot is not None
@@ -168,7 +168,7 @@ class ExplorerModel:
 
     # -- construction ----------------------------------------------------------------------
     def _rasterize(self, world: World | None = None) -> GridMap | None:
-        from ..rasterize import as_gridmap
+        from ..geometry.rasterize import as_gridmap
 
         world = self.world if world is None else world
         if world is None:
@@ -221,7 +221,7 @@ class ExplorerModel:
         """None when ``p`` is a valid start/goal, else why not."""
         try:
             if self.cspace_on and self.robot is not None:
-                from ..cspace import check_robot_point
+                from ..geometry.cspace import check_robot_point
 
                 check_robot_point(self._workspace(), self.robot, "point", p)
             if self.cgridmap is not None and self.planner != "exact-potential":
@@ -299,7 +299,7 @@ class ExplorerModel:
     def _set_robot(self, robot: Robot | float | ArrayLike | None) -> Robot | None:
         """Set the robot (undoable; None: a point, which turns the C-space off) and rebuild the
         C-space when on; returns it. Raises :class:`ParameterError` for a non-convex polygon."""
-        from ..cspace import as_robot
+        from ..geometry.cspace import as_robot
 
         r = as_robot(robot)
         self._push()
@@ -319,7 +319,7 @@ class ExplorerModel:
         if not (self.cspace_on and self.robot is not None):
             self.cworld, self.cgridmap = self.world, self.gridmap
             return
-        from ..cspace import apply_robot
+        from ..geometry.cspace import apply_robot
 
         if self.world is not None:
             cworld = apply_robot(self.world, self.robot)
@@ -337,7 +337,7 @@ class ExplorerModel:
         gm = self.cgridmap
         if self.planner != "potential" or self.goal is None or gm is None:
             return None
-        from ..potential import build_field
+        from ..fields.potential import build_field
 
         try:
             return build_field(gm, np.asarray(self.goal), self.params, dmap=self._incremental_dmap())
@@ -350,7 +350,7 @@ class ExplorerModel:
         field's gains are not offered where they would change nothing."""
         names = PLANNER_SLIDERS.get(self.planner, SLIDER_PARAMS)
         if self.planner == "potential":
-            from ..follow import PLANNER_MODEL
+            from ..following.follower import PLANNER_MODEL
 
             model = self.params.get("model") or PLANNER_MODEL
             names = tuple(n for n in names if n in MODEL_SLIDERS.get(model, ("step",)))
@@ -359,20 +359,20 @@ class ExplorerModel:
     def _plan_target(self) -> World | GridMap | None:
         """What the current planner plans on (and a movie of its run draws): the C-space world for
         ``exact-potential`` when there is one, else the C-space grid map (exact-potential on a grid
-        map runs on its exact polygons, :mod:`gridfield.gridpoly`, through ``plan``)."""
+        map runs on its exact polygons, :mod:`gridfield.geometry.gridpoly`, through ``plan``)."""
         return self.cworld if self.planner == "exact-potential" and self.cworld is not None else self.cgridmap
 
     def _params_in_use(self) -> dict[str, Any]:
         """Every parameter's value in the next plan: the given ones, and the registry's defaults scaled
-        to the map the current planner plans on (:func:`gridfield.params.resolve`, with the unit the
+        to the map the current planner plans on (:func:`gridfield.core.params.resolve`, with the unit the
         planner resolves with: a grid map's cell, an exact world's step)."""
-        from ..params import resolve
+        from ..core.params import resolve
 
         target = self._plan_target()
         if isinstance(target, GridMap):
             unit = target.grid.resolution
         elif isinstance(target, World):
-            from ..exact import default_step
+            from ..exact.continuous import default_step
 
             unit = default_step(target)
         else:
@@ -407,7 +407,7 @@ class ExplorerModel:
             if target is None:
                 raise GridfieldError(f"planner {self.planner!r} needs a vector world, and this map is a grid")
             if self.cspace_on and self.robot is not None:
-                from ..cspace import check_robot_point
+                from ..geometry.cspace import check_robot_point
 
                 for name in ("start", "goal"):
                     check_robot_point(self._workspace(), self.robot, name, getattr(self, name))
@@ -416,7 +416,7 @@ class ExplorerModel:
                                                cache=self._plan_cache(target, dmap))
             self.field = field if self.planner == "potential" else None
             if self.planner == "navfn" and isinstance(target, GridMap):  # NavFn's potential, the field it descended
-                from ..navfn import navfn
+                from ..fields.navfn import navfn
 
                 self.field = navfn(target, np.asarray(self.goal), params=self.params)
         except GridfieldError:
@@ -426,7 +426,7 @@ class ExplorerModel:
             self.field = self._background_field()
         return self.path
 
-    # -- incremental updates (gridfield.incremental) ---------------------------------------
+    # -- incremental updates (gridfield.distance.incremental) ---------------------------------------
     # A drawn obstacle is rasterized alone and burnt into the map; a removed one frees its cells
     # (those another obstacle also covers stay occupied with that obstacle's id). The brushfire of
     # the map the planners get (``cgridmap``) is an IncrementalBrushfire, brought up to date with
@@ -439,10 +439,10 @@ class ExplorerModel:
     INCREMENTAL_MAX_FRACTION = 0.125
 
     def _burn_obstacle(self, ob: Obstacle, *, drawn: NDArray[np.float64] | None = None) -> GridMap:
-        """The workspace map with ``ob``'s cells occupied, rasterized as :func:`gridfield.rasterize.rasterize`
+        """The workspace map with ``ob``'s cells occupied, rasterized as :func:`gridfield.geometry.rasterize.rasterize`
         does (cells already occupied keep their lower id); ``drawn``: the outline to keep in the meta
         of a map without a world."""
-        from ..rasterize import rasterize_obstacle
+        from ..geometry.rasterize import rasterize_obstacle
 
         gm = self.gridmap
         assert gm is not None
@@ -465,7 +465,7 @@ class ExplorerModel:
     def _unburn_obstacle(self, ob: Obstacle) -> GridMap:
         """The workspace map without ``ob`` (already removed from ``self.world``): its cells are freed,
         or given to the lowest-id remaining obstacle that covers them (only those are rasterized)."""
-        from ..rasterize import rasterize_obstacle
+        from ..geometry.rasterize import rasterize_obstacle
 
         gm = self.gridmap
         assert gm is not None and gm.obstacle_id is not None and self.world is not None
@@ -491,7 +491,7 @@ class ExplorerModel:
         """The IncrementalBrushfire of ``target``: the one kept, updated by the cells where its map and
         ``target`` differ (occupancy or id), or a new one (the first time, another grid, or a change
         of more than :attr:`INCREMENTAL_MAX_FRACTION` of the cells)."""
-        from ..incremental import IncrementalBrushfire
+        from ..distance.incremental import IncrementalBrushfire
 
         ib = self._incremental
         if ib is not None and self._incremental_for is target:
@@ -529,7 +529,7 @@ class ExplorerModel:
         gm = self.cgridmap
         if self.planner != "potential" or gm is None or self.goal is None:
             return None
-        from ..potential import resolve_params
+        from ..fields.potential import resolve_params
 
         try:
             p = resolve_params(self.params, unit=gm.grid.resolution)
@@ -542,7 +542,7 @@ class ExplorerModel:
 
     def _plan_cache(self, target: Any, dmap: Any) -> dict[Any, Any] | None:
         """A :func:`gridfield.planners.plan` cache holding ``dmap``, the brushfire of ``target``
-        (:func:`gridfield.follow.plan_potential`'s key: map, metric, saturation)."""
+        (:func:`gridfield.following.follower.plan_potential`'s key: map, metric, saturation)."""
         if dmap is None or target is not self.cgridmap:
             return None
         return {("gridmap", target, None): target, ("brushfire", target, "euclidean", None): dmap}

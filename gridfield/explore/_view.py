@@ -15,9 +15,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import GridfieldError
-from ..grid import GridMap
-from ..world import World
+from ..core.errors import GridfieldError
+from ..core.grid import GridMap
+from ..geometry.world import World
 from ._model import ExplorerModel
 
 #: Colours: C-obstacles (seed 004 draws them yellow) and the robot.

@@ -10,7 +10,7 @@ Supported inputs (:func:`read` picks by file name):
 - any of those text and bitmap files gzip-compressed (``arena.map.gz``, ``arena.map.scen.gz``, ``map.pgm.gz``,
   also as a ROS YAML's ``image``), decompressed within the size guard
 - ``.npz`` arrays written by gridfield: :func:`read_npz`, :func:`read_npz_arrays`
-- maps larger than memory, read by chunks (a :class:`~gridfield._chunkcache.LazyGridMap`): BigTIFF /
+- maps larger than memory, read by chunks (a :class:`~gridfield.core.chunkcache.LazyGridMap`): BigTIFF /
   GeoTIFF ``.tif``/``.tiff`` (:func:`read_tiff`), ``.npy`` memory maps (:func:`read_npy`), plain Zarr arrays
   (:func:`read_zarr_array`); and gridfield's Zarr stores (``gridfield brushfire/field ... --out F.zarr``,
   :func:`write_store`), read as lazy maps, distance maps or fields (:func:`read_store`)
@@ -33,19 +33,19 @@ Every reader records the rule it applied in words in the map's ``meta["occupancy
 thresholds, costmaps and OccupancyGrid messages their values); ``gridfield info`` prints it.
 
 Nav2 costmaps (a raw-mode map YAML with a ``costmap:`` mapping, read as a
-:class:`~gridfield.costmap.Costmap`): :func:`read_costmap`, :func:`write_costmap`; the fields of a
+:class:`~gridfield.fields.costmap.Costmap`): :func:`read_costmap`, :func:`write_costmap`; the fields of a
 ``nav_msgs/OccupancyGrid``: :func:`from_occupancy_grid`, :func:`to_occupancy_grid`, and a message saved
 as YAML (``ros2 topic echo --once /map``): :func:`read_occupancy_grid`.
 
 Writers: :func:`write_bitmap`, :func:`write_ros_map`, :func:`write_npz`. Fields of
-:mod:`gridfield.potential` (arrays, goal, parameters, distance map): :func:`save_field` and
+:mod:`gridfield.fields.potential` (arrays, goal, parameters, distance map): :func:`save_field` and
 :func:`load_field`.
 
 Orientation (see ``ARCHITECTURE.md``, "Conventions"): images are stored top row first; every image reader flips
 them so that the image's top row becomes the highest y (row ``rows - 1``), exactly as ROS
 map_server does. A Moving AI map's first map line is likewise the top of the world.
 
-Every problem with an input file is raised as :class:`~gridfield.errors.MapFormatError`
+Every problem with an input file is raised as :class:`~gridfield.core.errors.MapFormatError`
 naming the file (and the line, key or value at fault); errors of the underlying libraries
 (Pillow, numpy, PyYAML) never escape.
 
@@ -66,9 +66,9 @@ from collections.abc import Callable, Mapping
 from pathlib import Path as FsPath
 from typing import Any
 
-from ..errors import MapFormatError, ParameterError, shorten
-from ..grid import GridMap
-from ..world import world_from_dict
+from ..core.errors import MapFormatError, ParameterError, shorten
+from ..core.grid import GridMap
+from ..geometry.world import world_from_dict
 from ._bitmap import UNKNOWN_CHOICES as UNKNOWN_CHOICES
 from ._bitmap import read_bitmap, write_bitmap
 from ._common import PathLike as PathLike
@@ -245,7 +245,7 @@ def read(path: PathLike, **options: Any) -> Any:
             if options:
                 raise ParameterError(
                     f"{p}: option{'s' if len(options) > 1 else ''} {', '.join(sorted(options))} "
-                    f"{'do' if len(options) > 1 else 'does'} not apply to a world file (a world is rasterized later, e.g. by gridfield.rasterize.as_gridmap)"
+                    f"{'do' if len(options) > 1 else 'does'} not apply to a world file (a world is rasterized later, e.g. by gridfield.geometry.rasterize.as_gridmap)"
                 )
             return world_from_dict(data, source=str(p))
     elif suffix in (".png", ".pgm", ".bmp"):

@@ -21,9 +21,9 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import GridfieldError, MapFormatError, ParameterError, SizeLimitError, shorten
-from ..grid import BORDERS, Grid, GridMap
-from ..limits import check_cells
+from ..core.errors import GridfieldError, MapFormatError, ParameterError, SizeLimitError, shorten
+from ..core.grid import BORDERS, Grid, GridMap
+from ..core.limits import check_cells
 from ._common import PathLike, _check_file, _choice, _read_bytes
 from ._occupancy import check_grey_options, grey_text
 

@@ -2,7 +2,7 @@
 
 Each reader opens its file through :func:`_check_file` and :func:`_read_bytes`, so that a missing
 file, a directory, a FIFO or device (refused before it is opened: reading a FIFO would block) or an
-unreadable file gives the same :class:`~gridfield.errors.MapFormatError`
+unreadable file gives the same :class:`~gridfield.core.errors.MapFormatError`
 whatever the format.
 
 A file whose name ends in ``.gz`` is read through gzip (:func:`_read_bytes`, :func:`_open_binary`): the
@@ -20,7 +20,7 @@ import zlib
 from pathlib import Path as FsPath
 from typing import Any
 
-from ..errors import MapFormatError, ParameterError, shorten
+from ..core.errors import MapFormatError, ParameterError, shorten
 
 PathLike = str | os.PathLike[str]
 
@@ -68,8 +68,8 @@ GZ_BYTES_PER_CELL = 4
 
 def gz_limit() -> int:
     """Most bytes a ``.gz`` input may decompress to: :data:`GZ_BYTES_PER_CELL` per cell of the size guard
-    (:func:`gridfield.limits.max_cells`) plus 1 MiB."""
-    from ..limits import max_cells
+    (:func:`gridfield.core.limits.max_cells`) plus 1 MiB."""
+    from ..core.limits import max_cells
 
     return GZ_BYTES_PER_CELL * max_cells() + (1 << 20)
 
@@ -86,7 +86,7 @@ def _read_bytes(p: FsPath) -> bytes:
             return p.read_bytes()
         except OSError as e:
             raise MapFormatError(f"{p}: cannot read: {e.strerror or e}") from None
-    from ..errors import SizeLimitError
+    from ..core.errors import SizeLimitError
 
     limit = gz_limit()
     try:

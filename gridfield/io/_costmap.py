@@ -18,8 +18,8 @@ import numpy as np
 import yaml
 from numpy.typing import ArrayLike
 
-from ..errors import GridfieldError, MapFormatError, ParameterError, shorten
-from ..grid import Grid, GridMap
+from ..core.errors import GridfieldError, MapFormatError, ParameterError, shorten
+from ..core.grid import Grid, GridMap
 from ._bitmap import UNKNOWN_CHOICES, _load_pixels
 from ._common import PathLike, _choice
 from ._ros import _ros_params
@@ -38,7 +38,7 @@ def is_costmap_yaml(data: Any) -> bool:
 
 
 def write_costmap(yaml_path: PathLike, costmap: Any, *, image_name: str | None = None) -> FsPath:
-    """Write a :class:`~gridfield.costmap.Costmap` as a map_server YAML (``mode: raw``) and a grey PGM.
+    """Write a :class:`~gridfield.fields.costmap.Costmap` as a map_server YAML (``mode: raw``) and a grey PGM.
 
     Parameters
     ----------
@@ -55,15 +55,15 @@ def write_costmap(yaml_path: PathLike, costmap: Any, *, image_name: str | None =
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> from gridfield.grid import Grid
-    >>> from gridfield.costmap import Costmap
+    >>> from gridfield.core.grid import Grid
+    >>> from gridfield.fields.costmap import Costmap
     >>> cm = Costmap.from_costs(Grid((2, 3), 0.05, origin=(-1.0, 2.5)), np.array([[0, 7, 254], [253, 255, 1]], np.uint8))
     >>> with tempfile.TemporaryDirectory() as d:
     ...     back = read_costmap(write_costmap(pathlib.Path(d) / "c.yaml", cm))
     >>> back.cost.tolist(), back.grid.origin
     ([[0, 7, 254], [253, 255, 1]], (-1.0, 2.5))
     """
-    from ..costmap import Costmap
+    from ..fields.costmap import Costmap
 
     if not isinstance(costmap, Costmap):
         raise ParameterError(f"costmap must be a gridfield Costmap, got {type(costmap).__name__}")
@@ -115,15 +115,15 @@ def read_costmap(yaml_path: PathLike) -> Any:
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> from gridfield.grid import Grid
-    >>> from gridfield.costmap import Costmap
+    >>> from gridfield.core.grid import Grid
+    >>> from gridfield.fields.costmap import Costmap
     >>> cm = Costmap.from_costs(Grid((1, 3), 0.05), np.array([[0, 128, 255]], np.uint8), {"robot_radius": 0.1})
     >>> with tempfile.TemporaryDirectory() as d:
     ...     back = read_costmap(write_costmap(pathlib.Path(d) / "c.yaml", cm))
     >>> back.cost.tolist(), back.inflation["robot_radius"], back.occupied.tolist()
     ([[0, 128, 255]], 0.1, [[False, False, True]])
     """
-    from ..costmap import Costmap
+    from ..fields.costmap import Costmap
 
     prm = _ros_params(yaml_path)
     data = read_yaml(prm.yaml)
@@ -254,7 +254,7 @@ def to_occupancy_grid(gridmap: GridMap, *, unknown: ArrayLike | None = None) -> 
     ----------
     gridmap : GridMap
         Occupied cells become 100, free cells 0. A map from :func:`from_occupancy_grid` gives back
-        its own values. A :class:`~gridfield.costmap.Costmap` gives Nav2's costmap publisher's
+        its own values. A :class:`~gridfield.fields.costmap.Costmap` gives Nav2's costmap publisher's
         translation (0 -> 0, 1..252 -> 1..98, 253 -> 99, 254 -> 100, 255 -> -1).
     unknown : array of bool, optional
         Cells written as -1.
@@ -267,12 +267,12 @@ def to_occupancy_grid(gridmap: GridMap, *, unknown: ArrayLike | None = None) -> 
 
     Examples
     --------
-    >>> from gridfield.grid import Grid
+    >>> from gridfield.core.grid import Grid
     >>> msg = to_occupancy_grid(GridMap(Grid((2, 2), 0.05), np.array([[True, False], [False, False]])))
     >>> msg["data"].tolist(), msg["width"], msg["height"], msg["origin"]
     ([100, 0, 0, 0], 2, 2, (0.0, 0.0, 0.0))
     """
-    from ..costmap import Costmap
+    from ..fields.costmap import Costmap
 
     if not isinstance(gridmap, GridMap):
         raise ParameterError(f"gridmap must be a GridMap, got {type(gridmap).__name__}")

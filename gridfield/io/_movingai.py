@@ -20,9 +20,9 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import MapFormatError, ParameterError, shorten
-from ..grid import BORDERS, Grid, GridMap
-from ..limits import check_cells
+from ..core.errors import MapFormatError, ParameterError, shorten
+from ..core.grid import BORDERS, Grid, GridMap
+from ..core.limits import check_cells
 from ._common import PathLike, _check_file, _choice, _decode_text, _open_binary, _read_bytes
 
 # ----------------------------------------------------------------------------------------
@@ -311,7 +311,7 @@ def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
 
     The file is read one line at a time, in linear time and memory bounded by the scenarios kept: a
     line longer than :data:`SCEN_LINE_MAX` bytes, a field longer than 4096 characters or a map file
-    name longer than 255 is refused with a :class:`~gridfield.errors.MapFormatError` naming its line.
+    name longer than 255 is refused with a :class:`~gridfield.core.errors.MapFormatError` naming its line.
 
     Parameters
     ----------

@@ -2,9 +2,9 @@
 
 Every array is sized from its ``.npy`` header (and checked against the size guard) before it is
 loaded, and no file stays open. :func:`save_field` and :func:`load_field` store a
-:class:`~gridfield.potential.Field` (with its distance map) in the same format; they live here, with
-the other ``.npz`` I/O, and :mod:`gridfield.potential` re-exports them. ``potential`` imports this
-package, never the reverse: ``Field`` and ``DistanceMap`` come from the leaf :mod:`gridfield._results`
+:class:`~gridfield.fields.potential.Field` (with its distance map) in the same format; they live here, with
+the other ``.npz`` I/O, and :mod:`gridfield.fields.potential` re-exports them. ``potential`` imports this
+package, never the reverse: ``Field`` and ``DistanceMap`` come from the leaf :mod:`gridfield.core.results`
 (imported when :func:`load_field` runs).
 """
 
@@ -20,19 +20,19 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import GridfieldError, MapFormatError, ParameterError, shorten
-from ..grid import Grid, GridMap
-from ..limits import check_cells
+from ..core.errors import GridfieldError, MapFormatError, ParameterError, shorten
+from ..core.grid import Grid, GridMap
+from ..core.limits import check_cells
 from ._common import PathLike, _check_file
 
 if TYPE_CHECKING:
-    from .._results import Field
+    from ..core.results import Field
 
 
 #: Array names gridfield gives to the fields an ``.npz`` file may hold (others are allowed too).
 NPZ_ARRAY_NAMES = ("occupied", "steps", "distance", "label", "gvd", "potential", "grad_x", "grad_y")
 _NPZ_RESERVED = ("resolution", "origin", "border")
-#: The entry holding a map's :attr:`GridMap.diagonals <gridfield.grid.GridMap.diagonals>`: one per 2x2 block
+#: The entry holding a map's :attr:`GridMap.diagonals <gridfield.core.grid.GridMap.diagonals>`: one per 2x2 block
 #: of cells, shape ``(rows - 1, cols - 1)``, not the grid's shape (written by ``diagonals=``).
 _DIAGONALS = "diagonals"
 
@@ -92,7 +92,7 @@ def write_npz(path: PathLike, arrays: Mapping[str, NDArray[Any]], grid: Grid, *,
     grid : Grid
         The geometry stored beside the arrays.
     diagonals : ndarray of uint8, shape ``(rows - 1, cols - 1)``, optional
-        The :attr:`GridMap.diagonals <gridfield.grid.GridMap.diagonals>` of the map whose ``occupied``
+        The :attr:`GridMap.diagonals <gridfield.core.grid.GridMap.diagonals>` of the map whose ``occupied``
         is written (a disc robot's configuration space: the diagonals it fits along through a corner),
         stored as the array ``diagonals``; :func:`read_npz` gives the map back with them, so that the
         grid planners make the same moves on it. None (the default): none stored.
@@ -165,7 +165,7 @@ def _check_npz_headers(p: FsPath, z: Any) -> None:
 def _npz_content(path: PathLike) -> dict[str, NDArray[Any]]:
     """Every array of a gridfield ``.npz`` by name, each sized from its header before it is loaded.
 
-    Raises :class:`MapFormatError` (or :class:`~gridfield.errors.SizeLimitError`) for anything
+    Raises :class:`MapFormatError` (or :class:`~gridfield.core.errors.SizeLimitError`) for anything
     but a readable zip archive of ``.npy`` arrays within the size limit.
     """
     p = _check_file(path)
@@ -293,7 +293,7 @@ def read_npz(path: PathLike) -> GridMap:
 
 
 # ----------------------------------------------------------------------------------------------
-# fields (gridfield.potential.Field): save_field / load_field
+# fields (gridfield.fields.potential.Field): save_field / load_field
 # ----------------------------------------------------------------------------------------------
 _DMAP_ARRAYS = ("steps", "distance", "nearest_row", "nearest_col", "label", "gvd")
 
@@ -317,7 +317,7 @@ def save_field(path: PathLike, field: Field) -> None:
     path : str or path-like
         The file to write (replaced if it exists; written to exactly this name).
     field : Field
-        A field of :mod:`gridfield.potential` (e.g. from :func:`~gridfield.potential.build_field`).
+        A field of :mod:`gridfield.fields.potential` (e.g. from :func:`~gridfield.fields.potential.build_field`).
 
     Returns
     -------
@@ -326,7 +326,7 @@ def save_field(path: PathLike, field: Field) -> None:
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> from gridfield.potential import build_field
+    >>> from gridfield.fields.potential import build_field
     >>> occ = np.zeros((3, 3), bool); occ[1, 1] = True
     >>> f = build_field(GridMap(Grid((3, 3), 1.0), occ), (0.5, 0.5))
     >>> with tempfile.TemporaryDirectory() as d:
@@ -362,7 +362,7 @@ def load_field(path: PathLike) -> Field:
     """Read a :class:`Field` written by :func:`save_field` (see there for an example).
 
     Every array is sized from its header before it is loaded; a file that is not such a field file
-    raises :class:`~gridfield.errors.MapFormatError` naming what is missing or damaged.
+    raises :class:`~gridfield.core.errors.MapFormatError` naming what is missing or damaged.
 
     Parameters
     ----------
@@ -377,7 +377,7 @@ def load_field(path: PathLike) -> Field:
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> from gridfield.potential import build_field
+    >>> from gridfield.fields.potential import build_field
     >>> f = build_field(GridMap(Grid((2, 4), 0.5), np.zeros((2, 4), bool)), (0.25, 0.25))
     >>> with tempfile.TemporaryDirectory() as d:
     ...     save_field(pathlib.Path(d) / "f.npz", f)
@@ -385,8 +385,8 @@ def load_field(path: PathLike) -> Field:
     >>> g.grid == f.grid, np.array_equal(g.grad_x, f.grad_x), np.array_equal(g.distance.distance, f.distance.distance)
     (True, True, True)
     """
-    from .._results import DistanceMap, Field
-    from ..errors import SizeLimitError
+    from ..core.errors import SizeLimitError
+    from ..core.results import DistanceMap, Field
 
     content = _npz_content(path)  # issue 17: every array sized from its header first; no file left open
     missing = [k for k in ("occupied", "potential", "grad_x", "grad_y", "resolution", "origin", "goal", "params")

@@ -21,8 +21,8 @@ from typing import Any
 
 import numpy as np
 
-from .._chunkcache import OccupancyRule
-from ..errors import MapFormatError, ParameterError, shorten
+from ..core.chunkcache import OccupancyRule
+from ..core.errors import MapFormatError, ParameterError, shorten
 
 __all__ = ["OCCUPANCY_RULES", "check_grey_options", "grey_text", "raster_rule"]
 
@@ -58,7 +58,7 @@ def check_grey_options(occupancy: Any, threshold: Any, negate: Any, where: Any =
     >>> check_grey_options("nonzero", 0.5, True, "m.tif")
     Traceback (most recent call last):
     ...
-    gridfield.errors.ParameterError: m.tif: negate applies to grey levels (occupancy='dark'); ...
+    gridfield.core.errors.ParameterError: m.tif: negate applies to grey levels (occupancy='dark'); ...
     """
     prefix = f"{where}: " if where else ""
     if occupancy not in OCCUPANCY_RULES:

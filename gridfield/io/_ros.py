@@ -16,8 +16,8 @@ import numpy as np
 import yaml
 from numpy.typing import NDArray
 
-from ..errors import GridfieldError, MapFormatError, ParameterError, shorten
-from ..grid import BORDERS, Grid, GridMap
+from ..core.errors import GridfieldError, MapFormatError, ParameterError, shorten
+from ..core.grid import BORDERS, Grid, GridMap
 from ._bitmap import UNKNOWN_CHOICES, _load_pixels, _Pixels, write_bitmap
 from ._common import PathLike, _check_file, _check_regular, _choice
 from ._yaml import read_yaml

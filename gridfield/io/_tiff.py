@@ -1,9 +1,9 @@
 """Big occupancy rasters read by chunks: BigTIFF / GeoTIFF (through tifffile's Zarr view) and ``.npy``
-memory maps. Each reader returns a :class:`~gridfield._chunkcache.LazyGridMap`: nothing is decoded
+memory maps. Each reader returns a :class:`~gridfield.core.chunkcache.LazyGridMap`: nothing is decoded
 whole; the chunked computation (``gridfield brushfire MAP --chunks N --out F.zarr``) reads it tile by tile.
 
 Occupancy (:mod:`gridfield.io._occupancy`, applied to each slice read by
-:class:`~gridfield._chunkcache.Raster`): a TIFF is an image, read as PNG, PGM and BMP are, grey levels
+:class:`~gridfield.core.chunkcache.Raster`): a TIFF is an image, read as PNG, PGM and BMP are, grey levels
 with dark = occupied (``occupancy="dark"``, the default: occupancy ``(W - v) / W > threshold``, ``W`` the
 white of its bit depth, 255 for 8 bits, 65535 for 16; ``negate``; photometric min-is-white honoured; a
 1-bit TIFF likewise, so a boolean array written by tifffile, min-is-white, reads True = obstacle). Float
@@ -31,8 +31,8 @@ from typing import Any, Literal
 
 import numpy as np
 
-from .._chunkcache import LazyArray, LazyGridMap, Raster, lazy_grid
-from ..errors import GridfieldError, MapFormatError, shorten
+from ..core.chunkcache import LazyArray, LazyGridMap, Raster, lazy_grid
+from ..core.errors import GridfieldError, MapFormatError, shorten
 from ._common import PathLike, _check_file
 from ._occupancy import check_grey_options, raster_rule
 

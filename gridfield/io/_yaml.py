@@ -12,8 +12,8 @@ from typing import Any
 
 import yaml
 
-from ..errors import MapFormatError, shorten
-from ..world import World, world_from_dict
+from ..core.errors import MapFormatError, shorten
+from ..geometry.world import World, world_from_dict
 from ._common import PathLike, _check_file
 
 #: A YAML document may expand (aliases followed) to at most this many values, and at most
@@ -105,7 +105,7 @@ def read_yaml(path: PathLike) -> Any:
 
 
 def read_world(path: PathLike) -> World:
-    """Read a world YAML file (see :func:`gridfield.world.world_from_dict` for the keys).
+    """Read a world YAML file (see :func:`gridfield.geometry.world.world_from_dict` for the keys).
 
     Parameters
     ----------

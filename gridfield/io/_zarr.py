@@ -5,10 +5,10 @@ A store is a Zarr (v3) group directory. Its root attribute ``gridfield`` holds t
 ``resolution``, ``origin``, ``border``, ``chunks``, ``occupied_cells`` and, as the kind has them,
 ``metric``, ``saturate``, ``goal`` and ``params`` (JSON text)); its arrays are among
 :data:`STORE_ARRAYS`, all chunked alike, and, for a disc robot's configuration space, ``diagonals``
-(:attr:`GridMap.diagonals <gridfield.grid.GridMap.diagonals>`, uint8, one per 2x2 block of cells: shape
+(:attr:`GridMap.diagonals <gridfield.core.grid.GridMap.diagonals>`, uint8, one per 2x2 block of cells: shape
 ``(rows - 1, cols - 1)``, chunked as the others). :func:`read_store` returns the usual result types (a
-:class:`~gridfield._chunkcache.LazyGridMap`, a :class:`~gridfield.brushfire.DistanceMap`, a
-:class:`~gridfield.potential.Field`) whose arrays are :class:`~gridfield._chunkcache.LazyArray` views of
+:class:`~gridfield.core.chunkcache.LazyGridMap`, a :class:`~gridfield.distance.brushfire.DistanceMap`, a
+:class:`~gridfield.fields.potential.Field`) whose arrays are :class:`~gridfield.core.chunkcache.LazyArray` views of
 the Zarr arrays sharing one chunk cache: nothing is read whole.
 
 :func:`write_store` never leaves a half-written store under the final name: it writes ``NAME.partial/``,
@@ -30,11 +30,11 @@ from typing import Any, Literal
 
 import numpy as np
 
-from .._chunkcache import DEFAULT_BUDGET, ChunkCache, LazyArray, LazyGridMap, Raster, lazy_grid
-from .._results import DistanceMap, Field
 from .._version import __version__
-from ..errors import GridfieldError, MapFormatError, ParameterError, shorten
-from ..grid import Grid
+from ..core.chunkcache import DEFAULT_BUDGET, ChunkCache, LazyArray, LazyGridMap, Raster, lazy_grid
+from ..core.errors import GridfieldError, MapFormatError, ParameterError, shorten
+from ..core.grid import Grid
+from ..core.results import DistanceMap, Field
 from ._common import PathLike
 from ._occupancy import check_grey_options, raster_rule
 
@@ -47,7 +47,7 @@ STORE_ARRAYS: dict[str, str] = {
     "occupied": "bool", "distance": "float64", "nearest_row": "int32", "nearest_col": "int32",
     "U": "float64", "dUdx": "float64", "dUdy": "float64",
 }
-#: The array of a map's :attr:`GridMap.diagonals <gridfield.grid.GridMap.diagonals>` (``write_store(...,
+#: The array of a map's :attr:`GridMap.diagonals <gridfield.core.grid.GridMap.diagonals>` (``write_store(...,
 #: diagonals=)``): one entry per 2x2 block of cells, of shape ``(rows - 1, cols - 1)``.
 DIAGONALS = "diagonals"
 KINDS = ("map", "distance", "field")
@@ -114,7 +114,7 @@ def write_store(path: PathLike, arrays: Mapping[str, Any], grid: Grid, *, kind: 
     scheduler : str or distributed.Client
         How dask computes: ``"threads"``, ``"synchronous"`` or a client.
     diagonals : array of uint8, shape ``(rows - 1, cols - 1)``, optional
-        The :attr:`GridMap.diagonals <gridfield.grid.GridMap.diagonals>` of the map whose ``occupied`` is
+        The :attr:`GridMap.diagonals <gridfield.core.grid.GridMap.diagonals>` of the map whose ``occupied`` is
         written (a disc robot's configuration space), stored as the array ``diagonals``: :func:`read_store`
         gives the map back with them. Numpy or dask.
 
@@ -133,7 +133,7 @@ def write_store(path: PathLike, arrays: Mapping[str, Any], grid: Grid, *, kind: 
     Examples
     --------
     >>> import tempfile, numpy as np
-    >>> from gridfield.grid import Grid
+    >>> from gridfield.core.grid import Grid
     >>> d = tempfile.mkdtemp()
     >>> occ = np.zeros((6, 5), bool); occ[2, 3] = True
     >>> p = write_store(f"{d}/m.zarr", {"occupied": occ}, Grid((6, 5), 0.5), kind="map", chunks=4)
@@ -207,7 +207,7 @@ def _check_write(path: PathLike, arrays: Mapping[str, Any], grid: Grid, kind: st
 
 def _check_diagonals(diagonals: Any, grid: Grid, ch: tuple[int, int], da: Any) -> Any:
     """``diagonals=`` of write_store as a dask array of uint8 in the store's chunks (its shape and, for a numpy
-    array, its values checked as :class:`~gridfield.grid.GridMap` checks them)."""
+    array, its values checked as :class:`~gridfield.core.grid.GridMap` checks them)."""
     want = (max(grid.rows - 1, 0), max(grid.cols - 1, 0))
     if tuple(diagonals.shape) != want:
         raise ParameterError(f"diagonals has shape {tuple(diagonals.shape)}, but the grid's 2x2 blocks have shape "
@@ -319,7 +319,7 @@ def read_store(path: PathLike, *, cache_bytes: int = DEFAULT_BUDGET) -> Any:
     Returns
     -------
     LazyGridMap, DistanceMap or Field
-        By the store's ``kind``; every array is a :class:`~gridfield._chunkcache.LazyArray`.
+        By the store's ``kind``; every array is a :class:`~gridfield.core.chunkcache.LazyArray`.
         A distance map has ``steps``, ``label`` and ``gvd`` None. The map's ``diagonals`` are those the
         store holds (a LazyArray, read whole by ``to_gridmap()``), else None.
 
@@ -332,7 +332,7 @@ def read_store(path: PathLike, *, cache_bytes: int = DEFAULT_BUDGET) -> Any:
     Examples
     --------
     >>> import tempfile, numpy as np
-    >>> from gridfield.grid import Grid
+    >>> from gridfield.core.grid import Grid
     >>> d = tempfile.mkdtemp()
     >>> occ = np.zeros((4, 4), bool); occ[0, 0] = True
     >>> dist = np.hypot(*np.indices((4, 4)))
@@ -517,7 +517,7 @@ def read_zarr(path: PathLike, **options: Any) -> Any:
     >>> read_zarr("no/such.zarr")
     Traceback (most recent call last):
     ...
-    gridfield.errors.MapFormatError: no/such.zarr: no such store
+    gridfield.core.errors.MapFormatError: no/such.zarr: no such store
     """
     zarr = _zarr()
     p = FsPath(path)

@@ -1,8 +1,8 @@
 """Figures and animations: occupancy maps, distance maps, potentials, surfaces, basins, comparisons.
 
 Plotting never computes: every function draws the result it is given (a map, a distance map, a
-field, basins, paths) and computes nothing from it. A :class:`~gridfield.world.World` is drawn as
-its vector outlines; occupancy only when a :class:`~gridfield.grid.GridMap` is given; a potential
+field, basins, paths) and computes nothing from it. A :class:`~gridfield.geometry.world.World` is drawn as
+its vector outlines; occupancy only when a :class:`~gridfield.core.grid.GridMap` is given; a potential
 only when the caller passes the field it already has (``gridfield.planners.plan_with_field(...)``
 hands back the field a ``potential`` path followed).
 

@@ -17,10 +17,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import GridfieldError, ParameterError
-from ..grid import Grid, GridMap
-from ..path import Path
-from ..world import World
+from ..core.errors import GridfieldError, ParameterError
+from ..core.grid import Grid, GridMap
+from ..core.path import Path
+from ..geometry.world import World
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -207,7 +207,7 @@ def title_of(target: Any) -> str:
     >>> title_of(SimpleNamespace(source="maps/arena/arena.map", meta={"format": "movingai"}))
     'arena.map'
 
-    A grid grown by a robot (``meta["robot"]``, :func:`gridfield.cspace.apply_robot`) shows its
+    A grid grown by a robot (``meta["robot"]``, :func:`gridfield.geometry.cspace.apply_robot`) shows its
     configuration space, not the map's own cells, and its title says so:
 
     >>> title_of(SimpleNamespace(source="m/map.yaml", meta={"format": "ros", "robot": "disc of radius 0.2"}))
@@ -301,7 +301,7 @@ def draw_outlines(ax: Axes, world: World, *, color: str = OUTLINE_COLOR, zorder:
     Examples
     --------
     >>> from matplotlib.figure import Figure
-    >>> from gridfield.world import world_from_dict
+    >>> from gridfield.geometry.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 10, 10], "obstacles": [
     ...     {"circle": {"center": [5, 5], "radius": 1}}, {"segment": [[1, 1], [2, 8]]}]})
     >>> ax = Figure().add_subplot()
@@ -387,7 +387,7 @@ def _path_label(path: Path) -> str:
 
     Examples
     --------
-    >>> from gridfield.path import Path
+    >>> from gridfield.core.path import Path
     >>> import numpy as np
     >>> _path_label(Path(np.array([[0.0, 0.0], [1188.3, 0.0]]), "reached", "potential"))
     'potential: reached, length 1188'
@@ -418,7 +418,7 @@ def stall_points(path: Path | None) -> NDArray[np.float64]:
     Examples
     --------
     >>> import numpy as np
-    >>> from gridfield.path import Path
+    >>> from gridfield.core.path import Path
     >>> p = Path(np.array([[0.0, 0.0], [1.0, 1.0]]), "local_minimum", "potential")
     >>> stall_points(p).tolist()
     [[1.0, 1.0]]

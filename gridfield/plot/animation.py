@@ -14,11 +14,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._results import GradientField
-from ..errors import GridfieldError, ParameterError
-from ..grid import GridMap
-from ..path import Path
-from ..world import World
+from ..core.errors import GridfieldError, ParameterError
+from ..core.grid import GridMap
+from ..core.path import Path
+from ..core.results import GradientField
+from ..geometry.world import World
 from ._layers import (
     ANIMATION_FORMATS,
     Artists,
@@ -67,7 +67,7 @@ def check_animation_file(file: PathLike) -> FsPath:
     >>> check_animation_file("run.avi")
     Traceback (most recent call last):
     ...
-    gridfield.errors.ParameterError: run.avi: unknown animation format '.avi'; use .gif (or .mp4: ffmpeg, or the gridfield[video] extra)
+    gridfield.core.errors.ParameterError: run.avi: unknown animation format '.avi'; use .gif (or .mp4: ffmpeg, or the gridfield[video] extra)
     """
     p = FsPath(file)
     suffix = p.suffix.lower()
@@ -272,7 +272,7 @@ def save_plan_animation(
     Examples
     --------
     >>> import numpy as np, tempfile, os
-    >>> from gridfield.grid import Grid, GridMap
+    >>> from gridfield.core.grid import Grid, GridMap
     >>> m = GridMap(Grid((4, 6), 0.5), np.zeros((4, 6), bool))
     >>> p = Path(np.array([[0.2, 0.2], [1.0, 1.0], [2.5, 1.7]]), "reached", "demo")
     >>> with tempfile.TemporaryDirectory() as d:
@@ -341,7 +341,7 @@ def animate_brushfire(
     Parameters
     ----------
     dmap : DistanceMap
-        From :func:`gridfield.brushfire.brushfire` with its wavefront ``steps``.
+        From :func:`gridfield.distance.brushfire.brushfire` with its wavefront ``steps``.
     file : path
         ``.gif``, or ``.mp4`` with ffmpeg.
     fps, max_frames, dpi : int
@@ -355,8 +355,8 @@ def animate_brushfire(
     Examples
     --------
     >>> import numpy as np, tempfile, os
-    >>> from gridfield.grid import Grid, GridMap
-    >>> from gridfield.brushfire import brushfire
+    >>> from gridfield.core.grid import Grid, GridMap
+    >>> from gridfield.distance.brushfire import brushfire
     >>> occ = np.zeros((6, 6), bool); occ[0, 0] = True
     >>> with tempfile.TemporaryDirectory() as d:
     ...     out = animate_brushfire(brushfire(GridMap(Grid((6, 6), 1.0), occ)), os.path.join(d, "bf.gif"), dpi=20)

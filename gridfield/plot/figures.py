@@ -1,8 +1,8 @@
 """Figures of maps and fields: maps, distance maps, potentials, surfaces, star worlds, basins.
 
-Each figure function takes the result it draws (a :class:`~gridfield.grid.GridMap` or
-:class:`~gridfield.world.World`, a :class:`~gridfield.brushfire.DistanceMap`, a
-:class:`~gridfield.potential.Field`, :class:`~gridfield.follow.Basins`, paths) and computes nothing
+Each figure function takes the result it draws (a :class:`~gridfield.core.grid.GridMap` or
+:class:`~gridfield.geometry.world.World`, a :class:`~gridfield.distance.brushfire.DistanceMap`, a
+:class:`~gridfield.fields.potential.Field`, :class:`~gridfield.following.follower.Basins`, paths) and computes nothing
 from it: a World is drawn as its vector outlines, occupancy only when a GridMap is given, and a
 potential only when the caller passes the field it already has. The figures of results (grid vs
 exact, convergence, a plan written to a file) are in :mod:`gridfield.plot.results` (which builds on this module; :mod:`gridfield.plot` re-exports
@@ -18,11 +18,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._results import GradientField
-from ..errors import GridfieldError, ParameterError
-from ..grid import Grid, GridMap
-from ..path import Path
-from ..world import World
+from ..core.errors import GridfieldError, ParameterError
+from ..core.grid import Grid, GridMap
+from ..core.path import Path
+from ..core.results import GradientField
+from ..geometry.world import World
 from ._layers import (
     GOAL_BASIN_COLOR,
     MINIMUM_COLORS,
@@ -87,7 +87,7 @@ def plot_map(
         A grid map is drawn as its occupancy (and, when it came from a world, that world's
         obstacles outlined); a vector world as its obstacles' outlines alone. Nothing is
         rasterized here: to show a world's cells, pass the grid map the planner used
-        (:func:`gridfield.rasterize.as_gridmap`).
+        (:func:`gridfield.geometry.rasterize.as_gridmap`).
     ax : Axes, optional
         Draw into this axes; default: a new figure.
     paths : Path or iterable of Path
@@ -113,7 +113,7 @@ def plot_map(
     Examples
     --------
     >>> import numpy as np
-    >>> from gridfield.grid import Grid, GridMap
+    >>> from gridfield.core.grid import Grid, GridMap
     >>> occ = np.zeros((4, 6), bool); occ[0, :] = True
     >>> m = GridMap(Grid((4, 6), 0.5, origin=(1.0, 0.0)), occ)
     >>> p = Path(np.array([[1.2, 1.2], [3.5, 1.7]]), "reached", "demo")
@@ -173,7 +173,7 @@ def plot_brushfire(
     Parameters
     ----------
     dmap : DistanceMap
-        Result of :func:`gridfield.brushfire.brushfire`.
+        Result of :func:`gridfield.distance.brushfire.brushfire`.
     levels : int or sequence of float
         Number of iso-distance lines (evenly spaced inside the distance range) or their values.
     gvd : bool
@@ -193,8 +193,8 @@ def plot_brushfire(
     Examples
     --------
     >>> import numpy as np
-    >>> from gridfield.grid import Grid, GridMap
-    >>> from gridfield.brushfire import brushfire
+    >>> from gridfield.core.grid import Grid, GridMap
+    >>> from gridfield.distance.brushfire import brushfire
     >>> occ = np.zeros((20, 30), bool); occ[:, 0] = occ[:, -1] = True
     >>> art = plot_brushfire(brushfire(GridMap(Grid((20, 30), 0.1), occ), metric="euclidean"))
     >>> art.image.get_extent(), art.image.get_clim()
@@ -274,7 +274,7 @@ def plot_potential(
     Parameters
     ----------
     field : Field
-        From :func:`gridfield.potential.build_field`: ``potential`` (``+inf`` on obstacles),
+        From :func:`gridfield.fields.potential.build_field`: ``potential`` (``+inf`` on obstacles),
         ``grad_x``, ``grad_y``, ``goal`` and ``map``.
     cap : float, optional
         Potential values above ``cap`` are drawn as ``cap`` (default: the largest finite value with
@@ -301,8 +301,8 @@ def plot_potential(
     Examples
     --------
     >>> import numpy as np
-    >>> from gridfield.grid import Grid, GridMap
-    >>> from gridfield.potential import build_field
+    >>> from gridfield.core.grid import Grid, GridMap
+    >>> from gridfield.fields.potential import build_field
     >>> occ = np.zeros((10, 12), bool); occ[4:6, 5:7] = True
     >>> f = build_field(GridMap(Grid((10, 12), 0.5), occ), (5.0, 4.0))
     >>> art = plot_potential(f, log=False, quiver_step=3)
@@ -446,8 +446,8 @@ def plot_surface(
     Examples
     --------
     >>> import numpy as np
-    >>> from gridfield.grid import Grid, GridMap
-    >>> from gridfield.potential import build_field
+    >>> from gridfield.core.grid import Grid, GridMap
+    >>> from gridfield.fields.potential import build_field
     >>> f = build_field(GridMap(Grid((20, 20), 0.5), np.zeros((20, 20), bool)), (5.0, 5.0))
     >>> art = plot_surface(f, max_cells=10)
     >>> art.ax.name, art.extra["stride"]
@@ -522,7 +522,7 @@ def plot_star_world(
     Parameters
     ----------
     data : mapping
-        What :func:`gridfield.navigation.star_figure_data` returns (this function draws it, computing nothing).
+        What :func:`gridfield.fields.navigation.star_figure_data` returns (this function draws it, computing nothing).
     fig : Figure, optional
         Drawn into (cleared first); default: a new figure.
     path : Path, optional
@@ -647,7 +647,7 @@ def plot_basins(
     Parameters
     ----------
     basins : Basins
-        From :func:`gridfield.follow.basins`: ``label`` (0 obstacle, 1 goal, ``k >= 2`` local
+        From :func:`gridfield.following.follower.basins`: ``label`` (0 obstacle, 1 goal, ``k >= 2`` local
         minima) and ``minima`` (the sinks' points; row ``k - 1`` for label ``k``, so that row 0,
         the goal's sink, is not marked as a local minimum; a list of the local minima alone is
         accepted too), ``goal_cell`` or ``goal``.
@@ -669,7 +669,7 @@ def plot_basins(
     Examples
     --------
     >>> import numpy as np, types
-    >>> from gridfield.grid import Grid
+    >>> from gridfield.core.grid import Grid
     >>> lab = np.array([[0, 1, 1], [2, 2, 1]])
     >>> b = types.SimpleNamespace(label=lab, minima=np.array([[0.5, 1.5]]))
     >>> art = plot_basins(b, grid=Grid((2, 3), 1.0))
@@ -745,23 +745,3 @@ def plot_basins(
     frame_axes(ax, _known_bounds(_gridmap_of(f), grid.bounds))
     ax.set_title(title if title is not None else "basins of attraction")
     return art
-
-
-_MOVED_TO_RESULTS = ("plot_comparison", "plot_convergence", "save_plan_figure")
-
-
-def __getattr__(name: str) -> Any:
-    """``gridfield.plot.figures.plot_comparison`` (and ``plot_convergence``, ``save_plan_figure``): deprecated
-    aliases of :mod:`gridfield.plot.results` (import them from ``gridfield.plot``; removed in the next release).
-
-    ``results`` draws its maps with :func:`plot_map`, so this module never imports it statically (the
-    layers of ``ARCHITECTURE.md``, checked by ``lint-imports``): the aliases load it on use.
-    """
-    if name in _MOVED_TO_RESULTS:
-        import importlib
-        import warnings
-
-        warnings.warn(f"gridfield.plot.figures.{name} is deprecated: import it from gridfield.plot "
-                      "(or gridfield.plot.results)", DeprecationWarning, stacklevel=2)
-        return getattr(importlib.import_module("gridfield.plot.results"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

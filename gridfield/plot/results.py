@@ -16,10 +16,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import GridfieldError, ParameterError
-from ..grid import GridMap
-from ..path import Path
-from ..world import World
+from ..core.errors import GridfieldError, ParameterError
+from ..core.grid import GridMap
+from ..core.path import Path
+from ..geometry.world import World
 from ._layers import Artists, PathLike, _goal_of, _legend, _new_axes
 from .figures import plot_map
 
@@ -75,7 +75,7 @@ def plot_comparison(
     --------
     >>> import numpy as np
     >>> from gridfield.compare import max_deviation
-    >>> from gridfield.world import world_from_dict
+    >>> from gridfield.geometry.world import world_from_dict
     >>> w = world_from_dict({"bounds": [0, 0, 4, 4], "obstacles": [{"circle": {"center": [2, 2], "radius": 1}}]})
     >>> a = Path(np.array([[0.5, 0.5], [0.5, 3.5]]), "reached", "potential")
     >>> b = Path(np.array([[0.5, 0.5], [0.7, 3.5]]), "reached", "exact-potential")
@@ -250,7 +250,7 @@ def save_plan_figure(
     Examples
     --------
     >>> import numpy as np, tempfile, os
-    >>> from gridfield.grid import Grid, GridMap
+    >>> from gridfield.core.grid import Grid, GridMap
     >>> m = GridMap(Grid((4, 6), 0.5), np.zeros((4, 6), bool))
     >>> p = Path(np.array([[0.2, 0.2], [2.5, 1.7]]), "reached", "demo")
     >>> with tempfile.TemporaryDirectory() as d:

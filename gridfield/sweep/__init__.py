@@ -22,8 +22,8 @@ scenarios), the planners and a grid of parameter values (the Cartesian product i
 With ``optimal_any_angle: true`` (top level: every map; in a map entry: that map) each row also
 gets the exact any-angle (Euclidean) optimum of its query in the column ``optimal_any_angle``,
 beside ``optimal`` (the octile optimum of a Moving AI scenario file): on a grid map the taut
-visibility graph of :mod:`gridfield.anyangle`, on a vector world its visibility graph
-(:mod:`gridfield.visibility`). The graph is built once per map and worker process and shared with
+visibility graph of :mod:`gridfield.exact.anyangle`, on a vector world its visibility graph
+(:mod:`gridfield.exact.visibility`). The graph is built once per map and worker process and shared with
 the ``visibility`` planner's runs on that map; each (start, goal) is solved once, whatever the
 planners and parameters. NaN where not asked for or where the goal cannot be reached. The summary
 then gives ``length_ratio_any_angle`` beside ``length_ratio``. Exact planners run on grid maps too
@@ -31,7 +31,7 @@ then gives ``length_ratio_any_angle`` beside ``length_ratio``. Exact planners ru
 
 The whole spec is validated before anything runs: unknown keys (with a "did you mean"), the
 types and ranges of every value, every parameter combination (:func:`_validate_params`), each
-map's grid size against the memory limit (:mod:`gridfield.limits`), scenario files against their
+map's grid size against the memory limit (:mod:`gridfield.core.limits`), scenario files against their
 map's size.
 
 Runs of one map are grouped into batches (one task each). Each map is loaded and rasterized once

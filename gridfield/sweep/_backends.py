@@ -16,7 +16,7 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path as FsPath
 from typing import Any
 
-from ..errors import GridfieldError, ParameterError, shorten
+from ..core.errors import GridfieldError, ParameterError, shorten
 from ._journal import _Journal
 from ._run import Run, _one_line, _with_robot, run_batch
 
@@ -54,7 +54,7 @@ def _worker_init(max_cells: int, parent: int) -> None:
     import signal
     import threading
 
-    from .. import limits
+    from ..core import limits
 
     # Ctrl-C reaches the whole process group: the parent stops the workers, they need not say so.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -94,7 +94,7 @@ def _local_results(batches: Sequence[list[Run]], workers: int) -> Iterator[list[
     # "spawn", not fork: the potential kernels start an OpenMP thread pool, and a process that
     # forks after that can hang or abort ("fork() called from a process already using GNU OpenMP").
     ctx = multiprocessing.get_context("spawn")
-    from ..limits import max_cells
+    from ..core.limits import max_cells
 
     pending = list(batches)
     for _ in range(POOL_RESTARTS + 1):

@@ -19,7 +19,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path as FsPath
 from typing import Any
 
-from ..errors import GridfieldError, shorten
+from ..core.errors import GridfieldError, shorten
 
 #: Columns of the rows file, in order.
 COLUMNS = ("map", "planner", "params", "start_x", "start_y", "goal_x", "goal_y", "status", "length",

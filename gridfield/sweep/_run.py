@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import GridfieldError
+from ..core.errors import GridfieldError
 
 
 @dataclass(frozen=True)
@@ -89,7 +89,7 @@ STATUS_LIMIT = 300
 def _with_robot(target: Any, robot: tuple[Any, ...]) -> Any:
     if not robot:
         return target
-    from ..cspace import apply_robot
+    from ..geometry.cspace import apply_robot
 
     return apply_robot(target, robot[1] if robot[0] == "radius" else list(robot[1]))
 
@@ -156,7 +156,7 @@ def run_one(run: Run, target: Any = None) -> dict[str, Any]:
     except GridfieldError as e:
         status, length, steps = f"error: {e}", math.nan, 0
     except MemoryError as e:  # one clear line naming the run (numpy's _ArrayMemoryError is a MemoryError)
-        from ..limits import out_of_memory
+        from ..core.limits import out_of_memory
 
         what = f"{run.planner} on {os.path.basename(str(run.map))}" + (f" at resolution {run.resolution:g}"
                                                                   if run.resolution is not None else "")

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import GridfieldError, MapFormatError, ParameterError, check_positive, shorten
+from ..core.errors import GridfieldError, MapFormatError, ParameterError, check_positive, shorten
 from ._journal import _Journal
 from ._run import Run, _with_robot
 
@@ -27,7 +27,7 @@ SPEC_KEYS = ("output", "maps", "planners", "params", "robot", "robot_radius", "o
 MAP_KEYS = ("path", "resolution", "pairs", "random_pairs", "scenarios", "limit", "robot", "robot_radius",
             "optimal_any_angle")
 
-#: Exact planners that also run on grid maps (on the blocked cells as exact polygons, gridfield.gridpoly).
+#: Exact planners that also run on grid maps (on the blocked cells as exact polygons, gridfield.geometry.gridpoly).
 GRID_MAP_EXACT = ("visibility", "exact-potential")
 
 #: Most runs one spec may expand to (each run is a row and a few hundred bytes of memory).
@@ -39,8 +39,8 @@ RUN_BYTES = 1024
 
 def _run_limit() -> int:
     """The most runs a spec may expand to: :data:`MAX_RUNS`, or fewer if their memory (:data:`RUN_BYTES` each)
-    would exceed the size guard's budget (``max_cells() * BYTES_PER_CELL`` bytes, see :mod:`gridfield.limits`)."""
-    from ..limits import BYTES_PER_CELL, max_cells
+    would exceed the size guard's budget (``max_cells() * BYTES_PER_CELL`` bytes, see :mod:`gridfield.core.limits`)."""
+    from ..core.limits import BYTES_PER_CELL, max_cells
 
     return int(min(MAX_RUNS, max_cells() * BYTES_PER_CELL // RUN_BYTES))
 
@@ -101,8 +101,8 @@ def _validate_params(planner: str, params: Mapping[str, Any]) -> dict[str, Any]:
     """Check one planner's parameter combination (names and values) before any run starts.
 
     The one place a sweep validates parameters: names and values through the parameter registry
-    (:func:`gridfield.params.validate`), then the potential's cross-parameter rules
-    (:func:`gridfield.potential.resolve_params`). Raises :class:`ParameterError` naming the
+    (:func:`gridfield.core.params.validate`), then the potential's cross-parameter rules
+    (:func:`gridfield.fields.potential.resolve_params`). Raises :class:`ParameterError` naming the
     parameter and its value.
 
     Examples
@@ -112,10 +112,10 @@ def _validate_params(planner: str, params: Mapping[str, Any]) -> dict[str, Any]:
     >>> _validate_params("potential", {"eta": -1})
     Traceback (most recent call last):
     ...
-    gridfield.errors.ParameterError: eta must be a finite number >= 0, got -1
+    gridfield.core.errors.ParameterError: eta must be a finite number >= 0, got -1
     """
+    from ..fields.potential import resolve_params
     from ..planners import check_params
-    from ..potential import resolve_params
 
     p = check_params(params)
     resolve_params(p)
@@ -183,8 +183,8 @@ def load_spec(path: str | os.PathLike[str], *, output: str | os.PathLike[str] | 
     >>> len(runs), output.name, sorted({r.planner for r in runs}), sum(r.any_angle for r in runs)
     (80, 'sweep_example.csv', ['potential', 'wavefront-octile'], 40)
     """
+    from ..core.limits import job_planners
     from ..io import read_yaml
-    from ..limits import job_planners
     from ..planners import PLANNERS
 
     spec_path = FsPath(path)
@@ -264,7 +264,7 @@ def _spec_combos(spec: Mapping[str, Any], planners: list[str], where: str) -> li
 def _map_runs(entry: Any, w: str, spec: Mapping[str, Any], base: FsPath, planners: list[str],
               combos: list[dict[str, Any]], before: int, any_angle_all: bool) -> list[Run]:
     """The runs of one ``maps`` entry (``before``: the runs of the entries before it)."""
-    from ..world import World
+    from ..geometry.world import World
 
     if isinstance(entry, str):
         entry = {"path": entry}
@@ -299,11 +299,11 @@ def _map_target(entry: Mapping[str, Any], w: str, map_path: FsPath, resolution: 
                 robot: tuple[Any, ...], planners: list[str]) -> tuple[Any, Any]:
     """The entry's map (read, the robot applied) and the grid the grid planners will use, sized against
     the memory limit before anything runs (None when no grid is needed yet)."""
-    from ..grid import Grid, GridMap
+    from ..core.grid import Grid, GridMap
+    from ..geometry.rasterize import as_gridmap
+    from ..geometry.world import World
     from ..io import read
     from ..planners import PLANNERS
-    from ..rasterize import as_gridmap
-    from ..world import World
 
     try:
         target = _with_robot(read(map_path), robot)
@@ -381,7 +381,7 @@ def _flag(mapping: Mapping[str, Any], key: str, where: str, *, default: bool = F
 
 def _robot_key(entry: Mapping[str, Any], spec: Mapping[str, Any], where: str) -> tuple[Any, ...]:
     """A map entry's robot (``robot:`` or ``robot_radius:``, else the spec's) as plain hashable data."""
-    from ..world import robot_from_value
+    from ..geometry.world import robot_from_value
 
     source = entry if ("robot" in entry or "robot_radius" in entry) else spec
     value = source.get("robot", source.get("robot_radius"))

@@ -22,7 +22,7 @@ def test_constants_show_their_values_not_their_types_docstring() -> None:
         page = _api._page(name)
         assert ".. autodata::" not in page, name  # autodata of a tuple shows tuple's docstring
         assert "Alias for field number" not in page
-    descent = _api._page("descent")
+    descent = _api._page("following.descent")
     assert ".. py:data:: STEP_RULES\n   :value: (" in descent
 
 

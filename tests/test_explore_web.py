@@ -139,6 +139,7 @@ def test_web_explorer_drops_bad_page_messages_so_later_clients_still_get_images(
                 await asyncio.get_running_loop().run_in_executor(None, server.wait_for,
                                                                  r"ignored a message from the page: ")
             first.close()
+            await first.read_message()  # None once closed
             second = await websocket_connect(f"ws://127.0.0.1:{port}/{fig_id}/ws")
             assert await image_after_handshake(second)
             reader = asyncio.create_task(answer_draws(second, fig_id))

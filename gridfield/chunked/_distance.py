@@ -45,11 +45,11 @@ from numpy.typing import NDArray
 from ..core.errors import ArgumentTypeError, ParameterError, check_positive, shorten
 
 
-def _kernel_brushfire() -> Any:
-    """The compiled kernel module (gridfield/distance/_brushfire.pyx), imported on first use."""
-    from ..distance import _brushfire
+def _kernel_edt() -> Any:
+    """The compiled kernel module (gridfield/distance/_edt.pyx), imported on first use."""
+    from ..distance import _edt
 
-    return _brushfire
+    return _edt
 
 
 def _kernel_chunked() -> Any:
@@ -103,11 +103,11 @@ def _check_choice(name: str, value: object, choices: tuple[str, ...]) -> str:
 
 def _column_pass(block: NDArray[np.bool_], wall: bool) -> NDArray[np.int32]:
     """Whole columns: the global row of the nearest obstacle in each cell's column."""
-    kb = _kernel_brushfire()
+    ke = _kernel_edt()
 
     occ8 = np.ascontiguousarray(block, dtype=bool).view(np.uint8)
     vr = np.empty(block.shape, np.int32)
-    kb.column_block(0, block.shape[1], occ8, wall, vr)
+    ke.column_block(0, block.shape[1], occ8, wall, vr)
     return vr
 
 

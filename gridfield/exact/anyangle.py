@@ -127,10 +127,26 @@ _MESH_LOCK = threading.Lock()
 
 
 def _kernel_anyangle() -> Any:
-    """The compiled kernel module (gridfield/exact/_anyangle.pyx), imported on first use."""
+    """The compiled kernel module (gridfield/exact/_anyangle.pyx: the segment walk, the exhaustive visibility),
+    imported on first use."""
     from . import _anyangle
 
     return _anyangle
+
+
+def _kernel_occlusion() -> Any:
+    """The compiled kernel module (gridfield/exact/_occlusion.pyx: the occlusion-culled visibility), imported on
+    first use."""
+    from . import _occlusion
+
+    return _occlusion
+
+
+def _kernel_astar() -> Any:
+    """The compiled kernel module (gridfield/exact/_astar.pyx: A* on the graph and lazy A*), imported on first use."""
+    from . import _astar
+
+    return _astar
 
 
 def _kernel_polyanya() -> Any:
@@ -138,10 +154,6 @@ def _kernel_polyanya() -> Any:
     from . import _polyanya
 
     return _polyanya
-
-
-def _kernels() -> Any:
-    return _kernel_anyangle()
 
 
 def _padded_blocked(gm: GridMap) -> NDArray[np.uint8]:
@@ -512,7 +524,7 @@ class AnyAngleGraph:
             # the graph's build grows with the corners (seconds on cluttered maps): refused up front when
             # over the time limit; the corners, the mesh and the Polyanya search need no such check
             check_seconds({"convex corner": self.n_nodes}, f"any-angle graph of {self._source or 'the grid map'}")
-            k = _kernels()
+            k = _kernel_occlusion()
             t0 = time.perf_counter()
             vx, vy = self._vx, self._vy
             ei, ej = k.visibility_edges_culled(self._B, vx, vy, self._qx, self._qy, *self._blocks)
@@ -675,7 +687,7 @@ class AnyAngleGraph:
         """
         a = self._lattice(p, "p")
         b = self._lattice(q, "q")
-        return bool(_kernels().segment_free(self._B, a[0], a[1], b[0], b[1]))
+        return bool(_kernel_anyangle().segment_free(self._B, a[0], a[1], b[0], b[1]))
 
     def shortest_path(self, start: ArrayLike, goal: ArrayLike, *, search: str | None = None
                       ) -> tuple[NDArray[np.float64], float]:
@@ -718,14 +730,13 @@ class AnyAngleGraph:
         """:meth:`shortest_path` and how many corners the search expanded (-1: not counted)."""
         if search not in SEARCHES:
             raise ParameterError(f"search must be one of {', '.join(map(repr, SEARCHES))}, got {search!r}")
-        k = _kernels()
         sx, sy = self._lattice(start, "start")
         gx, gy = self._lattice(goal, "goal")
         h = self.grid.resolution
         x0, y0 = self.grid.origin
         s_w = np.array([x0 + sx * h, y0 + sy * h])
         g_w = np.array([x0 + gx * h, y0 + gy * h])
-        if k.segment_free(self._B, sx, sy, gx, gy):
+        if _kernel_anyangle().segment_free(self._B, sx, sy, gx, gy):
             return np.array([s_w, g_w]), float(math.hypot(gx - sx, gy - sy) * h), 0
         if search == "polyanya":
             found = self._polyanya(sx, sy, gx, gy)
@@ -736,13 +747,14 @@ class AnyAngleGraph:
                 return np.vstack([s_w, np.array([x0, y0]) + turns * h, g_w]), length * h, expanded
             search = "lazy"  # the safety net of _polyanya
         corners = (self._vx, self._vy, self._qx, self._qy)
-        sd = k.visible_from_culled(self._B, self._ext, sx, sy, *corners, *self._blocks)
-        gd = k.visible_from_culled(self._B, self._ext, gx, gy, *corners, *self._blocks)
+        ko, ka = _kernel_occlusion(), _kernel_astar()
+        sd = ko.visible_from_culled(self._B, self._ext, sx, sy, *corners, *self._blocks)
+        gd = ko.visible_from_culled(self._B, self._ext, gx, gy, *corners, *self._blocks)
         if search == "lazy":
-            best, pred, last, expanded = k.lazy_astar(self._B, self._ext, *corners, *self._blocks, sx, sy, sd, gd,
-                                                      gx, gy)
+            best, pred, last, expanded = ka.lazy_astar(self._B, self._ext, *corners, *self._blocks, sx, sy, sd, gd,
+                                                       gx, gy)
         else:
-            best, pred, last = k.astar(*self._graph()["csr"], self._vx, self._vy, sd, gd, gx, gy)
+            best, pred, last = ka.astar(*self._graph()["csr"], self._vx, self._vy, sd, gd, gx, gy)
             expanded = -1
         if not math.isfinite(best):
             return np.empty((0, 2)), math.inf, int(expanded)
@@ -771,7 +783,7 @@ def _hash_key(gm: GridMap) -> tuple[Any, ...]:
 
 
 def _build(gm: GridMap) -> AnyAngleGraph:
-    k = _kernels()
+    k = _kernel_occlusion()
     t0 = time.perf_counter()
     B = _padded_blocked(gm)
     vx, vy, qx, qy = convex_corners(B)

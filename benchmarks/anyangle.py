@@ -52,6 +52,9 @@ from _common import TEST_MAPS, map_and_scen  # noqa: E402
 
 DEFAULT_ROOT = TEST_MAPS / "movingai"
 DEFAULT_MAPS = ("AR0011SR", "16room_000", "random512-10-0")
+#: The functions of gridfield.exact.anyangle that return its kernel modules (segment walk, occlusion-culled
+#: visibility, A*): --compare-numba swaps all of them for the one old module, which holds every kernel.
+KERNEL_HELPERS = ("_kernel_anyangle", "_kernel_occlusion", "_kernel_astar")
 
 
 def _warm_up() -> None:
@@ -150,10 +153,11 @@ def compare_numba(folder: Path, n_queries: int, old, rounds: int) -> dict:
     import gridfield.exact.anyangle as aa
     from gridfield.io import read_movingai_map, read_scen
 
-    own = aa._kernels
+    own = {name: getattr(aa, name) for name in KERNEL_HELPERS}
 
     def use(k) -> None:
-        aa._kernels = own if k is None else (lambda: k)
+        for name, loader in own.items():
+            setattr(aa, name, loader if k is None else (lambda: k))
 
     map_file, scen_file = map_and_scen(folder)
     m, scen = read_movingai_map(map_file), read_scen(scen_file)
@@ -224,10 +228,12 @@ def main(argv: list[str] | None = None) -> int:
     if old is not None:
         import gridfield.exact.anyangle as aa
 
-        own = aa._kernels
-        aa._kernels = lambda: old  # warm-up (numba cache load) of the old kernels
+        own = {name: getattr(aa, name) for name in KERNEL_HELPERS}
+        for name in KERNEL_HELPERS:  # warm-up (numba cache load) of the old kernels
+            setattr(aa, name, lambda: old)
         _warm_up()
-        aa._kernels = own
+        for name, loader in own.items():
+            setattr(aa, name, loader)
         print(f"\ncompiled kernels vs numba ({args.compare_numba}), side by side: graph build (CPU s, median of "
               f"{args.rounds}) and query (ms, median, interleaved; both in alternating order)\n")
         print("| map | build compiled | build numba | ratio | queries | query compiled | query numba | ratio |")

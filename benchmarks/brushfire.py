@@ -14,8 +14,9 @@ system time of the calling thread, which excludes the time other jobs hold the c
 single-threaded row runs on the calling thread). Use it on a shared machine.
 
 ``--compare-kernels FILE`` adds rows running ``brushfire`` on another build of the kernels (an extension
-module compiled from an older ``_kernels_brushfire.pyx`` under the name ``_kernels_brushfire_old``, so
-that both load in one process), interleaved with the others.
+module compiled from an older ``_brushfire.pyx``, one from before it was split into ``_brushfire``,
+``_chamfer`` and ``_edt``, under the name ``_kernels_brushfire_old``, so that both load in one process),
+interleaved with the others.
 
 For every map (``random``: ~20 % of the cells blocked at random; ``maze``: a perfect maze of 14-cell
 corridors and 2-cell walls, ~13 % blocked, generated with vectorized numpy) and size, every method
@@ -129,16 +130,22 @@ def methods(occ: np.ndarray, *, opencv: Any | None, old: Any | None = None) -> l
     def bf(threads: int, **kw: Any) -> Callable[[], Any]:
         return lambda: brushfire(gm, threads=threads, **kw)
 
+    helpers = ("_kernel_brushfire", "_kernel_chamfer", "_kernel_edt")
+
     def bf_old(threads: int, **kw: Any) -> Callable[[], Any]:
-        # brushfire() asks gb._kernels() for its module (which imports the compiled module beside it): swap
-        # that function for the call (setting gb._KERNELS, as this did before, no longer reached it)
+        # brushfire() asks gb._kernel_brushfire(), gb._kernel_chamfer() and gb._kernel_edt() for its modules
+        # (each imports the compiled module beside it): swap all three for the one old module during the
+        # call (a build from before the split of _brushfire.pyx into _brushfire, _chamfer and _edt holds
+        # every kernel of the three)
         def run() -> Any:
-            loader = gb._kernels
-            gb._kernels = lambda: old
+            loaders = {name: getattr(gb, name) for name in helpers}
+            for name in helpers:
+                setattr(gb, name, lambda: old)
             try:
                 return brushfire(gm, threads=threads, **kw)
             finally:
-                gb._kernels = loader
+                for name, loader in loaders.items():
+                    setattr(gb, name, loader)
         return run
 
     lean = {"compute_nearest": False, "compute_labels": False}

@@ -411,6 +411,7 @@ def test_occlusion_culling_changes_nothing(rows, cols, p, seed, wall, block):
     """The nearest-first search with occlusion culling finds exactly the pairs and the distances of
     walking every taut pair (small blocks on these grids, so that its early stop happens)."""
     from gridfield.exact import _anyangle as k
+    from gridfield.exact import _occlusion as ko
     from gridfield.exact.anyangle import _buckets, _padded_blocked, convex_corners
 
     rng = np.random.default_rng(seed)
@@ -422,7 +423,7 @@ def test_occlusion_culling_changes_nothing(rows, cols, p, seed, wall, block):
     vx, vy, qx, qy = convex_corners(B)
     blocks = _buckets(vx, vy, gm.shape, block)  # small blocks: many rings, so the early stop happens
     plain = set(zip(*k.visibility_edges(B, vx, vy, qx, qy), strict=True))
-    culled = set(zip(*k.visibility_edges_culled(B, vx, vy, qx, qy, *blocks), strict=True))
+    culled = set(zip(*ko.visibility_edges_culled(B, vx, vy, qx, qy, *blocks), strict=True))
     assert culled == plain
     for _ in range(5):
         # lattice points, half-integers and generic points
@@ -430,7 +431,7 @@ def test_occlusion_culling_changes_nothing(rows, cols, p, seed, wall, block):
         if rng.random() < 0.3:
             px, py = rng.uniform(0, cols), rng.uniform(0, rows)
         a = k.visible_from(B, px, py, vx, vy, qx, qy)
-        b = k.visible_from_culled(B, k.run_extents(B), px, py, vx, vy, qx, qy, *blocks)
+        b = ko.visible_from_culled(B, ko.run_extents(B), px, py, vx, vy, qx, qy, *blocks)
         np.testing.assert_array_equal(a, b)
 
 

@@ -52,7 +52,8 @@ def _run(code: str) -> str:
 
 def test_import_gridfield_stays_light() -> None:
     heavy = ("matplotlib", "scipy", "shapely", "yaml", "skimage", "gridfield.fields.potential", "gridfield.distance.brushfire",
-             "gridfield.io", "gridfield.planners", "gridfield.distance._brushfire", "gridfield.fields._potential")
+             "gridfield.io", "gridfield.planners", "gridfield.distance._brushfire", "gridfield.distance._chamfer",
+             "gridfield.distance._edt", "gridfield.fields._potential")
     out = _run(f"import sys, gridfield; print(','.join(m for m in {heavy!r} if m in sys.modules))")
     assert out == "", f"import gridfield imports {out}"
 

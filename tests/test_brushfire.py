@@ -534,7 +534,7 @@ def test_threads_above_the_maximum_are_clipped_and_large_grids_use_them():
 
 def test_packed_nearest_index_in_int64_as_for_huge_grids():
     """Grids of 2**31 padded cells or more carry the nearest cell in int64: same kernel, other dtype."""
-    from gridfield.distance import _brushfire as k
+    from gridfield.distance import _chamfer as k
 
     occ = random_occupancy(4, (25, 90), 0.05)
     o8 = occ.view(np.uint8)
@@ -581,7 +581,7 @@ def test_import_gridfield_does_not_load_numba_kernels():
     import sys
 
     code = "import sys, gridfield, gridfield.distance.brushfire; print('numba' in sys.modules, " \
-           "'gridfield.distance._brushfire' in sys.modules)"
+           "any('gridfield.distance.' + m in sys.modules for m in ('_brushfire', '_chamfer', '_edt')))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=REPO)
     assert out.stdout.split() == ["False", "False"]
 
@@ -664,7 +664,7 @@ def test_result_memory_is_reused_and_released():
     next result (checked against scipy); pool_limit(0) unmaps every kept block."""
     import gridfield.distance.brushfire as gb
 
-    k = gb._kernels()
+    k = gb._kernel_brushfire()
     old = k.pool_limit()
     try:
         k.pool_limit(0)  # an empty pool to start from: blocks earlier tests of this process left are gone

@@ -17,14 +17,22 @@ import gridfield
 PACKAGE = Path(gridfield.__file__).parent
 REPO = Path(__file__).resolve().parent.parent
 
+#: Every kernel module of the package by dotted name, all compiled, each beside its callers (a new one is
+#: added to setup.py's KERNELS, to the mypy overrides of pyproject.toml and here).
+KERNELS = {
+    "gridfield.chunked._chunked",
+    "gridfield.distance._brushfire", "gridfield.distance._chamfer", "gridfield.distance._edt",
+    "gridfield.distance._incremental",
+    "gridfield.exact._anyangle", "gridfield.exact._astar", "gridfield.exact._occlusion", "gridfield.exact._polyanya",
+    "gridfield.fields._eikonal", "gridfield.fields._laplace", "gridfield.fields._navfn", "gridfield.fields._navigation",
+    "gridfield.fields._potential", "gridfield.fields._samplers",
+}
+#: The longest a kernel source (.pyx, .pxd, .h) may be, as any other file of the package (issue 43).
+MAX_LINES = 800
+
+
 def _kernel_sources() -> set[str]:
-    """The dotted names of the kernel sources: every ``.pyx`` of the tree, beside the module that calls it."""
-    return {"gridfield." + ".".join(p.relative_to(REPO / "gridfield").with_suffix("").parts)
-            for p in (REPO / "gridfield").rglob("*.pyx")}
-
-
-#: Every kernel module of the package, all compiled (a new one is its .pyx and a line in setup.py's KERNELS).
-KERNELS = _kernel_sources()
+    return {".".join(p.relative_to(REPO).with_suffix("").parts) for p in (REPO / "gridfield").rglob("*.pyx")}
 
 
 def test_every_kernel_source_is_built_by_setup_py():
@@ -32,19 +40,31 @@ def test_every_kernel_source_is_built_by_setup_py():
     tree = ast.parse((REPO / "setup.py").read_text())
     listed = next(ast.literal_eval(node.value) for node in ast.walk(tree)
                   if isinstance(node, ast.Assign) and any(getattr(t, "id", None) == "KERNELS" for t in node.targets))
-    assert set(listed) == KERNELS
-    assert len(KERNELS) >= 10
+    assert set(listed) == _kernel_sources() == KERNELS
 
 
 def test_no_kernel_is_plain_python():
-    """No ``.py`` module of a kernel's name beside its source (it would shadow or replace the extension), and
-    each kernel is found by the import system as an extension module."""
-    for name in KERNELS:
-        *parent, leaf = name.split(".")
-        folder = REPO.joinpath(*parent)
-        assert not (folder / f"{leaf}.py").exists(), name
-        found = {m.name for m in pkgutil.iter_modules([str(PACKAGE.joinpath(*parent[1:]))])}
-        assert leaf in found, name
+    """No ``_name.py`` beside a compiled ``_name`` module (it would shadow or replace it)."""
+    for name in sorted(KERNELS):
+        package, _, module = name.rpartition(".")
+        folder = REPO.joinpath(*package.split("."))
+        assert module in {m.name for m in pkgutil.iter_modules([str(folder)])}, name
+        assert not (folder / f"{module}.py").exists(), name
+
+
+def test_every_kernel_module_is_typed_as_a_compiled_one():
+    """pyproject.toml's mypy override for the kernels (no stubs: Any to their callers) names every one."""
+    import tomllib
+
+    overrides = tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["mypy"]["overrides"]
+    listed = {m for o in overrides if o.get("follow_imports") == "skip" for m in o["module"]}
+    assert listed >= KERNELS, sorted(KERNELS - listed)
+
+
+def test_no_kernel_source_is_over_the_line_limit():
+    sources = sorted(p for ext in ("*.pyx", "*.pxd", "*.h") for p in PACKAGE.rglob(ext))
+    long = {str(p.relative_to(REPO)): n for p in sources if (n := len(p.read_text().splitlines())) > MAX_LINES}
+    assert sources and long == {}
 
 
 @pytest.mark.parametrize("name", sorted(KERNELS))

@@ -51,7 +51,7 @@ def test_the_any_angle_graph_is_refused_by_its_corner_count(monkeypatch) -> None
     def no_graph(*a, **k):
         raise AssertionError("the graph kernel ran before the refusal")
 
-    monkeypatch.setattr(anyangle._kernels(), "visibility_edges_culled", no_graph, raising=False)
+    monkeypatch.setattr(anyangle._kernel_occlusion(), "visibility_edges_culled", no_graph, raising=False)
     msg = _refused_fast(lambda: graph.edges)
     assert f"{corners} convex corners" in msg and "any-angle graph of noise 96x96" in msg
     msg = _refused_fast(lambda: graph.shortest_path((0.5, 0.5), (95.5, 95.5), search="graph"))

@@ -2,12 +2,12 @@
 """Compiled kernels behind :mod:`gridfield.chunked` (private; imported on first use by the tasks).
 
 The separable transforms of :func:`gridfield.distance.brushfire.brushfire` on a block of whole rows of a larger grid:
-the column pass (:func:`gridfield.distance._brushfire.column_block`, run on a block of whole columns, gives
+the column pass (:func:`gridfield.distance._edt.column_block`, run on a block of whole columns, gives
 each cell the global row of the obstacle nearest to it in its column); then, here, the row pass on a block
 of whole rows whose first row is ``row0`` of a grid of ``rows`` rows:
 
 - :func:`edt_rows_block`: the Euclidean lower envelope (the one compiled envelope of
-  :mod:`gridfield.distance._brushfire`, cimported), with the same arithmetic as ``edt_rows`` there, so
+  :mod:`gridfield.distance._edt`, cimported), with the same arithmetic as ``edt_rows`` there, so
   the distance and the nearest obstacle are bit-identical to the in-memory transform;
 - :func:`l1_rows_block` (taxicab: a forward and a backward min-plus scan) and :func:`linf_rows_block`
   (chessboard: the lower envelope of ``max(|x - i|, g_i)``, Meijster, Roerdink & Hesselink 2000, sec. 5),
@@ -22,7 +22,7 @@ from libc.stdint cimport int32_t, int64_t
 from libc.stdlib cimport free, malloc
 from libc.math cimport sqrt, INFINITY
 
-from gridfield.distance._brushfire cimport _edt_1d
+from gridfield.distance._edt cimport _edt_1d
 
 
 cdef inline void* _alloc(size_t n) noexcept nogil:
@@ -127,7 +127,7 @@ def edt_block(const int32_t[:, ::1] vr, int64_t a, int64_t row0, int64_t rows, i
     with ``(c0 - u)**2`` above the least ``(c0 - v)**2 + g_v**2`` over ``v <= c0`` is strictly farther than
     that ``v`` at every ``x >= c0`` (their difference grows with ``x``); the same on the right of the last
     column. Each row scans outwards from the block's edges until that bound, then builds the lower envelope
-    (Meijster et al. 2000, the integer arithmetic of ``_kernels_brushfire._edt_1d_sq``) over those sites,
+    (Meijster et al. 2000, the integer arithmetic of ``gridfield.distance._edt._edt_1d_sq``) over those sites,
     evaluated on the block's columns only. The envelope gives at each ``x`` the least ``(value, site)``
     pair (a site is pushed only where it is strictly nearer), so the result equals that over all sites:
     the in-memory distance and nearest cell bit for bit.

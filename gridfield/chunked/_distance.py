@@ -15,7 +15,7 @@ Euclidean through a temporary store (``scratch=``): the column pass runs on stri
 one chunk's cells wide (:func:`_strip_width`, at least 64 columns), each written as one raw ``int32`` file
 (rows in order, written aside and renamed); after all of them (one barrier task), each output chunk is one
 task that reads its rows over its columns plus a margin of one strip on each side and runs
-``chunked._chunked.edt_block``: per row, the lower envelope over only the columns whose obstacles can be
+``_kernels_chunked.edt_block``: per row, the lower envelope over only the columns whose obstacles can be
 nearest (or tie) inside the chunk, which lie within about the distance at the chunk's first and last
 columns; a row that needs more than the window makes the task read a wider one (four times the margin).
 Memory per task: the strip (``rows x width`` of occupancy and ``int32``) for the column pass, the window
@@ -45,11 +45,11 @@ from numpy.typing import NDArray
 from ..core.errors import ArgumentTypeError, ParameterError, check_positive, shorten
 
 
-def _kernel_brushfire() -> Any:
-    """The compiled kernel module (gridfield/distance/_brushfire.pyx), imported on first use."""
-    from ..distance import _brushfire  # type: ignore[attr-defined]  # a compiled extension, no stubs
+def _kernel_edt() -> Any:
+    """The compiled kernel module (gridfield/distance/_edt.pyx), imported on first use."""
+    from ..distance import _edt  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
-    return _brushfire
+    return _edt
 
 
 def _kernel_chunked() -> Any:
@@ -103,11 +103,11 @@ def _check_choice(name: str, value: object, choices: tuple[str, ...]) -> str:
 
 def _column_pass(block: NDArray[np.bool_], wall: bool) -> NDArray[np.int32]:
     """Whole columns: the global row of the nearest obstacle in each cell's column."""
-    kb = _kernel_brushfire()
+    ke = _kernel_edt()
 
     occ8 = np.ascontiguousarray(block, dtype=bool).view(np.uint8)
     vr = np.empty(block.shape, np.int32)
-    kb.column_block(0, block.shape[1], occ8, wall, vr)
+    ke.column_block(0, block.shape[1], occ8, wall, vr)
     return vr
 
 
@@ -506,7 +506,7 @@ def _edt_block_task(path: str, r0: int, r1: int, c0: int, c1: int, ws: int, rows
                                                                      NDArray[np.int32]]:
     """One output chunk (rows ``r0:r1``, columns ``c0:c1``) of the row pass, from the column-pass rows of a
     window one strip wider on each side, read from the store (and re-read wider until every row's nearest
-    candidates are inside it: ``chunked._chunked.edt_block``)."""
+    candidates are inside it: ``_kernels_chunked.edt_block``)."""
     kc = _kernel_chunked()
     shape = (r1 - r0, c1 - c0)
     d = np.empty(shape, np.float64)

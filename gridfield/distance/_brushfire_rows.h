@@ -1,4 +1,4 @@
-/* Row loops of gridfield/_kernels_brushfire.pyx, in C so that GCC vectorizes them for the CPU.
+/* Row loops of gridfield/distance/_chamfer.pyx and _edt.pyx, in C so that GCC vectorizes them for the CPU.
  *
  * The same arithmetic as the Cython loops they replace, in int32 (every value fits: distances in cells
  * stay below a few times rows + cols, rows below 2**30): GCC vectorizes int32 compare-selects at every
@@ -17,13 +17,15 @@
 #include <emmintrin.h> /* gf_scale_row's non-temporal stores (x86-64: always there) */
 #endif
 
-/* GF_NO_CLONES (a -D flag): one baseline copy of each function, to check it against the clones */
+/* GF_NO_CLONES (a -D flag): one baseline copy of each function, to check it against the clones.
+ * "unused": each kernel module calls only its own loops (the chamfer ones or the Euclidean ones); GCC
+ * emits no code for the others either way, the attribute only spares the warning. */
 #if defined(GF_NO_CLONES)
 #define GF_BF_FN static inline
 #elif defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && __GNUC__ >= 11
-#define GF_BF_FN __attribute__((target_clones("arch=x86-64-v4", "avx2", "default"))) static
+#define GF_BF_FN __attribute__((target_clones("arch=x86-64-v4", "avx2", "default"), unused)) static
 #elif defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
-#define GF_BF_FN __attribute__((target_clones("avx2", "default"))) static
+#define GF_BF_FN __attribute__((target_clones("avx2", "default"), unused)) static
 #else
 #define GF_BF_FN static inline
 #endif
@@ -348,7 +350,7 @@ GF_BF_FN void gf_scan_left(const int32_t *restrict t, int32_t *restrict s, int64
     }
 }
 
-/* Memory of the large output arrays (see _take / _release in _kernels_brushfire.pyx): anonymous
+/* Memory of the large output arrays (see _take / _release in _brushfire.pyx): anonymous
  * mappings on Linux, advised for transparent huge pages as numpy advises its own large arrays; malloc
  * elsewhere. gf_map returns NULL when out of memory. */
 #if defined(__linux__)

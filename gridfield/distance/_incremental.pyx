@@ -3,7 +3,7 @@
 
 Everything works on a rectangular *window* ``rows r0:r1, cols c0:c1`` of the full-grid arrays, with
 global cell indices. The Euclidean transform of a window (:func:`window_edt`) is the transform of
-:mod:`gridfield.distance._brushfire` (same column rule, the very same compiled lower envelope
+:mod:`gridfield.distance._edt` (same column rule, the very same compiled lower envelope
 ``_edt_1d``, cimported from it) restricted to the sites inside the window, so it picks the nearest
 site by the same rule: the smallest squared distance, then the smallest column, then the smallest
 row. The full transform picks exactly that one too (checked against brute force in the tests), which
@@ -30,8 +30,8 @@ from libc.string cimport memset
 
 import numpy as np
 
-from ._brushfire cimport _edt_1d
-from ._brushfire import BIG
+from ._edt cimport _edt_1d
+from ._edt import BIG
 
 cdef extern from "_potential_rows.h" nogil:
     void gf_khatib_row(int64_t r, int64_t c0, int64_t c1, const uint8_t* occ, const int32_t* nr, const int32_t* nc,

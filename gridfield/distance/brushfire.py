@@ -16,7 +16,8 @@ space that is not part of the map: the wavefront simply stops at the edge.
 
 Implementation
 --------------
-Compiled kernels (Cython, built at install), see :mod:`gridfield.distance._brushfire`. Chessboard and taxicab: the
+Compiled kernels (Cython, built at install): :mod:`gridfield.distance._chamfer`, :mod:`gridfield.distance._edt`
+and :mod:`gridfield.distance._brushfire` (the memory pool, components, labels, GVD). Chessboard and taxicab: the
 two-pass raster transform with a 3x3 mask, carrying the nearest obstacle cell along with the
 distance (on large grids in strips, each on a window with a margin, verified; see :class:`_Chamfer`).
 Euclidean: the separable exact transform (per column, then the lower envelope per row; Meijster et
@@ -59,15 +60,25 @@ BORDER_LABEL = -1
 
 
 def _kernel_brushfire() -> Any:
-    """The compiled kernel module (gridfield/distance/_brushfire.pyx), imported on first use."""
+    """The compiled kernel module (gridfield/distance/_brushfire.pyx: memory pool, components, labels, GVD,
+    saturation), imported on first use."""
     from . import _brushfire  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _brushfire
 
 
-def _kernels() -> ModuleType:
-    """The compiled kernels, imported on first use."""
-    return _kernel_brushfire()
+def _kernel_chamfer() -> Any:
+    """The compiled kernel module (gridfield/distance/_chamfer.pyx: chessboard and taxicab), imported on first use."""
+    from . import _chamfer  # type: ignore[attr-defined]  # a compiled extension, no stubs
+
+    return _chamfer
+
+
+def _kernel_edt() -> Any:
+    """The compiled kernel module (gridfield/distance/_edt.pyx: the Euclidean transform), imported on first use."""
+    from . import _edt  # type: ignore[attr-defined]  # a compiled extension, no stubs
+
+    return _edt
 
 
 #: Grids with fewer cells run on one thread unless ``threads`` says otherwise: below about 1M cells
@@ -462,7 +473,7 @@ class _Job:
     def __init__(self, req: _Request) -> None:
         """Phase 2: the output arrays and the label lookup table."""
         self.req = req
-        self.k = _kernels()
+        self.k = _kernel_brushfire()
         # the grid-sized arrays reuse the memory of dropped results (see the kernels' `empty`)
         self.empty: Callable[[tuple[int, ...], Any], NDArray[Any]] = getattr(self.k, "empty", np.empty)
         shape = req.gridmap.grid.shape
@@ -502,20 +513,22 @@ class _Job:
             strips = _Strips(k, occ8, self.flat[:-1].reshape(shape), 1 if nthreads <= 1 else min(shape[0], 8 * nthreads))
             tasks += strips.tasks()
         if self.separate_steps and req.want_steps:  # the steps by the connectivity's metric, the distance by another
-            chamfers.append(_Chamfer(k, occ8, req.wall, self.step8, cast("NDArray[np.int32]", self.steps),
-                                     self.distance, self.res, False, None, nthreads))
+            chamfers.append(_Chamfer(_kernel_chamfer(), occ8, req.wall, self.step8,
+                                     cast("NDArray[np.int32]", self.steps), self.distance, self.res, False, None,
+                                     nthreads))
         if req.metric == "euclidean":
             self.key = self.distance
             self.vr = self.empty(shape, np.int32)  # column pass result, becomes nearest_row
-            tasks += _chunks(k.column_block, shape[1], nthreads, occ8, req.wall, self.vr, min_size=64)
+            tasks += _chunks(_kernel_edt().column_block, shape[1], nthreads, occ8, req.wall, self.vr, min_size=64)
         else:
             self.key = self.empty(shape, np.int32) if self.separate_steps else cast("NDArray[np.int32]", self.steps)
             nearest = None
             if req.want_nearest or req.want_label:  # labels are looked up at the nearest obstacle
                 self.nearest_row, self.nearest_col = self.empty(shape, np.int32), self.empty(shape, np.int32)
                 nearest = (self.nearest_row, self.nearest_col)
-            chamfers.append(_Chamfer(k, occ8, req.wall, req.metric == "chessboard", cast("NDArray[np.int32]", self.key), self.distance, self.res,
-                                     True, nearest, nthreads))
+            chamfers.append(_Chamfer(_kernel_chamfer(), occ8, req.wall, req.metric == "chessboard",
+                                     cast("NDArray[np.int32]", self.key), self.distance, self.res, True, nearest,
+                                     nthreads))
         for chamfer in chamfers:
             tasks = chamfer.tasks() + tasks
         _run(tasks, nthreads)
@@ -535,7 +548,7 @@ class _Job:
             vr = self.vr
             if req.want_nearest:
                 self.nearest_row, self.nearest_col = vr, self.empty(shape, np.int32)
-            _run(_chunks(k.edt_rows, rows, nthreads, vr, req.wall, self.res, self.distance, vr,
+            _run(_chunks(_kernel_edt().edt_rows, rows, nthreads, vr, req.wall, self.res, self.distance, vr,
                          _NO_COMP if self.nearest_col is None else self.nearest_col, req.want_nearest, self.flat,
                          self.comp_map, self.use_map, req.want_label, _NO_COMP if self.label is None else self.label),
                  nthreads)

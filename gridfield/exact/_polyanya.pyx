@@ -40,7 +40,7 @@ from libc.math cimport INFINITY, sqrt, fabs
 from libc.stdint cimport int32_t, int64_t, uint8_t
 from libc.stdlib cimport free, malloc, realloc
 
-from gridfield.exact._anyangle cimport Heap, _heap_pop, _heap_push
+from gridfield.exact._astar cimport Heap, _heap_pop, _heap_push
 
 import numpy as np
 
@@ -77,7 +77,7 @@ cdef struct Mesh:
 cdef struct Search:
     Node* nodes
     int64_t n, cap
-    Heap heap  # the open list (the binary heap of _kernels_anyangle): f -> node index
+    Heap heap  # the open list (the binary heap of _astar): f -> node index
     bint oom
 
 

@@ -40,10 +40,6 @@ def _kernel_navigation() -> Any:
     return _navigation
 
 
-def _kernels() -> Any:
-    return _kernel_navigation()
-
-
 # ----------------------------------------------------------------------------------------------
 # The field object
 # ----------------------------------------------------------------------------------------------
@@ -333,7 +329,7 @@ def extract_path(
     if not math.isfinite(v0):
         return Path(s[None, :], "no_path", name, 0, params, time.perf_counter() - t0,
                     extra={"value": math.inf, "grid_length": math.inf, "reason": "the goal is unreachable from the start"})
-    k = _kernels()
+    k = _kernel_navigation()
     free = ~gm.occupied
     conn = int(nav.params.get("connectivity", 8))
     if method == "descent":
@@ -415,8 +411,8 @@ def _finish_on_wavefront(nav: NavigationField, point: NDArray[np.float64]) -> Pa
     # what _wavefront.wavefront(nav.map, nav.goal, costs="octile", stop_at=point) builds, from the kernel
     # itself: _wavefront builds on this module, so importing it here would tie the two both ways
     g, (gr, gc) = _goal_cell(nav.map, nav.goal)
-    value = _kernels().wavefront_uniform(~nav.map.occupied, gr, gc, 8, SQRT2, int(stop[0]), int(stop[1]),
-                                         grid.resolution, nav.map.diagonals)
+    value = _kernel_navigation().wavefront_uniform(~nav.map.occupied, gr, gc, 8, SQRT2, int(stop[0]), int(stop[1]),
+                                                   grid.resolution, nav.map.diagonals)
     wf = NavigationField(nav.map, value, g, (gr, gc), "wavefront",
                          {"connectivity": 8, "costs": "octile", "clearance_weight": 0.0, "q_star": None}, {})
     p = extract_path(wf, point, method="descent")
@@ -439,7 +435,7 @@ def _min_clearance(nav: NavigationField, points: NDArray[np.float64],
     if "clearance" not in nav.__dict__:  # not computed yet
         # ~1-2 ns per examined cell: a budget of 8 cells per grid cell stays below a distance transform
         budget = 8 * nav.map.occupied.size + 100_000
-        d = _kernels().clearance_along(nav.map.occupied, r, c, nav.grid.border == "wall", budget)
+        d = _kernel_navigation().clearance_along(nav.map.occupied, r, c, nav.grid.border == "wall", budget)
         if d >= 0:
             return float(d * nav.grid.resolution)
     return float(nav.clearance[r, c].min())

@@ -3,7 +3,7 @@
 A discrete harmonic function has no local minimum away from its boundary, which makes it a navigation
 function in exact arithmetic; in floating point it underflows far from the goal, hence the shells of
 :func:`harmonic`. The sparse solves (MIC(0)-preconditioned conjugate gradients) are compiled kernels
-(``fields._navigation``); scipy.sparse builds the matrix the residual is checked against.
+(``gridfield/fields/_laplace.pyx``); scipy.sparse builds the matrix the residual is checked against.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from ...core.errors import GridfieldError, ParameterError
 from ...core.grid import GridMap
 from ...core.params import validate
 from ...core.path import Path
-from ._field import NavigationField, _goal_cell, _kernels, _plan_grid
+from ._field import NavigationField, _goal_cell, _plan_grid
 
 # ----------------------------------------------------------------------------------------------
 # Harmonic potential
@@ -28,6 +28,13 @@ from ._field import NavigationField, _goal_cell, _kernels, _plan_grid
 SOLVERS = ("pcg", "scipy-cg", "spsolve")
 #: Relaxation of the MIC(0) preconditioner (1 = full modification; 0 = plain IC(0)).
 MIC_OMEGA = 0.99
+
+
+def _kernel_laplace() -> Any:
+    """The compiled kernel module (gridfield/fields/_laplace.pyx), imported on first use."""
+    from .. import _laplace  # type: ignore[attr-defined]  # a compiled extension, no stubs
+
+    return _laplace
 
 
 def _solve_dirichlet(unknown: NDArray[np.bool_], one: NDArray[np.bool_], rtol: float,
@@ -65,7 +72,7 @@ def _solve_dirichlet(unknown: NDArray[np.bool_], one: NDArray[np.bool_], rtol: f
     col_i = np.concatenate([np.arange(n), nbr[has]])
     vals = np.concatenate([np.full(n, 4.0), np.full(int(has.sum()), -1.0)])
     a = sp.csr_matrix((vals, (row_i, col_i)), shape=(n, n))
-    k = _kernels()
+    k = _kernel_laplace()
     maxiter = 20 * (rows + cols) + 1000
     if solver == "pcg":
         x, its, _ = k.pcg_laplace(left, down, right, up, b, MIC_OMEGA, rtol, maxiter)

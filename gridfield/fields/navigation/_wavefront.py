@@ -4,7 +4,7 @@ The wavefront is the exact shortest-path cost to the goal cell over 4- or 8-conn
 or octile costs, optionally raised near obstacles by :func:`clearance_cost`. It is the only navigation
 function that is exact on the grid itself (no discretization of a continuous equation), which is why
 the navigation escape, the incremental updates and the Moving AI checks all build on it. The cell loop
-(Dijkstra with a bucket queue) is a compiled kernel (``fields._navigation``).
+(Dijkstra with a bucket queue) is a compiled kernel (``gridfield/fields/_navigation.pyx``).
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from ._field import (
     _check_connectivity,
     _check_weight,
     _goal_cell,
-    _kernels,
+    _kernel_navigation,
     _plan_grid,
     grid_options,
 )
@@ -159,7 +159,7 @@ def wavefront(
         if not inside[0]:
             raise GridfieldError(f"stop_at {np.asarray(stop_at).tolist()} lies outside the map")
         sr, sc = (int(v) for v in cells[0])
-    k = _kernels()
+    k = _kernel_navigation()
     free = ~gridmap.occupied
     diag = SQRT2 if costs == "octile" else 1.0
     aux: dict[str, Any] = {}

@@ -87,10 +87,6 @@ def _kernel_incremental() -> Any:
     return _incremental
 
 
-def _kernels() -> ModuleType:
-    return _kernel_incremental()
-
-
 def _union(a: Window | None, b: Window | None) -> Window | None:
     if a is None:
         return b
@@ -292,7 +288,7 @@ class IncrementalBrushfire:
         self.last_changed = 0
         if not len(orr) and not len(frr):
             return None
-        window = self._apply(_kernels(), orr, occ_c, frr, frc, new_ids)
+        window = self._apply(_kernel_incremental(), orr, occ_c, frr, frc, new_ids)
         self.last_window = window
         return window
 
@@ -499,7 +495,7 @@ class IncrementalBrushfire:
                 k.gvd_window(*self._pad(b, (1, 1, 1, 1)), self._label, self._dist, self._occ8, self._gvd)
 
     def _relabel(self) -> None:
-        k = _kernels()
+        k = _kernel_incremental()
         rows, cols = self._grid.shape
         self._comp = self._first = None
         comp, _ = self._components(k)

@@ -164,15 +164,11 @@ MAX_SLOWNESS = 1e5
 SQRT2 = math.sqrt(2.0)
 
 
-def _kernel_eikonal() -> Any:
+def _kernels() -> Any:
     """The compiled kernel module (gridfield/fields/_eikonal.pyx), imported on first use."""
     from . import _eikonal  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _eikonal
-
-
-def _kernels() -> Any:
-    return _kernel_eikonal()
 
 
 def _ring(gridmap: GridMap) -> tuple[NDArray[np.bool_], int]:

@@ -55,15 +55,11 @@ POT_HIGH = np.float32(1.0e10)
 MAX_CYCLES_FACTOR = 4
 
 
-def _kernel_navfn() -> Any:
+def _kernels() -> Any:
     """The compiled kernel module (gridfield/fields/_navfn.pyx), imported on first use."""
     from . import _navfn  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _navfn
-
-
-def _kernels() -> Any:
-    return _kernel_navfn()
 
 
 def _as_costmap(target: GridMap, options: NavFn, cache: dict[Any, Any] | None = None) -> Costmap:

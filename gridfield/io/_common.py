@@ -13,10 +13,12 @@ inflates without end is refused, naming its size, before it fills memory.
 
 from __future__ import annotations
 
+import contextlib
 import gzip
 import os
 import stat
 import zlib
+from collections.abc import Iterator
 from pathlib import Path as FsPath
 from typing import Any
 
@@ -79,19 +81,12 @@ def _open_binary(p: FsPath) -> Any:
     return gzip.open(p, "rb") if is_gzip(p) else open(p, "rb")
 
 
-def _read_bytes(p: FsPath) -> bytes:
-    """The file's bytes (decompressed for a ``.gz`` name, at most :func:`gz_limit` of them)."""
-    if not is_gzip(p):
-        try:
-            return p.read_bytes()
-        except OSError as e:
-            raise MapFormatError(f"{p}: cannot read: {e.strerror or e}") from None
-    from ..core.errors import SizeLimitError
-
-    limit = gz_limit()
+@contextlib.contextmanager
+def read_errors(p: FsPath) -> Iterator[None]:
+    """Reading ``p`` (plain or gzip) inside: an unreadable file, a file that is not gzip, is cut short or
+    holds corrupt compressed data becomes one :class:`~gridfield.errors.MapFormatError` naming it."""
     try:
-        with gzip.open(p, "rb") as f:
-            data = f.read(limit + 1)
+        yield
     except gzip.BadGzipFile:
         raise MapFormatError(f"{p}: not a gzip file (its name ends in .gz)") from None
     except EOFError:
@@ -100,6 +95,18 @@ def _read_bytes(p: FsPath) -> bytes:
         raise MapFormatError(f"{p}: cannot read: {e.strerror or e}") from None
     except zlib.error as e:
         raise MapFormatError(f"{p}: corrupt gzip data: {shorten(str(e))}") from None
+
+
+def _read_bytes(p: FsPath) -> bytes:
+    """The file's bytes (decompressed for a ``.gz`` name, at most :func:`gz_limit` of them)."""
+    if not is_gzip(p):
+        with read_errors(p):
+            return p.read_bytes()
+    from ..core.errors import SizeLimitError
+
+    limit = gz_limit()
+    with read_errors(p), gzip.open(p, "rb") as f:
+        data = f.read(limit + 1)
     if len(data) > limit:
         raise SizeLimitError(f"{p}: decompresses to more than {limit} bytes, more than a map within the size "
                              "guard holds (raise it with --max-cells or GRIDFIELD_MAX_CELLS)")

@@ -8,10 +8,8 @@ compared with it to the printed precision (:meth:`Scenarios.tolerance`).
 
 from __future__ import annotations
 
-import gzip
 import itertools
 import os
-import zlib
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path as FsPath
@@ -23,7 +21,7 @@ from numpy.typing import NDArray
 from ..core.errors import MapFormatError, ParameterError, shorten
 from ..core.grid import BORDERS, Grid, GridMap
 from ..core.limits import check_cells
-from ._common import PathLike, _check_file, _choice, _decode_text, _open_binary, _read_bytes
+from ._common import PathLike, _check_file, _choice, _decode_text, _open_binary, _read_bytes, read_errors
 
 # ----------------------------------------------------------------------------------------
 # Moving AI benchmarks
@@ -53,31 +51,22 @@ _SCEN_FIELDS = ("bucket", "map", "width", "height", "start_x", "start_y", "goal_
 def _scen_lines(p: FsPath) -> Iterator[tuple[int, str]]:
     """The file's lines (0-based number, text without the line end), read one at a time: memory stays
     within :data:`SCEN_LINE_MAX` bytes per line whatever the file holds."""
-    try:
-        with _open_binary(p) as f:
-            for i in itertools.count():
-                data = f.readline(SCEN_LINE_MAX + 1)
-                if not data:
-                    return
-                if len(data) > SCEN_LINE_MAX:
-                    raise MapFormatError(f"{p}: line {i + 1}: longer than {SCEN_LINE_MAX} bytes; not a Moving AI "
-                                         "scenario line (nine short fields)")
-                if data.endswith(b"\n"):
-                    data = data[:-1]
-                try:
-                    text = data.decode("utf-8")
-                except UnicodeDecodeError as e:
-                    raise MapFormatError(f"{p}: line {i + 1}: not a text Moving AI scenario file (byte "
-                                         f"0x{data[e.start]:02x} is not UTF-8)") from None
-                yield i, text[:-1] if text.endswith("\r") else text
-    except EOFError:
-        raise MapFormatError(f"{p}: truncated gzip file (it ends before its compressed data does)") from None
-    except gzip.BadGzipFile:
-        raise MapFormatError(f"{p}: not a gzip file (its name ends in .gz)") from None
-    except OSError as e:
-        raise MapFormatError(f"{p}: cannot read: {e.strerror or e}") from None
-    except zlib.error as e:
-        raise MapFormatError(f"{p}: corrupt gzip data: {shorten(str(e))}") from None
+    with read_errors(p), _open_binary(p) as f:
+        for i in itertools.count():
+            data = f.readline(SCEN_LINE_MAX + 1)
+            if not data:
+                return
+            if len(data) > SCEN_LINE_MAX:
+                raise MapFormatError(f"{p}: line {i + 1}: longer than {SCEN_LINE_MAX} bytes; not a Moving AI "
+                                     "scenario line (nine short fields)")
+            if data.endswith(b"\n"):
+                data = data[:-1]
+            try:
+                text = data.decode("utf-8")
+            except UnicodeDecodeError as e:
+                raise MapFormatError(f"{p}: line {i + 1}: not a text Moving AI scenario file (byte "
+                                     f"0x{data[e.start]:02x} is not UTF-8)") from None
+            yield i, text[:-1] if text.endswith("\r") else text
 
 
 def _map_header(p: Any, lines: list[str]) -> tuple[dict[str, str], int]:

@@ -1,13 +1,12 @@
 """The suite reads only what the repository holds: its external maps are in tests/data/maps, each listed
 in that folder's MANIFEST.md with its source, licence and sha256, and nothing under tests/, benchmarks/,
-docs/ or .ci/ names the developers' own ../shared folder (a clone has none)."""
+docs/ or .ci/ names the developers' own folder of maps beside the repository (a clone has none)."""
 
 from __future__ import annotations
 
 import gzip
 import hashlib
-import re
-import subprocess
+import sys
 from pathlib import Path
 
 from mapdata import TEST_MAPS
@@ -46,19 +45,25 @@ def test_the_test_data_stays_small():
     assert total < 4_000_000, f"tests/data holds {total / 1e6:.1f} MB"
 
 
+def _outside_data():
+    sys.path.insert(0, str(REPO / "tools"))
+    try:
+        import outside_data
+    finally:
+        sys.path.pop(0)
+    return outside_data
+
+
 def test_nothing_reads_the_shared_folder_beside_the_repository():
-    """No file of tests/, benchmarks/, docs/ or .ci/ (nor the root conftest) names ../shared: the suite,
-    the benchmarks and the docs build must run on a clone alone."""
-    tracked = subprocess.run(["git", "ls-files", "tests", "benchmarks", "docs", ".ci", "conftest.py"], cwd=REPO,
-                             capture_output=True, text=True, check=True).stdout.split()
-    pattern = re.compile(r"""\.\./shared|["']shared["']\s*/|/\s*["']shared["']|parent\s*/\s*["']shared|shared/maps""")
-    offenders = []
-    for name in tracked:
-        if name == "tests/test_data_manifest.py":  # this file names the folder to look for it
-            continue
-        path = REPO / name
-        if path.suffix in {".gz", ".png", ".gif", ".npz", ".pgm", ".bmp", ".mp4", ".jpg"} or not path.is_file():
-            continue
-        text = path.read_text(errors="replace")
-        offenders += [f"{name}:{i}" for i, line in enumerate(text.splitlines(), 1) if pattern.search(line)]
-    assert not offenders, offenders
+    """No file of tests/, benchmarks/, docs/ or .ci/ (nor the root conftest) names the developers' folder
+    beside the repository (``tools/outside_data.py``): the suite, the benchmarks and the docs build must
+    run on a clone alone."""
+    tool = _outside_data()
+    names = tool.tracked(REPO)
+    assert "tests/test_data_manifest.py" in names and len(names) > 100  # the search sees the tree
+    assert tool.offenders(REPO, names) == []
+
+
+def test_the_search_finds_a_line_naming_the_folder():
+    """The check can fail: the tool's own source names the folder (in its docstring and pattern)."""
+    assert _outside_data().offenders(REPO, ["tools/outside_data.py"])

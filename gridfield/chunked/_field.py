@@ -56,9 +56,9 @@ def field(
     nearest_row: Any,
     nearest_col: Any,
     *,
-    goal_cell: tuple[int, int],
+    goal_cell: tuple[int, ...],
     resolution: float = 1.0,
-    origin: tuple[float, float] = (0.0, 0.0),
+    origin: tuple[float, ...] = (0.0, 0.0),
     params: Mapping[str, Any] | None = None,
     metric: str = "euclidean",
 ) -> dict[str, Any]:

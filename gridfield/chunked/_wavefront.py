@@ -84,7 +84,7 @@ def _tile(u: NDArray[np.float64], occ: NDArray[np.bool_], diag: float) -> NDArra
     return out
 
 
-def wavefront(occupied: Any, goal_cell: tuple[int, int], *, costs: str = "octile",
+def wavefront(occupied: Any, goal_cell: tuple[int, ...], *, costs: str = "octile",
               max_rounds: int | None = None) -> tuple[Any, int]:
     """The wavefront (grid navigation function) of a chunked occupancy, exact, by rounds of tile-wise
     Dijkstra with boundary exchange (see the module notes).
@@ -175,7 +175,7 @@ def _upwind_block(u: NDArray[np.float64], res: float, axis: int) -> NDArray[np.f
     return g
 
 
-def nf1_octile_field(occupied: Any, goal_cell: tuple[int, int], *, resolution: float = 1.0,
+def nf1_octile_field(occupied: Any, goal_cell: tuple[int, ...], *, resolution: float = 1.0,
                      max_rounds: int | None = None) -> tuple[dict[str, Any], int]:
     """The complete model ``nf1`` with ``attraction: octile`` (the octile wavefront as the potential: one
     minimum, the goal) and its gradient, chunk by chunk: equal bit for bit to

@@ -147,7 +147,7 @@ def _run_chunked(args: argparse.Namespace) -> int:
     return 0
 
 
-def _run_chunked_nf1(args: argparse.Namespace, gridmap: Any, cell: tuple[int, int], gxy: tuple[float, ...],
+def _run_chunked_nf1(args: argparse.Namespace, gridmap: Any, cell: tuple[int, ...], gxy: tuple[float, ...],
                      given: dict[str, Any]) -> int:
     """``--out F.zarr`` with ``model: nf1, attraction: octile``: the complete field by the chunked wavefront
     (gridfield.chunked.nf1_octile_field), bit-identical to the in-memory field; a wall border only."""

@@ -16,12 +16,19 @@ from .errors import ParameterError, shorten
 __all__ = ["INDEX_LIMIT", "as_points", "as_xy", "cell_index", "scalar_index"]
 
 
-def as_points(points: ArrayLike, name: str = "points") -> NDArray[np.float64]:
+def as_points(points: ArrayLike, name: str = "points", ndim: int = 2) -> NDArray[np.float64]:
+    """World points as a float array of shape ``(N, ndim)`` (a single point ``(ndim,)`` becomes one row).
+
+    Examples
+    --------
+    >>> as_points([1, 2]).shape, as_points([[1, 2, 3]], ndim=3).shape
+    ((1, 2), (1, 3))
+    """
     p = np.asarray(points, dtype=np.float64)
-    if p.ndim == 1 and p.shape[0] == 2:
+    if p.ndim == 1 and p.shape[0] == ndim:
         p = p[None, :]
-    if p.ndim != 2 or p.shape[1] != 2:
-        raise ParameterError(f"{name} must have shape (N, 2) or (2,), got shape {np.shape(points)}")
+    if p.ndim != 2 or p.shape[1] != ndim:
+        raise ParameterError(f"{name} must have shape (N, {ndim}) or ({ndim},), got shape {np.shape(points)}")
     return p
 
 

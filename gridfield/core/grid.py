@@ -8,6 +8,11 @@ Conventions (written once, used everywhere in gridfield):
   ``y in [y0 + iy*res, y0 + (iy+1)*res)``; its centre is ``origin + (ix + 0.5, iy + 0.5) * res``.
 - Points cross public boundaries as world coordinates ``(x, y)`` in arrays of shape ``(N, 2)``;
   cells as integer arrays of shape ``(N, 2)`` holding ``(row, col)``.
+
+Voxel grids (3-D) follow the same rules on one more axis: arrays are indexed ``[z, y, x] ==
+[layer, row, col]``, index 0 is the lowest coordinate on every axis, cell centres are at ``origin +
+(index + 0.5) * resolution``, points are ``(x, y, z)`` in arrays of shape ``(N, 3)`` and cells
+``(layer, row, col)`` in ``(N, 3)``: the point's coordinates in reverse order of the array's axes.
 """
 
 from __future__ import annotations
@@ -35,17 +40,24 @@ __all__ = ["BORDERS", "RESOLUTION_RANGE", "Grid", "GridMap", "check_resolution"]
 RESOLUTION_RANGE = (1e-75, 1e75)
 
 BORDERS = ("open", "wall")
+_DEFAULT_ORIGIN = (0.0, 0.0)  # Grid's default; a voxel grid given it (by identity) starts at (0, 0, 0)
 Border = Literal["open", "wall"]
 
 
-def _check_shape(shape: object) -> tuple[int, int]:
-    """``shape`` as two positive Python ints, or :class:`ParameterError`."""
-    msg = f"grid shape must be two positive integers (rows, cols), got {shorten(shape)}"
+#: The dimensions a grid may have: a map (rows, cols) or a voxel grid (layers, rows, cols).
+NDIMS = (2, 3)
+_AXES = "xyz"
+
+
+def _check_shape(shape: object) -> tuple[int, ...]:
+    """``shape`` as two or three positive Python ints, or :class:`ParameterError`."""
+    msg = (f"grid shape must be two positive integers (rows, cols) or three (layers, rows, cols), "
+           f"got {shorten(shape)}")
     try:
         dims = tuple(cast("Iterable[object]", shape))
     except TypeError:
         raise ParameterError(msg) from None
-    if len(dims) != 2:
+    if len(dims) not in NDIMS:
         raise ParameterError(msg)
     out = []
     for d in dims:
@@ -54,7 +66,7 @@ def _check_shape(shape: object) -> tuple[int, int]:
         if not (math.isfinite(d) and float(d).is_integer() and d > 0):
             raise ParameterError(msg)
         out.append(int(d))
-    return out[0], out[1]
+    return tuple(out)
 
 
 def check_resolution(value: object, name: str = "resolution") -> float:
@@ -95,16 +107,18 @@ def check_resolution(value: object, name: str = "resolution") -> float:
 
 @dataclass(frozen=True)
 class Grid:
-    """Geometry of a 2-D grid: shape, cell size, world position of the lower-left corner, border.
+    """Geometry of a 2-D grid or a 3-D voxel grid: shape, cell size, world position of the lowest
+    corner, border.
 
     Parameters
     ----------
-    shape : (int, int)
-        ``(rows, cols)``; rows grow with y.
+    shape : (int, int) or (int, int, int)
+        ``(rows, cols)``; rows grow with y. A voxel grid: ``(layers, rows, cols)``, layers grow with z.
     resolution : float
-        Cell edge length in world units (> 0).
-    origin : (float, float)
-        World coordinates of the lower-left corner of cell ``(0, 0)``.
+        Cell edge length in world units (> 0), the same on every axis.
+    origin : (float, float) or (float, float, float)
+        World coordinates ``(x, y)`` (a voxel grid: ``(x, y, z)``) of the lowest corner of cell ``(0, 0)``
+        (default: zeros).
     border : {"open", "wall"}
         What lies outside the grid: free space or an obstacle.
 
@@ -117,54 +131,84 @@ class Grid:
     >>> cells, inside = g.world_to_cell([[1.3, 2.9], [9.0, 9.0]])
     >>> cells.tolist(), inside.tolist()
     ([[1, 0], [14, 16]], [True, False])
+
+    A voxel grid: points ``(x, y, z)``, cells ``(layer, row, col)``.
+
+    >>> v = Grid((4, 2, 3), 1.0, origin=(0.0, 0.0, 10.0))
+    >>> v.ndim, v.bounds
+    (3, (0.0, 0.0, 10.0, 3.0, 2.0, 14.0))
+    >>> v.cell_to_world([[3, 1, 2]]).tolist(), v.cell_of(2.5, 1.5, 13.5)
+    ([[2.5, 1.5, 13.5]], (3, 1, 2))
     """
 
-    shape: tuple[int, int]
+    shape: tuple[int, ...]
     resolution: float
-    origin: tuple[float, float] = (0.0, 0.0)
+    origin: tuple[float, ...] = _DEFAULT_ORIGIN
     border: Border = "open"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "shape", _check_shape(self.shape))
+        shape = _check_shape(self.shape)
+        object.__setattr__(self, "shape", shape)
+        nd = len(shape)
         object.__setattr__(self, "resolution", check_resolution(self.resolution))
+        origin: object = self.origin
+        if nd == 3 and origin is _DEFAULT_ORIGIN:
+            origin = (0.0, 0.0, 0.0)
         try:
-            n_origin = len(tuple(self.origin))
+            n_origin = len(tuple(cast("Iterable[object]", origin)))
         except TypeError:
             n_origin = -1
-        if n_origin != 2:
-            raise ParameterError(f"origin must be two numbers (x, y), got {shorten(self.origin)}")
-        check_finite("origin", self.origin)
-        object.__setattr__(self, "origin", (float(self.origin[0]), float(self.origin[1])))
+        if n_origin != nd:
+            names = ", ".join(_AXES[:nd])
+            raise ParameterError(f"origin must be {'two' if nd == 2 else 'three'} numbers ({names}) for a "
+                                 f"{nd}-D grid, got {shorten(origin)}")
+        check_finite("origin", cast("Iterable[float]", origin))
+        object.__setattr__(self, "origin", tuple(float(o) for o in cast("Iterable[float]", origin)))
         if self.border not in BORDERS:
             raise ParameterError(f"border must be one of {BORDERS}, got {shorten(self.border)}")
-        if not (math.isfinite(self.origin[0] + self.shape[1] * self.resolution)
-                and math.isfinite(self.origin[1] + self.shape[0] * self.resolution)):
+        sizes = shape[::-1]  # along x, y (, z)
+        if not all(math.isfinite(o + n * self.resolution) for o, n in zip(self.origin, sizes, strict=True)):
             raise ParameterError(
-                f"a {self.shape[0]} x {self.shape[1]} grid of resolution {self.resolution:g} at origin "
-                f"({self.origin[0]:g}, {self.origin[1]:g}) reaches beyond the largest floating-point number"
+                f"a {' x '.join(map(str, shape))} grid of resolution {self.resolution:g} at origin "
+                f"({', '.join(f'{o:g}' for o in self.origin)}) reaches beyond the largest floating-point number"
             )
-        check_cells(self.shape, "grid")
+        check_cells(shape, "grid")
 
     # -- derived geometry ---------------------------------------------------------------
     @property
+    def ndim(self) -> int:
+        """2 for a map, 3 for a voxel grid."""
+        return len(self.shape)
+
+    @property
     def rows(self) -> int:
-        return self.shape[0]
+        """Cells along y."""
+        return self.shape[-2]
 
     @property
     def cols(self) -> int:
-        return self.shape[1]
+        """Cells along x."""
+        return self.shape[-1]
 
     @property
-    def bounds(self) -> tuple[float, float, float, float]:
-        """``(xmin, ymin, xmax, ymax)`` of the area the grid covers."""
-        x0, y0 = self.origin
-        return (x0, y0, x0 + self.cols * self.resolution, y0 + self.rows * self.resolution)
+    def layers(self) -> int:
+        """Cells along z (1 for a 2-D grid)."""
+        return self.shape[0] if len(self.shape) == 3 else 1
+
+    @property
+    def bounds(self) -> tuple[float, ...]:
+        """``(xmin, ymin, xmax, ymax)`` of the area the grid covers; a voxel grid's
+        ``(xmin, ymin, zmin, xmax, ymax, zmax)``."""
+        lo = self.origin
+        hi = tuple(o + n * self.resolution for o, n in zip(lo, self.shape[::-1], strict=True))
+        return (*lo, *hi)
 
     @property
     def extent(self) -> tuple[float, float, float, float]:
-        """``(xmin, xmax, ymin, ymax)`` for ``imshow(..., origin="lower", extent=...)``."""
-        xmin, ymin, xmax, ymax = self.bounds
-        return (xmin, xmax, ymin, ymax)
+        """``(xmin, xmax, ymin, ymax)`` for ``imshow(..., origin="lower", extent=...)`` (of the x-y
+        plane, for a voxel grid)."""
+        x0, y0 = self.origin[0], self.origin[1]
+        return (x0, x0 + self.cols * self.resolution, y0, y0 + self.rows * self.resolution)
 
     def with_border(self, border: Border) -> Grid:
         """Return the same geometry with another ``border``."""
@@ -172,29 +216,38 @@ class Grid:
 
     @classmethod
     def covering(
-        cls, bounds: tuple[float, float, float, float], resolution: float, *, border: Border = "open"
+        cls, bounds: tuple[float, ...], resolution: float, *, border: Border = "open"
     ) -> Grid:
-        """The grid with cells of size ``resolution`` whose lower-left corner is at ``bounds[:2]``
+        """The grid with cells of size ``resolution`` whose lowest corner is at the bounds' minimum
         and which covers ``bounds`` (the last row/column may stick out when the size is not a
         multiple of ``resolution``).
+
+        ``bounds`` is ``[xmin, ymin, xmax, ymax]`` for a map, ``[xmin, ymin, zmin, xmax, ymax, zmax]``
+        for a voxel grid.
 
         Examples
         --------
         >>> Grid.covering((0, 0, 25, 20), 0.5).shape
         (40, 50)
+        >>> Grid.covering((0, 0, 0, 3, 2, 1), 0.5).shape
+        (2, 4, 6)
         """
         res = check_resolution(resolution)
         check_finite("bounds", bounds)
-        if len(tuple(bounds)) != 4:
-            raise ParameterError(f"bounds must be [xmin, ymin, xmax, ymax], got {list(bounds)}")
-        xmin, ymin, xmax, ymax = (float(b) for b in bounds)
-        if not (xmax > xmin and ymax > ymin):
-            raise ParameterError(f"bounds must be [xmin, ymin, xmax, ymax] with max > min, got {list(bounds)}")
-        check_cells(((ymax - ymin) / res, (xmax - xmin) / res), f"bounds {list(bounds)} at resolution {res:g}")
+        b = [float(v) for v in bounds]
+        if len(b) not in (4, 6):
+            raise ParameterError(f"bounds must be [xmin, ymin, xmax, ymax] (or [xmin, ymin, zmin, xmax, ymax, zmax] "
+                                 f"for a voxel grid), got {list(bounds)}")
+        nd = len(b) // 2
+        lo, hi = b[:nd], b[nd:]
+        if not all(h > v for v, h in zip(lo, hi, strict=True)):
+            raise ParameterError(f"bounds must be [{', '.join(f'{a}min' for a in _AXES[:nd])}, "
+                                 f"{', '.join(f'{a}max' for a in _AXES[:nd])}] with max > min, got {list(bounds)}")
+        check_cells([(h - v) / res for v, h in zip(lo[::-1], hi[::-1], strict=True)],
+                    f"bounds {list(bounds)} at resolution {res:g}")
         # Tolerate floating noise: 25 / 0.1 = 250.00000000000003 must give 250 columns.
-        cols = max(1, math.ceil((xmax - xmin) / res - 1e-9))
-        rows = max(1, math.ceil((ymax - ymin) / res - 1e-9))
-        return cls((rows, cols), res, (xmin, ymin), border)
+        sizes = [max(1, math.ceil((h - v) / res - 1e-9)) for v, h in zip(lo, hi, strict=True)]
+        return cls(tuple(sizes[::-1]), res, tuple(lo), border)
 
     # -- conversions --------------------------------------------------------------------
     def world_to_cell(self, points: ArrayLike) -> tuple[NDArray[np.intp], NDArray[np.bool_]]:
@@ -205,21 +258,21 @@ class Grid:
         one; use the mask. Non-finite points get ``(-1, -1)`` and ``False``. A point exactly on a
         cell boundary ``origin + i * res`` (as computed in floating point) belongs to cell ``i``.
         """
-        p = as_points(points)
-        x0, y0 = self.origin
-        col = cell_index(p[:, 0], x0, self.resolution)
-        row = cell_index(p[:, 1], y0, self.resolution)
-        finite = np.isfinite(col) & np.isfinite(row)
+        nd = len(self.shape)
+        p = as_points(points, ndim=nd)
+        idx = [cell_index(p[:, a], self.origin[a], self.resolution) for a in range(nd)]  # along x, y (, z)
+        finite = np.logical_and.reduce([np.isfinite(i) for i in idx])
         lim = INDEX_LIMIT
-        col = np.clip(np.where(finite, col, -1), -lim, lim).astype(np.intp)
-        row = np.clip(np.where(finite, row, -1), -lim, lim).astype(np.intp)
-        inside = finite & (row >= 0) & (row < self.rows) & (col >= 0) & (col < self.cols)
-        return np.stack([row, col], axis=1), inside
+        out = [np.clip(np.where(finite, i, -1), -lim, lim).astype(np.intp) for i in idx]
+        inside = finite.copy()
+        for i, n in zip(out, self.shape[::-1], strict=True):
+            inside &= (i >= 0) & (i < n)
+        return np.stack(out[::-1], axis=1), inside
 
-    def cell_of(self, x: float, y: float) -> tuple[int, int] | None:
+    def cell_of(self, x: float, y: float, z: float | None = None) -> tuple[int, ...] | None:
         """The cell ``(row, col)`` holding one world point, or ``None`` when it lies outside the grid
         or is not finite. The same rule as :meth:`world_to_cell`, for a single point at a fraction of
-        its cost.
+        its cost. A voxel grid takes ``z`` too and gives ``(layer, row, col)``.
 
         Examples
         --------
@@ -232,32 +285,41 @@ class Grid:
             return None
         r = scalar_index(y, self.origin[1], self.resolution)
         c = scalar_index(x, self.origin[0], self.resolution)
+        if len(self.shape) == 3:
+            if z is None:
+                raise ParameterError("a voxel grid's point needs three coordinates (x, y, z)")
+            zf = float(z)
+            if not math.isfinite(zf):
+                return None
+            k = scalar_index(zf, self.origin[2], self.resolution)
+            if 0 <= k < self.shape[0] and 0 <= r < self.shape[1] and 0 <= c < self.shape[2]:
+                return k, r, c
+            return None
         if 0 <= r < self.shape[0] and 0 <= c < self.shape[1]:
             return r, c
         return None
 
     def cell_to_world(self, cells: ArrayLike) -> NDArray[np.float64]:
-        """World coordinates ``(x, y)`` of the centres of cells given as ``(row, col)``."""
+        """World coordinates ``(x, y)`` of the centres of cells given as ``(row, col)`` (a voxel grid:
+        ``(x, y, z)`` of cells ``(layer, row, col)``)."""
+        nd = len(self.shape)
         c = np.asarray(cells)
-        if c.ndim == 1 and c.shape[0] == 2:
+        if c.ndim == 1 and c.shape[0] == nd:
             c = c[None, :]
-        if c.ndim != 2 or c.shape[1] != 2:
-            raise ParameterError(f"cells must have shape (N, 2) holding (row, col), got shape {np.shape(cells)}")
-        x0, y0 = self.origin
-        x = x0 + (c[:, 1] + 0.5) * self.resolution
-        y = y0 + (c[:, 0] + 0.5) * self.resolution
-        return np.stack([x, y], axis=1)
+        if c.ndim != 2 or c.shape[1] != nd:
+            what = "(row, col)" if nd == 2 else "(layer, row, col)"
+            raise ParameterError(f"cells must have shape (N, {nd}) holding {what}, got shape {np.shape(cells)}")
+        return np.stack([self.origin[a] + (c[:, nd - 1 - a] + 0.5) * self.resolution for a in range(nd)], axis=1)
 
     def contains(self, points: ArrayLike) -> NDArray[np.bool_]:
         """Whether each world point lies inside the area the grid covers."""
         return self.world_to_cell(points)[1]
 
-    def cell_centers(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """1-D arrays of the x coordinates of the column centres and y of the row centres."""
-        x0, y0 = self.origin
-        xs = x0 + (np.arange(self.cols) + 0.5) * self.resolution
-        ys = y0 + (np.arange(self.rows) + 0.5) * self.resolution
-        return np.asarray(xs, dtype=np.float64), np.asarray(ys, dtype=np.float64)
+    def cell_centers(self) -> tuple[NDArray[np.float64], ...]:
+        """1-D arrays of the x coordinates of the column centres and y of the row centres (and, for a
+        voxel grid, z of the layer centres)."""
+        return tuple(np.asarray(o + (np.arange(n) + 0.5) * self.resolution, dtype=np.float64)
+                     for o, n in zip(self.origin, self.shape[::-1], strict=True))
 
 
 @dataclass(frozen=True, eq=False)
@@ -268,6 +330,7 @@ class GridMap:
     ----------
     grid : Grid
     occupied : ndarray of bool, shape ``grid.shape``
+        2-D ``[row, col]``, or 3-D ``[layer, row, col]`` for a voxel grid.
     obstacle_id : ndarray of int32, optional
         For grids rasterized from a vector world: the (1-based) id of the world obstacle that
         occupies each cell, 0 for free cells.
@@ -345,6 +408,8 @@ class GridMap:
                 raise GridfieldError(f"obstacle_id has shape {ids.shape}, but the grid has shape {self.grid.shape}")
             object.__setattr__(self, "obstacle_id", ids.astype(np.int32, copy=False))
         if self.diagonals is not None:
+            if self.grid.ndim != 2:
+                raise ParameterError("diagonals belong to 2-D maps (a disc robot's corner passages); a voxel grid has none")
             d = np.asarray(self.diagonals)
             want = (max(self.grid.rows - 1, 0), max(self.grid.cols - 1, 0))
             if d.shape != want:
@@ -354,8 +419,13 @@ class GridMap:
             object.__setattr__(self, "diagonals", np.ascontiguousarray(d, dtype=np.uint8))
 
     @property
-    def shape(self) -> tuple[int, int]:
+    def shape(self) -> tuple[int, ...]:
         return self.grid.shape
+
+    @property
+    def ndim(self) -> int:
+        """2 for a map, 3 for a voxel grid."""
+        return self.grid.ndim
 
     @property
     def occupied_fraction(self) -> float:
@@ -365,40 +435,41 @@ class GridMap:
         """Whether each world point lies in a free cell. Outside the grid: free iff the border is open."""
         cells, inside = self.grid.world_to_cell(points)
         free = np.full(len(cells), self.grid.border == "open")
-        r, c = cells[inside].T
-        free[inside] = ~self.occupied[r, c]
-        p = as_points(points)
+        free[inside] = ~self.occupied[tuple(cells[inside].T)]
+        p = as_points(points, ndim=self.grid.ndim)
         free &= np.isfinite(p).all(axis=1)
         return free
 
     def check_point(self, name: str, point: ArrayLike) -> NDArray[np.float64]:
-        """Validate a start/goal point: finite, inside the map, in a free cell. Returns it as ``(2,)``.
+        """Validate a start/goal point: finite, inside the map, in a free cell. Returns it as ``(2,)``
+        (a voxel grid's as ``(3,)``).
 
         Raises :class:`GridfieldError` naming the point and what is wrong.
         """
+        nd = self.grid.ndim
         try:  # fast path: a finite point in a free cell (single queries on small maps are dominated by this)
             p = np.asarray(point, dtype=np.float64).reshape(-1)
-            if p.shape == (2,):
-                cell = self.grid.cell_of(p[0], p[1])
+            if p.shape == (nd,):
+                cell = self.grid.cell_of(*p)
                 if cell is not None and not self.occupied[cell]:
                     return p
         except (TypeError, ValueError):
             pass
+        want = "two numbers X Y" if nd == 2 else "three numbers X Y Z"
         try:
             p = np.asarray(point, dtype=np.float64).reshape(-1)
         except (TypeError, ValueError):
-            raise ParameterError(f"{name} must be two numbers X Y, got {shorten(point)}") from None
-        if p.shape != (2,):
-            raise ParameterError(f"{name} must be two numbers X Y, got {shorten(point)}")
+            raise ParameterError(f"{name} must be {want}, got {shorten(point)}") from None
+        if p.shape != (nd,):
+            raise ParameterError(f"{name} must be {want}, got {shorten(point)}")
         check_finite(name, p)
+        where = f"({', '.join(f'{v:g}' for v in p)})"
         if not self.grid.contains(p)[0]:
-            xmin, ymin, xmax, ymax = self.grid.bounds
-            raise GridfieldError(
-                f"{name} ({p[0]:g}, {p[1]:g}) lies outside the map, which covers "
-                f"x in [{xmin:g}, {xmax:g}), y in [{ymin:g}, {ymax:g})"
-            )
+            b = self.grid.bounds
+            spans = ", ".join(f"{a} in [{b[i]:g}, {b[i + nd]:g})" for i, a in enumerate("xyz"[:nd]))
+            raise GridfieldError(f"{name} {where} lies outside the map, which covers {spans}")
         if not self.is_free(p)[0]:
-            raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}) lies inside an obstacle{self._free_hint(p)}")
+            raise GridfieldError(f"{name} {where} lies inside an obstacle{self._free_hint(p)}")
         return p
 
     def _free_hint(self, p: NDArray[np.float64]) -> str:
@@ -408,18 +479,18 @@ class GridMap:
         near = self.nearest_free(p)
         if near is None:
             return ""
-        text = f"; the nearest free cell's centre is ({near[0]:.6g}, {near[1]:.6g})"
+        text = f"; the nearest free cell's centre is ({', '.join(f'{v:.6g}' for v in near)})"
         if not isinstance(self.occupied, np.ndarray):
             return text
         from scipy import ndimage
 
-        labels, n = ndimage.label(~self.occupied, structure=np.ones((3, 3), bool))
+        labels, n = ndimage.label(~self.occupied, structure=np.ones((3,) * self.occupied.ndim, bool))
         if n < 2:
             return text
         sizes = np.bincount(labels.ravel())
         sizes[0] = 0
         big = int(np.argmax(sizes))
-        cell = self.grid.cell_of(near[0], near[1])
+        cell = self.grid.cell_of(*near)
         if cell is None or labels[cell] == big:
             return text
         main = self.nearest_free(p, among=labels == big)
@@ -428,7 +499,7 @@ class GridMap:
         k = int(sizes[labels[cell]])
         return (f"{text}, in a pocket of {k} free cell{'' if k == 1 else 's'} closed off from the rest; the "
                 f"nearest cell of the map's largest free region ({int(sizes[big])} cells) is at "
-                f"({main[0]:.6g}, {main[1]:.6g})")
+                f"({', '.join(f'{v:.6g}' for v in main)})")
 
     def nearest_free(self, point: ArrayLike, among: NDArray[np.bool_] | None = None) -> NDArray[np.float64] | None:
         """The centre of the free cell nearest to a point (Euclidean, between cell centres; ties to the
@@ -455,23 +526,28 @@ class GridMap:
         >>> GridMap(Grid((3, 4), 1.0), occ).nearest_free((0.5, 1.5)).tolist()
         [2.5, 1.5]
         """
-        p = np.asarray(point, dtype=np.float64).reshape(2)
-        rows, cols = self.shape
-        x0, y0 = self.grid.origin
+        nd = self.grid.ndim
+        p = np.asarray(point, dtype=np.float64).reshape(nd)
+        shape = self.shape
         h = self.grid.resolution
-        r0 = min(max(int(np.floor((p[1] - y0) / h)), 0), rows - 1)
-        c0 = min(max(int(np.floor((p[0] - x0) / h)), 0), cols - 1)
-        for half in (8, 64, 512, max(rows, cols)):
-            ra, rb, ca, cb = max(r0 - half, 0), min(r0 + half + 1, rows), max(c0 - half, 0), min(c0 + half + 1, cols)
-            win = ~np.asarray(self.occupied[ra:rb, ca:cb], dtype=bool) if among is None else among[ra:rb, ca:cb]
-            rr, cc = np.nonzero(win)
-            if rr.size == 0:
+        # the point's cell in array order ([layer,] row, col), clamped to the grid
+        centre = [min(max(int(np.floor((p[a] - self.grid.origin[a]) / h)), 0), shape[nd - 1 - a] - 1)
+                  for a in range(nd)][::-1]
+        for half in (8, 64, 512, max(shape)):
+            lo = [max(c - half, 0) for c in centre]
+            hi = [min(c + half + 1, n) for c, n in zip(centre, shape, strict=True)]
+            sl = tuple(slice(a, b) for a, b in zip(lo, hi, strict=True))
+            win = ~np.asarray(self.occupied[sl], dtype=bool) if among is None else among[sl]
+            idx = np.nonzero(win)
+            if idx[0].size == 0:
                 continue
-            d2 = (rr + ra - r0) ** 2 + (cc + ca - c0) ** 2
+            d2: NDArray[np.intp] = np.sum([(i + a - c) ** 2 for i, a, c in zip(idx, lo, centre, strict=True)], axis=0)
             k = int(np.argmin(d2))
             # the nearest cell found lies within the window's inscribed radius, or the window is the map
-            if d2[k] <= half * half or (ra == 0 and ca == 0 and rb == rows and cb == cols):
-                return np.array([x0 + (cc[k] + ca + 0.5) * h, y0 + (rr[k] + ra + 0.5) * h])
+            whole = all(a == 0 for a in lo) and all(b == n for b, n in zip(hi, shape, strict=True))
+            if d2[k] <= half * half or whole:
+                cell = [int(i[k]) + a for i, a in zip(idx, lo, strict=True)]
+                return np.array([self.grid.origin[a] + (cell[nd - 1 - a] + 0.5) * h for a in range(nd)])
         return None
 
     def with_occupied(self, occupied: NDArray[np.bool_], **changes: object) -> GridMap:

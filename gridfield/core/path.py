@@ -163,11 +163,11 @@ class NavigationAux(TypedDict, total=False):
 
 
 def path_length(points: NDArray[np.float64]) -> float:
-    """Sum of the Euclidean lengths of the segments of a polyline ``(N, 2)``.
+    """Sum of the Euclidean lengths of the segments of a polyline ``(N, 2)`` (or ``(N, 3)``).
 
     Parameters
     ----------
-    points : ndarray, shape (N, 2)
+    points : ndarray, shape (N, 2) or (N, 3)
         The polyline's vertices in world coordinates.
 
     Returns
@@ -179,11 +179,16 @@ def path_length(points: NDArray[np.float64]) -> float:
     --------
     >>> path_length(np.array([[0.0, 0.0], [3.0, 4.0], [3.0, 5.0]]))
     6.0
+    >>> path_length(np.array([[0.0, 0.0, 0.0], [2.0, 3.0, 6.0]]))
+    7.0
     """
     p = np.asarray(points, dtype=float)
     if len(p) < 2:
         return 0.0
-    return float(np.hypot(*np.diff(p, axis=0).T).sum())
+    d = np.diff(p, axis=0)
+    if d.shape[1] == 2:
+        return float(np.hypot(*d.T).sum())
+    return float(np.sqrt((d * d).sum(axis=1)).sum())
 
 
 @dataclass(frozen=True, eq=False)
@@ -193,7 +198,8 @@ class Path:
     Attributes
     ----------
     points : ndarray, shape (N, 2)
-        World coordinates from the start to where the planner stopped.
+        World coordinates from the start to where the planner stopped; ``(N, 3)`` holding ``(x, y, z)``
+        on a voxel grid.
     status : str
         One of :data:`STATUSES`.
     planner : str
@@ -241,7 +247,9 @@ class Path:
         unknown = sorted(set(self.extra) - EXTRA_KEYS)
         if unknown:
             raise ValueError(f"Path.extra keys {unknown} are not in gridfield.core.path.PathExtra; add them there")
-        pts = np.asarray(self.points, dtype=float).reshape(-1, 2)
+        pts = np.asarray(self.points, dtype=float)
+        if not (pts.ndim == 2 and pts.shape[1] == 3):
+            pts = pts.reshape(-1, 2)
         object.__setattr__(self, "points", pts)
 
     @property
@@ -250,7 +258,7 @@ class Path:
 
     @property
     def end(self) -> NDArray[np.float64]:
-        return self.points[-1] if len(self.points) else np.array([math.nan, math.nan])
+        return self.points[-1] if len(self.points) else np.full(self.points.shape[1], math.nan)
 
     @property
     def reached(self) -> bool:
@@ -334,6 +342,6 @@ class Path:
         return out
 
     def __repr__(self) -> str:
-        x, y = self.end
+        end = ", ".join(f"{v:.6g}" for v in self.end)
         return (f"Path(planner={self.planner!r}, status={self.status!r}, points={len(self.points)}, "
-                f"length={self.length:.6g}, end=({x:.6g}, {y:.6g}), iterations={self.iterations})")
+                f"length={self.length:.6g}, end=({end}), iterations={self.iterations})")

@@ -44,7 +44,7 @@ class DistanceMap:
         ``metric`` (``inf`` where there is none). With ``saturate``, distances ``>= saturate`` are
         replaced by ``far``.
     nearest_row, nearest_col : ndarray of int32 or None
-        Cell index of the nearest obstacle cell: exactly at ``distance`` by ``metric``; on ties any one
+        Cell index (row: along y, col: along x) of the nearest obstacle cell: exactly at ``distance`` by ``metric``; on ties any one
         of the nearest. The wall border's cells are row ``-1`` / ``rows`` or column ``-1`` / ``cols``
         (never a corner of the ring). -1 on both where there is no obstacle. ``None`` when computed
         with ``compute_nearest=False``.
@@ -67,6 +67,10 @@ class DistanceMap:
         Saturation radius used (seed 004), or None.
     far : float
         Value that replaced saturated distances.
+    nearest_layer : ndarray of int32 or None
+        On a voxel grid: the layer (index along z) of the nearest obstacle cell, as ``nearest_row`` and
+        ``nearest_col`` (a wall border's cells are layer ``-1`` / ``layers`` on the floor and ceiling);
+        ``None`` on a 2-D map.
 
     Examples
     --------
@@ -101,6 +105,7 @@ class DistanceMap:
     gvd: NDArray[np.bool_] | None
     saturate: float | None = None
     far: float = np.inf
+    nearest_layer: NDArray[np.int32] | None = None
 
     def __repr__(self) -> str:
         parts = [f"shape={self.grid.shape}", f"metric={self.metric!r}"]
@@ -114,8 +119,20 @@ class DistanceMap:
     def grid(self) -> Grid:
         return self.map.grid
 
-    def nearest_point(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """World coordinates ``(x, y)`` of the centre of each cell's nearest obstacle cell.
+    @property
+    def nearest_index(self) -> tuple[NDArray[np.int32], ...]:
+        """The nearest obstacle cell's index per array axis: ``(nearest_row, nearest_col)``, or on a
+        voxel grid ``(nearest_layer, nearest_row, nearest_col)``."""
+        if self.nearest_row is None or self.nearest_col is None:
+            raise GridfieldError("this distance map was computed with compute_nearest=False; "
+                                 "call brushfire(..., compute_nearest=True) to get nearest obstacles")
+        if self.nearest_layer is not None:
+            return self.nearest_layer, self.nearest_row, self.nearest_col
+        return self.nearest_row, self.nearest_col
+
+    def nearest_point(self) -> tuple[NDArray[np.float64], ...]:
+        """World coordinates ``(x, y)`` of the centre of each cell's nearest obstacle cell (on a voxel
+        grid ``(x, y, z)``: one array per axis).
 
         NaN where there is no obstacle at all. Wall-border cells lie just outside the grid.
 
@@ -133,10 +150,9 @@ class DistanceMap:
             raise GridfieldError("this distance map was computed with compute_nearest=False; "
                                  "call brushfire(..., compute_nearest=True) to get nearest obstacles")
         g = self.grid
-        x = g.origin[0] + (self.nearest_col + 0.5) * g.resolution
-        y = g.origin[1] + (self.nearest_row + 0.5) * g.resolution
-        none = (self.nearest_row == -1) & (self.nearest_col == -1) & (g.border == "open")
-        return np.where(none, np.nan, x), np.where(none, np.nan, y)
+        idx = self.nearest_index[::-1]  # along x, y (, z)
+        none = np.logical_and.reduce([i == -1 for i in idx]) & (g.border == "open")
+        return tuple(np.where(none, np.nan, g.origin[a] + (i + 0.5) * g.resolution) for a, i in enumerate(idx))
 
 
 @dataclass(frozen=True, eq=False)
@@ -152,11 +168,13 @@ class Field:
     grad_x, grad_y : ndarray of float64
         ``dU/dx`` and ``dU/dy`` in world units (for ``repulsive_power != 2``: the negative of the
         force model, see the module docstring); 0 on obstacle cells. The force is ``-grad``.
-    goal : (float, float)
+    goal : (float, float) or (float, float, float)
     params : dict
         The full resolved parameters (:func:`resolve_params`; defaults filled in).
     distance : DistanceMap or None
         The distance map behind the repulsion, when there is one.
+    grad_z : ndarray of float64 or None
+        ``dU/dz`` on a voxel grid; ``None`` on a 2-D map.
 
     Examples
     --------
@@ -174,18 +192,30 @@ class Field:
     goal: tuple[float, float]
     params: dict[str, Any]
     distance: DistanceMap | None = None
+    grad_z: NDArray[np.float64] | None = None
 
     def __repr__(self) -> str:
         model = self.params.get("model", "khatib") if self.params else "khatib"
+        goal = ", ".join(f"{v:.6g}" for v in self.goal)
         return (f"Field(shape={self.map.grid.shape}, resolution={self.map.grid.resolution:g}, "
-                f"goal=({self.goal[0]:.6g}, {self.goal[1]:.6g}), model={model!r})")
+                f"goal=({goal}), model={model!r})")
 
     def __post_init__(self) -> None:
-        for name in ("potential", "grad_x", "grad_y"):
+        names = ("potential", "grad_x", "grad_y") + (("grad_z",) if self.map.grid.ndim == 3 else ())
+        for name in names:
             a = getattr(self, name)
             if np.shape(a) != self.map.grid.shape:
                 raise GridfieldError(f"Field.{name} has shape {np.shape(a)}, but the grid has shape {self.map.grid.shape}")
-        object.__setattr__(self, "goal", (float(self.goal[0]), float(self.goal[1])))
+        if self.map.grid.ndim == 2 and self.grad_z is not None:
+            raise GridfieldError("Field.grad_z belongs to a voxel grid's field; this map is 2-D")
+        object.__setattr__(self, "goal", tuple(float(v) for v in tuple(self.goal)[:self.map.grid.ndim]))
+
+    @property
+    def gradient(self) -> tuple[NDArray[np.float64], ...]:
+        """The gradient per world axis: ``(grad_x, grad_y)``, on a voxel grid ``(grad_x, grad_y, grad_z)``."""
+        if self.grad_z is not None:
+            return self.grad_x, self.grad_y, self.grad_z
+        return self.grad_x, self.grad_y
 
     @property
     def grid(self) -> Grid:

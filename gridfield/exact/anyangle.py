@@ -605,7 +605,7 @@ def _symmetric_csr(n: int, ei: NDArray[np.integer[Any]], ej: NDArray[np.integer[
 BLOCK = 32
 
 
-def _buckets(vx: NDArray[np.float64], vy: NDArray[np.float64], shape: tuple[int, int],
+def _buckets(vx: NDArray[np.float64], vy: NDArray[np.float64], shape: tuple[int, ...],
              block: int = BLOCK) -> tuple[Any, ...]:
     """CSR of the corners per ``block``-sized square block: ``(bstart, bverts, nbx, nby, block)``."""
     rows, cols = shape

@@ -191,7 +191,7 @@ class ExplorerModel:
         assert ws is not None  # the constructor takes a World or a GridMap
         return ws
 
-    def _bounds(self) -> tuple[float, float, float, float]:
+    def _bounds(self) -> tuple[float, ...]:
         if self.gridmap is not None:
             return self.gridmap.grid.bounds
         assert self.world is not None

@@ -80,7 +80,7 @@ def _as_costmap(target: GridMap, options: NavFn, cache: dict[Any, Any] | None = 
 
 
 def navfn_costs(costmap: Costmap, *, allow_unknown: bool = True,
-                clear: tuple[int, int] | None = None) -> NDArray[np.uint8]:
+                clear: tuple[int, ...] | None = None) -> NDArray[np.uint8]:
     """NavFn's cost array of a costmap (``setCostmap`` then ``setupNavFn``'s blocked outer ring).
 
     Parameters
@@ -248,7 +248,7 @@ def plan_navfn(target: GridMap, start: NDArray[np.float64], goal: NDArray[np.flo
     pot, cycles, _ = k.propagate(cost.reshape(-1), cols, rows, s_idx, g_idx, True, _cycles(rows, cols))
     field_seconds = time.perf_counter() - t0
     out_params = {**dict(params), "costmap": dict(cm.inflation)}
-    best: tuple[NDArray[np.float64], tuple[int, int]] | None
+    best: tuple[NDArray[np.float64], tuple[int, ...]] | None
     best = (g, g_cell) if pot[g_idx] < POT_HIGH else _tolerance_goal(pot, cm, g, opts.goal_tolerance)
     if best is None:
         return Path(s[None, :], "no_path", "navfn", int(cycles), out_params, time.perf_counter() - t0,

@@ -129,7 +129,8 @@ def grid_world(gridmap: GridMap) -> World:
     world = _WORLDS.get(gridmap)
     if world is None:
         obstacles = tuple(Obstacle(k + 1, "polygon", g) for k, g in enumerate(_polygons(gridmap)))
-        world = World(bounds=gridmap.grid.bounds, obstacles=obstacles, border=gridmap.grid.border,
+        xmin, ymin, xmax, ymax = gridmap.grid.bounds  # a 2-D map's
+        world = World(bounds=(xmin, ymin, xmax, ymax), obstacles=obstacles, border=gridmap.grid.border,
                       resolution=gridmap.grid.resolution, source=gridmap.source)
         _WORLDS[gridmap] = world
         _SOURCES[world] = weakref.ref(gridmap)

@@ -305,7 +305,7 @@ def rasterize_geometry(geometry: BaseGeometry, grid: Grid) -> NDArray[np.bool_]:
 
 
 def rasterize(
-    world: World, resolution: float, *, bounds: tuple[float, float, float, float] | None = None
+    world: World, resolution: float, *, bounds: tuple[float, ...] | None = None
 ) -> GridMap:
     """Conservative occupancy grid of a vector world.
 

@@ -224,8 +224,8 @@ def title_of(target: Any) -> str:
     return f"{name}, {suffix}" if suffix else name
 
 
-def _known_bounds(gm: GridMap | None, fallback: tuple[float, float, float, float],
-                  margin: int = 8) -> tuple[float, float, float, float]:
+def _known_bounds(gm: GridMap | None, fallback: tuple[float, ...],
+                  margin: int = 8) -> tuple[float, ...]:
     """The bounds a figure shows: a ROS map's known part (its free cells, ``margin`` cells wider: the
     view ``gridfield.demo.crop_to_known`` crops to); the whole map when nothing is free or it is no ROS
     map; ``fallback`` without a grid map (a vector world, a result that holds no map)."""
@@ -335,7 +335,7 @@ def draw_outlines(ax: Axes, world: World, *, color: str = OUTLINE_COLOR, zorder:
     return out
 
 
-def frame_axes(ax: Axes, bounds: tuple[float, float, float, float], points: Sequence[NDArray[np.float64]] = ()) -> None:
+def frame_axes(ax: Axes, bounds: tuple[float, ...], points: Sequence[NDArray[np.float64]] = ()) -> None:
     """Equal-aspect world axes showing ``bounds``, widened to show every point of ``points`` (paths
     that left an open-bordered grid).
 
@@ -441,7 +441,7 @@ def stall_points(path: Path | None) -> NDArray[np.float64]:
 
 def _draw_paths(ax: Axes, paths: Sequence[Path], art: Artists, *, zorder: float = 5.0,
                 styles: Sequence[Mapping[str, Any]] | None = None,
-                bounds: tuple[float, float, float, float] | None = None) -> None:
+                bounds: tuple[float, ...] | None = None) -> None:
     """Each path, its navigation-escape stretches, its stall points and (the first) hint. The hint is
     a text box below the axes, so it never covers the map; stall points outside ``bounds`` (a follower
     that left an open-bordered map) get their own legend entry and the map's edge is drawn."""

@@ -86,7 +86,7 @@ class NavigationField:
     map: GridMap
     value: NDArray[np.float64]
     goal: NDArray[np.float64]
-    goal_cell: tuple[int, int]
+    goal_cell: tuple[int, ...]
     kind: str
     params: Mapping[str, Any] = field(default_factory=dict)
     aux: NavigationAux | Mapping[str, Any] = field(default_factory=dict)  # keys: path.NavigationAux
@@ -216,7 +216,7 @@ def upwind_gradient(value: NDArray[np.float64], resolution: float) -> tuple[NDAr
 # ----------------------------------------------------------------------------------------------
 # Helpers
 # ----------------------------------------------------------------------------------------------
-def _goal_cell(gridmap: GridMap, goal: ArrayLike) -> tuple[NDArray[np.float64], tuple[int, int]]:
+def _goal_cell(gridmap: GridMap, goal: ArrayLike) -> tuple[NDArray[np.float64], tuple[int, ...]]:
     """The goal as ``(2,)`` and its cell; :meth:`GridMap.check_point`'s errors when it is not free."""
     g = gridmap.check_point("goal", goal)
     cell = gridmap.grid.cell_of(g[0], g[1])

@@ -85,6 +85,11 @@ def _save_plot(dmap: Any, file: str) -> None:
     from ..plot import plot_brushfire
 
     grid = dmap.grid
+    if grid.ndim == 3:  # a voxel map: orthogonal slices and the 3-D scene, one file (gridfield.plot.voxels)
+        from ..plot import save_voxel_figure
+
+        save_voxel_figure(file, dmap, title=f"{Path(dmap.map.source).name or 'map'}: {dmap.metric} distance")
+        return
     aspect = grid.rows / grid.cols
     fig = Figure(figsize=(7.5, max(2.5, min(12.0, 6.5 * aspect + 1.0))), layout="constrained")
     ax = fig.add_subplot()

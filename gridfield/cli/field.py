@@ -281,9 +281,16 @@ def _report(args: argparse.Namespace, field: Any, model: str, ms: float, ms_brus
 
             name = title_of(field.map) or str(args.map)
             title = f"{name}: {getattr(args, 'planner', 'potential')} field ({model}), goal ({gx:g}, {gy:g})"
-            _save_figure(gplot.plot_potential(field, ax=None, title="\n".join(textwrap.wrap(title, 70))), args.plot)
+            if grid.ndim == 3:  # a voxel map: slices of the potential and the 3-D scene (gridfield.plot.voxels)
+                gplot.save_voxel_figure(args.plot, field, title=title)
+            else:
+                _save_figure(gplot.plot_potential(field, ax=None, title="\n".join(textwrap.wrap(title, 70))),
+                             args.plot)
             print(f"wrote {args.plot}")
-        if args.surface and star_figure is not None:
+        if args.surface and grid.ndim == 3:  # the potential's x-y slice at the goal, as a surface
+            _save_figure(gplot.plot_voxel_surface(field, ax=None), args.surface)
+            print(f"wrote {args.surface}")
+        elif args.surface and star_figure is not None:
             _save_figure(gplot.plot_star_world(star_figure)[0], args.surface)
             print(f"wrote {args.surface}")
         elif args.surface:

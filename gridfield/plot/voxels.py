@@ -52,8 +52,10 @@ from ._layers import (
     PATH_COLORS,
     Artists,
     PathLike,
+    _check_figure_file,
     _legend,
     _path_label,
+    _save,
     title_of,
 )
 
@@ -776,8 +778,6 @@ def save_voxel_figure(
     """
     import matplotlib.pyplot as plt
 
-    from .results import _check_figure_file, _save
-
     p = _check_figure_file(file)
     _voxel_map(target, "save_voxel_figure")
     fig = plt.figure(figsize=(16.0, 5.4), layout="constrained")
@@ -787,8 +787,10 @@ def save_voxel_figure(
         plot_voxel_slices(target, left, paths=paths, start=start, goal=goal, title="")
         plot_voxel_scene(target, right.add_subplot(projection="3d"), paths=paths, start=start, goal=goal,
                          max_voxels=max_voxels, legend=False)
-        if title is not None:
-            fig.suptitle(title, fontsize=11)
+        if title:
+            import textwrap
+
+            fig.suptitle("\n".join(textwrap.wrap(title, 150)), fontsize=11)
     except BaseException:
         plt.close(fig)
         raise

@@ -780,13 +780,15 @@ def save_voxel_figure(
 
     p = _check_figure_file(file)
     _voxel_map(target, "save_voxel_figure")
-    fig = plt.figure(figsize=(16.0, 5.4), layout="constrained")
+    fig = plt.figure(figsize=(16.0, 5.0), layout="constrained")
     try:
         subs: Any = fig.subfigures(1, 2, width_ratios=(2.9, 1.3))
         left, right = subs[0], subs[1]
         plot_voxel_slices(target, left, paths=paths, start=start, goal=goal, title="")
-        plot_voxel_scene(target, right.add_subplot(projection="3d"), paths=paths, start=start, goal=goal,
-                         max_voxels=max_voxels, legend=False)
+        scene = plot_voxel_scene(target, right.add_subplot(projection="3d"), paths=paths, start=start, goal=goal,
+                                 max_voxels=max_voxels, legend=False)
+        b = scene.ax.get_xlim3d(), scene.ax.get_ylim3d(), scene.ax.get_zlim3d()
+        scene.ax.set_box_aspect([hi - lo for lo, hi in b], zoom=0.85)  # room for the z label
         if title:
             import textwrap
 

@@ -134,8 +134,11 @@ def test_slice_grid_holds_the_layers_of_the_heights(world: GridMap) -> None:
         assert np.array_equal(np.ma.getdata(art.image.get_array()), f.potential[k])
         assert np.array_equal(np.ma.getmaskarray(art.image.get_array()), world.occupied[k])
     assert arts[0].ax.get_subplotspec().get_gridspec().get_geometry() == (2, 2)
-    # evenly spaced layers, strictly inside the grid
-    assert [a.extra["slice"][1] for a in plot.plot_voxel_slices(f, zs=3)] == [2, 4, 7]
+    # evenly spaced layers: the middle ones of equal stacks, all different
+    for n in range(1, 11):
+        ks = [a.extra["slice"][1] for a in plot.plot_voxel_slices(f, zs=n)]
+        assert ks == [int((i + 0.5) * 10 / n) for i in range(n)] and len(set(ks)) == n
+        plt.close("all")
 
 
 def test_gridmap_slices_are_the_occupancy(world: GridMap) -> None:

@@ -185,8 +185,7 @@ def _layers_of(grid: Grid, zs: int | Sequence[float]) -> list[int]:
         n = int(zs)
         if not 1 <= n <= grid.layers:
             raise ParameterError(f"zs must be between 1 and the grid's {grid.layers} layers, got {n}")
-        return [int(k) for k in np.round(np.linspace(0, grid.layers - 1, n + 2)[1:-1] if n < grid.layers
-                                         else np.arange(grid.layers)).astype(int)]
+        return [int(k) for k in (np.arange(n) + 0.5) * grid.layers // n]  # the middle layers of n equal stacks
     z = np.asarray(zs, dtype=float).reshape(-1)
     if z.size == 0 or not np.all(np.isfinite(z)):
         raise ParameterError(f"zs must hold finite heights z, got {zs!r}")
@@ -318,8 +317,9 @@ def plot_voxel_slices(
         first path's first point), else the goal, else the centre of the grid. Dashed lines on each
         slice show where the other two cut it.
     zs : int or sequence of float, optional
-        A slice grid instead: x-y slices at ``zs`` evenly spaced layers, or at the layers holding the
-        heights ``zs`` (world units), in a grid of panels.
+        A slice grid instead: x-y slices at ``zs`` evenly spaced layers (the middle layers of ``zs``
+        equal stacks of layers), or at the layers holding the heights ``zs`` (world units), in a grid
+        of panels.
     ncols : int, optional
         Panels per row of a slice grid (default: about the square root of their number).
     paths : Path or iterable of Path

@@ -412,7 +412,7 @@ def plot_voxel_slices(
             _guides(ax, art, grid, across, up, grid.cell_to_world([[index[2], index[1], index[0]]])[0],
                     "0.55" if values is None else "white")
         _draw_projections(ax, art, plist, across, up, s, g)
-        _frame(ax, grid, across, up, f"{name} at {_AXES[cut]} = {coord:.4g} ({'layer' if cut == 2 else 'index'} {k})")
+        _frame(ax, grid, across, up, f"{name} at {_AXES[cut]} = {coord:.4g} ({('column', 'row', 'layer')[cut]} {k})")
         arts.append(art)
     if colorbar and values is not None:
         arts[0].colorbar = fig.colorbar(arts[0].image, ax=[a.ax for a in arts], shrink=0.85, label=label)

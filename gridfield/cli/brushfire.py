@@ -43,7 +43,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
                         "+ resolution, origin, border (and a disc robot's diagonals through corners, "
                         "GridMap.diagonals) to the .npz file F")
     p.add_argument("--plot", metavar="F",
-                   help="save the distance heat map with iso-distance contours and the GVD (PNG, PDF, SVG, ...)")
+                   help="save the distance heat map with iso-distance contours and the GVD (PNG, PDF, SVG, ...); "
+                        "of a voxel map: orthogonal slices and a 3-D view of the obstacles, in one file")
     add_robot_arguments(p)
     add_chunk_arguments(p)
     return p

@@ -36,9 +36,11 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p.add_argument("--npz", metavar="F",
                    help="write occupied, distance, label, gvd, potential, grad_x, grad_y + resolution, origin "
                         "(and a disc robot's diagonals through corners, GridMap.diagonals)")
-    p.add_argument("--plot", metavar="F", help="save the potential (contours and force arrows) as a figure")
+    p.add_argument("--plot", metavar="F", help="save the potential (contours and force arrows) as a figure (a voxel "
+                                               "map: orthogonal slices and a 3-D view of the obstacles)")
     p.add_argument("--surface", metavar="F", help="save the potential as a 3-D surface figure (star-nav: the "
-                                                  "star world's four figures: beta humps, attractive part, mapped space, surface)")
+                                                  "star world's four figures: beta humps, attractive part, mapped space, surface; "
+                                                  "a voxel map: its x-y slice at the goal)")
     p.add_argument("--basins", metavar="F",
                    help="save the basins of attraction of steepest descent (goal basin and local minima)")
     add_robot_arguments(p)

@@ -39,7 +39,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
                    help="which scenario of --scenario (0 = the first; default 0)")
     p.add_argument("--planner", default="potential", choices=list(PLANNERS), help="planner (default: potential)")
     p.add_argument("--json", action="store_true", help="print one JSON object (the plan contract in README.md)")
-    p.add_argument("--plot", metavar="F", help="save a figure of the map and the path")
+    p.add_argument("--plot", metavar="F", help="save a figure of the map and the path (a voxel map: orthogonal "
+                                               "slices and a 3-D view)")
     p.add_argument("--animate", metavar="F", help="save an animation of the follower (.gif, or .mp4 with ffmpeg)")
     add_robot_arguments(p)
     add_param_arguments(p)

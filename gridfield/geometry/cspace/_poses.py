@@ -78,6 +78,8 @@ class PoseMap:
     robot: Robot
     headings: int
     meta: dict[str, Any] = field(default_factory=dict)
+    #: Work on this occupancy that the planners share (its clearance, ...), filled on first use.
+    cache: dict[str, Any] = field(default_factory=dict, repr=False)
 
     def __post_init__(self) -> None:
         want = (self.headings, *self.workspace.shape)
@@ -150,9 +152,12 @@ class PoseMap:
         g = self.grid
         u = (float(x) - g.origin[0]) / g.resolution - 0.5
         v = (float(y) - g.origin[1]) / g.resolution - 0.5
-        c0, r0 = math.floor(u), math.floor(v)
-        cols = np.clip([c0, c0 + 1], 0, g.cols - 1)
-        rows = np.clip([r0, r0 + 1], 0, g.rows - 1)
+        # a position on a centre's row or column needs only that one (floor == ceil; centres computed in
+        # floating point count as on it)
+        u = round(u) if abs(u - round(u)) < 1e-9 else u
+        v = round(v) if abs(v - round(v)) < 1e-9 else v
+        cols = np.clip([math.floor(u), math.ceil(u)], 0, g.cols - 1)
+        rows = np.clip([math.floor(v), math.ceil(v)], 0, g.rows - 1)
         return rows, cols
 
     def fitting_bins(self, x: float, y: float) -> NDArray[np.intp]:

@@ -138,6 +138,13 @@ class IncrementalBrushfire:
     array([[6., 5., 4., 3., 2., 1., 0.]])
     """
 
+    def __new__(cls, gridmap: GridMap | None = None, *args: Any, **kwargs: Any) -> IncrementalBrushfire:
+        if cls is IncrementalBrushfire and isinstance(gridmap, GridMap) and gridmap.ndim == 3:  # a voxel grid
+            from ._incremental3d import IncrementalBrushfire3D
+
+            return super().__new__(IncrementalBrushfire3D)
+        return super().__new__(cls)
+
     def __init__(self, gridmap: GridMap, *, metric: str = "euclidean", compute_labels: bool = True,
                  compute_gvd: bool | None = None, threads: int | None = None) -> None:
         if not isinstance(gridmap, GridMap):

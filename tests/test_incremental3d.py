@@ -40,7 +40,7 @@ def _scipy_distance(occ: np.ndarray, wall: bool) -> np.ndarray:
 
 def _brute_nearest(occ: np.ndarray, wall: bool) -> np.ndarray:
     """(layer, row, col) of each voxel's nearest obstacle voxel by the tie rule, by brute force;
-    ``(-1, -1, -1)`` where there is none. Shape ``occ.shape + (3,)``."""
+    ``(-1, -1, -1)`` where there is none. Shape ``occ.(*shape, 3)``."""
     shape = occ.shape
     sites = [np.argwhere(occ)]
     if wall:  # the shell: one coordinate just outside, the others inside
@@ -52,13 +52,13 @@ def _brute_nearest(occ: np.ndarray, wall: bool) -> np.ndarray:
     s = np.concatenate(sites).reshape(-1, 3)
     cells = np.indices(shape).reshape(3, -1).T
     if not len(s):
-        return np.full(shape + (3,), -1)
+        return np.full((*shape, 3), -1)
     d2 = ((cells[:, None, :] - s[None, :, :]) ** 2).sum(-1)
     order = np.lexsort((s[:, 0], s[:, 1], s[:, 2]))  # col, then row, then layer
     rank = np.empty(len(s), np.int64)
     rank[order] = np.arange(len(s))
     best = np.argmin(d2 * len(s) + rank[None, :], axis=1)
-    return s[best].reshape(shape + (3,))
+    return s[best].reshape((*shape, 3))
 
 
 def _assert_equal_to_recompute(ib: IncrementalBrushfire, occ: np.ndarray, wall: bool, tie_rule: bool = True) -> None:

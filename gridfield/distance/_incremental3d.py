@@ -1,5 +1,8 @@
-"""The incremental Euclidean brushfire of a voxel grid (private; :class:`~gridfield.distance.incremental.IncrementalBrushfire`
-returns an :class:`IncrementalBrushfire3D` for a map with ``ndim == 3``).
+"""The incremental Euclidean brushfire of a voxel grid (private): :class:`IncrementalVoxels` is the
+implementation behind ``gridfield.distance.incremental.IncrementalBrushfire3D``, the subclass of
+:class:`~gridfield.distance.incremental.IncrementalBrushfire` that ``IncrementalBrushfire(gridmap)``
+makes for a map with ``ndim == 3`` (this module does not import that one: the sibling modules import
+no cycle).
 
 The same windows as the 2-D class (see :mod:`gridfield.distance.incremental`), as boxes of layers,
 rows and columns, transformed exactly by the compiled kernel :mod:`gridfield.distance._incremental3`:
@@ -41,9 +44,11 @@ from ..core.errors import ParameterError
 from ..core.grid import GridMap
 from ..core.limits import check_grid
 from .brushfire import BORDER_LABEL, DistanceMap
-from .incremental import ID_MAX, IncrementalBrushfire
 
-__all__ = ["IncrementalBrushfire3D", "Window3"]
+__all__ = ["ID_MAX", "IncrementalVoxels", "Window3"]
+
+#: The largest obstacle id (as :data:`gridfield.distance.incremental.ID_MAX`: 32-bit ids, 0 = none).
+ID_MAX = 2**31 - 1
 
 #: A box of a voxel grid: ``(z0, z1, r0, r1, c0, c1)``, layers ``z0:z1``, rows ``r0:r1``, columns ``c0:c1``.
 Window3 = tuple[int, int, int, int, int, int]
@@ -74,10 +79,10 @@ def _empty_box(shape: tuple[int, ...]) -> NDArray[np.int64]:
     return np.array([shape[0], -1, shape[1], -1, shape[2], -1], np.int64)
 
 
-class IncrementalBrushfire3D(IncrementalBrushfire):
+class IncrementalVoxels:
     """The Euclidean brushfire of a voxel grid whose occupancy changes, updated where it changes.
 
-    Made by :class:`~gridfield.distance.incremental.IncrementalBrushfire` for a map with
+    The methods of ``IncrementalBrushfire3D``, made by :class:`~gridfield.distance.incremental.IncrementalBrushfire` for a map with
     ``gridmap.ndim == 3`` (the same arguments and methods; cells are ``(layer, row, col)`` and
     windows ``(z0, z1, r0, r1, c0, c1)``). After every :meth:`update` the distance and the nearest
     obstacle voxel equal those of a full Euclidean transform of the new occupancy: the same floats,
@@ -115,12 +120,15 @@ class IncrementalBrushfire3D(IncrementalBrushfire):
     (array([6., 5., 4., 3., 2., 1., 0.]), array([6, 6, 6, 6, 6, 6, 6], dtype=int32))
     """
 
-    last_window: Window3 | None  # type: ignore[assignment]  # a box of layers, rows and columns
+    #: The box changed by the last :meth:`update` (``None``: nothing changed).
+    last_window: Window3 | None
+    #: Voxels whose nearest obstacle the last :meth:`update` changed.
+    last_changed: int
 
     def __init__(self, gridmap: GridMap, *, metric: str = "euclidean", compute_labels: bool | None = None,
                  compute_gvd: bool | None = None, threads: int | None = None) -> None:
         if not isinstance(gridmap, GridMap) or gridmap.ndim != 3:
-            raise ParameterError(f"IncrementalBrushfire3D needs a voxel GridMap (ndim 3), got {gridmap!r}")
+            raise ParameterError(f"IncrementalBrushfire3D needs a voxel GridMap (ndim 3), got {gridmap!r:.200}")
         if metric != "euclidean":
             raise ParameterError(f"IncrementalBrushfire supports metric='euclidean' only, got {metric!r}")
         if compute_labels is None:
@@ -157,14 +165,14 @@ class IncrementalBrushfire3D(IncrementalBrushfire):
         del d2
         self._want_label = bool(compute_labels)
         self._want_gvd = False
-        self._label = np.zeros(shape, np.int32) if self._want_label else None
-        self._gvd = None
+        self._label: NDArray[np.int32] | None = np.zeros(shape, np.int32) if self._want_label else None
+        self._gvd: NDArray[np.bool_] | None = None  # 2-D only
         self._mark = np.zeros(shape, np.uint8)
         self._labels_dirty = self._want_label and self._ids is None
         if self._want_label and self._ids is not None:
             self._local_labels3(k, [(0, shape[0], 0, shape[1], 0, shape[2])], self._ids)
-        self._gridmap = gridmap
-        self._dmap = None
+        self._gridmap: GridMap | None = gridmap
+        self._dmap: DistanceMap | None = None
         self.last_window = None
         self.last_changed = 0
 
@@ -172,6 +180,13 @@ class IncrementalBrushfire3D(IncrementalBrushfire):
         layers, rows, cols = self._grid.shape
         return (f"IncrementalBrushfire(shape=({layers}, {rows}, {cols}), resolution={self._res:.6g}, "
                 f"occupied={int(np.count_nonzero(self._occ))}, last_changed={self.last_changed})")
+
+    @property
+    def gridmap(self) -> GridMap:
+        """The current map (sharing this object's occupancy and id arrays)."""
+        if self._gridmap is None:
+            self._gridmap = GridMap(self._grid, self._occ, self._ids, None, self._source, dict(self._meta))
+        return self._gridmap
 
     @property
     def distance_map(self) -> DistanceMap:
@@ -230,7 +245,7 @@ class IncrementalBrushfire3D(IncrementalBrushfire):
         return new_ids[pos] if new_ids.ndim == 1 else new_ids
 
     # -- update -----------------------------------------------------------------------
-    def update(self, occupied: ArrayLike | None = None, freed: ArrayLike | None = None, *,  # type: ignore[override]
+    def update(self, occupied: ArrayLike | None = None, freed: ArrayLike | None = None, *,
                ids: int | ArrayLike | None = None) -> Window3 | None:
         """Make voxels occupied and/or free, and update the distance map.
 

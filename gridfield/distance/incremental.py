@@ -63,9 +63,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..core.errors import ParameterError
 from ..core.grid import GridMap
+from ._incremental3d import IncrementalVoxels
 from .brushfire import BORDER_LABEL, DistanceMap, brushfire
 
-__all__ = ["ID_MAX", "IncrementalBrushfire", "Window"]
+__all__ = ["ID_MAX", "IncrementalBrushfire", "IncrementalBrushfire3D", "Window"]
 
 #: The largest obstacle id (ids are stored as 32-bit integers; 0 means "no obstacle").
 ID_MAX = 2**31 - 1
@@ -140,8 +141,6 @@ class IncrementalBrushfire:
 
     def __new__(cls, gridmap: GridMap | None = None, *args: Any, **kwargs: Any) -> IncrementalBrushfire:
         if cls is IncrementalBrushfire and isinstance(gridmap, GridMap) and gridmap.ndim == 3:  # a voxel grid
-            from ._incremental3d import IncrementalBrushfire3D
-
             return super().__new__(IncrementalBrushfire3D)
         return super().__new__(cls)
 
@@ -512,3 +511,9 @@ class IncrementalBrushfire:
             assert self._gvd is not None
             k.gvd_window(0, rows, 0, cols, self._label, self._dist, self._occ8, self._gvd)
         self._labels_dirty = False
+
+
+class IncrementalBrushfire3D(IncrementalVoxels, IncrementalBrushfire):  # type: ignore[misc]  # 3-D boxes for windows
+    """:class:`IncrementalBrushfire` on a voxel grid (``gridmap.ndim == 3``), which makes it: the methods
+    of :class:`gridfield.distance._incremental3d.IncrementalVoxels` (cells ``(layer, row, col)``,
+    windows ``(z0, z1, r0, r1, c0, c1)``; labels from obstacle ids, no GVD)."""

@@ -49,6 +49,11 @@ passes, about as long as the labelling part of a full brushfire: ``benchmarks/RE
 Only the Euclidean metric is offered: its nearest obstacle is defined by a rule a window can
 reproduce exactly; the chessboard/taxicab transforms choose among equally near obstacles by the
 order of their raster passes. ``steps`` (the wavefront numbers) are not kept (``None``).
+
+Voxel grids (``gridmap.ndim == 3``, issue 44): ``IncrementalBrushfire(gridmap)`` makes an
+:class:`IncrementalBrushfire3D`, the same windows as boxes (:mod:`gridfield.distance._incremental3d`):
+cells ``(layer, row, col)``, windows ``(z0, z1, r0, r1, c0, c1)``, labels from obstacle ids (26-connected
+components, recomputed when read, only on request), no GVD.
 """
 
 from __future__ import annotations

@@ -300,3 +300,18 @@ def test_two_d_maps_are_unchanged() -> None:
     assert type(ib) is IncrementalBrushfire
     assert ib.update(occupied=[[0, 6]]) == (0, 1, 4, 7)
     assert ib.distance_map.nearest_layer is None
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_removals_on_a_sparse_map_reach_far(seed: int) -> None:
+    """A sparse 14 x 16 x 18 map (1 % blocked): a removed obstacle's orphans find their next nearest
+    obstacle far away, beyond the first removal window (which must grow to be exact)."""
+    rng = np.random.default_rng(seed)
+    shape = (14, 16, 18)
+    occ = rng.random(shape) < 0.01
+    occ[7, 8, 9] = True
+    ib = IncrementalBrushfire(_map(occ, False), compute_labels=False)
+    for v in np.argwhere(occ)[:6]:
+        ib.update(freed=[v])
+        occ[tuple(v)] = False
+        _assert_equal_to_recompute(ib, occ, False)

@@ -78,6 +78,8 @@ class PoseMap:
     robot: Robot
     headings: int
     meta: dict[str, Any] = field(default_factory=dict)
+    #: Work on this occupancy that the planners share (its clearance, ...), filled on first use.
+    cache: dict[str, Any] = field(default_factory=dict, repr=False)
 
     def __post_init__(self) -> None:
         want = (self.headings, *self.workspace.shape)
@@ -144,11 +146,33 @@ class PoseMap:
         xy = self.grid.cell_to_world(c[:, 1:])
         return np.column_stack([xy, wrap_angle(heading_centres(self.headings)[c[:, 0] % self.headings])])
 
-    def check_pose(self, name: str, pose: ArrayLike, *, heading_given: bool = True) -> NDArray[np.float64]:
-        """Validate a start or goal pose: inside the map, and the robot clear of the obstacles there.
+    def around(self, x: float, y: float) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+        """The rows and columns of the four cell centres around a position (the dual cell holding it;
+        clamped to the grid within half a cell of its edge)."""
+        g = self.grid
+        u = (float(x) - g.origin[0]) / g.resolution - 0.5
+        v = (float(y) - g.origin[1]) / g.resolution - 0.5
+        # a position on a centre's row or column needs only that one (floor == ceil; centres computed in
+        # floating point count as on it)
+        u = round(u) if abs(u - round(u)) < 1e-9 else u
+        v = round(v) if abs(v - round(v)) < 1e-9 else v
+        cols = np.clip([math.floor(u), math.ceil(u)], 0, g.cols - 1)
+        rows = np.clip([math.floor(v), math.ceil(v)], 0, g.rows - 1)
+        return rows, cols
 
-        Returns the pose as ``(3,)``; without ``heading_given`` (a goal ``X Y``) the heading is not checked
-        (any free bin will do), only that some bin is free.
+    def fitting_bins(self, x: float, y: float) -> NDArray[np.intp]:
+        """The heading bins in which the robot fits at the four cell centres around ``(x, y)``: there a pose
+        is safe, and so is the motion from it to those centres within its bin."""
+        rows, cols = self.around(x, y)
+        blocked = self.occupied[:, rows[:, None], cols[None, :]].reshape(self.headings, -1).any(axis=1)
+        return np.flatnonzero(~blocked)
+
+    def check_pose(self, name: str, pose: ArrayLike, *, heading_given: bool = True) -> NDArray[np.float64]:
+        """Validate a start or goal pose: inside the map, and the robot clear of the obstacles there and at
+        the four cell centres around it (the planners leave a pose for one of them).
+
+        Returns the pose as ``(3,)``; without ``heading_given`` (a goal ``X Y``) the heading is not checked,
+        only that the robot fits there at some heading.
 
         Raises
         ------
@@ -161,14 +185,19 @@ class PoseMap:
         self.workspace.check_point(name, p[:2])  # outside the map, or inside an occupied cell
         k, r, c = self.cell_of_pose(p)  # type: ignore[misc]  # inside: checked above
         where = f"{name} ({p[0]:g}, {p[1]:g}, {p[2]:g})"
+        fit = self.fitting_bins(p[0], p[1])
         if heading_given:
-            if self.occupied[k, r, c]:
-                free = np.flatnonzero(~self.occupied[:, r, c])
-                hint = (f"; headings that fit there: {_bins_text(self, free)}" if free.size else
+            if k not in fit:
+                hint = (f"; headings that fit there: {_bins_text(self, fit)}" if fit.size else
                         "; no heading fits there")
-                raise GridfieldError(f"{where}: the robot ({self.robot.describe()}) turned to {p[2]:g} rad (heading "
-                                     f"bin {k} of {self.headings}) touches {self._what(p)}{hint}")
-        elif self.occupied[:, r, c].all():
+                if self.occupied[k, r, c]:
+                    raise GridfieldError(f"{where}: the robot ({self.robot.describe()}) turned to {p[2]:g} rad "
+                                         f"(heading bin {k} of {self.headings}) touches {self._what(p)}{hint}")
+                raise GridfieldError(f"{where}: the robot ({self.robot.describe()}) fits at the centre of its cell, "
+                                     f"but not at every cell centre around the pose (planners move between them; "
+                                     f"the nearest obstacle is {self._what(p)}){hint}; move it a little or use a "
+                                     "finer grid")
+        elif fit.size == 0:
             raise GridfieldError(f"{name} ({p[0]:g}, {p[1]:g}): the robot ({self.robot.describe()}) touches "
                                  f"{self._what(p)} there at every heading")
         return p

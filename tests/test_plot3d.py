@@ -168,6 +168,12 @@ def test_path_projections_and_3d_line_are_the_path(world: GridMap, route: Path) 
         assert np.array_equal(line.get_xdata(), p[:, i]) and np.array_equal(line.get_ydata(), p[:, j])
         assert art.markers["start"].get_offsets().tolist() == [[p[0, i], p[0, j]]]
         assert art.markers["goal"].get_offsets().tolist() == [[p[-1, i], p[-1, j]]]
+        # the dots: the points whose voxel lies in the slice, along the cut axis
+        cut = 3 - i - j
+        k = art.extra["slice"][1]
+        inside = np.floor((p[:, cut] - world.grid.origin[cut]) / world.grid.resolution) == k
+        (dots,) = art.extra["in_slice"]
+        assert np.array_equal(dots.get_offsets(), p[inside][:, [i, j]])
     scene = plot.plot_voxel_scene(world, paths=route)
     (line,) = scene.ax.lines
     assert np.array_equal(np.asarray(line.get_data_3d()).T, p)

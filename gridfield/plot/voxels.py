@@ -237,13 +237,21 @@ def _draw_slice(ax: Axes, art: Artists, gm: GridMap, values: NDArray[np.float64]
     art.mappable = art.image
 
 
-def _draw_projections(ax: Axes, art: Artists, paths: Sequence[Path], across: int, up: int,
-                      start: NDArray[np.float64] | None, goal: NDArray[np.float64] | None) -> None:
-    """Each path projected onto the plane (``ax.lines`` holds exactly these), start and goal markers."""
+def _draw_projections(ax: Axes, art: Artists, paths: Sequence[Path], plane: tuple[str, int, int, int],
+                      lo: float, hi: float, start: NDArray[np.float64] | None, goal: NDArray[np.float64] | None
+                      ) -> None:
+    """Each path projected onto the plane (``ax.lines`` holds exactly these), its points inside the
+    slice (``lo <= coordinate < hi`` along the cut axis) as dots, start and goal markers."""
+    _, across, up, cut = plane
     for i, p in enumerate(paths):
-        (line,) = ax.plot(p.points[:, across], p.points[:, up], color=PATH_COLORS[i % len(PATH_COLORS)],
-                          linewidth=1.8, zorder=5, label=_path_label(p))
+        color = PATH_COLORS[i % len(PATH_COLORS)]
+        (line,) = ax.plot(p.points[:, across], p.points[:, up], color=color, linewidth=1.8, zorder=5,
+                          label=_path_label(p))
         art.paths.append(line)
+        inside = (p.points[:, cut] >= lo) & (p.points[:, cut] < hi)
+        art.extra.setdefault("in_slice", []).append(
+            ax.scatter(p.points[inside, across], p.points[inside, up], s=14, color=color, edgecolor="white",
+                       linewidth=0.5, zorder=5.5))
     if start is not None:
         art.markers["start"] = ax.scatter([start[across]], [start[up]], marker="o", s=50, color="tab:green",
                                           edgecolor="black", zorder=6, label="start")
@@ -301,8 +309,8 @@ def plot_voxel_slices(
     """Orthogonal slices of a voxel grid's distance, potential or occupancy, or a grid of x-y slices.
 
     Each slice is an image in world units (``origin="lower"``, the plane's extent from the grid), the
-    obstacles drawn over the values in dark grey, each path as its projection onto the plane, the start
-    and goal marked.
+    obstacles drawn over the values in dark grey, each path as its projection onto the plane (its points
+    inside the slice's voxels as dots), the start and goal marked.
 
     Parameters
     ----------
@@ -346,8 +354,8 @@ def plot_voxel_slices(
         One per panel: the x-y, x-z and y-z slices, or the slice grid's panels from the lowest z.
         ``image`` holds the slice (``image.get_array()`` is ``distance[k]``, ``distance[:, r, :]``,
         ``distance[:, :, c]``, masked), ``obstacles``, ``paths``, ``markers`` (``start``, ``goal``),
-        ``extra["slice"]`` (``(axis, index, coordinate)``: ``("z", k, z)``), ``extra["guides"]``,
-        ``colorbar`` (first panel).
+        ``extra["slice"]`` (``(axis, index, coordinate)``: ``("z", k, z)``), ``extra["in_slice"]`` (per
+        path, the dots of its points inside the slice), ``extra["guides"]``, ``colorbar`` (first panel).
 
     Raises
     ------
@@ -411,7 +419,8 @@ def plot_voxel_slices(
         if zs is None:
             _guides(ax, art, grid, across, up, grid.cell_to_world([[index[2], index[1], index[0]]])[0],
                     "0.55" if values is None else "white")
-        _draw_projections(ax, art, plist, across, up, s, g)
+        lo = grid.origin[cut] + k * grid.resolution
+        _draw_projections(ax, art, plist, plane, lo, lo + grid.resolution, s, g)
         _frame(ax, grid, across, up, f"{name} at {_AXES[cut]} = {coord:.4g} ({('column', 'row', 'layer')[cut]} {k})")
         arts.append(art)
     if colorbar and values is not None:

@@ -445,16 +445,26 @@ def move_allowed(mask3_t free, int64_t k, int64_t r, int64_t c, int a, int b, in
     return _move_ok(free, k, r, c, a, b, d, periodic)
 
 
-def descend3(val3_t value, mask3_t free, int64_t k, int64_t r, int64_t c, bint periodic=False):
+def descend3(val3_t value, mask3_t free, int64_t k, int64_t r, int64_t c, bint periodic=False,
+             bint parent=False, double s0=1.0, double s1=1.0, double s2=1.0, val3_t slowness=None):
     """Discrete descent from voxel ``(k, r, c)``: repeatedly to the allowed neighbour of the lowest value
-    (strictly lower than the current one; ties to the first in the order ``dz, dy, dx = -1..1``).
+    (strictly lower than the current one; ties to the first in the order ``dz, dy, dx = -1..1``). With
+    ``parent``, to the allowed lower neighbour minimizing value + move cost (spacings ``s0, s1, s2`` and
+    the ``slowness`` of the wavefront, ``None`` or ``(0, 0, 0)`` for none): a shortest-path parent, so the
+    chain costs the start's value.
 
     Returns ``(cells, reached)``: the int64 ``(n, 3)`` chain from the start voxel (included) to where it
     ended, and whether that voxel has value 0 (the goal of a wavefront).
     """
     cdef int64_t n0 = value.shape[0], cap = 256, m = 1, bk, br, bc, nk, nr, nc
     cdef int j
-    cdef double best, here, w
+    cdef double best, here, w, key, bkey
+    cdef double length[27]
+    cdef bint use_slow = slowness is not None and slowness.shape[0] != 0
+    if slowness is None:
+        slowness = np.zeros((0, 0, 0))
+    for j in range(27):
+        length[j] = sqrt((s0 * _DZ[j]) ** 2 + (s1 * _DY[j]) ** 2 + (s2 * _DX[j]) ** 2)
     cdef int64_t* buf = <int64_t*>_alloc(3 * cap * sizeof(int64_t))
     cdef int64_t* t
     cdef bint oom = False
@@ -465,6 +475,7 @@ def descend3(val3_t value, mask3_t free, int64_t k, int64_t r, int64_t c, bint p
         here = value[k, r, c]
         while here > 0.0:
             best = here
+            bkey = INFINITY
             bk = -1
             for j in range(27):
                 if j == 13:
@@ -479,7 +490,14 @@ def descend3(val3_t value, mask3_t free, int64_t k, int64_t r, int64_t c, bint p
                 if nr < 0 or nr >= value.shape[1] or nc < 0 or nc >= value.shape[2]:
                     continue
                 w = value[nk, nr, nc]
-                if w < best and _move_ok(free, k, r, c, _DZ[j], _DY[j], _DX[j], periodic):
+                if not (w < here):
+                    continue
+                if parent:
+                    key = w + length[j] * (0.5 * (slowness[k, r, c] + slowness[nk, nr, nc]) if use_slow else 1.0)
+                else:
+                    key = w
+                if key < bkey and _move_ok(free, k, r, c, _DZ[j], _DY[j], _DX[j], periodic):
+                    bkey = key
                     best = w
                     bk = nk
                     br = nr

@@ -224,9 +224,11 @@ def voxel_wavefront(gridmap: GridMap, goal: ArrayLike, *, spacing: Sequence[floa
 
 
 def voxel_descent(gridmap: GridMap, values: NDArray[np.float64], start: ArrayLike, *,
-                  periodic: bool = False) -> tuple[NDArray[np.int64], bool]:
+                  periodic: bool = False, parent: bool = False, spacing: Sequence[float] | None = None,
+                  slowness: ArrayLike | None = None) -> tuple[NDArray[np.int64], bool]:
     """The discrete steepest descent of a voxel wavefront from ``start``: repeatedly to the allowed
-    neighbour (the bounding-box rule) with the lowest value.
+    neighbour (the bounding-box rule) with the lowest value; with ``parent``, to the lower allowed
+    neighbour minimizing value + move cost (a shortest-path parent: the chain costs the start's value).
 
     Every settled voxel but the goal has a lower allowed neighbour (its Dijkstra parent), so from a
     voxel with a finite value the descent ends at the goal (value 0).
@@ -241,6 +243,10 @@ def voxel_descent(gridmap: GridMap, values: NDArray[np.float64], start: ArrayLik
         In a free voxel.
     periodic : bool
         As the wavefront was computed.
+    parent : bool
+        Step to shortest-path parents (``spacing`` and ``slowness`` as the wavefront was computed).
+    spacing, slowness : optional
+        See :func:`voxel_wavefront` (read with ``parent``).
 
     Returns
     -------
@@ -263,7 +269,11 @@ def voxel_descent(gridmap: GridMap, values: NDArray[np.float64], start: ArrayLik
     if v.shape != gm.grid.shape:
         raise ParameterError(f"values has shape {v.shape}, but the grid has shape {gm.grid.shape}")
     k, r, c = _cell(gm, "start", start)
-    cells, reached = _kernel().descend3(v, _free(gm), k, r, c, bool(periodic))
+    slow = np.zeros((0, 0, 0)) if slowness is None else np.ascontiguousarray(slowness, dtype=np.float64)
+    if slow.size and slow.shape != gm.grid.shape:
+        raise ParameterError(f"slowness has shape {slow.shape}, but the grid has shape {gm.grid.shape}")
+    cells, reached = _kernel().descend3(v, _free(gm), k, r, c, bool(periodic), bool(parent), *_spacing(gm, spacing),
+                                        slow)
     return np.asarray(cells), bool(reached)
 
 
@@ -409,7 +419,8 @@ def plan_voxel_wavefront(gridmap: GridMap, start: NDArray[np.float64], goal: NDA
         return Path(s[None, :], "no_path", planner, 0, ran, time.perf_counter() - t1,
                     extra={"value": math.inf, "grid_length": math.inf, "field_seconds": field_seconds,
                            "build_seconds": field_seconds, "reason": "the goal is unreachable from the start"})
-    cells, reached = _kernel().descend3(values, _free(gm), k, r, c, False)
+    cells, reached = _kernel().descend3(values, _free(gm), k, r, c, False, True, res, res, res,
+                                        np.zeros((0, 0, 0)) if slow is None else slow)
     cells = np.asarray(cells)
     if not reached:  # pragma: no cover - a settled voxel always has a lower allowed neighbour
         raise GridfieldError("the voxel descent stopped short of the goal (a bug in the wavefront)")

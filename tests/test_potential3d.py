@@ -209,3 +209,28 @@ def test_json_and_bad_input():
     gm2 = GridMap(Grid((4, 4), 1.0), np.zeros((4, 4), bool))
     with pytest.raises(ParameterError, match="two numbers X Y"):
         plan("potential", gm2, (0.5, 0.5, 0.5), (3.5, 3.5))
+
+
+def test_cli_plans_on_a_voxel_grid(monkeypatch, capsys):
+    """``gridfield plan MAP --start X Y Z --goal X Y Z`` on a voxel grid (the map's reader stood in for:
+    the .3dmap reader is another module's), text and --json."""
+    import json
+
+    import gridfield.cli._common as common
+    from gridfield.cli import main
+
+    occ = maze()
+    gm = GridMap(Grid(occ.shape, 1.0), occ)
+    monkeypatch.setattr(common, "_read_target", lambda args: gm)
+    assert main(["plan", "maze.3dmap", "--start", "7.5", "0.5", "7.5", "--goal", "7.5", "14.5", "7.5", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["status"] == "reached" and out["path"][0] == [7.5, 0.5, 7.5] and out["path"][-1] == [7.5, 14.5, 7.5]
+    assert_clear(gm, np.array(out["path"]))
+    assert main(["plan", "maze.3dmap", "--start", "7.5", "0.5", "7.5", "--goal", "7.5", "14.5", "7.5",
+                 "--planner", "wavefront-octile"]) == 0
+    assert "wavefront-octile: reached" in capsys.readouterr().out
+    assert main(["plan", "maze.3dmap", "--start", "7.5", "0.5", "--goal", "7.5", "14.5", "7.5"]) != 0
+    assert "--start needs three numbers X Y Z on the voxel grid maze.3dmap, got 2" in capsys.readouterr().err
+    assert main(["plan", "maze.3dmap", "--start", "7.5", "0.5", "7.5", "--goal", "7.5", "14.5", "7.5",
+                 "--planner", "fmm"]) != 0
+    assert "planner 'fmm' plans on 2-D maps" in capsys.readouterr().err

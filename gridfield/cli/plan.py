@@ -28,13 +28,14 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p = sub.add_parser("plan", help="plan a path from start to goal",
                        description="Plan a path from START to GOAL on a map or world and report it.")
     add_map_arguments(p)
-    p.add_argument("--start", nargs=2, type=float, metavar=("X", "Y"),
-                   help="start point (default: the world file's start)")
-    p.add_argument("--goal", nargs=2, type=float, metavar=("X", "Y"),
-                   help="goal point (default: the world file's goal)")
+    p.add_argument("--start", nargs="+", type=float, metavar="X",
+                   help="start point X Y (X Y Z on a voxel grid; default: the world file's start)")
+    p.add_argument("--goal", nargs="+", type=float, metavar="X",
+                   help="goal point X Y (X Y Z on a voxel grid; default: the world file's goal)")
     p.add_argument("--scenario", metavar="FILE",
                    help="a Moving AI .scen file: take start and goal from its line --index (y flipped to "
-                        "gridfield's y-up), and report the scenario's optimal length")
+                        "gridfield's y-up), and report the scenario's optimal length; a .3dscen file for a "
+                        "voxel map (.3dmap): its voxels' centres, no axis flipped")
     p.add_argument("--index", type=int, default=None, metavar="N",
                    help="which scenario of --scenario (0 = the first; default 0)")
     p.add_argument("--planner", default="potential", choices=list(PLANNERS), help="planner (default: potential)")
@@ -57,6 +58,10 @@ def scenario(args: argparse.Namespace, target: object) -> tuple[list[float], lis
         return None
     if args.start is not None or args.goal is not None:
         raise ParameterError("give either --scenario or --start/--goal, not both")
+    if str(args.scenario).lower().endswith(".3dscen"):
+        from ._common import scenario3d
+
+        return scenario3d(args.scenario, args.index, target, args.map)
     from ..io import read_scen
 
     grid = getattr(target, "grid", None)
@@ -99,6 +104,9 @@ def run(args: argparse.Namespace) -> int:
     if scen is not None:
         start, goal, optimal = scen
     else:
+        from ._common import check_point_args
+
+        check_point_args(args, workspace)
         start, goal = endpoints(args, workspace)
     target = robot_target(args, workspace, start=start, goal=goal)
     robot = target is not workspace
@@ -138,12 +146,12 @@ def run(args: argparse.Namespace) -> int:
         json.dump(out, sys.stdout)
         sys.stdout.write("\n")
     else:
-        x, y = path.end
+        end = ", ".join(f"{v:.4g}" for v in path.end)  # (x, y), or (x, y, z) on a voxel grid
         opt = f" (octile optimum {path.extra['optimal']:.4g})" if "optimal" in path.extra else ""
         # no path has no clearance: the line leaves it out rather than print "nan"
         cl = "" if path.status == "no_path" else f"min clearance {path.min_clearance:.4g}, "
         print(f"{path.planner}: {path.status} after {path.iterations} iterations, length {path.length:.4g}{opt}, "
-              f"end ({x:.4g}, {y:.4g}), {cl}{path.seconds * 1e3:.1f} ms "
+              f"end ({end}), {cl}{path.seconds * 1e3:.1f} ms "
               f"(+ {startup * 1e3:.0f} ms start-up)")
         if path.extra.get("hint"):
             print(f"hint: {path.extra['hint']}")

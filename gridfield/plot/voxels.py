@@ -655,6 +655,9 @@ def plot_voxel_scene(
     ax3.set_ylim(b[1], b[4])
     ax3.set_zlim(b[2], b[5])
     ax3.set_box_aspect([b[i + 3] - b[i] for i in range(3)])
+    for axis in "xyz":  # a flat grid's short axis keeps its ticks apart
+        ax3.locator_params(axis=axis, nbins=max(2, min(6, round(6 * (b["xyz".index(axis) + 3] - b["xyz".index(axis)])
+                                                               / max(b[i + 3] - b[i] for i in range(3))))))
     ax3.view_init(elev=view[0], azim=view[1])
     ax3.set_xlabel("x")
     ax3.set_ylabel("y")

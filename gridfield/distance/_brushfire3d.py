@@ -54,7 +54,7 @@ INT16_AXIS = 32766
 #: Voxels of the ``(y, x)`` plane per task of the Euclidean column pass (about 64 KiB of its float64).
 _PLANE_BLOCK = 8192
 _BORDER_LABEL = -1  # gridfield.distance.brushfire.BORDER_LABEL (that module imports this one)
-_FAR_STEPS = 1 << 30  # the kernel's "not reached"
+_NO_FLAT = np.zeros((1, 1, 1), np.int32)  # the chamfer's nearest voxels, when not wanted
 
 Runner = Callable[[Sequence[Callable[[], object]], int], None]
 
@@ -159,11 +159,16 @@ def brushfire3d(gridmap: GridMap, connectivity: int, metric: str, saturate: floa
                     need_nearest, wall, res), nthreads)
         if want_steps:
             steps = np.empty(shape, np.int32)
-            k.chamfer(occ8, wall, chess_steps, steps, dummy, dummy, dummy, False)
+            k.chamfer(occ8, wall, chess_steps, steps, _NO_FLAT, False)
     else:
         key = np.empty(shape, np.int32)
-        k.chamfer(occ8, wall, metric == "chessboard", key, *(nl, nr, nc) if nl is not None else (dummy,) * 3,
-                  need_nearest)
+        # the nearest voxel as one flat index into the padded grid while the passes carry it
+        padded = (shape[0] + 2) * (shape[1] + 2) * (shape[2] + 2)
+        flat = np.empty(shape, np.int32 if padded < 2**31 else np.int64) if need_nearest else _NO_FLAT
+        k.chamfer(occ8, wall, metric == "chessboard", key, flat, need_nearest)
+        if need_nearest:
+            run(_ranges(k.decode, layers, parts, flat, nl, nr, nc), nthreads)
+        del flat
         distance = np.empty(shape, np.float64)
         run(_ranges(k.scale_steps, layers, parts, key, res, distance), nthreads)
         if want_steps:
@@ -171,7 +176,7 @@ def brushfire3d(gridmap: GridMap, connectivity: int, metric: str, saturate: floa
                 steps = key
             else:
                 steps = np.empty(shape, np.int32)
-                k.chamfer(occ8, wall, chess_steps, steps, dummy, dummy, dummy, False)
+                k.chamfer(occ8, wall, chess_steps, steps, _NO_FLAT, False)
         del key
     label = gvd = None
     if want_label:

@@ -289,44 +289,43 @@ def slice_pass(int64_t z0, int64_t z1, double[:, :, ::1] dist, idx_t[:, :, ::1] 
         free(f)
 
 
-cdef inline void _relax(int32_t* d, const int32_t* d2, int64_t a0, int64_t a1, int64_t off, bint nearest,
-                        idx_t* l, idx_t* r, idx_t* c, const idx_t* l2, const idx_t* r2,
-                        const idx_t* c2) noexcept nogil:
-    # voxels a in a0:a1 of a row against b = a + off of another row: d[a] = d2[b] + 1 if that is smaller
+ctypedef fused flat_t:
+    int32_t
+    int64_t
+
+
+cdef inline void _relax(int32_t* d, const int32_t* d2, int64_t a0, int64_t a1, int64_t off) noexcept nogil:
+    # voxels a in a0:a1 of a row against b = a + off of another row: d[a] = min(d[a], d2[b] + 1)
+    cdef int64_t a
+    cdef int32_t cand
+    for a in range(a0, a1):
+        cand = d2[a + off] + 1
+        d[a] = cand if cand < d[a] else d[a]
+
+
+cdef inline void _relax_near(int32_t* d, flat_t* f, const int32_t* d2, const flat_t* f2, int64_t a0, int64_t a1,
+                             int64_t off) noexcept nogil:
+    # as _relax, carrying the nearest voxel's flat index (branch-free selects)
     cdef int64_t a, b
-    cdef int32_t cand
-    if nearest:
-        for a in range(a0, a1):
-            b = a + off
-            cand = d2[b] + 1
-            if cand < d[a]:
-                d[a] = cand
-                l[a] = l2[b]
-                r[a] = r2[b]
-                c[a] = c2[b]
-    else:
-        for a in range(a0, a1):
-            cand = d2[a + off] + 1
-            d[a] = cand if cand < d[a] else d[a]
+    cdef int32_t cand, cur
+    cdef bint better
+    for a in range(a0, a1):
+        b = a + off
+        cand = d2[b] + 1
+        cur = d[a]
+        better = cand < cur
+        f[a] = f2[b] if better else f[a]
+        d[a] = cand if better else cur
 
 
-cdef void _chamfer_row(int32_t[:, :, ::1] steps, idx_t[:, :, ::1] nl, idx_t[:, :, ::1] nr, idx_t[:, :, ::1] nc,
-                       bint nearest, bint chess, int64_t z, int64_t y, int64_t sz) noexcept nogil:
+cdef void _chamfer_row(int32_t* steps, flat_t* near, bint nearest, bint chess, int64_t layers, int64_t rows,
+                       int64_t cols, int64_t z, int64_t y, int64_t sz) noexcept nogil:
     # one row of a pass: sz = -1 forward (neighbours in the layer before, the row before, the col
-    # before), +1 backward (their mirror images)
-    cdef int64_t layers = steps.shape[0], rows = steps.shape[1], cols = steps.shape[2]
-    cdef int64_t dz, dy, zz, yy, x, x0, x1
-    cdef int32_t* d = &steps[z, y, 0]
-    cdef int32_t* d2
-    cdef idx_t* l = &nl[0, 0, 0]
-    cdef idx_t* r = &nr[0, 0, 0]
-    cdef idx_t* c = &nc[0, 0, 0]
-    cdef int64_t here = (z * rows + y) * cols, there
+    # before), +1 backward (their mirror images); the rows are final in this pass
+    cdef int64_t dz, dy, zz, yy, x, here = (z * rows + y) * cols, there
+    cdef int32_t* d = steps + here
+    cdef flat_t* f = near + here
     cdef int32_t cand
-    if nearest:
-        l = &nl[z, y, 0]
-        r = &nr[z, y, 0]
-        c = &nc[z, y, 0]
     for dz in range(-1, 1):
         zz = z + sz if dz == -1 else z  # dz = -1: the layer before (in the pass's order); 0: this layer
         if zz < 0 or zz >= layers:
@@ -334,29 +333,20 @@ cdef void _chamfer_row(int32_t[:, :, ::1] steps, idx_t[:, :, ::1] nl, idx_t[:, :
         for dy in range(-1, 2):
             if dz == 0 and dy != -1:
                 continue
-            if dz == 0:
-                yy = y + sz
-            else:
-                yy = y + dy
-            if yy < 0 or yy >= rows:
+            yy = y + sz if dz == 0 else y + dy
+            if yy < 0 or yy >= rows or (not chess and dz == -1 and dy != 0):
                 continue
-            if not chess and (dz == -1 and dy != 0):
-                continue
-            d2 = &steps[zz, yy, 0]
             there = (zz * rows + yy) * cols
             if nearest:
-                _relax(d, d2, 0, cols, 0, True, l, r, c, &nl[0, 0, 0] + there, &nr[0, 0, 0] + there,
-                       &nc[0, 0, 0] + there)
+                _relax_near(d, f, steps + there, near + there, 0, cols, 0)
                 if chess:
-                    _relax(d, d2, 1, cols, -1, True, l, r, c, &nl[0, 0, 0] + there, &nr[0, 0, 0] + there,
-                           &nc[0, 0, 0] + there)
-                    _relax(d, d2, 0, cols - 1, 1, True, l, r, c, &nl[0, 0, 0] + there, &nr[0, 0, 0] + there,
-                           &nc[0, 0, 0] + there)
+                    _relax_near(d, f, steps + there, near + there, 1, cols, -1)
+                    _relax_near(d, f, steps + there, near + there, 0, cols - 1, 1)
             else:
-                _relax(d, d2, 0, cols, 0, False, l, r, c, l, r, c)
+                _relax(d, steps + there, 0, cols, 0)
                 if chess:
-                    _relax(d, d2, 1, cols, -1, False, l, r, c, l, r, c)
-                    _relax(d, d2, 0, cols - 1, 1, False, l, r, c, l, r, c)
+                    _relax(d, steps + there, 1, cols, -1)
+                    _relax(d, steps + there, 0, cols - 1, 1)
     # the col before (sequential along the row)
     if sz < 0:
         for x in range(1, cols):
@@ -364,28 +354,27 @@ cdef void _chamfer_row(int32_t[:, :, ::1] steps, idx_t[:, :, ::1] nl, idx_t[:, :
             if cand < d[x]:
                 d[x] = cand
                 if nearest:
-                    l[x] = l[x - 1]
-                    r[x] = r[x - 1]
-                    c[x] = c[x - 1]
+                    f[x] = f[x - 1]
     else:
         for x in range(cols - 2, -1, -1):
             cand = d[x + 1] + 1
             if cand < d[x]:
                 d[x] = cand
                 if nearest:
-                    l[x] = l[x + 1]
-                    r[x] = r[x + 1]
-                    c[x] = c[x + 1]
+                    f[x] = f[x + 1]
 
 
-def chamfer(const uint8_t[:, :, ::1] occ, bint wall, bint chess, int32_t[:, :, ::1] steps, idx_t[:, :, ::1] nl,
-            idx_t[:, :, ::1] nr, idx_t[:, :, ::1] nc, bint want_nearest):
+def chamfer(const uint8_t[:, :, ::1] occ, bint wall, bint chess, int32_t[:, :, ::1] steps, flat_t[:, :, ::1] near,
+            bint want_nearest):
     """Chessboard (``chess``, 26-connected) or taxicab (6-connected) distance in voxels into ``steps``
-    (0 on obstacles, ``2**30`` where nothing is reached), with the nearest obstacle voxel in ``nl, nr,
-    nc`` (``want_nearest``; -1 where nothing is reached). Two raster passes over the whole grid."""
+    (0 on obstacles, ``2**30`` where nothing is reached), with the nearest obstacle voxel as a flat index
+    into the grid padded by one voxel on every side in ``near`` (``want_nearest``; -1 where nothing is
+    reached; :func:`decode` splits it). Two raster passes over the whole grid."""
     cdef int64_t layers = occ.shape[0], rows = occ.shape[1], cols = occ.shape[2], z, y, x
+    cdef int64_t pr = rows + 2, pc = cols + 2
     cdef int32_t dw
     cdef int64_t wl, wr, wc
+    cdef flat_t* fp = &near[0, 0, 0]
     if layers == 0 or rows == 0 or cols == 0:
         return
     with nogil:
@@ -395,14 +384,12 @@ def chamfer(const uint8_t[:, :, ::1] occ, bint wall, bint chess, int32_t[:, :, :
                     if occ[z, y, x]:
                         steps[z, y, x] = 0
                         if want_nearest:
-                            nl[z, y, x] = <idx_t>z
-                            nr[z, y, x] = <idx_t>y
-                            nc[z, y, x] = <idx_t>x
+                            near[z, y, x] = <flat_t>(((z + 1) * pr + y + 1) * pc + x + 1)
                         continue
                     dw = _FAR
-                    wl = -1
-                    wr = -1
-                    wc = -1
+                    wl = -2
+                    wr = -2
+                    wc = -2
                     if wall:  # a boundary voxel is next to the shell: the first face it touches
                         if x == 0 or x == cols - 1:
                             dw, wl, wr, wc = 1, z, y, (-1 if x == 0 else cols)
@@ -412,15 +399,33 @@ def chamfer(const uint8_t[:, :, ::1] occ, bint wall, bint chess, int32_t[:, :, :
                             dw, wl, wr, wc = 1, (-1 if z == 0 else layers), y, x
                     steps[z, y, x] = dw
                     if want_nearest:
-                        nl[z, y, x] = <idx_t>wl
-                        nr[z, y, x] = <idx_t>wr
-                        nc[z, y, x] = <idx_t>wc
+                        near[z, y, x] = <flat_t>(((wl + 1) * pr + wr + 1) * pc + wc + 1) if wl > -2 else -1
         for z in range(layers):
             for y in range(rows):
-                _chamfer_row(steps, nl, nr, nc, want_nearest, chess, z, y, -1)
+                _chamfer_row(&steps[0, 0, 0], fp, want_nearest, chess, layers, rows, cols, z, y, -1)
         for z in range(layers - 1, -1, -1):
             for y in range(rows - 1, -1, -1):
-                _chamfer_row(steps, nl, nr, nc, want_nearest, chess, z, y, 1)
+                _chamfer_row(&steps[0, 0, 0], fp, want_nearest, chess, layers, rows, cols, z, y, 1)
+
+
+def decode(int64_t z0, int64_t z1, const flat_t[:, :, ::1] near, idx_t[:, :, ::1] nl, idx_t[:, :, ::1] nr,
+           idx_t[:, :, ::1] nc):
+    """Layers ``z0:z1``: the flat indices of :func:`chamfer` as ``(layer, row, col)`` (-1 on all three for -1)."""
+    cdef int64_t rows = near.shape[1], cols = near.shape[2], pr = rows + 2, pc = cols + 2, z, y, x, f, q
+    with nogil:
+        for z in range(z0, z1):
+            for y in range(rows):
+                for x in range(cols):
+                    f = near[z, y, x]
+                    if f < 0:
+                        nl[z, y, x] = -1
+                        nr[z, y, x] = -1
+                        nc[z, y, x] = -1
+                        continue
+                    q = f // pc
+                    nc[z, y, x] = <idx_t>(f - q * pc - 1)
+                    nl[z, y, x] = <idx_t>(q // pr - 1)
+                    nr[z, y, x] = <idx_t>(q - (q // pr) * pr - 1)
 
 
 def gather_labels(int64_t z0, int64_t z1, const idx_t[:, :, ::1] nl, const idx_t[:, :, ::1] nr,
@@ -444,41 +449,53 @@ def gather_labels(int64_t z0, int64_t z1, const idx_t[:, :, ::1] nl, const idx_t
                         label[z, y, x] = border
 
 
+cdef inline void _gvd_dir(const int32_t* la, const double* ka, const int32_t* lb, const double* kb,
+                          const uint8_t* fb, uint8_t* mark, int64_t a0, int64_t a1, int64_t off) noexcept nogil:
+    # voxels a in a0:a1 against b = a + off of a neighbouring (or the same) row: a is marked if b is a
+    # free voxel of another label and a is farther from its obstacle (on a tie: a has the smaller label)
+    cdef int64_t a, b
+    for a in range(a0, a1):
+        b = a + off
+        mark[a] |= (la[a] != lb[b]) & (fb[b] == 0) & ((ka[a] > kb[b]) | ((ka[a] == kb[b]) & (la[a] < lb[b])))
+
+
 def gvd_layers(int64_t z0, int64_t z1, const int32_t[:, :, ::1] label, const double[:, :, ::1] key,
                const uint8_t[:, :, ::1] occ, uint8_t[:, :, ::1] gvd):
     """Layers ``z0:z1`` of the GVD: a free voxel is marked if some 26-neighbouring free voxel has another
     label and it is farther from its obstacle than that neighbour (by ``key``; on a tie: it has the
     smaller label). Each voxel reads its neighbours only, so layers go in any order, on any thread."""
     cdef int64_t layers = label.shape[0], rows = label.shape[1], cols = label.shape[2]
-    cdef int64_t z, y, x, dz, dy, dx, zz, yy, xx
-    cdef int32_t la, lb
-    cdef double ka, kb
-    cdef uint8_t m
+    cdef int64_t z, y, x, dz, dy, zz, yy
+    cdef uint8_t* mark
+    cdef const int32_t* la
+    cdef const double* ka
+    cdef const uint8_t* fa
+    if rows == 0 or cols == 0 or z1 <= z0:
+        return
     with nogil:
+        mark = <uint8_t*>_alloc(cols)
         for z in range(z0, z1):
             for y in range(rows):
+                la = &label[z, y, 0]
+                ka = &key[z, y, 0]
+                fa = &occ[z, y, 0]
                 for x in range(cols):
-                    m = 0
-                    if not occ[z, y, x]:
-                        la = label[z, y, x]
-                        ka = key[z, y, x]
-                        for dz in range(-1, 2):
-                            zz = z + dz
-                            if zz < 0 or zz >= layers:
-                                continue
-                            for dy in range(-1, 2):
-                                yy = y + dy
-                                if yy < 0 or yy >= rows:
-                                    continue
-                                for dx in range(-1, 2):
-                                    xx = x + dx
-                                    if xx < 0 or xx >= cols or occ[zz, yy, xx]:
-                                        continue
-                                    lb = label[zz, yy, xx]
-                                    kb = key[zz, yy, xx]
-                                    if la != lb and (ka > kb or (ka == kb and la < lb)):
-                                        m = 1
-                    gvd[z, y, x] = m
+                    mark[x] = 0
+                for dz in range(-1, 2):
+                    zz = z + dz
+                    if zz < 0 or zz >= layers:
+                        continue
+                    for dy in range(-1, 2):
+                        yy = y + dy
+                        if yy < 0 or yy >= rows:
+                            continue
+                        if dz != 0 or dy != 0:
+                            _gvd_dir(la, ka, &label[zz, yy, 0], &key[zz, yy, 0], &occ[zz, yy, 0], mark, 0, cols, 0)
+                        _gvd_dir(la, ka, &label[zz, yy, 0], &key[zz, yy, 0], &occ[zz, yy, 0], mark, 1, cols, -1)
+                        _gvd_dir(la, ka, &label[zz, yy, 0], &key[zz, yy, 0], &occ[zz, yy, 0], mark, 0, cols - 1, 1)
+                for x in range(cols):
+                    gvd[z, y, x] = mark[x] & (fa[x] == 0)
+        free(mark)
 
 
 def scale_steps(int64_t z0, int64_t z1, const int32_t[:, :, ::1] steps, double resolution, double[:, :, ::1] dist):

@@ -294,74 +294,113 @@ ctypedef fused flat_t:
     int64_t
 
 
-cdef inline void _relax(int32_t* d, const int32_t* d2, int64_t a0, int64_t a1, int64_t off) noexcept nogil:
-    # voxels a in a0:a1 of a row against b = a + off of another row: d[a] = min(d[a], d2[b] + 1)
+cdef inline void _minsel(int32_t* d, flat_t* f, const int32_t* d2, const flat_t* f2, int64_t a0, int64_t a1,
+                         int64_t off, int32_t add, bint nearest) noexcept nogil:
+    # d[a] = min(d[a], d2[a + off] + add) for a in a0:a1, carrying f (branch-free selects)
+    if nearest:
+        _relax_add(d, f, d2, f2, a0, a1, off, add)
+    else:
+        _relax_plain(d, d2, a0, a1, off, add)
+
+
+cdef inline void _relax_plain(int32_t* d, const int32_t* d2, int64_t a0, int64_t a1, int64_t off,
+                              int32_t add) noexcept nogil:
     cdef int64_t a
     cdef int32_t cand
     for a in range(a0, a1):
-        cand = d2[a + off] + 1
+        cand = d2[a + off] + add
         d[a] = cand if cand < d[a] else d[a]
 
 
-cdef inline void _relax_near(int32_t* d, flat_t* f, const int32_t* d2, const flat_t* f2, int64_t a0, int64_t a1,
-                             int64_t off) noexcept nogil:
-    # as _relax, carrying the nearest voxel's flat index (branch-free selects)
-    cdef int64_t a, b
+cdef inline void _relax_add(int32_t* d, flat_t* f, const int32_t* d2, const flat_t* f2, int64_t a0, int64_t a1,
+                            int64_t off, int32_t add) noexcept nogil:
+    # the select as masks, so that the loop vectorizes
+    cdef int64_t a
     cdef int32_t cand, cur
-    cdef bint better
-    for a in range(a0, a1):
-        b = a + off
-        cand = d2[b] + 1
-        cur = d[a]
-        better = cand < cur
-        f[a] = f2[b] if better else f[a]
-        d[a] = cand if better else cur
+    cdef flat_t m
+    cdef int32_t* dd = d + a0
+    cdef const int32_t* ds = d2 + a0 + off
+    cdef flat_t* ff = f + a0
+    cdef const flat_t* fs = f2 + a0 + off
+    for a in range(a1 - a0):
+        cand = ds[a] + add
+        cur = dd[a]
+        m = -(<flat_t>(cand < cur))
+        ff[a] = (fs[a] & m) | (ff[a] & ~m)
+        dd[a] = cand if cand < cur else cur
 
 
-cdef void _chamfer_row(int32_t* steps, flat_t* near, bint nearest, bint chess, int64_t layers, int64_t rows,
-                       int64_t cols, int64_t z, int64_t y, int64_t sz) noexcept nogil:
-    # one row of a pass: sz = -1 forward (neighbours in the layer before, the row before, the col
-    # before), +1 backward (their mirror images); the rows are final in this pass
-    cdef int64_t dz, dy, zz, yy, x, here = (z * rows + y) * cols, there
-    cdef int32_t* d = steps + here
-    cdef flat_t* f = near + here
+cdef void _chamfer_layer(int32_t* steps, flat_t* near, bint nearest, bint chess, int64_t layers, int64_t rows,
+                         int64_t cols, int64_t z, int64_t sz, int32_t* ad, flat_t* af) noexcept nogil:
+    # Layer z of a pass (sz = -1 forward, +1 backward): first the neighbours in the layer before (in the
+    # pass's order), which are final: the 3 x 3 minimum of that layer (separable: along x into the plane
+    # buffer ad/af, then along y) or, 6-connected, the voxel itself; then the layer's own rows in the
+    # pass's order, each against the row before and then sequentially along x. The same minima as the
+    # raster pass over the 13 neighbours, in fewer loops.
+    cdef int64_t plane = rows * cols, y, yy, x, k
+    cdef int64_t zz = z + sz
+    cdef int32_t* d
+    cdef flat_t* f
+    cdef int32_t* p
+    cdef flat_t* pf
     cdef int32_t cand
-    for dz in range(-1, 1):
-        zz = z + sz if dz == -1 else z  # dz = -1: the layer before (in the pass's order); 0: this layer
-        if zz < 0 or zz >= layers:
-            continue
-        for dy in range(-1, 2):
-            if dz == 0 and dy != -1:
-                continue
-            yy = y + sz if dz == 0 else y + dy
-            if yy < 0 or yy >= rows or (not chess and dz == -1 and dy != 0):
-                continue
-            there = (zz * rows + yy) * cols
+    if 0 <= zz < layers:
+        p = steps + zz * plane
+        pf = near + zz * plane
+        if chess:
+            for k in range(plane):
+                ad[k] = p[k]
             if nearest:
-                _relax_near(d, f, steps + there, near + there, 0, cols, 0)
-                if chess:
-                    _relax_near(d, f, steps + there, near + there, 1, cols, -1)
-                    _relax_near(d, f, steps + there, near + there, 0, cols - 1, 1)
-            else:
-                _relax(d, steps + there, 0, cols, 0)
-                if chess:
-                    _relax(d, steps + there, 1, cols, -1)
-                    _relax(d, steps + there, 0, cols - 1, 1)
-    # the col before (sequential along the row)
-    if sz < 0:
-        for x in range(1, cols):
-            cand = d[x - 1] + 1
-            if cand < d[x]:
-                d[x] = cand
-                if nearest:
-                    f[x] = f[x - 1]
-    else:
-        for x in range(cols - 2, -1, -1):
-            cand = d[x + 1] + 1
-            if cand < d[x]:
-                d[x] = cand
-                if nearest:
-                    f[x] = f[x + 1]
+                for k in range(plane):
+                    af[k] = pf[k]
+            for y in range(rows):
+                _minsel(ad + y * cols, af + y * cols, p + y * cols, pf + y * cols, 1, cols, -1, 0, nearest)
+                _minsel(ad + y * cols, af + y * cols, p + y * cols, pf + y * cols, 0, cols - 1, 1, 0, nearest)
+            for y in range(rows):
+                d = steps + z * plane + y * cols
+                f = near + z * plane + y * cols
+                for yy in range(y - 1, y + 2):
+                    if 0 <= yy < rows:
+                        _minsel(d, f, ad + yy * cols, af + yy * cols, 0, cols, 0, 1, nearest)
+        else:
+            _minsel(steps + z * plane, near + z * plane, p, pf, 0, plane, 0, 1, nearest)
+    for k in range(rows):
+        y = k if sz < 0 else rows - 1 - k
+        d = steps + z * plane + y * cols
+        f = near + z * plane + y * cols
+        yy = y + sz
+        if 0 <= yy < rows:
+            p = steps + z * plane + yy * cols
+            pf = near + z * plane + yy * cols
+            _minsel(d, f, p, pf, 0, cols, 0, 1, nearest)
+            if chess:
+                _minsel(d, f, p, pf, 1, cols, -1, 1, nearest)
+                _minsel(d, f, p, pf, 0, cols - 1, 1, 1, nearest)
+        if sz < 0:
+            for x in range(1, cols):
+                cand = d[x - 1] + 1
+                if cand < d[x]:
+                    d[x] = cand
+                    if nearest:
+                        f[x] = f[x - 1]
+        else:
+            for x in range(cols - 2, -1, -1):
+                cand = d[x + 1] + 1
+                if cand < d[x]:
+                    d[x] = cand
+                    if nearest:
+                        f[x] = f[x + 1]
+
+
+cdef inline void _wall_seed(int32_t* steps, flat_t* near, const uint8_t* occ, bint nearest, int64_t rows,
+                            int64_t cols, int64_t z, int64_t y, int64_t x, int64_t wl, int64_t wr,
+                            int64_t wc) noexcept nogil:
+    cdef int64_t k = (z * rows + y) * cols + x
+    if occ[k]:
+        return
+    steps[k] = 1
+    if nearest:
+        near[k] = <flat_t>(((wl + 1) * (rows + 2) + wr + 1) * (cols + 2) + wc + 1)
 
 
 def chamfer(const uint8_t[:, :, ::1] occ, bint wall, bint chess, int32_t[:, :, ::1] steps, flat_t[:, :, ::1] near,
@@ -370,42 +409,46 @@ def chamfer(const uint8_t[:, :, ::1] occ, bint wall, bint chess, int32_t[:, :, :
     (0 on obstacles, ``2**30`` where nothing is reached), with the nearest obstacle voxel as a flat index
     into the grid padded by one voxel on every side in ``near`` (``want_nearest``; -1 where nothing is
     reached; :func:`decode` splits it). Two raster passes over the whole grid."""
-    cdef int64_t layers = occ.shape[0], rows = occ.shape[1], cols = occ.shape[2], z, y, x
+    cdef int64_t layers = occ.shape[0], rows = occ.shape[1], cols = occ.shape[2], z, y, x, k, plane = rows * cols
     cdef int64_t pr = rows + 2, pc = cols + 2
-    cdef int32_t dw
-    cdef int64_t wl, wr, wc
-    cdef flat_t* fp = &near[0, 0, 0]
     if layers == 0 or rows == 0 or cols == 0:
         return
+    cdef int32_t* sp = &steps[0, 0, 0]
+    cdef flat_t* fp = &near[0, 0, 0]
+    cdef const uint8_t* op = &occ[0, 0, 0]
+    cdef const uint8_t* orow
+    cdef int32_t* ad
+    cdef flat_t* af
     with nogil:
         for z in range(layers):
             for y in range(rows):
+                k = (z * rows + y) * cols
+                orow = op + k
                 for x in range(cols):
-                    if occ[z, y, x]:
-                        steps[z, y, x] = 0
-                        if want_nearest:
-                            near[z, y, x] = <flat_t>(((z + 1) * pr + y + 1) * pc + x + 1)
-                        continue
-                    dw = _FAR
-                    wl = -2
-                    wr = -2
-                    wc = -2
-                    if wall:  # a boundary voxel is next to the shell: the first face it touches
-                        if x == 0 or x == cols - 1:
-                            dw, wl, wr, wc = 1, z, y, (-1 if x == 0 else cols)
-                        elif y == 0 or y == rows - 1:
-                            dw, wl, wr, wc = 1, z, (-1 if y == 0 else rows), x
-                        elif z == 0 or z == layers - 1:
-                            dw, wl, wr, wc = 1, (-1 if z == 0 else layers), y, x
-                    steps[z, y, x] = dw
-                    if want_nearest:
-                        near[z, y, x] = <flat_t>(((wl + 1) * pr + wr + 1) * pc + wc + 1) if wl > -2 else -1
-        for z in range(layers):
+                    sp[k + x] = 0 if orow[x] else _FAR
+                if want_nearest:
+                    for x in range(cols):
+                        fp[k + x] = <flat_t>(((z + 1) * pr + y + 1) * pc + x + 1) if orow[x] else -1
+        if wall:  # boundary voxels are next to the shell; where they touch several faces the col's wins, then the row's
             for y in range(rows):
-                _chamfer_row(&steps[0, 0, 0], fp, want_nearest, chess, layers, rows, cols, z, y, -1)
+                for x in range(cols):
+                    _wall_seed(sp, fp, op, want_nearest, rows, cols, 0, y, x, -1, y, x)
+                    _wall_seed(sp, fp, op, want_nearest, rows, cols, layers - 1, y, x, layers, y, x)
+            for z in range(layers):
+                for x in range(cols):
+                    _wall_seed(sp, fp, op, want_nearest, rows, cols, z, 0, x, z, -1, x)
+                    _wall_seed(sp, fp, op, want_nearest, rows, cols, z, rows - 1, x, z, rows, x)
+                for y in range(rows):
+                    _wall_seed(sp, fp, op, want_nearest, rows, cols, z, y, 0, z, y, -1)
+                    _wall_seed(sp, fp, op, want_nearest, rows, cols, z, y, cols - 1, z, y, cols)
+        ad = <int32_t*>_alloc(plane * sizeof(int32_t))
+        af = <flat_t*>_alloc((plane if want_nearest else 1) * sizeof(flat_t))
+        for z in range(layers):
+            _chamfer_layer(sp, fp, want_nearest, chess, layers, rows, cols, z, -1, ad, af)
         for z in range(layers - 1, -1, -1):
-            for y in range(rows - 1, -1, -1):
-                _chamfer_row(&steps[0, 0, 0], fp, want_nearest, chess, layers, rows, cols, z, y, 1)
+            _chamfer_layer(sp, fp, want_nearest, chess, layers, rows, cols, z, 1, ad, af)
+        free(ad)
+        free(af)
 
 
 def decode(int64_t z0, int64_t z1, const flat_t[:, :, ::1] near, idx_t[:, :, ::1] nl, idx_t[:, :, ::1] nr,

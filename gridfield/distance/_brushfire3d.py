@@ -41,6 +41,7 @@ brushfire's thread pool (``run``); the chamfer is one sequential task.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -70,7 +71,7 @@ def _ranges(kernel: Callable[..., object], n: int, parts: int, *args: object) ->
     """Tasks running ``kernel(lo, hi, *args)`` over ``range(n)`` in ``parts`` nearly equal pieces."""
     parts = max(1, min(n, parts))
     bounds = [i * n // parts for i in range(parts + 1)]
-    return [lambda a=bounds[i], b=bounds[i + 1]: kernel(a, b, *args) for i in range(parts) if bounds[i] < bounds[i + 1]]
+    return [partial(kernel, bounds[i], bounds[i + 1], *args) for i in range(parts) if bounds[i] < bounds[i + 1]]
 
 
 def index_dtype(shape: tuple[int, ...]) -> type[np.signedinteger[Any]]:

@@ -274,3 +274,24 @@ def test_random_maps(occ, border, metric):
         ref = _ref(occ, border, ndimage.distance_transform_cdt, metric=metric)
         assert np.array_equal(d.distance, ref) and np.array_equal(d.steps, ref)
     assert np.array_equal(d.gvd, _brute_gvd(d.label, d.distance, occ))
+
+
+def test_cli_summary_on_a_voxel_map(monkeypatch, capsys):
+    """``gridfield brushfire`` on a 3-D GridMap (its reader stubbed: 3-D files are the readers' issue)."""
+    import argparse
+
+    from gridfield.cli import brushfire as cli
+
+    occ = np.zeros((3, 4, 5), bool)
+    occ[1, 2, 3] = True
+    gm = _map(occ, "wall")
+    monkeypatch.setattr(cli, "_load", lambda args: gm)
+    parser = argparse.ArgumentParser()
+    cli.add_parser(parser.add_subparsers())
+    for extra, conn in [([], 26), (["--connectivity", "6", "--metric", "euclidean"], 6)]:
+        args = parser.parse_args(["brushfire", "voxels.npy", *extra])
+        assert cli.run(args) == 0
+        out = capsys.readouterr().out
+        d = brushfire(gm, connectivity=conn, metric="euclidean" if extra else None)
+        assert out.startswith(f"brushfire 3x4x5 cells of 0.5 ({conn}-connected steps, {d.metric} distance, wall border)")
+        assert f"{int(d.gvd.sum())} GVD cells, 1 obstacle label + wall" in out

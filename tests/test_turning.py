@@ -11,11 +11,13 @@ import shapely
 
 from gridfield.core.errors import GridfieldError, ParameterError
 from gridfield.core.grid import Grid, GridMap
-from gridfield.geometry.cspace import apply_robot, pose_map, wrap_angle
+from gridfield.geometry.cspace import apply_robot, wrap_angle
 from gridfield.geometry.world import Robot
 
 pytest.importorskip("gridfield.fields.navigation3d")
-from gridfield.following.posefollow import plan_poses  # noqa: E402
+import itertools
+
+from gridfield.following.posefollow import plan_poses
 
 CART = Robot(vertices=[[-0.8, -0.25], [0.8, -0.25], [0.8, 0.25], [-0.8, 0.25]])
 
@@ -53,7 +55,7 @@ def assert_motion_clear(gm: GridMap, robot: Robot, poses: np.ndarray, step_cells
     r = float(np.hypot(*robot.vertices.T).max())
     xmin, ymin, xmax, ymax = gm.grid.bounds
     inside = shapely.box(xmin, ymin, xmax, ymax)
-    for a, b in zip(poses[:-1], poses[1:], strict=True):
+    for a, b in itertools.pairwise(poses):
         dth = float(wrap_angle(b[2] - a[2]))
         length = math.hypot(b[0] - a[0], b[1] - a[1]) + r * abs(dth)
         n = max(2, math.ceil(length / (step_cells * h)) + 1)

@@ -20,12 +20,13 @@ from numpy.typing import NDArray
 
 from ..core.errors import ParameterError
 from ..core.path import Path
-from ..geometry.cspace import PoseMap
 from ._layers import OCCUPIED_COLOR, Artists, _new_axes, _occupancy_layer, frame_axes
 from .animation import animation_figure, check_animation_file, write_animation
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+
+    from ..geometry.cspace import PoseMap  # the type only: plotting computes nothing
 
 __all__ = ["plot_footprints", "plot_pose_space", "save_pose_animation"]
 

@@ -10,6 +10,10 @@ Supported inputs (:func:`read` picks by file name):
 - any of those text and bitmap files gzip-compressed (``arena.map.gz``, ``arena.map.scen.gz``, ``map.pgm.gz``,
   also as a ROS YAML's ``image``), decompressed within the size guard
 - ``.npz`` arrays written by gridfield: :func:`read_npz`, :func:`read_npz_arrays`
+- voxel maps (3-D grids, ``[z, y, x]``): Moving AI's 3-D benchmark ``.3dmap`` (:func:`read_3dmap`; also
+  ``.3dmap.gz``) and its scenarios ``.3dscen`` (:func:`read_scen3d`, also through :func:`read_scen`), Patrick
+  Min's ``.binvox`` (:func:`read_binvox`), 3-D ``.npy`` arrays (:func:`read_voxel_npy`) and ``.npz`` files,
+  and point clouds voxelized at a resolution: PLY and ``.xyz`` (:func:`read_pointcloud`)
 - maps larger than memory, read by chunks (a :class:`~gridfield.core.chunkcache.LazyGridMap`): BigTIFF /
   GeoTIFF ``.tif``/``.tiff`` (:func:`read_tiff`), ``.npy`` memory maps (:func:`read_npy`), plain Zarr arrays
   (:func:`read_zarr_array`); and gridfield's Zarr stores (``gridfield brushfire/field ... --out F.zarr``,
@@ -76,13 +80,16 @@ from ._common import _check_file, inner_suffix, is_gzip
 from ._costmap import from_occupancy_grid, read_costmap, read_occupancy_grid, to_occupancy_grid, write_costmap
 from ._costmap import is_costmap_yaml as _is_costmap_yaml
 from ._costmap import is_occupancy_grid_yaml as _is_occupancy_grid_yaml
-from ._movingai import Scenarios, read_movingai_map, read_scen
+from ._movingai import Scenarios, read_movingai_map
+from ._movingai import read_scen as _read_scen_2d
 from ._npz import NPZ_ARRAY_NAMES, load_field, read_npz, read_npz_arrays, save_field, write_npz
 from ._occupancy import OCCUPANCY_RULES as OCCUPANCY_RULES
+from ._pointcloud import read_pointcloud
 from ._ros import ROS_MODES as ROS_MODES
 from ._ros import SEMANTICS as SEMANTICS
 from ._ros import read_ros_map, ros_occupancy_values, write_ros_map
 from ._tiff import read_npy, read_tiff
+from ._voxel import Scenarios3D, npy_ndim, read_3dmap, read_binvox, read_scen3d, read_voxel_npy
 from ._yaml import YAML_EXPANDED_LIMIT as YAML_EXPANDED_LIMIT
 from ._yaml import read_world, read_yaml
 from ._zarr import STORE_ARRAYS, read_store, read_zarr, read_zarr_array, write_store
@@ -92,10 +99,13 @@ __all__ = [
     "OCCUPANCY_RULES",
     "STORE_ARRAYS",
     "Scenarios",
+    "Scenarios3D",
     "bundled_map",
     "from_occupancy_grid",
     "load_field",
     "read",
+    "read_3dmap",
+    "read_binvox",
     "read_bitmap",
     "read_costmap",
     "read_movingai_map",
@@ -103,10 +113,13 @@ __all__ = [
     "read_npz",
     "read_npz_arrays",
     "read_occupancy_grid",
+    "read_pointcloud",
     "read_ros_map",
     "read_scen",
+    "read_scen3d",
     "read_store",
     "read_tiff",
+    "read_voxel_npy",
     "read_world",
     "read_yaml",
     "read_zarr",
@@ -123,7 +136,7 @@ __all__ = [
 
 
 #: The formats also read gzip-compressed (``arena.map.gz``): the text and bitmap ones decoded here.
-GZ_FORMATS = (".map", ".pgm", ".png", ".bmp")
+GZ_FORMATS = (".map", ".pgm", ".png", ".bmp", ".3dmap")
 
 
 def bundled_map(name: str) -> FsPath:
@@ -162,6 +175,41 @@ def bundled_map(name: str) -> FsPath:
 # ----------------------------------------------------------------------------------------
 # dispatch
 # ----------------------------------------------------------------------------------------
+def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
+    """Read a Moving AI scenario file: a 2-D ``.scen`` (the reader of ``gridfield.io._movingai``) or, by its
+    suffix, a 3-D ``.3dscen`` (:func:`read_scen3d`, giving a :class:`Scenarios3D`); either gzip-compressed too.
+
+    A 2-D file's coordinates are converted to gridfield's y-up rows (its y grows downward); 2-D files of
+    all three variants are read (``version 1`` tab-separated with 6 significant digits or 8 decimals,
+    ``version 1.0`` with 2 decimals), one line at a time: a line longer than ``SCEN_LINE_MAX`` bytes, a field
+    longer than 4096 characters or a map name longer than 255 is refused naming its line.
+
+    Parameters
+    ----------
+    path : str or path-like
+    map_height : int, optional
+        2-D files: the height of the map the scenarios belong to; every line's height column must match it
+        (by default each line's own is used). A ``.3dscen`` names no map size: it is not checked there
+        (give :func:`read_scen3d` ``shape=``).
+
+    Returns
+    -------
+    Scenarios
+        A :class:`Scenarios3D` for a ``.3dscen``.
+
+    Examples
+    --------
+    >>> s = read_scen(bundled_map("arena/arena.map.scen"))
+    >>> len(s), str(s.map_name[0]), s.version
+    (160, 'arena.map', '1')
+    >>> s.start_xy[0].tolist(), s.start_cell[0].tolist()  # first line: start (1, 11) on a 49-high map
+    ([1.5, 37.5], [37, 1])
+    """
+    if isinstance(path, str | os.PathLike) and inner_suffix(FsPath(path)) == ".3dscen":
+        return read_scen3d(path)
+    return _read_scen_2d(path, map_height=map_height)
+
+
 def _check_options(reader: Callable[..., Any], options: Mapping[str, Any], p: FsPath, what: str) -> None:
     accepted = [n for n, prm in inspect.signature(reader).parameters.items() if prm.kind is prm.KEYWORD_ONLY]
     bad = sorted(set(options) - set(accepted))
@@ -200,10 +248,12 @@ def read(path: PathLike, **options: Any) -> Any:
         ``.tif``/``.tiff`` (BigTIFF/GeoTIFF), ``.npy`` or a ``.zarr`` directory (a gridfield store or a
         plain array), the last three read by chunks; or a folder holding one map file (a ROS map's
         folder: its ``.yaml``), read as that file. A ``.map``, ``.pgm``, ``.png`` or ``.bmp`` file may be
-        gzip-compressed (``arena.map.gz``).
+        gzip-compressed (``arena.map.gz``). Voxel maps: ``.3dmap`` (Moving AI 3-D, also ``.3dmap.gz``),
+        ``.binvox``, ``.ply``/``.xyz`` point clouds (``resolution=`` required), a 3-D ``.npy``.
     **options
         Keyword options of the format's reader (:func:`read_ros_map`, :func:`read_bitmap`,
-        :func:`read_movingai_map`, :func:`read_tiff`, :func:`read_npy`, :func:`read_zarr_array`; a world
+        :func:`read_movingai_map`, :func:`read_tiff`, :func:`read_npy`, :func:`read_zarr_array`,
+        :func:`read_3dmap`, :func:`read_binvox`, :func:`read_pointcloud`, :func:`read_voxel_npy`; a world
         file and ``.npz`` take none).
 
     Returns
@@ -254,6 +304,14 @@ def read(path: PathLike, **options: Any) -> Any:
         reader, what = read_movingai_map, "Moving AI map"
     elif suffix == ".npz":
         reader, what = read_npz, "gridfield .npz file"
+    elif suffix == ".3dmap":
+        reader, what = read_3dmap, "Moving AI 3-D map"
+    elif suffix == ".binvox":
+        reader, what = read_binvox, "binvox file"
+    elif suffix in (".ply", ".xyz"):
+        reader, what = read_pointcloud, "point cloud"
+    elif suffix == ".npy" and npy_ndim(p) == 3:
+        reader, what = read_voxel_npy, "3-D .npy array"
     elif suffix in (".tif", ".tiff"):
         reader, what = read_tiff, "TIFF raster"
     elif suffix == ".npy":
@@ -261,7 +319,8 @@ def read(path: PathLike, **options: Any) -> Any:
     else:
         raise MapFormatError(
             f"{p}: unknown map format {shorten(suffix)}; expected a world or ROS map .yaml, a .png/.pgm/.bmp bitmap, "
-            "a Moving AI .map, a gridfield .npz, a .tif/.tiff raster, a .npy array or a .zarr store"
+            "a Moving AI .map or .3dmap, a gridfield .npz, a .tif/.tiff raster, a .npy array, a .binvox file, a "
+            ".ply/.xyz point cloud or a .zarr store"
         )
     _check_options(reader, options, p, what)
     return reader(p, **options)

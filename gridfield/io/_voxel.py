@@ -87,6 +87,8 @@ def _int_table(p: FsPath, body: bytes, first_line: int, names: tuple[str, ...]) 
     if digit[-1]:
         ends = np.concatenate((ends, [b.size]))
     del edge, digit, bad
+    if not starts.size:  # blank lines only
+        return np.zeros((0, ncols), dtype=np.int64), np.zeros(0, dtype=np.int64)
     newlines = np.flatnonzero(b == 10)
     token_line = np.searchsorted(newlines, starts)  # 0-based line of the body
     del newlines
@@ -401,26 +403,26 @@ def _binvox_header(p: FsPath, data: bytes) -> tuple[tuple[int, int, int], tuple[
         if not parts:
             continue
         key = parts[0].lower()
+        if key == "data" and len(parts) == 1:
+            break
+        if (key, len(parts)) not in (("dim", 4), ("translate", 4), ("scale", 2)):
+            raise MapFormatError(f"{p}: line {line_no}: expected a binvox header line 'dim D H W', "
+                                 f"'translate tx ty tz', 'scale s' or 'data', got {shorten(text[:60])}")
         try:
-            if key == "dim" and len(parts) == 4:
+            if key == "dim":
                 d = tuple(int(v) for v in parts[1:])
                 if min(d) <= 0 or max(len(v) for v in parts[1:]) > _DIGITS_MAX:
                     raise ValueError
                 dims = (d[0], d[1], d[2])
-            elif key == "translate" and len(parts) == 4:
+            elif key == "translate":
                 t = tuple(float(v) for v in parts[1:])
                 if not all(math.isfinite(v) for v in t):
                     raise ValueError
                 translate = (t[0], t[1], t[2])
-            elif key == "scale" and len(parts) == 2:
+            else:
                 scale = float(parts[1])
                 if not (math.isfinite(scale) and scale > 0):
                     raise ValueError
-            elif key == "data" and len(parts) == 1:
-                break
-            else:
-                raise MapFormatError(f"{p}: line {line_no}: expected a binvox header line 'dim D H W', "
-                                     f"'translate tx ty tz', 'scale s' or 'data', got {shorten(text[:60])}")
         except ValueError:
             what = {"dim": "three positive integers", "translate": "three finite numbers",
                     "scale": "a positive number"}[key]

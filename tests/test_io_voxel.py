@@ -219,7 +219,6 @@ def test_3dmap_fuzz_never_a_traceback(tmp_path, data):
 def bbox_costs(occ: np.ndarray, start_zyx: tuple[int, int, int]) -> np.ndarray:
     """Optimal 26-neighbour costs from a voxel (moves 1, sqrt 2, sqrt 3; a move's bounding box must be
     free), by scipy's Dijkstra on a graph built here with numpy."""
-    d, h, w = occ.shape
     index = np.arange(occ.size).reshape(occ.shape)
     src, dst, cost = [], [], []
     for m in itertools.product((-1, 0, 1), repeat=3):

@@ -232,6 +232,14 @@ def _map_in_folder(folder: FsPath) -> FsPath:
     raise MapFormatError(f"{folder}: is a directory with {len(maps)} map files ({names}); give one of them")
 
 
+def _voxel_reader(p: FsPath, suffix: str) -> tuple[Callable[..., GridMap], str] | None:
+    """The reader of a voxel map file and its kind in words, by suffix (a ``.npy`` by its header's ndim)."""
+    if suffix == ".npy":
+        return (read_voxel_npy, "3-D .npy array") if npy_ndim(p) == 3 else None
+    return {".3dmap": (read_3dmap, "Moving AI 3-D map"), ".binvox": (read_binvox, "binvox file"),
+            ".ply": (read_pointcloud, "point cloud"), ".xyz": (read_pointcloud, "point cloud")}.get(suffix)
+
+
 def read(path: PathLike, **options: Any) -> Any:
     """Read any supported map or world file; a world YAML gives a :class:`World`, the rest a :class:`GridMap`
     (a lazy one for the formats read by chunks; a gridfield Zarr store gives what it holds).
@@ -304,14 +312,8 @@ def read(path: PathLike, **options: Any) -> Any:
         reader, what = read_movingai_map, "Moving AI map"
     elif suffix == ".npz":
         reader, what = read_npz, "gridfield .npz file"
-    elif suffix == ".3dmap":
-        reader, what = read_3dmap, "Moving AI 3-D map"
-    elif suffix == ".binvox":
-        reader, what = read_binvox, "binvox file"
-    elif suffix in (".ply", ".xyz"):
-        reader, what = read_pointcloud, "point cloud"
-    elif suffix == ".npy" and npy_ndim(p) == 3:
-        reader, what = read_voxel_npy, "3-D .npy array"
+    elif (voxel := _voxel_reader(p, suffix)) is not None:  # a voxel map (issue 44)
+        reader, what = voxel
     elif suffix in (".tif", ".tiff"):
         reader, what = read_tiff, "TIFF raster"
     elif suffix == ".npy":

@@ -369,7 +369,7 @@ def read_scen3d(path: PathLike, *, shape: tuple[int, int, int] | None = None) ->
     precision: Literal["significant", "decimals"] = "decimals" if decimals >= 7 else "significant"
     return Scenarios3D(
         np.zeros(n, dtype=np.int64), np.array([name] * n, dtype=str), np.full(n, w, dtype=np.int64),
-        np.full(n, h, dtype=np.int64), start + 0.5, goal + 0.5, np.ascontiguousarray(start[:, ::-1]),
+        np.full(n, h, dtype=np.int64), start.astype(np.float64) + 0.5, goal.astype(np.float64) + 0.5, np.ascontiguousarray(start[:, ::-1]),
         np.ascontiguousarray(goal[:, ::-1]), optimal, (optimal == 0) & (start != goal).any(axis=1), version,
         precision, decimals if precision == "decimals" else 6, str(path),
         start_voxel=np.ascontiguousarray(start), goal_voxel=np.ascontiguousarray(goal), ratio=costs[:, 1].copy(),

@@ -213,6 +213,27 @@ def test_3dmap_fuzz_never_a_traceback(tmp_path, data):
     assert m.ndim == 3 and m.occupied.dtype == bool
 
 
+@SETTINGS
+@given(lines=st.lists(st.lists(st.sampled_from(["0", "7", "12", "+3", "-1", "1.5", "x", "", "00", "+", "1+2"]),
+                               max_size=4).map(" ".join), max_size=6),
+       sep=st.sampled_from(["\n", "\r\n", "\n\n"]))
+def test_3dmap_fast_parser_and_byte_parser_agree(tmp_path, lines, sep):
+    """np.loadtxt (the fast path) and the byte parser (the one naming the line) read the same bodies alike."""
+    from gridfield.io._voxel import _int_table, _loadtxt_body
+
+    body = sep.join(lines).encode()
+    f = tmp_path / "b.3dmap"
+    f.write_bytes(b"voxel 9 9 9\n" + body)
+    fast = _loadtxt_body(f, 12, 1)
+    try:
+        table, line_no = _int_table(f, body, 2, ("x", "y", "z"))
+    except MapFormatError:
+        assert fast is None or (fast < 0).any()  # the byte parser refuses what loadtxt refuses (and negatives)
+        return
+    assert fast is not None and np.array_equal(fast, table)
+    assert len(line_no) == len(table) and (np.diff(line_no) > 0).all()
+
+
 # ----------------------------------------------------------------------------------------------
 # .3dscen and the bundled (generated) maps
 # ----------------------------------------------------------------------------------------------

@@ -12,7 +12,9 @@ Point clouds (PLY, ``.xyz``) voxelized at a resolution are read by :mod:`gridfie
 
 from __future__ import annotations
 
+import io
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path as FsPath
 from typing import Any, Literal
@@ -72,7 +74,13 @@ def _int_table(p: FsPath, body: bytes, first_line: int, names: tuple[str, ...]) 
     ncols = len(names)
     b = np.frombuffer(body, dtype=np.uint8)
     digit = _DIGIT[b]
-    bad = ~(digit | _WS[b])
+    sep = _WS[b]
+    plus = np.flatnonzero(b == 43)  # a '+' sign (as np.loadtxt takes it): after a separator, before a digit
+    if plus.size:
+        signed = plus[(plus + 1 < b.size) & _DIGIT[b[np.minimum(plus + 1, b.size - 1)]]
+                      & ((plus == 0) | _WS[b[np.maximum(plus - 1, 0)]])]
+        sep[signed] = True
+    bad = ~(digit | sep)
     if bad.any():
         i = int(np.argmax(bad))
         line = first_line + body.count(b"\n", 0, i)
@@ -86,7 +94,7 @@ def _int_table(p: FsPath, body: bytes, first_line: int, names: tuple[str, ...]) 
         starts = np.concatenate(([0], starts))
     if digit[-1]:
         ends = np.concatenate((ends, [b.size]))
-    del edge, digit, bad
+    del edge, digit, bad, sep
     if not starts.size:  # blank lines only
         return np.zeros((0, ncols), dtype=np.int64), np.zeros(0, dtype=np.int64)
     newlines = np.flatnonzero(b == 10)
@@ -114,20 +122,40 @@ def _int_table(p: FsPath, body: bytes, first_line: int, names: tuple[str, ...]) 
     return values.reshape(-1, ncols), token_line[::ncols] + first_line
 
 
-def _header_line(p: FsPath, what: str) -> tuple[bytes, int]:
-    """The first non-blank line of ``p`` (plain or gzip) and the bytes it and the blank lines before it take,
-    read at most :data:`HEADER_LINE_MAX` bytes at a time."""
+def _loadtxt_body(p: FsPath, offset: int, skip_lines: int, ncols: int = 3) -> NDArray[np.int64] | None:
+    """The whitespace-separated integers of ``p`` after its header (``offset`` bytes, ``skip_lines`` lines) as
+    an ``(n, ncols)`` table, by numpy's C parser (``np.loadtxt``, reading the file by its name, the fastest
+    way; blank lines skipped), or None when it refuses them (a field that is no integer, lines of other
+    lengths): :func:`_int_table` then finds what is wrong, naming the line. A file not named ``*.3dmap``
+    (gzip-compressed, say) is read whole first, within the size guard's bound (:func:`_read_bytes`)."""
+    source: Any = str(p)
+    if p.suffix.lower() != ".3dmap":  # np.loadtxt would decompress .gz/.bz2/.xz names by itself, unbounded
+        source, skip_lines = io.BytesIO(_read_bytes(p)[offset:]), 0
+    try:
+        with read_errors(p), warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # "input contained no data": an empty map
+            t = np.loadtxt(source, dtype=np.int64, ndmin=2, comments=None, skiprows=skip_lines, encoding="latin-1")
+    except (ValueError, OverflowError, TypeError, UnicodeError):
+        return None
+    if not t.size:
+        return np.zeros((0, ncols), dtype=np.int64)
+    return t if t.shape[1:] == (ncols,) else None
+
+
+def _header_line(p: FsPath, what: str) -> tuple[bytes, int, int]:
+    """The first non-blank line of ``p`` (plain or gzip), and the bytes and lines it and the blank lines before
+    it take, read at most :data:`HEADER_LINE_MAX` bytes at a time."""
     used = 0
     with read_errors(p), _open_binary(p) as f:
-        for _ in range(64):
+        for i in range(64):
             line = f.readline(HEADER_LINE_MAX + 1)
             if len(line) > HEADER_LINE_MAX:
-                raise MapFormatError(f"{p}: line 1: longer than {HEADER_LINE_MAX} bytes; not a {what}")
+                raise MapFormatError(f"{p}: line {i + 1}: longer than {HEADER_LINE_MAX} bytes; not a {what}")
             used += len(line)
             if not line:
                 break
             if line.strip():
-                return line, used
+                return line, used, i + 1
     raise MapFormatError(f"{p}: empty file; a {what} starts with a header line")
 
 
@@ -159,7 +187,8 @@ def read_3dmap(path: PathLike, *, border: Literal["open", "wall"] = "wall") -> G
 
     The header's size is checked against the size guard before anything is allocated (a
     ``voxel 1000000000 1000000000 1000000000`` header is refused at once, naming its byte estimate), and the
-    body is parsed from its bytes with numpy (millions of lines in about a second).
+    body is parsed by numpy's C text parser (``np.loadtxt``; millions of lines in a fraction of a second) and
+    checked with numpy; a body it refuses is read again by a vectorized parser of its bytes, which names the line.
 
     Parameters
     ----------
@@ -194,22 +223,21 @@ def read_3dmap(path: PathLike, *, border: Literal["open", "wall"] = "wall") -> G
     """
     _choice("border", border, BORDERS)
     p = _check_file(path)
-    line, used = _header_line(p, "Moving AI 3-D map")
+    line, used, header_lines = _header_line(p, "Moving AI 3-D map")
     w, h, d = _voxel_header(p, line)
     check_cells((d, h, w), f"{p} (.3dmap header 'voxel {w} {h} {d}')")
-    data = _read_bytes(p)
-    body = data[used:]
-    header_lines = data[:used].count(b"\n")
-    del data
-    table, lines = _int_table(p, body, header_lines + 1, ("x", "y", "z"))
-    del body
-    size = np.array([w, h, d], dtype=np.int64)
-    outside = (table >= size).any(axis=1)
-    if outside.any():
-        k = int(np.argmax(outside))
-        x, y, z = (int(v) for v in table[k])
-        raise MapFormatError(f"{p}: line {int(lines[k])}: voxel ({x}, {y}, {z}) lies outside the map's "
-                             f"{w} x {h} x {d} voxels (header 'voxel {w} {h} {d}': x < {w}, y < {h}, z < {d})")
+    table = _loadtxt_body(p, used, header_lines)
+    if table is None or ((table >= (w, h, d)) | (table < 0)).any():
+        # refused by np.loadtxt, or a voxel outside: the numpy parser of the bytes names the line at fault
+        data = _read_bytes(p)
+        table, lines = _int_table(p, data[used:], header_lines + 1, ("x", "y", "z"))
+        del data
+        outside = (table >= (w, h, d)).any(axis=1)
+        if outside.any():
+            k = int(np.argmax(outside))
+            x, y, z = (int(v) for v in table[k])
+            raise MapFormatError(f"{p}: line {int(lines[k])}: voxel ({x}, {y}, {z}) lies outside the map's "
+                                 f"{w} x {h} x {d} voxels (header 'voxel {w} {h} {d}': x < {w}, y < {h}, z < {d})")
     occupied = np.zeros((d, h, w), dtype=bool)
     occupied[table[:, 2], table[:, 1], table[:, 0]] = True
     meta = {"format": "movingai3d", "occupancy_rule": MOVINGAI3D_RULE, "blocked_lines": int(table.shape[0])}

@@ -549,3 +549,17 @@ def test_info_on_a_point_cloud_takes_resolution(tmp_path, capsys):
     assert info["shape"] == [5, 5, 5] and info["resolution"] == 0.5 and info["format"] == "xyz"
     assert main(["info", str(f)]) != 0
     assert "needs a resolution" in capsys.readouterr().err
+
+
+def test_voxel_io_benchmark_runs_tiny(capsys):
+    """benchmarks/voxel_io.py's main on a tiny map (no timing asserted: its readers agree, its table prints)."""
+    import sys
+
+    bench = str(Path(__file__).resolve().parents[1] / "benchmarks")
+    sys.path.insert(0, bench)
+    try:
+        import voxel_io
+    finally:
+        sys.path.remove(bench)
+    assert voxel_io.main(["--size", "12", "--repeat", "1"]) == 0
+    assert "| read_3dmap |" in capsys.readouterr().out

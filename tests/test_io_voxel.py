@@ -563,3 +563,15 @@ def test_voxel_io_benchmark_runs_tiny(capsys):
         sys.path.remove(bench)
     assert voxel_io.main(["--size", "12", "--repeat", "1"]) == 0
     assert "| read_3dmap |" in capsys.readouterr().out
+
+
+def test_the_commands_pass_resolution_to_a_point_cloud(tmp_path):
+    """The commands' map loader (gridfield.cli._common.load_target) gives a cloud its --resolution."""
+    import argparse
+
+    from gridfield.cli._common import load_target
+
+    f = tmp_path / "c.xyz"
+    f.write_text("0 0 0\n1 1 1\n")
+    m = load_target(argparse.Namespace(map=str(f), resolution=0.5, command="field"))
+    assert m.ndim == 3 and m.grid.resolution == 0.5 and int(m.occupied.sum()) == 2

@@ -575,3 +575,11 @@ def test_the_commands_pass_resolution_to_a_point_cloud(tmp_path):
     f.write_text("0 0 0\n1 1 1\n")
     m = load_target(argparse.Namespace(map=str(f), resolution=0.5, command="field"))
     assert m.ndim == 3 and m.grid.resolution == 0.5 and int(m.occupied.sum()) == 2
+
+
+def test_3dmap_gzip_bomb_is_refused_by_its_decompressed_size(tmp_path):
+    f = tmp_path / "bomb.3dmap.gz"
+    f.write_bytes(gzip.compress(b"voxel 4 4 4\n" + b"0 0 0\n" * 400_000))  # 2.4 MB of lines, 4 x 4 x 4 voxels
+    with override(100), pytest.raises(SizeLimitError, match="decompresses to more than"):
+        read_3dmap(f)
+    assert int(read_3dmap(f).occupied.sum()) == 1  # within the default limit: duplicates are fine

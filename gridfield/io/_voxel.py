@@ -22,7 +22,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from ..core.errors import MapFormatError, ParameterError, shorten
+from ..core.errors import GridfieldError, MapFormatError, ParameterError, shorten
 from ..core.grid import BORDERS, Grid, GridMap
 from ..core.limits import check_cells
 from ._common import PathLike, _check_file, _choice, _decode_text, _open_binary, _read_bytes, read_errors
@@ -135,7 +135,9 @@ def _loadtxt_body(p: FsPath, offset: int, skip_lines: int, ncols: int = 3) -> ND
         with read_errors(p), warnings.catch_warnings():
             warnings.simplefilter("ignore")  # "input contained no data": an empty map
             t = np.loadtxt(source, dtype=np.int64, ndmin=2, comments=None, skiprows=skip_lines, encoding="latin-1")
-    except (ValueError, OverflowError, TypeError, UnicodeError):
+    except GridfieldError:  # the file's own problem (unreadable, not gzip, too large), said by read_errors
+        raise
+    except (ValueError, OverflowError, TypeError, UnicodeError):  # numpy's refusal of the text
         return None
     if not t.size:
         return np.zeros((0, ncols), dtype=np.int64)

@@ -583,3 +583,29 @@ def test_3dmap_gzip_bomb_is_refused_by_its_decompressed_size(tmp_path):
     with override(100), pytest.raises(SizeLimitError, match="decompresses to more than"):
         read_3dmap(f)
     assert int(read_3dmap(f).occupied.sum()) == 1  # within the default limit: duplicates are fine
+
+
+_HEADS = {
+    "f.binvox": [b"#binvox 1\n", b"dim 2 2 2\n", b"dim 3 3 3\n", b"translate 0 0 0\n", b"scale 2\n", b"data\n",
+                 b"\x01\x08", b"\x00\xff", b"\n"],
+    "f.ply": [b"ply\n", b"format ascii 1.0\n", b"format binary_big_endian 1.0\n", b"element vertex 2\n",
+              b"property float x\n", b"property double y\n", b"property uchar z\n", b"end_header\n", b"0 1 2\n",
+              b"\x00\x01\x02\x03\x04\x05\x06\x07", b"element face 1\n", b"property list uchar int vertex_indices\n"],
+    "f.xyz": [b"0 0 0\n", b"1 2\n", b"# c\n", b"1e400 0 0\n", b"nan 0 0\n", b"\xff\n", b"-1 -2 -3 4\n"],
+    "f.3dscen": [b"version 1\n", b"m.3dmap\n", b"0 0 0 1 1 1 1.7 1.0\n", b"0 0 0 1 1\n", b"x y z 1 1 1 1 1\n", b"\n"],
+}
+
+
+@SETTINGS
+@given(name=st.sampled_from(sorted(_HEADS)), data=st.data())
+def test_voxel_readers_fuzz_never_a_traceback(tmp_path, name, data):
+    parts = data.draw(st.lists(st.sampled_from(_HEADS[name]) | st.binary(max_size=12), max_size=10))
+    f = tmp_path / name
+    f.write_bytes(b"".join(parts))
+    with override(100_000):
+        try:
+            out = read_scen(f) if name.endswith("3dscen") else read(f, resolution=0.5) if name.endswith(
+                ("ply", "xyz")) else read(f)
+        except (MapFormatError, SizeLimitError):
+            return
+    assert len(out) if isinstance(out, Scenarios3D) else out.ndim == 3

@@ -57,7 +57,8 @@ Layout of the package (one format per module): ``_common`` (file checks), ``_occ
 rules of images and arrays: option checks and the rule in words), ``_yaml`` (YAML and
 world files, with the alias-bomb guard), ``_bitmap``, ``_ros``, ``_movingai``, ``_npz`` (also the
 fields' :func:`save_field` / :func:`load_field`), ``_tiff`` (BigTIFF/GeoTIFF and ``.npy`` read by chunks),
-``_zarr`` (gridfield's Zarr store and plain Zarr arrays); this ``__init__`` re-exports their public names and
+``_zarr`` (gridfield's Zarr store and plain Zarr arrays), ``_voxel`` (voxel maps: Moving AI 3-D, binvox, 3-D
+arrays), ``_pointcloud`` (PLY and ``.xyz`` voxelized); this ``__init__`` re-exports their public names and
 holds :func:`read`, which picks the reader by file name, and :func:`bundled_map`. The submodules are
 private: import from ``gridfield.io``.
 """

@@ -609,3 +609,11 @@ def test_voxel_readers_fuzz_never_a_traceback(tmp_path, name, data):
         except (MapFormatError, SizeLimitError):
             return
     assert len(out) if isinstance(out, Scenarios3D) else out.ndim == 3
+
+
+@pytest.mark.parametrize("count", ["9" * 5000, "\u00b2", "-1"])
+def test_ply_element_count_that_is_no_number(tmp_path, count):
+    f = tmp_path / "c.ply"
+    f.write_text(f"ply\nformat ascii 1.0\nelement vertex {count}\nproperty float x\nend_header\n", encoding="utf-8")
+    with pytest.raises(MapFormatError, match="line 3: not a PLY header line"):
+        read_pointcloud(f, resolution=1.0)

@@ -141,7 +141,8 @@ def _ply_header(p: FsPath, data: bytes) -> tuple[str, int, list[tuple[str, int, 
                 raise MapFormatError(f"{p}: line {i}: expected 'format ascii|binary_little_endian|binary_big_endian "
                                      f"1.0', got {shorten(raw.strip()[:60])}")
             fmt = parts[1]
-        elif parts[0] == "element" and len(parts) == 3 and parts[2].isdigit():
+        elif parts[0] == "element" and len(parts) == 3 and parts[2].isascii() and parts[2].isdigit() and len(
+                parts[2]) <= 18:
             elements.append((parts[1], int(parts[2]), []))
         elif parts[0] == "property" and elements and len(parts) == 3 and parts[1] in _PLY_TYPES:
             elements[-1][2].append((parts[2], _PLY_TYPES[parts[1]]))

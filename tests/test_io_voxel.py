@@ -219,12 +219,11 @@ def test_3dmap_fuzz_never_a_traceback(tmp_path, data):
        sep=st.sampled_from(["\n", "\r\n", "\n\n"]))
 def test_3dmap_fast_parser_and_byte_parser_agree(tmp_path, lines, sep):
     """np.loadtxt (the fast path) and the byte parser (the one naming the line) read the same bodies alike."""
-    from gridfield.io._voxel import _int_table, _loadtxt_body
+    from gridfield.io._voxel import _int_table, _loadtxt_block
 
     body = sep.join(lines).encode()
     f = tmp_path / "b.3dmap"
-    f.write_bytes(b"voxel 9 9 9\n" + body)
-    fast = _loadtxt_body(f, 12, 1)
+    fast = _loadtxt_block(body)
     try:
         table, line_no = _int_table(f, body, 2, ("x", "y", "z"))
     except MapFormatError:
@@ -617,3 +616,28 @@ def test_ply_element_count_that_is_no_number(tmp_path, count):
     f.write_text(f"ply\nformat ascii 1.0\nelement vertex {count}\nproperty float x\nend_header\n", encoding="utf-8")
     with pytest.raises(MapFormatError, match="line 3: not a PLY header line"):
         read_pointcloud(f, resolution=1.0)
+
+
+def test_3dmap_is_parsed_in_blocks_with_the_right_line_numbers(tmp_path, monkeypatch):
+    """Blocks of whole lines (a tiny block size here): the same map, and an error names the file's line."""
+    from gridfield.io import _voxel
+
+    occ = np.random.default_rng(3).random((5, 6, 7)) < 0.4
+    f = write_3dmap(tmp_path / "m.3dmap", occ, shuffle=1)
+    g = tmp_path / "m.3dmap.gz"
+    g.write_bytes(gzip.compress(f.read_bytes()))
+    monkeypatch.setattr(_voxel, "BLOCK_BYTES", 16)
+    np.testing.assert_array_equal(read_3dmap(f).occupied, occ)
+    np.testing.assert_array_equal(read_3dmap(g).occupied, occ)
+    lines = f.read_text().splitlines()
+    lines[40] = "1 1 99"
+    f.write_text("\n".join(lines) + "\n")
+    with pytest.raises(MapFormatError, match=r"line 41: voxel \(1, 1, 99\) lies outside"):
+        read_3dmap(f)
+    lines[40] = "1 1 x"
+    f.write_text("\n".join(lines) + "\n")
+    with pytest.raises(MapFormatError, match=r"line 41: coordinates must be non-negative integers, got 'x'"):
+        read_3dmap(f)
+    f.write_text("voxel 2 2 2\n" + "1" * 40)
+    with pytest.raises(MapFormatError, match=r"line 2: longer than 16 bytes"):
+        read_3dmap(f)

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import io
 import math
-import warnings
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path as FsPath
 from typing import Any, Literal
@@ -22,10 +22,20 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from ..core.errors import GridfieldError, MapFormatError, ParameterError, shorten
+from ..core.errors import MapFormatError, ParameterError, SizeLimitError, shorten
 from ..core.grid import BORDERS, Grid, GridMap
 from ..core.limits import check_cells
-from ._common import PathLike, _check_file, _choice, _decode_text, _open_binary, _read_bytes, read_errors
+from ._common import (
+    PathLike,
+    _check_file,
+    _choice,
+    _decode_text,
+    _open_binary,
+    _read_bytes,
+    gz_limit,
+    is_gzip,
+    read_errors,
+)
 from ._movingai import Scenarios
 from ._occupancy import check_grey_options, raster_rule
 
@@ -122,25 +132,52 @@ def _int_table(p: FsPath, body: bytes, first_line: int, names: tuple[str, ...]) 
     return values.reshape(-1, ncols), token_line[::ncols] + first_line
 
 
-def _loadtxt_body(p: FsPath, offset: int, skip_lines: int, ncols: int = 3) -> NDArray[np.int64] | None:
-    """The whitespace-separated integers of ``p`` after its header (``offset`` bytes, ``skip_lines`` lines) as
-    an ``(n, ncols)`` table, by numpy's C parser (``np.loadtxt``, reading the file by its name, the fastest
-    way; blank lines skipped), or None when it refuses them (a field that is no integer, lines of other
-    lengths): :func:`_int_table` then finds what is wrong, naming the line. A file not named ``*.3dmap``
-    (gzip-compressed, say) is read whole first, within the size guard's bound (:func:`_read_bytes`)."""
-    source: Any = str(p)
-    if p.suffix.lower() != ".3dmap":  # np.loadtxt would decompress .gz/.bz2/.xz names by itself, unbounded
-        source, skip_lines = io.BytesIO(_read_bytes(p)[offset:]), 0
-    try:
-        with read_errors(p), warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # "input contained no data": an empty map
-            t = np.loadtxt(source, dtype=np.int64, ndmin=2, comments=None, skiprows=skip_lines, encoding="latin-1")
-    except GridfieldError:  # the file's own problem (unreadable, not gzip, too large), said by read_errors
-        raise
-    except (ValueError, OverflowError, TypeError, UnicodeError):  # numpy's refusal of the text
-        return None
-    if not t.size:
+#: Bytes of a ``.3dmap`` body parsed at a time (whole lines): the parse's memory is bounded by this, not by the
+#: file (whose lines may repeat a voxel without end).
+BLOCK_BYTES = 1 << 23
+
+
+def _line_blocks(p: FsPath, offset: int, first_line: int) -> Iterator[tuple[bytes, int]]:
+    """The bytes of ``p`` after its first ``offset`` in blocks of whole lines (about :data:`BLOCK_BYTES`
+    each; a line longer than that is refused), each with the file's line number of its first line; a gzip file is
+    decompressed as it goes, within :func:`~gridfield.io._common.gz_limit` bytes."""
+    limit = gz_limit() if is_gzip(p) else None
+    total = 0
+    with read_errors(p), _open_binary(p) as f:
+        if limit is None:
+            f.seek(offset)
+        else:
+            f.read(offset)
+        carry = b""
+        while True:
+            block = f.read(BLOCK_BYTES)
+            total += len(block)
+            if limit is not None and total > limit:
+                raise SizeLimitError(f"{p}: decompresses to more than {limit} bytes, more than a map within the "
+                                     "size guard holds (raise it with --max-cells or GRIDFIELD_MAX_CELLS)")
+            data = carry + block
+            cut = data.rfind(b"\n") + 1 if block else len(data)
+            if not cut and len(data) > BLOCK_BYTES:
+                raise MapFormatError(f"{p}: line {first_line}: longer than {BLOCK_BYTES} bytes; not a voxel line "
+                                     "'x y z'")
+            if cut:
+                yield data[:cut], first_line
+                first_line += data.count(b"\n", 0, cut)
+            carry = data[cut:]
+            if not block:
+                return
+
+
+def _loadtxt_block(chunk: bytes, ncols: int = 3) -> NDArray[np.int64] | None:
+    """The whitespace-separated integers of ``chunk`` (whole lines) as an ``(n, ncols)`` table, by numpy's C
+    parser (``np.loadtxt``; blank lines skipped), or None when it refuses them (a field that is no integer,
+    lines of other lengths): :func:`_int_table` then finds what is wrong, naming the line."""
+    if not chunk.strip():
         return np.zeros((0, ncols), dtype=np.int64)
+    try:
+        t = np.loadtxt(io.BytesIO(chunk), dtype=np.int64, ndmin=2, comments=None, encoding="latin-1")
+    except (ValueError, OverflowError, TypeError):  # numpy's refusal of the text
+        return None
     return t if t.shape[1:] == (ncols,) else None
 
 
@@ -189,8 +226,9 @@ def read_3dmap(path: PathLike, *, border: Literal["open", "wall"] = "wall") -> G
 
     The header's size is checked against the size guard before anything is allocated (a
     ``voxel 1000000000 1000000000 1000000000`` header is refused at once, naming its byte estimate), and the
-    body is parsed by numpy's C text parser (``np.loadtxt``; millions of lines in a fraction of a second) and
-    checked with numpy; a body it refuses is read again by a vectorized parser of its bytes, which names the line.
+    body is parsed in blocks of :data:`BLOCK_BYTES` (memory bounded whatever the file's length) by numpy's C
+    text parser (``np.loadtxt``; millions of lines in a fraction of a second) and checked with numpy; a block it
+    refuses is read again by a vectorized parser of its bytes, which names the line.
 
     Parameters
     ----------
@@ -228,21 +266,24 @@ def read_3dmap(path: PathLike, *, border: Literal["open", "wall"] = "wall") -> G
     line, used, header_lines = _header_line(p, "Moving AI 3-D map")
     w, h, d = _voxel_header(p, line)
     check_cells((d, h, w), f"{p} (.3dmap header 'voxel {w} {h} {d}')")
-    table = _loadtxt_body(p, used, header_lines)
-    if table is None or ((table >= (w, h, d)) | (table < 0)).any():
-        # refused by np.loadtxt, or a voxel outside: the numpy parser of the bytes names the line at fault
-        data = _read_bytes(p)
-        table, lines = _int_table(p, data[used:], header_lines + 1, ("x", "y", "z"))
-        del data
-        outside = (table >= (w, h, d)).any(axis=1)
-        if outside.any():
-            k = int(np.argmax(outside))
-            x, y, z = (int(v) for v in table[k])
-            raise MapFormatError(f"{p}: line {int(lines[k])}: voxel ({x}, {y}, {z}) lies outside the map's "
-                                 f"{w} x {h} x {d} voxels (header 'voxel {w} {h} {d}': x < {w}, y < {h}, z < {d})")
     occupied = np.zeros((d, h, w), dtype=bool)
-    occupied[table[:, 2], table[:, 1], table[:, 0]] = True
-    meta = {"format": "movingai3d", "occupancy_rule": MOVINGAI3D_RULE, "blocked_lines": int(table.shape[0])}
+    size = (w, h, d)
+    blocked = 0
+    for chunk, first_line in _line_blocks(p, used, header_lines + 1):
+        table = _loadtxt_block(chunk)
+        if table is None or (table.size and (table.min() < 0 or (table.max(axis=0) >= size).any())):
+            # refused by np.loadtxt, or a voxel outside: the numpy parser of the bytes names the line at fault
+            table, lines = _int_table(p, chunk, first_line, ("x", "y", "z"))
+            outside = (table >= size).any(axis=1)
+            if outside.any():
+                k = int(np.argmax(outside))
+                x, y, z = (int(v) for v in table[k])
+                raise MapFormatError(f"{p}: line {int(lines[k])}: voxel ({x}, {y}, {z}) lies outside the map's "
+                                     f"{w} x {h} x {d} voxels (header 'voxel {w} {h} {d}': x < {w}, y < {h}, "
+                                     f"z < {d})")
+        occupied[table[:, 2], table[:, 1], table[:, 0]] = True
+        blocked += int(table.shape[0])
+    meta = {"format": "movingai3d", "occupancy_rule": MOVINGAI3D_RULE, "blocked_lines": blocked}
     return GridMap(Grid((d, h, w), 1.0, (0.0, 0.0, 0.0), border), occupied, source=str(path), meta=meta)
 
 

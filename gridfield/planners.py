@@ -50,6 +50,9 @@ FIELD_PLANNERS: dict[str, tuple[str, str]] = {
     "potential": ("gridfield.following.follower", "plan_potential_with_field"),
 }
 
+#: The planners that plan on a voxel grid (a 3-D GridMap); the others refuse one.
+VOXEL_PLANNERS = ("potential", "wavefront-octile")
+
 #: Every parameter name a planner may read, with its meaning (generated from :data:`gridfield.core.params.REGISTRY`).
 PARAMETERS: dict[str, str] = {name: spec.meaning for name, spec in REGISTRY.items()}
 
@@ -304,6 +307,10 @@ def _plan(
     from .geometry.world import World
 
     fn, kind = get_planner(planner)
+    from .geometry.cspace import PoseMap
+
+    if isinstance(target, PoseMap):  # a turning robot's pose grid (apply_robot(..., headings=N))
+        return _plan_poses(planner, target, start, goal, params)
     if not isinstance(target, World | GridMap):
         raise ArgumentTypeError(
             f"target must be a World (a vector world, e.g. gridfield.io.read_world) or a GridMap, "
@@ -312,6 +319,9 @@ def _plan(
     if params is not None and not isinstance(params, Mapping):
         raise ArgumentTypeError(f"params must be a mapping of parameter names to values, got {type(params).__name__}")
     given = validate(params)
+    if isinstance(target, GridMap) and target.grid.ndim == 3 and planner not in VOXEL_PLANNERS:
+        raise ParameterError(f"planner {planner!r} plans on 2-D maps; a voxel grid (3-D) is planned by "
+                             f"{' or '.join(repr(v) for v in VOXEL_PLANNERS)}")
     start, goal = _point("start", start), _point("goal", goal)
     base = dict(target.params) if isinstance(target, World) else (
         dict(target.world.params) if isinstance(target.world, World) else {})
@@ -360,6 +370,19 @@ def _plan(
     return (_corner(path, target, s, g) if isinstance(target, GridMap) and target.world is None else path), None
 
 
+def _plan_poses(planner: str, pm: Any, start: ArrayLike, goal: ArrayLike,
+                params: Mapping[str, Any] | None) -> tuple[Path, Any]:
+    """:func:`plan` on a :class:`~gridfield.geometry.cspace.PoseMap`: the pose planners of
+    :mod:`gridfield.following.posefollow` (``potential``, ``wavefront-octile``)."""
+    from .following.posefollow import plan_poses
+
+    if planner not in ("potential", "wavefront-octile"):
+        raise ParameterError(f"planner {planner!r} does not plan for a turning robot (a PoseMap); use 'potential' "
+                             "or 'wavefront-octile'")
+    given = validate(params)
+    return plan_poses(pm, start, goal, given, planner=planner)
+
+
 def _corner(path: Path, gridmap: GridMap, start: Any, goal: Any) -> Path:
     """A run that did not reach on a disc robot's configuration space whose only way is a diagonal through
     a corner (:attr:`GridMap.diagonals`, taken only by the grid planners' discrete steps): the hint says so
@@ -372,7 +395,14 @@ def _corner(path: Path, gridmap: GridMap, start: Any, goal: Any) -> Path:
 
 
 def _point(name: str, value: Any) -> np.ndarray:
-    """A start/goal point as a float array of shape (2,), or a ParameterError saying what was expected."""
+    """A start/goal point as a float array of shape (2,) (a voxel grid's: (3,)), or a ParameterError saying
+    what was expected (the map's check_point then says when the count does not fit the map)."""
+    try:
+        raw = np.asarray(value, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raw = None
+    if raw is not None and raw.size == 3 and np.isfinite(raw).all():
+        return raw
     return np.array(as_xy(value, name))
 
 
@@ -460,8 +490,8 @@ def _with_endpoints(path: Path, start: np.ndarray, goal: np.ndarray, t0: float) 
     own time) beside it."""
     total = time.perf_counter() - t0
     extra: PathExtra = dict(path.extra)  # type: ignore[assignment]  # the planner's keys, checked by Path
-    extra.setdefault("start", (float(start[0]), float(start[1])))
-    extra.setdefault("goal", (float(goal[0]), float(goal[1])))
+    extra.setdefault("start", tuple(float(v) for v in start))  # type: ignore[typeddict-item]  # (x, y) or (x, y, z)
+    extra.setdefault("goal", tuple(float(v) for v in goal))  # type: ignore[typeddict-item]
     build = float(extra.get("build_seconds", 0.0))
     extra["field_seconds"] = build
     extra["follow_seconds"] = float(path.seconds)

@@ -254,6 +254,9 @@ def add_robot_arguments(p: argparse.ArgumentParser) -> None:
     mx.add_argument("--robot", nargs="+", default=None, metavar="X,Y",
                     help="a convex polygon robot, its vertices around the reference point (the point planned for); "
                          'quote them as one word when one starts with "-": --robot "-0.2,-0.1 0.3,-0.1 0.3,0.1"')
+    g.add_argument("--headings", type=int, default=None, metavar="N",
+                   help="a robot that turns: plan in (x, y, theta) over N heading bins (72: 5 degrees each; "
+                        "--start X Y THETA in radians, --goal X Y [THETA]); 1 (default): it only translates")
 
 
 def _robot_from_args(args: argparse.Namespace, target: Any) -> Any:
@@ -286,6 +289,13 @@ def robot_target(args: argparse.Namespace, target: Any, **points: Any) -> Any:
     ``points`` (``start=(x, y)``, ``goal=...``; None skipped) are checked first: a start or goal
     at which the robot collides is an error naming the distance. Without a robot: ``target``.
     """
+    headings = getattr(args, "headings", None)
+    if headings is not None and headings != 1:
+        from ..geometry.cspace import check_headings
+
+        check_headings(headings)
+        raise ParameterError(f"--headings {headings}: this command works on a robot that translates; "
+                             "gridfield plan and gridfield info take --headings")
     robot = _robot_from_args(args, target)
     if robot is None:
         return target
@@ -296,3 +306,53 @@ def robot_target(args: argparse.Namespace, target: Any, **points: Any) -> Any:
         if point is not None:
             check_robot_point(target, robot, name, point, cspace=cspace)
     return cspace
+
+
+def check_point_args(args: argparse.Namespace, target: Any) -> None:
+    """``--start`` and ``--goal`` as given: two numbers X Y on a map or world, three X Y Z on a voxel grid.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gridfield.core.grid import Grid, GridMap
+    >>> vox = GridMap(Grid((2, 2, 2), 1.0), np.zeros((2, 2, 2), bool))
+    >>> check_point_args(argparse.Namespace(start=[0.5, 0.5, 0.5], goal=None, map="v.3dmap"), vox)
+    >>> check_point_args(argparse.Namespace(start=[0.5, 0.5], goal=None, map="v.3dmap"), vox)
+    Traceback (most recent call last):
+    ...
+    gridfield.core.errors.ParameterError: --start needs three numbers X Y Z on the voxel grid v.3dmap, got 2 (0.5 0.5)
+    """
+    grid = getattr(target, "grid", None)
+    nd = grid.ndim if grid is not None else 2
+    for name in ("start", "goal"):
+        v = getattr(args, name, None)
+        if v is not None and len(v) != nd:
+            want = "three numbers X Y Z on the voxel grid" if nd == 3 else "two numbers X Y on the map"
+            raise ParameterError(f"--{name} needs {want} {args.map}, got {len(v)} ({' '.join(f'{x:g}' for x in v)})")
+
+
+def scenario3d(path: str, index: int | None, target: Any, map_name: str) -> tuple[list[float], list[float], float]:
+    """Start, goal and optimal cost of line ``index`` of a Moving AI ``.3dscen`` file, as world points of
+    the voxel grid ``target`` (voxel ``(x, y, z)`` at ``origin + (v + 0.5) * resolution``, no axis flipped).
+
+    Read by :func:`gridfield.io.read_scen3d` (the ``.3dscen`` reader: ``start``/``goal`` voxel coordinates
+    ``(n, 3)`` as ``(x, y, z)`` and ``optimal``).
+    """
+    import numpy as np
+
+    grid = getattr(target, "grid", None)
+    if grid is None or grid.ndim != 3:
+        raise ParameterError(f"{path} is a voxel scenario (.3dscen); {map_name} is not a voxel map (.3dmap)")
+    try:
+        from ..io import read_scen3d  # type: ignore[attr-defined]  # the .3dscen reader (issue 44, io)
+    except ImportError:
+        raise ParameterError(f"{path}: this installation reads no .3dscen files yet") from None
+    scen = read_scen3d(path)
+    n = len(scen.optimal)
+    i = 0 if index is None else index
+    if not 0 <= i < n:
+        raise ParameterError(f"{path}: --index {i} is out of range; the file has {n} scenarios (0..{n - 1})")
+    origin = np.asarray(grid.origin)
+    pick = [np.asarray(getattr(scen, name), dtype=float)[i] for name in ("start", "goal")]
+    start, goal = ((v + 0.5) * grid.resolution + origin for v in pick)
+    return start.tolist(), goal.tolist(), float(scen.optimal[i])

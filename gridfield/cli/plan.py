@@ -28,13 +28,16 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     p = sub.add_parser("plan", help="plan a path from start to goal",
                        description="Plan a path from START to GOAL on a map or world and report it.")
     add_map_arguments(p)
-    p.add_argument("--start", nargs=2, type=float, metavar=("X", "Y"),
-                   help="start point (default: the world file's start)")
-    p.add_argument("--goal", nargs=2, type=float, metavar=("X", "Y"),
-                   help="goal point (default: the world file's goal)")
+    p.add_argument("--start", nargs="+", type=float, metavar="X",
+                   help="start point X Y (X Y Z on a voxel grid, X Y THETA with --headings; default: the world "
+                        "file's start)")
+    p.add_argument("--goal", nargs="+", type=float, metavar="X",
+                   help="goal point X Y (X Y Z on a voxel grid, X Y [THETA] with --headings; default: the world "
+                        "file's goal)")
     p.add_argument("--scenario", metavar="FILE",
                    help="a Moving AI .scen file: take start and goal from its line --index (y flipped to "
-                        "gridfield's y-up), and report the scenario's optimal length")
+                        "gridfield's y-up), and report the scenario's optimal length; a .3dscen file for a "
+                        "voxel map (.3dmap): its voxels' centres, no axis flipped")
     p.add_argument("--index", type=int, default=None, metavar="N",
                    help="which scenario of --scenario (0 = the first; default 0)")
     p.add_argument("--planner", default="potential", choices=list(PLANNERS), help="planner (default: potential)")
@@ -56,6 +59,10 @@ def scenario(args: argparse.Namespace, target: object) -> tuple[list[float], lis
         return None
     if args.start is not None or args.goal is not None:
         raise ParameterError("give either --scenario or --start/--goal, not both")
+    if str(args.scenario).lower().endswith(".3dscen"):
+        from ._common import scenario3d
+
+        return scenario3d(args.scenario, args.index, target, args.map)
     from ..io import read_scen
 
     grid = getattr(target, "grid", None)
@@ -92,12 +99,16 @@ def run(args: argparse.Namespace) -> int:
     check_figure_file(args.plot)
     workspace = load_target(args)
     params = collect_params(args)
-    if _is_stored_field(workspace):  # a field store (gridfield field ... --out F.zarr): follow it by chunks
-        return _follow_stored(args, workspace, params)
+    other = _other_kind(args, workspace, params)
+    if other is not None:
+        return other
     scen = scenario(args, workspace)
     if scen is not None:
         start, goal, optimal = scen
     else:
+        from ._common import check_point_args
+
+        check_point_args(args, workspace)
         start, goal = endpoints(args, workspace)
     target = robot_target(args, workspace, start=start, goal=goal)
     robot = target is not workspace
@@ -137,12 +148,12 @@ def run(args: argparse.Namespace) -> int:
         json.dump(out, sys.stdout)
         sys.stdout.write("\n")
     else:
-        x, y = path.end
+        end = ", ".join(f"{v:.4g}" for v in path.end)  # (x, y), or (x, y, z) on a voxel grid
         opt = f" (octile optimum {path.extra['optimal']:.4g})" if "optimal" in path.extra else ""
         # no path has no clearance: the line leaves it out rather than print "nan"
         cl = "" if path.status == "no_path" else f"min clearance {path.min_clearance:.4g}, "
         print(f"{path.planner}: {path.status} after {path.iterations} iterations, length {path.length:.4g}{opt}, "
-              f"end ({x:.4g}, {y:.4g}), {cl}{path.seconds * 1e3:.1f} ms "
+              f"end ({end}), {cl}{path.seconds * 1e3:.1f} ms "
               f"(+ {startup * 1e3:.0f} ms start-up)")
         if path.extra.get("hint"):
             print(f"hint: {path.extra['hint']}")
@@ -175,6 +186,18 @@ def _robot_no_path(args: argparse.Namespace, path: Path, workspace: Any, start: 
         point_target, resolution = as_gridmap(workspace, args.resolution), None
     point, _ = plan_with_field(args.planner, point_target, start, goal, params, resolution=resolution)
     return robot_no_path(path, point, _robot_text(args, workspace), start, goal)
+
+
+def _other_kind(args: argparse.Namespace, workspace: Any, params: dict[str, Any]) -> int | None:
+    """Plans that are not a point's on a map: a field store (``gridfield field ... --out F.zarr``, followed
+    by chunks) and a robot that turns (``--headings N``, on its pose grid); None for the others."""
+    if _is_stored_field(workspace):
+        return _follow_stored(args, workspace, params)
+    from .turning import run_plan, wants_turning
+
+    if wants_turning(args):
+        return run_plan(args, workspace, params)
+    return None
 
 
 def _is_stored_field(target: object) -> bool:

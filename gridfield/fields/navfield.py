@@ -617,6 +617,10 @@ def nav_field(gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] | Non
     >>> round(float(f.potential[5, 5]), 4), f.params["model"], f.params["progress_window"]
     (7.0711, 'nf1', 0)
     """
+    if gridmap.grid.ndim == 3:  # a voxel grid: gridfield.fields.navfield3d
+        from .navfield3d import nav_field3d
+
+        return nav_field3d(gridmap, goal, params, stop_at=stop_at)
     from ..core.results import Field
 
     U, p, work, dmap, grad = _nf_values(gridmap, goal, params, dmap, skel, stop_at, gradient=True)

@@ -564,6 +564,10 @@ def build_field(
     """
     if not isinstance(gridmap, GridMap):
         raise ParameterError(f"build_field needs a GridMap, got {type(gridmap).__name__}")
+    if gridmap.grid.ndim == 3:  # a voxel grid: gridfield.fields.potential3d
+        from .potential3d import build_field3d
+
+        return build_field3d(gridmap, goal, params)
     check_grid(gridmap.grid.shape, "field", f"build_field on {gridmap.source or 'the grid map'}")  # bytes, up front
     from ..core.params import validate
 

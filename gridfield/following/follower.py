@@ -185,6 +185,10 @@ def plan_potential_with_field(gridmap: GridMap, start: ArrayLike, goal: ArrayLik
     >>> path.status, field.params["model"], field.potential.shape
     ('reached', 'nf1', (4, 8))
     """
+    if gridmap.grid.ndim == 3:  # a voxel grid: gridfield.following.follow3d
+        from .follow3d import plan_potential3d
+
+        return plan_potential3d(gridmap, start, goal, params, cache=cache)
     params = validate(params)  # a raw mapping from a direct call is checked too
     from ..fields.potential import build_field, field_distance_map, resolve_params
     from .diagnose import diagnose, unreachable_hint

@@ -236,6 +236,10 @@ def plan_wavefront_octile(gridmap: GridMap, start: NDArray[np.float64], goal: ND
     >>> round(plan_wavefront_octile(m, np.array([0.5, 0.5]), np.array([2.5, 1.5]), {}).length, 4)
     2.4142
     """
+    if gridmap.grid.ndim == 3:  # a voxel grid: the 26-neighbour wavefront (gridfield.fields.navigation3d)
+        from ..navigation3d import plan_voxel_wavefront
+
+        return plan_voxel_wavefront(gridmap, start, goal, params, cache=cache)
     params = validate(params)  # a raw mapping from a direct call is checked too
     t0 = time.perf_counter()
     nav = wavefront(gridmap, goal, connectivity=params.group(Navigation).connectivity, costs="octile", **grid_options(params))

@@ -641,3 +641,18 @@ def test_3dmap_is_parsed_in_blocks_with_the_right_line_numbers(tmp_path, monkeyp
     f.write_text("voxel 2 2 2\n" + "1" * 40)
     with pytest.raises(MapFormatError, match=r"line 2: longer than 16 bytes"):
         read_3dmap(f)
+
+
+@pytest.mark.parametrize("name", ["building", "random20", "cave"])
+def test_plan_on_the_bundled_voxel_scenarios_reaches_their_optimal_costs(tmp_path, capsys, name):
+    """The readers end to end: ``gridfield plan MAP.3dmap.gz --scenario F.3dscen`` (the 26-connected wavefront,
+    the benchmark's bounding-box rule) finds each scenario's published optimal cost."""
+    scen = tmp_path / f"{name}.3dmap.3dscen"
+    scen.write_bytes(gzip.decompress((VOXEL / f"{name}.3dmap.3dscen.gz").read_bytes()))
+    s = read_scen3d(scen)
+    tol = s.tolerance()
+    for i in range(len(s)):
+        assert main(["plan", str(VOXEL / f"{name}.3dmap.gz"), "--scenario", str(scen), "--index", str(i),
+                     "--planner", "wavefront-octile", "--json"]) == 0
+        out = json.loads(capsys.readouterr().out)
+        assert out["status"] == "reached" and abs(out["length"] - s.optimal[i]) <= tol[i], (i, out["length"])

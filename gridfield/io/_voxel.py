@@ -330,6 +330,16 @@ class Scenarios3D(Scenarios):
     ratio: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
     depth: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
 
+    @property
+    def start(self) -> NDArray[np.int64]:
+        """The start voxels ``(x, y, z)``: :attr:`start_voxel`."""
+        return self.start_voxel
+
+    @property
+    def goal(self) -> NDArray[np.int64]:
+        """The goal voxels ``(x, y, z)``: :attr:`goal_voxel`."""
+        return self.goal_voxel
+
     def __repr__(self) -> str:
         name = str(self.map_name[0]) if len(self) else ""
         return f"Scenarios3D({len(self)} scenarios for {name!r}, version {self.version!r})"

@@ -11,7 +11,7 @@ from typing import Any
 from ._chunked import add_chunk_arguments
 from ._common import add_map_arguments, add_robot_arguments, occupancy_options, robot_target
 
-_BITMAPS = (".png", ".pgm", ".bmp", ".npy", ".tif", ".tiff")  # rasters: --resolution is their pixel size
+_BITMAPS = (".png", ".pgm", ".bmp", ".npy", ".tif", ".tiff", ".ply", ".xyz")  # --resolution: rasters' pixel size, clouds' voxel
 
 
 def _positive(text: str) -> float:

@@ -60,7 +60,7 @@ def scenario(args: argparse.Namespace, target: object) -> tuple[list[float], lis
         return None
     if args.start is not None or args.goal is not None:
         raise ParameterError("give either --scenario or --start/--goal, not both")
-    if str(args.scenario).lower().endswith(".3dscen"):
+    if str(args.scenario).lower().endswith((".3dscen", ".3dscen.gz")):
         from ._common import scenario3d
 
         return scenario3d(args.scenario, args.index, target, args.map)

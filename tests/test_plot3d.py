@@ -347,3 +347,18 @@ def test_cli_writes_a_png_for_a_voxel_map(command: str, world: GridMap, tmp_path
         assert im.size[0] > 2 * im.size[1]  # the slices and the 3-D scene
     if command == "field":
         assert (tmp_path / "surface.png").read_bytes()[:8] == PNG
+
+
+def test_cli_plots_a_bundled_voxel_map_read_from_its_file(tmp_path) -> None:
+    """The same through the voxel reader: a Moving AI 3-D map of the test data and its first scenario."""
+    from pathlib import Path as FsPath
+
+    from gridfield.cli import main
+
+    data = FsPath(__file__).parent / "data" / "maps" / "voxel"
+    for argv, out in [(["brushfire", str(data / "building.3dmap.gz")], tmp_path / "b.png"),
+                      (["plan", str(data / "building.3dmap.gz"), "--scenario",
+                        str(data / "building.3dmap.3dscen.gz"), "--index", "0"], tmp_path / "p.png")]:
+        assert main([*argv, "--plot", str(out)]) == 0
+        with Image.open(out) as im:
+            assert im.size[0] > 2 * im.size[1]

@@ -97,6 +97,9 @@ def lazy_occupancy(args: argparse.Namespace, target: Any) -> tuple[Any, Any]:
                             meta=np.empty((0, 0), bool), name=f"occupied-{resume_token(args)}")
         return target.grid, occ
     if isinstance(target, GridMap):
+        if target.grid.ndim != 2:
+            raise ParameterError(f"{args.map} is a voxel grid: the chunked computation (--chunks, --out) is 2-D; "
+                                 "leave them out to compute it in memory")
         return target.grid, da.from_array(np.asarray(target.occupied), chunks=(args.chunks, args.chunks))
     raise ParameterError(f"{args.map}: expected a map to compute on, got a {type(target).__name__}")
 

@@ -118,6 +118,9 @@ def _run_chunked(args: argparse.Namespace) -> int:
     gridmap = target if isinstance(target, LazyGridMap) else as_gridmap(robot_target(args, target, goal=goal),
                                                                           args.resolution)
     grid = gridmap.grid
+    if grid.ndim != 2:
+        raise ParameterError(f"{args.map} is a voxel grid: the chunked computation (--chunks, --out) is 2-D; "
+                             "leave them out to compute it in memory")
     g = gridmap.check_point("goal", goal)
     cell = grid.cell_of(float(g[0]), float(g[1]))
     assert cell is not None  # check_point: inside the grid

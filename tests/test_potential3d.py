@@ -53,7 +53,7 @@ def segment_touches_blocked(occ, p, q):
 def assert_clear(gm, points):
     g = gm.grid
     q = ((points - np.asarray(g.origin)) / g.resolution)[:, ::-1]
-    for a, b in zip(q[:-1], q[1:], strict=True):
+    for a, b in itertools.pairwise(q):
         assert not segment_touches_blocked(gm.occupied, a, b), (a, b)
 
 
@@ -142,7 +142,7 @@ def test_nf1_field_is_a_navigation_function():
     fin = np.argwhere(np.isfinite(f.potential))
     rng = np.random.default_rng(0)
     for cell in fin[rng.choice(len(fin), 30, replace=False)]:
-        cells, reached = voxel_descent(gm, f.potential, gm.grid.cell_to_world(cell)[0])
+        _, reached = voxel_descent(gm, f.potential, gm.grid.cell_to_world(cell)[0])
         assert reached
     assert np.isinf(f.potential[occ]).all() and (f.grad_x[occ] == 0).all()
 

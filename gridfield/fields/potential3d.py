@@ -117,7 +117,7 @@ def build_field3d(gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] |
     eta, q_star, power = float(p["eta"]), float(p["q_star"]), float(p["repulsive_power"])
     sat = math.inf if p["saturate"] is None else float(p["saturate"])
     occ = np.asarray(gm.occupied, dtype=bool)
-    rep = (D < q_star) & (D < sat) & ~occ & (D > 0)
+    rep = (q_star > D) & (sat > D) & ~occ & (D > 0)
     if rep.any():
         Dr = D[rep]
         nearest = [grid.origin[a] + (idx[2 - a][rep] + 0.5) * res for a in range(3)]  # x, y, z of the obstacle

@@ -59,6 +59,13 @@ def _kernel() -> Any:
     return _navigation3
 
 
+def _path_kernel() -> Any:
+    """The compiled kernel of the voxel paths (gridfield/fields/_voxelpath.pyx), imported on first use."""
+    from . import _voxelpath  # type: ignore[attr-defined]  # a compiled extension, no stubs
+
+    return _voxelpath
+
+
 def _voxel_map(gridmap: object, what: str) -> GridMap:
     if not isinstance(gridmap, GridMap):
         raise ParameterError(f"{what} needs a GridMap, got {type(gridmap).__name__}")
@@ -294,7 +301,7 @@ def segment_clear(gridmap: GridMap, a: ArrayLike, b: ArrayLike) -> bool:
     q = _cell_units(gm, np.vstack([np.asarray(a, dtype=float).reshape(3), np.asarray(b, dtype=float).reshape(3)]))
     if not np.isfinite(q).all():
         raise ParameterError("segment_clear needs finite points")
-    return bool(_kernel().segment_clear(_free(gm), *q[0], *q[1]))
+    return bool(_path_kernel().segment_clear(_free(gm), *q[0], *q[1]))
 
 
 def path_clear(gridmap: GridMap, points: ArrayLike) -> int:
@@ -309,7 +316,7 @@ def path_clear(gridmap: GridMap, points: ArrayLike) -> int:
     1
     """
     gm = _voxel_map(gridmap, "path_clear")
-    return int(_kernel().path_clear(_free(gm), _cell_units(gm, points)))
+    return int(_path_kernel().path_clear(_free(gm), _cell_units(gm, points)))
 
 
 def shortcut_path(gridmap: GridMap, points: ArrayLike) -> NDArray[np.float64]:
@@ -326,7 +333,7 @@ def shortcut_path(gridmap: GridMap, points: ArrayLike) -> NDArray[np.float64]:
     """
     gm = _voxel_map(gridmap, "shortcut_path")
     p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    keep = _kernel().shortcut(_free(gm), _cell_units(gm, p))
+    keep = _path_kernel().shortcut(_free(gm), _cell_units(gm, p))
     return p[np.asarray(keep)]
 
 

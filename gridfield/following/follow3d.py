@@ -41,7 +41,7 @@ from ..core.errors import ParameterError
 from ..core.grid import GridMap
 from ..core.path import Path
 from ..core.results import Field
-from ..fields.navigation3d import _cell_units, _free, _kernel, _voxel_map, path_clear, path_clearance, shortcut_path
+from ..fields.navigation3d import _cell_units, _free, _path_kernel, _voxel_map, path_clear, path_clearance, shortcut_path
 from ._follow import resolve_follow_params
 
 __all__ = ["follow3d", "path_clear", "plan_potential3d"]
@@ -104,7 +104,7 @@ def follow3d(field: Field, start: ArrayLike, params: Mapping[str, Any] | None = 
         return Path(s[None, :], "no_path", "potential", 0, {**fp, "step": step}, time.perf_counter() - t0,
                     extra={"stop_reason": "unreachable", "reason": "the field has no value at the start (the goal is "
                            "unreachable from it)"})
-    pts, status, it, nd = _kernel().follow3(U, field.grad_z, field.grad_y, field.grad_x, free, *q[0], *q[1],
+    pts, status, it, nd = _path_kernel().follow3(U, field.grad_z, field.grad_y, field.grad_x, free, *q[0], *q[1],
                                             step / res, max_it, complete)
     pts = np.asarray(pts)
     points = gm.grid.origin + pts[:, ::-1] * res

@@ -22,11 +22,11 @@ REPO = Path(__file__).resolve().parent.parent
 KERNELS = {
     "gridfield.chunked._chunked",
     "gridfield.distance._brushfire", "gridfield.distance._chamfer", "gridfield.distance._edt",
-    "gridfield.distance._incremental",
+    "gridfield.distance._incremental", "gridfield.distance._incremental3", "gridfield.distance._edt3",
     "gridfield.exact._anyangle", "gridfield.exact._astar", "gridfield.exact._occlusion", "gridfield.exact._polyanya",
     "gridfield.fields._eikonal", "gridfield.fields._laplace", "gridfield.fields._navfn", "gridfield.fields._navigation",
+    "gridfield.fields._navigation3", "gridfield.fields._voxelpath",
     "gridfield.fields._potential", "gridfield.fields._samplers",
-    "gridfield.fields._navigation3", "gridfield.fields._voxelpath",  # the voxel wavefront and paths (issue 44)
 }
 #: The longest a kernel source (.pyx, .pxd, .h) may be, as any other file of the package (issue 43).
 MAX_LINES = 800

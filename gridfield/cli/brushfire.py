@@ -32,8 +32,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
                     "label of that obstacle and the generalized Voronoi diagram. A wall border counts as an "
                     "obstacle. Prints a one-line summary; optionally writes the arrays and a figure.")
     add_map_arguments(p)
-    p.add_argument("--connectivity", type=int, choices=(4, 8), default=8,
-                   help="neighbourhood of the wavefront that numbers the steps (default 8)")
+    p.add_argument("--connectivity", type=int, choices=(4, 8, 6, 26), default=None,
+                   help="neighbourhood of the wavefront that numbers the steps (default 8; on a voxel grid 26 or 6, "
+                        "default 26)")
     p.add_argument("--metric", choices=("chessboard", "taxicab", "euclidean"), default=None,
                    help="what the distance measures (default: chessboard for 8-connectivity, taxicab for 4)")
     p.add_argument("--saturate", type=_positive, default=None, metavar="R",
@@ -116,7 +117,7 @@ def summary(dmap: Any, ms: float) -> str:
     sat = ""
     if dmap.saturate is not None:
         sat = f", {int((d == dmap.far).sum())} cells saturated at {dmap.saturate:g}"
-    return (f"brushfire {grid.rows}x{grid.cols} cells of {grid.resolution:g} ({dmap.connectivity}-connected steps, "
+    return (f"brushfire {'x'.join(map(str, grid.shape))} cells of {grid.resolution:g} ({dmap.connectivity}-connected steps, "
             f"{dmap.metric} distance, {grid.border} border): max distance {dmax} ({smax} steps){sat}, "
             f"{int(dmap.gvd.sum())} GVD cells, {labels}, {ms:.1f} ms")
 
@@ -128,7 +129,7 @@ def _run_chunked(args: argparse.Namespace) -> int:
     from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
     from ._common import load_target
 
-    if args.connectivity != 8:
+    if args.connectivity not in (None, 8):
         raise ParameterError("--connectivity numbers the wavefront steps, which the chunked computation does not "
                              "compute (it writes distance, nearest_row, nearest_col); leave it out with --out")
     target = load_target(args, lazy=True)
@@ -176,7 +177,9 @@ def run(args: argparse.Namespace) -> int:
     options = {"connectivity": args.connectivity, "metric": args.metric, "saturate": args.saturate}
     # The first call in a process loads (or compiles) the kernels: do it on a tiny map, time it apart.
     t0 = time.perf_counter()
-    brushfire(GridMap(Grid((2, 2), 1.0, border=gridmap.grid.border), np.eye(2, dtype=bool)), **options)
+    tiny = np.zeros((2,) * gridmap.grid.ndim, bool)
+    tiny.flat[0] = True
+    brushfire(GridMap(Grid(tiny.shape, 1.0, border=gridmap.grid.border), tiny), **options)
     t1 = time.perf_counter()
     dmap = brushfire(gridmap, **options)
     ms = (time.perf_counter() - t1) * 1e3
@@ -185,6 +188,8 @@ def run(args: argparse.Namespace) -> int:
         arrays = {"occupied": gridmap.occupied, "steps": dmap.steps, "distance": dmap.distance,
                   "nearest_row": dmap.nearest_row, "nearest_col": dmap.nearest_col, "label": dmap.label,
                   "gvd": dmap.gvd}
+        if dmap.nearest_layer is not None:  # a voxel grid
+            arrays["nearest_layer"] = dmap.nearest_layer
         write_npz(args.npz, arrays, gridmap.grid, diagonals=gridmap.diagonals)
         print(f"wrote {args.npz}")
     if args.plot:

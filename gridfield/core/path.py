@@ -218,6 +218,9 @@ class Path:
     extra : PathExtra
         Planner-specific details (e.g. escape attempts, stall points); the keys of
         :class:`PathExtra` only.
+    poses : ndarray, shape (N, 3), or None
+        For a robot that turns: the poses ``(x, y, theta)`` (radians, in ``[-pi, pi)``) along the path,
+        one per point (``points`` is then their ``(x, y)``); None otherwise.
 
     Examples
     --------
@@ -240,6 +243,7 @@ class Path:
     # PathExtra for readers (a misspelt key is a type error); writers may pass any mapping, whose
     # keys __post_init__ checks against the schema
     extra: PathExtra | Mapping[str, Any] = field(default_factory=dict)
+    poses: NDArray[np.float64] | None = None
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
@@ -251,6 +255,11 @@ class Path:
         if not (pts.ndim == 2 and pts.shape[1] == 3):
             pts = pts.reshape(-1, 2)
         object.__setattr__(self, "points", pts)
+        if self.poses is not None:
+            poses = np.asarray(self.poses, dtype=float).reshape(-1, 3)
+            if len(poses) != len(pts):
+                raise ValueError(f"Path.poses has {len(poses)} rows, but the path has {len(pts)} points")
+            object.__setattr__(self, "poses", poses)
 
     @property
     def length(self) -> float:
@@ -337,6 +346,8 @@ class Path:
             **({"median_clearance": clean(self.extra["median_clearance"], "median_clearance")}
                if "median_clearance" in self.extra else {}),
         }
+        if self.poses is not None:
+            out["poses"] = clean(self.poses, "poses")
         if infinite:
             out["infinite"] = infinite
         return out

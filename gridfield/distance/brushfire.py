@@ -284,7 +284,7 @@ def _check_flag(name: str, value: object) -> bool:
 def brushfire(
     gridmap: GridMap,
     *,
-    connectivity: int = 8,
+    connectivity: int | None = None,
     metric: str | None = None,
     saturate: float | None = None,
     far: float = np.inf,
@@ -301,9 +301,11 @@ def brushfire(
     gridmap : GridMap
         Occupancy (``True`` = obstacle) and geometry; ``gridmap.grid.border`` says whether what lies
         outside the grid is a wall (an obstacle for the wavefront) or open space.
-    connectivity : {8, 4}
+    connectivity : {8, 4} or {26, 6}, optional
         Neighbourhood of the wavefront that numbers ``steps``: 8 gives chessboard distances in cells
-        (the classic brushfire), 4 taxicab.
+        (the classic brushfire), 4 taxicab; default 8. On a voxel grid (``gridmap.ndim == 3``) 26
+        (chessboard, the default) or 6 (taxicab); see :mod:`gridfield.distance._brushfire3d` for what
+        differs there (the nearest obstacle's ``int16`` indices, its tie rule).
     metric : {"chessboard", "taxicab", "euclidean"}, optional
         What ``distance`` (and the nearest obstacle) measures; default: chessboard for
         8-connectivity, taxicab for 4. Euclidean is the exact distance between cell centres.
@@ -381,6 +383,11 @@ def brushfire(
     """
     req = _validate(gridmap, connectivity, metric, saturate, far, compute_steps, compute_nearest, compute_labels,
                     compute_gvd, threads)
+    if gridmap.ndim == 3:  # voxel grids: gridfield/distance/_brushfire3d.py
+        from ._brushfire3d import brushfire3d
+
+        return brushfire3d(gridmap, req.connectivity, req.metric, req.saturate, req.far, req.want_steps,
+                           req.want_nearest, req.want_label, req.want_gvd, req.nthreads, _run)
     if not req.wall and not req.occ.any():  # no obstacle at all: nothing is reached
         return _unreached(req)
     job = _Job(req)
@@ -416,7 +423,7 @@ def _as_float(value: Any) -> float:
         return math.nan
 
 
-def _validate(gridmap: GridMap, connectivity: int, metric: str | None, saturate: float | None, far: float,
+def _validate(gridmap: GridMap, connectivity: int | None, metric: str | None, saturate: float | None, far: float,
               compute_steps: bool, compute_nearest: bool, compute_labels: bool | None, compute_gvd: bool | None,
               threads: int | None) -> _Request:
     """Phase 1 of :func:`brushfire`: check every argument (one clear error for the first bad one)."""
@@ -425,10 +432,17 @@ def _validate(gridmap: GridMap, connectivity: int, metric: str | None, saturate:
             gridmap, np.ndarray) else ""
         raise ArgumentTypeError(f"gridmap must be a GridMap, got {type(gridmap).__name__}{hint}")
     check_grid(gridmap.grid.shape, "brushfire", f"brushfire of {gridmap.source or 'the grid map'}")  # bytes, up front
-    if isinstance(connectivity, bool) or connectivity not in (4, 8):
-        raise ParameterError(f"connectivity must be 4 or 8, got {connectivity!r}")
+    voxels = gridmap.grid.ndim == 3
+    if connectivity is None:
+        connectivity = 26 if voxels else 8
+    if isinstance(connectivity, bool) or connectivity not in ((26, 6) if voxels else (8, 4)):
+        hint = ""
+        if connectivity in (4, 8, 6, 26) and not isinstance(connectivity, bool):
+            hint = " (4 and 8 are for 2-D maps)" if voxels else " (26 and 6 are for voxel grids)"
+        raise ParameterError(f"connectivity must be 6 or 26 on a voxel grid, got {connectivity!r}{hint}" if voxels
+                             else f"connectivity must be 4 or 8, got {connectivity!r}{hint}")
     if metric is None:
-        metric = "chessboard" if connectivity == 8 else "taxicab"
+        metric = "chessboard" if connectivity in (8, 26) else "taxicab"
     if metric not in METRICS:
         raise ParameterError(f"metric must be one of {METRICS}, got {metric!r}")
     if saturate is not None:

@@ -49,6 +49,11 @@ passes, about as long as the labelling part of a full brushfire: ``benchmarks/RE
 Only the Euclidean metric is offered: its nearest obstacle is defined by a rule a window can
 reproduce exactly; the chessboard/taxicab transforms choose among equally near obstacles by the
 order of their raster passes. ``steps`` (the wavefront numbers) are not kept (``None``).
+
+Voxel grids (``gridmap.ndim == 3``, issue 44): ``IncrementalBrushfire(gridmap)`` makes an
+:class:`IncrementalBrushfire3D`, the same windows as boxes (:mod:`gridfield.distance._incremental3d`):
+cells ``(layer, row, col)``, windows ``(z0, z1, r0, r1, c0, c1)``, labels from obstacle ids (26-connected
+components, recomputed when read, only on request), no GVD.
 """
 
 from __future__ import annotations
@@ -63,9 +68,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..core.errors import ParameterError
 from ..core.grid import GridMap
+from ._incremental3d import IncrementalVoxels
 from .brushfire import BORDER_LABEL, DistanceMap, brushfire
 
-__all__ = ["ID_MAX", "IncrementalBrushfire", "Window"]
+__all__ = ["ID_MAX", "IncrementalBrushfire", "IncrementalBrushfire3D", "Window"]
 
 #: The largest obstacle id (ids are stored as 32-bit integers; 0 means "no obstacle").
 ID_MAX = 2**31 - 1
@@ -137,6 +143,11 @@ class IncrementalBrushfire:
     >>> ib.distance_map.distance
     array([[6., 5., 4., 3., 2., 1., 0.]])
     """
+
+    def __new__(cls, gridmap: GridMap | None = None, *args: Any, **kwargs: Any) -> IncrementalBrushfire:
+        if cls is IncrementalBrushfire and isinstance(gridmap, GridMap) and gridmap.ndim == 3:  # a voxel grid
+            return super().__new__(IncrementalBrushfire3D)
+        return super().__new__(cls)
 
     def __init__(self, gridmap: GridMap, *, metric: str = "euclidean", compute_labels: bool = True,
                  compute_gvd: bool | None = None, threads: int | None = None) -> None:
@@ -505,3 +516,9 @@ class IncrementalBrushfire:
             assert self._gvd is not None
             k.gvd_window(0, rows, 0, cols, self._label, self._dist, self._occ8, self._gvd)
         self._labels_dirty = False
+
+
+class IncrementalBrushfire3D(IncrementalVoxels, IncrementalBrushfire):  # type: ignore[misc]  # 3-D boxes for windows
+    """:class:`IncrementalBrushfire` on a voxel grid (``gridmap.ndim == 3``), which makes it: the methods
+    of :class:`gridfield.distance._incremental3d.IncrementalVoxels` (cells ``(layer, row, col)``,
+    windows ``(z0, z1, r0, r1, c0, c1)``; labels from obstacle ids, no GVD)."""

@@ -24,7 +24,8 @@ checks robot polygons with it): ``_vector`` (worlds:
 :func:`cspace_grid` and the footprint dilation), ``_robot`` (a robot on any map:
 :func:`as_robot`, :func:`apply_robot`, :func:`centre_footprint` (discs on grids, decided at cell
 centres), :func:`conservative_footprint` (polygons on grids), the start/goal and
-clearance checks). Each builds on the ones before it; this ``__init__`` only re-exports their
+clearance checks), ``_headings`` and ``_poses`` (a robot that turns: the C-obstacles stacked over heading
+bins, :func:`heading_occupancy`, and the pose grid :class:`PoseMap`). Each builds on the ones before it; this ``__init__`` only re-exports their
 public names. The submodules are private: import from ``gridfield.geometry.cspace``.
 """
 
@@ -32,6 +33,8 @@ from __future__ import annotations
 
 from .._polygons import minkowski_obstacle, star_algorithm
 from ._grid import cspace_grid, inflate_grid
+from ._headings import MAX_HEADINGS, check_headings, heading_centres, heading_footprints, heading_occupancy, swept_robot
+from ._poses import PoseMap, pose_map, wrap_angle
 from ._robot import (
     apply_robot,
     as_robot,
@@ -48,19 +51,28 @@ from ._robot import check_positive_resolution as check_positive_resolution
 from ._vector import cspace_world, inflate_world
 
 __all__ = [
+    "MAX_HEADINGS",
+    "PoseMap",
     "apply_robot",
     "as_robot",
     "centre_footprint",
+    "check_headings",
     "check_robot_point",
     "check_robot_polygon",
     "conservative_footprint",
     "cspace_grid",
     "cspace_world",
+    "heading_centres",
+    "heading_footprints",
+    "heading_occupancy",
     "inflate_grid",
     "inflate_world",
     "minkowski_obstacle",
+    "pose_map",
     "robot_clearance",
     "star_algorithm",
+    "swept_robot",
     "workspace_clearance",
+    "wrap_angle",
 ]
 

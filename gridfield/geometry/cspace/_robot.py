@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import cast
+from typing import cast, overload
 
 import numpy as np
 import shapely
@@ -21,9 +21,11 @@ from ...core.errors import GridfieldError, ParameterError
 from ...core.grid import Grid, GridMap
 from ...core.limits import check_cells
 from .._polygons import _as_geometry, _convex_polygon, minkowski_obstacle
-from ..rasterize import rasterize_geometry
+from ..rasterize import rasterize, rasterize_geometry
 from ..world import Obstacle, Robot, World
 from ._grid import _dilate_gridmap, _runs
+from ._headings import check_headings
+from ._poses import PoseMap, pose_map
 from ._vector import cspace_world, inflate_world
 
 
@@ -207,8 +209,20 @@ def _wall_strips(world: World, robot: Robot) -> list[Obstacle]:
     return out
 
 
-def apply_robot(target: World | GridMap, robot: Robot | float | ArrayLike | None) -> World | GridMap:
-    """The configuration space of ``target`` for a robot that translates: what every command plans on.
+@overload
+def apply_robot(target: World | GridMap, robot: Robot | float | ArrayLike | None,
+                headings: None = None) -> World | GridMap: ...
+
+
+@overload
+def apply_robot(target: World | GridMap, robot: Robot | float | ArrayLike | None,
+                headings: int) -> World | GridMap | PoseMap: ...
+
+
+def apply_robot(target: World | GridMap, robot: Robot | float | ArrayLike | None,
+                headings: int | None = None) -> World | GridMap | PoseMap:
+    """The configuration space of ``target`` for a robot that translates (or, with ``headings``, turns):
+    what every command plans on.
 
     - a :class:`World`: exact C-obstacles, a disc's by :func:`inflate_world`, a convex polygon's
       by :func:`cspace_world` (Minkowski sums), plus, with ``border="wall"``, the bands
@@ -243,12 +257,18 @@ def apply_robot(target: World | GridMap, robot: Robot | float | ArrayLike | None
     robot : Robot, float or (N, 2) array_like or None
         A radius, a convex polygon around the reference point (the origin of its vertices), or
         None (a point robot: ``target`` is returned unchanged).
+    headings : int, optional
+        For a robot that turns: the number of heading bins (2 to
+        :data:`~gridfield.geometry.cspace.MAX_HEADINGS`); the result is then a :class:`PoseMap`, the
+        pose grid ``[heading, row, col]`` (:func:`~gridfield.geometry.cspace.heading_occupancy`; a world
+        is rasterized at its resolution first). None or 1: the robot translates at heading 0 (as without
+        it).
 
     Returns
     -------
-    World or GridMap
-        Of the same type; a world's ``robot`` is cleared (it has been applied) and a grid's
-        ``meta["robot"]`` describes the robot.
+    World, GridMap or PoseMap
+        Of the same type as ``target`` (a :class:`PoseMap` with ``headings`` >= 2); a world's ``robot`` is
+        cleared (it has been applied) and a grid's ``meta["robot"]`` describes the robot.
 
     Examples
     --------
@@ -269,6 +289,9 @@ def apply_robot(target: World | GridMap, robot: Robot | float | ArrayLike | None
     [3.7, 9.7, 12.3, 18.3]
     """
     r = as_robot(robot)
+    n = 1 if headings is None else check_headings(headings)
+    if n > 1:
+        return _turning(target, r, n)
     if isinstance(target, World):
         if r is None or r.is_point:
             return dataclasses.replace(target, robot=None)
@@ -306,6 +329,25 @@ def apply_robot(target: World | GridMap, robot: Robot | float | ArrayLike | None
     diagonals = (corner_diagonals(target.occupied, out.occupied, r.radius, target.grid.resolution)
                  if r.radius is not None else None)
     return out.with_occupied(out.occupied, world=world, meta=meta, diagonals=diagonals)
+
+
+def _turning(target: World | GridMap, r: Robot | None, headings: int) -> PoseMap:
+    """:func:`apply_robot` for a robot that turns: the pose grid of the (rasterized) workspace."""
+    if r is None or r.is_point:
+        raise ParameterError("headings need a robot with a shape (--robot): a point robot does not turn")
+    if isinstance(target, World):
+        if target.resolution is None:
+            raise ParameterError(f"{target.source or 'the world'}: a turning robot plans on a grid, and the world "
+                                 "has no resolution; give one (--resolution)")
+        gm = rasterize(dataclasses.replace(target, robot=None), target.resolution)
+    elif isinstance(target, GridMap):
+        gm = target
+    else:
+        raise ParameterError(f"apply_robot needs a World or a GridMap, got {type(target).__name__}")
+    if gm.ndim != 2:
+        raise ParameterError("a turning robot plans on a 2-D map (headings make it 3-D); this map is already 3-D")
+    _refuse_larger_than_the_map(gm, r)
+    return pose_map(gm, r, headings)
 
 
 def _sweep_offsets(radius: float, resolution: float) -> list[tuple[list[int], list[int]]]:

@@ -16,8 +16,7 @@ across a non-finite value), in world units; blocked and unsettled voxels have ``
 gradient. The field lives on the map itself (the voxel wavefront stays inside the grid whatever the
 border: see :mod:`gridfield.fields.navigation3d`). ``nf2`` and ``nf-blend`` are 2-D models.
 
-The clearance comes from ``scipy.ndimage.distance_transform_edt`` (one private function,
-``navigation3d.voxel_clearance``, until the 3-D brushfire is on main).
+The clearance ``D`` is the Euclidean 3-D brushfire (:func:`gridfield.fields.navigation3d.voxel_clearance`).
 
 Examples
 --------

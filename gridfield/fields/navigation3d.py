@@ -116,9 +116,9 @@ def cell_units(gridmap: GridMap, points: ArrayLike) -> NDArray[np.float64]:
 def voxel_clearance(gridmap: GridMap, *, nearest: bool = False) -> Any:
     """Euclidean distance from each voxel centre to the nearest blocked voxel centre, in world units.
 
-    ``scipy.ndimage.distance_transform_edt`` (the one place the 3-D fields get their clearance from
-    until the 3-D brushfire is on main); the wall border is an obstacle shell just outside the grid on
-    all six faces; with an open border and no blocked voxel, ``inf`` everywhere.
+    The Euclidean brushfire of the voxel grid (:func:`gridfield.distance.brushfire.brushfire`, the one
+    place the 3-D fields get their clearance from); the wall border is an obstacle shell just outside the
+    grid on all six faces; with an open border and no blocked voxel, ``inf`` everywhere.
 
     Parameters
     ----------
@@ -142,30 +142,14 @@ def voxel_clearance(gridmap: GridMap, *, nearest: bool = False) -> Any:
     >>> voxel_clearance(GridMap(Grid((1, 1, 3), 1.0, border="wall"), np.zeros((1, 1, 3), bool))).ravel().tolist()
     [1.0, 1.0, 1.0]
     """
-    from scipy import ndimage
+    from ..distance.brushfire import brushfire
 
     gm = check_voxel_map(gridmap, "voxel_clearance")
-    occ = np.asarray(gm.occupied, dtype=bool)
-    wall = gm.grid.border == "wall"
-    blocked = np.pad(occ, 1, constant_values=True) if wall else occ
-    res = gm.grid.resolution
-    if not blocked.any():
-        d = np.full(occ.shape, np.inf)
-        if nearest:
-            none = np.full(occ.shape, -1, np.int32)
-            return d, (none, none.copy(), none.copy())
-        return d
-    out = ndimage.distance_transform_edt(~blocked, return_indices=nearest)
+    dm = brushfire(gm, metric="euclidean", compute_steps=False, compute_nearest=nearest, compute_labels=False,
+                   compute_gvd=False)
     if nearest:
-        d, idx = out
-        if wall:
-            d = d[1:-1, 1:-1, 1:-1]
-            idx = tuple(np.ascontiguousarray(i[1:-1, 1:-1, 1:-1] - 1, dtype=np.int32) for i in idx)
-        else:
-            idx = tuple(np.asarray(i, dtype=np.int32) for i in idx)
-        return d * res, idx
-    d = out[1:-1, 1:-1, 1:-1] if wall else out
-    return np.ascontiguousarray(d) * res
+        return dm.distance, tuple(np.asarray(i, dtype=np.int32) for i in dm.nearest_index)
+    return dm.distance
 
 
 def _spacing(gridmap: GridMap, spacing: Sequence[float] | None) -> tuple[float, float, float]:

@@ -307,6 +307,10 @@ def _plan(
     from .geometry.world import World
 
     fn, kind = get_planner(planner)
+    from .geometry.cspace import PoseMap
+
+    if isinstance(target, PoseMap):  # a turning robot's pose grid (apply_robot(..., headings=N))
+        return _plan_poses(planner, target, start, goal, params)
     if not isinstance(target, World | GridMap):
         raise ArgumentTypeError(
             f"target must be a World (a vector world, e.g. gridfield.io.read_world) or a GridMap, "
@@ -364,6 +368,19 @@ def _plan(
     t0 = time.perf_counter()
     path = _with_endpoints(fn(world, np.asarray(s), np.asarray(g), merged, cache=cache), s, g, t0)
     return (_corner(path, target, s, g) if isinstance(target, GridMap) and target.world is None else path), None
+
+
+def _plan_poses(planner: str, pm: Any, start: ArrayLike, goal: ArrayLike,
+                params: Mapping[str, Any] | None) -> tuple[Path, Any]:
+    """:func:`plan` on a :class:`~gridfield.geometry.cspace.PoseMap`: the pose planners of
+    :mod:`gridfield.following.posefollow` (``potential``, ``wavefront-octile``)."""
+    from .following.posefollow import plan_poses
+
+    if planner not in ("potential", "wavefront-octile"):
+        raise ParameterError(f"planner {planner!r} does not plan for a turning robot (a PoseMap); use 'potential' "
+                             "or 'wavefront-octile'")
+    given = validate(params)
+    return plan_poses(pm, start, goal, given, planner=planner)
 
 
 def _corner(path: Path, gridmap: GridMap, start: Any, goal: Any) -> Path:

@@ -141,3 +141,52 @@ def test_bad_poses_name_the_pose_and_the_obstacle():
         apply_robot(door_map(), CART, headings=10_000)
     with pytest.raises(ParameterError, match="point robot does not turn"):
         apply_robot(door_map(), None, headings=8)
+
+
+def _gap_png(tmp_path, door_cells=10):
+    from PIL import Image
+
+    img = np.full((100, 100), 255, np.uint8)
+    img[49:51, :] = 0
+    img[49:51, 50 - door_cells // 2:50 + door_cells // 2] = 255
+    img[0, :] = img[-1, :] = img[:, 0] = img[:, -1] = 0  # a frame: no way round the wall
+    f = tmp_path / "gap.png"
+    Image.fromarray(img).save(f)
+    return str(f)
+
+
+def test_cli_plan_with_headings(tmp_path, capsys):
+    import json
+
+    from gridfield.cli import main
+
+    f = _gap_png(tmp_path)
+    robot = "-0.8,-0.25 0.8,-0.25 0.8,0.25 -0.8,0.25"
+    base = [f, "--resolution", "0.1", "--robot", robot]
+    # translating, the cart cannot pass the 1.0 m door (the frame closes the way round)
+    assert main(["plan", *base, "--start", "5", "2", "--goal", "5", "8", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["status"] == "no_path"
+    out_png = tmp_path / "p.png"
+    assert main(["plan", *base, "--headings", "72", "--start", "5", "2", "0", "--goal", "5", "8", "1.2",
+                 "--json", "--plot", str(out_png)]) == 0
+    j = json.loads(capsys.readouterr().out)
+    assert j["status"] == "reached" and j["headings"] == 72 and out_png.stat().st_size > 0
+    poses = np.array(j["poses"])
+    assert np.allclose(poses[0], [5, 2, 0]) and np.allclose(poses[-1], [5, 8, 1.2])
+    gm = GridMap(Grid((100, 100), 0.1), _read_gap(f))
+    assert_motion_clear(gm, CART, poses)
+    # bad input: one line on stderr, exit code 2
+    for extra, msg in [(["--headings", "0"], "headings must be a whole number"),
+                       (["--headings", "72", "--planner", "visibility"], "does not plan for a turning robot")]:
+        assert main(["plan", *base, *extra, "--start", "5", "2", "0", "--goal", "5", "8"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and msg in err[0]
+    assert main(["info", *base, "--headings", "36", "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["shape"] == [36, 100, 100] and 0 < info["free"] < 1
+
+
+def _read_gap(f):
+    from gridfield.io import read
+
+    return read(f, resolution=0.1).occupied

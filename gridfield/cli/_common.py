@@ -254,6 +254,9 @@ def add_robot_arguments(p: argparse.ArgumentParser) -> None:
     mx.add_argument("--robot", nargs="+", default=None, metavar="X,Y",
                     help="a convex polygon robot, its vertices around the reference point (the point planned for); "
                          'quote them as one word when one starts with "-": --robot "-0.2,-0.1 0.3,-0.1 0.3,0.1"')
+    g.add_argument("--headings", type=int, default=None, metavar="N",
+                   help="a robot that turns: plan in (x, y, theta) over N heading bins (72: 5 degrees each; "
+                        "--start X Y THETA in radians, --goal X Y [THETA]); 1 (default): it only translates")
 
 
 def _robot_from_args(args: argparse.Namespace, target: Any) -> Any:
@@ -286,6 +289,13 @@ def robot_target(args: argparse.Namespace, target: Any, **points: Any) -> Any:
     ``points`` (``start=(x, y)``, ``goal=...``; None skipped) are checked first: a start or goal
     at which the robot collides is an error naming the distance. Without a robot: ``target``.
     """
+    headings = getattr(args, "headings", None)
+    if headings is not None and headings != 1:
+        from ..geometry.cspace import check_headings
+
+        check_headings(headings)
+        raise ParameterError(f"--headings {headings}: this command works on a robot that translates; "
+                             "gridfield plan and gridfield info take --headings")
     robot = _robot_from_args(args, target)
     if robot is None:
         return target

@@ -187,6 +187,11 @@ def _describe_world(args: argparse.Namespace, workspace: Any, target: Any) -> tu
 
 
 def run(args: argparse.Namespace) -> int:
+    from ._common import load_target
+    from .turning import run_info, wants_turning
+
+    if wants_turning(args):  # --headings N: the pose grid of a turning robot
+        return run_info(args, load_target(args))
     info, gm = describe(args)
     if args.npz:
         from ..io import write_npz

@@ -29,9 +29,11 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
                        description="Plan a path from START to GOAL on a map or world and report it.")
     add_map_arguments(p)
     p.add_argument("--start", nargs="+", type=float, metavar="X",
-                   help="start point X Y (X Y Z on a voxel grid; default: the world file's start)")
+                   help="start point X Y (X Y Z on a voxel grid, X Y THETA with --headings; default: the world "
+                        "file's start)")
     p.add_argument("--goal", nargs="+", type=float, metavar="X",
-                   help="goal point X Y (X Y Z on a voxel grid; default: the world file's goal)")
+                   help="goal point X Y (X Y Z on a voxel grid, X Y [THETA] with --headings; default: the world "
+                        "file's goal)")
     p.add_argument("--scenario", metavar="FILE",
                    help="a Moving AI .scen file: take start and goal from its line --index (y flipped to "
                         "gridfield's y-up), and report the scenario's optimal length; a .3dscen file for a "
@@ -97,8 +99,9 @@ def run(args: argparse.Namespace) -> int:
     check_figure_file(args.plot)
     workspace = load_target(args)
     params = collect_params(args)
-    if _is_stored_field(workspace):  # a field store (gridfield field ... --out F.zarr): follow it by chunks
-        return _follow_stored(args, workspace, params)
+    other = _other_kind(args, workspace, params)
+    if other is not None:
+        return other
     scen = scenario(args, workspace)
     if scen is not None:
         start, goal, optimal = scen
@@ -183,6 +186,18 @@ def _robot_no_path(args: argparse.Namespace, path: Path, workspace: Any, start: 
         point_target, resolution = as_gridmap(workspace, args.resolution), None
     point, _ = plan_with_field(args.planner, point_target, start, goal, params, resolution=resolution)
     return robot_no_path(path, point, _robot_text(args, workspace), start, goal)
+
+
+def _other_kind(args: argparse.Namespace, workspace: Any, params: dict[str, Any]) -> int | None:
+    """Plans that are not a point's on a map: a field store (``gridfield field ... --out F.zarr``, followed
+    by chunks) and a robot that turns (``--headings N``, on its pose grid); None for the others."""
+    if _is_stored_field(workspace):
+        return _follow_stored(args, workspace, params)
+    from .turning import run_plan, wants_turning
+
+    if wants_turning(args):
+        return run_plan(args, workspace, params)
+    return None
 
 
 def _is_stored_field(target: object) -> bool:

@@ -25,9 +25,10 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import ndimage
 
 from ..core.errors import GridfieldError
+from ..core.grid import GridMap
+from ..distance.brushfire import brushfire
 from ..geometry.cspace import PoseMap
 from .navigation3d import voxel_wavefront
 
@@ -82,15 +83,12 @@ def pose_clearance(pm: PoseMap) -> NDArray[np.float64]:
     if kept is not None:
         return kept  # type: ignore[no-any-return]
     occ = pm.occupied
-    h = pm.grid.resolution
     out = np.full(occ.shape, np.inf)
-    has = occ.reshape(occ.shape[0], -1).any(axis=1)
-    if has.any():
-        # one 3-D transform whose heading spacing is larger than any distance within a slice: every
-        # voxel's nearest blocked pose is then in its own slice (slices with one are taken alone)
-        big = 4.0 * (occ.shape[1] + occ.shape[2])
-        sub = ~occ[has]
-        out[has] = h * ndimage.distance_transform_edt(sub, sampling=(big, 1.0, 1.0))
+    g = pm.grid
+    for k in np.flatnonzero(occ.reshape(occ.shape[0], -1).any(axis=1)):  # per heading slice, each vectorized
+        dm = brushfire(GridMap(g, occ[k]), metric="euclidean", compute_steps=False, compute_nearest=False,
+                       compute_labels=False, compute_gvd=False)
+        out[k] = dm.distance
     out.flags.writeable = False
     pm.cache["clearance"] = out
     return out

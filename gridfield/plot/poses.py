@@ -13,12 +13,13 @@ from __future__ import annotations
 
 import math
 from os import PathLike
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..core.errors import ParameterError
+from ..core.grid import Grid, GridMap
 from ..core.path import Path
 from ._layers import OCCUPIED_COLOR, Artists, _new_axes, _occupancy_layer, frame_axes
 from .animation import animation_figure, check_animation_file, write_animation
@@ -26,9 +27,20 @@ from .animation import animation_figure, check_animation_file, write_animation
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from ..geometry.cspace import PoseMap  # the type only: plotting computes nothing
 
-__all__ = ["plot_footprints", "plot_pose_space", "save_pose_animation"]
+class PoseMap(Protocol):
+    """What these figures read of a :class:`gridfield.geometry.cspace.PoseMap` (plotting imports no
+    algorithm, so not the class itself)."""
+
+    occupied: NDArray[np.bool_]
+    workspace: GridMap
+    robot: Any
+    headings: int
+
+    @property
+    def grid(self) -> Grid: ...
+
+__all__ = ["plot_footprints", "plot_pose_space", "save_pose_animation", "save_pose_figure"]
 
 #: At most this many voxels along an axis go to marching cubes (larger pose grids are max-pooled
 #: first, so that thin C-obstacles survive): a 400 x 400 x 72 grid draws in about a second.
@@ -182,6 +194,33 @@ def plot_footprints(pm: PoseMap, path: Path, *, ax: Axes | None = None, every: i
     ax.set_aspect("equal")
     ax.set_title(f"{path.planner}: {path.status}, length {path.length:.3g}, {pm.headings} headings")
     return art
+
+
+def save_pose_figure(file: str | PathLike[str], pm: PoseMap, path: Path, *, dpi: int = 110) -> None:
+    """The plan figure of a turning robot, written to ``file``: its footprints along the path beside the
+    C-obstacles over the headings with the path's poses.
+
+    Parameters
+    ----------
+    file : str or os.PathLike
+        A figure file (``.png``, ``.pdf``, ``.svg``, ...).
+    pm : PoseMap
+    path : Path
+        With ``poses``.
+    dpi : int
+
+    Returns
+    -------
+    None
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(13.0, 6.0), layout="constrained")
+    FigureCanvasAgg(fig)
+    plot_footprints(pm, path, ax=fig.add_subplot(1, 2, 1))
+    plot_pose_space(pm, path, ax=fig.add_subplot(1, 2, 2, projection="3d"))
+    fig.savefig(file, dpi=dpi)
 
 
 def save_pose_animation(pm: PoseMap, path: Path, file: str | PathLike[str], *, fps: int = 12, dpi: int = 90,

@@ -206,6 +206,8 @@ def test_json_and_bad_input():
         plan("potential", gm, (0.5, 0.5, 0.5), (3.5, 3.5, 3.5), {"model": "nf2"})
     with pytest.raises(ParameterError, match="repulsion='sum' is a 2-D option"):
         build_field(gm, (3.5, 3.5, 3.5), {"model": "khatib", "repulsion": "sum"})
+    with pytest.raises(ParameterError, match="escape='navigation' is a 2-D follower option"):
+        plan("potential", gm, (0.5, 0.5, 0.5), (3.5, 3.5, 3.5), {"model": "khatib", "escape": "navigation"})
     gm2 = GridMap(Grid((4, 4), 1.0), np.zeros((4, 4), bool))
     with pytest.raises(ParameterError, match="two numbers X Y"):
         plan("potential", gm2, (0.5, 0.5, 0.5), (3.5, 3.5))

@@ -90,6 +90,10 @@ def follow3d(field: Field, start: ArrayLike, params: Mapping[str, Any] | None = 
     res = gm.grid.resolution
     merged = {**{k: v for k, v in dict(field.params).items() if k in _FOLLOW_NAMES}, **dict(params or {})}
     fp = resolve_follow_params(merged, unit=res)
+    for name, only in _ONLY.items():
+        if fp[name] != only:
+            raise ParameterError(f"{name}={fp[name]!r} is a 2-D follower option; the voxel follower takes {name}="
+                                 f"{only!r} (the default model nf1 reaches every reachable goal)")
     step = min(float(fp["step"]), res)
     free = free_mask(gm)
     n_free = int(free.sum())
@@ -125,6 +129,9 @@ def follow3d(field: Field, start: ArrayLike, params: Mapping[str, Any] | None = 
     ran = {**fp, "step": step, "max_iterations": max_it, "discrete_steps": int(nd)}
     return Path(points, name, "potential", int(it), ran, time.perf_counter() - t0, clearance, extra)
 
+
+#: The follower options of 2-D that the voxel follower does not have, with the one value it takes.
+_ONLY = {"escape": "none", "step_rule": "normalized", "sampling": "bilinear"}
 
 #: The follower parameters a field's own ``params`` may carry.
 _FOLLOW_NAMES = ("step", "tolerance", "max_iterations", "progress_window")

@@ -401,7 +401,9 @@ def _point(name: str, value: Any) -> np.ndarray:
         raw = np.asarray(value, dtype=np.float64).reshape(-1)
     except (TypeError, ValueError):
         raw = None
-    if raw is not None and raw.size == 3 and np.isfinite(raw).all():
+    if raw is not None and raw.size == 3:
+        if not np.isfinite(raw).all():
+            raise ParameterError(f"{name} must be three finite numbers (x, y, z) on a voxel grid, got {raw.tolist()}")
         return raw
     return np.array(as_xy(value, name))
 

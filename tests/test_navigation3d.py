@@ -79,6 +79,11 @@ def touches(p, q, cube):
 
 def brute_clear(occ, p, q):
     """Every voxel of the grid and of a one-voxel shell round it: blocked ones (and the shell) must not be touched."""
+    with np.errstate(over="ignore"):  # a tiny (subnormal) step: the slab times are infinite, as they should be
+        return _brute_clear(occ, p, q)
+
+
+def _brute_clear(occ, p, q):
     n = occ.shape
     for cube in itertools.product(*[range(-1, n[a] + 1) for a in range(3)]):
         inside = all(0 <= cube[a] < n[a] for a in range(3))

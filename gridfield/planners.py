@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .core.coords import as_xy
-from .core.errors import ArgumentTypeError, GridfieldError, ParameterError
+from .core.errors import ArgumentTypeError, GridfieldError, ParameterError, shorten
 from .core.grid import GridMap
 from .core.params import REGISTRY, validate
 from .core.path import Path, PathExtra
@@ -322,7 +322,8 @@ def _plan(
     if isinstance(target, GridMap) and target.grid.ndim == 3 and planner not in VOXEL_PLANNERS:
         raise ParameterError(f"planner {planner!r} plans on 2-D maps; a voxel grid (3-D) is planned by "
                              f"{' or '.join(repr(v) for v in VOXEL_PLANNERS)}")
-    start, goal = _point("start", start), _point("goal", goal)
+    nd = target.grid.ndim if isinstance(target, GridMap) else 2
+    start, goal = _point("start", start, nd), _point("goal", goal, nd)
     base = dict(target.params) if isinstance(target, World) else (
         dict(target.world.params) if isinstance(target.world, World) else {})
     merged = dict(validate(base))
@@ -394,18 +395,18 @@ def _corner(path: Path, gridmap: GridMap, start: Any, goal: Any) -> Path:
     return with_corner_passage(path, gridmap, start, goal)
 
 
-def _point(name: str, value: Any) -> np.ndarray:
-    """A start/goal point as a float array of shape (2,) (a voxel grid's: (3,)), or a ParameterError saying
-    what was expected (the map's check_point then says when the count does not fit the map)."""
+def _point(name: str, value: Any, ndim: int = 2) -> np.ndarray:
+    """A start/goal point as a float array of shape (2,) (on a voxel grid, ``ndim`` 3: (3,)), or a
+    ParameterError saying what was expected."""
+    if ndim == 2:
+        return np.array(as_xy(value, name))
     try:
         raw = np.asarray(value, dtype=np.float64).reshape(-1)
     except (TypeError, ValueError):
         raw = None
-    if raw is not None and raw.size == 3:
-        if not np.isfinite(raw).all():
-            raise ParameterError(f"{name} must be three finite numbers (x, y, z) on a voxel grid, got {raw.tolist()}")
-        return raw
-    return np.array(as_xy(value, name))
+    if raw is None or raw.size != 3 or not np.isfinite(raw).all():
+        raise ParameterError(f"{name} must be three numbers X Y Z (finite) on a voxel grid, got {shorten(value)}")
+    return raw
 
 
 def search_stages(planner: str, gm: GridMap, params: Mapping[str, Any] | None = None

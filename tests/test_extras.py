@@ -27,7 +27,7 @@ EXTRAS: dict[str, list[str]] = PYPROJECT["project"]["optional-dependencies"]
 DISTRIBUTION = {
     "skfmm": "scikit-fmm", "skimage": "scikit-image", "yaml": "pyyaml", "PIL": "pillow",
     "distributed": "dask", "imageio_ffmpeg": "imageio-ffmpeg", "sphinx_gallery": "sphinx-gallery",
-    "cv2": "opencv-python-headless",
+    "cv2": "opencv-python-headless", "mpl_toolkits": "matplotlib",
 }
 
 

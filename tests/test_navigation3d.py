@@ -283,7 +283,7 @@ def test_bad_input():
         plan("wavefront-octile", gm3, (0.5, 0.5), (1.5, 1.5, 1.5))
     with pytest.raises(ParameterError, match="two numbers X Y"):
         plan("wavefront-octile", gm2, (0.5, 0.5, 0.5), (1.5, 1.5))
-    with pytest.raises(ParameterError, match=r"goal must be three finite numbers \(x, y, z\)"):
+    with pytest.raises(ParameterError, match=r"goal must be three numbers X Y Z \(finite\) on a voxel grid"):
         plan("wavefront-octile", gm3, (0.5, 0.5, 0.5), (1.5, float("nan"), 1.5))
     for planner in ("fmm", "wavefront", "harmonic", "navfn", "visibility"):
         with pytest.raises(ParameterError, match=rf"planner '{planner}' plans on 2-D maps.*'potential' or 'wavefront-octile'"):

@@ -185,8 +185,8 @@ def _read_target(args: argparse.Namespace) -> Any:
     if getattr(args, "unknown", None) is not None:
         options["unknown"] = args.unknown
     if getattr(args, "resolution", None) is not None and str(args.map).lower().rstrip("/").endswith(
-            (".png", ".pgm", ".bmp", ".npy", ".tif", ".tiff", ".zarr")):
-        options["resolution"] = args.resolution  # a raster's pixel size (a GeoTIFF's own is overridden)
+            (".png", ".pgm", ".bmp", ".npy", ".tif", ".tiff", ".zarr", ".ply", ".xyz")):
+        options["resolution"] = args.resolution  # a raster's pixel size (a GeoTIFF's own overridden); a cloud's voxel
     try:
         return read(args.map, **options)
     except TypeError as e:  # an option the format's reader does not take

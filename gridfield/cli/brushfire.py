@@ -11,7 +11,7 @@ from typing import Any
 from ._chunked import add_chunk_arguments
 from ._common import add_map_arguments, add_robot_arguments, occupancy_options, robot_target
 
-_BITMAPS = (".png", ".pgm", ".bmp", ".npy", ".tif", ".tiff")  # rasters: --resolution is their pixel size
+_BITMAPS = (".png", ".pgm", ".bmp", ".npy", ".tif", ".tiff", ".ply", ".xyz")  # --resolution: rasters' pixel size, clouds' voxel
 
 
 def _positive(text: str) -> float:
@@ -44,7 +44,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
                         "+ resolution, origin, border (and a disc robot's diagonals through corners, "
                         "GridMap.diagonals) to the .npz file F")
     p.add_argument("--plot", metavar="F",
-                   help="save the distance heat map with iso-distance contours and the GVD (PNG, PDF, SVG, ...)")
+                   help="save the distance heat map with iso-distance contours and the GVD (PNG, PDF, SVG, ...); "
+                        "of a voxel map: orthogonal slices and a 3-D view of the obstacles, in one file")
     add_robot_arguments(p)
     add_chunk_arguments(p)
     return p
@@ -86,6 +87,11 @@ def _save_plot(dmap: Any, file: str) -> None:
     from ..plot import plot_brushfire
 
     grid = dmap.grid
+    if grid.ndim == 3:  # a voxel map: orthogonal slices and the 3-D scene, one file (gridfield.plot.voxels)
+        from ..plot import save_voxel_figure
+
+        save_voxel_figure(file, dmap, title=f"{Path(dmap.map.source).name or 'map'}: {dmap.metric} distance")
+        return
     aspect = grid.rows / grid.cols
     fig = Figure(figsize=(7.5, max(2.5, min(12.0, 6.5 * aspect + 1.0))), layout="constrained")
     ax = fig.add_subplot()

@@ -31,14 +31,16 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     add_map_arguments(p)
     p.add_argument("--planner", default="potential", choices=FIELD_PLANNERS,
                    help="whose field: the potential field (default) or a navigation function")
-    p.add_argument("--goal", nargs=2, type=float, metavar=("X", "Y"),
-                   help="goal point (default: the world file's goal)")
+    p.add_argument("--goal", nargs="+", type=float, metavar="X",
+                   help="goal point X Y (X Y Z on a voxel grid; default: the world file's goal)")
     p.add_argument("--npz", metavar="F",
                    help="write occupied, distance, label, gvd, potential, grad_x, grad_y + resolution, origin "
                         "(and a disc robot's diagonals through corners, GridMap.diagonals)")
-    p.add_argument("--plot", metavar="F", help="save the potential (contours and force arrows) as a figure")
+    p.add_argument("--plot", metavar="F", help="save the potential (contours and force arrows) as a figure (a voxel "
+                                               "map: orthogonal slices and a 3-D view of the obstacles)")
     p.add_argument("--surface", metavar="F", help="save the potential as a 3-D surface figure (star-nav: the "
-                                                  "star world's four figures: beta humps, attractive part, mapped space, surface)")
+                                                  "star world's four figures: beta humps, attractive part, mapped space, surface; "
+                                                  "a voxel map: its x-y slice at the goal)")
     p.add_argument("--basins", metavar="F",
                    help="save the basins of attraction of steepest descent (goal basin and local minima)")
     add_robot_arguments(p)
@@ -199,6 +201,9 @@ def run(args: argparse.Namespace) -> int:
     for f in (args.npz, args.plot, args.surface, args.basins):
         _check_output(f)
     target = load_target(args)
+    from ._common import check_point_args
+
+    check_point_args(args, target)  # X Y, or X Y Z on a voxel grid
     goal = _goal(args, target)
     params = _world_params(target)
     params.update(collect_params(args))
@@ -256,10 +261,10 @@ def _report(args: argparse.Namespace, field: Any, model: str, ms: float, ms_brus
     grid = field.grid
     free = ~field.map.occupied & np.isfinite(field.potential)
     u = field.potential[free]
-    gmag = np.hypot(field.grad_x, field.grad_y)[free]
+    gmag = (np.hypot(field.grad_x, field.grad_y) if grid.ndim == 2 else np.sqrt(sum(g * g for g in field.gradient)))[free]
     urange = f"U in [{u.min():.4g}, {u.max():.4g}]" if u.size else "no free cell"
-    gx, gy = field.goal
-    print(f"field {grid.rows}x{grid.cols} cells of {grid.resolution:g} ({model}), goal ({gx:g}, {gy:g}): "
+    at = ", ".join(f"{v:g}" for v in field.goal)  # x, y (, z on a voxel grid)
+    print(f"field {'x'.join(map(str, grid.shape))} cells of {grid.resolution:g} ({model}), goal ({at}): "
           f"{urange} over {int(free.sum())} free cells, max |grad U| {gmag.max() if gmag.size else 0:.4g}, "
           + (f"built in {ms_brushfire + ms:.1f} ms (brushfire {ms_brushfire:.1f} ms, potential {ms:.1f} ms)"
              if ms_brushfire is not None else f"built in {ms:.1f} ms (its distance maps included)"))
@@ -280,10 +285,17 @@ def _report(args: argparse.Namespace, field: Any, model: str, ms: float, ms_brus
             from ..plot import title_of
 
             name = title_of(field.map) or str(args.map)
-            title = f"{name}: {getattr(args, 'planner', 'potential')} field ({model}), goal ({gx:g}, {gy:g})"
-            _save_figure(gplot.plot_potential(field, ax=None, title="\n".join(textwrap.wrap(title, 70))), args.plot)
+            title = f"{name}: {getattr(args, 'planner', 'potential')} field ({model}), goal ({at})"
+            if grid.ndim == 3:  # a voxel map: slices of the potential and the 3-D scene (gridfield.plot.voxels)
+                gplot.save_voxel_figure(args.plot, field, title=title)
+            else:
+                _save_figure(gplot.plot_potential(field, ax=None, title="\n".join(textwrap.wrap(title, 70))),
+                             args.plot)
             print(f"wrote {args.plot}")
-        if args.surface and star_figure is not None:
+        if args.surface and grid.ndim == 3:  # the potential's x-y slice at the goal, as a surface
+            _save_figure(gplot.plot_voxel_surface(field, ax=None), args.surface)
+            print(f"wrote {args.surface}")
+        elif args.surface and star_figure is not None:
             _save_figure(gplot.plot_star_world(star_figure)[0], args.surface)
             print(f"wrote {args.surface}")
         elif args.surface:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 from typing import Any
 
@@ -20,12 +21,14 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
     )
     p.add_argument("map", metavar="MAP",
                    help="world YAML, ROS map YAML, bitmap (PNG/PGM/BMP), Moving AI .map, gridfield .npz, "
-                        "TIFF/GeoTIFF, .npy or .zarr")
+                        "TIFF/GeoTIFF, .npy or .zarr; voxel maps: Moving AI .3dmap, .binvox, 3-D .npy/.npz, "
+                        ".ply/.xyz point clouds (with --resolution)")
     p.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     p.add_argument("--npz", metavar="F", help="also write the occupancy grid to the .npz file F")
     p.add_argument("--resolution", type=float, default=None,
                    help="cell size: rasterizes a vector world (default: the world file's 'resolution'); "
-                        "for a bitmap, the size of one pixel (default 1)")
+                        "for a bitmap, the size of one pixel (default 1); for a point cloud (.ply, .xyz), the "
+                        "voxel size (required)")
     p.add_argument("--unknown", choices=("occupied", "free"), default=None,
                    help="how unknown (ROS) or transparent (bitmap) cells are treated (default: occupied)")
     from ._common import add_max_cells_argument, add_occupancy_arguments
@@ -56,7 +59,8 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
     from ._common import occupancy_options
 
     options: dict[str, Any] = {"unknown": args.unknown, **occupancy_options(args)}
-    if suffix in ("png", "pgm", "bmp"):
+    resolution_formats = ("png", "pgm", "bmp", "ply", "xyz")  # a point cloud's voxel size too
+    if suffix in resolution_formats:
         options["resolution"] = args.resolution
     workspace = read(args.map, **options)
     from ..core.chunkcache import LazyGridMap
@@ -67,19 +71,19 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
     target = robot_target(args, workspace)
     if isinstance(target, World):
         return _describe_world(args, workspace, target)
-    if args.resolution is not None and suffix not in ("png", "pgm", "bmp"):
+    if args.resolution is not None and suffix not in resolution_formats:
         raise ParameterError(
             f"{args.map}: --resolution applies to world files and bitmaps; this "
             f"{target.meta.get('format', 'map')} map has its own resolution {target.grid.resolution:g}"
         )
     gm = target
     fmt = str(gm.meta.get("format", "grid"))
-    _, obstacles = ndimage.label(gm.occupied, structure=np.ones((3, 3), dtype=bool))
+    _, obstacles = ndimage.label(gm.occupied, structure=np.ones((3,) * gm.occupied.ndim, dtype=bool))
     grid = gm.grid
     info = {
-        "shape": [int(grid.rows), int(grid.cols)],
+        "shape": [int(n) for n in grid.shape],  # (rows, cols); a voxel map (layers, rows, cols)
         "resolution": float(grid.resolution),
-        "origin": [float(grid.origin[0]), float(grid.origin[1])],
+        "origin": [float(o) for o in grid.origin],
         "border": grid.border,
         "occupied_fraction": float(gm.occupied_fraction),
         "obstacles": int(obstacles),
@@ -88,6 +92,8 @@ def describe(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
         "occupancy_rule": occupancy_rule(gm),
         **_cell_counts(gm, args.unknown),
     }
+    if grid.ndim == 3:  # a voxel map: its bounds (xmin, ymin, zmin, xmax, ymax, zmax) in the JSON too
+        info["bounds"] = [float(v) for v in grid.bounds]
     if target is not workspace:
         from ._common import _robot_from_args
 
@@ -130,7 +136,7 @@ def _cell_counts(gm: Any, unknown: str | None) -> dict[str, Any]:
     are treated: ``"occupied"``, the readers' default, or ``"free"``); both None for a map without them."""
     import numpy as np
 
-    cells = int(gm.grid.rows) * int(gm.grid.cols)
+    cells = int(gm.occupied.size)
     fraction = gm.meta.get("unknown_fraction")
     counts: dict[str, Any] = {"occupied_cells": int(np.count_nonzero(gm.occupied)), "unknown_cells": None,
                               "unknown_as": None}
@@ -202,26 +208,26 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write("\n")
         return 0
     world = info["format"] == "world"
-    xmin, ymin, xmax, ymax = info["bounds"] if world else gm.grid.bounds
-    what = "vector obstacles" if world else "8-connected obstacle regions"
+    bounds = info["bounds"] if world else gm.grid.bounds
+    nd = len(bounds) // 2
+    what = "vector obstacles" if world else "8-connected obstacle regions" if nd == 2 else "26-connected obstacle regions"
     print(f"source:            {info['source']}")
     print(f"format:            {info['format']}")
     print(f"occupancy rule:    {info['occupancy_rule']}")
     if info["shape"] is None:
         print("shape:             none: the world sets no resolution (pass --resolution R to rasterize it)")
     else:
-        rows, cols = info["shape"]
-        print(f"shape:             {rows} rows x {cols} cols")
+        names = ("layers", "rows", "cols")[-len(info["shape"]):]
+        print(f"shape:             {' x '.join(f'{n} {k}' for n, k in zip(info['shape'], names, strict=True))}")
         print(f"resolution:        {info['resolution']:g}")
-    print(f"origin:            ({info['origin'][0]:g}, {info['origin'][1]:g})")
-    print(f"bounds:            x [{xmin:g}, {xmax:g}], y [{ymin:g}, {ymax:g}]")
+    print(f"origin:            ({', '.join(f'{o:g}' for o in info['origin'])})")
+    print(f"bounds:            {', '.join(f'{a} [{bounds[i]:g}, {bounds[i + nd]:g}]' for i, a in enumerate('xyz'[:nd]))}")
     print(f"border:            {info['border']}")
     if info["occupied_fraction"] is not None:
         print(f"occupied fraction: {info['occupied_fraction']:.4f}")
     if info.get("occupied_cells") is not None:
-        rows, cols = info["shape"]
         unknown, treated = info.get("unknown_cells"), info.get("unknown_as")
-        cells = f"{info['occupied_cells']} of {rows * cols}"
+        cells = f"{info['occupied_cells']} of {math.prod(info['shape'])}"
         if unknown and treated == "occupied":
             cells += f" (of which unknown {unknown}, treated as occupied)"
         print(f"occupied cells:    {cells}")

@@ -42,7 +42,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> argp
                    help="which scenario of --scenario (0 = the first; default 0)")
     p.add_argument("--planner", default="potential", choices=list(PLANNERS), help="planner (default: potential)")
     p.add_argument("--json", action="store_true", help="print one JSON object (the plan contract in README.md)")
-    p.add_argument("--plot", metavar="F", help="save a figure of the map and the path")
+    p.add_argument("--plot", metavar="F", help="save a figure of the map and the path (a voxel map: orthogonal "
+                                               "slices and a 3-D view)")
     p.add_argument("--animate", metavar="F", help="save an animation of the follower (.gif, or .mp4 with ffmpeg)")
     add_robot_arguments(p)
     add_param_arguments(p)
@@ -59,7 +60,7 @@ def scenario(args: argparse.Namespace, target: object) -> tuple[list[float], lis
         return None
     if args.start is not None or args.goal is not None:
         raise ParameterError("give either --scenario or --start/--goal, not both")
-    if str(args.scenario).lower().endswith(".3dscen"):
+    if str(args.scenario).lower().endswith((".3dscen", ".3dscen.gz")):
         from ._common import scenario3d
 
         return scenario3d(args.scenario, args.index, target, args.map)

@@ -521,4 +521,24 @@ class IncrementalBrushfire:
 class IncrementalBrushfire3D(IncrementalVoxels, IncrementalBrushfire):  # type: ignore[misc]  # 3-D boxes for windows
     """:class:`IncrementalBrushfire` on a voxel grid (``gridmap.ndim == 3``), which makes it: the methods
     of :class:`gridfield.distance._incremental3d.IncrementalVoxels` (cells ``(layer, row, col)``,
-    windows ``(z0, z1, r0, r1, c0, c1)``; labels from obstacle ids, no GVD)."""
+    windows ``(z0, z1, r0, r1, c0, c1)``; labels from obstacle ids, no GVD).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+        A voxel grid; the other arguments as :class:`IncrementalBrushfire`'s.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from scipy import ndimage
+    >>> from gridfield.core.grid import Grid, GridMap
+    >>> occ = np.zeros((4, 5, 6), bool); occ[1, 2, 3] = True
+    >>> ib = IncrementalBrushfire(GridMap(Grid((4, 5, 6), 1.0), occ))
+    >>> type(ib).__name__
+    'IncrementalBrushfire3D'
+    >>> box = ib.update(occupied=[[3, 0, 0]])
+    >>> occ[3, 0, 0] = True
+    >>> bool((ib.distance_map.distance == ndimage.distance_transform_edt(~occ)).all())
+    True
+    """

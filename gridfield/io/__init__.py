@@ -10,6 +10,10 @@ Supported inputs (:func:`read` picks by file name):
 - any of those text and bitmap files gzip-compressed (``arena.map.gz``, ``arena.map.scen.gz``, ``map.pgm.gz``,
   also as a ROS YAML's ``image``), decompressed within the size guard
 - ``.npz`` arrays written by gridfield: :func:`read_npz`, :func:`read_npz_arrays`
+- voxel maps (3-D grids, ``[z, y, x]``): Moving AI's 3-D benchmark ``.3dmap`` (:func:`read_3dmap`; also
+  ``.3dmap.gz``) and its scenarios ``.3dscen`` (:func:`read_scen3d`, also through :func:`read_scen`), Patrick
+  Min's ``.binvox`` (:func:`read_binvox`), 3-D ``.npy`` arrays (:func:`read_voxel_npy`) and ``.npz`` files,
+  and point clouds voxelized at a resolution: PLY and ``.xyz`` (:func:`read_pointcloud`)
 - maps larger than memory, read by chunks (a :class:`~gridfield.core.chunkcache.LazyGridMap`): BigTIFF /
   GeoTIFF ``.tif``/``.tiff`` (:func:`read_tiff`), ``.npy`` memory maps (:func:`read_npy`), plain Zarr arrays
   (:func:`read_zarr_array`); and gridfield's Zarr stores (``gridfield brushfire/field ... --out F.zarr``,
@@ -53,7 +57,8 @@ Layout of the package (one format per module): ``_common`` (file checks), ``_occ
 rules of images and arrays: option checks and the rule in words), ``_yaml`` (YAML and
 world files, with the alias-bomb guard), ``_bitmap``, ``_ros``, ``_movingai``, ``_npz`` (also the
 fields' :func:`save_field` / :func:`load_field`), ``_tiff`` (BigTIFF/GeoTIFF and ``.npy`` read by chunks),
-``_zarr`` (gridfield's Zarr store and plain Zarr arrays); this ``__init__`` re-exports their public names and
+``_zarr`` (gridfield's Zarr store and plain Zarr arrays), ``_voxel`` (voxel maps: Moving AI 3-D, binvox, 3-D
+arrays), ``_pointcloud`` (PLY and ``.xyz`` voxelized); this ``__init__`` re-exports their public names and
 holds :func:`read`, which picks the reader by file name, and :func:`bundled_map`. The submodules are
 private: import from ``gridfield.io``.
 """
@@ -76,13 +81,16 @@ from ._common import _check_file, inner_suffix, is_gzip
 from ._costmap import from_occupancy_grid, read_costmap, read_occupancy_grid, to_occupancy_grid, write_costmap
 from ._costmap import is_costmap_yaml as _is_costmap_yaml
 from ._costmap import is_occupancy_grid_yaml as _is_occupancy_grid_yaml
-from ._movingai import Scenarios, read_movingai_map, read_scen
+from ._movingai import Scenarios, read_movingai_map
+from ._movingai import read_scen as _read_scen_2d
 from ._npz import NPZ_ARRAY_NAMES, load_field, read_npz, read_npz_arrays, save_field, write_npz
 from ._occupancy import OCCUPANCY_RULES as OCCUPANCY_RULES
+from ._pointcloud import read_pointcloud
 from ._ros import ROS_MODES as ROS_MODES
 from ._ros import SEMANTICS as SEMANTICS
 from ._ros import read_ros_map, ros_occupancy_values, write_ros_map
 from ._tiff import read_npy, read_tiff
+from ._voxel import Scenarios3D, npy_ndim, read_3dmap, read_binvox, read_scen3d, read_voxel_npy
 from ._yaml import YAML_EXPANDED_LIMIT as YAML_EXPANDED_LIMIT
 from ._yaml import read_world, read_yaml
 from ._zarr import STORE_ARRAYS, read_store, read_zarr, read_zarr_array, write_store
@@ -92,10 +100,13 @@ __all__ = [
     "OCCUPANCY_RULES",
     "STORE_ARRAYS",
     "Scenarios",
+    "Scenarios3D",
     "bundled_map",
     "from_occupancy_grid",
     "load_field",
     "read",
+    "read_3dmap",
+    "read_binvox",
     "read_bitmap",
     "read_costmap",
     "read_movingai_map",
@@ -103,10 +114,13 @@ __all__ = [
     "read_npz",
     "read_npz_arrays",
     "read_occupancy_grid",
+    "read_pointcloud",
     "read_ros_map",
     "read_scen",
+    "read_scen3d",
     "read_store",
     "read_tiff",
+    "read_voxel_npy",
     "read_world",
     "read_yaml",
     "read_zarr",
@@ -123,7 +137,7 @@ __all__ = [
 
 
 #: The formats also read gzip-compressed (``arena.map.gz``): the text and bitmap ones decoded here.
-GZ_FORMATS = (".map", ".pgm", ".png", ".bmp")
+GZ_FORMATS = (".map", ".pgm", ".png", ".bmp", ".3dmap")
 
 
 def bundled_map(name: str) -> FsPath:
@@ -162,6 +176,41 @@ def bundled_map(name: str) -> FsPath:
 # ----------------------------------------------------------------------------------------
 # dispatch
 # ----------------------------------------------------------------------------------------
+def read_scen(path: PathLike, *, map_height: int | None = None) -> Scenarios:
+    """Read a Moving AI scenario file: a 2-D ``.scen`` (the reader of ``gridfield.io._movingai``) or, by its
+    suffix, a 3-D ``.3dscen`` (:func:`read_scen3d`, giving a :class:`Scenarios3D`); either gzip-compressed too.
+
+    A 2-D file's coordinates are converted to gridfield's y-up rows (its y grows downward); 2-D files of
+    all three variants are read (``version 1`` tab-separated with 6 significant digits or 8 decimals,
+    ``version 1.0`` with 2 decimals), one line at a time: a line longer than ``SCEN_LINE_MAX`` bytes, a field
+    longer than 4096 characters or a map name longer than 255 is refused naming its line.
+
+    Parameters
+    ----------
+    path : str or path-like
+    map_height : int, optional
+        2-D files: the height of the map the scenarios belong to; every line's height column must match it
+        (by default each line's own is used). A ``.3dscen`` names no map size: it is not checked there
+        (give :func:`read_scen3d` ``shape=``).
+
+    Returns
+    -------
+    Scenarios
+        A :class:`Scenarios3D` for a ``.3dscen``.
+
+    Examples
+    --------
+    >>> s = read_scen(bundled_map("arena/arena.map.scen"))
+    >>> len(s), str(s.map_name[0]), s.version
+    (160, 'arena.map', '1')
+    >>> s.start_xy[0].tolist(), s.start_cell[0].tolist()  # first line: start (1, 11) on a 49-high map
+    ([1.5, 37.5], [37, 1])
+    """
+    if isinstance(path, str | os.PathLike) and inner_suffix(FsPath(path)) == ".3dscen":
+        return read_scen3d(path)
+    return _read_scen_2d(path, map_height=map_height)
+
+
 def _check_options(reader: Callable[..., Any], options: Mapping[str, Any], p: FsPath, what: str) -> None:
     accepted = [n for n, prm in inspect.signature(reader).parameters.items() if prm.kind is prm.KEYWORD_ONLY]
     bad = sorted(set(options) - set(accepted))
@@ -184,6 +233,14 @@ def _map_in_folder(folder: FsPath) -> FsPath:
     raise MapFormatError(f"{folder}: is a directory with {len(maps)} map files ({names}); give one of them")
 
 
+def _voxel_reader(p: FsPath, suffix: str) -> tuple[Callable[..., GridMap], str] | None:
+    """The reader of a voxel map file and its kind in words, by suffix (a ``.npy`` by its header's ndim)."""
+    if suffix == ".npy":
+        return (read_voxel_npy, "3-D .npy array") if npy_ndim(p) == 3 else None
+    return {".3dmap": (read_3dmap, "Moving AI 3-D map"), ".binvox": (read_binvox, "binvox file"),
+            ".ply": (read_pointcloud, "point cloud"), ".xyz": (read_pointcloud, "point cloud")}.get(suffix)
+
+
 def read(path: PathLike, **options: Any) -> Any:
     """Read any supported map or world file; a world YAML gives a :class:`World`, the rest a :class:`GridMap`
     (a lazy one for the formats read by chunks; a gridfield Zarr store gives what it holds).
@@ -200,10 +257,12 @@ def read(path: PathLike, **options: Any) -> Any:
         ``.tif``/``.tiff`` (BigTIFF/GeoTIFF), ``.npy`` or a ``.zarr`` directory (a gridfield store or a
         plain array), the last three read by chunks; or a folder holding one map file (a ROS map's
         folder: its ``.yaml``), read as that file. A ``.map``, ``.pgm``, ``.png`` or ``.bmp`` file may be
-        gzip-compressed (``arena.map.gz``).
+        gzip-compressed (``arena.map.gz``). Voxel maps: ``.3dmap`` (Moving AI 3-D, also ``.3dmap.gz``),
+        ``.binvox``, ``.ply``/``.xyz`` point clouds (``resolution=`` required), a 3-D ``.npy``.
     **options
         Keyword options of the format's reader (:func:`read_ros_map`, :func:`read_bitmap`,
-        :func:`read_movingai_map`, :func:`read_tiff`, :func:`read_npy`, :func:`read_zarr_array`; a world
+        :func:`read_movingai_map`, :func:`read_tiff`, :func:`read_npy`, :func:`read_zarr_array`,
+        :func:`read_3dmap`, :func:`read_binvox`, :func:`read_pointcloud`, :func:`read_voxel_npy`; a world
         file and ``.npz`` take none).
 
     Returns
@@ -254,6 +313,8 @@ def read(path: PathLike, **options: Any) -> Any:
         reader, what = read_movingai_map, "Moving AI map"
     elif suffix == ".npz":
         reader, what = read_npz, "gridfield .npz file"
+    elif (voxel := _voxel_reader(p, suffix)) is not None:  # a voxel map (issue 44)
+        reader, what = voxel
     elif suffix in (".tif", ".tiff"):
         reader, what = read_tiff, "TIFF raster"
     elif suffix == ".npy":
@@ -261,7 +322,8 @@ def read(path: PathLike, **options: Any) -> Any:
     else:
         raise MapFormatError(
             f"{p}: unknown map format {shorten(suffix)}; expected a world or ROS map .yaml, a .png/.pgm/.bmp bitmap, "
-            "a Moving AI .map, a gridfield .npz, a .tif/.tiff raster, a .npy array or a .zarr store"
+            "a Moving AI .map or .3dmap, a gridfield .npz, a .tif/.tiff raster, a .npy array, a .binvox file, a "
+            ".ply/.xyz point cloud or a .zarr store"
         )
     _check_options(reader, options, p, what)
     return reader(p, **options)

@@ -126,7 +126,7 @@ def write_npz(path: PathLike, arrays: Mapping[str, NDArray[Any]], grid: Grid, *,
         a = np.asarray(value)
         if a.dtype == object:
             raise ParameterError(f"array {shorten(name)} has dtype object; only numeric and boolean arrays can be stored")
-        if a.shape[:2] != grid.shape:
+        if a.shape[:grid.ndim] != grid.shape:
             raise ParameterError(f"array {shorten(name)} has shape {a.shape}, but the grid has shape {grid.shape}")
         out[name] = a
     if not out:
@@ -224,6 +224,9 @@ def read_npz_arrays(path: PathLike) -> tuple[dict[str, NDArray[Any]], Grid]:
     """
     content = _npz_content(path)
     p = FsPath(path)
+    if content.get("occupied", np.zeros(())).ndim == 3 and np.size(content.get("origin", ())) == 3:  # voxels (issue 44)
+        from ._voxel import npz_voxel_arrays
+        return npz_voxel_arrays(p, content)
     for key in ("resolution", "origin"):
         if key not in content:
             raise MapFormatError(f"{p}: no '{key}' array; a gridfield .npz holds resolution and origin beside the arrays")

@@ -12,7 +12,8 @@ quiver, the potential's colour scale and the :class:`Artists` record; the privat
 :func:`draw_outlines`, :func:`frame_axes`, :func:`potential_scale`, :func:`stall_points`,
 :func:`title_of`), the figures (one function per figure:
 :mod:`gridfield.plot.figures` for maps and fields, :mod:`gridfield.plot.results` for comparisons,
-convergence and the plan figure written to a file) and :mod:`gridfield.plot.animation` (GIF/MP4
+convergence and the plan figure written to a file, :mod:`gridfield.plot.voxels` for voxel grids: slices,
+a 3-D scene of isosurfaces, the figure ``--plot`` writes for a voxel map) and :mod:`gridfield.plot.animation` (GIF/MP4
 writers, with the pieces the demo's and the explorer's movies share: :func:`animation_figure`,
 :func:`write_animation`, :func:`check_animation_file`, :func:`ffmpeg_missing`). Every function follows one contract:
 
@@ -56,6 +57,7 @@ from .figures import (
     plot_surface,
 )
 from .results import plot_comparison, plot_convergence, save_plan_figure
+from .voxels import plot_voxel_scene, plot_voxel_slices, plot_voxel_surface, save_voxel_figure, voxel_isosurface
 
 __all__ = [
     "OCCUPIED_COLOR",
@@ -74,10 +76,15 @@ __all__ = [
     "plot_potential",
     "plot_star_world",
     "plot_surface",
+    "plot_voxel_scene",
+    "plot_voxel_slices",
+    "plot_voxel_surface",
     "potential_scale",
     "save_plan_animation",
     "save_plan_figure",
+    "save_voxel_figure",
     "stall_points",
     "title_of",
+    "voxel_isosurface",
     "write_animation",
 ]

@@ -702,3 +702,24 @@ def _goal_of(path: Path, target: Any, goal: ArrayLike | None) -> NDArray[np.floa
     return None
 
 
+# ----------------------------------------------------------------------------------------------
+# files: figures (save_plan_figure, save_voxel_figure)
+# ----------------------------------------------------------------------------------------------
+def _check_figure_file(file: PathLike) -> FsPath:
+    p = FsPath(file)
+    if p.suffix.lower() not in (".png", ".pdf", ".svg", ".jpg", ".jpeg"):
+        raise ParameterError(f"{p}: unknown figure format {p.suffix!r}; use .png, .pdf, .svg or .jpg")
+    if p.parent and not p.parent.exists():
+        raise GridfieldError(f"{p}: the folder {p.parent} does not exist")
+    return p
+
+
+def _save(fig: Figure, file: FsPath, dpi: int = 110) -> None:
+    import matplotlib.pyplot as plt
+
+    try:
+        fig.savefig(file, dpi=dpi)
+    except OSError as e:
+        raise GridfieldError(f"{file}: cannot write: {e.strerror or e}") from None
+    finally:
+        plt.close(fig)

@@ -16,16 +16,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..core.errors import GridfieldError, ParameterError
+from ..core.errors import ParameterError
 from ..core.grid import GridMap
 from ..core.path import Path
 from ..geometry.world import World
-from ._layers import Artists, PathLike, _goal_of, _legend, _new_axes
+from ._layers import Artists, PathLike, _check_figure_file, _goal_of, _legend, _new_axes, _save
 from .figures import plot_map
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
 
 __all__ = [
     "plot_comparison",
@@ -195,28 +194,8 @@ def plot_convergence(
 
 
 # ----------------------------------------------------------------------------------------------
-# files: figures and animations
+# files: figures (the file checks and the save are _layers' _check_figure_file and _save)
 # ----------------------------------------------------------------------------------------------
-def _check_figure_file(file: PathLike) -> FsPath:
-    p = FsPath(file)
-    if p.suffix.lower() not in (".png", ".pdf", ".svg", ".jpg", ".jpeg"):
-        raise ParameterError(f"{p}: unknown figure format {p.suffix!r}; use .png, .pdf, .svg or .jpg")
-    if p.parent and not p.parent.exists():
-        raise GridfieldError(f"{p}: the folder {p.parent} does not exist")
-    return p
-
-
-def _save(fig: Figure, file: FsPath, dpi: int = 110) -> None:
-    import matplotlib.pyplot as plt
-
-    try:
-        fig.savefig(file, dpi=dpi)
-    except OSError as e:
-        raise GridfieldError(f"{file}: cannot write: {e.strerror or e}") from None
-    finally:
-        plt.close(fig)
-
-
 def save_plan_figure(
     file: PathLike,
     target: World | GridMap,
@@ -232,7 +211,8 @@ def save_plan_figure(
     file : path
         The format follows the suffix (``.png``, ``.pdf``, ``.svg``, ``.jpg``); the folder must exist.
     target : World or GridMap
-        Drawn as by :func:`plot_map` (a grid map's cells; a world's outlines).
+        Drawn as by :func:`plot_map` (a grid map's cells; a world's outlines). A voxel map is drawn by
+        :func:`~gridfield.plot.voxels.save_voxel_figure` (slices and a 3-D scene).
     path : Path
         Drawn with its start, stall points and hint.
     goal : (x, y), optional
@@ -258,6 +238,10 @@ def save_plan_figure(
     ...     out.name, out.stat().st_size > 0
     ('plan.png', True)
     """
+    if isinstance(target, GridMap) and target.ndim == 3:  # a voxel map: slices and the 3-D scene
+        from .voxels import save_voxel_figure
+
+        return save_voxel_figure(file, target, paths=[path], goal=goal, dpi=dpi)
     p = _check_figure_file(file)
     g = _goal_of(path, target, goal)
     start = path.points[0] if len(path.points) else None

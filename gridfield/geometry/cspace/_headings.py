@@ -69,6 +69,15 @@ _INSCRIBED = math.cos(math.pi / (4 * QUAD_SEGS))
 def check_headings(headings: object) -> int:
     """The number of heading bins as an int in ``[1, MAX_HEADINGS]``, or :class:`ParameterError`.
 
+    Parameters
+    ----------
+    headings : int
+        The number asked for (``--headings``).
+
+    Returns
+    -------
+    int
+
     Examples
     --------
     >>> check_headings(72)
@@ -86,6 +95,15 @@ def check_headings(headings: object) -> int:
 
 def heading_centres(headings: int) -> NDArray[np.float64]:
     """The bins' centre headings ``2 pi k / N`` (radians), ``k = 0 .. N - 1``.
+
+    Parameters
+    ----------
+    headings : int
+        The number of bins ``N``.
+
+    Returns
+    -------
+    ndarray of float64, shape (N,)
 
     Examples
     --------

@@ -32,6 +32,15 @@ __all__ = ["PoseMap", "pose_map", "wrap_angle"]
 def wrap_angle(theta: ArrayLike) -> NDArray[np.float64]:
     """Angles wrapped into ``[-pi, pi)``.
 
+    Parameters
+    ----------
+    theta : array_like
+        Angles in radians.
+
+    Returns
+    -------
+    ndarray of float64
+
     Examples
     --------
     >>> wrap_angle([0.0, 3.5, -4.0]).round(4).tolist()

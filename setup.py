@@ -17,7 +17,7 @@ KERNELS = [
     "gridfield.distance._incremental", "gridfield.distance._incremental3", "gridfield.distance._edt3",
     "gridfield.chunked._chunked",
     "gridfield.fields._potential", "gridfield.fields._navfn", "gridfield.fields._navigation",
-    "gridfield.fields._navigation3",
+    "gridfield.fields._navigation3", "gridfield.fields._voxelpath",
     "gridfield.fields._laplace", "gridfield.fields._eikonal", "gridfield.fields._samplers",
     "gridfield.exact._anyangle", "gridfield.exact._occlusion", "gridfield.exact._astar",
     "gridfield.exact._polyanya",

@@ -20,6 +20,13 @@ candidate's minimum and median wall time and the ratio of the reference's minimu
 ``chessboard``
     ``brushfire(connectivity=26)`` without labels, distance only and with the nearest voxel, against
     ``scipy.ndimage.distance_transform_cdt(~occ, metric="chessboard")``; target >= 2x (distance only).
+``wavefront``
+    :func:`gridfield.fields.navigation3d.voxel_wavefront` (the 26-neighbour wavefront of ``wavefront-octile``
+    under the bounding-box rule, from the centre voxel, the whole field) against
+    ``skimage.graph.MCP_Geometric(costs, fully_connected=True).find_costs([goal])`` (costs 1 free / inf
+    blocked); target >= 5x. MCP does not apply the bounding-box rule (a diagonal needs only its target
+    free), so on random voxels only the times compare; the row's last line compares the values on an
+    empty grid, where the rule cannot bind (the largest difference; 0: equal to the last bit).
 ``rss``
     the peak resident memory of a whole fresh process (``resource.getrusage``, ``ru_maxrss``) that
     builds the map and makes one call: gridfield's Euclidean + nearest against SciPy's EDT + indices,
@@ -156,11 +163,39 @@ def row_rss(n: int, occ: np.ndarray, repeat: int) -> list[list[str]]:
     return rows
 
 
+def row_wavefront(n: int, occ: np.ndarray, repeat: int) -> list[list[str]]:
+    from skimage.graph import MCP_Geometric
+
+    from gridfield.fields.navigation3d import voxel_wavefront
+
+    goal = (n // 2, n // 2, n // 2)
+    occ = occ.copy()
+    occ[goal] = False
+    with override(10**10):
+        gm = GridMap(Grid(occ.shape, 1.0), occ)
+        empty = GridMap(Grid(occ.shape, 1.0), np.zeros(occ.shape, bool))
+    xyz = gm.grid.cell_to_world([goal])[0]
+    costs = np.where(occ, np.inf, 1.0)
+
+    def ours(m: GridMap) -> Callable[[], Any]:
+        def run() -> Any:
+            with override(10**10):
+                return voxel_wavefront(m, xyz)
+        return run
+
+    mcp = "skimage MCP_Geometric(fully_connected=True).find_costs (no bounding-box rule)"
+    res = round_robin({mcp: lambda: MCP_Geometric(costs, fully_connected=True).find_costs([goal]),
+                       "gridfield voxel_wavefront (26 neighbours, bounding-box rule)": ours(gm)}, repeat=repeat)
+    diff = float(np.abs(ours(empty)() - MCP_Geometric(np.ones(occ.shape), fully_connected=True).find_costs([goal])[0]).max())
+    return [*_table(n, res, mcp), [f"{n}^3", f"empty grid: largest difference of the values gridfield - MCP = {diff:.1g}", "", "", ""]]
+
+
 #: The rows by name, each ``f(n, occupancy, repeat) -> table rows``.
 ROWS: dict[str, Callable[[int, np.ndarray, int], list[list[str]]]] = {
     "euclid-nearest": row_euclid_nearest,
     "euclid-distance": row_euclid_distance,
     "chessboard": row_chessboard,
+    "wavefront": row_wavefront,
     "rss": row_rss,
 }
 

@@ -25,7 +25,7 @@ KERNELS = {
     "gridfield.distance._incremental", "gridfield.distance._incremental3", "gridfield.distance._edt3",
     "gridfield.exact._anyangle", "gridfield.exact._astar", "gridfield.exact._occlusion", "gridfield.exact._polyanya",
     "gridfield.fields._eikonal", "gridfield.fields._laplace", "gridfield.fields._navfn", "gridfield.fields._navigation",
-    "gridfield.fields._navigation3",
+    "gridfield.fields._navigation3", "gridfield.fields._voxelpath",
     "gridfield.fields._potential", "gridfield.fields._samplers",
 }
 #: The longest a kernel source (.pyx, .pxd, .h) may be, as any other file of the package (issue 43).

@@ -53,7 +53,7 @@ def segment_touches_blocked(occ, p, q):
 def assert_clear(gm, points):
     g = gm.grid
     q = ((points - np.asarray(g.origin)) / g.resolution)[:, ::-1]
-    for a, b in zip(q[:-1], q[1:], strict=True):
+    for a, b in itertools.pairwise(q):
         assert not segment_touches_blocked(gm.occupied, a, b), (a, b)
 
 
@@ -142,7 +142,7 @@ def test_nf1_field_is_a_navigation_function():
     fin = np.argwhere(np.isfinite(f.potential))
     rng = np.random.default_rng(0)
     for cell in fin[rng.choice(len(fin), 30, replace=False)]:
-        cells, reached = voxel_descent(gm, f.potential, gm.grid.cell_to_world(cell)[0])
+        _, reached = voxel_descent(gm, f.potential, gm.grid.cell_to_world(cell)[0])
         assert reached
     assert np.isinf(f.potential[occ]).all() and (f.grad_x[occ] == 0).all()
 
@@ -206,8 +206,10 @@ def test_json_and_bad_input():
         plan("potential", gm, (0.5, 0.5, 0.5), (3.5, 3.5, 3.5), {"model": "nf2"})
     with pytest.raises(ParameterError, match="repulsion='sum' is a 2-D option"):
         build_field(gm, (3.5, 3.5, 3.5), {"model": "khatib", "repulsion": "sum"})
+    with pytest.raises(ParameterError, match="escape='navigation' is a 2-D follower option"):
+        plan("potential", gm, (0.5, 0.5, 0.5), (3.5, 3.5, 3.5), {"model": "khatib", "escape": "navigation"})
     gm2 = GridMap(Grid((4, 4), 1.0), np.zeros((4, 4), bool))
-    with pytest.raises(ParameterError, match="two numbers X Y"):
+    with pytest.raises(ParameterError, match=r"start must be two finite numbers \(x, y\)"):
         plan("potential", gm2, (0.5, 0.5, 0.5), (3.5, 3.5))
 
 
@@ -234,3 +236,25 @@ def test_cli_plans_on_a_voxel_grid(monkeypatch, capsys):
     assert main(["plan", "maze.3dmap", "--start", "7.5", "0.5", "7.5", "--goal", "7.5", "14.5", "7.5",
                  "--planner", "fmm"]) != 0
     assert "planner 'fmm' plans on 2-D maps" in capsys.readouterr().err
+
+
+def test_cli_scenario_on_a_voxel_map(tmp_path, capsys):
+    """``gridfield plan M.3dmap --scenario S.3dscen --index N`` through the voxel readers: the scenario's
+    optimum reported, the 26-neighbour path's length equal to it."""
+    import json
+
+    from gridfield.cli import main
+
+    m = tmp_path / "cube.3dmap"
+    m.write_text("voxel 4 4 4\n2 0 3\n0 3 1\n")  # off both ways
+    sc = tmp_path / "cube.3dscen"
+    sc.write_text(f"version 1\ncube.3dmap\n0 0 0 3 3 3 {3 * math.sqrt(3):.6f} 1.0\n0 0 0 3 0 0 3.0 1.0\n")
+    assert main(["plan", str(m), "--scenario", str(sc), "--index", "1", "--planner", "wavefront-octile", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["status"] == "reached" and out["optimal"] == 3.0 and math.isclose(out["length"], 3.0)
+    assert out["path"][0] == [0.5, 0.5, 0.5] and out["path"][-1] == [3.5, 0.5, 0.5]
+    assert main(["plan", str(m), "--scenario", str(sc), "--planner", "wavefront-octile", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert math.isclose(out["length"], out["optimal"], rel_tol=1e-6)
+    assert main(["plan", str(m), "--scenario", str(sc), "--index", "5"]) != 0
+    assert "--index 5 is out of range" in capsys.readouterr().err

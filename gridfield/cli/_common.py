@@ -335,24 +335,22 @@ def scenario3d(path: str, index: int | None, target: Any, map_name: str) -> tupl
     """Start, goal and optimal cost of line ``index`` of a Moving AI ``.3dscen`` file, as world points of
     the voxel grid ``target`` (voxel ``(x, y, z)`` at ``origin + (v + 0.5) * resolution``, no axis flipped).
 
-    Read by :func:`gridfield.io.read_scen3d` (the ``.3dscen`` reader: ``start``/``goal`` voxel coordinates
-    ``(n, 3)`` as ``(x, y, z)`` and ``optimal``).
+    Read by :func:`gridfield.io.read_scen3d` (``start_voxel``/``goal_voxel``: voxel coordinates ``(x, y, z)``,
+    checked to lie in the map; ``optimal``).
     """
     import numpy as np
+
+    from ..io import read_scen3d
 
     grid = getattr(target, "grid", None)
     if grid is None or grid.ndim != 3:
         raise ParameterError(f"{path} is a voxel scenario (.3dscen); {map_name} is not a voxel map (.3dmap)")
-    try:
-        from ..io import read_scen3d  # type: ignore[attr-defined]  # the .3dscen reader (issue 44, io)
-    except ImportError:
-        raise ParameterError(f"{path}: this installation reads no .3dscen files yet") from None
-    scen = read_scen3d(path)
+    scen = read_scen3d(path, shape=grid.shape)
     n = len(scen.optimal)
     i = 0 if index is None else index
     if not 0 <= i < n:
         raise ParameterError(f"{path}: --index {i} is out of range; the file has {n} scenarios (0..{n - 1})")
     origin = np.asarray(grid.origin)
-    pick = [np.asarray(getattr(scen, name), dtype=float)[i] for name in ("start", "goal")]
+    pick = [np.asarray(v, dtype=float)[i] for v in (scen.start_voxel, scen.goal_voxel)]
     start, goal = ((v + 0.5) * grid.resolution + origin for v in pick)
     return start.tolist(), goal.tolist(), float(scen.optimal[i])

@@ -16,8 +16,7 @@ across a non-finite value), in world units; blocked and unsettled voxels have ``
 gradient. The field lives on the map itself (the voxel wavefront stays inside the grid whatever the
 border: see :mod:`gridfield.fields.navigation3d`). ``nf2`` and ``nf-blend`` are 2-D models.
 
-The clearance comes from ``scipy.ndimage.distance_transform_edt`` (one private function,
-``navigation3d._clearance3d``, until the 3-D brushfire is on main).
+The clearance ``D`` is the Euclidean 3-D brushfire (:func:`gridfield.fields.navigation3d.voxel_clearance`).
 
 Examples
 --------
@@ -39,7 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..core.errors import ParameterError
 from ..core.grid import GridMap
 from ..core.results import Field
-from .navigation3d import STOP_MARGIN_CELLS, _clearance3d, _voxel_map, voxel_wavefront
+from .navigation3d import STOP_MARGIN_CELLS, check_voxel_map, voxel_clearance, voxel_wavefront
 
 __all__ = ["band_slowness", "nav_field3d", "upwind_gradient3d"]
 
@@ -123,7 +122,7 @@ def nav_field3d(gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] | N
         :data:`~gridfield.fields.navigation3d.STOP_MARGIN_CELLS` cells (times the largest slowness),
         ``inf`` beyond.
     clearance : ndarray, optional
-        The map's clearance (``_clearance3d``) to reuse.
+        The map's clearance (``voxel_clearance``) to reuse.
 
     Returns
     -------
@@ -144,7 +143,7 @@ def nav_field3d(gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] | N
     """
     from ..core.params import resolve_field, validate
 
-    gm = _voxel_map(gridmap, "nav_field3d")
+    gm = check_voxel_map(gridmap, "nav_field3d")
     given = dict(validate(params))
     res = gm.grid.resolution
     p = resolve_field({"model": "nf1", **given}, unit=res)
@@ -154,7 +153,7 @@ def nav_field3d(gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] | N
     occ = np.asarray(gm.occupied, dtype=bool)
     slow = None
     if p["attraction"] != "octile" and band > 0 and gain > 0:
-        d = _clearance3d(gm) if clearance is None else clearance
+        d = voxel_clearance(gm) if clearance is None else clearance
         slow = band_slowness(d, occ, band, gain)
         slow[occ] = 1.0  # never read (blocked voxels are not entered)
     top = 1.0 + gain if slow is not None else 1.0

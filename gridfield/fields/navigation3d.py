@@ -17,7 +17,7 @@ Options for a planner in (x, y, theta) (issue 45): per-axis ``spacing`` (a move 
 
 The voxel wavefront stays inside the grid whatever its ``border`` (as the 2-D grid navigation
 functions do): with ``"open"`` nothing is gained by leaving a voxel grid's box, and ``"wall"`` is the
-same search. The wall border is an obstacle shell for the clearance (:func:`_clearance3d`).
+same search. The wall border is an obstacle shell for the clearance (:func:`voxel_clearance`).
 
 The planner ``wavefront-octile`` on a voxel grid is :func:`plan_voxel_wavefront` (a dispatch of
 :func:`gridfield.fields.navigation.plan_wavefront_octile`).
@@ -48,8 +48,9 @@ from ..core.grid import GridMap
 from ..core.limits import check_cells
 from ..core.path import Path
 
-__all__ = ["clearance_slowness", "path_clear", "path_clearance", "plan_voxel_wavefront", "segment_clear", "shortcut_path", "voxel_descent",
-           "voxel_wavefront"]
+__all__ = ["STOP_MARGIN_CELLS", "cached_clearance", "cell_units", "check_voxel_map", "clearance_slowness", "free_mask",
+           "path_clear", "path_clearance", "plan_voxel_wavefront", "segment_clear", "shortcut_path", "voxel_clearance",
+           "voxel_descent", "voxel_wavefront"]
 
 
 def _kernel() -> Any:
@@ -59,7 +60,24 @@ def _kernel() -> Any:
     return _navigation3
 
 
-def _voxel_map(gridmap: object, what: str) -> GridMap:
+def _path_kernel() -> Any:
+    """The compiled kernel of the voxel paths (gridfield/fields/_voxelpath.pyx), imported on first use."""
+    from . import _voxelpath  # type: ignore[attr-defined]  # a compiled extension, no stubs
+
+    return _voxelpath
+
+
+def check_voxel_map(gridmap: object, what: str) -> GridMap:
+    """``gridmap`` itself when it is a voxel grid, else a :class:`ParameterError` naming ``what`` needs one.
+
+    Examples
+    --------
+    >>> from gridfield.core.grid import Grid
+    >>> check_voxel_map(GridMap(Grid((2, 2), 1.0), np.zeros((2, 2), bool)), "f")
+    Traceback (most recent call last):
+    ...
+    gridfield.core.errors.ParameterError: f works on voxel grids (3-D); this map is 2-D (shape (2, 2))
+    """
     if not isinstance(gridmap, GridMap):
         raise ParameterError(f"{what} needs a GridMap, got {type(gridmap).__name__}")
     if gridmap.grid.ndim != 3:
@@ -68,7 +86,8 @@ def _voxel_map(gridmap: object, what: str) -> GridMap:
     return gridmap
 
 
-def _free(gridmap: GridMap) -> NDArray[np.uint8]:
+def free_mask(gridmap: GridMap) -> NDArray[np.uint8]:
+    """The free voxels as a C-contiguous uint8 mask (what the kernels read)."""
     return np.ascontiguousarray(~np.asarray(gridmap.occupied, dtype=bool)).view(np.uint8)
 
 
@@ -80,19 +99,26 @@ def _cell(gridmap: GridMap, name: str, point: ArrayLike) -> tuple[int, int, int]
     return int(cell[0]), int(cell[1]), int(cell[2])
 
 
-def _cell_units(gridmap: GridMap, points: ArrayLike) -> NDArray[np.float64]:
-    """World points ``(N, 3)`` as cell units in array order ``(q_z, q_y, q_x)``."""
+def cell_units(gridmap: GridMap, points: ArrayLike) -> NDArray[np.float64]:
+    """World points ``(N, 3)`` as cell units in array order ``(q_z, q_y, q_x)`` (what the kernels read).
+
+    Examples
+    --------
+    >>> from gridfield.core.grid import Grid
+    >>> cell_units(GridMap(Grid((1, 1, 1), 0.5, origin=(1, 0, 0)), np.zeros((1, 1, 1), bool)), [1.25, 0.0, 0.5]).tolist()
+    [[1.0, 0.0, 0.5]]
+    """
     g = gridmap.grid
     p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     return np.ascontiguousarray(((p - np.asarray(g.origin)) / g.resolution)[:, ::-1])
 
 
-def _clearance3d(gridmap: GridMap, *, nearest: bool = False) -> Any:
+def voxel_clearance(gridmap: GridMap, *, nearest: bool = False) -> Any:
     """Euclidean distance from each voxel centre to the nearest blocked voxel centre, in world units.
 
-    ``scipy.ndimage.distance_transform_edt`` (the one place the 3-D fields get their clearance from
-    until the 3-D brushfire is on main); the wall border is an obstacle shell just outside the grid on
-    all six faces; with an open border and no blocked voxel, ``inf`` everywhere.
+    The Euclidean brushfire of the voxel grid (:func:`gridfield.distance.brushfire.brushfire`, the one
+    place the 3-D fields get their clearance from); the wall border is an obstacle shell just outside the
+    grid on all six faces; with an open border and no blocked voxel, ``inf`` everywhere.
 
     Parameters
     ----------
@@ -111,35 +137,19 @@ def _clearance3d(gridmap: GridMap, *, nearest: bool = False) -> Any:
     --------
     >>> from gridfield.core.grid import Grid
     >>> occ = np.zeros((1, 1, 4), bool); occ[0, 0, 0] = True
-    >>> _clearance3d(GridMap(Grid((1, 1, 4), 0.5), occ)).ravel().tolist()
+    >>> voxel_clearance(GridMap(Grid((1, 1, 4), 0.5), occ)).ravel().tolist()
     [0.0, 0.5, 1.0, 1.5]
-    >>> _clearance3d(GridMap(Grid((1, 1, 3), 1.0, border="wall"), np.zeros((1, 1, 3), bool))).ravel().tolist()
+    >>> voxel_clearance(GridMap(Grid((1, 1, 3), 1.0, border="wall"), np.zeros((1, 1, 3), bool))).ravel().tolist()
     [1.0, 1.0, 1.0]
     """
-    from scipy import ndimage
+    from ..distance.brushfire import brushfire
 
-    gm = _voxel_map(gridmap, "_clearance3d")
-    occ = np.asarray(gm.occupied, dtype=bool)
-    wall = gm.grid.border == "wall"
-    blocked = np.pad(occ, 1, constant_values=True) if wall else occ
-    res = gm.grid.resolution
-    if not blocked.any():
-        d = np.full(occ.shape, np.inf)
-        if nearest:
-            none = np.full(occ.shape, -1, np.int32)
-            return d, (none, none.copy(), none.copy())
-        return d
-    out = ndimage.distance_transform_edt(~blocked, return_indices=nearest)
+    gm = check_voxel_map(gridmap, "voxel_clearance")
+    dm = brushfire(gm, metric="euclidean", compute_steps=False, compute_nearest=nearest, compute_labels=False,
+                   compute_gvd=False)
     if nearest:
-        d, idx = out
-        if wall:
-            d = d[1:-1, 1:-1, 1:-1]
-            idx = tuple(np.ascontiguousarray(i[1:-1, 1:-1, 1:-1] - 1, dtype=np.int32) for i in idx)
-        else:
-            idx = tuple(np.asarray(i, dtype=np.int32) for i in idx)
-        return d * res, idx
-    d = out[1:-1, 1:-1, 1:-1] if wall else out
-    return np.ascontiguousarray(d) * res
+        return dm.distance, tuple(np.asarray(i, dtype=np.int32) for i in dm.nearest_index)
+    return dm.distance
 
 
 def _spacing(gridmap: GridMap, spacing: Sequence[float] | None) -> tuple[float, float, float]:
@@ -202,7 +212,7 @@ def voxel_wavefront(gridmap: GridMap, goal: ArrayLike, *, spacing: Sequence[floa
     >>> voxel_wavefront(gm, (0.5, 0.5, 0.5), spacing=(1, 2, 1)).round(4).tolist()
     [[[0.0, 1.0], [2.0, 2.2361]]]
     """
-    gm = _voxel_map(gridmap, "voxel_wavefront")
+    gm = check_voxel_map(gridmap, "voxel_wavefront")
     check_cells(gm.grid.shape, "voxel wavefront")
     s = _spacing(gm, spacing)
     g = _cell(gm, "goal", goal)
@@ -210,7 +220,7 @@ def voxel_wavefront(gridmap: GridMap, goal: ArrayLike, *, spacing: Sequence[floa
     m = float(margin)
     if not (math.isfinite(m) and m >= 0):
         raise ParameterError(f"margin must be a finite number >= 0, got {margin!r}")
-    free = _free(gm)
+    free = free_mask(gm)
     if slowness is None:
         slow = np.zeros((0, 0, 0))
     else:
@@ -264,7 +274,7 @@ def voxel_descent(gridmap: GridMap, values: NDArray[np.float64], start: ArrayLik
     >>> cells.tolist(), reached
     ([[2, 2, 2], [1, 1, 1], [0, 0, 0]], True)
     """
-    gm = _voxel_map(gridmap, "voxel_descent")
+    gm = check_voxel_map(gridmap, "voxel_descent")
     v = np.asarray(values, dtype=np.float64)
     if v.shape != gm.grid.shape:
         raise ParameterError(f"values has shape {v.shape}, but the grid has shape {gm.grid.shape}")
@@ -272,7 +282,7 @@ def voxel_descent(gridmap: GridMap, values: NDArray[np.float64], start: ArrayLik
     slow = np.zeros((0, 0, 0)) if slowness is None else np.ascontiguousarray(slowness, dtype=np.float64)
     if slow.size and slow.shape != gm.grid.shape:
         raise ParameterError(f"slowness has shape {slow.shape}, but the grid has shape {gm.grid.shape}")
-    cells, reached = _kernel().descend3(v, _free(gm), k, r, c, bool(periodic), bool(parent), *_spacing(gm, spacing),
+    cells, reached = _kernel().descend3(v, free_mask(gm), k, r, c, bool(periodic), bool(parent), *_spacing(gm, spacing),
                                         slow)
     return np.asarray(cells), bool(reached)
 
@@ -290,11 +300,11 @@ def segment_clear(gridmap: GridMap, a: ArrayLike, b: ArrayLike) -> bool:
     >>> segment_clear(gm, (0.5, 0.5, 0.5), (0.5, 1.5, 0.5)), segment_clear(gm, (0.5, 0.5, 0.5), (1.5, 1.5, 0.5))
     (True, False)
     """
-    gm = _voxel_map(gridmap, "segment_clear")
-    q = _cell_units(gm, np.vstack([np.asarray(a, dtype=float).reshape(3), np.asarray(b, dtype=float).reshape(3)]))
+    gm = check_voxel_map(gridmap, "segment_clear")
+    q = cell_units(gm, np.vstack([np.asarray(a, dtype=float).reshape(3), np.asarray(b, dtype=float).reshape(3)]))
     if not np.isfinite(q).all():
         raise ParameterError("segment_clear needs finite points")
-    return bool(_kernel().segment_clear(_free(gm), *q[0], *q[1]))
+    return bool(_path_kernel().segment_clear(free_mask(gm), *q[0], *q[1]))
 
 
 def path_clear(gridmap: GridMap, points: ArrayLike) -> int:
@@ -308,8 +318,8 @@ def path_clear(gridmap: GridMap, points: ArrayLike) -> int:
     >>> path_clear(gm, [(0.5, 0.5, 0.5), (2.5, 0.5, 0.5), (3.5, 0.5, 0.5)])
     1
     """
-    gm = _voxel_map(gridmap, "path_clear")
-    return int(_kernel().path_clear(_free(gm), _cell_units(gm, points)))
+    gm = check_voxel_map(gridmap, "path_clear")
+    return int(_path_kernel().path_clear(free_mask(gm), cell_units(gm, points)))
 
 
 def shortcut_path(gridmap: GridMap, points: ArrayLike) -> NDArray[np.float64]:
@@ -324,9 +334,9 @@ def shortcut_path(gridmap: GridMap, points: ArrayLike) -> NDArray[np.float64]:
     >>> shortcut_path(gm, [(0.5, 0.5, 0.5), (1.5, 0.5, 0.5), (2.5, 0.5, 0.5), (3.5, 0.5, 0.5)]).tolist()
     [[0.5, 0.5, 0.5], [3.5, 0.5, 0.5]]
     """
-    gm = _voxel_map(gridmap, "shortcut_path")
+    gm = check_voxel_map(gridmap, "shortcut_path")
     p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    keep = _kernel().shortcut(_free(gm), _cell_units(gm, p))
+    keep = _path_kernel().shortcut(free_mask(gm), cell_units(gm, p))
     return p[np.asarray(keep)]
 
 
@@ -392,7 +402,7 @@ def plan_voxel_wavefront(gridmap: GridMap, start: NDArray[np.float64], goal: NDA
     """
     from ..core.params import Navigation, Repulsion, validate
 
-    gm = _voxel_map(gridmap, f"planner {planner!r}")
+    gm = check_voxel_map(gridmap, f"planner {planner!r}")
     p = validate(params)
     nav = p.group(Navigation)
     if nav.connectivity != 8:
@@ -406,7 +416,7 @@ def plan_voxel_wavefront(gridmap: GridMap, start: NDArray[np.float64], goal: NDA
     g = gm.check_point("goal", goal)
     t0 = time.perf_counter()
     slow = None
-    dist = _cached_clearance(gm, cache) if w > 0 else None
+    dist = cached_clearance(gm, cache) if w > 0 else None
     if dist is not None:
         slow = clearance_slowness(dist, np.asarray(gm.occupied, dtype=bool), w, q)
     values = voxel_wavefront(gm, g, slowness=slow, stop_at=s)
@@ -419,7 +429,7 @@ def plan_voxel_wavefront(gridmap: GridMap, start: NDArray[np.float64], goal: NDA
         return Path(s[None, :], "no_path", planner, 0, ran, time.perf_counter() - t1,
                     extra={"value": math.inf, "grid_length": math.inf, "field_seconds": field_seconds,
                            "build_seconds": field_seconds, "reason": "the goal is unreachable from the start"})
-    cells, reached = _kernel().descend3(values, _free(gm), k, r, c, False, True, res, res, res,
+    cells, reached = _kernel().descend3(values, free_mask(gm), k, r, c, False, True, res, res, res,
                                         np.zeros((0, 0, 0)) if slow is None else slow)
     cells = np.asarray(cells)
     if not reached:  # pragma: no cover - a settled voxel always has a lower allowed neighbour
@@ -441,7 +451,7 @@ _CLEARANCE_WINDOW = 8
 
 
 def path_clearance(gridmap: GridMap, cells: NDArray[np.int64], cache: dict[Any, Any] | None = None) -> float:
-    """The smallest :func:`_clearance3d` over the voxels ``cells`` ``(n, 3)``, from a distance transform of
+    """The smallest :func:`voxel_clearance` over the voxels ``cells`` ``(n, 3)``, from a distance transform of
     the path's bounding box grown by 8 voxels (exact when the answer is within 8 voxels; the whole
     map's otherwise).
 
@@ -468,14 +478,15 @@ def path_clearance(gridmap: GridMap, cells: NDArray[np.int64], cache: dict[Any, 
         d = ndimage.distance_transform_edt(~box)[tuple((c - lo).T)].min()
         if d <= _CLEARANCE_WINDOW:
             return float(d * gridmap.grid.resolution)
-    return float(_cached_clearance(gridmap, cache)[tuple(c.T)].min())
+    return float(cached_clearance(gridmap, cache)[tuple(c.T)].min())
 
 
-def _cached_clearance(gm: GridMap, cache: dict[Any, Any] | None) -> NDArray[np.float64]:
-    key = ("_clearance3d", gm)
+def cached_clearance(gm: GridMap, cache: dict[Any, Any] | None) -> NDArray[np.float64]:
+    """:func:`voxel_clearance` of ``gm``, kept in ``cache`` (a planner's per-map dict) when one is given."""
+    key = ("voxel_clearance", gm)
     if cache is not None and key in cache:
         return cache[key]  # type: ignore[no-any-return]
-    d = _clearance3d(gm)
+    d = voxel_clearance(gm)
     if cache is not None:
         cache[key] = d
     return d  # type: ignore[no-any-return]

@@ -35,7 +35,7 @@ from ..core.errors import ParameterError
 from ..core.grid import GridMap
 from ..core.limits import check_grid
 from ..core.results import Field
-from .navigation3d import _clearance3d, _voxel_map
+from .navigation3d import check_voxel_map, voxel_clearance
 
 __all__ = ["build_field3d"]
 
@@ -77,7 +77,7 @@ def build_field3d(gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] |
     """
     from ..core.params import resolve_field, validate
 
-    gm = _voxel_map(gridmap, "build_field")
+    gm = check_voxel_map(gridmap, "build_field")
     check_grid(gm.grid.shape, "field", f"build_field on {gm.source or 'the voxel grid'}")
     given = dict(validate(params))
     p = resolve_field(given, unit=gm.grid.resolution)
@@ -113,7 +113,7 @@ def build_field3d(gridmap: GridMap, goal: ArrayLike, params: Mapping[str, Any] |
         with np.errstate(invalid="ignore", divide="ignore"):
             scale = np.where(near, zeta, np.where(d > 0, d_star * zeta / d, 0.0))
     G = [v * scale for v in vec]
-    D, idx = _clearance3d(gm, nearest=True)
+    D, idx = voxel_clearance(gm, nearest=True)
     eta, q_star, power = float(p["eta"]), float(p["q_star"]), float(p["repulsive_power"])
     sat = math.inf if p["saturate"] is None else float(p["saturate"])
     occ = np.asarray(gm.occupied, dtype=bool)

@@ -41,7 +41,7 @@ from ..core.errors import ParameterError
 from ..core.grid import GridMap
 from ..core.path import Path
 from ..core.results import Field
-from ..fields.navigation3d import _cell_units, _free, _kernel, _voxel_map, path_clear, path_clearance, shortcut_path
+from ..fields.navigation3d import cell_units, check_voxel_map, free_mask, path_clear, path_clearance, shortcut_path
 from ._follow import resolve_follow_params
 
 __all__ = ["follow3d", "path_clear", "plan_potential3d"]
@@ -85,18 +85,22 @@ def follow3d(field: Field, start: ArrayLike, params: Mapping[str, Any] | None = 
     """
     if not isinstance(field, Field) or field.grad_z is None:
         raise ParameterError("follow3d follows a voxel grid's Field (with grad_z)")
-    gm = _voxel_map(field.map, "follow3d")
+    gm = check_voxel_map(field.map, "follow3d")
     t0 = time.perf_counter()
     res = gm.grid.resolution
     merged = {**{k: v for k, v in dict(field.params).items() if k in _FOLLOW_NAMES}, **dict(params or {})}
     fp = resolve_follow_params(merged, unit=res)
+    for name, only in _ONLY.items():
+        if fp[name] != only:
+            raise ParameterError(f"{name}={fp[name]!r} is a 2-D follower option; the voxel follower takes {name}="
+                                 f"{only!r} (the default model nf1 reaches every reachable goal)")
     step = min(float(fp["step"]), res)
-    free = _free(gm)
+    free = free_mask(gm)
     n_free = int(free.sum())
     max_it = int(fp["max_iterations"]) if merged.get("max_iterations") is not None else max(10000, 4 * n_free)
     s = gm.check_point("start", start)
     goal = np.asarray(field.goal, dtype=float)
-    q = _cell_units(gm, np.vstack([s, goal]))
+    q = cell_units(gm, np.vstack([s, goal]))
     complete = field.params.get("model") in _COMPLETE
     U = np.asarray(field.potential, dtype=np.float64)
     k, r, c = (int(v) for v in np.floor(q[0]))
@@ -104,7 +108,9 @@ def follow3d(field: Field, start: ArrayLike, params: Mapping[str, Any] | None = 
         return Path(s[None, :], "no_path", "potential", 0, {**fp, "step": step}, time.perf_counter() - t0,
                     extra={"stop_reason": "unreachable", "reason": "the field has no value at the start (the goal is "
                            "unreachable from it)"})
-    pts, status, it, nd = _kernel().follow3(U, field.grad_z, field.grad_y, field.grad_x, free, *q[0], *q[1],
+    from ..fields import _voxelpath  # type: ignore[attr-defined]  # a compiled extension, no stubs
+
+    pts, status, it, nd = _voxelpath.follow3(U, field.grad_z, field.grad_y, field.grad_x, free, *q[0], *q[1],
                                             step / res, max_it, complete)
     pts = np.asarray(pts)
     points = gm.grid.origin + pts[:, ::-1] * res
@@ -123,6 +129,9 @@ def follow3d(field: Field, start: ArrayLike, params: Mapping[str, Any] | None = 
     ran = {**fp, "step": step, "max_iterations": max_it, "discrete_steps": int(nd)}
     return Path(points, name, "potential", int(it), ran, time.perf_counter() - t0, clearance, extra)
 
+
+#: The follower options of 2-D that the voxel follower does not have, with the one value it takes.
+_ONLY = {"escape": "none", "step_rule": "normalized", "sampling": "bilinear"}
 
 #: The follower parameters a field's own ``params`` may carry.
 _FOLLOW_NAMES = ("step", "tolerance", "max_iterations", "progress_window")
@@ -160,10 +169,10 @@ def plan_potential3d(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params
     """
     from ..core.params import validate
     from ..fields.navfield3d import nav_field3d
-    from ..fields.navigation3d import _cached_clearance
+    from ..fields.navigation3d import cached_clearance
     from ..fields.potential3d import build_field3d
 
-    gm = _voxel_map(gridmap, "the potential planner")
+    gm = check_voxel_map(gridmap, "the potential planner")
     given = dict(validate(params))
     if given.get("model") is None:
         given["model"] = "nf1"
@@ -176,7 +185,7 @@ def plan_potential3d(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params
                            f"({_xyz(s)}): no free path joins them on this voxel grid",
                            "diagnosis": {"reachable": False}, "build_seconds": time.perf_counter() - t0}), None
     if given["model"] == "nf1":
-        field = nav_field3d(gm, g, given, stop_at=s, clearance=_cached_clearance(gm, cache))
+        field = nav_field3d(gm, g, given, stop_at=s, clearance=cached_clearance(gm, cache))
     else:
         field = build_field3d(gm, g, given)
     build = time.perf_counter() - t0
@@ -185,7 +194,7 @@ def plan_potential3d(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params
     extra["build_seconds"] = build
     if given["model"] == "nf1" and len(path.points):
         cells, inside = gm.grid.world_to_cell(path.points)
-        extra["median_clearance"] = float(np.median(_cached_clearance(gm, cache)[tuple(cells[inside].T)]))
+        extra["median_clearance"] = float(np.median(cached_clearance(gm, cache)[tuple(cells[inside].T)]))
     if path.status != "reached":
         extra["hint"] = (f"the {given['model']} field has a local minimum at "
                          f"({', '.join(f'{v:.4g}' for v in path.points[-1])}); the default model nf1 reaches every "

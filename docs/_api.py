@@ -19,6 +19,9 @@ MODULES = [
     "following.escapes", "following.diagnose", "fields.navigation", "fields.navtable", "fields.costmap", "fields.navfn",
     "exact.continuous", "exact.visibility", "geometry.gridpoly", "exact.anyangle", "planners", "core.path",
     "core.results", "compare", "sweep", "plot", "demo", "explore", "core.errors",
+    # voxel grids and a robot that turns (issues 44, 45)
+    "fields.navigation3d", "fields.navfield3d", "fields.potential3d", "fields.posefield", "following.follow3d",
+    "following.posefollow", "plot.poses",
 ]
 
 

@@ -53,6 +53,16 @@ class PoseField:
         The goal pose the field descends to (its heading chosen when the goal had none).
     params : dict
         ``model`` (``"potential"`` or ``"wavefront-octile"``), ``clearance_band``, ``band_gain``.
+
+    Examples
+    --------
+    >>> from gridfield.core.grid import Grid, GridMap
+    >>> from gridfield.geometry.cspace import pose_map
+    >>> from gridfield.geometry.world import Robot
+    >>> pm = pose_map(GridMap(Grid((6, 6), 0.5), np.zeros((6, 6), bool)), Robot(radius=0.2), 4)
+    >>> f = pose_field(pm, (1.25, 1.25, 0.0))
+    >>> f.potential.shape, float(f.potential[0, 2, 2]), f.goal
+    ((4, 6, 6), 0.0, (1.25, 1.25, 0.0))
     """
 
     poses: PoseMap
@@ -68,6 +78,15 @@ class PoseField:
 def pose_clearance(pm: PoseMap) -> NDArray[np.float64]:
     """Per pose, the distance (world units, in x and y) to the nearest blocked pose of the same heading
     slice: ``inf`` in a slice with none, 0 on blocked poses.
+
+    Parameters
+    ----------
+    pm : PoseMap
+
+    Returns
+    -------
+    ndarray of float64, shape (headings, rows, cols)
+        Read-only; computed once per pose map (kept in ``pm.cache``).
 
     Examples
     --------

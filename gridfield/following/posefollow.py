@@ -41,6 +41,17 @@ def dual_free(pm: PoseMap, floor: float = 0.0) -> NDArray[np.bool_]:
     ``r + 1`` and columns ``c``, ``c + 1`` at heading bin ``k``) is free when the robot fits at all four
     centres in bin ``k`` (and, with ``floor`` > 0, each keeps at least that clearance).
 
+    Parameters
+    ----------
+    pm : PoseMap
+    floor : float
+        The least clearance (world units, :func:`~gridfield.fields.posefield.pose_clearance`) each of the
+        four centres must keep; 0: only free.
+
+    Returns
+    -------
+    ndarray of bool, shape (headings, rows - 1, cols - 1)
+
     Examples
     --------
     >>> from gridfield.geometry.cspace import pose_map

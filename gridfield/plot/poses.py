@@ -212,6 +212,19 @@ def save_pose_figure(file: str | PathLike[str], pm: PoseMap, path: Path, *, dpi:
     Returns
     -------
     None
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from gridfield.core.grid import Grid, GridMap
+    >>> from gridfield.geometry.cspace import pose_map
+    >>> from gridfield.geometry.world import Robot
+    >>> pm = pose_map(GridMap(Grid((8, 8), 0.5), np.zeros((8, 8), bool)), Robot(vertices=[[-0.5, -0.2], [0.5, -0.2], [0.5, 0.2], [-0.5, 0.2]]), 8)
+    >>> p = Path(np.array([[1.0, 1.0], [3.0, 3.0]]), "reached", "demo", poses=np.array([[1.0, 1.0, 0.0], [3.0, 3.0, 1.5]]))
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "plan.png"
+    >>> save_pose_figure(out, pm, p)
+    >>> out.stat().st_size > 0
+    True
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -241,6 +254,19 @@ def save_pose_animation(pm: PoseMap, path: Path, file: str | PathLike[str], *, f
     Returns
     -------
     None
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from gridfield.core.grid import Grid, GridMap
+    >>> from gridfield.geometry.cspace import pose_map
+    >>> from gridfield.geometry.world import Robot
+    >>> pm = pose_map(GridMap(Grid((8, 8), 0.5), np.zeros((8, 8), bool)), Robot(radius=0.3), 4)
+    >>> p = Path(np.array([[1.0, 1.0], [3.0, 3.0]]), "reached", "demo", poses=np.array([[1.0, 1.0, 0.0], [3.0, 3.0, 1.5]]))
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "turn.gif"
+    >>> save_pose_animation(pm, p, out, max_frames=2)
+    >>> out.stat().st_size > 0
+    True
     """
     out = check_animation_file(file)
     poses = _poses_of(path)

@@ -94,7 +94,7 @@ def check_headings(headings: object) -> int:
 
 
 def heading_centres(headings: int) -> NDArray[np.float64]:
-    """The bins' centre headings ``2 pi k / N`` (radians), ``k = 0 .. N - 1``.
+    """The bins' centre headings ``2 pi k / N`` (radians) for ``k`` from 0 to ``N - 1``.
 
     Parameters
     ----------

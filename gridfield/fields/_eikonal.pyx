@@ -23,7 +23,8 @@ Nothing here validates input; :mod:`gridfield.fields.navfield` does. Masks are `
 values ``float64``, indices ``int64``.
 """
 
-from libc.math cimport INFINITY, sqrt
+from libc.math cimport INFINITY, fabs, floor, sqrt
+from libc.stdlib cimport llabs
 from libc.stdint cimport int64_t, uint8_t
 from libc.stdint cimport int32_t
 from libc.stdlib cimport free as c_free, malloc, realloc
@@ -788,3 +789,143 @@ def ascend(val_t dist, mask_t free, mask_t target, int64_t r0, int64_t c0):
             r = br
             c = bc
     return out[:count].copy()
+
+
+# ----------------------------------------------------------------------------------------------
+# taut paths: line of sight over the cells a segment crosses (gridfield.following.taut)
+# ----------------------------------------------------------------------------------------------
+cdef inline bint _cell_ok(mask_t occ, val_t clear, int64_t r, int64_t c, double need) noexcept nogil:
+    """A free cell of the grid whose clearance is at least ``need`` (outside the grid: not ok)."""
+    if r < 0 or c < 0 or r >= occ.shape[0] or c >= occ.shape[1]:
+        return False
+    return occ[r, c] == 0 and clear[r, c] >= need
+
+
+cdef inline bint _cell_blocked(mask_t occ, int64_t r, int64_t c) noexcept nogil:
+    if r < 0 or c < 0 or r >= occ.shape[0] or c >= occ.shape[1]:
+        return True
+    return occ[r, c] != 0
+
+
+cdef double _walk(double u0, double v0, double u1, double v1, mask_t occ, val_t clear, double need) noexcept nogil:
+    """Walk the cells the segment (u0, v0)-(u1, v1) (cell units: column, row) crosses, its exact
+    supercover. Returns the smallest clearance of the crossed cells, or -1 as soon as one is
+    blocked, outside the grid or below ``need`` (``need`` = -inf: walk it all). A segment that
+    passes exactly through a grid vertex does not enter the two cells beside it (it touches them at
+    a point), unless both are blocked (a pinch: no way through); within 1e-9 of a vertex (not
+    exactly on it) it is taken to enter both."""
+    cdef int64_t c = <int64_t>floor(u0), r = <int64_t>floor(v0)
+    cdef int64_t ce = <int64_t>floor(u1), re = <int64_t>floor(v1)
+    cdef double du = u1 - u0, dv = v1 - v0
+    cdef int64_t sc = 1 if du > 0 else -1, sr = 1 if dv > 0 else -1
+    cdef double tdu = INFINITY, tdv = INFINITY, tmu = INFINITY, tmv = INFINITY
+    cdef double low = INFINITY
+    cdef int64_t guard = 0, limit
+    if not _cell_ok(occ, clear, r, c, need):
+        return -1.0
+    low = clear[r, c]
+    if du != 0.0:
+        tdu = 1.0 / fabs(du)
+        tmu = ((c + 1 - u0) if du > 0 else (u0 - c)) * tdu
+    if dv != 0.0:
+        tdv = 1.0 / fabs(dv)
+        tmv = ((r + 1 - v0) if dv > 0 else (v0 - r)) * tdv
+    limit = llabs(ce - c) + llabs(re - r) + 4
+    while (c != ce or r != re) and guard < limit:
+        guard += 1
+        if c == ce:
+            r += sr
+            tmv += tdv
+        elif r == re:
+            c += sc
+            tmu += tdu
+        elif tmu < tmv - 1e-9:
+            c += sc
+            tmu += tdu
+        elif tmv < tmu - 1e-9:
+            r += sr
+            tmv += tdv
+        else:  # at (or within 1e-9 of) a vertex
+            if tmu == tmv:
+                if _cell_blocked(occ, r, c + sc) and _cell_blocked(occ, r + sr, c):
+                    return -1.0
+            else:
+                if not _cell_ok(occ, clear, r, c + sc, need) or not _cell_ok(occ, clear, r + sr, c, need):
+                    return -1.0
+                low = min(low, min(clear[r, c + sc], clear[r + sr, c]))
+            c += sc
+            r += sr
+            tmu += tdu
+            tmv += tdv
+        if not _cell_ok(occ, clear, r, c, need):
+            return -1.0
+        low = min(low, clear[r, c])
+    if c != ce or r != re:  # rounding ran the walk past its end: refuse
+        return -1.0
+    return low
+
+
+def crossed_clearance(const double[:, :] pts, mask_t occ, val_t clear):
+    """The smallest ``clear`` of the cells the polyline ``pts`` (cell units: column, row) crosses
+    (:func:`_walk`'s rule); -1 when it crosses a blocked cell or leaves the grid."""
+    cdef Py_ssize_t i, n = pts.shape[0]
+    cdef double low = INFINITY, w
+    if n == 0:
+        return INFINITY
+    with nogil:
+        if n == 1:
+            if _cell_ok(occ, clear, <int64_t>floor(pts[0, 1]), <int64_t>floor(pts[0, 0]), -INFINITY):
+                low = clear[<int64_t>floor(pts[0, 1]), <int64_t>floor(pts[0, 0])]
+            else:
+                low = -1.0
+        for i in range(n - 1):
+            w = _walk(pts[i, 0], pts[i, 1], pts[i + 1, 0], pts[i + 1, 1], occ, clear, -INFINITY)
+            if w < 0:
+                low = -1.0
+                break
+            low = min(low, w)
+    return low
+
+
+cdef inline bint _sees(const double[:, :] pts, Py_ssize_t i, Py_ssize_t j, mask_t occ, val_t clear,
+                       double need) noexcept nogil:
+    return _walk(pts[i, 0], pts[i, 1], pts[j, 0], pts[j, 1], occ, clear, need) >= 0.0
+
+
+def taut(const double[:, :] pts, mask_t occ, val_t clear, double need):
+    """Indices of the vertices of ``pts`` (cell units: column, row) that a greedy string pulling
+    keeps: from each kept vertex ``i`` the farthest later vertex ``j`` found (galloping, then
+    bisection) whose segment from ``i`` crosses only free cells of ``clear >= need``
+    (:func:`_walk`); ``i + 1`` always (the path's own segment). The first and last vertex are kept."""
+    cdef Py_ssize_t n = pts.shape[0], i = 0, lo, hi, mid, k = 1
+    cdef int64_t[::1] out = np.empty(max(n, 1), np.int64)
+    if n == 0:
+        return np.empty(0, np.int64)
+    out[0] = 0
+    with nogil:
+        while i < n - 1:
+            lo = i + 1
+            hi = n  # first index known not to be seen (n: none known)
+            mid = i + 2
+            while mid < n:
+                if _sees(pts, i, mid, occ, clear, need):
+                    lo = mid
+                    mid = i + 2 * (mid - i)
+                else:
+                    hi = mid
+                    break
+            if hi == n and lo < n - 1:
+                if _sees(pts, i, n - 1, occ, clear, need):
+                    lo = n - 1
+                else:
+                    hi = n - 1
+            while hi - lo > 1:
+                mid = (lo + hi) // 2
+                if _sees(pts, i, mid, occ, clear, need):
+                    lo = mid
+                else:
+                    hi = mid
+            out[k] = lo
+            k += 1
+            i = lo
+    return np.asarray(out[:k]).copy()

@@ -59,6 +59,7 @@ from ._follow import _setup as _setup
 from .basins import Basins, basins, descent_successor
 from .descent import ESCAPES, STEP_RULES, Point, descend
 from .escapes import NavigationEscape, navigation_map
+from .taut import TAUT_MODELS, crossed_clearance, taut_path
 
 __all__ = [
     "ESCAPES",
@@ -237,11 +238,30 @@ def plan_potential_with_field(gridmap: GridMap, start: ArrayLike, goal: ArrayLik
             extra["stop_reason"] = "unreachable"
         extra["hint"] = diag["hint"]
         extra["diagnosis"] = diag
+    min_clearance = path.min_clearance
+    if status == "reached" and resolved["model"] in TAUT_MODELS and len(points) > 2:
+        # the taut post-pass (gridfield.following.taut): string pulling of the descended vertices,
+        # never into a cell closer to an obstacle than min(the path's own clearance, clearance_band)
+        band = resolved["clearance_band"] if resolved["attraction"] == "eikonal" and resolved["band_gain"] > 0 else 0.0
+        points, _ = taut_path(field.map, field.distance.distance, points, float(band))
+        min_clearance = crossed_clearance(field.map, field.distance.distance, points)
     if nf and len(points):
-        extra["median_clearance"] = float(np.median(distance_at(field, points)[0]))
+        extra["median_clearance"] = float(np.median(distance_at(field, _every_cell(points, field.map.grid.resolution))[0]))
         if field.map is not gridmap:  # an open border: the field's ring lies outside the grid
             _note_outside(extra, gridmap.grid, points)
-    return replace(path, points=points, status=status, params=merged, extra=extra), field
+    return replace(path, points=points, status=status, params=merged, min_clearance=min_clearance, extra=extra), field
+
+
+def _every_cell(points: NDArray[np.float64], spacing: float) -> NDArray[np.float64]:
+    """The polyline ``points`` with points added along each segment at most ``spacing`` apart (a taut
+    path's long segments sampled as densely as a follower's steps)."""
+    if len(points) < 2:
+        return points
+    seg = np.diff(points, axis=0)
+    n = np.maximum(1, np.ceil(np.hypot(seg[:, 0], seg[:, 1]) / spacing).astype(np.int64))
+    owner = np.repeat(np.arange(len(seg)), n)
+    frac = (np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)) / np.repeat(n, n)
+    return np.vstack([points[owner] + frac[:, None] * seg[owner], points[-1:]])
 
 
 def _last_valued(field: GradientField, points: NDArray[np.float64]) -> int | None:

@@ -243,7 +243,7 @@ def plan_potential_with_field(gridmap: GridMap, start: ArrayLike, goal: ArrayLik
         # the taut post-pass (gridfield.following.taut): string pulling of the descended vertices,
         # never into a cell closer to an obstacle than min(the path's own clearance, clearance_band)
         band = resolved["clearance_band"] if resolved["attraction"] == "eikonal" and resolved["band_gain"] > 0 else 0.0
-        points, _ = taut_path(field.map, field.distance.distance, points, float(band))
+        points = taut_path(field.map, field.distance.distance, points, float(band))
         min_clearance = crossed_clearance(field.map, field.distance.distance, points)
     if nf and len(points):
         extra["median_clearance"] = float(np.median(distance_at(field, _every_cell(points, field.map.grid.resolution))[0]))

@@ -11,21 +11,25 @@ segment is either one of the descended path's own or one that was checked.
 
 What "sees" means (the check of a segment, exact geometry on the grid; the compiled walk of
 ``gridfield.fields._eikonal``): every cell whose square the segment crosses (its exact supercover)
-is free and its brushfire distance (the field's ``distance``, cell centre to the nearest obstacle
-cell centre, the distance :attr:`Path.min_clearance <gridfield.core.path.Path>` reports) is at
-least the **promised clearance**
+is free, and its brushfire distance ``D`` (the field's ``distance``: cell centre to the nearest
+obstacle cell centre, the distance :attr:`Path.min_clearance <gridfield.core.path.Path>` reports)
+is at least the cell's **promised clearance**
 
-    ``need = min(c, clearance_band)``,
+    ``need(cell) = min(clearance_band, the smallest D of the descended path's vertex cells within
+    clearance_band of the cell)``,
 
-``c`` the smallest brushfire distance of the cells the descended path crosses (its own clearance,
-over its segments, not only its vertices). So the pass never brings the path into a cell closer to
-an obstacle than the closest one it entered before, or than the band width where the descended path
-kept more: on a map whose path passes a one-cell door (``c`` one cell) the taut path may run along
-walls and touch convex corners, like the any-angle optimum; where the field's band kept the path
-3-4 cells off the walls (``c`` 3-4 cells, most ROS queries) the taut path keeps them too. A segment
-that passes exactly through a grid vertex touches the two cells beside it at a point only: they are
-not entered, except that two blocked cells meeting at that vertex (a pinch) block it; within 1e-9
-of a vertex both side cells count as entered. Outside the field's map is blocked.
+and ``clearance_band`` for a cell farther than that from every vertex. That is the clearance the
+descended path promised: the band keeps it up to ``clearance_band`` off the walls where that is
+cheap, and the taut path never comes closer to an obstacle, anywhere, than the descended path came
+nearby (or than the band, where the descended path kept more). Where the descended path itself
+passes a one-cell door or runs along a wall (``D`` one cell), the taut path may run along the walls
+there and touch convex corners, like the any-angle optimum; where the band kept the descended path
+3-4 cells off the walls (most ROS queries; the middle of a corridor narrower than two bands) the
+taut path keeps them too. ``clearance_band`` 0 (the plain distance, or ``band_gain`` 0): every free
+cell may be crossed. A segment that passes exactly through a grid vertex touches the two cells
+beside it at a point only: they are not entered, except that two blocked cells meeting at that
+vertex (a pinch) block it; within 1e-9 of a vertex both side cells count as entered. Outside the
+field's map is blocked.
 
 Examples
 --------
@@ -35,10 +39,10 @@ the corner:
 >>> from gridfield.core.grid import Grid, GridMap
 >>> gm = GridMap(Grid((3, 3), 1.0, border="wall"), np.zeros((3, 3), bool))
 >>> pts = np.array([[0.5, 0.5], [0.5, 1.5], [0.5, 2.5], [1.5, 2.5], [2.5, 2.5]])
->>> taut_path(gm, np.ones((3, 3)), pts, 0.0)[0].tolist()
+>>> taut_path(gm, np.ones((3, 3)), pts, 0.0).tolist()
 [[0.5, 0.5], [2.5, 2.5]]
 >>> occ = np.zeros((3, 3), bool); occ[1, 1] = True
->>> taut_path(GridMap(gm.grid, occ), np.ones((3, 3)), pts, 0.0)[0].tolist()
+>>> taut_path(GridMap(gm.grid, occ), np.ones((3, 3)), pts, 0.0).tolist()
 [[0.5, 0.5], [0.5, 2.5], [2.5, 2.5]]
 """
 
@@ -115,10 +119,9 @@ def crossed_clearance(gridmap: GridMap, clearance: ArrayLike, points: ArrayLike)
     return float(_kernels().crossed_clearance(_cell_units(gridmap, points), occ, clear))
 
 
-def taut_path(gridmap: GridMap, clearance: ArrayLike, points: ArrayLike,
-              band: float) -> tuple[NDArray[np.float64], float]:
+def taut_path(gridmap: GridMap, clearance: ArrayLike, points: ArrayLike, band: float) -> NDArray[np.float64]:
     """The descended path ``points`` pulled taut (string pulling over its own vertices), never into a
-    cell of ``clearance`` below ``min(c, band)``, ``c`` the path's own :func:`crossed_clearance`.
+    cell below its promised clearance (the module's rule).
 
     Parameters
     ----------
@@ -133,11 +136,9 @@ def taut_path(gridmap: GridMap, clearance: ArrayLike, points: ArrayLike,
 
     Returns
     -------
-    points : ndarray of shape (k, 2)
-        A sub-sequence of ``points`` with the same first and last point. When the descended path
-        itself crosses a blocked cell by the module's rule (``c`` < 0) it is returned unchanged.
-    need : float
-        The promised clearance the pass kept (``nan`` when it did not run).
+    ndarray of shape (k, 2)
+        A sub-sequence of ``points`` with the same first and last point (each segment one of the
+        descended path's own or a checked one).
 
     Examples
     --------
@@ -146,24 +147,26 @@ def taut_path(gridmap: GridMap, clearance: ArrayLike, points: ArrayLike,
     >>> from gridfield.core.grid import Grid
     >>> gm = GridMap(Grid((6, 6), 1.0, border="wall"), np.zeros((6, 6), bool))
     >>> stairs = np.array([[0.5 + (k + 1) // 2, 0.5 + k // 2] for k in range(11)])
-    >>> p, need = taut_path(gm, np.full((6, 6), 9.0), stairs, 6.0)
-    >>> p.tolist(), need
-    ([[0.5, 0.5], [5.5, 5.5]], 6.0)
+    >>> taut_path(gm, np.full((6, 6), 9.0), stairs, 6.0).tolist()
+    [[0.5, 0.5], [5.5, 5.5]]
+
+    Down the middle of a corridor (rows 1-5, ``D`` 3 on the middle row) to a goal beside its wall
+    (``D`` 1): the band keeps the middle row's clearance until within a band of the goal, the plain
+    distance (``band`` 0) cuts straight across:
+
+    >>> occ = np.zeros((7, 20), bool); occ[[0, 6]] = True
+    >>> d = np.minimum(np.arange(7), 6 - np.arange(7))[:, None] * np.ones((1, 20))
+    >>> pts = [[x + 0.5, 3.5] for x in range(20)] + [[19.5, 2.5], [19.5, 1.5]]
+    >>> corridor = GridMap(Grid((7, 20), 1.0, border="wall"), occ)
+    >>> taut_path(corridor, d, pts, 6.0).tolist(), taut_path(corridor, d, pts, 0.0).tolist()
+    ([[0.5, 3.5], [19.5, 3.5], [19.5, 1.5]], [[0.5, 3.5], [19.5, 1.5]])
     """
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     if len(pts) < 3:
-        return pts.copy(), math.nan
+        return pts.copy()
     occ, clear = _arrays(gridmap, clearance)
     cells = _cell_units(gridmap, pts)
-    k = _kernels()
-    own = float(k.crossed_clearance(cells, occ, clear))
-    if own < 0:
-        return pts.copy(), math.nan
-    need = min(own, float(band)) if band > 0 else 0.0
-    keep = np.arange(len(pts))
-    for _ in range(TAUT_PASSES):
-        sub = k.taut(np.ascontiguousarray(cells[keep]), occ, clear, need)
-        if len(sub) == len(keep):
-            break
-        keep = keep[sub]
-    return pts[keep], need
+    res = gridmap.grid.resolution
+    band = max(float(band), 0.0)
+    keep = _kernels().taut(cells, occ, clear, band, band / res, TAUT_PASSES)
+    return pts[keep]

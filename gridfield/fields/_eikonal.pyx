@@ -824,8 +824,9 @@ cdef double _walk(double u0, double v0, double u1, double v1, mask_t occ, val_t 
     supercover. Returns the smallest clearance of the crossed cells, or -1 as soon as one is
     blocked, outside the grid or below its need (``nd``). A segment that passes exactly through a
     grid vertex does not enter the two cells beside it (it touches them at a point), unless both are
-    blocked (a pinch: no way through); within 1e-9 of a vertex (not exactly on it) it is taken to
-    enter both."""
+    blocked (a pinch: no way through; "exactly": the cross product of the segment and the vertex is 0 in
+    floating point, as it is for cell centres and other short binary fractions); within 1e-9 of a
+    vertex (not exactly on it) it is taken to enter both."""
     cdef int64_t c = <int64_t>floor(u0), r = <int64_t>floor(v0)
     cdef int64_t ce = <int64_t>floor(u1), re = <int64_t>floor(v1)
     cdef double du = u1 - u0, dv = v1 - v0
@@ -857,8 +858,8 @@ cdef double _walk(double u0, double v0, double u1, double v1, mask_t occ, val_t 
         elif tmv < tmu - 1e-9:
             r += sr
             tmv += tdv
-        else:  # at (or within 1e-9 of) a vertex
-            if tmu == tmv:
+        else:  # at (or within 1e-9 of) a vertex: exactly through it when the cross product is 0
+            if (c + (sc > 0) - u0) * dv - (r + (sr > 0) - v0) * du == 0.0:
                 if _cell_blocked(occ, r, c + sc) and _cell_blocked(occ, r + sr, c):
                     return -1.0
             else:

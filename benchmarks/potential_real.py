@@ -70,6 +70,7 @@ import time
 from collections import Counter
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
+from itertools import pairwise
 from pathlib import Path
 from typing import Any
 
@@ -307,7 +308,7 @@ def exact_collision(gm: Any, points: np.ndarray) -> bool:
         return False
     if g.border == "wall" and ((pts < 0).any() or (pts[:, 0] > occ.shape[1]).any() or (pts[:, 1] > occ.shape[0]).any()):
         return True
-    for a, b in zip(pts[:-1], pts[1:], strict=True):
+    for a, b in pairwise(pts):
         c0, r0 = np.floor(np.minimum(a, b)).astype(int) - 1
         c1, r1 = np.floor(np.maximum(a, b)).astype(int) + 2
         c0, r0 = max(c0, 0), max(r0, 0)

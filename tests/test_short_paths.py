@@ -10,6 +10,8 @@ length, and the descended path itself (the planner with the pass switched off).
 
 from __future__ import annotations
 
+from itertools import pairwise
+
 import numpy as np
 import pytest
 import shapely
@@ -48,7 +50,7 @@ def _candidates(occ: np.ndarray, a: np.ndarray, b: np.ndarray, everything: bool)
 
 def shapely_collides(occ: np.ndarray, pts: np.ndarray) -> bool:
     """Whether the polyline (cell units) meets a blocked square's interior or passes a pinch."""
-    for a, b in zip(pts[:-1], pts[1:], strict=True):
+    for a, b in pairwise(pts):
         rr, cc = _candidates(occ, a, b, everything=False)
         if rr.size == 0:
             continue
@@ -66,7 +68,7 @@ def shapely_collides(occ: np.ndarray, pts: np.ndarray) -> bool:
 def shapely_crossed(occ: np.ndarray, pts: np.ndarray) -> set[tuple[int, int]]:
     """The cells whose squares the polyline (cell units) crosses with a positive length."""
     out: set[tuple[int, int]] = set()
-    for a, b in zip(pts[:-1], pts[1:], strict=True):
+    for a, b in pairwise(pts):
         rr, cc = _candidates(occ, a, b, everything=True)
         boxes = shapely.box(cc, rr, cc + 1.0, rr + 1.0)
         lengths = shapely.length(shapely.intersection(boxes, shapely.LineString([a, b])))
@@ -198,7 +200,7 @@ MAX_RATIO = 1.25
 
 @pytest.mark.parametrize("case", QUERIES, ids=[f"{q[0]}-{k}" for k, q in enumerate(QUERIES)])
 def test_the_default_path_on_real_maps_is_short_collision_free_and_keeps_its_clearance(case):
-    name, gm, s, g = case
+    _, gm, s, g = case
     p, field = follower.plan_potential_with_field(gm, s, g, {})
     down, _ = descended(gm, s, g)
     assert p.status == "reached" and down.status == "reached" and not p.extra.get("escapes_tried")

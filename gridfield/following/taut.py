@@ -48,7 +48,6 @@ the corner:
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np

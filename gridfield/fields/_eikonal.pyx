@@ -9,8 +9,10 @@ scheme of Hassouna & Farag, IEEE PAMI 29(9), 2007). A diagonal neighbour is used
 cells beside the diagonal are free (the move rule of the wavefronts: no front through a corner the
 robot cannot pass). :func:`march` keeps the front in a binary heap indexed by cell (decrease-key in
 place: the exact order, the reference); :func:`march_buckets` in an untidy bucket queue (what
-:mod:`gridfield.fields.navfield` uses). Also :func:`upwind` (the gradient arrays) and :func:`ascend`
-(steepest ascent onto a skeleton).
+:mod:`gridfield.fields.navfield` uses). Also :func:`upwind` (the gradient arrays), :func:`ascend`
+(steepest ascent onto a skeleton), and the walk of the cells a segment crosses with the string pulling
+over a path's vertices that uses it (:func:`crossed_clearance`, :func:`taut`; for the potential
+planner's taut post-pass, :mod:`gridfield.following.taut`).
 
 Both marches start from *fixed sources*: cells with given values that are never changed (the goal cell and
 its neighbours at their exact Euclidean distance, or a skeleton's values). Every other cell gets a

@@ -3,7 +3,8 @@
 :func:`follow` runs the follower's rules (:func:`gridfield.following.descent.descend`, the specification:
 step rules, stop rules, escapes) on a :class:`~gridfield.fields.potential.Field` sampled by
 :mod:`gridfield.fields.sampling`; :func:`follow_many` runs the same rules vectorized over many starts and
-is tested equal to it; :func:`plan_potential` builds the field and follows it. The vortex field's
+is tested equal to it; :func:`plan_potential` builds the field, follows it and pulls an ``nf1`` path
+taut (:mod:`gridfield.following.taut`). The vortex field's
 nearest-node follower (steps scaled by the force arrays' norms) is set up by :mod:`gridfield.fields.vortex`.
 
 The follower's loops (:func:`follow`, :func:`follow_many` and :func:`resolve_follow_params`) are
@@ -115,6 +116,15 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     field :func:`plan_potential_with_field` returns is ``inf`` beyond), their brushfire (and NF2's
     skeleton) is computed once per map in ``cache``, and their paths carry
     ``extra["median_clearance"]``.
+
+    A reached ``nf1`` path (the default; :data:`gridfield.following.taut.TAUT_MODELS`) is then pulled
+    taut (:func:`gridfield.following.taut.taut_path`, issue 46): string pulling over the descended
+    path's own vertices, every new segment checked by exact geometry against the blocked cells and
+    never crossing a cell closer to an obstacle than ``min(clearance_band, the smallest brushfire
+    distance of the descended vertices within a band of it)``; its ``min_clearance`` is then the
+    smallest brushfire distance of the cells the taut segments cross, and ``median_clearance`` is
+    taken at points a cell apart along them. On the test maps this brings the length to 1.02 of the
+    any-angle optimum (median; p95 1.07, max 1.15; benchmarks/README.md) from 1.03 (p95 1.10, max 1.41).
 
     A complete model's field has one minimum, the goal; when the continuous follower still stalls
     on it (a one-cell door whose steep sides turn its steps), the run is finished by the field's own

@@ -123,8 +123,9 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     never crossing a cell closer to an obstacle than ``min(clearance_band, the smallest brushfire
     distance of the descended vertices within a band of it)``; its ``min_clearance`` is then the
     smallest brushfire distance of the cells the taut segments cross, and ``median_clearance`` is
-    taken at points a cell apart along them. On the test maps this brings the length to 1.02 of the
-    any-angle optimum (median; p95 1.07, max 1.15; benchmarks/README.md) from 1.03 (p95 1.10, max 1.41).
+    taken at points a cell apart along them. On the test maps and generated ones this brings the length
+    to 1.017 of the any-angle optimum (median; p95 1.062, max 1.148; benchmarks/README.md) from 1.027
+    (p95 1.090, max 1.414).
 
     A complete model's field has one minimum, the goal; when the continuous follower still stalls
     on it (a one-cell door whose steep sides turn its steps), the run is finished by the field's own
@@ -250,11 +251,13 @@ def plan_potential_with_field(gridmap: GridMap, start: ArrayLike, goal: ArrayLik
         extra["diagnosis"] = diag
     min_clearance = path.min_clearance
     if status == "reached" and resolved["model"] in TAUT_MODELS and len(points) > 2:
-        # the taut post-pass (gridfield.following.taut): string pulling of the descended vertices,
-        # never into a cell closer to an obstacle than min(the path's own clearance, clearance_band)
+        # the taut post-pass (gridfield.following.taut): string pulling of the descended vertices, never
+        # into a cell below min(clearance_band, the smallest clearance of the descended vertices near it)
         band = resolved["clearance_band"] if resolved["attraction"] == "eikonal" and resolved["band_gain"] > 0 else 0.0
         points = taut_path(field.map, field.distance.distance, points, float(band))
-        min_clearance = crossed_clearance(field.map, field.distance.distance, points)
+        crossed = crossed_clearance(field.map, field.distance.distance, points)
+        if crossed >= 0:  # (< 0: a segment of the descent itself clips a blocked cell; the follower's measure stays)
+            min_clearance = crossed
     if nf and len(points):
         extra["median_clearance"] = float(np.median(distance_at(field, _every_cell(points, field.map.grid.resolution))[0]))
         if field.map is not gridmap:  # an open border: the field's ring lies outside the grid

@@ -18,7 +18,7 @@ KERNELS = [
     "gridfield.fields._potential", "gridfield.fields._navfn", "gridfield.fields._navigation",
     "gridfield.fields._laplace", "gridfield.fields._eikonal", "gridfield.fields._samplers",
     "gridfield.exact._anyangle", "gridfield.exact._occlusion", "gridfield.exact._astar",
-    "gridfield.exact._polyanya",
+    "gridfield.exact._polyanya", "gridfield.following._taut",
 ]
 #: Those with OpenMP loops (``prange``).
 OPENMP = {"gridfield.fields._potential"}

@@ -117,7 +117,8 @@ def plan_potential(gridmap: GridMap, start: ArrayLike, goal: ArrayLike, params: 
     skeleton) is computed once per map in ``cache``, and their paths carry
     ``extra["median_clearance"]``.
 
-    A reached ``nf1`` path (the default; :data:`gridfield.following.taut.TAUT_MODELS`) is then pulled
+    A reached ``nf1`` path (the default; :data:`gridfield.following.taut.TAUT_MODELS`, the eikonal
+    attraction: ``attraction="octile"`` keeps the descended path, as a stored field's plan does) is then pulled
     taut (:func:`gridfield.following.taut.taut_path`, issue 46): string pulling over the descended
     path's own vertices, every new segment checked by exact geometry against the blocked cells and
     never crossing a cell closer to an obstacle than ``min(clearance_band, the smallest brushfire
@@ -250,10 +251,10 @@ def plan_potential_with_field(gridmap: GridMap, start: ArrayLike, goal: ArrayLik
         extra["hint"] = diag["hint"]
         extra["diagnosis"] = diag
     min_clearance = path.min_clearance
-    if status == "reached" and resolved["model"] in TAUT_MODELS and len(points) > 2:
+    if status == "reached" and resolved["model"] in TAUT_MODELS and resolved["attraction"] == "eikonal" and len(points) > 2:
         # the taut post-pass (gridfield.following.taut): string pulling of the descended vertices, never
         # into a cell below min(clearance_band, the smallest clearance of the descended vertices near it)
-        band = resolved["clearance_band"] if resolved["attraction"] == "eikonal" and resolved["band_gain"] > 0 else 0.0
+        band = resolved["clearance_band"] if resolved["band_gain"] > 0 else 0.0
         points = taut_path(field.map, field.distance.distance, points, float(band))
         crossed = crossed_clearance(field.map, field.distance.distance, points)
         if crossed >= 0:  # (< 0: a segment of the descent itself clips a blocked cell; the follower's measure stays)

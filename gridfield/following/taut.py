@@ -10,7 +10,7 @@ sub-sequence of the descended vertices: it starts at the start and ends at the g
 segment is either one of the descended path's own or one that was checked.
 
 What "sees" means (the check of a segment, exact geometry on the grid; the compiled walk of
-``gridfield.fields._eikonal``): every cell whose square the segment crosses (its exact supercover)
+``gridfield.following._taut``): every cell whose square the segment crosses (its exact supercover)
 is free, and its brushfire distance ``D`` (the field's ``distance``: cell centre to the nearest
 obstacle cell centre, the distance :attr:`Path.min_clearance <gridfield.core.path.Path>` reports)
 is at least the cell's **promised clearance**
@@ -58,7 +58,8 @@ from ..core.grid import GridMap
 __all__ = ["TAUT_MODELS", "TAUT_PASSES", "crossed_clearance", "taut_path"]
 
 #: The models whose planned paths get the taut post-pass (:func:`gridfield.following.follower.plan_potential`):
-#: ``nf1``, the default. NF2 keeps the skeleton's clearance on purpose and ``nf-blend`` its repulsion;
+#: ``nf1``, the default, with its eikonal attraction (``attraction="octile"`` keeps the descended path,
+#: as ``gridfield plan`` on a stored field, which follows it alone, does). NF2 keeps the skeleton's clearance on purpose and ``nf-blend`` its repulsion;
 #: the classic field's paths are left as the follower made them.
 TAUT_MODELS: tuple[str, ...] = ("nf1",)
 #: How many times the string pulling runs over its own output at most (it stops when a pass keeps
@@ -68,9 +69,9 @@ TAUT_PASSES = 3
 
 
 def _kernels() -> Any:
-    from ..fields import _eikonal  # type: ignore[attr-defined]  # a compiled extension, no stubs
+    from . import _taut  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
-    return _eikonal
+    return _taut
 
 
 def _arrays(gridmap: GridMap, clearance: ArrayLike) -> tuple[NDArray[np.uint8], NDArray[np.float64]]:

@@ -20,7 +20,7 @@ KERNELS = [
     "gridfield.fields._navigation3", "gridfield.fields._voxelpath",
     "gridfield.fields._laplace", "gridfield.fields._eikonal", "gridfield.fields._samplers",
     "gridfield.exact._anyangle", "gridfield.exact._occlusion", "gridfield.exact._astar",
-    "gridfield.exact._polyanya",
+    "gridfield.exact._polyanya", "gridfield.following._taut",
 ]
 #: Those with OpenMP loops (``prange``).
 OPENMP = {"gridfield.fields._potential"}

@@ -70,6 +70,7 @@ import time
 from collections import Counter
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
+from itertools import pairwise
 from pathlib import Path
 from typing import Any
 
@@ -114,7 +115,53 @@ FAMILIES = {
     **dict.fromkeys(["mapf_maze-32-32-2", "mapf_room-64-64-8", "mapf_empty-48-48", "mapf_ht_chantry",
                      "mapf_random-32-32-10"], "mapf"),
 }
-FAMILY_ORDER = ("dao", "bg512", "sc1", "gppc", "rooms", "random", "maze", "street", "mapf", "movingai", "ros")
+FAMILY_ORDER = ("dao", "bg512", "sc1", "gppc", "rooms", "random", "maze", "street", "mapf", "movingai", "ros",
+                "generated")
+#: The generated maps (``--generated N``: the first N, each ``kind:seed``): rooms joined by doors of 1-4
+#: cells, random rectangles and thin walls, and end_to_end.py's squares and discs (an open border, 0.39 m
+#: cells). Queries as on the ROS maps (``--per-map`` pairs in one free component, ``default_rng(0)``).
+GENERATED = ("rooms:1", "blocks:2", "discs:3", "rooms:4", "blocks:5", "discs:6", "rooms:7", "blocks:8")
+
+
+def generated_map(spec: str) -> Any:
+    """The generated map ``kind:seed`` of :data:`GENERATED` (256 x 256 cells), deterministic."""
+    from gridfield.core.grid import Grid, GridMap
+
+    kind, seed = spec.split(":")
+    rng = np.random.default_rng(int(seed))
+    n = 256
+    if kind == "discs":
+        from end_to_end import synthetic_map  # benchmarks/ is on sys.path
+
+        return synthetic_map(n, seed=int(seed))
+    occ = np.zeros((n, n), bool)
+    if kind == "rooms":  # 8 x 8 rooms of 32 cells, walls 1-2 cells thick, one door of 1-4 cells per wall
+        for k in range(0, n + 1, 32):
+            t = int(rng.integers(1, 3))
+            occ[max(k - t // 2, 0):min(k + 1, n), :] = True
+            occ[:, max(k - t // 2, 0):min(k + 1, n)] = True
+        for k in range(32, n, 32):
+            for j in range(0, n, 32):
+                for horizontal in (True, False):
+                    w = int(rng.integers(1, 5))
+                    o = j + int(rng.integers(3, 29 - w))
+                    if horizontal:
+                        occ[k - 1:k + 1, o:o + w] = False
+                    else:
+                        occ[o:o + w, k - 1:k + 1] = False
+        for _ in range(60):  # furniture
+            r, c, h, w = rng.integers(2, n - 8), rng.integers(2, n - 8), rng.integers(2, 7), rng.integers(2, 7)
+            occ[r:r + h, c:c + w] = True
+    elif kind == "blocks":  # random rectangles and thin walls
+        for _ in range(70):
+            r, c = rng.integers(0, n, 2)
+            h, w = (rng.integers(1, 3), rng.integers(10, 60)) if rng.random() < 0.3 else rng.integers(3, 30, 2)
+            if rng.random() < 0.5:
+                h, w = w, h
+            occ[r:r + h, c:c + w] = True
+    else:
+        raise ValueError(f"unknown generated map kind {kind!r}")
+    return GridMap(Grid((n, n), 1.0, border="wall"), occ, source=f"generated {spec}")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -241,7 +288,51 @@ def run_query(gm: Any, start: np.ndarray, goal: np.ndarray, variant: str, params
     rec["hint"] = str(hint) if hint else None
     if path.status == "reached" and np.isfinite(optimal) and optimal > 0:
         rec["ratio"] = float(path.length) / optimal
+    rec["vertices"] = len(path.points)
+    rec["exact_collision"] = exact_collision(gm, path.points)
     return rec
+
+
+def exact_collision(gm: Any, points: np.ndarray) -> bool:
+    """Whether the polyline crosses a blocked cell by exact geometry (shapely, independent of
+    gridfield's own checks): a segment meets a blocked square's interior, or passes through a
+    grid vertex between two diagonal blocked squares (a pinch; touching one square's boundary is
+    free, as for the any-angle optimum), or leaves a wall-bordered grid."""
+    import shapely
+
+    g = gm.grid
+    res = float(g.resolution)
+    occ = np.asarray(gm.occupied, dtype=bool)
+    pts = (np.asarray(points, dtype=float).reshape(-1, 2) - np.asarray(g.origin, dtype=float)) / res  # cell units
+    if len(pts) == 0:
+        return False
+    if g.border == "wall" and ((pts < 0).any() or (pts[:, 0] > occ.shape[1]).any() or (pts[:, 1] > occ.shape[0]).any()):
+        return True
+    for a, b in pairwise(pts):
+        c0, r0 = np.floor(np.minimum(a, b)).astype(int) - 1
+        c1, r1 = np.floor(np.maximum(a, b)).astype(int) + 2
+        c0, r0 = max(c0, 0), max(r0, 0)
+        rr, cc = np.nonzero(occ[r0:r1, c0:c1])
+        if rr.size == 0:
+            continue
+        rr, cc = rr + r0, cc + c0
+        # squares whose centre lies within sqrt(2)/2 of the segment may meet it (a cheap filter)
+        d = b - a
+        t = np.clip(((cc + 0.5 - a[0]) * d[0] + (rr + 0.5 - a[1]) * d[1]) / max(float(d @ d), 1e-300), 0.0, 1.0)
+        near = np.hypot(cc + 0.5 - (a[0] + t * d[0]), rr + 0.5 - (a[1] + t * d[1])) <= 0.7072
+        if not near.any():
+            continue
+        boxes = shapely.box(cc[near], rr[near], cc[near] + 1.0, rr[near] + 1.0)
+        line = shapely.LineString([a, b]) if float(d @ d) > 0 else shapely.Point(a)
+        if shapely.relate_pattern(boxes, line, "T********").any():
+            return True
+        touched = boxes[shapely.intersects(boxes, line)]
+        if len(touched) >= 2:
+            meet = shapely.intersection(touched, line)
+            spots = [(round(m.x, 9), round(m.y, 9)) for m in meet if m.geom_type == "Point"]
+            if len(spots) != len(set(spots)):  # two squares touched at one vertex: a pinch
+                return True
+    return False
 
 
 def run_map(task: dict[str, Any]) -> dict[str, Any]:
@@ -265,7 +356,7 @@ def run_map(task: dict[str, Any]) -> dict[str, Any]:
                                 "optimal": float("inf") if scen.no_path[i] else float(scen.optimal[i]),
                                 "kind": "unreachable" if scen.no_path[i] else "reachable", "bucket": int(scen.bucket[i])})
         else:
-            gm = read(d)
+            gm = generated_map(task["path"]) if task["kind"] == "generated" else read(d)
             pairs = ros_pairs(~gm.occupied, task["per_map"], task["ros_pairs"], task["ros_unreachable"])
             for k, (s, g, kind) in enumerate(pairs):
                 start, goal = gm.grid.cell_to_world([s, g])
@@ -380,6 +471,59 @@ QUALITY_HEADERS = ["variant", "maps", "reached / reachable", "no_path / unreacha
                    "time ratio"]
 
 
+def map_kind(family: str) -> str:
+    """``movingai``, ``ros`` or ``generated``, from a run's map family."""
+    return family if family in ("ros", "generated") else "movingai"
+
+
+#: Issue 46's targets for the default: length / any-angle optimum median, p95, max; time per query
+#: against ``wavefront-octile``'s on the same query (median of the per-query ratios).
+SHORT_TARGETS = {"median": 1.03, "p95": 1.10, "max": 1.25, "time": 3.0}
+
+
+def short_paths_report(results: list[dict[str, Any]], variants: Sequence[str]) -> list[str]:
+    """Issue 46's table: per variant and map kind (and all maps), reached / reachable, escapes, runs
+    crossing a blocked cell by exact geometry (:func:`exact_collision`), the length over the any-angle
+    optimum (median, p95, max) and the time per query beside ``wavefront-octile``'s on the same
+    queries (medians, and the per-query ratio's median and p90)."""
+    all_runs = [r for m in results for r in m["runs"]]
+    rows = []
+    for v in variants:
+        for kind, label in (("movingai", "Moving AI"), ("ros", "ROS"), ("generated", "generated"), (None, "**all**")):
+            runs = [r for r in all_runs if r["variant"] == v and r["kind"] == "reachable"
+                    and (kind is None or map_kind(r["family"]) == kind)]
+            if not runs or all(r["status"] == NOT_AVAILABLE for r in runs):
+                continue
+            ok = [r for r in runs if r["status"] == "reached"]
+            aa = np.array([r["length"] / r["any_angle"] for r in ok if r.get("any_angle")])
+            timed = [r for r in runs if r.get("seconds") is not None and r.get("octile_seconds")]
+            ms = np.array([1000 * r["seconds"] for r in timed])
+            ref = np.array([1000 * r["octile_seconds"] for r in timed])
+            ratio = ms / ref if len(timed) else np.array([np.nan])
+            esc = sum(int((r.get("extra") or {}).get("escapes_tried") or 0) for r in runs)
+            coll = sum(bool(r.get("exact_collision")) for r in runs)
+            vals = (np.median(aa), np.quantile(aa, 0.95), aa.max()) if aa.size else (np.nan,) * 3
+            met = (aa.size and vals[0] <= SHORT_TARGETS["median"] and vals[1] <= SHORT_TARGETS["p95"]
+                   and vals[2] <= SHORT_TARGETS["max"] and len(ok) == len(runs) and esc == 0 and coll == 0
+                   and np.median(ratio) <= SHORT_TARGETS["time"])
+            rows.append([f"`{v}`", label, str(aa.size), f"{len(ok)}/{len(runs)}", str(esc), str(coll),
+                         f"{vals[0]:.3f}", f"{vals[1]:.3f}", f"{vals[2]:.3f}",
+                         f"{np.median(ms):.1f}" if ms.size else "-", f"{np.median(ref):.1f}" if ref.size else "-",
+                         f"{np.median(ratio):.2f}", f"{np.quantile(ratio, 0.9):.2f}",
+                         ("yes" if met else "no") if kind is None else ""])
+    if not rows:
+        return []
+    t = SHORT_TARGETS
+    return ["### Short paths (issue 46): length over the any-angle optimum, exact collisions, time", "",
+            f"Targets over all maps: median <= {t['median']}, p95 <= {t['p95']}, max <= {t['max']}, every query "
+            f"reached without escape, no exact collision, median per-query time <= {t['time']:g} x `wavefront-octile`.",
+            "",
+            markdown_table(["variant", "maps", "queries (any-angle)", "reached / reachable", "escapes",
+                            "exact collisions", "median", "p95", "max", "ms / query median",
+                            "wavefront-octile ms median", "time ratio median (per query)", "p90", "targets met"],
+                           rows, left=2), ""]
+
+
 def quality_report(results: list[dict[str, Any]], variants: Sequence[str]) -> list[str]:
     def f(v: float | None, d: int = 3) -> str:
         return "-" if v is None else f"{v:.{d}f}"
@@ -389,11 +533,11 @@ def quality_report(results: list[dict[str, Any]], variants: Sequence[str]) -> li
     for m in results:
         for r in m["runs"]:
             r["resolution"] = m["resolution"]
-    for kind, label in (("movingai", "Moving AI"), ("ros", "ROS")):
+    for kind, label in (("movingai", "Moving AI"), ("ros", "ROS"), ("generated", "generated")):
         rows = []
         maps = [m for m in results if m["kind"] == kind and not m.get("error")]
         for v in variants:
-            runs = [r for r in all_runs if r["variant"] == v and (r["family"] == "ros") == (kind == "ros")]
+            runs = [r for r in all_runs if r["variant"] == v and map_kind(r["family"]) == kind]
             if not runs or all(r["status"] == NOT_AVAILABLE for r in runs):
                 continue
             q = quality(runs)
@@ -511,7 +655,8 @@ def report(results: list[dict[str, Any]], variants: Sequence[str]) -> list[str]:
         mai = [m for m in results if m["kind"] == "movingai"]
         ros = [m for m in results if m["kind"] == "ros"]
         if mai:
-            rows.append(summary_row("**all Moving AI**", len(mai), summarize([r for r in runs if r["family"] != "ros"])))
+            rows.append(summary_row("**all Moving AI**", len(mai),
+                                    summarize([r for r in runs if map_kind(r["family"]) == "movingai"])))
         if ros:
             rows.append(summary_row("**all ROS**", len(ros), summarize([r for r in runs if r["family"] == "ros"])))
         rows.append(summary_row("**overall**", len(results), summarize(runs)))
@@ -586,12 +731,16 @@ def find_tasks(root: Path, args: argparse.Namespace) -> list[dict[str, Any]]:
         for y in sorted(ros.glob("*/*.yaml")):
             size = sum(f.stat().st_size for f in y.parent.iterdir())
             tasks.append({"name": y.parent.name, "path": str(y), "kind": "ros", "family": "ros", "size": size, **common})
+    for spec in GENERATED[: args.generated]:
+        tasks.append({"name": "gen_" + spec.replace(":", "_"), "path": spec, "kind": "generated", "family": "generated",
+                      "size": 1 << 16, **common})
     if args.maps:
         tasks = [t for t in tasks if t["name"] in args.maps]
     if args.limit_maps is not None:  # the smallest maps of each kind first: quick runs
         tasks = sorted(tasks, key=lambda t: t["size"])
         kept = [t for t in tasks if t["kind"] == "movingai"][: args.limit_maps]
         kept += [t for t in tasks if t["kind"] == "ros"][: args.limit_maps]
+        kept += [t for t in tasks if t["kind"] == "generated"][: args.limit_maps]
         tasks = kept
     return tasks
 
@@ -618,6 +767,8 @@ def main(argv: list[str] | None = None) -> int:
                     help="the quality table: any-angle optimum, bottleneck clearance, wavefront-octile time per query")
     ap.add_argument("--any-angle-max-cells", type=int, default=1 << 20,
                     help="compute the any-angle optimum only on maps with at most this many cells")
+    ap.add_argument("--generated", type=int, default=0,
+                    help=f"also the first N generated maps of GENERATED (at most {len(GENERATED)}; ROS-like pairs)")
     ap.add_argument("--label", default="", help="written into the header, e.g. before or after")
     ap.add_argument("--out", type=Path, default=None, help="also write the markdown report to this file")
     ap.add_argument("--json", type=Path, default=None, help="write every run to this JSON file")
@@ -653,7 +804,7 @@ def main(argv: list[str] | None = None) -> int:
         f"- date: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; {os.cpu_count()} cores, "
         f"{args.workers} worker process(es); {machine_facts()}",
         f"- maps: {sum(m['kind'] == 'movingai' for m in results)} Moving AI, {sum(m['kind'] == 'ros' for m in results)} "
-        f"ROS under `{args.maps_root}`; {args.per_map} scenarios / pairs per map (ROS pairs: {args.ros_pairs} "
+        f"ROS under `{args.maps_root}`, {sum(m['kind'] == 'generated' for m in results)} generated; {args.per_map} scenarios / pairs per map (ROS pairs: {args.ros_pairs} "
         f"component, + {args.ros_unreachable} in different components), {len({(r['map'], r['query']) for r in runs})} "
         f"queries, {len(runs)} runs",
         f"- time: {wall:.0f} s wall, {cpu:.0f} s in the workers (reading, sampling, wavefront references, plans); "
@@ -666,7 +817,8 @@ def main(argv: list[str] | None = None) -> int:
         "no_path / error.",
         "",
     ]
-    lines = header + ((quality_report(results, args.variants) + time_report(results, args.variants)) if args.quality else [])
+    lines = header + ((short_paths_report(results, args.variants) + quality_report(results, args.variants)
+                       + time_report(results, args.variants)) if args.quality else [])
     lines += report(results, args.variants)
     text = "\n".join(lines).rstrip() + "\n"
     print(text, end="")

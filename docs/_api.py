@@ -16,7 +16,7 @@ MODULES = [
     "io", "geometry.world", "core.grid", "core.limits", "geometry.rasterize", "geometry.cspace", "distance.brushfire",
     "chunked", "distance.incremental", "fields.incremental", "fields.potential", "fields.navfield", "fields.vortex",
     "core.params", "following.descent", "fields.sampling", "following.follower", "following.basins",
-    "following.escapes", "following.diagnose", "fields.navigation", "fields.navtable", "fields.costmap", "fields.navfn",
+    "following.escapes", "following.diagnose", "following.taut", "fields.navigation", "fields.navtable", "fields.costmap", "fields.navfn",
     "exact.continuous", "exact.visibility", "geometry.gridpoly", "exact.anyangle", "planners", "core.path",
     "core.results", "compare", "sweep", "plot", "demo", "explore", "core.errors",
     # voxel grids and a robot that turns (issues 44, 45)

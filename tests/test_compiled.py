@@ -26,7 +26,7 @@ KERNELS = {
     "gridfield.exact._anyangle", "gridfield.exact._astar", "gridfield.exact._occlusion", "gridfield.exact._polyanya",
     "gridfield.fields._eikonal", "gridfield.fields._laplace", "gridfield.fields._navfn", "gridfield.fields._navigation",
     "gridfield.fields._navigation3", "gridfield.fields._voxelpath",
-    "gridfield.fields._potential", "gridfield.fields._samplers",
+    "gridfield.fields._potential", "gridfield.fields._samplers", "gridfield.following._taut",
 }
 #: The longest a kernel source (.pyx, .pxd, .h) may be, as any other file of the package (issue 43).
 MAX_LINES = 800

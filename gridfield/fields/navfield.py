@@ -22,10 +22,14 @@ computed once).
     distance; :func:`band_cost`; registry defaults 6 cells and 0.5). The slowness is bounded (at
     most ``1 + band_gain``, at a wall), so the path keeps off the walls by up to ``clearance_band``
     where that is cheap, runs along the middle of a passage narrower than ``2 clearance_band``
-    (where the slowness is least), and still passes a one-cell door; on the test maps (tests/data/maps) it costs
-    about 2 % of length (median, Moving AI) for 3.6-3.8 cells of clearance instead of 1.4 (median, ROS;
-    benchmarks/README.md). ``clearance_band=0`` (or ``band_gain=0``) is the plain distance, the
-    shortest way, grazing the corners.
+    (where the slowness is least), and still passes a one-cell door. The potential planner then pulls
+    the descended path taut (:mod:`gridfield.following.taut`, issue 46: string pulling of its own
+    vertices) without bringing it closer to an obstacle than ``min(clearance_band, the clearance the
+    descended path had nearby)``, so the band's clearance is kept and its detours are not: on the test
+    maps (tests/data/maps) the band costs about 1.5 % of length (median, Moving AI: 1.024 of the
+    any-angle optimum against 1.008 without it) for 3.6 cells of minimum clearance instead of 1.0
+    (median, ROS; benchmarks/README.md). ``clearance_band=0`` (or ``band_gain=0``) is the plain
+    distance, the shortest way, grazing the corners.
 ``model="nf2"``
     Latombe's NF2: the skeleton of the free space (the brushfire's GVD, plus the medial axis inside
     one obstacle's concavities, see :func:`skeleton`), the goal joined to it by steepest ascent of
@@ -65,8 +69,9 @@ U(start)``); the default ``w = 1.25`` is weighted A* (Pohl 1970): the front race
 start instead of settling that band (3 x fewer cells on the 512 x 512 Moving AI room and random maps
 than ``w = 1``, and 5 x fewer than the plain order), at the price of the guarantee that the settled
 cells hold the shortest way (weighted A*'s bound: a way at most ``w`` times longer). Measured on the
-634 queries of ``benchmarks/potential_real.py`` the lengths are those of ``w = 1`` (Moving AI median
-/ p95 1.035 / 1.106 of the any-angle optimum, ROS 1.010 / 1.035; ``benchmarks/README.md``). The A*
+634 queries of ``benchmarks/potential_real.py`` the descended paths' lengths (before the taut
+post-pass) are those of ``w = 1`` (Moving AI median / p95 1.035 / 1.106 of the any-angle optimum, ROS
+1.010 / 1.035; ``benchmarks/README.md``, stop 38). The A*
 order is not causal for the stencils either: a two-neighbour update's second neighbour may be
 accepted after the cell (for ``w <= 1/sqrt 2`` the smaller one never is, as ``u - a >= spacing /
 sqrt 2``), which gives the cell a one-sided, higher value; so the truncated values exceed the full

@@ -6,6 +6,7 @@ from . import descent as descent
 from . import diagnose as diagnose
 from . import escapes as escapes
 from . import follower as follower
+from . import taut as taut
 from .basins import Basins as Basins
 from .basins import descent_successor as descent_successor
 from .descent import DESCEND_UNIT as DESCEND_UNIT
@@ -42,6 +43,8 @@ from .follower import plan_potential as plan_potential
 from .follower import plan_potential_with_field as plan_potential_with_field
 from .follower import resolve_follow_params as resolve_follow_params
 from .follower import sample_force as sample_force
+from .taut import crossed_clearance as crossed_clearance
+from .taut import taut_path as taut_path
 
 __all__ = [
     "DESCEND_UNIT",
@@ -56,6 +59,7 @@ __all__ = [
     "attraction_force",
     "basins",
     "corner_passage",
+    "crossed_clearance",
     "cut_loops",
     "descend",
     "descend_cells",
@@ -83,6 +87,8 @@ __all__ = [
     "robot_no_path",
     "rules",
     "sample_force",
+    "taut",
+    "taut_path",
     "unreachable_hint",
     "without_loops",
 ]

@@ -125,6 +125,7 @@ def _run_chunked(args: argparse.Namespace) -> int:
     """``--out F.zarr``: the distance and nearest obstacle chunk by chunk (gridfield.chunked), to a store."""
     from ..core.chunkcache import LazyGridMap
     from ..core.errors import ParameterError
+    from ..io._common import redact
     from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
     from ._common import load_target
 
@@ -149,7 +150,7 @@ def _run_chunked(args: argparse.Namespace) -> int:
     s = time.perf_counter() - t0
     print(f"brushfire {grid.rows}x{grid.cols} cells of {grid.resolution:g} in {n} chunks of {args.chunks} "
           f"({metric} distance, {grid.border} border{'' if args.saturate is None else f', saturated at {args.saturate:g}'}): "
-          f"wrote {args.out} (occupied, distance, nearest_row, nearest_col) in {s:.1f} s")
+          f"wrote {redact(args.out)} (occupied, distance, nearest_row, nearest_col) in {s:.1f} s")
     return 0
 
 

@@ -194,6 +194,26 @@ def test_brushfire_and_field_on_s3_with_a_cluster_equal_the_references_and_plan_
     assert _chunk_files(watched_here) == []
 
 
+def test_gvd_through_s3_on_the_cluster_equals_brushfire(s3, cluster):
+    """``gvd(..., scratch="s3://...")`` on the two worker processes: the passes (and the gathered labels)
+    meet in the bucket; distance, labels and GVD equal the in-memory brushfire, and the prefix is removed."""
+    import dask.array as da
+
+    from gridfield.chunked import gvd, scratch_dir
+    from gridfield.distance.brushfire import brushfire
+
+    occ = _occ()
+    ref = brushfire(GridMap(Grid(occ.shape, RES, border="wall"), occ), metric="euclidean")
+    with scratch_dir("s3://fields/gvd.scratch") as s:
+        lazy = gvd(da.from_array(occ, chunks=CHUNK), resolution=RES, border="wall", scratch=s)
+        d, lab, g = cluster["client"].compute(list(lazy), sync=True)
+    np.testing.assert_array_equal(d, ref.distance)
+    np.testing.assert_array_equal(lab, ref.label)
+    np.testing.assert_array_equal(g, ref.gvd)
+    assert not _fs().exists("fields/gvd.scratch")
+    assert _chunk_files(cluster["watched"]) == []
+
+
 def test_an_interrupted_store_resumes_in_place(s3, watched_here, capsys, monkeypatch):
     """A run stopped after some chunks leaves the store at its URL marked as interrupted: ``read`` refuses
     it naming the resume, and the same command writes only the chunks not yet written."""

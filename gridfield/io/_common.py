@@ -210,16 +210,16 @@ def url_fs(url: str) -> tuple[Any, str]:
     from ..core.errors import GridfieldError
 
     scheme = url.split("://", 1)[0].lower()
-    extra = {"s3": "s3", "s3a": "s3", "gs": "gcs", "gcs": "gcs"}.get(scheme, "s3")
     try:
         import fsspec.core
     except ImportError:
-        raise GridfieldError(f"{redact(url)}: a URL needs fsspec: pip install 'gridfield[{extra}]'") from None
+        raise GridfieldError(f"{redact(url)}: a URL needs fsspec: pip install 'gridfield[s3]' (fsspec and s3fs; "
+                             "another file system's package beside it, e.g. gcsfs for gs://)") from None
     try:
         fs, path = fsspec.core.url_to_fs(url)
     except ImportError as e:
-        raise GridfieldError(f"{redact(url)}: the {scheme}:// file system needs its package ({redact(e)}): "
-                             f"pip install 'gridfield[{extra}]'") from None
+        raise GridfieldError(f"{redact(url)}: the {scheme}:// file system needs its package ({redact(e)}); for s3:// "
+                             "pip install 'gridfield[s3]'") from None
     except (ValueError, TypeError) as e:
         raise GridfieldError(f"{redact(url)}: not a URL fsspec opens: {redact(e)}") from None
     return fs, str(path)

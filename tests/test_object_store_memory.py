@@ -119,3 +119,23 @@ def test_redact_hides_keys_in_urls_and_the_environment(monkeypatch):
     text = redact("s3://AKIAXYZ:pw@b/f.zarr?X-Amz-Credential=abc&x=1 failed with very-secret-value")
     assert "AKIAXYZ" not in text and "pw@" not in text and "abc" not in text and "very-secret-value" not in text
     assert text == "s3://***@b/f.zarr?X-Amz-Credential=***&x=1 failed with ***"
+
+
+@pytest.mark.parametrize("metric", ["chessboard", "taxicab"])
+def test_cli_brushfire_default_metric_to_a_url_writes_the_distance(metric, capsys):
+    """``gridfield brushfire MAP --out URL`` without ``--metric`` (chessboard) or with taxicab: the distance alone
+    (their nearest cells follow the in-memory raster order, which the chunks do not reproduce), equal to the
+    in-memory brushfire; before, the command refused its own default."""
+    import io
+
+    occ = np.random.default_rng(9).random((33, 41)) < 0.03
+    buf = io.BytesIO()
+    np.save(buf, occ)
+    fsspec.filesystem("memory").pipe_file(f"/in/{metric}.npy", buf.getvalue())
+    cmd = ["brushfire", f"memory://in/{metric}.npy", "--chunks", "16", "--out", f"memory://out/{metric}.zarr"]
+    assert main(cmd if metric == "chessboard" else [*cmd, "--metric", metric]) == 0, capsys.readouterr().err
+    assert "(occupied, distance)" in capsys.readouterr().out
+    dm = read(f"memory://out/{metric}.zarr")
+    ref = brushfire(GridMap(Grid(occ.shape, 1.0, border="open"), occ), metric=metric)
+    assert dm.metric == metric and dm.nearest_row is None
+    np.testing.assert_array_equal(np.asarray(dm.distance), ref.distance)

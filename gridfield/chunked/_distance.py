@@ -416,14 +416,14 @@ def scratch_dir(path: str | os.PathLike[str]) -> Iterator[Any]:
 
 
 def _url(path: object) -> bool:
-    from ..io._common import is_url  # (io's helpers import nothing of chunked)
+    from ..io import is_url  # (io's helpers import nothing of chunked)
 
     return is_url(path)
 
 
 def _fs(url: str) -> tuple[Any, str]:
     """The fsspec file system of a URL and the path in it (fsspec imported on first use)."""
-    from ..io._common import url_fs
+    from ..io import url_fs
 
     fs, root = url_fs(url)
     return fs, root.rstrip("/")
@@ -434,7 +434,7 @@ def _remote_scratch(url: str) -> Iterator[str]:
     """:func:`scratch_dir` for a URL: the prefix is cleared of a killed run's temporary stores first
     (refused when it holds anything else) and removed on exit."""
     from ..core.errors import GridfieldError
-    from ..io._common import redact, store_errors
+    from ..io import redact, store_errors
 
     url = url.rstrip("/")
     fs, root = _fs(url)
@@ -489,7 +489,7 @@ def _scratch_path(scratch: object) -> Path | str:
         raise ArgumentTypeError(f"scratch must be a directory path, got {type(scratch).__name__} (or a URL string)")
     if _url(scratch):
         return str(scratch).rstrip("/")
-    from ..io._common import local_path
+    from ..io import local_path
 
     p = Path(local_path(scratch))
     if p.exists() and not p.is_dir():
@@ -531,7 +531,7 @@ def _gather_columns(vr: NDArray[np.int32], lab: NDArray[np.int32], outside: int)
 def _put_strip(path: str, final: str, a: NDArray[np.int32]) -> None:
     """``a`` (C order) as the raw strip ``final`` of the temporary store, whole or not at all."""
     if _url(path):  # one object, written whole by one request
-        from ..io._common import store_errors
+        from ..io import store_errors
 
         fs, key = _fs(final)
         with store_errors(path):
@@ -622,7 +622,7 @@ def _read_window(path: str, r0: int, r1: int, a: int, b: int, rows: int, cols: i
 
 def _read_remote_rows(path: str, m: int, r0: int, r1: int, width: int, kind: str = "strip") -> NDArray[np.int32]:
     """Rows ``r0:r1`` of strip ``m`` of a temporary store at a URL: one ranged read."""
-    from ..io._common import store_error
+    from ..io import store_error
 
     fs, key = _fs(_strip_file(path, m, kind))
     want = (r1 - r0) * width * 4

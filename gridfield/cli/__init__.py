@@ -204,12 +204,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.close(devnull)
         return 141  # 128 + SIGPIPE
     except GridfieldError as e:
-        from ..io._common import redact  # a URL's credentials are never shown
+        from ..io import redact  # a URL's credentials are never shown
 
         print(f"gridfield {args.command}: error: {redact(e)}", file=sys.stderr)
         return 2
     except (FileNotFoundError, IsADirectoryError, PermissionError) as e:
-        from ..io._common import redact
+        from ..io import redact
 
         print(f"gridfield {args.command}: error: {redact(e.strerror or e)}: {redact(e.filename)}", file=sys.stderr)
         return 2

@@ -57,7 +57,7 @@ def chunked(args: argparse.Namespace) -> bool:
             if getattr(args, opt) is not None:
                 raise ParameterError(f"--{opt} applies to the chunked computation; pass --out F.zarr too")
         return False
-    from ..io._common import is_url, local_path, redact
+    from ..io import is_url, local_path, redact
 
     args.out = local_path(args.out)
     if not str(args.out).rstrip("/").lower().endswith(".zarr"):
@@ -82,7 +82,7 @@ def chunked(args: argparse.Namespace) -> bool:
 def _check_remote_out(url: str) -> None:
     """An ``--out`` URL: refused when a complete store (or anything but an interrupted one) is there."""
     from ..core.errors import GridfieldError
-    from ..io._common import redact, store_errors, url_fs
+    from ..io import redact, store_errors, url_fs
 
     fs, root = url_fs(url)
     with store_errors(url):
@@ -133,13 +133,13 @@ def lazy_occupancy(args: argparse.Namespace, target: Any) -> tuple[Any, Any]:
 def resume_token(args: argparse.Namespace, **extra: Any) -> str:
     """What identifies a chunked run: the input file (path, size, modification time; for a URL its size and
     ETag or modification time) and the options."""
-    from ..io._common import is_url
+    from ..io import is_url, local_path
 
     ident: list[Any]
     if is_url(args.map):
         ident = [str(args.map), *_url_identity(str(args.map))]
     else:
-        p = Path(args.map)
+        p = Path(local_path(args.map))
         try:
             st = p.stat()
             ident = [str(p.resolve()), st.st_size, st.st_mtime_ns]
@@ -152,7 +152,7 @@ def resume_token(args: argparse.Namespace, **extra: Any) -> str:
 
 def _url_identity(url: str) -> list[Any]:
     """A URL's object (or a Zarr store's ``zarr.json``): its size and its ETag or modification time."""
-    from ..io._common import url_fs
+    from ..io import url_fs
 
     fs, root = url_fs(url)
     try:
@@ -219,7 +219,7 @@ def write(args: argparse.Namespace, arrays: dict[str, Any], grid: Any, kind: str
 
 def partial_note(args: argparse.Namespace) -> str:
     """How to resume, for an error raised during the write."""
-    from ..io._common import is_url
+    from ..io import is_url
 
     if is_url(args.out):  # (the store may be out of reach: not looked at)
         return " (the chunks written stay in the store: run the same command again to resume)"

@@ -125,7 +125,7 @@ def _run_chunked(args: argparse.Namespace) -> int:
     """``--out F.zarr``: the distance and nearest obstacle chunk by chunk (gridfield.chunked), to a store."""
     from ..core.chunkcache import LazyGridMap
     from ..core.errors import ParameterError
-    from ..io._common import redact
+    from ..io import redact
     from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
     from ._common import load_target
 

@@ -98,7 +98,7 @@ def _run_chunked(args: argparse.Namespace) -> int:
     from ..core.params import validate
     from ..fields.potential import resolve_params
     from ..geometry.rasterize import as_gridmap
-    from ..io._common import redact
+    from ..io import redact
     from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     if args.planner != "potential":
@@ -155,7 +155,7 @@ def _run_chunked_nf1(args: argparse.Namespace, gridmap: Any, cell: tuple[int, in
     from ..core.errors import ParameterError
     from ..core.params import resolve_field
     from ..fields.navfield import NF_PROGRESS_WINDOW
-    from ..io._common import redact
+    from ..io import redact
     from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     grid = gridmap.grid

@@ -189,7 +189,7 @@ def _follow_stored(args: argparse.Namespace, field: Field, params: dict[str, obj
     at a URL too: its tiles are fetched as the path crosses them)."""
     from ..core.errors import ParameterError
     from ..following.follower import follow
-    from ..io._common import redact
+    from ..io import redact
 
     if args.planner != "potential":
         raise ParameterError(f"{args.map} holds a potential field: it is followed by the potential planner, "

@@ -72,7 +72,7 @@ from ..geometry.world import world_from_dict
 from ._bitmap import UNKNOWN_CHOICES as UNKNOWN_CHOICES
 from ._bitmap import read_bitmap, write_bitmap
 from ._common import PathLike as PathLike
-from ._common import _check_file, inner_suffix, is_gzip, is_url, local_path, redact
+from ._common import _check_file, inner_suffix, is_gzip, is_url, local_path, redact, store_error, store_errors, url_fs
 from ._costmap import from_occupancy_grid, read_costmap, read_occupancy_grid, to_occupancy_grid, write_costmap
 from ._costmap import is_costmap_yaml as _is_costmap_yaml
 from ._costmap import is_occupancy_grid_yaml as _is_occupancy_grid_yaml
@@ -94,7 +94,9 @@ __all__ = [
     "Scenarios",
     "bundled_map",
     "from_occupancy_grid",
+    "is_url",
     "load_field",
+    "local_path",
     "read",
     "read_bitmap",
     "read_costmap",
@@ -111,9 +113,13 @@ __all__ = [
     "read_yaml",
     "read_zarr",
     "read_zarr_array",
+    "redact",
     "ros_occupancy_values",
     "save_field",
+    "store_error",
+    "store_errors",
     "to_occupancy_grid",
+    "url_fs",
     "write_bitmap",
     "write_costmap",
     "write_npz",

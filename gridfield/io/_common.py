@@ -146,6 +146,15 @@ def is_url(path: object) -> bool:
 
     A ``file://`` URL is a local path (:func:`local_path`), so it is not one.
 
+    Parameters
+    ----------
+    path : object
+        A path or URL.
+
+    Returns
+    -------
+    bool
+
     Examples
     --------
     >>> is_url("s3://maps/big.tif"), is_url("memory://f.zarr"), is_url("file:///tmp/f.zarr"), is_url("maps/a.map")
@@ -161,6 +170,14 @@ def local_path(path: Any) -> Any:
     """``path`` with a ``file://`` prefix taken off (a local path, as the local readers and writers take);
     anything else unchanged.
 
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    str or path-like
+
     Examples
     --------
     >>> local_path("file:///tmp/f.zarr"), local_path("s3://b/f.zarr"), local_path("f.zarr")
@@ -174,6 +191,15 @@ def local_path(path: Any) -> Any:
 def redact(text: object) -> str:
     """``text`` without credentials: a URL's ``user:secret@``, credential query parameters, and the values of
     :data:`SECRET_VARIABLES` set in the environment become ``***``.
+
+    Parameters
+    ----------
+    text : object
+        A message, a URL, an exception.
+
+    Returns
+    -------
+    str
 
     Examples
     --------
@@ -195,6 +221,16 @@ def url_fs(url: str) -> tuple[Any, str]:
     """The fsspec file system of ``url`` and the path inside it; credentials come from the environment
     (AWS variables, fsspec's configuration), never from gridfield. fsspec (and the file system's package,
     e.g. s3fs) is imported here, on first use.
+
+    Parameters
+    ----------
+    url : str
+        ``s3://bucket/key``, ``gs://...``, ``memory://...``.
+
+    Returns
+    -------
+    (fsspec.AbstractFileSystem, str)
+        The file system (fsspec's cached instance) and the path in it.
 
     Raises
     ------
@@ -229,6 +265,17 @@ def store_error(e: BaseException, where: str) -> Exception | None:
     """One clear :class:`~gridfield.core.errors.GridfieldError` (credentials redacted) for an error of an
     object store reached at the URL ``where``: a missing bucket or object, a denied access, a dropped
     connection; None for any other error (the caller re-raises it).
+
+    Parameters
+    ----------
+    e : BaseException
+        The error raised by the store's client (s3fs, botocore, aiohttp, fsspec).
+    where : str
+        The URL being read or written (shown redacted).
+
+    Returns
+    -------
+    GridfieldError or None
 
     Examples
     --------
@@ -265,7 +312,25 @@ _STORE_PACKAGES = frozenset({"botocore", "aiobotocore", "s3fs", "gcsfs", "adlfs"
 
 @contextlib.contextmanager
 def store_errors(where: str) -> Iterator[None]:
-    """Inside: an object store's error at ``where`` becomes one clear error (:func:`store_error`)."""
+    """Inside: an object store's error at ``where`` becomes one clear error (:func:`store_error`).
+
+    Parameters
+    ----------
+    where : str
+        The URL being read or written (shown redacted).
+
+    Yields
+    ------
+    None
+
+    Examples
+    --------
+    >>> with store_errors("s3://no-such-bucket/f.zarr"):
+    ...     raise FileNotFoundError("The specified bucket does not exist")
+    Traceback (most recent call last):
+    ...
+    gridfield.core.errors.GridfieldError: s3://no-such-bucket/f.zarr: no such bucket or object (The specified bucket does not exist)
+    """
     try:
         yield
     except Exception as e:

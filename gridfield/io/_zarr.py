@@ -87,6 +87,7 @@ def is_store(path: PathLike) -> bool:
     if is_url(path):
         fs, root = url_fs(str(path))
         with store_errors(str(path)):
+            fs.invalidate_cache(root)  # (a listing cached before another process wrote the store)
             return bool(fs.exists(f"{root.rstrip('/')}/zarr.json"))
     p = FsPath(path)
     return p.is_dir() and (p / "zarr.json").is_file()

@@ -25,9 +25,15 @@ each phase is printed from the scheduler's task stream (for the extrapolation in
 sampling every 5 ms while a task runs; 1 thread per worker, so one task at a time); the table gives the
 largest.
 
+- ``--s3``: each ``big N`` twice, first with the output store and the passes' temporary store on local
+  disk, then both on S3 (``s3://bench/out.zarr`` and ``s3://bench/out.zarr.scratch``; moto's S3 server on
+  127.0.0.1 started here, the workers given its address through the usual AWS variables): the rows'
+  note gives the S3/local time ratio, and the per-task memory columns compare the two.
+
 Usage::
 
     python benchmarks/chunked.py --compare 8192 --big 16384 --chunk 1024 --workers 2 --memory-limit 2GiB
+    python benchmarks/chunked.py --big 16384 --chunk 1024 --memory-limit 3GiB --s3
     python benchmarks/chunked.py --big 32768 --chunk 2048 --memory-limit 6GiB --store /tmp/big.zarr
 """
 
@@ -165,6 +171,25 @@ def occupancy(n: int, chunk: int, density: float, seed: int, source: Path | None
     return da.from_zarr(str(source))
 
 
+def _s3_server():
+    """moto's S3 server on 127.0.0.1 (a free port), named to this process and the workers it starts by the
+    usual AWS variables, with the bucket ``bench``."""
+    import logging
+
+    from moto.server import ThreadedMotoServer
+
+    logging.getLogger("werkzeug").setLevel(logging.ERROR)
+    server = ThreadedMotoServer(ip_address="127.0.0.1", port=0, verbose=False)
+    server.start()
+    host, port = server.get_host_and_port()
+    os.environ.update(AWS_ACCESS_KEY_ID="bench", AWS_SECRET_ACCESS_KEY="bench", AWS_DEFAULT_REGION="us-east-1",
+                      AWS_ENDPOINT_URL=f"http://{host}:{port}", AWS_EC2_METADATA_DISABLED="true")
+    import s3fs
+
+    s3fs.S3FileSystem().mkdir("bench")
+    return server
+
+
 def run_chunked(client, n: int, chunk: int, density: float, store: Path, seed: int = 27, compress: bool = False,
                 passes: str = "store", source: Path | None = None, sink: str = "zarr"):
     import dask.array as da
@@ -174,7 +199,14 @@ def run_chunked(client, n: int, chunk: int, density: float, store: Path, seed: i
     from gridfield import chunked
 
     occ = occupancy(n, chunk, density, seed, source)
-    if store.exists():
+    if isinstance(store, str):  # a URL (--s3)
+        import fsspec
+
+        fs = fsspec.core.url_to_fs(store)[0]
+        for old in (store, store + ".scratch"):
+            if fs.exists(old):
+                fs.rm(old, recursive=True)
+    elif store.exists():
         shutil.rmtree(store)
     root = zarr.open_group(str(store), mode="w")
     names = ("distance", "nearest_row", "nearest_col")
@@ -184,8 +216,8 @@ def run_chunked(client, n: int, chunk: int, density: float, store: Path, seed: i
                for name, dtype in zip(names, ("float64", "int32", "int32"), strict=True)]
     client.run(_start_sampler)
     client.run(_task_memory, reset=True)
-    scratch = (chunked.scratch_dir(store.with_name(store.name + ".scratch")) if passes == "store"
-               else contextlib.nullcontext(None))
+    where = f"{store}.scratch" if isinstance(store, str) else store.with_name(store.name + ".scratch")
+    scratch = chunked.scratch_dir(where) if passes == "store" else contextlib.nullcontext(None)
     cpu0 = sum(client.run(_cpu_seconds).values())
     t0 = time.perf_counter()  # the graph is built inside: building the store's graph makes its directory
     with scratch as s, get_task_stream(client) as ts:
@@ -245,7 +277,10 @@ def main(argv: list[str] | None = None) -> int:
                     help="write the results to the Zarr store (default) or drop them (the computation alone; "
                          "no equality check)")
     ap.add_argument("--out", type=Path, default=None, help="also write the table to this markdown file")
+    ap.add_argument("--s3", action="store_true",
+                    help="run each --big size on local disk, then with the stores on S3 (moto's server on 127.0.0.1)")
     args = ap.parse_args(argv)
+    server = _s3_server() if args.s3 else None
 
     from distributed import Client, LocalCluster
 
@@ -262,6 +297,8 @@ def main(argv: list[str] | None = None) -> int:
         client.run(_warm_up)
         client.register_plugin(TaskMemory())
         run_chunked(client, 4 * args.chunk, args.chunk, args.density, store, passes=args.passes)  # warm-up (untimed)
+        if args.s3:  # and on S3: the workers' first s3fs session is not a task's memory
+            run_chunked(client, 4 * args.chunk, args.chunk, args.density, "s3://bench/out.zarr", passes=args.passes)
         task_mem: list = []
         idle: list[int] = []
         for n in args.compare:
@@ -288,19 +325,29 @@ def main(argv: list[str] | None = None) -> int:
                          ("yes" if equal else "NO") if args.sink == "zarr" else "(discarded)"])
             print(rows[-1], flush=True)
         for n in args.big:
-            workers_before = set(client.scheduler_info()["workers"])
-            t_chk, peaks, stream, _, cpu = run_chunked(client, n, args.chunk, args.density, store, compress=args.compress,
-                                                  passes=args.passes)
-            streams += stream
-            inc = _collect(client, task_mem, idle)
-            workers_after = set(client.scheduler_info()["workers"])
-            restarted = len(workers_before - workers_after)
-            rows.append([f"big {n}", args.chunk, "-", f"{t_chk:.2f}", "-", "-", f"{cpu:.2f}", "-", f"{max(peaks.values()) / 2**20:.0f}",
-                         f"{max(idle) / 2**20:.0f}", f"{inc / 2**20:.1f}",
-                         f"{args.chunk ** 2 * 16 / 2**20:.0f}", f"restarted workers: {restarted}"])
-            print(rows[-1], flush=True)
+            local_s = None
+            for place in (store, "s3://bench/out.zarr") if args.s3 else (store,):
+                workers_before = set(client.scheduler_info()["workers"])
+                t_chk, peaks, stream, _, cpu = run_chunked(client, n, args.chunk, args.density, place,
+                                                           compress=args.compress, passes=args.passes)
+                streams += stream
+                inc = _collect(client, task_mem, idle)
+                workers_after = set(client.scheduler_info()["workers"])
+                restarted = len(workers_before - workers_after)
+                remote = isinstance(place, str)
+                note = f"restarted workers: {restarted}"
+                if remote and local_s:
+                    note += f"; S3 / local {t_chk / local_s:.2f}x"
+                local_s = local_s or t_chk
+                label = f"big {n}" + ((" S3" if remote else " local disk") if args.s3 else "")
+                rows.append([label, args.chunk, "-", f"{t_chk:.2f}", "-", "-", f"{cpu:.2f}", "-",
+                             f"{max(peaks.values()) / 2**20:.0f}", f"{max(idle) / 2**20:.0f}", f"{inc / 2**20:.1f}",
+                             f"{args.chunk ** 2 * 16 / 2**20:.0f}", note])
+                print(rows[-1], flush=True)
         costs = per_task_costs(streams)
     shutil.rmtree(tmp, ignore_errors=True)
+    if server is not None:
+        server.stop()
     table = markdown_table(["run", "chunk", "in-memory 1 thread s", f"chunked {args.workers}x1 s",
                             "per-core ratio", "in-memory CPU s", "workers' CPU s", "CPU ratio", "peak worker RSS MiB", "worker RSS before MiB",
                             "max task RSS increment MiB", "one chunk's outputs MiB", "equal / note"], rows)

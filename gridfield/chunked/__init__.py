@@ -8,8 +8,9 @@ extra): importing this package does not import it.
 
 - :func:`distance`: the Euclidean, chessboard or taxicab distance with the nearest obstacle (exact for any
   distance: a rechunk between the column and the row pass), or saturated with a halo only.
-- :func:`scratch_dir`: a directory for the temporary store between :func:`distance`'s passes
-  (``scratch=``), removed on exit, also on error.
+- :func:`scratch_dir`: a directory (or an object store's URL prefix, for workers that share no disk) for
+  the temporary store between :func:`distance`'s and :func:`gvd`'s passes (``scratch=``), removed on exit,
+  also on error.
 - :func:`field`: the classic (khatib) potential and its gradient chunk by chunk, from the nearest cells.
 - :func:`gvd`: the Euclidean distance, the label of each cell's nearest obstacle and the GVD (two gathers
   along the separable passes, then a one-cell halo).

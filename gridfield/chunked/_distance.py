@@ -20,7 +20,11 @@ nearest (or tie) inside the chunk, which lie within about the distance at the ch
 columns; a row that needs more than the window makes the task read a wider one (four times the margin).
 Memory per task: the strip (``rows x width`` of occupancy and ``int32``) for the column pass, the window
 (``chunk_rows x (chunk_cols + 2 x margin)`` of ``int32``) and one chunk's outputs for the row pass; no
-rechunk, and the outputs come out in the input's chunks.
+rechunk, and the outputs come out in the input's chunks. The temporary store may be a URL (``s3://...``,
+``memory://``; fsspec, imported only then): each strip is then one object, written whole by one request
+(an object appears whole or not at all), and a window is read back by one ranged read per strip it
+overlaps (a strip's rows are contiguous), so workers on machines that share no disk meet through the
+object store.
 
 Saturated (``saturate=`` and no nearest obstacle): a cell nearer than the radius has its nearest obstacle
 less than ``h = ceil(saturate / resolution) + 1`` cells away along each axis, and no obstacle inside a
@@ -177,12 +181,13 @@ def distance(
     far : float
         Value of saturated distances (default ``inf``).
     scratch : str or path-like, optional
-        A directory (made if missing) for the temporary store between the passes of the exact Euclidean
+        A directory (made if missing), or a URL (``s3://bucket/prefix``: an object store every worker reaches,
+        see the module notes), for the temporary store between the passes of the exact Euclidean
         path (``metric="euclidean"`` and ``return_nearest`` or no ``saturate``): the column pass writes its
         ``int32`` rows there, and each output chunk is computed by one task that reads the rows it needs back
         (see the module notes), so no task holds much more than one chunk's outputs and nothing moves
-        all-to-all between workers. The workers must see the same path (one machine, or a shared file
-        system). The store stays until the caller removes it: compute the results inside
+        all-to-all between workers. The workers must see the same path (one machine, a shared file
+        system, or the object store of a URL). The store stays until the caller removes it: compute the results inside
         :func:`scratch_dir`, which removes it on exit, also on error. Without it, the passes meet by a
         task rechunk in worker memory (whole row strips per task). Ignored by the other paths.
 
@@ -352,7 +357,7 @@ _SCRATCH_PREFIX = "column-pass-"
 
 
 @contextlib.contextmanager
-def scratch_dir(path: str | os.PathLike[str]) -> Iterator[Path]:
+def scratch_dir(path: str | os.PathLike[str]) -> Iterator[Any]:
     """A directory for :func:`distance`'s temporary store (``scratch=``), removed on exit, also on error.
 
     ``path`` is made; one that a killed run left (holding nothing but temporary stores) is removed first.
@@ -361,12 +366,13 @@ def scratch_dir(path: str | os.PathLike[str]) -> Iterator[Path]:
     Parameters
     ----------
     path : str or path-like
-        The directory, e.g. next to the output store (``OUT.zarr.scratch``); its parent must exist.
+        The directory, e.g. next to the output store (``OUT.zarr.scratch``); its parent must exist. Or a URL
+        (``s3://bucket/out.zarr.scratch``): a prefix of an object store, whose objects are removed likewise.
 
     Yields
     ------
-    pathlib.Path
-        ``path``.
+    pathlib.Path or str
+        ``path`` (the URL, for a URL).
 
     Raises
     ------
@@ -382,9 +388,17 @@ def scratch_dir(path: str | os.PathLike[str]) -> Iterator[Path]:
     ...     d = distance(da.from_array(occ, chunks=2), border="open", scratch=s).compute()
     >>> d[1], os.path.exists(where)
     (array([1., 0., 1., 2., 3., 4.]), False)
+    >>> with scratch_dir("memory://doc/out.zarr.scratch") as s:   # a URL: an object store's prefix
+    ...     d = distance(da.from_array(occ, chunks=2), border="open", scratch=s).compute()
+    >>> d[1]
+    array([1., 0., 1., 2., 3., 4.])
     """
     from ..core.errors import GridfieldError
 
+    if _url(path):
+        with _remote_scratch(str(path)) as url:
+            yield url
+        return
     p = Path(path)
     if p.exists() and not p.is_dir():
         raise GridfieldError(f"{p}: exists and is not a directory; the scratch directory must be free")
@@ -401,6 +415,62 @@ def scratch_dir(path: str | os.PathLike[str]) -> Iterator[Path]:
         _remove(p)
 
 
+def _url(path: object) -> bool:
+    from ..io import is_url  # (io's helpers import nothing of chunked)
+
+    return is_url(path)
+
+
+def _fs(url: str) -> tuple[Any, str]:
+    """The fsspec file system of a URL and the path in it (fsspec imported on first use)."""
+    from ..io import url_fs
+
+    fs, root = url_fs(url)
+    return fs, root.rstrip("/")
+
+
+@contextlib.contextmanager
+def _remote_scratch(url: str) -> Iterator[str]:
+    """:func:`scratch_dir` for a URL: the prefix is cleared of a killed run's temporary stores first
+    (refused when it holds anything else) and removed on exit."""
+    from ..core.errors import GridfieldError
+    from ..io import redact, store_errors
+
+    url = url.rstrip("/")
+    fs, root = _fs(url)
+    with store_errors(url):
+        if fs.exists(root):
+            names = {str(e).rstrip("/").rsplit("/", 1)[-1] for e in fs.ls(root, detail=False)}
+            foreign = sorted(n for n in names if not n.startswith(_SCRATCH_PREFIX))
+            if foreign:
+                raise GridfieldError(f"{redact(url)}: exists and holds {shorten(foreign)}, not only temporary "
+                                     "stores; choose another scratch prefix")
+            _remove_remote(fs, root, wait=0.0)
+    try:
+        yield url
+    except BaseException:  # the run's own error stands; the store may be out of reach (a dropped
+        with contextlib.suppress(Exception):  # connection): what stays is cleared when the next run starts
+            _remove_remote(fs, root)
+        raise
+    with store_errors(url):
+        _remove_remote(fs, root)
+
+
+def _remove_remote(fs: Any, root: str, wait: float = 10.0) -> None:
+    """Remove every object under ``root``; again while tasks of a failed run, still finishing, add some
+    (an error of the store ends it)."""
+    import time
+
+    deadline = time.monotonic() + wait
+    while True:
+        with contextlib.suppress(FileNotFoundError):
+            fs.rm(root, recursive=True)
+        fs.invalidate_cache()
+        if not fs.exists(root) or time.monotonic() > deadline:
+            return
+        time.sleep(0.05)
+
+
 def _remove(p: Path, wait: float = 10.0) -> None:
     """Remove ``p``; again while tasks of a failed run, still finishing, add files to it (they never make
     a directory: once it is gone, it stays gone)."""
@@ -414,10 +484,14 @@ def _remove(p: Path, wait: float = 10.0) -> None:
         time.sleep(0.01)
 
 
-def _scratch_path(scratch: object) -> Path:
+def _scratch_path(scratch: object) -> Path | str:
     if not isinstance(scratch, str | os.PathLike):
-        raise ArgumentTypeError(f"scratch must be a directory path, got {type(scratch).__name__}")
-    p = Path(scratch)
+        raise ArgumentTypeError(f"scratch must be a directory path, got {type(scratch).__name__} (or a URL string)")
+    if _url(scratch):
+        return str(scratch).rstrip("/")
+    from ..io import local_path
+
+    p = Path(local_path(scratch))
     if p.exists() and not p.is_dir():
         raise ParameterError(f"scratch {str(p)!r} is not a directory")
     p.mkdir(parents=True, exist_ok=True)
@@ -439,38 +513,76 @@ def _strip_width(rows: int, chunk_rows: int, chunk_cols: int) -> int:
     return chunk_cols // -(-chunk_cols // want)
 
 
-def _strip_file(path: str, m: int) -> str:
-    return os.path.join(path, f"strip-{m}.i32")
+def _strip_file(path: str, m: int, kind: str = "strip") -> str:
+    """Strip ``m`` of the column pass (``kind="strip"``) or of its gathered labels (``"label"``)."""
+    return f"{path}/{kind}-{m}.i32" if _url(path) else os.path.join(path, f"{kind}-{m}.i32")
 
 
-def _column_to_store(pieces: list[list[NDArray[np.bool_]]], cuts: list[list[int]], path: str, m: int,
-                     wall: bool) -> int:
-    """The column pass of strip ``m`` (whole columns), written to the temporary store as one raw ``int32``
-    file of its rows in order: ``pieces[p]`` is a column of occupancy blocks (top to bottom) of which the
-    strip holds the columns ``cuts[p]``.
+def _gather_columns(vr: NDArray[np.int32], lab: NDArray[np.int32], outside: int) -> NDArray[np.int32]:
+    """Whole columns: ``lab[vr[i, c], c]``, ``outside`` where ``vr`` is outside the grid."""
+    rows = lab.shape[0]
+    inside = (vr >= 0) & (vr < rows)
+    cols = np.broadcast_to(np.arange(lab.shape[1]), vr.shape)
+    out = np.full(vr.shape, outside, np.int32)
+    out[inside] = lab[vr[inside], cols[inside]]
+    return out
 
-    The file appears whole or not at all (written aside, then renamed), so a task recomputed after a lost
-    worker rewrites it safely; nothing here makes a directory, so a task still running after the run
-    failed and the store was removed fails instead of bringing the store back."""
-    occ8 = np.concatenate([np.concatenate([b[:, k0:k1] for (k0, k1), b in zip(cuts, row, strict=True)], axis=1)
-                           for row in zip(*pieces, strict=True)], axis=0).astype(bool, copy=False)
-    vr = _column_pass(occ8, wall)
-    del occ8
-    final = _strip_file(path, m)
-    aside = f"{final}.{os.getpid()}-{id(vr):x}.tmp"
+
+def _put_strip(path: str, final: str, a: NDArray[np.int32]) -> None:
+    """``a`` (C order) as the raw strip ``final`` of the temporary store, whole or not at all."""
+    if _url(path):  # one object, written whole by one request
+        from ..io import store_errors
+
+        fs, key = _fs(final)
+        with store_errors(path):
+            fs.pipe_file(key, a.tobytes())
+        return
+    aside = f"{final}.{os.getpid()}-{id(a):x}.tmp"
     try:
         with open(aside, "xb") as f:
-            vr.tofile(f)
+            a.tofile(f)
         os.replace(aside, final)
     except FileNotFoundError:
         _gone(path)
         raise
+
+
+def _strip_of(pieces: list[list[NDArray[Any]]], cuts: list[list[int]]) -> NDArray[Any]:
+    """The strip's whole columns from the blocks of the column chunks it overlaps (``cuts``: its columns
+    in each)."""
+    return np.concatenate([np.concatenate([b[:, k0:k1] for (k0, k1), b in zip(cuts, row, strict=True)], axis=1)
+                           for row in zip(*pieces, strict=True)], axis=0)
+
+
+def _column_to_store(pieces: list[list[NDArray[np.bool_]]], cuts: list[list[int]], path: str, m: int,
+                     wall: bool, labels: list[list[NDArray[np.int32]]] | None = None, outside: int = 0) -> int:
+    """The column pass of strip ``m`` (whole columns), written to the temporary store as one raw ``int32``
+    file of its rows in order: ``pieces[p]`` is a column of occupancy blocks (top to bottom) of which the
+    strip holds the columns ``cuts[p]``. With ``labels`` (the same blocks of the obstacles' labels), also
+    the label of each cell's column-nearest obstacle (``label[vr[i, c], c]``, ``outside`` beyond the grid),
+    as the strip ``label-m``.
+
+    The file appears whole or not at all (written aside, then renamed), so a task recomputed after a lost
+    worker rewrites it safely; nothing here makes a directory, so a task still running after the run
+    failed and the store was removed fails instead of bringing the store back."""
+    occ8 = _strip_of(pieces, cuts).astype(bool, copy=False)
+    vr = _column_pass(occ8, wall)
+    del occ8
+    _put_strip(path, _strip_file(path, m), vr)
+    if labels is not None:
+        _put_strip(path, _strip_file(path, m, "label"), _gather_columns(vr, _strip_of(labels, cuts), outside))
     return int(vr.shape[1])
 
 
 def _gone(path: str) -> None:
     """A clear error when the temporary store is no longer there (else the caller re-raises)."""
-    if not os.path.isdir(path):
+    if _url(path):
+        fs, root = _fs(path)
+        fs.invalidate_cache()
+        there = fs.exists(root)
+    else:
+        there = os.path.isdir(path)
+    if not there:
         from ..core.errors import GridfieldError
 
         raise GridfieldError(f"{path}: the temporary store between the passes is gone; compute the results "
@@ -482,17 +594,24 @@ def _barrier(done: list[int], path: str) -> str:
     return path
 
 
-def _read_window(path: str, r0: int, r1: int, a: int, b: int, rows: int, cols: int, ws: int) -> NDArray[np.int32]:
-    """Rows ``r0:r1``, columns ``a:b`` of the column pass, from the strips that hold them."""
+def _read_window(path: str, r0: int, r1: int, a: int, b: int, rows: int, cols: int, ws: int,
+                 kind: str = "strip") -> NDArray[np.int32]:
+    """Rows ``r0:r1``, columns ``a:b`` of the column pass (or its labels, ``kind="label"``), from the strips
+    that hold them."""
     win = np.empty((r1 - r0, b - a), np.int32)
     for m in range(a // ws, -(-b // ws)):
         s0, s1 = m * ws, min(cols, (m + 1) * ws)
+        if _url(path):
+            buf = _read_remote_rows(path, m, r0, r1, s1 - s0, kind)
+            lo, hi = max(a, s0), min(b, s1)
+            win[:, lo - a:hi - a] = buf[:, lo - s0:hi - s0]
+            continue
         buf = np.empty((r1 - r0, s1 - s0), np.int32)
         try:
-            with open(_strip_file(path, m), "rb") as f:
+            with open(_strip_file(path, m, kind), "rb") as f:
                 f.seek(r0 * (s1 - s0) * 4)
                 if f.readinto(buf.data.cast("B")) != buf.nbytes:
-                    raise OSError(f"{_strip_file(path, m)}: shorter than {rows} x {s1 - s0} int32")
+                    raise OSError(f"{_strip_file(path, m, kind)}: shorter than {rows} x {s1 - s0} int32")
         except FileNotFoundError:
             _gone(path)
             raise
@@ -501,12 +620,34 @@ def _read_window(path: str, r0: int, r1: int, a: int, b: int, rows: int, cols: i
     return win
 
 
+def _read_remote_rows(path: str, m: int, r0: int, r1: int, width: int, kind: str = "strip") -> NDArray[np.int32]:
+    """Rows ``r0:r1`` of strip ``m`` of a temporary store at a URL: one ranged read."""
+    from ..io import store_error
+
+    fs, key = _fs(_strip_file(path, m, kind))
+    want = (r1 - r0) * width * 4
+    try:
+        data = fs.cat_file(key, start=r0 * width * 4, end=r1 * width * 4)
+    except Exception as e:
+        if isinstance(e, FileNotFoundError):
+            _gone(path)
+        clear = store_error(e, path)
+        if clear is None:
+            raise
+        raise clear from None
+    if len(data) != want:
+        raise OSError(f"{_strip_file(path, m, kind)}: shorter than rows {r0}..{r1} x {width} int32")
+    return np.frombuffer(data, np.int32).reshape(r1 - r0, width)
+
+
 def _edt_block_task(path: str, r0: int, r1: int, c0: int, c1: int, ws: int, rows: int, cols: int,
-                    wall: bool, res: float, nearest: bool) -> tuple[NDArray[np.float64], NDArray[np.int32],
-                                                                     NDArray[np.int32]]:
+                    wall: bool, res: float, nearest: bool,
+                    outside: int | None = None) -> tuple[NDArray[Any], ...]:
     """One output chunk (rows ``r0:r1``, columns ``c0:c1``) of the row pass, from the column-pass rows of a
     window one strip wider on each side, read from the store (and re-read wider until every row's nearest
-    candidates are inside it: ``_kernels_chunked.edt_block``)."""
+    candidates are inside it: ``_kernels_chunked.edt_block``). With ``outside`` (the label beyond the
+    grid), also the label of each cell's nearest obstacle, ``L1[i, nc[i, j]]`` from the same window of the
+    stored column labels."""
     kc = _kernel_chunked()
     shape = (r1 - r0, c1 - c0)
     d = np.empty(shape, np.float64)
@@ -517,14 +658,23 @@ def _edt_block_task(path: str, r0: int, r1: int, c0: int, c1: int, ws: int, rows
         a, b = max(0, (c0 - margin) // ws * ws), min(cols, -(-(c1 + margin) // ws) * ws)
         win = _read_window(path, r0, r1, a, b, rows, cols, ws)
         if kc.edt_block(win, a, r0, rows, cols, wall, res, c0, d, nr, nc, nearest):
-            return d, nr, nc
+            if outside is None:
+                return d, nr, nc
+            del win
+            l1 = _read_window(path, r0, r1, a, b, rows, cols, ws, "label")
+            inside = (nc >= 0) & (nc < cols)
+            lab = np.full(shape, outside, np.int32)
+            lab[inside] = l1[np.nonzero(inside)[0], nc[inside] - a]
+            return d, nr, nc, lab
         del win
         margin *= 4
 
 
-def _via_store(occupied: Any, scratch: Path, wall: bool, res: float, nearest: bool) -> list[Any]:
-    """The exact Euclidean graph through a temporary Zarr store in ``scratch``: the distance (and the
-    nearest row and column), chunked as ``occupied``."""
+def _via_store(occupied: Any, scratch: Path | str, wall: bool, res: float, nearest: bool,
+               labels: Any = None, outside: int = 0) -> list[Any]:
+    """The exact Euclidean graph through a temporary store in ``scratch``: the distance (and the nearest
+    row and column; with ``labels``, a dask array of the obstacles' labels chunked as ``occupied``, also the
+    nearest obstacle's label), chunked as ``occupied``."""
     import operator
 
     from dask.array import Array
@@ -534,9 +684,13 @@ def _via_store(occupied: Any, scratch: Path, wall: bool, res: float, nearest: bo
     rows, cols = occupied.shape
     rc, cc = max(occupied.chunks[0]), max(occupied.chunks[1])
     ws = _strip_width(rows, rc, cc)
-    token = tokenize(occupied, wall, res, nearest, str(scratch.resolve()), ws)
-    path = str(scratch.resolve() / f"{_SCRATCH_PREFIX}{token}")
-    os.makedirs(path, exist_ok=True)
+    if isinstance(scratch, str):  # a URL: an object store has no directories to make
+        token = tokenize(occupied, wall, res, nearest, scratch, ws, labels, outside)
+        path = f"{scratch}/{_SCRATCH_PREFIX}{token}"
+    else:
+        token = tokenize(occupied, wall, res, nearest, str(scratch.resolve()), ws, labels, outside)
+        path = str(scratch.resolve() / f"{_SCRATCH_PREFIX}{token}")
+        os.makedirs(path, exist_ok=True)
 
     # strip m is the columns m*ws .. of the store's chunks (no two tasks write one store chunk), sliced out
     # of the occupancy's column chunks it overlaps
@@ -550,21 +704,29 @@ def _via_store(occupied: Any, scratch: Path, wall: bool, res: float, nearest: bo
         js = [j for j in range(len(cbounds) - 1) if cbounds[j] < s1 and cbounds[j + 1] > s0]
         cuts = [[max(s0, cbounds[j]) - cbounds[j], min(s1, cbounds[j + 1]) - cbounds[j]] for j in js]
         layer_c[(cname, m)] = (_column_to_store, [[(occ_w.name, i, j) for i in range(nrow)] for j in js], cuts,
-                               path, m, wall)
+                               path, m, wall,
+                               None if labels is None else [[(labels.name, i, j) for i in range(nrow)] for j in js],
+                               outside)
     layer_b = {bname: (_barrier, list(layer_c), path)}
     roff = np.concatenate([[0], np.cumsum(occupied.chunks[0])]).tolist()
     coff = np.concatenate([[0], np.cumsum(occupied.chunks[1])]).tolist()
     layer_e = {(ename, i, j): (_edt_block_task, bname, int(roff[i]), int(roff[i + 1]), int(coff[j]),
-                               int(coff[j + 1]), ws, rows, cols, wall, res, nearest)
+                               int(coff[j + 1]), ws, rows, cols, wall, res, nearest or labels is not None,
+                               None if labels is None else outside)
                for i in range(len(roff) - 1) for j in range(len(coff) - 1)}
-    layers: dict[str, Any] = {**occ_w.dask.layers, cname: layer_c, bname: layer_b, ename: layer_e}
-    deps: dict[str, set[str]] = {**occ_w.dask.dependencies, cname: {occ_w.name}, bname: {cname}, ename: {bname}}
+    below = {**occ_w.dask.layers, **({} if labels is None else labels.dask.layers)}
+    below_deps = {**occ_w.dask.dependencies, **({} if labels is None else labels.dask.dependencies)}
+    inputs = {occ_w.name} | (set() if labels is None else {labels.name})
+    layers: dict[str, Any] = {**below, cname: layer_c, bname: layer_b, ename: layer_e}
+    deps: dict[str, set[str]] = {**below_deps, cname: inputs, bname: {cname}, ename: {bname}}
     outs = []
-    for k, part in enumerate(("distance", "nearest-row", "nearest-col")[:3 if nearest else 1]):
+    parts = ("distance", "nearest-row", "nearest-col", "label") if labels is not None else (
+        ("distance", "nearest-row", "nearest-col")[:3 if nearest else 1])
+    for k, part in enumerate(parts):
         pname = f"{ename}-{part}"
         layers[pname] = {(pname, i, j): (operator.getitem, (ename, i, j), k) for (_, i, j) in layer_e}
         deps[pname] = {ename}
         outs.append(pname)
     graph = HighLevelGraph(layers, deps)
     return [Array(graph, pname, occupied.chunks, dtype=dtype, meta=np.empty((0, 0), dtype))
-            for pname, dtype in zip(outs, (np.float64, np.int32, np.int32), strict=False)]
+            for pname, dtype in zip(outs, (np.float64, np.int32, np.int32, np.int32), strict=False)]

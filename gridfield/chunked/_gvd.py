@@ -28,7 +28,10 @@ from ._distance import (
     _check_choice,
     _column_pass,
     _dask_array,
+    _gather_columns,
     _row_pass_nearest,
+    _scratch_path,
+    _via_store,
     check_occupied,
     strip_chunks,
 )
@@ -41,16 +44,6 @@ def _kernel_brushfire() -> Any:
     from ..distance import _brushfire  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     return _brushfire
-
-
-def _gather_columns(vr: NDArray[np.int32], lab: NDArray[np.int32], outside: int) -> NDArray[np.int32]:
-    """Whole columns: ``lab[vr[i, c], c]``, ``outside`` where ``vr`` is outside the grid."""
-    rows = lab.shape[0]
-    inside = (vr >= 0) & (vr < rows)
-    cols = np.broadcast_to(np.arange(lab.shape[1]), vr.shape)
-    out = np.full(vr.shape, outside, np.int32)
-    out[inside] = lab[vr[inside], cols[inside]]
-    return out
 
 
 def _gather_rows(nc: NDArray[np.int32], l1: NDArray[np.int32], outside: int) -> NDArray[np.int32]:
@@ -73,7 +66,8 @@ def _gvd_block(label: NDArray[np.int32], dist: NDArray[np.float64], occ: NDArray
     return out
 
 
-def gvd(occupied: Any, *, resolution: float = 1.0, border: str = "wall") -> tuple[Any, Any, Any]:
+def gvd(occupied: Any, *, resolution: float = 1.0, border: str = "wall",
+        scratch: Any = None) -> tuple[Any, Any, Any]:
     """The Euclidean distance, the label of each cell's nearest obstacle and the GVD, chunk by chunk.
 
     Equal bit for bit to ``brushfire(GridMap(grid, occupied), metric="euclidean")``'s ``distance``,
@@ -88,6 +82,11 @@ def gvd(occupied: Any, *, resolution: float = 1.0, border: str = "wall") -> tupl
         Cell size in world units (of the distance).
     border : {"wall", "open"}
         What lies outside the grid, as ``Grid.border``.
+    scratch : str or path-like, optional
+        The temporary store between the passes, as :func:`~gridfield.chunked.distance`'s (a directory or a
+        URL, inside :func:`~gridfield.chunked.scratch_dir`): the column pass writes its strips and the
+        gathered column labels there, and each output chunk is one task reading its rows back, so no strip
+        of whole rows is rechunked through the workers' memory. Without it, task rechunks join the passes.
 
     Returns
     -------
@@ -106,6 +105,11 @@ def gvd(occupied: Any, *, resolution: float = 1.0, border: str = "wall") -> tupl
     >>> d, lab, g = gvd(da.from_array(occ, chunks=3), border="open")
     >>> np.flatnonzero(g.compute()[2]).tolist(), lab.compute()[2].tolist()
     ([3], [1, 1, 1, 1, 2, 2, 2])
+    >>> from gridfield.chunked import scratch_dir
+    >>> with scratch_dir("memory://doc/gvd.scratch") as s:   # the passes meet in a store (here in memory)
+    ...     g2 = gvd(da.from_array(occ, chunks=3), border="open", scratch=s)[2].compute()
+    >>> bool((g2 == g.compute()).all())
+    True
     """
     da = _dask_array()
     occupied = check_occupied(occupied)
@@ -116,12 +120,18 @@ def gvd(occupied: Any, *, resolution: float = 1.0, border: str = "wall") -> tupl
     if rows == 0 or cols == 0:
         raise ParameterError(f"the occupancy is empty (shape {occupied.shape})")
     lab = labels(occupied)
-    col_chunks, row_chunks = strip_chunks(occupied)
-    strips = occupied.rechunk(col_chunks, method="tasks")
-    vr = strips.map_blocks(_column_pass, wall, dtype=np.int32, meta=np.empty((0, 0), np.int32))
     # beyond the grid: the wall's label; with an open border only a map without obstacles has no nearest
     # obstacle, and its labels are 0 in memory
     outside = BORDER_LABEL if wall else 0
+    if scratch is not None:
+        dist, _, _, label = _via_store(occupied, _scratch_path(scratch), wall, res, True, labels=lab,
+                                       outside=outside)
+        g = da.map_overlap(_gvd_block, label, dist, occupied, depth=1, boundary="none", trim=True, dtype=bool,
+                           meta=np.empty((0, 0), bool))
+        return dist, label, g
+    col_chunks, row_chunks = strip_chunks(occupied)
+    strips = occupied.rechunk(col_chunks, method="tasks")
+    vr = strips.map_blocks(_column_pass, wall, dtype=np.int32, meta=np.empty((0, 0), np.int32))
     l1 = da.map_blocks(_gather_columns, vr, lab.rechunk(col_chunks, method="tasks"), outside, dtype=np.int32,
                        meta=np.empty((0, 0), np.int32))
     vr_rows = vr.rechunk(row_chunks, method="tasks")

@@ -204,10 +204,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.close(devnull)
         return 141  # 128 + SIGPIPE
     except GridfieldError as e:
-        print(f"gridfield {args.command}: error: {e}", file=sys.stderr)
+        from ..io import redact  # a URL's credentials are never shown
+
+        print(f"gridfield {args.command}: error: {redact(e)}", file=sys.stderr)
         return 2
     except (FileNotFoundError, IsADirectoryError, PermissionError) as e:
-        print(f"gridfield {args.command}: error: {e.strerror}: {e.filename}", file=sys.stderr)
+        from ..io import redact
+
+        print(f"gridfield {args.command}: error: {redact(e.strerror or e)}: {redact(e.filename)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"gridfield {args.command}: interrupted", file=sys.stderr)

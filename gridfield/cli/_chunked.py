@@ -1,5 +1,10 @@
 """What ``brushfire`` and ``field`` share on their chunked path (``--chunks N --out F.zarr [--scheduler A]``):
-the options, the lazy input as a dask array, the scheduler, the resume key and the store."""
+the options, the lazy input as a dask array, the scheduler, the resume key and the store.
+
+The input and ``--out`` may be URLs (``s3://bucket/f.zarr``, ``gs://``, ``memory://``; the ``[s3]`` extra):
+then the temporary store between the Euclidean passes is the prefix ``OUT.zarr.scratch`` beside the store in
+the same bucket, so workers that share no disk meet through the object store, and URLs are shown without
+credentials."""
 
 from __future__ import annotations
 
@@ -33,7 +38,9 @@ def add_chunk_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", metavar="F.zarr",
                    help="compute chunk by chunk (dask) and write the arrays and the grid metadata to the Zarr store "
                         "F.zarr, for maps larger than memory (BigTIFF/GeoTIFF, .npy, Zarr inputs are read by chunks); "
-                        "an interrupted run leaves F.zarr.partial, which the same command resumes")
+                        "an interrupted run leaves F.zarr.partial, which the same command resumes; F.zarr and the map "
+                        "may be URLs such as s3://bucket/f.zarr (pip install 'gridfield[s3]'; credentials from the "
+                        "environment), where an interrupted store is resumed in place")
     p.add_argument("--chunks", type=_chunks, default=None, metavar="N",
                    help=f"chunk size in cells of the chunked computation and the store (default {DEFAULT_CHUNKS}; "
                         "with --out)")
@@ -50,20 +57,42 @@ def chunked(args: argparse.Namespace) -> bool:
             if getattr(args, opt) is not None:
                 raise ParameterError(f"--{opt} applies to the chunked computation; pass --out F.zarr too")
         return False
-    if Path(args.out).suffix.lower() != ".zarr":
-        raise ParameterError(f"--out {args.out}: a Zarr store's name ends in .zarr")
+    from ..io import is_url, local_path, redact
+
+    args.out = local_path(args.out)
+    if not str(args.out).rstrip("/").lower().endswith(".zarr"):
+        raise ParameterError(f"--out {redact(args.out)}: a Zarr store's name ends in .zarr")
     for opt in ("npz", "plot", "surface", "basins"):
         if getattr(args, opt, None) is not None:
             raise ParameterError(f"--{opt} holds the whole map in memory; it does not combine with --out")
     from ..core.errors import GridfieldError
 
-    if Path(args.out).exists():
+    if is_url(args.out):
+        args.out = str(args.out).rstrip("/")
+        _check_remote_out(args.out)
+    elif Path(args.out).exists():
         raise GridfieldError(f"{args.out}: already exists; remove it or choose another --out")
-    if not Path(args.out).resolve().parent.is_dir():
+    elif not Path(args.out).resolve().parent.is_dir():
         raise GridfieldError(f"{args.out}: the folder {Path(args.out).parent} does not exist")
     if args.chunks is None:
         args.chunks = DEFAULT_CHUNKS
     return True
+
+
+def _check_remote_out(url: str) -> None:
+    """An ``--out`` URL: refused when a complete store (or anything but an interrupted one) is there."""
+    from ..core.errors import GridfieldError
+    from ..io import redact, store_errors, url_fs
+
+    fs, root = url_fs(url)
+    with store_errors(url):
+        if not fs.exists(f"{root}/zarr.json"):
+            return
+        import json
+
+        attrs = json.loads(fs.cat_file(f"{root}/zarr.json")).get("attributes", {})
+    if "gridfield" in attrs or "gridfield_partial" not in attrs:
+        raise GridfieldError(f"{redact(url)}: already exists; remove it or choose another --out")
 
 
 def check_halo(args: argparse.Namespace, saturate: float | None, resolution: float) -> None:
@@ -105,16 +134,36 @@ def lazy_occupancy(args: argparse.Namespace, target: Any) -> tuple[Any, Any]:
 
 
 def resume_token(args: argparse.Namespace, **extra: Any) -> str:
-    """What identifies a chunked run: the input file (path, size, modification time) and the options."""
-    p = Path(args.map)
-    try:
-        st = p.stat()
-        ident = [str(p.resolve()), st.st_size, st.st_mtime_ns]
-    except OSError:
-        ident = [str(p)]
+    """What identifies a chunked run: the input file (path, size, modification time; for a URL its size and
+    ETag or modification time) and the options."""
+    from ..io import is_url, local_path
+
+    ident: list[Any]
+    if is_url(args.map):
+        ident = [str(args.map), *_url_identity(str(args.map))]
+    else:
+        p = Path(local_path(args.map))
+        try:
+            st = p.stat()
+            ident = [str(p.resolve()), st.st_size, st.st_mtime_ns]
+        except OSError:
+            ident = [str(p)]
     keys = {k: v for k, v in vars(args).items() if not k.startswith("_") and k not in ("scheduler", "out")}
     text = json.dumps([ident, keys, extra], sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:20]
+
+
+def _url_identity(url: str) -> list[Any]:
+    """A URL's object (or a Zarr store's ``zarr.json``): its size and its ETag or modification time."""
+    from ..io import url_fs
+
+    fs, root = url_fs(url)
+    try:
+        key = f"{root}/zarr.json" if root.rstrip("/").lower().endswith(".zarr") else root
+        info = fs.info(key)
+    except Exception:  # (reading the map names what is wrong with it)
+        return []
+    return [info.get("size"), str(info.get("ETag") or info.get("LastModified") or info.get("mtime") or "")]
 
 
 @contextlib.contextmanager
@@ -146,7 +195,8 @@ def scheduler(args: argparse.Namespace) -> Iterator[Any]:
 def scratch(args: argparse.Namespace) -> Iterator[Path]:
     """``OUT.zarr.scratch``: the directory of the temporary store between the exact Euclidean brushfire's
     passes (:func:`gridfield.chunked.scratch_dir`), next to the output, removed when the command ends (also
-    on error; one that a killed run left is removed when the next run starts). Never inside the store."""
+    on error; one that a killed run left is removed when the next run starts). Never inside the store. For
+    an ``--out`` URL it is the prefix of that name in the same bucket: every worker reaches it."""
     from ..chunked import scratch_dir
 
     with scratch_dir(f"{args.out}.scratch") as tmp:
@@ -157,15 +207,24 @@ def write(args: argparse.Namespace, arrays: dict[str, Any], grid: Any, kind: str
           sched: Any, diagonals: Any = None) -> int:
     """Write the store (with the map's ``diagonals``, a disc robot's, when it has them); returns the number of
     chunks per array."""
+    from ..core.errors import GridfieldError
     from ..io import write_store
 
-    write_store(args.out, arrays, grid, kind=kind, attrs=attrs, chunks=args.chunks, resume_key=resume_token(args),
-                scheduler=sched, diagonals=diagonals)
+    try:
+        write_store(args.out, arrays, grid, kind=kind, attrs=attrs, chunks=args.chunks, resume_key=resume_token(args),
+                    scheduler=sched, diagonals=diagonals)
+    except GridfieldError as e:
+        note = partial_note(args) if "already exists" not in str(e) and "other arguments" not in str(e) else ""
+        raise type(e)(f"{e}{note}") from None
     per_array: int = math.ceil(grid.rows / args.chunks) * math.ceil(grid.cols / args.chunks)
     return per_array
 
 
 def partial_note(args: argparse.Namespace) -> str:
     """How to resume, for an error raised during the write."""
+    from ..io import is_url
+
+    if is_url(args.out):  # (the store may be out of reach: not looked at)
+        return " (the chunks written stay in the store: run the same command again to resume)"
     partial = Path(str(args.out) + ".partial")
     return f" ({partial} keeps the chunks written: run the same command again to resume)" if os.path.isdir(partial) else ""

@@ -132,6 +132,7 @@ def _run_chunked(args: argparse.Namespace) -> int:
     """``--out F.zarr``: the distance and nearest obstacle chunk by chunk (gridfield.chunked), to a store."""
     from ..core.chunkcache import LazyGridMap
     from ..core.errors import ParameterError
+    from ..io import redact
     from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
     from ._common import load_target
 
@@ -148,15 +149,20 @@ def _run_chunked(args: argparse.Namespace) -> int:
     with _chunked.scheduler(args) as sched, _chunked.scratch(args) as tmp:  # connect first: an unreachable
         from .. import chunked  # scheduler fails before any work
 
-        d, nr, nc = chunked.distance(occ, metric=metric, resolution=grid.resolution, saturate=args.saturate,
-                                     return_nearest=True, border=grid.border, scratch=tmp)
+        # the nearest obstacle cells are exact for Euclidean only (chessboard/taxicab ties follow the in-memory
+        # raster order): the other metrics write the distance alone
+        nearest = metric == "euclidean"
+        out = chunked.distance(occ, metric=metric, resolution=grid.resolution, saturate=args.saturate,
+                               return_nearest=nearest, border=grid.border, scratch=tmp)
+        arrays = {"occupied": occ, "distance": out[0], "nearest_row": out[1], "nearest_col": out[2]} if nearest \
+            else {"occupied": occ, "distance": out}
         t0 = time.perf_counter()
-        n = _chunked.write(args, {"occupied": occ, "distance": d, "nearest_row": nr, "nearest_col": nc}, grid,
-                           "distance", {"metric": metric, "saturate": args.saturate}, sched, gridmap.diagonals)
+        n = _chunked.write(args, arrays, grid, "distance", {"metric": metric, "saturate": args.saturate}, sched,
+                           gridmap.diagonals)
     s = time.perf_counter() - t0
     print(f"brushfire {grid.rows}x{grid.cols} cells of {grid.resolution:g} in {n} chunks of {args.chunks} "
           f"({metric} distance, {grid.border} border{'' if args.saturate is None else f', saturated at {args.saturate:g}'}): "
-          f"wrote {args.out} (occupied, distance, nearest_row, nearest_col) in {s:.1f} s")
+          f"wrote {redact(args.out)} ({', '.join(arrays)}) in {s:.1f} s")
     return 0
 
 

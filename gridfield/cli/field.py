@@ -100,6 +100,7 @@ def _run_chunked(args: argparse.Namespace) -> int:
     from ..core.params import validate
     from ..fields.potential import resolve_params
     from ..geometry.rasterize import as_gridmap
+    from ..io import redact
     from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     if args.planner != "potential":
@@ -147,7 +148,7 @@ def _run_chunked(args: argparse.Namespace) -> int:
                            gridmap.diagonals)
     s = time.perf_counter() - t0
     print(f"field {grid.rows}x{grid.cols} cells of {grid.resolution:g} in {n} chunks of {args.chunks} (khatib, "
-          f"{p['repulsion']} repulsion), goal ({gxy[0]:g}, {gxy[1]:g}, the centre of its cell): wrote {args.out} "
+          f"{p['repulsion']} repulsion), goal ({gxy[0]:g}, {gxy[1]:g}, the centre of its cell): wrote {redact(args.out)} "
           f"({', '.join(arrays)}) in {s:.1f} s")
     return 0
 
@@ -159,6 +160,7 @@ def _run_chunked_nf1(args: argparse.Namespace, gridmap: Any, cell: tuple[int, ..
     from ..core.errors import ParameterError
     from ..core.params import resolve_field
     from ..fields.navfield import NF_PROGRESS_WINDOW
+    from ..io import redact
     from . import _chunked  # type: ignore[attr-defined]  # a compiled extension, no stubs
 
     grid = gridmap.grid
@@ -185,7 +187,7 @@ def _run_chunked_nf1(args: argparse.Namespace, gridmap: Any, cell: tuple[int, ..
     s = time.perf_counter() - t0
     print(f"field {grid.rows}x{grid.cols} cells of {grid.resolution:g} in {n} chunks of {args.chunks} (nf1, octile "
           f"wavefront, a complete model: one minimum, the goal; {rounds} rounds), goal ({gxy[0]:g}, {gxy[1]:g}, the "
-          f"centre of its cell): wrote {args.out} ({', '.join(arrays)}) in {s:.1f} s")
+          f"centre of its cell): wrote {redact(args.out)} ({', '.join(arrays)}) in {s:.1f} s")
     return 0
 
 

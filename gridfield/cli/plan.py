@@ -209,9 +209,11 @@ def _is_stored_field(target: object) -> bool:
 
 
 def _follow_stored(args: argparse.Namespace, field: Field, params: dict[str, object]) -> int:
-    """``plan F.zarr --start X Y``: the follower on a stored field, reading only the chunks it crosses."""
+    """``plan F.zarr --start X Y``: the follower on a stored field, reading only the chunks it crosses (a store
+    at a URL too: its tiles are fetched as the path crosses them)."""
     from ..core.errors import ParameterError
     from ..following.follower import follow
+    from ..io import redact
 
     if args.planner != "potential":
         raise ParameterError(f"{args.map} holds a potential field: it is followed by the potential planner, "
@@ -237,7 +239,7 @@ def _follow_stored(args: argparse.Namespace, field: Field, params: dict[str, obj
         x, y = path.end
         print(f"{path.planner}: {path.status} after {path.iterations} iterations, length {path.length:.4g}, "
               f"end ({x:.4g}, {y:.4g}), min clearance {path.min_clearance:.4g}, {path.seconds * 1e3:.1f} ms; "
-              f"read {cache.reads} chunk tiles of {args.map}")
+              f"read {cache.reads} chunk tiles of {redact(args.map)}")
         if path.extra.get("hint"):
             print(f"hint: {path.extra['hint']}")
     return 0

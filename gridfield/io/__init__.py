@@ -77,7 +77,7 @@ from ..geometry.world import world_from_dict
 from ._bitmap import UNKNOWN_CHOICES as UNKNOWN_CHOICES
 from ._bitmap import read_bitmap, write_bitmap
 from ._common import PathLike as PathLike
-from ._common import _check_file, inner_suffix, is_gzip
+from ._common import _check_file, inner_suffix, is_gzip, is_url, local_path, redact, store_error, store_errors, url_fs
 from ._costmap import from_occupancy_grid, read_costmap, read_occupancy_grid, to_occupancy_grid, write_costmap
 from ._costmap import is_costmap_yaml as _is_costmap_yaml
 from ._costmap import is_occupancy_grid_yaml as _is_occupancy_grid_yaml
@@ -103,7 +103,9 @@ __all__ = [
     "Scenarios3D",
     "bundled_map",
     "from_occupancy_grid",
+    "is_url",
     "load_field",
+    "local_path",
     "read",
     "read_3dmap",
     "read_binvox",
@@ -125,9 +127,13 @@ __all__ = [
     "read_yaml",
     "read_zarr",
     "read_zarr_array",
+    "redact",
     "ros_occupancy_values",
     "save_field",
+    "store_error",
+    "store_errors",
     "to_occupancy_grid",
+    "url_fs",
     "write_bitmap",
     "write_costmap",
     "write_npz",
@@ -220,6 +226,21 @@ def _check_options(reader: Callable[..., Any], options: Mapping[str, Any], p: Fs
         raise ParameterError(f"{p}: option{'s' if len(bad) > 1 else ''} {', '.join(bad)} {verb} to a {what}; {takes}")
 
 
+def _read_url(url: str, options: Mapping[str, Any]) -> Any:
+    """A map at a URL: a Zarr store or array, a (Big)TIFF/GeoTIFF or a ``.npy``, read by chunks."""
+    suffix = FsPath(url.rstrip("/").rsplit("/", 1)[-1]).suffix.lower()
+    readers: dict[str, tuple[Callable[..., Any], str]] = {
+        ".zarr": (read_zarr, "Zarr store"), ".tif": (read_tiff, "TIFF raster"), ".tiff": (read_tiff, "TIFF raster"),
+        ".npy": (read_npy, ".npy array")}
+    if suffix not in readers:
+        raise MapFormatError(f"{redact(url)}: a map at a URL is a .zarr store, a .tif/.tiff raster or a .npy array, "
+                             f"not {shorten(suffix or 'a name without a suffix')}")
+    reader, what = readers[suffix]
+    if reader is not read_zarr:
+        _check_options(reader, options, redact(url), what)  # type: ignore[arg-type]
+    return reader(url, **options)
+
+
 def _map_in_folder(folder: FsPath) -> FsPath:
     """The one map file of ``folder`` (a ``.yaml``/``.yml``, else a ``.map``), as a ROS map ships in its
     own folder; MapFormatError naming the candidates when there are several or none."""
@@ -276,6 +297,9 @@ def read(path: PathLike, **options: Any) -> Any:
     ('World', (49, 49))
     """
     options = {k: v for k, v in options.items() if v is not None}
+    path = local_path(path)
+    if is_url(path):  # s3://, gs://, memory://...: the formats read by chunks (fsspec)
+        return _read_url(str(path), options)
     if isinstance(path, str | os.PathLike) and (
             (FsPath(path).suffix.lower() == ".zarr" and not FsPath(path).is_file())
             or (FsPath(path) / "zarr.json").is_file()):

@@ -20,6 +20,12 @@ A GeoTIFF's ``ModelPixelScaleTag`` (33550) and ``ModelTiepointTag`` (33922) give
 origin (the lower-left corner: the tie point's x, and its y minus the map's height) when present;
 ``resolution``/``origin`` options override them. tifffile is an optional dependency (the ``[dask]``
 extra), imported inside the reader.
+
+Either may be a URL (``s3://bucket/big.tif``, ``gs://``, ``memory://``; fsspec and its file system's
+package, the ``[s3]`` extra, imported only then; credentials from the environment). The map's raster then
+holds the URL, not an open file (:class:`UrlTiff`, :class:`UrlNpy`): it pickles to the workers of a cluster,
+each of which opens the object once and reads only the byte ranges of the tiles (rows, for a ``.npy``) it
+is asked for.
 """
 
 from __future__ import annotations
@@ -33,10 +39,10 @@ import numpy as np
 
 from ..core.chunkcache import LazyArray, LazyGridMap, Raster, lazy_grid
 from ..core.errors import GridfieldError, MapFormatError, shorten
-from ._common import PathLike, _check_file
+from ._common import PathLike, _check_file, is_url, local_path, redact, store_errors, url_fs
 from ._occupancy import check_grey_options, raster_rule
 
-__all__ = ["read_npy", "read_tiff"]
+__all__ = ["UrlNpy", "UrlTiff", "read_npy", "read_tiff"]
 
 PIXEL_SCALE_TAG = 33550
 TIEPOINT_TAG = 33922
@@ -46,7 +52,101 @@ MINISWHITE, MINISBLACK = 0, 1
 NPY_CHUNKS = 1024
 
 
-def _raster_map(p: FsPath, raster: Raster, resolution: float, origin: Any, border: str, fmt: str) -> LazyGridMap:
+#: Per process: the open objects of :class:`UrlTiff` rasters (a worker opens each URL once).
+_OPEN: dict[str, Any] = {}
+
+
+class UrlTiff:
+    """A TIFF's first image at a URL as a 2-D array read by slices (tifffile's Zarr view of an fsspec file),
+    opened on first use in each process: it pickles as its URL, shape and dtype.
+
+    Examples
+    --------
+    >>> import fsspec, numpy as np, tifffile, pickle
+    >>> with fsspec.open("memory://doc/u.tif", "wb") as f:
+    ...     tifffile.imwrite(f, np.arange(12, dtype=np.uint8).reshape(3, 4), tile=(16, 16))
+    >>> t = pickle.loads(pickle.dumps(UrlTiff("memory://doc/u.tif")))
+    >>> t.shape, t[1:3, 2:4].tolist()
+    ((3, 4), [[6, 7], [10, 11]])
+    """
+
+    def __init__(self, url: str) -> None:
+        self.url = url
+        z = self._array()
+        self.shape = tuple(int(n) for n in z.shape)
+        self.dtype = np.dtype(z.dtype)
+        self.chunks = tuple(int(n) for n in z.chunks)
+        self.ndim = len(self.shape)
+
+    def _array(self) -> Any:
+        z = _OPEN.get(self.url)
+        if z is None:
+            import tifffile
+            import zarr
+            from tifffile.zarr import ZarrTiffStore
+
+            fs, path = url_fs(self.url)
+            with store_errors(self.url):
+                tf = tifffile.TiffFile(fs.open(path, "rb"))  # kept open by the store, for this process
+                z = zarr.open(ZarrTiffStore(tf.series[0], read_only=True), mode="r")
+            _OPEN[self.url] = z
+        return z
+
+    def __getitem__(self, key: Any) -> Any:
+        with store_errors(self.url):
+            return np.asarray(self._array()[key])
+
+    def __getstate__(self) -> dict[str, Any]:
+        return dict(self.__dict__)
+
+
+class UrlNpy:
+    """A C-order ``.npy`` array at a URL read by slices: each slice is one ranged read of its rows (a row
+    range is contiguous), then cut to its columns; it pickles as its URL and header.
+
+    Examples
+    --------
+    >>> import fsspec, numpy as np, pickle
+    >>> with fsspec.open("memory://doc/u.npy", "wb") as f:
+    ...     np.save(f, np.arange(12).reshape(3, 4))
+    >>> a = pickle.loads(pickle.dumps(UrlNpy("memory://doc/u.npy")))
+    >>> a.shape, a[1:3, 2:4].tolist()
+    ((3, 4), [[6, 7], [10, 11]])
+    """
+
+    def __init__(self, url: str) -> None:
+        self.url = url
+        fs, path = url_fs(url)
+        with store_errors(url), fs.open(path, "rb") as f:
+            try:
+                version = np.lib.format.read_magic(f)
+                header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+                shape, fortran, dtype = header(f)
+            except (ValueError, EOFError) as e:
+                raise MapFormatError(f"{redact(url)}: not a readable .npy array: {shorten(str(e))}") from None
+            self.offset = int(f.tell())
+        if fortran and len(shape) == 2 and min(shape) > 1:
+            raise MapFormatError(f"{redact(url)}: a Fortran-order .npy; read by rows at a URL, it must be in C order "
+                                 "(np.save(f, np.ascontiguousarray(a)))")
+        self.shape = tuple(int(n) for n in shape)
+        self.dtype = np.dtype(dtype)
+        self.ndim = len(self.shape)
+
+    def __getitem__(self, key: Any) -> Any:
+        rs, cs = key
+        r0, r1, _ = rs.indices(self.shape[0])
+        row = self.shape[1] * self.dtype.itemsize
+        if r1 <= r0:
+            return np.empty((0, self.shape[1]), self.dtype)[:, cs]
+        fs, path = url_fs(self.url)
+        with store_errors(self.url):
+            data = fs.cat_file(path, start=self.offset + r0 * row, end=self.offset + r1 * row)
+        if len(data) != (r1 - r0) * row:
+            raise MapFormatError(f"{redact(self.url)}: shorter than its header's shape {self.shape}")
+        return np.frombuffer(data, self.dtype).reshape(r1 - r0, self.shape[1])[:, cs]
+
+
+def _raster_map(p: Any, raster: Raster, resolution: float, origin: Any, border: str, fmt: str) -> LazyGridMap:
     try:
         grid = lazy_grid(raster.shape, resolution, tuple(origin), border)
     except GridfieldError as e:
@@ -144,12 +244,15 @@ def read_tiff(path: PathLike, *, resolution: float | None = None, origin: Any = 
     (23, 'non-zero = obstacle')
     """
     rule_name, thr, neg = check_grey_options(occupancy, threshold, negate, path)
-    p = _check_file(path)
+    path = local_path(path)
     try:
         import tifffile
         import zarr
     except ImportError:  # pragma: no cover - the [dask] extra installs them
         raise GridfieldError("reading TIFF maps needs tifffile and zarr: pip install 'gridfield[dask]'") from None
+    if is_url(path):
+        return _read_tiff_url(str(path), tifffile, resolution, origin, border, chunks, rule_name, thr, neg)
+    p = _check_file(path)
     try:
         with tifffile.TiffFile(str(p)) as tf:
             if not tf.pages:
@@ -179,6 +282,34 @@ def read_tiff(path: PathLike, *, resolution: float | None = None, origin: Any = 
     gm = _raster_map(p, raster, res, org, border, "tiff")
     weakref.finalize(gm, store.close)  # the file stays open while the map is in use
     return gm
+
+
+def _read_tiff_url(url: str, tifffile: Any, resolution: float | None, origin: Any, border: str, chunks: int | None,
+                   rule_name: str, thr: float, neg: bool) -> LazyGridMap:
+    """read_tiff of a URL: the metadata from one open, the raster a :class:`UrlTiff`."""
+    shown = redact(url)
+    fs, path = url_fs(url)
+    try:
+        with store_errors(url), fs.open(path, "rb") as fh, tifffile.TiffFile(fh) as tf:
+            if not tf.pages:
+                raise MapFormatError(f"{shown}: a TIFF without images")
+            page = tf.pages[0]
+            shape = tuple(page.shape)
+            rows = int(shape[0]) if shape else 0
+            res_tag, org_tag = _geo(shown, page, rows)  # type: ignore[arg-type]
+            rule = _tiff_rule(shown, page, rule_name, thr, neg) if len(shape) == 2 else None  # type: ignore[arg-type]
+        source = UrlTiff(url)
+    except GridfieldError:
+        raise
+    except Exception as e:
+        raise MapFormatError(f"{shown}: not a readable TIFF: {shorten(redact(e))}") from None
+    if source.ndim != 2 or rule is None:
+        raise MapFormatError(f"{shown}: expected one 2-D (greyscale) image, got shape {shorten(source.shape)}")
+    ch = (chunks, chunks) if chunks is not None else None
+    raster = Raster(source, flip=True, chunks=ch, rule=rule)
+    res = resolution if resolution is not None else (res_tag if res_tag is not None else 1.0)
+    org = origin if origin is not None else (org_tag if org_tag is not None else (0.0, 0.0))
+    return _raster_map(shown, raster, res, org, border, "tiff")
 
 
 def read_npy(path: PathLike, *, resolution: float = 1.0, origin: Any = (0.0, 0.0), border: str = "open",
@@ -226,6 +357,16 @@ def read_npy(path: PathLike, *, resolution: float = 1.0, origin: Any = (0.0, 0.0
     (True, 14)
     """
     rule_name, thr, neg = check_grey_options(occupancy, threshold, negate, path)
+    path = local_path(path)
+    if is_url(path):
+        u = UrlNpy(str(path))
+        if u.ndim != 2:
+            raise MapFormatError(f"{redact(path)}: expected a 2-D occupancy array, got shape {shorten(u.shape)}")
+        if u.dtype.kind not in "biuf":
+            raise MapFormatError(f"{redact(path)}: expected booleans or numbers, got dtype {u.dtype}")
+        rule = raster_rule(redact(path), u.dtype, rule_name, thr, neg, image=False)  # type: ignore[arg-type]
+        c = NPY_CHUNKS if chunks is None else int(chunks)
+        return _raster_map(redact(path), Raster(u, chunks=(c, c), rule=rule), resolution, origin, border, "npy")
     p = _check_file(path)
     try:
         a = np.load(p, mmap_mode="r", allow_pickle=False)

@@ -16,11 +16,21 @@ marks every chunk it completes in ``NAME.partial/.progress/``, and renames the d
 of every array is there. A run that stops (an exception, a kill) leaves the ``.partial`` directory; a
 re-run with the same arguments (the same ``resume_key``) writes only the chunks not yet marked.
 
+A store may also be a URL (``s3://bucket/f.zarr``, ``gs://``, ``memory://``; fsspec and the file system's
+package, the ``[s3]`` extra, imported only then; credentials from the environment). An object store has no
+atomic rename, so there the store is written under its final name, its root holding the attribute
+``gridfield_partial`` (the run's key) and its marks under ``.progress/`` until every chunk is written; then
+one write of the root's attributes replaces ``gridfield_partial`` by the grid metadata, and the marks are
+removed. :func:`read_store` refuses a store without the metadata (an interrupted write), and a re-run resumes
+it as it resumes a local ``.partial``. Errors of the store (a missing bucket, a denied write, a dropped
+connection) are one :class:`~gridfield.core.errors.GridfieldError` naming the URL without its credentials.
+
 zarr is an optional dependency (the ``[dask]`` extra), imported inside the functions.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import shutil
@@ -35,7 +45,7 @@ from ..core.chunkcache import DEFAULT_BUDGET, ChunkCache, LazyArray, LazyGridMap
 from ..core.errors import GridfieldError, MapFormatError, ParameterError, shorten
 from ..core.grid import Grid
 from ..core.results import DistanceMap, Field
-from ._common import PathLike
+from ._common import PathLike, is_url, local_path, redact, store_errors, url_fs
 from ._occupancy import check_grey_options, raster_rule
 
 __all__ = ["FORMAT", "STORE_ARRAYS", "chunk_counter", "is_store", "read_store", "read_zarr", "read_zarr_array", "write_store"]
@@ -70,9 +80,15 @@ def is_store(path: PathLike) -> bool:
 
     Examples
     --------
-    >>> is_store("no/such/dir.zarr")
-    False
+    >>> is_store("no/such/dir.zarr"), is_store("memory://no/such.zarr")
+    (False, False)
     """
+    path = local_path(path)
+    if is_url(path):
+        fs, root = url_fs(str(path))
+        with store_errors(str(path)):
+            fs.invalidate_cache(root)  # (a listing cached before another process wrote the store)
+            return bool(fs.exists(f"{root.rstrip('/')}/zarr.json"))
     p = FsPath(path)
     return p.is_dir() and (p / "zarr.json").is_file()
 
@@ -91,13 +107,14 @@ def _mark_done(progress: FsPath, name: str, i: int, j: int) -> None:
 
 def write_store(path: PathLike, arrays: Mapping[str, Any], grid: Grid, *, kind: str,
                 attrs: Mapping[str, Any] | None = None, chunks: int | tuple[int, int] | None = None,
-                resume_key: str = "", scheduler: Any = "threads", diagonals: Any = None) -> FsPath:
+                resume_key: str = "", scheduler: Any = "threads", diagonals: Any = None) -> FsPath | str:
     """Write arrays (dask or numpy) and the grid metadata to a gridfield Zarr store, chunk by chunk.
 
     Parameters
     ----------
     path : str or path-like
-        The store's directory (conventionally ``*.zarr``); it must not exist yet.
+        The store's directory (conventionally ``*.zarr``), or its URL (``s3://bucket/f.zarr``, see the module
+        notes); it must not exist yet (but for an interrupted write of the same run, resumed).
     arrays : mapping
         Arrays named as in :data:`STORE_ARRAYS`, each of the grid's shape: dask arrays (computed
         chunk by chunk, all in one graph) or numpy arrays.
@@ -120,15 +137,16 @@ def write_store(path: PathLike, arrays: Mapping[str, Any], grid: Grid, *, kind: 
 
     Returns
     -------
-    pathlib.Path
-        ``path``.
+    pathlib.Path or str
+        ``path`` (the URL as given, for a URL).
 
     Raises
     ------
     ParameterError
         Unknown array names, wrong shapes or kind.
     GridfieldError
-        ``path`` exists, or a ``.partial`` of another run is in the way.
+        ``path`` exists, or a ``.partial`` (an interrupted store at a URL) of another run is in the way; an
+        object store's error (missing bucket, denied write, dropped connection).
 
     Examples
     --------
@@ -140,6 +158,9 @@ def write_store(path: PathLike, arrays: Mapping[str, Any], grid: Grid, *, kind: 
     >>> m = read_store(p)
     >>> m.shape, bool(m.occupied[2, 3]), m.occupied.chunks
     ((6, 5), True, (4, 4))
+    >>> u = write_store("memory://doc/m.zarr", {"occupied": occ}, Grid((6, 5), 0.5), kind="map", chunks=4)
+    >>> bool(read_store(u).occupied[2, 3])
+    True
     """
     try:
         import dask
@@ -148,6 +169,12 @@ def write_store(path: PathLike, arrays: Mapping[str, Any], grid: Grid, *, kind: 
         raise GridfieldError("writing a Zarr store needs dask: pip install 'gridfield[dask]'") from None
 
     zarr = _zarr()
+    path = local_path(path)
+    if is_url(path):
+        with store_errors(str(path)):
+            _write_remote(zarr, dask, da, str(path), arrays, grid, kind, attrs, chunks, resume_key, scheduler,
+                          diagonals)
+        return str(path)
     out, ch, lazy = _check_write(path, arrays, grid, kind, chunks, da)
     if diagonals is not None:
         lazy[DIAGONALS] = _check_diagonals(diagonals, grid, ch, da)
@@ -170,9 +197,10 @@ def write_store(path: PathLike, arrays: Mapping[str, Any], grid: Grid, *, kind: 
 
 
 def _check_write(path: PathLike, arrays: Mapping[str, Any], grid: Grid, kind: str,
-                 chunks: int | tuple[int, int] | None, da: Any) -> tuple[FsPath, tuple[int, int], dict[str, Any]]:
-    """write_store's checks: the kind, the array names and shapes, the target; the chunk shape and the
-    arrays as dask arrays of the store's dtypes and chunks."""
+                 chunks: int | tuple[int, int] | None, da: Any,
+                 remote: bool = False) -> tuple[FsPath, tuple[int, int], dict[str, Any]]:
+    """write_store's checks: the kind, the array names and shapes, the (local) target; the chunk shape and
+    the arrays as dask arrays of the store's dtypes and chunks."""
     if kind not in KINDS:
         raise ParameterError(f"kind must be one of {', '.join(map(repr, KINDS))}, got {shorten(kind)}")
     if DIAGONALS in arrays:
@@ -183,10 +211,10 @@ def _check_write(path: PathLike, arrays: Mapping[str, Any], grid: Grid, kind: st
         raise ParameterError(f"a gridfield store holds the arrays {', '.join(STORE_ARRAYS)}; not {', '.join(bad)}")
     if "occupied" not in arrays:
         raise ParameterError("a gridfield store needs the 'occupied' array")
-    out = FsPath(path)
-    if out.exists():
+    out = FsPath(str(path))
+    if not remote and out.exists():
         raise GridfieldError(f"{out}: already exists; remove it or choose another --out")
-    if not out.resolve().parent.is_dir():
+    if not remote and not out.resolve().parent.is_dir():
         raise GridfieldError(f"{out}: the folder {out.parent} does not exist")
     if chunks is None:
         first = next((a for a in arrays.values() if isinstance(a, da.Array)), None)
@@ -243,28 +271,96 @@ def _open_partial(zarr: Any, partial: FsPath, progress: FsPath, grid: Grid, ch: 
     return group
 
 
-def _write_chunks(dask: Any, group: Any, progress: FsPath, ch: tuple[int, int], lazy: Mapping[str, Any],
-                  scheduler: Any) -> None:
-    """Compute and write every chunk not yet marked done, marking each after its data is on disk."""
+class _RemoteMarks:
+    """The progress marks of a store at a URL: empty objects ``ROOT/.progress/NAME.I.J`` (picklable: the
+    write tasks carry it to the workers)."""
+
+    def __init__(self, fs: Any, root: str) -> None:
+        self.fs, self.dir = fs, f"{root.rstrip('/')}/{_PROGRESS}"
+
+    def mark(self, name: str, i: int, j: int) -> None:
+        self.fs.pipe_file(f"{self.dir}/{name}.{i}.{j}", b"")
+
+    def done(self) -> set[str]:
+        """The marks there are, as ``NAME.I.J``, listed once."""
+        self.fs.invalidate_cache()
+        try:
+            found = self.fs.find(self.dir)
+        except FileNotFoundError:
+            return set()
+        return {str(f).rstrip("/").rsplit("/", 1)[-1] for f in found}
+
+    def remove(self) -> None:
+        with contextlib.suppress(FileNotFoundError):
+            self.fs.rm(self.dir, recursive=True)
+        self.fs.invalidate_cache()
+
+
+def _write_chunks(dask: Any, group: Any, progress: FsPath | _RemoteMarks, ch: tuple[int, int],
+                  lazy: Mapping[str, Any], scheduler: Any) -> None:
+    """Compute and write every chunk not yet marked done, marking each after its data is written."""
     targets = {name: group[name] for name in lazy}
+    remote = isinstance(progress, _RemoteMarks)
 
     def write_block(block: np.ndarray, name: str, i: int, j: int) -> int:
         r0, c0 = i * ch[0], j * ch[1]
         targets[name][r0:r0 + block.shape[0], c0:c0 + block.shape[1]] = block
-        _mark_done(progress, name, i, j)
+        if isinstance(progress, _RemoteMarks):
+            progress.mark(name, i, j)
+        else:
+            _mark_done(progress, name, i, j)
         return 1
 
     tasks = []
     write = dask.delayed(write_block, pure=False)
+    done = progress.done() if isinstance(progress, _RemoteMarks) else (
+        set(os.listdir(progress)) if progress.is_dir() else set())
     for name, a in lazy.items():
         blocks = a.to_delayed()  # one Delayed per chunk, sharing one graph
         for i in range(blocks.shape[0]):
             for j in range(blocks.shape[1]):
-                if not _done_mark(progress, name, i, j).exists():
+                mark = f"{name}.{i}.{j}" if remote else _done_mark(progress, name, i, j).name  # type: ignore[arg-type]
+                if mark not in done:
                     tasks.append(write(blocks[i, j], name, i, j))
     if tasks:
         kw = {"scheduler": scheduler} if isinstance(scheduler, str) else {"scheduler": scheduler.get}
         dask.compute(*tasks, **kw)
+
+
+def _write_remote(zarr: Any, dask: Any, da: Any, url: str, arrays: Mapping[str, Any], grid: Grid, kind: str,
+                  attrs: Mapping[str, Any] | None, chunks: int | tuple[int, int] | None, resume_key: str,
+                  scheduler: Any, diagonals: Any) -> None:
+    """write_store at a URL: in place under the final name (an object store renames nothing atomically),
+    ``gridfield_partial`` and the ``.progress/`` marks standing for the local ``.partial`` until the end."""
+    _, ch, lazy = _check_write(url, arrays, grid, kind, chunks, da, remote=True)
+    if diagonals is not None:
+        lazy[DIAGONALS] = _check_diagonals(diagonals, grid, ch, da)
+    fs, root = url_fs(url)
+    root = root.rstrip("/")
+    marks = _RemoteMarks(fs, root)
+    meta = _metadata(grid, kind, ch, attrs)
+    shown = redact(url)
+    started = {"resume_key": resume_key, "meta": dict(meta), "arrays": sorted(lazy)}
+    if fs.exists(f"{root}/zarr.json"):
+        old = dict(zarr.open_group(url, mode="r").attrs)
+        if _MARK in old:
+            raise GridfieldError(f"{shown}: already exists; remove it or choose another --out")
+        if "gridfield_partial" not in old:
+            raise GridfieldError(f"{shown}: already exists and is not a gridfield store; choose another --out")
+        if old["gridfield_partial"] != json.loads(json.dumps(started)):
+            raise GridfieldError(f"{shown}: holds an interrupted run with other arguments; remove it to start over")
+        group = zarr.open_group(url, mode="a")
+    else:
+        group = zarr.open_group(url, mode="w")
+        for name, a in lazy.items():
+            group.create_array(name, shape=tuple(a.shape), chunks=ch, dtype=STORE_ARRAYS.get(name, "uint8"),
+                               fill_value=False if name == "occupied" else 0)
+        group.attrs["gridfield_partial"] = started
+    _write_chunks(dask, group, marks, ch, lazy, scheduler)
+    occ_cells = _count(lazy["occupied"], scheduler)
+    done = {k: v for k, v in dict(group.attrs).items() if k != "gridfield_partial"}
+    group.attrs.put({**done, _MARK: {**meta, "occupied_cells": occ_cells}})  # one write: complete
+    marks.remove()
 
 
 def _publish(partial: FsPath, out: FsPath) -> None:
@@ -312,7 +408,8 @@ def read_store(path: PathLike, *, cache_bytes: int = DEFAULT_BUDGET) -> Any:
     Parameters
     ----------
     path : str or path-like
-        A store written by :func:`write_store` (``gridfield brushfire/field ... --out F.zarr``).
+        A store written by :func:`write_store` (``gridfield brushfire/field ... --out F.zarr``), a directory
+        or a URL (``s3://bucket/f.zarr``).
     cache_bytes : int
         The byte budget of the chunk cache the arrays share.
 
@@ -343,8 +440,9 @@ def read_store(path: PathLike, *, cache_bytes: int = DEFAULT_BUDGET) -> Any:
     ('DistanceMap', 'euclidean', True)
     """
     zarr = _zarr()
-    p = FsPath(path)
-    node, meta = _open_store(zarr, p)
+    p = _place(path)
+    with store_errors(str(p)):
+        node, meta = _open_store(zarr, p)
     grid, kind = _store_grid(p, meta)
     need = {"map": ["occupied"], "distance": ["occupied", "distance"], "field": ["occupied", "U", "dUdx", "dUdy"]}
     if kind not in need:
@@ -362,7 +460,7 @@ def read_store(path: PathLike, *, cache_bytes: int = DEFAULT_BUDGET) -> Any:
             raise MapFormatError(f"{p}: array {name} has shape {tuple(a.shape)}, the grid {grid.shape}")
         return LazyArray(a, cache=cache, name=name, **kw)
 
-    gm = LazyGridMap(grid, lazy("occupied", nonzero=meta.get("occupied_cells")), source=str(p),
+    gm = LazyGridMap(grid, lazy("occupied", nonzero=meta.get("occupied_cells")), source=f"{p}",
                      meta={"store": dict(meta), "format": "store", "occupancy_rule": STORE_RULE},
                      diagonals=_stored_diagonals(p, node, names, grid, cache))
     if kind == "map":
@@ -396,22 +494,48 @@ def _stored_diagonals(p: FsPath, node: Any, names: set[str], grid: Any, cache: C
     return LazyArray(a, cache=cache, name=DIAGONALS)
 
 
-def _open_store(zarr: Any, p: FsPath) -> tuple[Any, dict[str, Any]]:
+class _Url(str):
+    """A store's URL, shown without its credentials (``str()`` is the URL itself, for opening it)."""
+
+    __slots__ = ()
+
+    def __format__(self, spec: str) -> str:
+        return redact(str.__str__(self))
+
+    @property
+    def name(self) -> str:
+        return self.rstrip("/").rsplit("/", 1)[-1]
+
+
+def _place(path: PathLike) -> Any:
+    """A local path as a ``pathlib.Path``, a URL as :class:`_Url` (its messages redacted)."""
+    path = local_path(path)
+    return _Url(path) if is_url(path) else FsPath(path)
+
+
+def _open_store(zarr: Any, p: Any) -> tuple[Any, dict[str, Any]]:
     """The store's root group and its gridfield metadata, or a MapFormatError saying what is not there."""
-    partial = p.with_name(p.name + ".partial")
-    if not p.exists():
-        hint = f" ({partial} is an interrupted write: re-run the command to resume it)" if partial.exists() else ""
-        raise MapFormatError(f"{p}: no such store{hint}")
-    if not is_store(p):
-        raise MapFormatError(f"{p}: not a Zarr store (no zarr.json)")
+    if isinstance(p, _Url):
+        if not is_store(p):
+            raise MapFormatError(f"{p}: no such store (no zarr.json there)")
+    else:
+        partial = p.with_name(p.name + ".partial")
+        if not p.exists():
+            hint = f" ({partial} is an interrupted write: re-run the command to resume it)" if partial.exists() else ""
+            raise MapFormatError(f"{p}: no such store{hint}")
+        if not is_store(p):
+            raise MapFormatError(f"{p}: not a Zarr store (no zarr.json)")
     try:
         node = zarr.open(str(p), mode="r")
     except Exception as e:
-        raise MapFormatError(f"{p}: cannot open as a Zarr store: {shorten(str(e))}") from None
+        raise MapFormatError(f"{p}: cannot open as a Zarr store: {shorten(redact(e))}") from None
     if not isinstance(node, zarr.Group):
         raise MapFormatError(f"{p}: a Zarr array, not a gridfield store; read it with "
                              "gridfield.io.read(path, resolution=...) as an occupancy raster")
     meta = dict(node.attrs).get(_MARK)
+    if not isinstance(meta, dict) and "gridfield_partial" in node.attrs:
+        raise MapFormatError(f"{p}: an interrupted write (not every chunk is there): re-run the command that "
+                             "wrote it to resume it")
     if not isinstance(meta, dict):
         raise MapFormatError(f"{p}: a Zarr store without gridfield grid metadata (no {_MARK!r} attribute in its "
                              "root group); gridfield writes stores with gridfield.io.write_store or --out F.zarr")
@@ -479,11 +603,14 @@ def read_zarr_array(path: PathLike, *, resolution: float = 1.0, origin: Any = (0
     """
     rule_name, thr, neg = check_grey_options(occupancy, threshold, negate, path)
     zarr = _zarr()
-    p = FsPath(path)
+    p = _place(path)
     try:
-        z = zarr.open_array(str(p), mode="r")
+        with store_errors(str(p)):
+            z = zarr.open_array(str(p), mode="r")
+    except GridfieldError:
+        raise
     except Exception as e:
-        raise MapFormatError(f"{p}: not a readable Zarr array: {shorten(str(e))}") from None
+        raise MapFormatError(f"{p}: not a readable Zarr array: {shorten(redact(e))}") from None
     if z.ndim != 2 or z.dtype.kind not in "biuf":
         raise MapFormatError(f"{p}: expected a 2-D array of booleans or numbers, got shape {z.shape}, dtype {z.dtype}")
     rule = raster_rule(p, z.dtype, rule_name, thr, neg, image=False)
@@ -491,7 +618,7 @@ def read_zarr_array(path: PathLike, *, resolution: float = 1.0, origin: Any = (0
         grid = lazy_grid(tuple(z.shape), resolution, tuple(origin), border)
     except GridfieldError as e:
         raise type(e)(f"{p}: {e}") from None
-    return LazyGridMap(grid, LazyArray(Raster(z, rule=rule), name="occupied"), source=str(p),
+    return LazyGridMap(grid, LazyArray(Raster(z, rule=rule), name="occupied"), source=f"{p}",
                        meta={"format": "zarr_array", "occupancy_rule": rule.text})
 
 
@@ -520,13 +647,16 @@ def read_zarr(path: PathLike, **options: Any) -> Any:
     gridfield.core.errors.MapFormatError: no/such.zarr: no such store
     """
     zarr = _zarr()
-    p = FsPath(path)
+    p = _place(path)
     if not is_store(p):
         return read_store(p, **options)  # its error names what is missing
     try:
-        node = zarr.open(str(p), mode="r")
+        with store_errors(str(p)):
+            node = zarr.open(str(p), mode="r")
+    except GridfieldError:
+        raise
     except Exception as e:
-        raise MapFormatError(f"{p}: cannot open as a Zarr store: {shorten(str(e))}") from None
+        raise MapFormatError(f"{p}: cannot open as a Zarr store: {shorten(redact(e))}") from None
     if isinstance(node, zarr.Array):
         return read_zarr_array(p, **options)
     bad = sorted(set(options) - {"cache_bytes"})

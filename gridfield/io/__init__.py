@@ -262,6 +262,27 @@ def _voxel_reader(p: FsPath, suffix: str) -> tuple[Callable[..., GridMap], str] 
             ".ply": (read_pointcloud, "point cloud"), ".xyz": (read_pointcloud, "point cloud")}.get(suffix)
 
 
+def _read_yaml_map(p: FsPath, options: dict[str, Any]) -> Any:
+    """:func:`read` of a ``.yaml`` file: a Nav2 costmap, an OccupancyGrid message, a ROS map or a world."""
+    data = read_yaml(p)
+    if _is_costmap_yaml(data):  # a Nav2 costmap (write_costmap): its costs, not thresholded
+        _check_options(read_costmap, options, p, "costmap YAML")
+        return read_costmap(p)
+    if _is_occupancy_grid_yaml(data):  # a nav_msgs/OccupancyGrid message (ros2 topic echo --once /map)
+        _check_options(read_occupancy_grid, options, p, "OccupancyGrid message YAML")
+        return read_occupancy_grid(p, **options)
+    # a ROS map YAML names its image; one that lacks it still has an origin (a world has bounds instead)
+    if isinstance(data, dict) and ("image" in data or ("origin" in data and "bounds" not in data)):
+        _check_options(read_ros_map, options, p, "ROS map YAML")
+        return read_ros_map(p, **options)
+    if options:
+        raise ParameterError(
+            f"{p}: option{'s' if len(options) > 1 else ''} {', '.join(sorted(options))} "
+            f"{'do' if len(options) > 1 else 'does'} not apply to a world file (a world is rasterized later, e.g. by gridfield.geometry.rasterize.as_gridmap)"
+        )
+    return world_from_dict(data, source=str(p))
+
+
 def read(path: PathLike, **options: Any) -> Any:
     """Read any supported map or world file; a world YAML gives a :class:`World`, the rest a :class:`GridMap`
     (a lazy one for the formats read by chunks; a gridfield Zarr store gives what it holds).
@@ -314,24 +335,8 @@ def read(path: PathLike, **options: Any) -> Any:
             f"decompress this {shorten(suffix or 'file')} first")
     reader: Callable[..., GridMap]
     if suffix in (".yaml", ".yml"):
-        data = read_yaml(p)
-        if _is_costmap_yaml(data):  # a Nav2 costmap (write_costmap): its costs, not thresholded
-            _check_options(read_costmap, options, p, "costmap YAML")
-            return read_costmap(p)
-        if _is_occupancy_grid_yaml(data):  # a nav_msgs/OccupancyGrid message (ros2 topic echo --once /map)
-            _check_options(read_occupancy_grid, options, p, "OccupancyGrid message YAML")
-            return read_occupancy_grid(p, **options)
-        # a ROS map YAML names its image; one that lacks it still has an origin (a world has bounds instead)
-        if isinstance(data, dict) and ("image" in data or ("origin" in data and "bounds" not in data)):
-            reader, what = read_ros_map, "ROS map YAML"
-        else:
-            if options:
-                raise ParameterError(
-                    f"{p}: option{'s' if len(options) > 1 else ''} {', '.join(sorted(options))} "
-                    f"{'do' if len(options) > 1 else 'does'} not apply to a world file (a world is rasterized later, e.g. by gridfield.geometry.rasterize.as_gridmap)"
-                )
-            return world_from_dict(data, source=str(p))
-    elif suffix in (".png", ".pgm", ".bmp"):
+        return _read_yaml_map(p, options)
+    if suffix in (".png", ".pgm", ".bmp"):
         reader, what = read_bitmap, "bitmap"
     elif suffix == ".map":
         reader, what = read_movingai_map, "Moving AI map"

@@ -92,6 +92,24 @@ def band_slowness(distance: NDArray[np.float64], occupied: NDArray[np.bool_], ba
     """The clearance band's slowness ``1 + gain * (1 - D / band)**2`` for ``D < band``, 1 beyond and where
     there is no obstacle, ``inf`` on blocked voxels (:func:`gridfield.fields.navfield.band_cost`'s rule).
 
+    Parameters
+    ----------
+    distance : ndarray of float
+        The clearance ``D`` of each voxel (:func:`gridfield.fields.navigation3d.voxel_clearance`), in
+        world units; a non-finite value (``inf``: no obstacle) gets slowness 1.
+    occupied : ndarray of bool, same shape as ``distance``
+        The blocked voxels.
+    band : float
+        The width of the band (``clearance_band``, > 0, the units of ``distance``).
+    gain : float
+        The extra slowness at ``D = 0`` (``band_gain``, >= 0).
+
+    Returns
+    -------
+    ndarray of float64, same shape as ``distance``
+        A new array, the slowness for :func:`gridfield.fields.navigation3d.voxel_wavefront`: between 1
+        and ``1 + gain`` on free voxels, ``inf`` on blocked ones.
+
     Examples
     --------
     >>> band_slowness(np.array([0.0, 1.0, 2.0, 3.0]), np.array([True, False, False, False]), 3.0, 1.0).round(3)

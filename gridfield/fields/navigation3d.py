@@ -70,6 +70,23 @@ def _path_kernel() -> Any:
 def check_voxel_map(gridmap: object, what: str) -> GridMap:
     """``gridmap`` itself when it is a voxel grid, else a :class:`ParameterError` naming ``what`` needs one.
 
+    Parameters
+    ----------
+    gridmap : object
+        The map to check: a :class:`~gridfield.core.grid.GridMap` of a 3-D grid passes.
+    what : str
+        The name of the caller (a function or a planner), put in the error message.
+
+    Returns
+    -------
+    GridMap
+        ``gridmap`` itself (the same object, unchanged).
+
+    Raises
+    ------
+    ParameterError
+        ``gridmap`` is not a ``GridMap``, or its grid is not 3-D.
+
     Examples
     --------
     >>> from gridfield.core.grid import Grid
@@ -87,7 +104,26 @@ def check_voxel_map(gridmap: object, what: str) -> GridMap:
 
 
 def free_mask(gridmap: GridMap) -> NDArray[np.uint8]:
-    """The free voxels as a C-contiguous uint8 mask (what the kernels read)."""
+    """The free voxels as a C-contiguous uint8 mask (what the kernels read).
+
+    Parameters
+    ----------
+    gridmap : GridMap
+        The map (not checked to be 3-D; the kernels use it on voxel grids).
+
+    Returns
+    -------
+    ndarray of uint8, shape ``gridmap.shape``
+        1 on free voxels, 0 on blocked ones (a new array; ``gridmap.occupied`` is not modified).
+
+    Examples
+    --------
+    >>> from gridfield.core.grid import Grid
+    >>> occ = np.zeros((1, 1, 3), bool); occ[0, 0, 1] = True
+    >>> m = free_mask(GridMap(Grid((1, 1, 3), 1.0), occ))
+    >>> m.dtype, m.shape, m.ravel().tolist()
+    (dtype('uint8'), (1, 1, 3), [1, 0, 1])
+    """
     return np.ascontiguousarray(~np.asarray(gridmap.occupied, dtype=bool)).view(np.uint8)
 
 
@@ -101,6 +137,21 @@ def _cell(gridmap: GridMap, name: str, point: ArrayLike) -> tuple[int, int, int]
 
 def cell_units(gridmap: GridMap, points: ArrayLike) -> NDArray[np.float64]:
     """World points ``(N, 3)`` as cell units in array order ``(q_z, q_y, q_x)`` (what the kernels read).
+
+    A cell unit is ``(coordinate - origin) / resolution``, not rounded: voxel ``(layer, row, col)``
+    spans ``[layer, layer + 1) x [row, row + 1) x [col, col + 1)``, its centre is at ``+ 0.5`` on each axis.
+
+    Parameters
+    ----------
+    gridmap : GridMap
+        The map whose grid (``origin``, ``resolution``) gives the units.
+    points : array_like, shape (N, 3) or (3,)
+        World points ``(x, y, z)``; anything that reshapes to ``(-1, 3)``. Not checked to lie inside the grid.
+
+    Returns
+    -------
+    ndarray of float64, shape (N, 3)
+        C-contiguous; column 0 is z, 1 is y, 2 is x (array order), in cells.
 
     Examples
     --------
@@ -292,6 +343,24 @@ def segment_clear(gridmap: GridMap, a: ArrayLike, b: ArrayLike) -> bool:
     closed cube of every blocked voxel (and every voxel outside the grid) is tested, so grazing a face,
     an edge or a corner counts as touching.
 
+    Parameters
+    ----------
+    gridmap : GridMap
+        A voxel grid.
+    a, b : array_like, shape (3,)
+        The segment's ends, world points ``(x, y, z)`` (finite; they may lie outside the grid, which
+        makes the segment not clear, as does a point on the grid's boundary).
+
+    Returns
+    -------
+    bool
+        True when the closed segment touches no blocked voxel and stays strictly inside the grid.
+
+    Raises
+    ------
+    ParameterError
+        Not a voxel grid, or a non-finite point.
+
     Examples
     --------
     >>> from gridfield.core.grid import Grid
@@ -311,12 +380,32 @@ def path_clear(gridmap: GridMap, points: ArrayLike) -> int:
     """Index of the first segment of a polyline ``(n, 3)`` (world points) that touches a blocked voxel
     or leaves the grid (:func:`segment_clear`), or -1 when none does.
 
+    Parameters
+    ----------
+    gridmap : GridMap
+        A voxel grid.
+    points : array_like, shape (n, 3)
+        The polyline's vertices, world points ``(x, y, z)`` in order.
+
+    Returns
+    -------
+    int
+        ``i`` when the segment from ``points[i]`` to ``points[i + 1]`` is the first one not clear; -1
+        when every segment is clear (always for fewer than two points).
+
+    Raises
+    ------
+    ParameterError
+        Not a voxel grid.
+
     Examples
     --------
     >>> from gridfield.core.grid import Grid
     >>> gm = GridMap(Grid((1, 1, 3), 1.0), np.zeros((1, 1, 3), bool))
-    >>> path_clear(gm, [(0.5, 0.5, 0.5), (2.5, 0.5, 0.5), (3.5, 0.5, 0.5)])
+    >>> path_clear(gm, [(0.5, 0.5, 0.5), (2.5, 0.5, 0.5), (3.5, 0.5, 0.5)])   # the second segment leaves the grid
     1
+    >>> path_clear(gm, [(0.5, 0.5, 0.5), (2.5, 0.5, 0.5)])
+    -1
     """
     gm = check_voxel_map(gridmap, "path_clear")
     return int(_path_kernel().path_clear(free_mask(gm), cell_units(gm, points)))
@@ -326,6 +415,26 @@ def shortcut_path(gridmap: GridMap, points: ArrayLike) -> NDArray[np.float64]:
     """String pulling over a polyline's own vertices: from each kept vertex the farthest later vertex
     joined to it by a clear segment (:func:`segment_clear`), extended one vertex at a time. The
     polyline's own segments must be clear; the result's are, and it is never longer.
+
+    Parameters
+    ----------
+    gridmap : GridMap
+        A voxel grid.
+    points : array_like, shape (n, 3)
+        The polyline's vertices, world points ``(x, y, z)``; every segment ``points[i] -> points[i + 1]``
+        clear (:func:`path_clear` returns -1). They are not tested: a consecutive pair is always kept
+        joined.
+
+    Returns
+    -------
+    ndarray of float64, shape (m, 3)
+        The kept vertices (``m <= n``), a subsequence of ``points`` in order with the first and the last
+        included (a new array).
+
+    Raises
+    ------
+    ParameterError
+        Not a voxel grid.
 
     Examples
     --------
@@ -349,6 +458,24 @@ def clearance_slowness(distance: NDArray[np.float64], occupied: NDArray[np.bool_
                        q_star: float) -> NDArray[np.float64]:
     """The clearance cost of the 2-D wavefront on voxels: ``1 + weight * max(0, 1 - D / q_star)``
     (1 where there is no obstacle, ``inf`` on blocked voxels).
+
+    Parameters
+    ----------
+    distance : ndarray of float
+        The clearance ``D`` of each voxel (:func:`voxel_clearance`), in world units; a non-finite value
+        (``inf``: no obstacle) gets cost 1.
+    occupied : ndarray of bool, same shape as ``distance``
+        The blocked voxels.
+    weight : float
+        The planner's ``clearance_weight`` (>= 0): the extra cost at ``D = 0``.
+    q_star : float
+        The range of the cost (> 0, the units of ``distance``): 1 from ``D >= q_star`` on.
+
+    Returns
+    -------
+    ndarray of float64, same shape as ``distance``
+        A new array, the slowness for :func:`voxel_wavefront`: between 1 and ``1 + weight`` on free
+        voxels, ``inf`` on blocked ones.
 
     Examples
     --------
@@ -455,6 +582,22 @@ def path_clearance(gridmap: GridMap, cells: NDArray[np.int64], cache: dict[Any, 
     the path's bounding box grown by 8 voxels (exact when the answer is within 8 voxels; the whole
     map's otherwise).
 
+    Parameters
+    ----------
+    gridmap : GridMap
+        A voxel grid (the wall border's shell counts as obstacles, as in :func:`voxel_clearance`).
+    cells : ndarray of int, shape (n, 3)
+        Voxel indices ``(layer, row, col)`` inside the grid, ``n >= 1`` (a path's voxels).
+    cache : dict, optional
+        A planner's per-map dict, for the whole map's clearance when the window is not enough
+        (:func:`cached_clearance`).
+
+    Returns
+    -------
+    float
+        The smallest distance from one of the voxel centres to the nearest blocked voxel centre, in world
+        units (0 when a voxel is blocked; ``inf`` on an open-border map with no blocked voxel).
+
     Examples
     --------
     >>> from gridfield.core.grid import Grid
@@ -482,7 +625,30 @@ def path_clearance(gridmap: GridMap, cells: NDArray[np.int64], cache: dict[Any, 
 
 
 def cached_clearance(gm: GridMap, cache: dict[Any, Any] | None) -> NDArray[np.float64]:
-    """:func:`voxel_clearance` of ``gm``, kept in ``cache`` (a planner's per-map dict) when one is given."""
+    """:func:`voxel_clearance` of ``gm``, kept in ``cache`` (a planner's per-map dict) when one is given.
+
+    Parameters
+    ----------
+    gm : GridMap
+        A voxel grid.
+    cache : dict or None
+        Where the clearance is kept, under the key ``("voxel_clearance", gm)``; None computes it each call.
+
+    Returns
+    -------
+    ndarray of float64, shape ``gm.shape``
+        The clearance in world units (:func:`voxel_clearance`); from a cache, the very array stored
+        there (not a copy: do not modify it).
+
+    Examples
+    --------
+    >>> from gridfield.core.grid import Grid
+    >>> gm = GridMap(Grid((1, 1, 3), 1.0, border="wall"), np.zeros((1, 1, 3), bool))
+    >>> cache = {}
+    >>> d = cached_clearance(gm, cache)
+    >>> d.ravel().tolist(), cached_clearance(gm, cache) is d, list(cache) == [("voxel_clearance", gm)]
+    ([1.0, 1.0, 1.0], True, True)
+    """
     key = ("voxel_clearance", gm)
     if cache is not None and key in cache:
         return cache[key]  # type: ignore[no-any-return]

@@ -28,7 +28,8 @@ candidate's minimum and median wall time and the ratio of the reference's minimu
     free), so on random voxels only the times compare; the row's last line compares the values on an
     empty grid, where the rule cannot bind (the largest difference; 0: equal to the last bit).
 ``rss``
-    the peak resident memory of a whole fresh process (``resource.getrusage``, ``ru_maxrss``) that
+    the peak resident memory of a whole fresh process (``VmHWM`` of ``/proc/self/status``; ``ru_maxrss``
+    elsewhere, which on Linux keeps the forking parent's high-water mark) that
     builds the map and makes one call: gridfield's Euclidean + nearest against SciPy's EDT + indices,
     and a process that only builds the map (the floor); target: gridfield within 2.5 GiB at 512^3.
     Runs only for the largest of ``--sizes``.
@@ -141,7 +142,12 @@ if method == "gridfield":
 elif method == "scipy":
     from scipy import ndimage
     d = ndimage.distance_transform_edt(~occ, return_indices=True)
-print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024)
+# VmHWM: this process's own peak (ru_maxrss keeps the high-water mark of the parent it was forked from)
+try:
+    hwm = [ln for ln in open("/proc/self/status") if ln.startswith("VmHWM:")][0]
+    print(int(hwm.split()[1]) * 1024)
+except OSError:
+    print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024)
 """
 
 

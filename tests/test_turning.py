@@ -165,7 +165,8 @@ def test_cli_plan_with_headings(tmp_path, capsys):
     base = [f, "--resolution", "0.1", "--robot", robot]
     # translating, the cart cannot pass the 1.0 m door (the frame closes the way round)
     assert main(["plan", *base, "--start", "5", "2", "--goal", "5", "8", "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["status"] == "no_path"
+    j0 = json.loads(capsys.readouterr().out)
+    assert j0["status"] == "no_path" and "--headings N" in j0["hint"]
     out_png = tmp_path / "p.png"
     assert main(["plan", *base, "--headings", "72", "--start", "5", "2", "0", "--goal", "5", "8", "1.2",
                  "--json", "--plot", str(out_png)]) == 0

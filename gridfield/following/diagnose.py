@@ -214,6 +214,8 @@ def robot_no_path(path: Path, point: Path, robot: str, start: Any, goal: Any) ->
     # the end points as the plan line prints them (4 digits: 1.825 stays 1.825)
     hint = (f"the robot ({robot}) closes the passage: the goal ({goal[0]:.4g}, {goal[1]:.4g}) cannot be reached "
             f"by it from the start ({start[0]:.4g}, {start[1]:.4g}), but {verdict}")
+    if robot.startswith("polygon"):  # a shape that may fit turned: the pose planners (issue 45)
+        hint += "; if the robot can turn, plan in (x, y, theta): --headings N (apply_robot(..., headings=N))"
     diagnosis = {**path.extra.get("diagnosis", {}), "reachable": False, "robot_closes_passage": True,
                  "point_status": point.status}
     return dataclasses.replace(path, extra={**path.extra, "hint": hint, "diagnosis": diagnosis})

@@ -36,17 +36,10 @@ def pose_space(args: argparse.Namespace, workspace: Any) -> Any:
     robot = _robot_from_args(args, workspace)
     if robot is None:
         raise ParameterError("--headings needs the robot's shape: --robot X,Y ... or --robot-radius R")
-    if isinstance(workspace, World):
-        from ..geometry.rasterize import rasterize
-
-        res = args.resolution if getattr(args, "resolution", None) is not None else workspace.resolution
-        if res is None:
-            raise ParameterError(f"{args.map}: a turning robot plans on a grid; give --resolution")
+    if isinstance(workspace, World) and getattr(args, "resolution", None) is not None:
         import dataclasses
 
-        workspace = rasterize(dataclasses.replace(workspace, robot=None), res)
-    if getattr(workspace, "grid", None) is not None and workspace.grid.ndim != 2:
-        raise ParameterError(f"{args.map} is a voxel grid; --headings plans a turning robot on a 2-D map")
+        workspace = dataclasses.replace(workspace, resolution=args.resolution)  # apply_robot rasterizes at it
     return apply_robot(workspace, robot, headings=args.headings)
 
 

@@ -124,14 +124,6 @@ def _band_slowness(pm: PoseMap, band: float, gain: float) -> NDArray[np.float64]
     return cost
 
 
-def _xyz(pm: PoseMap, cell: tuple[int, int, int]) -> NDArray[np.float64]:
-    """A pose cell as a point of :meth:`PoseMap.voxels` (the heading bin on its placeholder z axis)."""
-    g = pm.grid
-    k, r, c = cell
-    return np.array([g.origin[0] + (c + 0.5) * g.resolution, g.origin[1] + (r + 0.5) * g.resolution,
-                     (k + 0.5) * g.resolution])
-
-
 def pose_field(pm: PoseMap, goal: ArrayLike, params: Mapping[str, Any] | None = None, *,
                start: ArrayLike | None = None, margin: float | None = None) -> PoseField:
     """The navigation function to a goal pose (or a goal position at any heading).
@@ -186,8 +178,8 @@ def pose_field(pm: PoseMap, goal: ArrayLike, params: Mapping[str, Any] | None = 
         _, r, c = pm.cell_of_pose((*g, 0.0))  # type: ignore[misc]  # inside: checked above
         free = pm.fitting_bins(g[0], g[1])
         # from the start: stopped once one goal pose is settled, every nearer one is settled too
-        probe = voxel_wavefront(vox, _xyz(pm, s_cell), spacing=spacing, periodic=True, slowness=slow,
-                                stop_at=_xyz(pm, (int(free[0]), r, c)))
+        probe = voxel_wavefront(vox, pm.voxel_point(s_cell), spacing=spacing, periodic=True, slowness=slow,
+                                stop_at=pm.voxel_point((int(free[0]), r, c)))
         k = int(free[np.argmin(probe[free, r, c])])
         gpose = (float(g[0]), float(g[1]), float(pm.pose_of_cell([[k, r, c]])[0, 2]))
         gcell = (k, r, c)
@@ -196,7 +188,7 @@ def pose_field(pm: PoseMap, goal: ArrayLike, params: Mapping[str, Any] | None = 
         gcell = pm.cell_of_pose(gp)  # type: ignore[assignment]
         gpose = (float(gp[0]), float(gp[1]), float(gp[2]))
     m = 4.0 * h if margin is None else float(margin)
-    values = voxel_wavefront(vox, _xyz(pm, gcell), spacing=spacing, periodic=True, slowness=slow,
-                             stop_at=None if s_cell is None else _xyz(pm, s_cell), margin=m)
+    values = voxel_wavefront(vox, pm.voxel_point(gcell), spacing=spacing, periodic=True, slowness=slow,
+                             stop_at=None if s_cell is None else pm.voxel_point(s_cell), margin=m)
     return PoseField(pm, values, gpose, {"model": model, "clearance_band": band, "band_gain": gain,
                                          "turn_cost": pm.turn_cost, "goal_cell": gcell})

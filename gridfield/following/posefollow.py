@@ -150,14 +150,12 @@ def plan_poses(pm: PoseMap, start: ArrayLike, goal: ArrayLike, params: Mapping[s
     sc = pm.cell_of_pose(s)
     assert sc is not None  # check_pose: inside
     vox = pm.voxels()
-    h = pm.grid.resolution
-    sxyz = np.array([pm.grid.origin[0] + (sc[2] + 0.5) * h, pm.grid.origin[1] + (sc[1] + 0.5) * h, (sc[0] + 0.5) * h])
     field_s = time.perf_counter() - t0
     if not math.isfinite(float(f.potential[sc])):
         path = Path(np.asarray([s[:2]]), "no_path", planner, 0, p, time.perf_counter() - t0,
                     poses=np.asarray([s]), extra={"field_seconds": field_s})
         return path, f
-    cells, reached = voxel_descent(vox, f.potential, sxyz, periodic=True)
+    cells, reached = voxel_descent(vox, f.potential, pm.voxel_point(sc), periodic=True)
     if taut and len(cells) > 2:
         floor = _box_floor(pose_clearance(pm), cells, pm.headings) if model == "potential" else 0.0
         poses = _taut(pm, cells, floor)

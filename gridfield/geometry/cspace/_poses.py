@@ -137,6 +137,14 @@ class PoseMap:
                        self.occupied, source=self.workspace.source,
                        meta={**self.meta, "periodic_axes": (0,), "spacing": self.spacing()})
 
+    def voxel_point(self, cell: tuple[int, int, int]) -> NDArray[np.float64]:
+        """A pose cell ``(heading bin, row, col)`` as a point of :meth:`voxels` (its centre, the bin on the
+        placeholder z axis), the form the 3-D kernels take."""
+        g = self.grid
+        k, r, c = cell
+        return np.array([g.origin[0] + (c + 0.5) * g.resolution, g.origin[1] + (r + 0.5) * g.resolution,
+                         (k + 0.5) * g.resolution])
+
     def heading_bin(self, theta: float) -> int:
         """The bin holding a heading (radians, any turn)."""
         return int(math.floor(float(theta) / self.bin_width + 0.5)) % self.headings

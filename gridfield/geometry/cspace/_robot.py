@@ -345,7 +345,8 @@ def _turning(target: World | GridMap, r: Robot | None, headings: int) -> PoseMap
     else:
         raise ParameterError(f"apply_robot needs a World or a GridMap, got {type(target).__name__}")
     if gm.ndim != 2:
-        raise ParameterError("a turning robot plans on a 2-D map (headings make it 3-D); this map is already 3-D")
+        raise ParameterError(f"{gm.source or 'the map'} is a voxel grid: a turning robot plans on a 2-D map "
+                             "(its headings make the pose grid 3-D)")
     _refuse_larger_than_the_map(gm, r)
     return pose_map(gm, r, headings)
 

@@ -723,3 +723,16 @@ def _save(fig: Figure, file: FsPath, dpi: int = 110) -> None:
         raise GridfieldError(f"{file}: cannot write: {e.strerror or e}") from None
     finally:
         plt.close(fig)
+
+
+def _pool(arr: NDArray[Any], k: int | Sequence[int], fill: Any, reduce: Any) -> NDArray[Any]:
+    """Blocks of ``k`` voxels per axis (one size, or one per axis) reduced by ``reduce`` (``np.any``: a
+    max-pool of booleans, ``np.min``), the array padded with ``fill`` to a multiple of the block."""
+    ks = (k,) * 3 if isinstance(k, int) else tuple(int(v) for v in k)
+    if all(v == 1 for v in ks):
+        return arr
+    pad = [(0, -n % v) for n, v in zip(arr.shape, ks, strict=True)]
+    a = np.pad(arr, pad, constant_values=fill)
+    L, R, C = (n // v for n, v in zip(a.shape, ks, strict=True))
+    out: NDArray[Any] = reduce(a.reshape(L, ks[0], R, ks[1], C, ks[2]), axis=(1, 3, 5))
+    return out

@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 from ..core.errors import ParameterError
 from ..core.grid import Grid, GridMap
 from ..core.path import Path
-from ._layers import OCCUPIED_COLOR, Artists, _new_axes, _occupancy_layer, frame_axes
+from ._layers import OCCUPIED_COLOR, Artists, _known_bounds, _new_axes, _occupancy_layer, _pool, frame_axes
 from .animation import animation_figure, check_animation_file, write_animation
 
 if TYPE_CHECKING:
@@ -103,24 +103,24 @@ def plot_pose_space(pm: PoseMap, path: Path | None = None, *, ax: Axes | None = 
 
     ax = _new_axes(ax, projection="3d", figsize=(7.0, 6.0))
     art = Artists(ax)
-    occ = pm.occupied
+    h = pm.grid.resolution
+    # a ROS map's known part only (the figures of 2-D maps crop the same way), as whole cells
+    xmin, ymin, xmax, ymax = _known_bounds(pm.workspace, pm.grid.bounds)
+    c0, c1 = (round((v - pm.grid.origin[0]) / h) for v in (xmin, xmax))
+    r0, r1 = (round((v - pm.grid.origin[1]) / h) for v in (ymin, ymax))
+    occ = pm.occupied[:, r0:r1, c0:c1]
     n, rows, cols = occ.shape
     step = [max(1, math.ceil(s / max_cells)) for s in (n, rows, cols)]
-    if any(s > 1 for s in step):  # max-pool: a blocked pose anywhere in a block blocks the block
-        pad = [(0, (-s) % k) for s, k in zip(occ.shape, step, strict=True)]
-        o = np.pad(occ, pad)
-        o = o.reshape(o.shape[0] // step[0], step[0], o.shape[1] // step[1], step[1], o.shape[2] // step[2], step[2])
-        occ = np.asarray(o.any(axis=(1, 3, 5)))
+    occ = _pool(occ, step, False, np.any)  # a blocked pose anywhere in a block blocks the block
     # the heading axis wraps round: repeat the first slice after the last so the surface closes at 360
     vol = np.concatenate([occ, occ[:1]], axis=0).astype(np.float32)
     vol = np.pad(vol, ((0, 0), (1, 1), (1, 1)))
-    h = pm.grid.resolution
     dz = 360.0 / n * step[0]
     if vol.any() and not vol[:, 1:-1, 1:-1].all():
         verts, faces, _, _ = marching_cubes(vol, level=0.5, spacing=(dz, h * step[1], h * step[2]))
         # (heading, y, x) -> (x, y, heading), cell centres shifted into world coordinates
-        x = verts[:, 2] + pm.grid.origin[0] + (0.5 * step[2] - 1 * step[2]) * h
-        y = verts[:, 1] + pm.grid.origin[1] + (0.5 * step[1] - 1 * step[1]) * h
+        x = verts[:, 2] + xmin + (0.5 * step[2] - 1 * step[2]) * h
+        y = verts[:, 1] + ymin + (0.5 * step[1] - 1 * step[1]) * h
         z = verts[:, 0] - 180.0 / n
         tri = np.stack([x, y, z], axis=1)[faces]
         coll = Poly3DCollection(tri, facecolor=OCCUPIED_COLOR, edgecolor="none", alpha=0.35)
@@ -131,7 +131,6 @@ def plot_pose_space(pm: PoseMap, path: Path | None = None, *, ax: Axes | None = 
         deg = np.degrees(np.unwrap(poses[:, 2])) % 360.0
         (line,) = ax.plot(poses[:, 0], poses[:, 1], deg, color="tab:red", lw=2, label=path.planner if path else "")
         art.paths.append(line)
-    xmin, ymin, xmax, ymax = pm.grid.bounds
     ax.set_xlim(xmin, xmax)
     ax.set_ylim(ymin, ymax)
     ax.set_zlim(0, 360)  # type: ignore[attr-defined]
@@ -190,7 +189,7 @@ def plot_footprints(pm: PoseMap, path: Path, *, ax: Axes | None = None, every: i
                                           label="start")
         art.markers["goal"] = ax.scatter([poses[-1, 0]], [poses[-1, 1]], marker="*", s=120, color="tab:red", zorder=6,
                                          label="goal")
-    frame_axes(ax, pm.grid.bounds)
+    frame_axes(ax, _known_bounds(pm.workspace, pm.grid.bounds))
     ax.set_aspect("equal")
     ax.set_title(f"{path.planner}: {path.status}, length {path.length:.3g}, {pm.headings} headings")
     return art

@@ -1,8 +1,7 @@
 """Figures of voxel grids (3-D): orthogonal slices, a grid of x-y slices, a 3-D scene of isosurfaces.
 
 Like every figure of :mod:`gridfield.plot`, these draw what they are given: a voxel
-:class:`~gridfield.core.grid.GridMap` (its occupancy), a
-:class:`~gridfield.distance.brushfire.DistanceMap` (its distance) or a
+:class:`~gridfield.core.grid.GridMap` (its occupancy), a :class:`~gridfield.distance.brushfire.DistanceMap` (its distance) or a
 :class:`~gridfield.fields.potential.Field` (its potential), paths of ``(n, 3)`` points.
 
 - :func:`plot_voxel_slices` draws slices of the array as images in world units, the 2-D figures'
@@ -55,6 +54,7 @@ from ._layers import (
     _check_figure_file,
     _legend,
     _path_label,
+    _pool,
     _save,
     title_of,
 )
@@ -439,18 +439,6 @@ def plot_voxel_slices(
 # ----------------------------------------------------------------------------------------------
 # isosurfaces
 # ----------------------------------------------------------------------------------------------
-def _pool(arr: NDArray[Any], k: int, fill: Any, reduce: Any) -> NDArray[Any]:
-    """Blocks of ``k`` voxels per axis reduced by ``reduce`` (``np.any``: a max-pool of booleans, ``np.min``),
-    the array padded with ``fill`` to a multiple of ``k``."""
-    if k == 1:
-        return arr
-    pad = [(0, -n % k) for n in arr.shape]
-    a = np.pad(arr, pad, constant_values=fill)
-    L, R, C = (n // k for n in a.shape)
-    out: NDArray[Any] = reduce(a.reshape(L, k, R, k, C, k), axis=(1, 3, 5))
-    return out
-
-
 def _triangles(volume: NDArray[np.floating[Any]], level: float, grid: Grid, k: int
                ) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
     """Marching cubes on ``volume`` (``[z, y, x]`` of blocks of ``k`` voxels, padded by one block on every
